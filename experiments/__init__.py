@@ -1,0 +1,1 @@
+"""Flat experiment scripts, one per thesis experiment: ``run(config) -> results``."""

@@ -1,0 +1,92 @@
+"""Slow, obviously-correct NumPy references of every kernel (stumpy ``naive.py`` style).
+
+These follow the thesis equations literally, element by element or fully
+vectorized, without sharing code with ``workbench``.  ``fw_vectorized`` is
+also the "vectorized NumPy reference" that benchmarks time against.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+TANGENTIAL_RTOL = 1e-12  # same sticking rule as workbench.config (restated, not imported)
+
+
+def pressure_center(centers, areas, pressures):
+    """Eq. (3.7)."""
+    f = pressures * areas
+    return (centers * f[:, None]).sum(0) / f.sum()
+
+
+def fw_loop(centers, normals, areas, pressures, twist, mu):
+    """One frictional wrench by an explicit loop over elements, Eq. (3.6)-(3.8)."""
+    o = pressure_center(centers, areas, pressures)
+    v, w = np.asarray(twist[:3], float), np.asarray(twist[3:], float)
+    f = np.zeros(3)
+    tau = np.zeros(3)
+    for c, n, a, p in zip(centers, normals, areas, pressures, strict=True):
+        r = c - o
+        u = v + np.cross(w, r)
+        t = (np.eye(3) - np.outer(n, n)) @ u
+        tn = np.linalg.norm(t)
+        if tn <= TANGENTIAL_RTOL * np.linalg.norm(u):
+            continue
+        df = -mu * p * a * t / tn
+        f += df
+        tau += np.cross(r, df)
+    return np.concatenate([f, tau])
+
+
+def fw_vectorized(centers, normals, areas, pressures, twists, mu):
+    """(K, 6) frictional wrenches, fully vectorized over (K, N) with NumPy."""
+    o = pressure_center(centers, areas, pressures)
+    r = centers - o  # (N, 3)
+    v = twists[:, None, :3]  # (K, 1, 3)
+    w = twists[:, None, 3:]
+    u = v + np.cross(w, r[None])  # (K, N, 3)
+    d = np.einsum("knj,nj->kn", u, normals)
+    t = u - d[..., None] * normals[None]
+    tn = np.linalg.norm(t, axis=2)
+    un = np.linalg.norm(u, axis=2)
+    slip = tn > TANGENTIAL_RTOL * un
+    s = np.where(slip, pressures * areas / np.where(slip, tn, 1.0), 0.0)  # (K, N)
+    g = s[..., None] * t
+    f = g.sum(axis=1)
+    tau = np.cross(r[None], g).sum(axis=1)
+    return -mu * np.hstack([f, tau])
+
+
+def normal_wrench(centers, normals, areas, pressures):
+    """Eq. (3.2) discretised."""
+    o = pressure_center(centers, areas, pressures)
+    g = (pressures * areas)[:, None] * normals
+    return -np.concatenate([g.sum(0), np.cross(centers - o, g).sum(0)])
+
+
+def triangle_geometry(vertices, faces):
+    """Centroids, unit normals (right-hand rule) and areas of triangles, one at a time."""
+    c, n, a = [], [], []
+    for f in faces:
+        p0, p1, p2 = vertices[f[0]], vertices[f[1]], vertices[f[2]]
+        cr = np.cross(p1 - p0, p2 - p0)
+        c.append((p0 + p1 + p2) / 3)
+        a.append(0.5 * np.linalg.norm(cr))
+        n.append(cr / np.linalg.norm(cr))
+    return np.array(c), np.array(n), np.array(a)
+
+
+def random_profile(rng, n, curved=True):
+    """Random elements: points on a bumpy patch with normals from its gradient."""
+    xy = rng.uniform(-0.01, 0.01, (n, 2))
+    if curved:
+        z = 30.0 * xy[:, 0] ** 2 - 20.0 * xy[:, 1] ** 2 + 5.0 * xy[:, 0] * xy[:, 1]
+        grad = np.column_stack([60.0 * xy[:, 0] + 5.0 * xy[:, 1], -40.0 * xy[:, 1] + 5.0 * xy[:, 0]])
+    else:
+        z = np.zeros(n)
+        grad = np.zeros((n, 2))
+    centers = np.column_stack([xy, z])
+    normals = np.column_stack([-grad, np.ones(n)])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    areas = rng.uniform(0.5, 1.5, n) * 4e-6
+    pressures = rng.uniform(0.0, 2e5, n)
+    return centers, normals, areas, pressures

@@ -1,0 +1,175 @@
+"""Continuous surfaces: analytic values, the thesis's printed numbers, quadrature
+error estimates, meshes."""
+
+import numpy as np
+import pytest
+
+from workbench import (
+    ContactProfile,
+    mesh_surface,
+    project_to_plane,
+    surface_moments,
+    surface_w_max,
+    surface_wrenches,
+    twists_from_plucker,
+    w_max,
+)
+from workbench.surface_catalog import PLANAR_NORMAL, S1, S3, THESIS_SURFACES, example_3_2_5
+from workbench.surfaces import ParametricSurface
+
+
+def test_example_3_2_5_matches_closed_form_and_thesis():
+    ex = example_3_2_5()
+    m = surface_moments(ex)
+    # closed forms: o_y = 0.02 * sqrt(2) / (pi/2); F = p * R * (pi/2) * 0.02; f_y = -p R sqrt(2) 0.02
+    np.testing.assert_allclose(m.pressure_center, [0, 0.02 * np.sqrt(2) / (np.pi / 2), -0.04], atol=1e-15)
+    assert m.F == pytest.approx(1e3 * 0.02 * np.pi / 2 * 0.02, rel=1e-13)
+    np.testing.assert_allclose(m.normal_wrench, [0, -1e3 * 0.02 * np.sqrt(2) * 0.02, 0, 0, 0, 0], atol=1e-14)
+    # thesis printed values
+    np.testing.assert_allclose(m.pressure_center, [0, 0.018, -0.04], atol=5e-5)
+    assert round(m.F, 4) == 0.6283
+    assert round(m.normal_wrench[1], 4) == -0.5657
+    xi = twists_from_plucker([0, -1, 0], [0, 0, 0], 0.0)[0]
+    w = surface_wrenches(ex, xi, 0.3, rtol=1e-9)
+    assert round(w[4], 4) == 0.0018
+    np.testing.assert_allclose(np.delete(w, 4), 0.0, atol=1e-14)
+
+
+def test_example_wrench_matches_direct_1d_integral():
+    # independent check: tau_y by scipy dblquad of the closed-form integrand printed in §3.2.5.2
+    from scipy import integrate
+
+    def integrand(u, v):
+        s, c = np.sin(u), np.cos(u)
+        vr = np.array([-(s**2) * (v + 0.04), s * c * (v + 0.04), 0.02 * c])
+        vr /= np.linalg.norm(vr)
+        r = np.array([0.02 * c, 0.02 * s - 0.02 * np.sqrt(2) / (np.pi / 2), v + 0.04])
+        return -0.3 * 1e3 * np.cross(r, vr)[1] * 0.02
+
+    ref, _ = integrate.dblquad(integrand, -0.05, -0.03, 0.25 * np.pi, 0.75 * np.pi, epsabs=1e-13)
+    xi = twists_from_plucker([0, -1, 0], [0, 0, 0], 0.0)[0]
+    got = surface_wrenches(example_3_2_5(), xi, 0.3, rtol=1e-10)[4]
+    assert got == pytest.approx(ref, rel=1e-8)
+
+
+THESIS_TABLE_3_2 = {
+    "6d": [0.64, 0.64, 1.00, 0.34, 0.69, 0.59],
+    "3d": [0.64, 0.00, 1.00, 0.00, 0.69, 0.00],
+    "planar": [1.00, 0.00, 1.00, 0.00, 0.59, 0.00],
+}
+
+
+def test_table_3_2_s1():
+    six = surface_w_max(S1.normalized())
+    three = six * np.array([1, 0, 1, 0, 1, 0])
+    planar = surface_w_max(project_to_plane(S1, PLANAR_NORMAL).normalized())
+    for got, key in ((six, "6d"), (three, "3d"), (planar, "planar")):
+        assert np.abs(got - THESIS_TABLE_3_2[key]).max() <= 0.01, (key, got)
+
+
+def test_analytic_w_max():
+    # S1 (unit half cylinder, p̂ = 1/π): f_x = f_y = 2/π, f_z = 1
+    s1 = surface_w_max(S1.normalized(), rtol=1e-9)
+    np.testing.assert_allclose(s1[:3], [2 / np.pi, 2 / np.pi, 1.0], rtol=1e-8)
+    # S3 (hemisphere): mean of sin(angle to the axis) over a sphere = π/4 for every axis force
+    s3 = surface_w_max(S3.normalized(), rtol=1e-9)
+    np.testing.assert_allclose(s3[:3], np.pi / 4, rtol=1e-8)
+    # planar 2x1 rectangle: tau = mean distance to the center (closed form)
+    a, b = 1.0, 0.5
+    d = np.hypot(a, b)
+    quarter = (2 * a * b * d + a**3 * np.log((b + d) / a) + b**3 * np.log((a + d) / b)) / 6
+    planar = surface_w_max(project_to_plane(S1, PLANAR_NORMAL).normalized(), rtol=1e-9)
+    assert planar[4] == pytest.approx(quarter / (a * b), rel=1e-7)
+    np.testing.assert_allclose(planar[[1, 3, 5]], 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", list(THESIS_SURFACES))
+def test_quadrature_error_estimate_is_honest(name):
+    S = THESIS_SURFACES[name].normalized()
+    rng = np.random.default_rng(1)
+    xi = np.vstack([np.eye(6), rng.standard_normal((6, 6))])
+    w, err = surface_wrenches(S, xi, rtol=1e-4, return_error=True)
+    ref = surface_wrenches(S, xi, rtol=1e-10)
+    scale = np.array([1.0] * 3 + [S.length_scale] * 3)  # mu F = 1
+    true_err = (np.abs(w - ref) / scale).max(axis=1)
+    assert (err <= 1e-4).all()
+    assert (true_err <= 1e-4).all()
+    assert (true_err <= err * 1.01 + 1e-15).all()  # the estimate bounds the true error
+
+
+def test_surface_moments_areas():
+    np.testing.assert_allclose(surface_moments(S1).area, np.pi, rtol=1e-12)
+    np.testing.assert_allclose(surface_moments(S3).area, 2 * np.pi, rtol=1e-12)
+    # S5 paraboloid half: area = (π/2) * ((1 + 4)^{3/2} - 1) / 6
+    np.testing.assert_allclose(
+        surface_moments(THESIS_SURFACES["S5"]).area, np.pi / 12 * (5**1.5 - 1), rtol=1e-12
+    )
+
+
+def test_user_surface_with_numeric_derivatives_and_pressure():
+    # a user σ(u, v) without derivatives and a non-uniform pressure: flat disc of radius 0.01
+    # with Hertz-like p = p0 sqrt(1 - r²/R²) -> F = 2/3 π R² p0
+    R, p0 = 0.01, 1e5
+    disc = ParametricSurface(
+        "disc",
+        lambda r, t: np.stack([r * np.cos(t), r * np.sin(t), 0 * r], axis=-1),
+        (0.0, R),
+        (0.0, 2 * np.pi),
+        pressure=lambda r, t, xyz: p0 * np.sqrt(np.clip(1 - (r / R) ** 2, 0, None)),
+    )
+    # the sqrt edge makes the integrand rough at r = R, so ask for 1e-6 only
+    m = surface_moments(disc, rtol=1e-6)
+    assert m.error <= 1e-6
+    assert m.F == pytest.approx(2 / 3 * np.pi * R**2 * p0, rel=1e-6)
+    wm = surface_w_max(disc, mu=0.5, rtol=1e-6)
+    np.testing.assert_allclose(wm[:2], 0.5 * m.F, rtol=1e-6)  # planar: f_max = μF
+    # torsion: μ ∫ p r dA = μ p0 2π R³ ∫_0^1 s² sqrt(1-s²) ds = μ p0 2π R³ π/16
+    assert wm[5] == pytest.approx(0.5 * p0 * 2 * np.pi * R**3 * np.pi / 16, rel=1e-5)
+
+
+def test_rough_integrand_stops_at_the_cell_cap_with_an_honest_estimate(caplog):
+    R = 0.01
+    disc = ParametricSurface(
+        "disc-rough",
+        lambda r, t: np.stack([r * np.cos(t), r * np.sin(t), 0 * r], axis=-1),
+        (0.0, R),
+        (0.0, 2 * np.pi),
+        pressure=lambda r, t, xyz: np.sqrt(np.clip(1 - (r / R) ** 2, 0, None)),
+    )
+    m = surface_moments(disc, rtol=1e-14)
+    assert "cell cap" in caplog.text
+    assert m.error > 1e-14  # did not converge, and says so
+    assert m.F == pytest.approx(2 / 3 * np.pi * R**2, rel=1e-6)
+
+
+@pytest.mark.parametrize("name", list(THESIS_SURFACES))
+@pytest.mark.parametrize("n", [25, 300, 1000])
+def test_meshes(name, n):
+    S = THESIS_SURFACES[name]
+    verts, faces, uv = mesh_surface(S, n)
+    assert abs(len(faces) - n) <= max(2, 0.03 * n)
+    prof = ContactProfile.from_mesh(verts, faces, 1.0)
+    _, nrm, _, _ = S.evaluate(uv[:, 0], uv[:, 1])
+    assert (np.einsum("ij,ij->i", prof.normals, nrm) > 0.5).all()  # outward like the surface
+    assert prof.areas.sum() <= surface_moments(S).area * (1 + 1e-12)  # inscribed flat triangles
+
+
+@pytest.mark.parametrize("name", ["S3", "S4", "S5", "S6"])
+def test_mesh_area_converges_at_second_order(name):
+    # chordal area deficit of an inscribed mesh is O(h²) = O(1/n): 4x the triangles -> ~4x smaller
+    S = THESIS_SURFACES[name]
+    area = surface_moments(S).area
+    deficit = [area - ContactProfile.from_mesh(*mesh_surface(S, n)[:2], 1.0).areas.sum() for n in (300, 1200)]
+    assert deficit[0] > 0 and deficit[1] > 0
+    assert deficit[0] / deficit[1] >= 3.0
+
+
+def test_discrete_converges_to_continuous():
+    S = THESIS_SURFACES["S4"]
+    cont = surface_w_max(S.normalized(), rtol=1e-8)
+    errs = [
+        np.mean(np.abs(w_max(ContactProfile.from_parametric(S, n).normalized()) - cont) / cont)
+        for n in (100, 400, 1600)
+    ]
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 0.002

@@ -1,0 +1,158 @@
+"""Private ``@njit`` kernels: math only, no validation (see ``wrench.py``).
+
+Geometry is passed structure-of-arrays (``rx, ry, rz, nx, ny, nz, wgt``) so the
+inner loop over elements vectorizes.  ``r`` is the torque arm ``c_i - o``,
+``wgt = p_i * a_i`` (or a quadrature weight times pressure).  Flags come from
+``config``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from .config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
+
+
+@njit(inline="always", **NUMBA_FLAGS)
+def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):
+    """Tangential velocity ``t`` at one element and ``wgt / |t|`` (Eq. 3.6).
+
+    Returns ``(tx, ty, tz, s)`` with ``s = 0`` where the element sticks
+    (``|t| <= rtol |u|``, including ``u = 0``), so it contributes exactly 0.
+    """
+    # velocity of the object point at the element: u = v + omega x r (Eq. 3.3)
+    ux = vx + wy * rz - wz * ry
+    uy = vy + wz * rx - wx * rz
+    uz = vz + wx * ry - wy * rx
+    d = ux * nx + uy * ny + uz * nz
+    tx = ux - d * nx
+    ty = uy - d * ny
+    tz = uz - d * nz
+    t2 = tx * tx + ty * ty + tz * tz
+    u2 = ux * ux + uy * uy + uz * uz
+    # max() keeps the sqrt argument positive; the select zeroes sticking
+    # elements (no 0/0, no NaN) and vectorizes as a blend.
+    inv = wgt / np.sqrt(max(t2, 1e-300))
+    s = inv if t2 > rtol2 * u2 else 0.0
+    return tx, ty, tz, s
+
+
+@njit(**NUMBA_FLAGS_PARALLEL)
+def _fw_batch(twists, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
+    """Frictional wrenches of K twists on N elements, Eq. (3.6)-(3.8).
+
+    twists : (K, 6) float, [v; omega] at the pressure center
+    rx..nz : (N,) float, torque arms c_i - o and unit normals
+    wgt    : (N,) float, p_i * a_i
+    out    : (K, 6) float, written in place
+    """
+    n_twists = twists.shape[0]
+    n = rx.shape[0]
+    for k in prange(n_twists):
+        vx = twists[k, 0]
+        vy = twists[k, 1]
+        vz = twists[k, 2]
+        wx = twists[k, 3]
+        wy = twists[k, 4]
+        wz = twists[k, 5]
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        mx = 0.0
+        my = 0.0
+        mz = 0.0
+        for i in range(n):
+            tx, ty, tz, s = _slip_scale(
+                vx, vy, vz, wx, wy, wz, rx[i], ry[i], rz[i], nx[i], ny[i], nz[i], wgt[i], rtol2
+            )
+            gx = s * tx
+            gy = s * ty
+            gz = s * tz
+            fx += gx
+            fy += gy
+            fz += gz
+            mx += ry[i] * gz - rz[i] * gy
+            my += rz[i] * gx - rx[i] * gz
+            mz += rx[i] * gy - ry[i] * gx
+        out[k, 0] = -mu * fx
+        out[k, 1] = -mu * fy
+        out[k, 2] = -mu * fz
+        out[k, 3] = -mu * mx
+        out[k, 4] = -mu * my
+        out[k, 5] = -mu * mz
+
+
+@njit(**NUMBA_FLAGS_PARALLEL)
+def _fw_segments(twists, seg_twist, seg_start, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
+    """Per-segment frictional wrenches: segment j sums points
+    ``seg_start[j]:seg_start[j+1]`` under twist ``twists[seg_twist[j]]``.
+
+    Used by the adaptive surface quadrature (one segment = one cell's Gauss
+    points).  Shapes: twists (K, 6); seg_twist (S,) int; seg_start (S+1,) int;
+    point arrays (P,); out (S, 6).
+    """
+    n_seg = seg_twist.shape[0]
+    for j in prange(n_seg):
+        k = seg_twist[j]
+        vx = twists[k, 0]
+        vy = twists[k, 1]
+        vz = twists[k, 2]
+        wx = twists[k, 3]
+        wy = twists[k, 4]
+        wz = twists[k, 5]
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        mx = 0.0
+        my = 0.0
+        mz = 0.0
+        for i in range(seg_start[j], seg_start[j + 1]):
+            tx, ty, tz, s = _slip_scale(
+                vx, vy, vz, wx, wy, wz, rx[i], ry[i], rz[i], nx[i], ny[i], nz[i], wgt[i], rtol2
+            )
+            gx = s * tx
+            gy = s * ty
+            gz = s * tz
+            fx += gx
+            fy += gy
+            fz += gz
+            mx += ry[i] * gz - rz[i] * gy
+            my += rz[i] * gx - rx[i] * gz
+            mz += rx[i] * gy - ry[i] * gx
+        out[j, 0] = -mu * fx
+        out[j, 1] = -mu * fy
+        out[j, 2] = -mu * fz
+        out[j, 3] = -mu * mx
+        out[j, 4] = -mu * my
+        out[j, 5] = -mu * mz
+
+
+@njit(**NUMBA_FLAGS)
+def _normal_wrench(rx, ry, rz, nx, ny, nz, wgt, out):
+    """Normal wrench Eq. (3.2) discretised: ``-sum p a [n; r x n]``.
+
+    rx..nz, wgt : (N,) float;  out : (6,) float, written in place.
+    """
+    fx = 0.0
+    fy = 0.0
+    fz = 0.0
+    mx = 0.0
+    my = 0.0
+    mz = 0.0
+    for i in range(rx.shape[0]):
+        gx = wgt[i] * nx[i]
+        gy = wgt[i] * ny[i]
+        gz = wgt[i] * nz[i]
+        fx += gx
+        fy += gy
+        fz += gz
+        mx += ry[i] * gz - rz[i] * gy
+        my += rz[i] * gx - rx[i] * gz
+        mz += rx[i] * gy - ry[i] * gx
+    out[0] = -fx
+    out[1] = -fy
+    out[2] = -fz
+    out[3] = -mx
+    out[4] = -my
+    out[5] = -mz

@@ -1,0 +1,111 @@
+"""Tolerances, defaults and Numba flags — the one place they live.
+
+Every field carries a comment saying why it has its value.  Kernels import
+``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` from here and nowhere else, so a
+user (or CI) can switch caching or threading off in one spot, e.g.
+``WORKBENCH_NUMBA_PARALLEL=0``.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+
+def _env_flag(name: str, default: bool) -> bool:
+    value = os.environ.get(name)
+    if value is None:
+        return default
+    return value.strip().lower() not in {"0", "false", "no", "off", ""}
+
+
+# fastmath subset: 'reassoc' lets LLVM vectorize the per-twist reductions over
+# elements, 'contract' allows FMA, 'arcp'/'nsz' allow reciprocal tricks and
+# ignore the sign of zero.  'nnan'/'ninf' are deliberately *not* set: the
+# kernels rely on IEEE semantics of max()/select to keep zero-velocity
+# elements at exactly zero.
+FASTMATH: frozenset[str] = frozenset({"reassoc", "contract", "arcp", "nsz"})
+
+# On-disk caching of compiled kernels (skips ~1-2 s of JIT per process).
+CACHE: bool = _env_flag("WORKBENCH_NUMBA_CACHE", True)
+
+# prange over twists in the batched kernels; off for debugging / profiling.
+PARALLEL: bool = _env_flag("WORKBENCH_NUMBA_PARALLEL", True)
+
+NUMBA_FLAGS: dict = {"fastmath": set(FASTMATH), "cache": CACHE, "nogil": True}
+NUMBA_FLAGS_PARALLEL: dict = {**NUMBA_FLAGS, "parallel": PARALLEL}
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Numerical tolerances of the workbench (trimesh ``tol`` style)."""
+
+    # |v_t| <= rtol * |v| at an element => the element sticks (direction
+    # undetermined) and contributes zero friction.  1e-12 sits ~4 decades above
+    # the rounding noise of v - (v.n)n (~1e-16 |v|), so cancellation noise is
+    # never turned into a spurious unit direction, while any physically
+    # resolved slip (>= 1e-12 of the element speed) is kept.
+    tangential_velocity_rtol: float = 1e-12
+
+    # Normals whose length differs from 1 by at most this are renormalised
+    # silently (float32 exports, rounding); anything further is rejected
+    # unless the caller asks for renormalisation explicitly.
+    normal_unit_atol: float = 1e-6
+
+    # An element whose area is <= this fraction of the median element area is
+    # degenerate (sliver/collapsed triangle) and is rejected or dropped.
+    degenerate_area_rtol: float = 1e-12
+
+    # Default relative tolerance of the adaptive surface quadrature for
+    # wrenches (error scaled by mu*F for forces and mu*F*l_s for torques).
+    quadrature_rtol: float = 1e-5
+
+    # Tolerance for twist-independent surface moments (F, o, w_perp); the
+    # integrands are smooth, so this is cheap.
+    moments_rtol: float = 1e-12
+
+    # Maximum refinement passes of the adaptive quadrature before it reports
+    # (via its error estimate) that it did not converge.
+    quadrature_max_passes: int = 40
+
+    # Cap on quadrature leaf cells per call (~16 points each): bounds memory
+    # (~100 MB) when an integrand is too rough for the requested tolerance; the
+    # returned error estimate then says how far from converged it is.
+    quadrature_max_cells: int = 100_000
+
+    # Gauss-Legendre points per direction per quadrature cell.
+    quadrature_order: int = 4
+
+    # A principal component of normalised wrenches counts as significant when
+    # it explains at least this fraction of the total variance (thesis
+    # §3.5.1.1 counts "significant components" without a number; 1% keeps
+    # components whose std is >= 10% of the total's).
+    pca_significant_fraction: float = 0.01
+
+    # Wrench-space components with w_max_i <= this * max(w_max) are
+    # degenerate (planar/line contacts), CONVENTIONS.md "Limit surfaces".
+    degenerate_wmax_rtol: float = 1e-9
+
+    # |omega| below this (relative to |v|/l) classifies a twist as a pure
+    # translation when converting to Plücker coordinates.
+    translation_omega_atol: float = 1e-12
+
+
+TOL = Tolerances()
+
+
+@dataclass(frozen=True)
+class Defaults:
+    """Defaults of samplers and experiments (thesis values where it has them)."""
+
+    # Thesis §3.3.2: q is uniform in a ball of radius 0.25 * l_s around o.
+    twist_radius_factor: float = 0.25
+    # Thesis §3.3.2: pitch h ~ U[-2, 2] (m/rad).
+    pitch_range: tuple[float, float] = (-2.0, 2.0)
+    # Thesis §3.5.1: mu = 1 for the parametric-surface study.
+    mu: float = 1.0
+    # Seed used by experiments when none is given.
+    seed: int = 0
+
+
+DEFAULTS = Defaults()

@@ -1,0 +1,366 @@
+"""ContactProfile: a discretised contact surface with a pressure per element.
+
+A contact profile (thesis §3.2, "profile pair" of §3.3.6.1) is what the FEM
+produces and what every friction model consumes: element centers, unit normals
+pointing **outward from the object** (into the jaw), element areas and one
+pressure per element.  Everything derived (pressure center, ``F``, ``p̂``,
+normal wrench, length scale) is cached on first use.
+
+Normals: a normal whose length is within ``TOL.normal_unit_atol`` of 1 is
+renormalised silently; any other length is rejected with a ``ValueError``
+unless ``normalize_normals=True`` is passed (then every non-zero normal is
+rescaled; zero normals are always rejected).
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .config import TOL
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .surfaces import ParametricSurface
+
+_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6}
+
+
+def length_factor(units: str | float) -> float:
+    """Metres per unit for ``units`` ("m", "cm", "mm", "um" or a positive float)."""
+    if isinstance(units, str):
+        if units not in _UNITS:
+            raise ValueError(f"units must be one of {sorted(_UNITS)} or a positive float; got {units!r}")
+        return _UNITS[units]
+    factor = float(units)
+    if not np.isfinite(factor) or factor <= 0:
+        raise ValueError(f"units scale must be a positive finite float; got {units!r}")
+    return factor
+
+
+def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=np.float64)  # copy: profiles own their data
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a numeric array; got {type(value).__name__} ({exc})") from None
+    expected_ndim = 1 + len(shape_tail)
+    if arr.ndim != expected_ndim or arr.shape[1:] != shape_tail:
+        want = "(n" + "".join(f", {d}" for d in shape_tail) + ")"
+        raise ValueError(f"{name} must have shape {want}; got {arr.shape}")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        idx = int(np.argwhere(bad)[0][0])
+        raise ValueError(
+            f"{name} must be finite; got {int(bad.sum())} NaN/inf values (first at element {idx}) "
+            "— fix or drop those elements before building the profile"
+        )
+    return arr
+
+
+class ContactProfile:
+    """Contact surface elements with pressures (thesis §3.2.4).
+
+    Parameters
+    ----------
+    centers : (n, 3) float
+        Element centers ``c_i`` [m].
+    normals : (n, 3) float
+        Unit normals ``n_i``, outward from the object (into the jaw).
+    areas : (n,) float
+        Element areas ``a_i`` [m²], all > 0.
+    pressures : (n,) float
+        Pressures ``p_i`` [Pa], all >= 0 and not all zero.
+    vertices : (m, 3) float, optional
+        Mesh vertices (for plotting/export); ``faces`` : (n, k) int, optional.
+    normalize_normals : bool
+        Rescale non-unit normals instead of rejecting them.
+    """
+
+    def __init__(
+        self,
+        centers: Any,
+        normals: Any,
+        areas: Any,
+        pressures: Any,
+        *,
+        vertices: Any = None,
+        faces: Any = None,
+        normalize_normals: bool = False,
+    ) -> None:
+        centers = _as_float_array("centers", centers, (3,))
+        normals = _as_float_array("normals", normals, (3,))
+        areas = _as_float_array("areas", areas, ())
+        pressures = _as_float_array("pressures", pressures, ())
+        n = centers.shape[0]
+        if n == 0:
+            raise ValueError(
+                "profile is empty: centers has 0 elements — a contact needs at least one element "
+                "(check that the obstacle touches the pad)"
+            )
+        for name, arr in (("normals", normals), ("areas", areas), ("pressures", pressures)):
+            if arr.shape[0] != n:
+                raise ValueError(
+                    f"{name} has {arr.shape[0]} elements but centers has {n}; "
+                    "every per-element array must have the same length"
+                )
+        if (areas <= 0).any():
+            i = int(np.argmin(areas))
+            raise ValueError(
+                f"areas must be > 0; got {areas[i]:.3g} at element {i} "
+                f"({int((areas <= 0).sum())} non-positive) — drop degenerate elements "
+                "(from_mesh(..., drop_degenerate=True))"
+            )
+        median_area = float(np.median(areas))
+        tiny = areas <= TOL.degenerate_area_rtol * median_area
+        if tiny.any():
+            i = int(np.argmax(tiny))
+            raise ValueError(
+                f"areas: element {i} is degenerate (area {areas[i]:.3g} <= "
+                f"{TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
+                "(from_mesh(..., drop_degenerate=True))"
+            )
+        if (pressures < 0).any():
+            i = int(np.argmin(pressures))
+            raise ValueError(
+                f"pressures must be >= 0; got min {pressures[i]:.6g} at element {i} "
+                "— clip or fix the FEM export"
+            )
+        if not (pressures > 0).any():
+            raise ValueError(
+                "pressures are all zero: the profile transmits no force and has no pressure center "
+                "— pass the contact pressures (or a uniform pressure, e.g. np.ones(n))"
+            )
+        lengths = np.linalg.norm(normals, axis=1)
+        if (lengths == 0).any():
+            i = int(np.argmin(lengths))
+            raise ValueError(f"normals must be non-zero unit vectors; element {i} has a zero normal")
+        off = np.abs(lengths - 1.0) > TOL.normal_unit_atol
+        if off.any() and not normalize_normals:
+            i = int(np.argmax(np.abs(lengths - 1.0)))
+            raise ValueError(
+                f"normals must be unit vectors; element {i} has length {lengths[i]:.6g} "
+                f"({int(off.sum())} off by > {TOL.normal_unit_atol:g}) "
+                "— pass normalize_normals=True to rescale them"
+            )
+        normals = normals / lengths[:, None]
+
+        self.centers = centers
+        self.normals = normals
+        self.areas = areas
+        self.pressures = pressures
+        self.vertices = None if vertices is None else _as_float_array("vertices", vertices, (3,))
+        self.faces = None if faces is None else np.asarray(faces, dtype=np.int64)
+        for arr in (self.centers, self.normals, self.areas, self.pressures):
+            arr.flags.writeable = False  # cached properties depend on them
+
+    # ------------------------------------------------------------------ basics
+    def __len__(self) -> int:
+        return self.centers.shape[0]
+
+    def __repr__(self) -> str:
+        return (
+            f"ContactProfile(n={len(self)}, F={self.F:.6g} N, "
+            f"o={np.array2string(self.pressure_center, precision=4)})"
+        )
+
+    @cached_property
+    def forces(self) -> np.ndarray:
+        """(n,) float: local normal force magnitudes ``p_i a_i`` [N]."""
+        return self.pressures * self.areas
+
+    @cached_property
+    def F(self) -> float:  # noqa: N802 (thesis symbol)
+        """Sum magnitude of local normal forces ``F = Σ p_i a_i`` [N] (§3.2.2)."""
+        return float(self.forces.sum())
+
+    @cached_property
+    def pressure_center(self) -> np.ndarray:
+        """(3,) float: pressure center ``o``, Eq. (3.7)."""
+        o = (self.forces[:, None] * self.centers).sum(axis=0) / self.F
+        o.flags.writeable = False
+        return o
+
+    @cached_property
+    def normalized_pressures(self) -> np.ndarray:
+        """(n,) float: ``p̂ = p / F`` so that ``Σ p̂ a = 1`` [1/m²] (§3.2.2)."""
+        return self.pressures / self.F
+
+    @cached_property
+    def normal_wrench(self) -> np.ndarray:
+        """(6,) float: normal wrench ``w⊥`` about ``o``, Eq. (3.2)."""
+        from .wrench import normal_wrench
+
+        return normal_wrench(self)
+
+    @cached_property
+    def length_scale(self) -> float:
+        """Longest side ``l_s`` of the PCA-aligned bounding box [m] (§3.3.2).
+
+        The box is aligned with the principal axes of the vertices (centers
+        if no mesh), so ``l_s`` is invariant under rigid motions.
+        """
+        pts = self.vertices if self.vertices is not None else self.centers
+        if pts.shape[0] < 2:
+            return float(np.sqrt(self.areas.sum()))
+        centered = pts - pts.mean(axis=0)
+        _, _, axes = np.linalg.svd(centered, full_matrices=False)
+        extent = centered @ axes.T
+        side = float((extent.max(axis=0) - extent.min(axis=0)).max())
+        return side if side > 0 else float(np.sqrt(self.areas.sum()))
+
+    @cached_property
+    def _soa(self) -> tuple[np.ndarray, ...]:
+        """Kernel layout: contiguous ``rx, ry, rz, nx, ny, nz, wgt`` (r = c - o)."""
+        r = self.centers - self.pressure_center
+        cols = [np.ascontiguousarray(r[:, j]) for j in range(3)]
+        cols += [np.ascontiguousarray(self.normals[:, j]) for j in range(3)]
+        cols.append(np.ascontiguousarray(self.forces))
+        return tuple(cols)
+
+    # ------------------------------------------------------------- derivations
+    def with_pressures(self, pressures: Any) -> ContactProfile:
+        """Same geometry with new per-element pressures (n,)."""
+        return ContactProfile(
+            self.centers, self.normals, self.areas, pressures, vertices=self.vertices, faces=self.faces
+        )
+
+    def normalized(self) -> ContactProfile:
+        """Same geometry with ``p̂`` so that ``F = 1`` (a limit-surface "profile pair")."""
+        return self.with_pressures(self.normalized_pressures)
+
+    def transformed(self, rotation: Any = None, translation: Any = None) -> ContactProfile:
+        """Rigidly moved copy: ``x' = R x + t``, ``n' = R n``.
+
+        rotation : (3, 3) float, proper orthogonal; translation : (3,) float.
+        """
+        R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
+        t = np.zeros(3) if translation is None else np.asarray(translation, dtype=np.float64)
+        if R.shape != (3, 3) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9):
+            raise ValueError(f"rotation must be a (3, 3) orthogonal matrix; got shape {R.shape}")
+        if np.linalg.det(R) < 0:
+            raise ValueError("rotation must be proper (det = +1); a reflection flips the normals' side")
+        if t.shape != (3,):
+            raise ValueError(f"translation must have shape (3,); got {t.shape}")
+        verts = None if self.vertices is None else self.vertices @ R.T + t
+        return ContactProfile(
+            self.centers @ R.T + t,
+            self.normals @ R.T,
+            self.areas,
+            self.pressures,
+            vertices=verts,
+            faces=self.faces,
+            normalize_normals=True,
+        )
+
+    def in_contact_frame(self, rotation: Any = None) -> ContactProfile:
+        """The profile in the contact frame C: origin at ``o``, axes ``R`` (§3.2.1).
+
+        ``x_C = R (x_O - o)``; with ``rotation=None`` the axes stay parallel to O.
+        """
+        R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
+        return self.transformed(R, -R @ self.pressure_center)
+
+    # ------------------------------------------------------------ constructors
+    @classmethod
+    def from_mesh(
+        cls,
+        vertices: Any,
+        faces: Any,
+        pressures: Any,
+        *,
+        units: str | float = "m",
+        flip_normals: bool = False,
+        drop_degenerate: bool = False,
+    ) -> ContactProfile:
+        """Profile from a triangle ``(m, 3)`` or quad ``(m, 4)`` mesh.
+
+        Normals follow the face winding (right-hand rule) and must point out of
+        the object; pass ``flip_normals=True`` if the mesh is wound the other way.
+        Quads may be warped: their normal and area come from the vector area
+        ``½ d1 × d2`` of the diagonals, their center is the vertex mean.
+
+        vertices : (v, 3) float in ``units``; faces : (m, 3|4) int;
+        pressures : (m,) float [Pa], or a scalar for uniform pressure.
+        """
+        scale = length_factor(units)
+        verts = _as_float_array("vertices", vertices, (3,)) * scale
+        f = np.asarray(faces)
+        if f.ndim != 2 or f.shape[1] not in (3, 4) or not np.issubdtype(f.dtype, np.integer):
+            raise ValueError(
+                f"faces must be an integer array of shape (m, 3) or (m, 4); got {f.shape} {f.dtype}"
+            )
+        if f.size and (f.min() < 0 or f.max() >= verts.shape[0]):
+            raise ValueError(
+                f"faces index vertices 0..{verts.shape[0] - 1}; got indices {f.min()}..{f.max()}"
+            )
+        corners = verts[f]
+        if f.shape[1] == 3:
+            vec = 0.5 * np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            centers = corners.mean(axis=1)
+        else:
+            vec = 0.5 * np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+            centers = corners.mean(axis=1)
+        areas = np.linalg.norm(vec, axis=1)
+        p = np.broadcast_to(np.asarray(pressures, dtype=np.float64), (f.shape[0],)).copy()
+        if drop_degenerate and areas.size:
+            keep = areas > TOL.degenerate_area_rtol * np.median(areas)
+            f, vec, areas, centers, p = f[keep], vec[keep], areas[keep], centers[keep], p[keep]
+        safe = np.where(areas > 0, areas, 1.0)
+        normals = vec / safe[:, None]
+        if flip_normals:
+            normals = -normals
+            f = f[:, ::-1]
+        return cls(centers, normals, areas, p, vertices=verts, faces=f)
+
+    @classmethod
+    def from_meshio(cls, mesh: Any, pressure: str | Any = "pressure", **kwargs: Any) -> ContactProfile:
+        """Profile from a ``meshio.Mesh`` with triangle/quad cells.
+
+        ``pressure`` names a cell-data field (one array per cell block) or is an
+        array over all triangle/quad cells in block order.  ``kwargs`` go to
+        :meth:`from_mesh` (``units``, ``flip_normals``, ``drop_degenerate``).
+        """
+        blocks = [(i, c) for i, c in enumerate(mesh.cells) if c.type in ("triangle", "quad")]
+        if not blocks:
+            types = sorted({c.type for c in mesh.cells})
+            raise ValueError(f"mesh has no triangle or quad cells (found {types}); extract the surface first")
+        types = {c.type for _, c in blocks}
+        if len(types) > 1:
+            raise ValueError("mixed triangle and quad blocks: split them, or triangulate the quads first")
+        faces = np.concatenate([c.data for _, c in blocks])
+        if isinstance(pressure, str):
+            if pressure not in mesh.cell_data:
+                raise ValueError(
+                    f"cell data {pressure!r} not in mesh (has {sorted(mesh.cell_data)}); "
+                    "pass pressure=<field name> or an array"
+                )
+            p = np.concatenate([np.asarray(mesh.cell_data[pressure][i]).reshape(-1) for i, _ in blocks])
+        else:
+            p = pressure
+        return cls.from_mesh(mesh.points[:, :3], faces, p, **kwargs)
+
+    @classmethod
+    def from_trimesh(cls, mesh: Any, pressures: Any, **kwargs: Any) -> ContactProfile:
+        """Profile from a ``trimesh.Trimesh`` (face winding gives the normals)."""
+        return cls.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), pressures, **kwargs)
+
+    @classmethod
+    def from_parametric(
+        cls, surface: ParametricSurface, n_elements: int, *, pressure_scale: float = 1.0
+    ) -> ContactProfile:
+        """Triangle-mesh profile of a parametric surface with ~``n_elements``
+        triangles; the pressure is ``surface.pressure`` at each triangle's
+        parametric centroid times ``pressure_scale``."""
+        from .surfaces import mesh_profile
+
+        return mesh_profile(surface, n_elements, pressure_scale=pressure_scale)
+
+    def to_meshio(self) -> Any:
+        """``meshio.Mesh`` with pressure as cell data (needs vertices/faces)."""
+        import meshio
+
+        if self.vertices is None or self.faces is None:
+            raise ValueError("profile has no mesh (vertices/faces); build it with from_mesh")
+        kind = "triangle" if self.faces.shape[1] == 3 else "quad"
+        return meshio.Mesh(self.vertices, [(kind, self.faces)], cell_data={"pressure": [self.pressures]})

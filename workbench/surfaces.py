@@ -1,0 +1,457 @@
+"""Parametric contact surfaces (thesis Table 3.1, Example 3.2.5), their
+adaptive quadrature and their triangle meshes.
+
+Continuous wrenches (Eq. 3.1-3.5) are integrated by h-adaptive tensor
+Gauss-Legendre cubature: each cell's integral is compared with the sum over its
+four children and the cells with the largest differences are refined (maximum
+marking) until the summed estimate meets the tolerance.  The friction
+integrand has point singularities where the tangential slip vanishes (the slip
+direction jumps); adaptivity isolates them in a few small cells instead of
+refining everywhere.  The cell integrals reuse the discrete 6DFW kernel: a
+cell's Gauss points *are* a tiny contact profile.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from . import _kernels
+from .config import TOL
+from .profile import ContactProfile
+from .twists import canonical_twists
+from .wrench import check_mu, check_twists
+
+Array = np.ndarray
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, eq=False)
+class ParametricSurface:
+    """A contact surface ``σ(u, v)`` on ``[u0, u1] × [v0, v1]`` with a pressure.
+
+    sigma : callable ``(u, v) -> (..., 3)`` [m], vectorized over arrays.
+    sigma_u, sigma_v : optional analytic partial derivatives (else central
+        differences, ~1e-10 relative accuracy).
+    pressure : optional callable ``(u, v, xyz) -> (...)`` [Pa]; uniform 1 Pa if
+        None.  ``pressure_scale`` multiplies it.
+    flip : flip ``σ_u × σ_v`` so normals point outward from the object.
+    """
+
+    name: str
+    sigma: Callable[[Array, Array], Array]
+    u_range: tuple[float, float]
+    v_range: tuple[float, float]
+    sigma_u: Callable[[Array, Array], Array] | None = None
+    sigma_v: Callable[[Array, Array], Array] | None = None
+    pressure: Callable[[Array, Array, Array], Array] | None = None
+    pressure_scale: float = 1.0
+    flip: bool = False
+    description: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        for rng_name in ("u_range", "v_range"):
+            lo, hi = getattr(self, rng_name)
+            if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
+                raise ValueError(f"{rng_name} must be finite with lo < hi; got {(lo, hi)}")
+        if not (np.isfinite(self.pressure_scale) and self.pressure_scale > 0):
+            raise ValueError(f"pressure_scale must be > 0; got {self.pressure_scale}")
+
+    # ---------------------------------------------------------- evaluation
+    def derivatives(self, u: Array, v: Array) -> tuple[Array, Array]:
+        """``σ_u, σ_v`` at (u, v), analytic if given else central differences."""
+        if self.sigma_u is not None and self.sigma_v is not None:
+            return np.asarray(self.sigma_u(u, v), float), np.asarray(self.sigma_v(u, v), float)
+        hu = 1e-6 * (self.u_range[1] - self.u_range[0])
+        hv = 1e-6 * (self.v_range[1] - self.v_range[0])
+        su = (np.asarray(self.sigma(u + hu, v)) - np.asarray(self.sigma(u - hu, v))) / (2 * hu)
+        sv = (np.asarray(self.sigma(u, v + hv)) - np.asarray(self.sigma(u, v - hv))) / (2 * hv)
+        return su, sv
+
+    def evaluate(self, u: Array, v: Array) -> tuple[Array, Array, Array, Array]:
+        """Points, unit normals, area density ``|σ_u × σ_v|`` and pressure at (u, v).
+
+        u, v : (P,) float.  Returns xyz (P, 3), n (P, 3), jac (P,), p (P,).
+        Where ``jac = 0`` (poles, apexes) the normal is set to 0; such points
+        carry zero weight.
+        """
+        xyz = np.asarray(self.sigma(u, v), dtype=float)
+        su, sv = self.derivatives(u, v)
+        cr = np.cross(su, sv)
+        jac = np.linalg.norm(cr, axis=-1)
+        n = cr / np.where(jac > 0, jac, 1.0)[..., None]
+        if self.flip:
+            n = -n
+        if self.pressure is None:
+            p = np.full(jac.shape, self.pressure_scale)
+        else:
+            p = self.pressure_scale * np.broadcast_to(np.asarray(self.pressure(u, v, xyz), float), jac.shape)
+        return xyz, n, jac, p
+
+    def with_pressure_scale(self, scale: float) -> ParametricSurface:
+        """Copy with the pressure multiplied by ``scale``."""
+        return replace(self, pressure_scale=self.pressure_scale * float(scale))
+
+    def normalized(self) -> ParametricSurface:
+        """Copy with ``p̂ = p / F`` so that ``∫ p̂ dS = 1`` (§3.2.2)."""
+        return self.with_pressure_scale(1.0 / surface_moments(self).F)
+
+    @property
+    def length_scale(self) -> float:
+        """Longest side ``l_s`` of the PCA-aligned bounding box [m] (§3.3.2)."""
+        return _length_scale(self)
+
+
+# ------------------------------------------------------------------ quadrature
+@lru_cache(maxsize=16)
+def _gauss(order: int) -> tuple[Array, Array]:
+    x, w = np.polynomial.legendre.leggauss(order)
+    uu, vv = np.meshgrid(x, x, indexing="ij")
+    ww = np.outer(w, w)
+    return np.column_stack([uu.ravel(), vv.ravel()]), ww.ravel()
+
+
+def _cell_points(surface: ParametricSurface, cells: Array, order: int):
+    """Gauss points of cells (m, 4) = [u0, u1, v0, v1].
+
+    Returns xyz (m*q, 3), normals (m*q, 3), area weights ``w_gl |σ_u × σ_v|``
+    (m*q,) and pressures (m*q,).
+    """
+    nodes, weights = _gauss(order)
+    hu = 0.5 * (cells[:, 1] - cells[:, 0])
+    hv = 0.5 * (cells[:, 3] - cells[:, 2])
+    u = (cells[:, 0] + hu)[:, None] + hu[:, None] * nodes[None, :, 0]
+    v = (cells[:, 2] + hv)[:, None] + hv[:, None] * nodes[None, :, 1]
+    xyz, n, jac, p = surface.evaluate(u.ravel(), v.ravel())
+    da = (weights[None, :] * (hu * hv)[:, None]).ravel() * jac
+    return xyz, n, da, p
+
+
+def _split(cells: Array) -> Array:
+    """(m, 4) cells -> (4m, 4) children, children of cell i at rows 4i..4i+3."""
+    u0, u1, v0, v1 = cells.T
+    um, vm = 0.5 * (u0 + u1), 0.5 * (v0 + v1)
+    kids = np.stack(
+        [
+            np.column_stack([u0, um, v0, vm]),
+            np.column_stack([um, u1, v0, vm]),
+            np.column_stack([u0, um, vm, v1]),
+            np.column_stack([um, u1, vm, v1]),
+        ],
+        axis=1,
+    )
+    return kids.reshape(-1, 4)
+
+
+def _initial_cells(surface: ParametricSurface, n_cells: int = 16) -> Array:
+    """Roughly square initial cells in physical space."""
+    lu, lv = _side_lengths(surface)
+    nu = int(np.clip(round(np.sqrt(n_cells * lu / max(lv, 1e-300))), 1, n_cells))
+    nv = max(1, n_cells // nu)
+    ue = np.linspace(*surface.u_range, nu + 1)
+    ve = np.linspace(*surface.v_range, nv + 1)
+    U0, V0 = np.meshgrid(ue[:-1], ve[:-1], indexing="ij")
+    U1, V1 = np.meshgrid(ue[1:], ve[1:], indexing="ij")
+    return np.column_stack([U0.ravel(), U1.ravel(), V0.ravel(), V1.ravel()])
+
+
+def _adaptive(
+    evaluate: Callable[[Array, Array], Array],
+    init_cells: Array,
+    n_groups: int,
+    scale: Array,
+    tol: float,
+    max_passes: int,
+    eta: float = 0.1,
+    max_cells: int = TOL.quadrature_max_cells,
+) -> tuple[Array, Array, int]:
+    """Adaptive cubature of ``n_groups`` vector integrands sharing a domain.
+
+    evaluate(cells (m, 4), groups (m,)) -> (m, q) integrals per cell.
+    scale : (n_groups, q) component scales; the error of a cell is
+    ``max_j |fine_j - coarse_j| / scale_j`` and a group converges when its
+    summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
+    and the number of integrand cells evaluated.
+    """
+    m0 = init_cells.shape[0]
+    cells = np.tile(init_cells, (n_groups, 1))
+    groups = np.repeat(np.arange(n_groups), m0)
+    coarse = evaluate(cells, groups)
+    q = coarse.shape[1]
+    kids = evaluate(_split(cells), np.repeat(groups, 4)).reshape(-1, 4, q)
+    n_eval = 5 * cells.shape[0]
+    for _ in range(max_passes):
+        fine = kids.sum(axis=1)
+        err = (np.abs(fine - coarse) / scale[groups]).max(axis=1)
+        total = np.bincount(groups, err, minlength=n_groups)
+        open_groups = total > tol
+        if not open_groups.any():
+            break
+        worst = np.zeros(n_groups)
+        np.maximum.at(worst, groups, err)
+        mark = open_groups[groups] & (err >= eta * worst[groups])
+        if cells.shape[0] + 3 * int(mark.sum()) > max_cells:
+            log.warning(
+                "adaptive quadrature stopped at the %d-cell cap with error estimate %.3g > %.3g; "
+                "the integrand is too rough for this tolerance (loosen rtol)",
+                cells.shape[0],
+                float(total.max()),
+                tol,
+            )
+            break
+        new_cells = _split(cells[mark])
+        new_groups = np.repeat(groups[mark], 4)
+        new_coarse = kids[mark].reshape(-1, q)
+        new_kids = evaluate(_split(new_cells), np.repeat(new_groups, 4)).reshape(-1, 4, q)
+        n_eval += 4 * new_cells.shape[0]
+        keep = ~mark
+        cells = np.concatenate([cells[keep], new_cells])
+        groups = np.concatenate([groups[keep], new_groups])
+        coarse = np.concatenate([coarse[keep], new_coarse])
+        kids = np.concatenate([kids[keep], new_kids])
+    fine = kids.sum(axis=1)
+    err = (np.abs(fine - coarse) / scale[groups]).max(axis=1)
+    values = np.zeros((n_groups, q))
+    np.add.at(values, groups, fine)
+    return values, np.bincount(groups, err, minlength=n_groups), n_eval
+
+
+@dataclass(frozen=True)
+class SurfaceMoments:
+    """Twist-independent integrals of a surface (Eq. 3.1, 3.2)."""
+
+    F: float  # ∫ p dS [N]
+    area: float  # ∫ dS [m²]
+    pressure_center: Array  # (3,) o, Eq. (3.1)
+    normal_wrench: Array  # (6,) w⊥ about o, Eq. (3.2)
+    error: float  # relative error estimate
+
+
+@lru_cache(maxsize=128)
+def surface_moments(surface: ParametricSurface, rtol: float = TOL.moments_rtol) -> SurfaceMoments:
+    """``F``, area, pressure center ``o`` and normal wrench ``w⊥`` of a surface."""
+    order = TOL.quadrature_order
+
+    def evaluate(cells: Array, groups: Array) -> Array:
+        xyz, n, da, p = _cell_points(surface, cells, order)
+        dw = da * p
+        cols = np.column_stack([dw, da, dw[:, None] * xyz, dw[:, None] * n, dw[:, None] * np.cross(xyz, n)])
+        return cols.reshape(cells.shape[0], -1, cols.shape[1]).sum(axis=1)
+
+    init = _initial_cells(surface)
+    rough = evaluate(init, np.zeros(init.shape[0], int)).sum(axis=0)
+    L = max(_length_scale(surface), float(np.abs(rough[2:5] / rough[0]).max()))
+    scale = np.array([rough[0], rough[1]] + [rough[0] * L] * 3 + [rough[0]] * 3 + [rough[0] * L] * 3)
+    vals, err, _ = _adaptive(evaluate, init, 1, scale[None, :], rtol, TOL.quadrature_max_passes)
+    v = vals[0]
+    F = float(v[0])
+    o = v[2:5] / F
+    fn = v[5:8]
+    tn = v[8:11] - np.cross(o, fn)  # ∫ p (σ - o) × n = ∫ p σ × n - o × ∫ p n
+    return SurfaceMoments(F, float(v[1]), o, -np.concatenate([fn, tn]), float(err[0]))
+
+
+def surface_wrenches(
+    surface: ParametricSurface,
+    twists: Any,
+    mu: float = 1.0,
+    *,
+    rtol: float = TOL.quadrature_rtol,
+    return_error: bool = False,
+) -> Array | tuple[Array, Array]:
+    """Continuous frictional wrenches, Eq. (3.3)-(3.5), about the pressure center.
+
+    twists : (K, 6) float about ``o`` (see :func:`surface_moments`).
+    rtol : target error, scaled per component by ``μF`` (forces) and
+        ``μF l_s`` (torques).
+    Returns (K, 6) wrenches and, with ``return_error=True``, the (K,) error
+    estimates in the same scaled units.
+    """
+    xi, single = check_twists(twists)
+    mu_f = check_mu(mu)
+    if not (np.isfinite(rtol) and rtol > 0):
+        raise ValueError(f"rtol must be > 0; got {rtol}")
+    mom = surface_moments(surface)
+    order = TOL.quadrature_order
+    rtol2 = TOL.tangential_velocity_rtol**2
+    q = order * order
+
+    def evaluate(cells: Array, groups: Array) -> Array:
+        xyz, n, da, p = _cell_points(surface, cells, order)
+        dw = da * p
+        r = xyz - mom.pressure_center
+        out = np.empty((cells.shape[0], 6))
+        seg_start = np.arange(0, cells.shape[0] * q + 1, q, dtype=np.int64)
+        _kernels._fw_segments(
+            xi,
+            groups.astype(np.int64),
+            seg_start,
+            *(np.ascontiguousarray(a) for a in (r[:, 0], r[:, 1], r[:, 2], n[:, 0], n[:, 1], n[:, 2], dw)),
+            1.0,
+            rtol2,
+            out,
+        )
+        return out
+
+    ls = _length_scale(surface)
+    scale = np.array([mom.F] * 3 + [mom.F * ls] * 3)
+    vals, err, _ = _adaptive(
+        evaluate,
+        _initial_cells(surface),
+        xi.shape[0],
+        np.tile(scale, (xi.shape[0], 1)),
+        rtol,
+        TOL.quadrature_max_passes,
+    )
+    vals *= mu_f
+    if single:
+        vals, err = vals[0], err[0]
+    return (vals, err) if return_error else vals
+
+
+def surface_w_max(surface: ParametricSurface, mu: float = 1.0, *, rtol: float = TOL.quadrature_rtol) -> Array:
+    """(6,) exact ``w_max`` of a continuous surface via the canonical twists."""
+    w = surface_wrenches(surface, canonical_twists(), mu, rtol=rtol)
+    return -np.diag(w) + 0.0
+
+
+# ---------------------------------------------------------------- geometry
+def _grid(surface: ParametricSurface, nu: int, nv: int) -> tuple[Array, Array, Array]:
+    u = np.linspace(*surface.u_range, nu + 1)
+    v = np.linspace(*surface.v_range, nv + 1)
+    U, V = np.meshgrid(u, v, indexing="ij")
+    return U, V, np.asarray(surface.sigma(U.ravel(), V.ravel()), float).reshape(nu + 1, nv + 1, 3)
+
+
+def _side_lengths(surface: ParametricSurface) -> tuple[float, float]:
+    """Mean physical lengths of the u- and v-parameter lines."""
+    _, _, P = _grid(surface, 32, 32)
+    lu = np.linalg.norm(np.diff(P, axis=0), axis=2).sum(axis=0).mean()
+    lv = np.linalg.norm(np.diff(P, axis=1), axis=2).sum(axis=1).mean()
+    return float(lu), float(lv)
+
+
+def _length_scale(surface: ParametricSurface) -> float:
+    _, _, P = _grid(surface, 64, 64)
+    pts = P.reshape(-1, 3)
+    centered = pts - pts.mean(axis=0)
+    _, _, axes = np.linalg.svd(centered, full_matrices=False)
+    ext = centered @ axes.T
+    return float((ext.max(axis=0) - ext.min(axis=0)).max())
+
+
+def _collapsed_edges(surface: ParametricSurface) -> tuple[bool, bool, bool, bool]:
+    """Which parameter-domain edges map to a single point (u0, u1, v0, v1)."""
+    _, _, P = _grid(surface, 16, 16)
+    L = _length_scale(surface)
+
+    def collapsed(edge: Array) -> bool:
+        return bool(np.ptp(edge, axis=0).max() <= 1e-12 * L)
+
+    return collapsed(P[0]), collapsed(P[-1]), collapsed(P[:, 0]), collapsed(P[:, -1])
+
+
+def _grid_size(surface: ParametricSurface, n_elements: int) -> tuple[int, int]:
+    """Grid (nu, nv) whose triangle count is closest to ``n_elements`` with
+    cells as square as possible in physical space."""
+    lu, lv = _side_lengths(surface)
+    cu0, cu1, cv0, cv1 = _collapsed_edges(surface)
+    best = None
+    for nu in range(1, n_elements + 1):
+        for nv in {max(1, n_elements // (2 * nu)), max(1, -(-n_elements // (2 * nu)))}:
+            count = 2 * nu * nv - nv * (cu0 + cu1) - nu * (cv0 + cv1)
+            if count <= 0:
+                continue
+            miss = abs(count - n_elements)
+            aspect = abs(np.log((lu / nu) / (lv / nv)))
+            # within 3% of the target: prefer square cells; otherwise the closest count
+            outside = miss > max(2, 0.03 * n_elements)
+            key = (outside, miss if outside else aspect, miss)
+            if best is None or key < best[0]:
+                best = (key, nu, nv)
+    return best[1], best[2]
+
+
+def mesh_surface(surface: ParametricSurface, n_elements: int) -> tuple[Array, Array, Array]:
+    """Triangle mesh of a parametric surface with ~``n_elements`` triangles.
+
+    A (nu × nv) parameter grid, quads split along alternating diagonals,
+    triangles on collapsed edges (poles, apexes) dropped, winding set so the
+    face normal agrees with the surface normal.  Returns vertices (V, 3),
+    faces (T, 3) int and the parametric centroid of each face (T, 2).
+    """
+    if int(n_elements) < 2:
+        raise ValueError(f"n_elements must be >= 2; got {n_elements}")
+    nu, nv = _grid_size(surface, int(n_elements))
+    U, V, P = _grid(surface, nu, nv)
+    idx = np.arange((nu + 1) * (nv + 1)).reshape(nu + 1, nv + 1)
+    a, b = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel()
+    c, d = idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    alt = ((np.arange(nu)[:, None] + np.arange(nv)[None, :]) % 2 == 1).ravel()
+    t1 = np.where(alt[:, None], np.column_stack([a, b, d]), np.column_stack([a, b, c]))
+    t2 = np.where(alt[:, None], np.column_stack([b, c, d]), np.column_stack([a, c, d]))
+    faces = np.vstack([t1, t2])
+    verts = P.reshape(-1, 3)
+    tri = verts[faces]
+    cr = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    area2 = np.linalg.norm(cr, axis=1)
+    keep = area2 > TOL.degenerate_area_rtol * np.median(area2)
+    faces, cr = faces[keep], cr[keep]
+    uv = np.column_stack([U.ravel(), V.ravel()])[faces].mean(axis=1)
+    _, n_surf, _, _ = surface.evaluate(uv[:, 0], uv[:, 1])
+    wrong = np.einsum("ij,ij->i", cr, n_surf) < 0
+    faces[wrong] = faces[wrong][:, ::-1]
+    return verts, faces, uv
+
+
+def mesh_profile(
+    surface: ParametricSurface, n_elements: int, *, pressure_scale: float = 1.0
+) -> ContactProfile:
+    """ContactProfile of :func:`mesh_surface` with the pressure at each
+    triangle's parametric centroid (flat triangles: centroid, face normal, area)."""
+    verts, faces, uv = mesh_surface(surface, n_elements)
+    _, _, _, p = surface.evaluate(uv[:, 0], uv[:, 1])
+    return ContactProfile.from_mesh(verts, faces, p * pressure_scale)
+
+
+def project_to_plane(surface: ParametricSurface, normal: Any, name: str | None = None) -> ParametricSurface:
+    """Planar area contact of a surface: its orthogonal projection onto the
+    plane through the origin with unit ``normal``, uniform pressure (§3.5.1.1).
+
+    The projected region is parametrised by the same ``(u, v)``, which is
+    valid when the projection is injective (true for S1-S6 onto the xz-plane).
+    """
+    nrm = np.asarray(normal, dtype=float)
+    nrm = nrm / np.linalg.norm(nrm)
+
+    def proj(x: Array) -> Array:
+        x = np.asarray(x, float)
+        return x - (x @ nrm)[..., None] * nrm
+
+    su = sv = None
+    if surface.sigma_u is not None and surface.sigma_v is not None:
+        su = lambda u, v: proj(surface.sigma_u(u, v))  # noqa: E731
+        sv = lambda u, v: proj(surface.sigma_v(u, v))  # noqa: E731
+    um, vm = np.mean(surface.u_range), np.mean(surface.v_range)
+    _, n_orig, _, _ = surface.evaluate(np.array([um]), np.array([vm]))
+    plane = ParametricSurface(
+        name or f"{surface.name}-planar",
+        lambda u, v: proj(surface.sigma(u, v)),
+        surface.u_range,
+        surface.v_range,
+        su,
+        sv,
+        None,
+        1.0,
+        False,
+        f"projection of {surface.name} onto the plane normal to {nrm.tolist()}",
+    )
+    _, n_plane, _, _ = plane.evaluate(np.array([um]), np.array([vm]))
+    if float(n_plane[0] @ nrm) * float(n_orig[0] @ nrm) < 0:
+        plane = replace(plane, flip=True)
+    return plane

@@ -1,0 +1,99 @@
+"""Public wrappers of the 6D frictional-wrench (6DFW) and normal-wrench kernels.
+
+All wrenches are ``[f_x, f_y, f_z, τ_x, τ_y, τ_z]`` acting **on the object**,
+torques about the pressure center ``o`` of the profile (CONVENTIONS.md).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from . import _kernels
+from .config import TOL
+from .profile import ContactProfile
+from .twists import canonical_twists
+
+
+def check_twists(twists: Any) -> tuple[np.ndarray, bool]:
+    """Validate twists; returns a C-contiguous (K, 6) float64 array and whether
+    the input was a single (6,) twist."""
+    try:
+        xi = np.asarray(twists, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(
+            f"twists must be a numeric (K, 6) array; got {type(twists).__name__} ({exc})"
+        ) from None
+    single = xi.ndim == 1
+    if single:
+        xi = xi[None, :]
+    if xi.ndim != 2 or xi.shape[1] != 6:
+        raise ValueError(
+            f"twists must have shape (K, 6) ([v_x, v_y, v_z, ω_x, ω_y, ω_z] per row) or (6,); "
+            f"got {np.shape(twists)} — transpose a (6, K) array"
+        )
+    bad = ~np.isfinite(xi)
+    if bad.any():
+        row = int(np.argwhere(bad)[0][0])
+        raise ValueError(f"twists must be finite; row {row} has NaN/inf")
+    return np.ascontiguousarray(xi), single
+
+
+def check_mu(mu: Any) -> float:
+    """Validate a friction coefficient (finite, >= 0)."""
+    try:
+        mu_f = float(mu)
+    except (TypeError, ValueError):
+        raise ValueError(f"mu must be a non-negative float; got {mu!r}") from None
+    if not np.isfinite(mu_f) or mu_f < 0:
+        raise ValueError(f"mu must be a finite friction coefficient >= 0; got {mu_f}")
+    return mu_f
+
+
+def _check_profile(profile: Any) -> ContactProfile:
+    if not isinstance(profile, ContactProfile):
+        raise ValueError(
+            f"profile must be a ContactProfile; got {type(profile).__name__} "
+            "— build one with ContactProfile(centers, normals, areas, pressures)"
+        )
+    return profile
+
+
+def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -> np.ndarray:
+    """6D frictional wrenches for a batch of twists, Eq. (3.6)-(3.8).
+
+    profile : ContactProfile with N elements.
+    twists : (K, 6) float, ``[v; ω]`` about ``profile.pressure_center``
+        (unit twists per Eq. 2.30, though any magnitude gives the same wrench
+        since Coulomb friction depends only on slip direction); (6,) accepted.
+    mu : float, friction coefficient.
+    Returns (K, 6) (or (6,) for a single twist): the wrench the static jaw
+    exerts on the moving object.  Elements whose tangential velocity vanishes
+    (``|v_t| <= TOL.tangential_velocity_rtol |v|``) contribute exactly zero.
+    """
+    prof = _check_profile(profile)
+    xi, single = check_twists(twists)
+    mu_f = check_mu(mu)
+    out = np.empty((xi.shape[0], 6))
+    rtol2 = TOL.tangential_velocity_rtol**2
+    _kernels._fw_batch(xi, *prof._soa, mu_f, rtol2, out)
+    return out[0] if single else out
+
+
+def normal_wrench(profile: ContactProfile) -> np.ndarray:
+    """(6,) normal wrench ``w⊥ = -Σ p a [n; (c - o) × n]`` about ``o``, Eq. (3.2)."""
+    prof = _check_profile(profile)
+    out = np.empty(6)
+    _kernels._normal_wrench(*prof._soa, out)
+    return out
+
+
+def w_max(profile: ContactProfile, mu: float = 1.0) -> np.ndarray:
+    """(6,) exact maximal wrench magnitudes per axis (support function).
+
+    ``w_max,i = -w(e_i)_i`` for the canonical twists (see
+    :func:`workbench.twists.canonical_twists` for why this is exact).
+    """
+    w = frictional_wrenches(profile, canonical_twists(), mu)
+    return -np.diag(w) + 0.0  # + 0.0 turns -0.0 (mu = 0) into 0.0
