@@ -148,6 +148,7 @@ def _split(cells: Array) -> Array:
     return kids.reshape(-1, 4)
 
 
+@lru_cache(maxsize=256)
 def _initial_cells(surface: ParametricSurface, n_cells: int = 16) -> Array:
     """Roughly square initial cells in physical space."""
     lu, lv = _side_lengths(surface)
@@ -178,6 +179,16 @@ def _adaptive(
     summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
     and the number of integrand cells evaluated.
     """
+    block = TOL.quadrature_eval_block
+    raw_evaluate = evaluate
+
+    def evaluate(c: Array, g: Array) -> Array:  # bounded temporaries
+        if c.shape[0] <= block:
+            return raw_evaluate(c, g)
+        return np.concatenate(
+            [raw_evaluate(c[i : i + block], g[i : i + block]) for i in range(0, c.shape[0], block)]
+        )
+
     m0 = init_cells.shape[0]
     cells = np.tile(init_cells, (n_groups, 1))
     groups = np.repeat(np.arange(n_groups), m0)
@@ -268,9 +279,10 @@ def surface_wrenches(
 
     twists : (K, 6) float about ``o`` (see :func:`surface_moments`).
     rtol : target error, scaled per component by ``μF`` (forces) and
-        ``μF l_s`` (torques).
+        ``μF l_s`` (torques); the integrator aims at ``TOL.quadrature_safety *
+        rtol`` because its estimate is heuristic near slip singularities.
     Returns (K, 6) wrenches and, with ``return_error=True``, the (K,) error
-    estimates in the same scaled units.
+    estimates (summed fine-vs-coarse differences) in the same scaled units.
     """
     xi, single = check_twists(twists)
     mu_f = check_mu(mu)
@@ -281,14 +293,14 @@ def surface_wrenches(
     rtol2 = TOL.tangential_velocity_rtol**2
     q = order * order
 
-    def evaluate(cells: Array, groups: Array) -> Array:
+    def evaluate(cells: Array, groups: Array, twists: Array) -> Array:
         xyz, n, da, p = _cell_points(surface, cells, order)
         dw = da * p
         r = xyz - mom.pressure_center
         out = np.empty((cells.shape[0], 6))
         seg_start = np.arange(0, cells.shape[0] * q + 1, q, dtype=np.int64)
         _kernels._fw_segments(
-            xi,
+            twists,
             groups.astype(np.int64),
             seg_start,
             *(np.ascontiguousarray(a) for a in (r[:, 0], r[:, 1], r[:, 2], n[:, 0], n[:, 1], n[:, 2], dw)),
@@ -300,14 +312,24 @@ def surface_wrenches(
 
     ls = _length_scale(surface)
     scale = np.array([mom.F] * 3 + [mom.F * ls] * 3)
-    vals, err, _ = _adaptive(
-        evaluate,
-        _initial_cells(surface),
-        xi.shape[0],
-        np.tile(scale, (xi.shape[0], 1)),
-        rtol,
-        TOL.quadrature_max_passes,
-    )
+    init = _initial_cells(surface)
+    chunk = TOL.quadrature_twist_chunk
+    vals = np.empty((xi.shape[0], 6))
+    err = np.empty(xi.shape[0])
+    for start in range(0, xi.shape[0], chunk):
+        part = xi[start : start + chunk]
+
+        def evaluate_part(cells: Array, groups: Array, part: Array = part) -> Array:
+            return evaluate(cells, groups, part)
+
+        vals[start : start + len(part)], err[start : start + len(part)], _ = _adaptive(
+            evaluate_part,
+            init,
+            part.shape[0],
+            np.tile(scale, (part.shape[0], 1)),
+            TOL.quadrature_safety * rtol,
+            TOL.quadrature_max_passes,
+        )
     vals *= mu_f
     if single:
         vals, err = vals[0], err[0]
@@ -328,6 +350,7 @@ def _grid(surface: ParametricSurface, nu: int, nv: int) -> tuple[Array, Array, A
     return U, V, np.asarray(surface.sigma(U.ravel(), V.ravel()), float).reshape(nu + 1, nv + 1, 3)
 
 
+@lru_cache(maxsize=256)
 def _side_lengths(surface: ParametricSurface) -> tuple[float, float]:
     """Mean physical lengths of the u- and v-parameter lines."""
     _, _, P = _grid(surface, 32, 32)
@@ -336,6 +359,7 @@ def _side_lengths(surface: ParametricSurface) -> tuple[float, float]:
     return float(lu), float(lv)
 
 
+@lru_cache(maxsize=256)
 def _length_scale(surface: ParametricSurface) -> float:
     _, _, P = _grid(surface, 64, 64)
     pts = P.reshape(-1, 3)

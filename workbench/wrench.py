@@ -97,3 +97,19 @@ def w_max(profile: ContactProfile, mu: float = 1.0) -> np.ndarray:
     """
     w = frictional_wrenches(profile, canonical_twists(), mu)
     return -np.diag(w) + 0.0  # + 0.0 turns -0.0 (mu = 0) into 0.0
+
+
+def friction_directions(profile: ContactProfile, twist: Any) -> np.ndarray:
+    """(n, 3) unit directions ``-v̂_r`` of the local friction force on the object
+    for one twist (Eq. 3.4), zero at sticking elements.  For plotting (Fig 3.3);
+    ``-μ Σ p a d`` equals the force part of :func:`frictional_wrenches`."""
+    prof = _check_profile(profile)
+    xi, single = check_twists(twist)
+    if not single and xi.shape[0] != 1:
+        raise ValueError(f"friction_directions takes one twist (6,); got {xi.shape}")
+    v, w = xi[0, :3], xi[0, 3:]
+    u = v + np.cross(w, prof.centers - prof.pressure_center)
+    t = u - np.einsum("ij,ij->i", u, prof.normals)[:, None] * prof.normals
+    tn = np.linalg.norm(t, axis=1)
+    slip = tn > TOL.tangential_velocity_rtol * np.linalg.norm(u, axis=1)
+    return -np.where(slip[:, None], t / np.where(slip, tn, 1.0)[:, None], 0.0)

@@ -1,0 +1,76 @@
+"""Each experiment in quick mode (scikit-fem ``test_examples`` style): the
+headline numbers against the thesis, and the summary.json key contract."""
+
+import json
+
+import numpy as np
+import pytest
+
+from workbench.cli import build_config, main
+
+SURFACES = [f"S{i}" for i in range(1, 7)]
+
+
+@pytest.fixture(scope="module")
+def parametric(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ps")
+    assert main(["run", "parametric-surfaces", "--quick", "--out", str(out), "--seed", "3"]) == 0
+    return out, json.loads((out / "summary.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def discretization(tmp_path_factory):
+    out = tmp_path_factory.mktemp("disc")
+    assert main(["run", "discretization", "--quick", "--out", str(out)]) == 0
+    return out, json.loads((out / "summary.json").read_text())
+
+
+def test_parametric_surfaces_example_3_2_5(parametric):
+    _, s = parametric
+    ex = s["example_3_2_5"]
+    np.testing.assert_allclose(ex["pressure_center"], [0, 0.018, -0.04], atol=5e-5)
+    assert round(ex["F"], 4) == 0.6283
+    np.testing.assert_allclose(ex["normal_wrench"], [0, -0.5657, 0, 0, 0, 0], atol=5e-5)
+    np.testing.assert_allclose(ex["frictional_wrench"], [0, 0, 0, 0, 0.0018, 0], atol=5e-5)
+
+
+def test_parametric_surfaces_table_3_2(parametric):
+    _, s = parametric
+    for model, thesis in s["table_3_2_thesis"].items():
+        assert np.abs(np.array(s["table_3_2"][model]) - thesis).max() <= 0.01, model
+    assert set(s["table_3_2"]) == {"6d_nonplanar", "3d_nonplanar", "planar"}
+    assert all(len(v) == 6 for v in s["table_3_2"].values())
+
+
+def test_parametric_surfaces_w_max_and_pca(parametric):
+    out, s = parametric
+    assert set(s["w_max_exact"]) == set(SURFACES) and all(len(v) == 6 for v in s["w_max_exact"].values())
+    # sampled maxima never exceed the exact support values
+    for name in SURFACES:
+        assert (np.array(s["w_max_sampled"][name]) <= np.array(s["w_max_exact"][name]) * (1 + 1e-4)).all()
+    # thesis §3.5.1.1: five or six significant components on every surface
+    assert set(s["pca_components"]) == set(SURFACES)
+    assert all(v in (5, 6) for v in s["pca_components"].values())
+    assert s["seed"] == 3 and "numba" in s["versions"]
+    for fig in s["figures"]:
+        assert (out / fig.split("/")[-1]).stat().st_size > 10_000
+    assert (out / "table_3_2.csv").read_text().count("\n") == 1 + 6 * 3
+
+
+def test_discretization_fig_3_8(discretization):
+    out, s = discretization
+    assert set(s["error_rate"]) == set(SURFACES)
+    for name in SURFACES:
+        rates = s["error_rate"][name]
+        assert rates["300"] < 0.04 and rates["1000"] < 0.01, (name, rates)
+        assert rates["25"] > rates["300"] > rates["1000"]  # converges with refinement
+    assert 0 < s["runtime_discrete_s"] < s["runtime_continuous_s"] < 2.62
+    assert (out / "error_rate.csv").exists() and (out / "fig_3_8_error_rate.png").exists()
+
+
+def test_cli_config_layers():
+    cfg = build_config("discretization", True, None, 7, {"timing_repeats": 2})
+    assert cfg["seed"] == 7 and cfg["timing_repeats"] == 2 and cfg["quick"]
+    assert cfg["out"].endswith("results/discretization")
+    with pytest.raises(SystemExit, match="unknown config keys"):
+        build_config("discretization", False, None, None, {"nope": 1})

@@ -1,0 +1,111 @@
+"""Atomic result writing and run metadata (CONVENTIONS.md "Experiments and results").
+
+Every file is written to a temporary sibling and moved into place with
+``os.replace``, so a killed run never leaves a half-written table.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import platform
+import tempfile
+from collections.abc import Iterable, Sequence
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "meshio", "trimesh", "pyvista", "matplotlib", "cvxpy")
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _jsonable(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None if np.isnan(obj) else ("inf" if obj > 0 else "-inf")
+    return obj
+
+
+def write_json(path: Path, obj: Any) -> Path:
+    """Write ``obj`` as indented JSON atomically (NumPy types converted)."""
+    text = json.dumps(_jsonable(obj), indent=2, sort_keys=False) + "\n"
+    return _atomic_write_bytes(path, text.encode())
+
+
+def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
+    """Write a CSV table atomically."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(header)
+    for row in rows:
+        writer.writerow([_jsonable(v) for v in row])
+    return _atomic_write_bytes(path, buf.getvalue().encode())
+
+
+def save_figure(fig: Any, path: Path, dpi: int = 130) -> Path:
+    """Save a matplotlib figure atomically as PNG and close it."""
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+    return _atomic_write_bytes(path, buf.getvalue())
+
+
+def save_png(path: Path, data: bytes) -> Path:
+    """Write PNG bytes atomically."""
+    return _atomic_write_bytes(path, data)
+
+
+def versions() -> dict[str, str]:
+    """Python, platform and package versions for ``summary.json``."""
+    out = {"python": platform.python_version(), "platform": platform.platform()}
+    for pkg in PACKAGES:
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "not installed"
+    try:
+        out["workbench"] = metadata.version("nonplanar-workbench")
+    except metadata.PackageNotFoundError:
+        out["workbench"] = "source"
+    return out
+
+
+def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_time_s: float) -> dict:
+    """Add the run's metadata (config, seed, versions, wall time) and write
+    ``out/summary.json`` atomically; returns the full summary."""
+    full = {"experiment": experiment, **summary}
+    full["config"] = config
+    full["seed"] = config.get("seed")
+    full["versions"] = versions()
+    full["wall_time_s"] = wall_time_s
+    write_json(Path(out) / "summary.json", full)
+    return full

@@ -1,0 +1,81 @@
+"""Offscreen figures: pyvista renders of contact profiles with friction arrows
+(Fig 3.3 style).  Nothing here needs a display."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .profile import ContactProfile
+from .results import save_png
+from .wrench import friction_directions
+
+
+def _pyvista():
+    import pyvista as pv
+    import vtk
+
+    pv.OFF_SCREEN = True
+    # VTK logs an X-server warning before falling back to offscreen rendering
+    vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_ERROR)
+    return pv
+
+
+def profile_polydata(profile: ContactProfile) -> Any:
+    """``pyvista.PolyData`` of a meshed profile with ``pressure`` cell data."""
+    pv = _pyvista()
+    if profile.vertices is None or profile.faces is None:
+        raise ValueError("profile has no mesh (vertices/faces) to render; build it with from_mesh")
+    k = profile.faces.shape[1]
+    cells = np.hstack([np.full((len(profile.faces), 1), k), profile.faces]).ravel()
+    poly = pv.PolyData(profile.vertices, cells)
+    poly.cell_data["pressure"] = profile.pressures
+    return poly
+
+
+def render_friction_arrows(
+    profile: ContactProfile,
+    twists: dict[str, np.ndarray],
+    path: Path,
+    *,
+    title: str = "",
+    max_arrows: int = 400,
+    window_size: tuple[int, int] = (520, 460),
+) -> Path:
+    """One panel per twist: the surface and the local friction-force
+    directions on the object (green), like thesis Fig 3.3."""
+    pv = _pyvista()
+    poly = profile_polydata(profile)
+    n_panels = len(twists)
+    plotter = pv.Plotter(
+        off_screen=True, shape=(1, n_panels), window_size=(window_size[0] * n_panels, window_size[1])
+    )
+    stride = max(1, len(profile) // max_arrows)
+    idx = np.arange(0, len(profile), stride)
+    length = 0.05 * profile.length_scale
+    uniform = np.ptp(profile.pressures) <= 1e-12 * profile.pressures.max()
+    for j, (label, xi) in enumerate(twists.items()):
+        plotter.subplot(0, j)
+        if uniform:
+            plotter.add_mesh(poly, color="lightsteelblue", show_edges=True, edge_color="gray", opacity=0.9)
+        else:
+            plotter.add_mesh(poly, scalars="pressure", show_edges=False, cmap="viridis")
+        d = friction_directions(profile, xi)[idx]
+        pts = pv.PolyData(profile.centers[idx] + 1e-3 * length * profile.normals[idx])
+        pts["d"] = d
+        arrows = pts.glyph(orient="d", scale=False, factor=length)
+        plotter.add_mesh(arrows, color="forestgreen")
+        plotter.add_text(f"{title} {label}".strip(), font_size=10)
+        plotter.add_axes()
+        plotter.camera_position = "iso"
+        plotter.camera.azimuth = 30
+    img = plotter.screenshot(return_img=True)
+    plotter.close()
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(img).save(buf, format="PNG")
+    return save_png(path, buf.getvalue())
