@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test lint bench clean
+.PHONY: reproduce test test-nojit lint bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -20,6 +20,11 @@ reproduce: $(STAMP)
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
+
+# The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.
+test-nojit: $(STAMP)
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q tests/test_wrench_kernel.py tests/test_stress.py \
+		tests/test_profile.py tests/test_twists.py tests/test_surfaces.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check workbench fem experiments tests benchmarks

@@ -146,3 +146,52 @@ def test_w_max_is_support_function_upper_bound_of_samples(rng):
     for k in range(6):
         e = np.eye(6)[k]
         assert (W @ e >= -exact[k] * (1 + 1e-12)).all()
+
+
+def test_segment_kernel_matches_reference_per_segment(rng):
+    # _fw_segments (used by the surface quadrature) against the reference on each segment
+    from workbench import _kernels
+
+    c, nrm, a, p = naive.random_profile(rng, 240)
+    o = naive.pressure_center(c, a, p)
+    xi = sample_twists_thesis(5, 0.02, seed=13)  # 10 twists
+    starts = np.array([0, 17, 17, 100, 163, 240], dtype=np.int64)  # includes an empty segment
+    seg_twist = np.array([3, 0, 9, 5, 1], dtype=np.int64)
+    r = c - o
+    out = np.empty((5, 6))
+    cols = [
+        np.ascontiguousarray(x) for x in (r[:, 0], r[:, 1], r[:, 2], nrm[:, 0], nrm[:, 1], nrm[:, 2], p * a)
+    ]
+    _kernels._fw_segments(xi, seg_twist, starts, *cols, 0.4, 1e-24, out)
+    for j in range(5):
+        sl = slice(starts[j], starts[j + 1])
+        ref = np.zeros(6)
+        for ci, ni, ai, pi in zip(c[sl], nrm[sl], a[sl], p[sl], strict=True):
+            # naive element loop with the torque arm about the *whole* profile's center
+            u = xi[seg_twist[j], :3] + np.cross(xi[seg_twist[j], 3:], ci - o)
+            t = u - (u @ ni) * ni
+            if np.linalg.norm(t) > naive.TANGENTIAL_RTOL * np.linalg.norm(u):
+                df = -0.4 * pi * ai * t / np.linalg.norm(t)
+                ref += np.concatenate([df, np.cross(ci - o, df)])
+        np.testing.assert_allclose(out[j], ref, rtol=1e-10, atol=1e-10 * (p * a).sum() * 0.02)
+
+
+def test_friction_directions_sum_to_the_wrench_force(rng):
+    from workbench.wrench import friction_directions
+
+    prof = ContactProfile(*naive.random_profile(rng, 300))
+    for xi in sample_twists_thesis(5, prof, seed=14):
+        d = friction_directions(prof, xi)
+        norms = np.linalg.norm(d, axis=1)
+        assert np.all((np.abs(norms - 1) < 1e-12) | (norms == 0))
+        assert np.abs(np.einsum("ij,ij->i", d, prof.normals)).max() < 1e-12  # tangential
+        f = (prof.forces[:, None] * d).sum(axis=0)  # f = -μ Σ p a v̂_r = μ Σ p a d  (μ = 1)
+        np.testing.assert_allclose(frictional_wrenches(prof, xi)[:3], f, atol=1e-12 * prof.F)
+
+
+def test_parallel_kernel_is_deterministic(rng):
+    prof = ContactProfile(*naive.random_profile(rng, 1000))
+    xi = sample_twists_thesis(300, prof, seed=15)
+    first = frictional_wrenches(prof, xi)
+    for _ in range(3):
+        np.testing.assert_array_equal(frictional_wrenches(prof, xi), first)
