@@ -69,7 +69,7 @@ def test_thesis_sampler():
     assert xi.shape == (400, 6)
     e, m, h, tr = plucker_from_twists(xi)
     assert (~tr[:200]).all() and tr[200:].all()
-    assert (np.abs(h[:200]) <= 2.0).all()
+    assert (np.abs(h[:200]) <= ls).all() and np.abs(h[:200]).max() > 0.9 * ls  # h ~ U[-1, 1] l_s
     # |m| = |q x e| <= |q| <= 0.25 l_s
     assert np.linalg.norm(m[:200], axis=1).max() <= 0.25 * ls + 1e-15
     np.testing.assert_allclose(e[:200], fibonacci_sphere(200), atol=1e-14)

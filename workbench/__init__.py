@@ -4,6 +4,7 @@ Data flows one way: profile -> wrenches -> limit surface -> contact model ->
 grasp metric.  See README.md and ``workbench run --help``.
 """
 
+from .limit_surface import fit_ellipsoid, fit_quartic
 from .profile import ContactProfile
 from .surfaces import (
     ParametricSurface,
@@ -30,6 +31,8 @@ __all__ = [
     "ContactProfile",
     "ParametricSurface",
     "canonical_twists",
+    "fit_ellipsoid",
+    "fit_quartic",
     "frictional_wrenches",
     "mesh_profile",
     "mesh_surface",

@@ -102,6 +102,24 @@ class Tolerances:
     # degenerate (planar/line contacts), CONVENTIONS.md "Limit surfaces".
     degenerate_wmax_rtol: float = 1e-9
 
+    # PCA subspace of normalised wrenches: directions whose std is below this
+    # fraction of the largest std are dropped (planar -> 3D, line -> 2D;
+    # §3.3.4.2 "explained variances less than a small value ε").
+    subspace_rtol: float = 1e-6
+
+    # Semi-axis (normalised units) given to dropped directions so every
+    # returned A_e is positive definite: the model is "flat" to this thickness.
+    flat_axis: float = 1e-6
+
+    # -alpha log det(A_e) penalty of the SDP ellipsoid (Eq. 3.12), as alpha =
+    # this * K: small against the K-term fit objective (the PCA subspace
+    # already removes singular directions) yet keeps A_e strictly definite.
+    sdp_alpha_per_wrench: float = 1e-6
+
+    # Eigenvalue floor (relative to the largest) used when a least-squares
+    # ellipsoid comes out indefinite and is projected to the PD cone.
+    ellipsoid_eig_floor: float = 1e-8
+
     # |omega| below this (relative to |v|/l) classifies a twist as a pure
     # translation when converting to Plücker coordinates.
     translation_omega_atol: float = 1e-12
@@ -116,8 +134,11 @@ class Defaults:
 
     # Thesis §3.3.2: q is uniform in a ball of radius 0.25 * l_s around o.
     twist_radius_factor: float = 0.25
-    # Thesis §3.3.2: pitch h ~ U[-2, 2] (m/rad).
-    pitch_range: tuple[float, float] = (-2.0, 2.0)
+    # Pitch h ~ U[lo, hi] * l_s.  The thesis (§3.3.2) draws h ~ U[-2, 2] m/rad
+    # for surfaces with l_s = 2 (all of S1-S6); in units of l_s this is
+    # [-1, 1] and stays scale covariant (an absolute ±2 m/rad makes every
+    # twist a near-translation on a 1-cm contact, so torsion is never sampled).
+    pitch_range: tuple[float, float] = (-1.0, 1.0)
     # Thesis §3.5.1: mu = 1 for the parametric-surface study.
     mu: float = 1.0
     # Seed used by experiments when none is given.

@@ -8,8 +8,9 @@ reference point (the pressure center ``o``, so ``q`` is relative to ``o``).
 Samplers (all seeded):
 
 * :func:`sample_twists_thesis` — thesis §3.3.2: Fibonacci ``e``, ``q`` uniform
-  in a ball of radius ``0.25 l_s``, ``h ~ U[-2, 2]``, plus the pure
-  translations along the same ``e``.
+  in a ball of radius ``0.25 l_s``, ``h ~ U[-1, 1] l_s`` (the thesis's
+  ``U[-2, 2]`` m/rad for its surfaces with ``l_s = 2``, made scale covariant),
+  plus the pure translations along the same ``e``.
 * :func:`sample_twists_6dfc` — 6DFC paper §IV-C.1: ``k1`` pure rotations about
   random axes through random centers plus ``k2`` random pure translations.
 * :func:`canonical_twists` — the six axis twists that give ``w_max`` exactly.
@@ -131,16 +132,17 @@ def sample_twists_thesis(
 
     ``e`` from a Fibonacci sphere of ``n`` points, ``q`` uniform in the ball of
     radius ``radius_factor * l_s`` around ``o``, ``m = q × e``, ``h`` uniform in
-    ``pitch_range``; with ``translations=True`` the ``n`` pure translations
-    along the same ``e`` are appended.
+    ``pitch_range * l_s``; with ``translations=True`` the ``n`` pure
+    translations along the same ``e`` are appended.
 
     length_scale : float [m] or ContactProfile (uses its ``length_scale`` ``l_s``).
     Returns (n or 2n, 6) unit twists about ``o``.
     """
     rng = _rng(seed)
+    ls = _length(length_scale)
     e = fibonacci_sphere(n)
-    q = _uniform_ball(rng, n, radius_factor * _length(length_scale))
-    h = rng.uniform(pitch_range[0], pitch_range[1], n)
+    q = _uniform_ball(rng, n, radius_factor * ls)
+    h = ls * rng.uniform(pitch_range[0], pitch_range[1], n)
     xi = twists_from_plucker(e, np.cross(q, e), h)
     return np.vstack([xi, translation_twists(e)]) if translations else xi
 

@@ -1,0 +1,283 @@
+"""6D limit-surface models: ellipsoid (LSQ/SDP), SOS-convex quartic, linearisation,
+contact-wrench model, 6DFC and the cache."""
+
+import numpy as np
+import pytest
+from scipy.optimize import linprog
+
+from workbench import (
+    ContactProfile,
+    fit_ellipsoid,
+    fit_quartic,
+    frictional_wrenches,
+    mesh_profile,
+    sample_twists_thesis,
+)
+from workbench.limit_surface import (
+    ContactWrenchModel,
+    LimitSurfaceCache,
+    ModelSpec,
+    SamplerSpec,
+    friction_cone_6d,
+    is_sos_convex,
+)
+from workbench.limit_surface import ellipsoid as ell_mod
+from workbench.limit_surface import quartic as quart_mod
+from workbench.limit_surface.quartic import _square_norm_squared
+from workbench.limit_surface.sos import exponents
+from workbench.pressure import power_law
+from workbench.surface_catalog import S4
+
+
+@pytest.fixture(scope="module")
+def s4_data():
+    prof = mesh_profile(S4, 800).normalized()
+    train = frictional_wrenches(prof, sample_twists_thesis(300, prof, seed=1))
+    test = frictional_wrenches(prof, sample_twists_thesis(2000, prof, seed=2))
+    return prof, train, test
+
+
+@pytest.fixture(scope="module")
+def s4_quartic(s4_data):
+    return fit_quartic(s4_data[1])
+
+
+# ---------------------------------------------------------------- ellipsoid
+def _rotated_ellipsoid_points(rng, n):
+    scales = np.array([12.0, 3.0, 7.0, 0.02, 0.005, 0.04])  # N and N·m: mixed units
+    R = np.linalg.qr(rng.standard_normal((6, 6)))[0]
+    semi = rng.uniform(0.3, 1.0, 6)
+    u = rng.standard_normal((n, 6))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    pts = ((u * semi) @ R.T) * scales  # on the ellipsoid by construction
+    A_true = np.linalg.inv(np.diag(scales) @ R @ np.diag(semi**2) @ R.T @ np.diag(scales))
+    return pts, A_true
+
+
+def test_lsq_recovers_a_known_rotated_ellipsoid(rng):
+    pts, A_true = _rotated_ellipsoid_points(rng, 400)
+    model = fit_ellipsoid(pts, "lsq")
+    fresh, _ = _rotated_ellipsoid_points(np.random.default_rng(12345), 1)  # same construction seed
+    assert np.abs(model.value(pts) - 1).max() <= 1e-6
+    np.testing.assert_allclose(model.A_raw, A_true, rtol=1e-6, atol=1e-9 * np.abs(A_true).max())
+    assert model.info["fallback"] is None and model.dim == 6
+    assert np.abs(model.value(fresh) - np.einsum("ni,ij,nj->n", fresh, A_true, fresh)).max() <= 1e-6
+
+
+def test_sdp_close_to_exact_on_exact_data(rng):
+    pts, _ = _rotated_ellipsoid_points(rng, 400)
+    model = fit_ellipsoid(pts, "sdp")
+    assert model.info["fallback"] is None
+    assert np.abs(model.value(pts) - 1).max() <= 1e-4  # the -α log det term biases only slightly
+
+
+def test_ellipsoid_models_are_pd_and_fit_surface_wrenches(s4_data):
+    _, train, test = s4_data
+    for method in ("lsq", "sdp"):
+        m = fit_ellipsoid(train, method)
+        assert np.linalg.eigvalsh(m.A_e).min() > 0
+        assert m.fitting_error(test) <= 0.04  # thesis §3.6
+        # gradient is the derivative of value
+        w = test[:5]
+        h = 1e-7 * m.scale
+        fd = np.array(
+            [(m.value(w + np.diag(h)[j]) - m.value(w - np.diag(h)[j])) / (2 * h[j]) for j in range(6)]
+        ).T
+        np.testing.assert_allclose(m.gradient(w), fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+
+
+# ---------------------------------------------------------------- quartic
+def test_sos_convexity_certificates():
+    assert is_sos_convex(_square_norm_squared(6), 6)  # (xᵀx)² is SOS-convex
+    expo = exponents(3, 4)
+    nonconvex = np.zeros(len(expo))
+    nonconvex[(expo == [4, 0, 0]).all(axis=1)] = 1.0
+    nonconvex[(expo == [0, 4, 0]).all(axis=1)] = -1.0  # x1⁴ - x2⁴
+    assert not is_sos_convex(nonconvex, 3)
+    cross = np.where((expo == [2, 2, 0]).all(axis=1), 1.0, 0.0)  # x1² x2²: not convex
+    assert not is_sos_convex(cross, 3)
+
+
+def test_quartic_beats_ellipsoid_and_is_convex(s4_data, s4_quartic):
+    _, train, test = s4_data
+    q = s4_quartic
+    e = fit_ellipsoid(train)
+    assert q.fitting_error(test) < e.fitting_error(test)
+    assert q.fitting_error(test) <= 0.02
+    # Hessian PSD at 10,000 random points of the subspace (the model is homogeneous:
+    # directions suffice, magnitudes only scale the Hessian)
+    y = np.random.default_rng(3).standard_normal((10_000, q.dim))
+    lam = np.linalg.eigvalsh(q.hessian_subspace(y))
+    assert lam.min() >= -1e-12 * np.abs(lam).max()
+    assert q.info["certificate_delta"] >= 0
+
+
+def test_quartic_gradient_matches_finite_differences(s4_data, s4_quartic):
+    q = s4_quartic
+    w = s4_data[2][:4]
+    h = 1e-6 * q.scale
+    fd = np.array(
+        [(q.value(w + np.diag(h)[j]) - q.value(w - np.diag(h)[j])) / (2 * h[j]) for j in range(6)]
+    ).T
+    np.testing.assert_allclose(q.gradient(w), fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+
+
+# ------------------------------------------------------------- planar contacts
+def _disc(n_r=14, n_t=40, R=0.01):
+    r = (np.arange(n_r) + 0.5) / n_r * R
+    t = (np.arange(n_t) + 0.5) / n_t * 2 * np.pi
+    rr, tt = np.meshgrid(r, t, indexing="ij")
+    c = np.column_stack([(rr * np.cos(tt)).ravel(), (rr * np.sin(tt)).ravel(), np.zeros(rr.size)])
+    a = (rr * (R / n_r) * (2 * np.pi / n_t)).ravel()
+    return c, a, rr.ravel(), R
+
+
+def _rect(nx=30, ny=12, lx=0.03, ly=0.012):
+    x = ((np.arange(nx) + 0.5) / nx - 0.5) * lx
+    y = ((np.arange(ny) + 0.5) / ny - 0.5) * ly
+    xx, yy = np.meshgrid(x, y, indexing="ij")
+    c = np.column_stack([xx.ravel(), yy.ravel(), np.zeros(xx.size)])
+    r = np.hypot(xx, yy).ravel()
+    return c, np.full(xx.size, lx * ly / (nx * ny)), r, r.max() * 1.0001
+
+
+@pytest.mark.parametrize("shape", ["disc", "rect"])
+@pytest.mark.parametrize("k", [np.inf, 2.0])
+def test_planar_contacts_reduce_to_3d(shape, k):
+    c, a, r, rmax = _disc() if shape == "disc" else _rect()
+    p = 1e5 * power_law(r, rmax, k)
+    prof = ContactProfile(c, np.tile([0, 0, 1.0], (len(c), 1)), a, p)
+    mu = 0.6
+    cache = LimitSurfaceCache()
+    held_out = frictional_wrenches(prof, sample_twists_thesis(1000, prof, seed=9), mu)
+    for spec in (ModelSpec("ellipsoid", "lsq"), ModelSpec("ellipsoid", "sdp"), ModelSpec("quartic")):
+        m = cache.get(prof, mu, sampler=SamplerSpec(n=200), spec=spec)
+        assert m.dim == 3, spec  # fitted in 3D, not 6D
+        assert m.info["fallback"] is None, m.info
+        # §2.3.5.3: f_x,max = f_y,max = μF, τ_z,max = μ Σ p a |r|
+        np.testing.assert_allclose(m.w_max[:2], mu * prof.F, rtol=1e-3)
+        r_o = np.linalg.norm(prof.centers - prof.pressure_center, axis=1)
+        np.testing.assert_allclose(m.w_max[5], mu * (prof.forces * r_o).sum(), rtol=1e-3)
+        np.testing.assert_allclose(m.w_max[2:5], 0.0, atol=1e-9 * mu * prof.F)
+        # held-out fitting error (Eq. 3.18) within the thesis's 6D bounds
+        assert m.fitting_error(held_out) <= (0.02 if spec.model == "quartic" else 0.04)
+
+
+# ------------------------------------------------------------ linearisation
+@pytest.mark.parametrize("which", ["ellipsoid", "quartic"])
+def test_inner_vertices_lie_on_the_model_and_outer_contains_it(which, s4_data, s4_quartic):
+    model = fit_ellipsoid(s4_data[1]) if which == "ellipsoid" else s4_quartic
+    inner = model.linearize(500, "inner")
+    assert np.abs(model.value(inner.vertices) - 1).max() <= 1e-12
+    outer = model.linearize(500, "outer", directions="sphere", seed=4)
+    probe = model.linearize(3000, "inner", directions="sphere", seed=99).vertices
+    assert outer.contains(probe, tol=1e-12).all()
+
+
+def _support_ratio(model, M, dirs):
+    inner = model.linearize(M, "inner", seed=5)
+    outer = model.linearize(M, "outer", seed=5)
+    ratios = []
+    for u in dirs:
+        res = linprog(-u, A_ub=outer.A, b_ub=outer.b, bounds=[(None, None)] * 6, method="highs")
+        assert res.status == 0
+        ratios.append(-res.fun / (inner.vertices @ u).max())
+    return float(np.mean(ratios))
+
+
+def test_outer_inner_gap_shrinks_with_M(s4_data):
+    model = fit_ellipsoid(s4_data[1])
+    dirs = np.random.default_rng(6).standard_normal((30, 6)) * model.scale
+    gaps = [_support_ratio(model, M, dirs) for M in (50, 200, 1000)]
+    assert all(g >= 1.0 for g in gaps)
+    assert gaps[0] > gaps[1] > gaps[2]
+
+
+# ------------------------------------------------------------------- 6DFC
+def test_friction_cone_6d(s4_data):
+    prof = s4_data[0]
+    cwm = ContactWrenchModel(fit_ellipsoid(s4_data[1]), prof.normal_wrench / prof.F)
+    cone = friction_cone_6d(cwm, 300, f_max=10.0)
+    A, b = cone.A, cone.b
+    # only the zero wrench at f_C = 0
+    for j in range(6):
+        for sgn in (1.0, -1.0):
+            cost = np.zeros(7)
+            cost[j] = -sgn
+            res = linprog(cost, A_ub=A, b_ub=b, bounds=[(None, None)] * 6 + [(0, 0)], method="highs")
+            assert res.status == 0 and abs(res.fun) <= 1e-9
+    # feasible set scales linearly with f_C
+    rng = np.random.default_rng(7)
+    cands = cwm.inner_vertices(50, F=1.0) * rng.uniform(0.5, 1.5, (50, 1))
+    for c in cands:
+        assert cone.contains(c, 1.0) == cone.contains(3.0 * c, 3.0)
+    # f_C w⊥ + f_C (limit surface) is inside for every f_C in (0, f_max]
+    for f_c in (0.1, 1.0, 10.0):
+        for c in cwm.inner_vertices(100, F=f_c, seed=8):
+            assert cone.contains(c, f_c, tol=1e-9)
+    # a wrench beyond the limit surface is outside at that force
+    out = 2.0 * (cwm.inner_vertices(20, F=1.0, seed=9) - cwm.normal_wrench) + cwm.normal_wrench
+    assert not any(cone.contains(c, 1.0) for c in out)
+
+
+# ------------------------------------------------------------------- cache
+def test_cache_hits_rescale_and_skip_unneeded_work(tmp_path):
+    prof = mesh_profile(S4, 300).with_pressures(np.full(len(mesh_profile(S4, 300)), 2e4))
+    cache = LimitSurfaceCache(tmp_path)
+    q_builds = quart_mod.BUILD_COUNT["quartic"]
+    m1 = cache.get(prof, 0.5, sampler=SamplerSpec(n=150))
+    assert cache.stats["sampling"] == 1 and cache.stats["solves"] == 1
+    # same profile pair, 3x the force: no sampling, no solve, wrenches scale by 3
+    m2 = cache.get(prof.with_pressures(prof.pressures * 3), 0.5, sampler=SamplerSpec(n=150))
+    assert cache.stats["sampling"] == 1 and cache.stats["solves"] == 1 and cache.stats["hits"] == 1
+    np.testing.assert_allclose(m2.w_max, 3 * m1.w_max, rtol=1e-12)
+    w = m1.linearize(20).vertices
+    np.testing.assert_allclose(m2.value(3 * w), m1.value(w), rtol=1e-12)
+    # the ellipsoid never built the quartic problem
+    assert quart_mod.BUILD_COUNT["quartic"] == q_builds
+    # a different mu or sampler is a different key
+    cache.get(prof, 0.4, sampler=SamplerSpec(n=150))
+    assert cache.stats["solves"] == 2
+    # persisted: a fresh cache on the same directory loads instead of solving
+    fresh = LimitSurfaceCache(tmp_path)
+    m3 = fresh.get(prof, 0.5, sampler=SamplerSpec(n=150))
+    assert fresh.stats["disk_hits"] == 1 and fresh.stats["solves"] == 0
+    np.testing.assert_allclose(m3.value(w), m1.value(w), rtol=1e-12)
+
+
+# --------------------------------------------------------------- bad input
+def test_bad_inputs():
+    rng = np.random.default_rng(0)
+    W = rng.standard_normal((30, 6))
+    with pytest.raises(ValueError, match="21 unknowns but only 15 wrenches"):
+        fit_ellipsoid(W[:15])
+    with pytest.raises(ValueError, match="126 coefficients but only 30 wrenches"):
+        fit_quartic(W)
+    bad = W.copy()
+    bad[3, 2] = np.nan
+    with pytest.raises(ValueError, match="row 3 has NaN"):
+        fit_ellipsoid(bad)
+    with pytest.raises(ValueError, match="all zero"):
+        fit_ellipsoid(np.zeros((30, 6)))
+    with pytest.raises(ValueError, match=r"shape \(K, 6\)"):
+        fit_ellipsoid(W[:, :5])
+    with pytest.raises(ValueError, match="method must be"):
+        fit_ellipsoid(W, "nope")
+
+
+def test_missing_solver_falls_back_or_raises(s4_data):
+    train = s4_data[1]
+    m = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER")
+    assert "failed" in m.info["fallback"] and "least squares" in m.info["fallback"]
+    assert np.linalg.eigvalsh(m.A_e).min() > 0
+    with pytest.raises(RuntimeError, match="NOT_A_SOLVER"):
+        fit_quartic(train, solver="NOT_A_SOLVER")
+
+
+def test_sdp_problem_built_once_per_dimension(s4_data):
+    train = s4_data[1]
+    fit_ellipsoid(train, "sdp")
+    before = ell_mod.BUILD_COUNT["sdp"]
+    fit_ellipsoid(train[::2], "sdp")
+    fit_ellipsoid(train[1::2], "sdp")
+    assert ell_mod.BUILD_COUNT["sdp"] == before

@@ -1,0 +1,189 @@
+"""Ellipsoidal 6D limit surface ``f(x̂) = x̂ᵀ A_e x̂`` (thesis §3.3.4).
+
+Two fitters on normalised wrenches, both inside the PCA subspace (so a planar
+contact is fitted in 3D, never as a singular 6D problem):
+
+* ``method="lsq"`` — Eq. (3.13): linear least squares on the ``r(r+1)/2``
+  unique entries of ``A``.  An indefinite result (rare; noisy or too few
+  wrenches) is projected to the PD cone and rescaled — reported as a fallback.
+* ``method="sdp"`` — Eq. (3.12): ``min Σ (x̂ᵀAx̂ - 1)² - α log det A``,
+  ``A ⪰ 0`` via cvxpy.  The K-term objective is compressed by a QR
+  factorisation to ``‖R a - c‖²`` so the cvxpy problem depends only on ``r``;
+  it is built once per ``(r, solver)`` with Parameters and re-solved.
+
+The returned 6×6 ``A_e`` is always positive definite: dropped directions get a
+semi-axis ``TOL.flat_axis`` (the model is flat to that thickness).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from ..config import TOL
+from .base import LimitSurfaceModel
+from .normalize import check_wrenches, pca_subspace, wrench_scale
+
+#: incremented whenever a cvxpy ellipsoid problem is built (tests count it)
+BUILD_COUNT = {"sdp": 0}
+
+
+@dataclass(frozen=True)
+class EllipsoidLS(LimitSurfaceModel):
+    """``A_e`` : (6, 6) PD matrix in normalised coordinates (Eq. 3.11)."""
+
+    A_e: np.ndarray = None  # type: ignore[assignment]
+    degree: int = 2
+
+    def _value_n(self, x: np.ndarray) -> np.ndarray:
+        return np.einsum("ni,ij,nj->n", x, self.A_e, x)
+
+    def _gradient_n(self, x: np.ndarray) -> np.ndarray:
+        return 2.0 * x @ self.A_e
+
+    def _hessian_n(self, x: np.ndarray) -> np.ndarray:
+        return np.broadcast_to(2.0 * self.A_e, (len(x), 6, 6))
+
+    @property
+    def A_raw(self) -> np.ndarray:
+        """(6, 6) matrix of the model in raw wrench coordinates:
+        ``f(w) = wᵀ S⁻¹ A_e S⁻¹ w`` with ``S = diag(scale)``."""
+        inv = 1.0 / self.scale
+        return self.A_e * inv[:, None] * inv[None, :]
+
+
+def _sym_design(y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Design matrix of ``yᵀAy`` in the unique entries (i <= j) of A."""
+    r = y.shape[1]
+    iu, ju = np.triu_indices(r)
+    phi = y[:, iu] * y[:, ju] * np.where(iu == ju, 1.0, 2.0)
+    return phi, iu, ju
+
+
+def _unpack(a: np.ndarray, iu: np.ndarray, ju: np.ndarray, r: int) -> np.ndarray:
+    A = np.zeros((r, r))
+    A[iu, ju] = a
+    A[ju, iu] = a
+    return A
+
+
+def _embed(A_r: np.ndarray, sub) -> np.ndarray:
+    """6×6 PD matrix: ``A_r`` on the subspace, ``1/flat²`` on its complement."""
+    B, C = sub.basis, sub.complement
+    return B @ A_r @ B.T + (C @ C.T) / TOL.flat_axis**2
+
+
+def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
+    phi, iu, ju = _sym_design(y)
+    a, *_ = np.linalg.lstsq(phi, np.ones(len(y)), rcond=None)
+    A = _unpack(a, iu, ju, y.shape[1])
+    lam, V = np.linalg.eigh(A)
+    if lam.min() > TOL.ellipsoid_eig_floor * lam.max() > 0:
+        return A, None
+    # projection to the PD cone, then the best scalar multiple (Σ (s f - 1)² min)
+    lam = np.maximum(lam, TOL.ellipsoid_eig_floor * max(lam.max(), 1e-300))
+    A = (V * lam) @ V.T
+    f = np.einsum("ni,ij,nj->n", y, A, y)
+    return A * (f.sum() / (f @ f)), "indefinite least-squares A projected to the PD cone"
+
+
+@lru_cache(maxsize=32)
+def _sdp_problem(r: int):
+    """cvxpy problem for Eq. (3.12) in r dims with Parameters (R, c, alpha)."""
+    import cvxpy as cp
+
+    BUILD_COUNT["sdp"] += 1
+    n_u = r * (r + 1) // 2
+    iu, ju = np.triu_indices(r)
+    # linear map unique entries -> full symmetric matrix (column-major vec)
+    S = np.zeros((r * r, n_u))
+    for k, (i, j) in enumerate(zip(iu, ju, strict=True)):
+        S[i + r * j, k] = 1.0
+        S[j + r * i, k] = 1.0
+    a = cp.Variable(n_u)
+    R = cp.Parameter((n_u, n_u))
+    c = cp.Parameter(n_u)
+    alpha = cp.Parameter(nonneg=True)
+    A = cp.reshape(S @ a, (r, r), order="F")
+    A = 0.5 * (A + A.T)  # symmetric by construction; makes the symmetry explicit to cvxpy
+    prob = cp.Problem(cp.Minimize(cp.sum_squares(R @ a - c) - alpha * cp.log_det(A)), [A >> 0])
+    return prob, a, R, c, alpha, iu, ju
+
+
+def _sdp(y: np.ndarray, solver: str, alpha: float | None) -> tuple[np.ndarray, str | None]:
+    r = y.shape[1]
+    prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r)
+    phi = _sym_design(y)[0]
+    Q, Rm = np.linalg.qr(phi)
+    R.value = Rm
+    c.value = Q.T @ np.ones(len(y))
+    alpha_p.value = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
+    try:
+        prob.solve(solver=solver)
+    except Exception as exc:  # solver missing or numerical failure
+        A, note = _lsq(y)
+        return A, f"SDP with {solver} failed ({type(exc).__name__}: {exc}); used least squares" + (
+            f"; {note}" if note else ""
+        )
+    if prob.status not in ("optimal", "optimal_inaccurate") or a.value is None:
+        A, note = _lsq(y)
+        return A, f"SDP status {prob.status}; used least squares" + (f"; {note}" if note else "")
+    A = _unpack(a.value, iu, ju, r)
+    lam = np.linalg.eigvalsh(A)
+    if lam.min() <= 0:
+        A, note = _lsq(y)
+        return A, "SDP returned a singular A; used least squares" + (f"; {note}" if note else "")
+    return A, None if prob.status == "optimal" else "SDP solved to reduced accuracy"
+
+
+def fit_ellipsoid(
+    wrenches: Any,
+    method: str = "lsq",
+    *,
+    w_max: Any = None,
+    solver: str = "CLARABEL",
+    alpha: float | None = None,
+) -> EllipsoidLS:
+    """Fit an ellipsoidal 6DLS to raw frictional wrenches (K, 6).
+
+    w_max : optional (6,) exact maxima (e.g. :func:`workbench.w_max`); default
+        the sampled maxima ``max_k |w_k|`` of Algorithm 1.
+    method : "lsq" (Eq. 3.13) or "sdp" (Eq. 3.12, cvxpy with ``solver``).
+    The result's ``info`` names the method, solver, fallback (or None) and time.
+    """
+    t0 = time.perf_counter()
+    W = check_wrenches(wrenches)
+    if method not in ("lsq", "sdp"):
+        raise ValueError(f"method must be 'lsq' or 'sdp'; got {method!r}")
+    wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
+    if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
+        raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
+    scale = wrench_scale(wm)
+    x = W / scale
+    sub = pca_subspace(x)
+    r = sub.dim
+    n_unknown = r * (r + 1) // 2
+    if len(W) < n_unknown:
+        raise ValueError(
+            f"an ellipsoid in {r} dimensions has {n_unknown} unknowns but only {len(W)} wrenches "
+            f"were given — sample at least {n_unknown} (the thesis uses 100-1,000)"
+        )
+    y = x @ sub.basis
+    if method == "lsq":
+        A_r, fallback = _lsq(y)
+    else:
+        A_r, fallback = _sdp(y, solver, alpha)
+    info = {
+        "model": "ellipsoid",
+        "method": method,
+        "solver": solver if method == "sdp" else "numpy.linalg.lstsq",
+        "fallback": fallback,
+        "dim": r,
+        "n_wrenches": len(W),
+        "fit_time_s": time.perf_counter() - t0,
+    }
+    return EllipsoidLS(wm, scale, sub, info, A_e=_embed(A_r, sub))

@@ -1,0 +1,71 @@
+"""Normalisation of frictional wrenches (Eq. 3.10) and the PCA subspace of
+§3.3.4.2 / 6DFC §IV-C.2.
+
+Degenerate components (``w_max,i <= TOL.degenerate_wmax_rtol * max w_max``,
+e.g. ``f_z`` of a planar contact in the xy-plane) are scaled by ``max w_max``
+instead of ``w_max,i`` — never divided by ~0 — and the PCA then drops them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..config import TOL
+
+
+def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
+    """Validate raw wrenches: finite (K, 6) float, not all zero."""
+    try:
+        W = np.asarray(wrenches, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a numeric (K, 6) array; got {type(wrenches).__name__}") from None
+    if W.ndim != 2 or W.shape[1] != 6:
+        raise ValueError(f"{name} must have shape (K, 6); got {W.shape}")
+    bad = ~np.isfinite(W)
+    if bad.any():
+        raise ValueError(f"{name} must be finite; row {int(np.argwhere(bad)[0][0])} has NaN/inf")
+    if not np.any(W):
+        raise ValueError(f"{name} are all zero: there is no friction to model (check mu and pressures)")
+    return W
+
+
+def wrench_scale(w_max: np.ndarray) -> np.ndarray:
+    """(6,) divisor per component: ``w_max`` with degenerate entries replaced
+    by ``max(w_max)`` (Eq. 3.10 without dividing by ~0)."""
+    w_max = np.asarray(w_max, dtype=np.float64)
+    top = float(w_max.max())
+    if not np.isfinite(top) or top <= 0:
+        raise ValueError(f"w_max must have a positive entry; got {w_max}")
+    return np.where(w_max > TOL.degenerate_wmax_rtol * top, w_max, top)
+
+
+@dataclass(frozen=True)
+class Subspace:
+    """Orthonormal basis of the subspace the normalised wrenches span.
+
+    basis : (6, r) columns; complement : (6, 6 - r); std : (6,) PCA std devs.
+    """
+
+    basis: np.ndarray
+    complement: np.ndarray
+    std: np.ndarray
+
+    @property
+    def dim(self) -> int:
+        return self.basis.shape[1]
+
+
+def pca_subspace(w_hat: np.ndarray, rtol: float = TOL.subspace_rtol) -> Subspace:
+    """PCA about the origin (limit surfaces are centered at 0): keep directions
+    whose std is > ``rtol`` times the largest (§3.3.4.2)."""
+    # second-moment (not covariance) eigenvectors: the set is symmetric about 0;
+    # the 6x6 moment matrix avoids a K x K SVD factor
+    lam, vec = np.linalg.eigh(w_hat.T @ w_hat / max(len(w_hat), 1))
+    order = np.argsort(lam)[::-1]
+    std = np.sqrt(np.clip(lam[order], 0.0, None))
+    vec = vec[:, order]
+    r = int((std > rtol * std[0]).sum())
+    return Subspace(vec[:, :r].copy(), vec[:, r:].copy(), std)

@@ -1,0 +1,177 @@
+"""SOS-convex homogeneous quartic 6D limit surface (thesis §3.3.5, Eq. 3.14-3.17).
+
+``min_a Σ (f(x̂_k) - 1)²  s.t.  V1 vec(M) = V2 a,  M ⪰ 0`` in the PCA
+subspace of dimension r (126 coefficients and a 36×36 Gram matrix for r = 6).
+The K-term objective is compressed by QR to ``‖R a - c‖²`` so the conic
+problem depends only on r; it is built once per ``(r, solver)`` with cvxpy
+Parameters and re-solved (``BUILD_COUNT`` counts builds).  Dropped
+directions enter as ``‖Cᵀx̂‖⁴ / flat⁴`` so the 6D function stays convex and
+homogeneous of degree 4.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+from math import factorial
+from typing import Any
+
+import numpy as np
+
+from ..config import TOL
+from .base import LimitSurfaceModel
+from .normalize import check_wrenches, pca_subspace, wrench_scale
+from .sos import exponents, monomial_gradients, monomial_hessians, monomials, sos_convexity_maps
+
+#: incremented whenever a cvxpy quartic problem is built (tests count it)
+BUILD_COUNT = {"quartic": 0, "sos_check": 0}
+
+
+@dataclass(frozen=True)
+class QuarticLS(LimitSurfaceModel):
+    """Coefficients ``A_q`` (L,) of the quartic in the subspace coordinates
+    ``y = Bᵀ x̂`` (Eq. 3.17); ``gram`` is the certifying M."""
+
+    A_q: np.ndarray = None  # type: ignore[assignment]
+    gram: np.ndarray = None  # type: ignore[assignment]
+    degree: int = 4
+
+    @property
+    def _expo(self) -> np.ndarray:
+        return exponents(self.dim, 4)
+
+    def _value_n(self, x: np.ndarray) -> np.ndarray:
+        y = x @ self.subspace.basis
+        v = monomials(y, self._expo) @ self.A_q
+        if self.subspace.complement.shape[1]:
+            v = v + (np.sum((x @ self.subspace.complement) ** 2, axis=1) / TOL.flat_axis**2) ** 2
+        return v
+
+    def _gradient_n(self, x: np.ndarray) -> np.ndarray:
+        B, C = self.subspace.basis, self.subspace.complement
+        g = (monomial_gradients(x @ B, self._expo) @ self.A_q) @ B.T
+        if C.shape[1]:
+            cx = x @ C
+            g = g + (4.0 * np.sum(cx**2, axis=1, keepdims=True) / TOL.flat_axis**4) * (cx @ C.T)
+        return g
+
+    def hessian_subspace(self, y: np.ndarray) -> np.ndarray:
+        """(N, r, r) Hessian of the fitted quartic at subspace points y."""
+        return np.einsum("njkl,l->njk", monomial_hessians(y, self._expo), self.A_q)
+
+
+@lru_cache(maxsize=16)
+def _quartic_problem(r: int, solver: str):
+    """cvxpy problem of Eq. (3.17) in r dims with Parameters (R, c)."""
+    import cvxpy as cp
+
+    BUILD_COUNT["quartic"] += 1
+    V1, V2 = sos_convexity_maps(r)
+    L = V2.shape[1]
+    a = cp.Variable(L)
+    M = cp.Variable((r * r, r * r), PSD=True)
+    R = cp.Parameter((L, L))
+    c = cp.Parameter(L)
+    prob = cp.Problem(cp.Minimize(cp.sum_squares(R @ a - c)), [V1 @ cp.vec(M, order="F") == V2 @ a])
+    return prob, a, M, R, c
+
+
+def _square_norm_squared(n: int) -> np.ndarray:
+    """Coefficients of ``(xᵀx)² = Σ x_i⁴ + 2 Σ_{i<j} x_i² x_j²`` (SOS-convex)."""
+    expo = exponents(n, 4)
+    even = (expo % 2 == 0).all(axis=1)
+    half = expo // 2
+    # multinomial coefficient 2! / Π (e_j/2)!
+    coef = np.array([2.0 / np.prod([factorial(int(h)) for h in row]) for row in half])
+    return np.where(even, coef, 0.0)
+
+
+def certify(a: np.ndarray, M: np.ndarray, n: int) -> tuple[np.ndarray, float]:
+    """Make ``a`` provably convex given an approximate certificate ``M``.
+
+    With ``λ_min(M) = -ε`` and equality residual ``e = V1 vec(M) - V2 a``,
+    ``zᵀ∇²f z >= -(ε + ‖e‖₁) |x|²|z|²`` (every monomial ``|x^α z^β| <= |x|²|z|²``),
+    while ``zᵀ∇²(xᵀx)² z >= 4 |x|²|z|²``; so ``f + δ (xᵀx)²`` with
+    ``δ = (ε + ‖e‖₁) / 4`` (plus a rounding margin) is convex.  Returns
+    ``(a + δ g, δ)``.
+    """
+    V1, V2 = sos_convexity_maps(n)
+    eps = max(0.0, -float(np.linalg.eigvalsh(0.5 * (M + M.T)).min()))
+    resid = float(np.abs(V1 @ M.ravel(order="F") - V2 @ a).sum())
+    if eps == 0.0 and resid == 0.0:
+        return a, 0.0
+    delta = 0.25 * (eps + resid) * (1 + 1e-6) + 1e-15 * float(np.abs(a).max())
+    return a + delta * _square_norm_squared(n), delta
+
+
+def is_sos_convex(coeffs: Any, n: int, solver: str = "CLARABEL") -> bool:
+    """Whether the quartic with ``coeffs`` (L,) in n variables (monomial order of
+    :func:`exponents`) admits ``M ⪰ 0`` with ``V1 vec(M) = V2 a`` (Eq. 3.15-3.16)."""
+    import cvxpy as cp
+
+    BUILD_COUNT["sos_check"] += 1
+    V1, V2 = sos_convexity_maps(n)
+    a = np.asarray(coeffs, dtype=np.float64)
+    if a.shape != (V2.shape[1],):
+        raise ValueError(f"coeffs must have shape ({V2.shape[1]},) for n = {n}; got {a.shape}")
+    M = cp.Variable((n * n, n * n), PSD=True)
+    prob = cp.Problem(cp.Minimize(0), [V1 @ cp.vec(M, order="F") == V2 @ a])
+    prob.solve(solver=solver)
+    return prob.status in ("optimal", "optimal_inaccurate")
+
+
+def fit_quartic(wrenches: Any, *, w_max: Any = None, solver: str = "CLARABEL") -> QuarticLS:
+    """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. (3.17).
+
+    w_max : optional exact (6,) maxima; default the sampled maxima.
+    solver : cvxpy conic solver with SDP support ("CLARABEL" or "SCS").
+    Raises ``ValueError`` with fewer wrenches than coefficients and
+    ``RuntimeError`` if the solver fails (no silent fallback for the quartic:
+    use :func:`fit_ellipsoid` instead).
+    """
+    t0 = time.perf_counter()
+    W = check_wrenches(wrenches)
+    wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
+    if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
+        raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
+    scale = wrench_scale(wm)
+    x = W / scale
+    sub = pca_subspace(x)
+    r = sub.dim
+    L = exponents(r, 4).shape[0]
+    if len(W) < L:
+        raise ValueError(
+            f"a quartic in {r} dimensions has {L} coefficients but only {len(W)} wrenches were given "
+            f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid)"
+        )
+    import cvxpy as cp
+
+    try:
+        prob, a, M, R, c = _quartic_problem(r, solver)
+    except cp.error.SolverError as exc:  # pragma: no cover - build does not touch the solver
+        raise RuntimeError(f"cannot build the quartic problem for {solver}: {exc}") from exc
+    Q, Rm = np.linalg.qr(monomials(x @ sub.basis, exponents(r, 4)))
+    R.value = Rm
+    c.value = Q.T @ np.ones(len(W))
+    try:
+        prob.solve(solver=solver)
+    except (cp.error.SolverError, ValueError) as exc:
+        raise RuntimeError(
+            f"quartic fit failed with {solver} ({exc}); is it installed (cvxpy.installed_solvers())? "
+            "try solver='SCS' or fit_ellipsoid"
+        ) from exc
+    if prob.status not in ("optimal", "optimal_inaccurate") or a.value is None:
+        raise RuntimeError(f"quartic fit: solver {solver} returned status {prob.status}; try solver='SCS'")
+    coeffs, delta = certify(np.array(a.value), np.array(M.value), r)
+    info = {
+        "model": "quartic",
+        "solver": solver,
+        "status": prob.status,
+        "fallback": None,
+        "certificate_delta": delta,  # weight of (xᵀx)² added to make convexity rigorous
+        "dim": r,
+        "n_wrenches": len(W),
+        "fit_time_s": time.perf_counter() - t0,
+    }
+    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=np.array(M.value))

@@ -1,0 +1,113 @@
+"""Polynomial bookkeeping for the SOS-convex quartic (thesis Eq. 3.14-3.16).
+
+For a homogeneous quartic ``f(x) = Σ_κ a_κ x^{d_κ}`` in ``n`` variables and the
+auxiliary ``z``, SOS-convexity asks for ``M ⪰ 0`` (n² × n²) with
+``zᵀ ∇²f(x) z = yᵀ M y``, ``y = x ⊗ z`` (Eq. 3.14-3.15).  Both sides are
+polynomials in monomials ``x^α z^β`` with ``|α| = |β| = 2``; matching their
+coefficients gives ``V1 vec(M) = V2 a`` (Eq. 3.16).  For n = 6: 126
+monomials, 441 equations, V1 441 × 1296, V2 441 × 126 — as in the thesis.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from itertools import combinations_with_replacement
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@lru_cache(maxsize=16)
+def exponents(n: int, degree: int) -> np.ndarray:
+    """(L, n) int exponents of all monomials of total ``degree`` in n variables
+    (graded lexicographic order); L = C(n + degree - 1, degree)."""
+    rows = []
+    for combo in combinations_with_replacement(range(n), degree):
+        e = np.zeros(n, dtype=np.int64)
+        for j in combo:
+            e[j] += 1
+        rows.append(e)
+    out = np.array(rows, dtype=np.int64)
+    out.flags.writeable = False
+    return out
+
+
+@lru_cache(maxsize=16)
+def sos_convexity_maps(n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Sparse ``V1`` (E × n⁴) and ``V2`` (E × L) of Eq. (3.16), E = C(n+1, 2)².
+
+    ``vec(M)`` is column-major: entry ``(p, q)`` of M sits at ``p + q n²`` with
+    ``p = i n + j`` indexing ``y_p = x_i z_j``.
+    """
+    quad = exponents(n, 2)
+    row_of = {(tuple(a), tuple(b)): k for k, (a, b) in enumerate((a, b) for a in quad for b in quad)}
+    unit = np.eye(n, dtype=np.int64)
+    N = n * n
+    # RHS: y_p y_q = x_i z_j x_k z_l  ->  x^(e_i+e_k) z^(e_j+e_l)
+    r1, c1 = [], []
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
+                for l in range(n):
+                    p, q = i * n + j, k * n + l
+                    r1.append(row_of[(tuple(unit[i] + unit[k]), tuple(unit[j] + unit[l]))])
+                    c1.append(p + q * N)
+    V1 = sp.csr_matrix((np.ones(len(r1)), (r1, c1)), shape=(len(row_of), N * N))
+    # LHS: z^T ∇²f z = Σ_jk z_j z_k ∂_j∂_k f; ∂_j∂_k x^d = d_j (d_k - δ_jk) x^(d - e_j - e_k)
+    quart = exponents(n, 4)
+    r2, c2, v2 = [], [], []
+    for kappa, d in enumerate(quart):
+        for j in range(n):
+            for k in range(n):
+                coef = d[j] * (d[k] - (j == k))
+                if coef <= 0:
+                    continue
+                alpha = d - unit[j] - unit[k]
+                r2.append(row_of[(tuple(alpha), tuple(unit[j] + unit[k]))])
+                c2.append(kappa)
+                v2.append(float(coef))
+    V2 = sp.csr_matrix((v2, (r2, c2)), shape=(len(row_of), len(quart)))
+    return V1, V2
+
+
+def monomials(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
+    """(N, L) values ``x^{d_κ}`` for points x : (N, n) and exponents (L, n)."""
+    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]  # (N, n, deg+1)
+    out = np.ones((x.shape[0], expo.shape[0]))
+    for j in range(x.shape[1]):
+        out *= powers[:, j, expo[:, j]]
+    return out
+
+
+def monomial_gradients(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
+    """(N, n, L): ``∂_j x^{d_κ}``."""
+    n = x.shape[1]
+    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]
+    out = np.empty((x.shape[0], n, expo.shape[0]))
+    for j in range(n):
+        term = expo[:, j].astype(float)[None, :] * powers[:, j, np.maximum(expo[:, j] - 1, 0)]
+        for i in range(n):
+            if i != j:
+                term = term * powers[:, i, expo[:, i]]
+        out[:, j] = term
+    return out
+
+
+def monomial_hessians(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
+    """(N, n, n, L): ``∂_j ∂_k x^{d_κ}``."""
+    n = x.shape[1]
+    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]
+    out = np.empty((x.shape[0], n, n, expo.shape[0]))
+    for j in range(n):
+        for k in range(j, n):
+            e = expo.copy()
+            coef = e[:, j].astype(float)
+            e[:, j] = np.maximum(e[:, j] - 1, 0)
+            coef = coef * e[:, k]
+            e[:, k] = np.maximum(e[:, k] - 1, 0)
+            term = coef[None, :] * np.ones((x.shape[0], 1))
+            for i in range(n):
+                term = term * powers[:, i, e[:, i]]
+            out[:, j, k] = term
+            out[:, k, j] = term
+    return out

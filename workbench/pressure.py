@@ -1,0 +1,20 @@
+"""Pressure models: power law (thesis Eq. 2.14 / 4.3, Xydas et al.)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def power_law(r: np.ndarray, r_max: float, k: float, p0: float = 1.0) -> np.ndarray:
+    """``p(r) = p0 [1 - (r / r_max)^k]^(1/k)`` for ``0 <= r <= r_max``, 0 beyond.
+
+    k = 2 is Hertzian, k -> inf uniform (Eq. 2.14); r : (n,) distances [m].
+    """
+    if not (np.isfinite(r_max) and r_max > 0):
+        raise ValueError(f"r_max must be > 0; got {r_max}")
+    if not k > 0:
+        raise ValueError(f"k must be > 0; got {k}")
+    s = np.clip(np.asarray(r, dtype=float) / r_max, 0.0, 1.0)
+    if np.isinf(k):
+        return np.full_like(s, float(p0))
+    return p0 * (1.0 - s**k) ** (1.0 / k)
