@@ -16,7 +16,9 @@ $(STAMP): pyproject.toml
 reproduce: $(STAMP)
 	$(BIN)/workbench run parametric-surfaces
 	$(BIN)/workbench run discretization
+	$(BIN)/workbench run ls-fitting
 	$(BIN)/python benchmarks/bench_wrench.py
+	$(BIN)/python benchmarks/bench_limit_surface.py
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
@@ -31,6 +33,7 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_wrench.py
+	$(BIN)/python benchmarks/bench_limit_surface.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

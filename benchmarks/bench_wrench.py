@@ -25,6 +25,7 @@ from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis,
 from workbench.config import FASTMATH  # noqa: E402
 from workbench.results import versions, write_json  # noqa: E402
 from workbench.surface_catalog import THESIS_SURFACES  # noqa: E402
+from workbench.timing import median_runtime  # noqa: E402
 
 # Flops per (twist, element) pair in workbench._kernels (counting an FMA as 2):
 # u = v + ω×r: 12, d = u·n: 5, t = u - d n: 6, |t|²: 5, |u|²: 5, threshold: 1,
@@ -33,14 +34,7 @@ FLOPS_PER_PAIR = 52
 
 
 def median_time(fn, repeats: int, warmup: int = 2) -> float:
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+    return median_runtime(fn, repeats, warmup)[0]
 
 
 @njit(parallel=True, fastmath=set(FASTMATH))

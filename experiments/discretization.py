@@ -25,6 +25,7 @@ from workbench import (
 )
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
+from workbench.timing import median_runtime
 
 NAME = "discretization"
 
@@ -46,13 +47,7 @@ def error_rate(w_mesh: np.ndarray, w_true: np.ndarray) -> float:
 
 
 def _median_time(fn, repeats: int) -> float:
-    fn()  # warm-up (JIT, caches)
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
+    return median_runtime(fn, repeats)[0]
 
 
 def run(config: dict) -> dict:

@@ -74,3 +74,28 @@ def test_cli_config_layers():
     assert cfg["out"].endswith("results/discretization")
     with pytest.raises(SystemExit, match="unknown config keys"):
         build_config("discretization", False, None, None, {"nope": 1})
+
+
+@pytest.fixture(scope="module")
+def ls_fitting(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ls")
+    sets = ["--set", 'surfaces=["S1","S3","S5"]', "--set", "section_surface=S3"]
+    assert main(["run", "ls-fitting", "--quick", "--out", str(out), *sets]) == 0
+    return out, json.loads((out / "summary.json").read_text())
+
+
+def test_ls_fitting_headlines(ls_fitting):
+    out, s = ls_fitting
+    surfaces = ["S1", "S3", "S5"]
+    for model in ("ellipsoid", "quartic"):
+        assert set(s["heldout_error"][model]) == set(surfaces)
+    for name in surfaces:
+        e, q = s["heldout_error"]["ellipsoid"][name]["600"], s["heldout_error"]["quartic"][name]["600"]
+        assert q < e, name  # thesis §3.5.1.3: the quartic wins with enough wrenches
+        assert e <= 0.04 and q <= 0.02, (name, e, q)  # thesis §3.6 bounds
+    rt = s["fit_runtime_s"]
+    assert set(rt) == {"ellipsoid_lsq", "ellipsoid_sdp", "quartic"}
+    assert all(rt["ellipsoid_lsq"][n]["600"] < rt["quartic"][n]["600"] for n in surfaces)
+    assert {r["solver"] for r in s["solver_comparison"]} == {"SCS"}
+    for fig in ("fig_3_9_error_runtime.png", "runtime_vs_error.png", "fig_3_10_cross_sections.png"):
+        assert (out / fig).stat().st_size > 10_000

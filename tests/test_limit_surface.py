@@ -271,7 +271,9 @@ def test_missing_solver_falls_back_or_raises(s4_data):
     assert "failed" in m.info["fallback"] and "least squares" in m.info["fallback"]
     assert np.linalg.eigvalsh(m.A_e).min() > 0
     with pytest.raises(RuntimeError, match="NOT_A_SOLVER"):
-        fit_quartic(train, solver="NOT_A_SOLVER")
+        fit_quartic(train, solver="NOT_A_SOLVER", fallback_solver=None)
+    q = fit_quartic(train, solver="NOT_A_SOLVER")  # documented fallback to SCS
+    assert q.info["solver"] == "SCS" and "NOT_A_SOLVER" in q.info["fallback"]
 
 
 def test_sdp_problem_built_once_per_dimension(s4_data):

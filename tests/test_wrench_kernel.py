@@ -162,7 +162,7 @@ def test_segment_kernel_matches_reference_per_segment(rng):
     cols = [
         np.ascontiguousarray(x) for x in (r[:, 0], r[:, 1], r[:, 2], nrm[:, 0], nrm[:, 1], nrm[:, 2], p * a)
     ]
-    _kernels._fw_segments(xi, seg_twist, starts, *cols, 0.4, 1e-24, out)
+    _kernels._fw_segments(xi, seg_twist, starts[:-1], starts[1:], *cols, 0.4, 1e-24, out)
     for j in range(5):
         sl = slice(starts[j], starts[j + 1])
         ref = np.zeros(6)

@@ -39,58 +39,19 @@ def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):
 
 
 @njit(**NUMBA_FLAGS_PARALLEL)
-def _fw_batch(twists, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
-    """Frictional wrenches of K twists on N elements, Eq. (3.6)-(3.8).
+def _fw_segments(twists, seg_twist, seg_lo, seg_hi, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
+    """Frictional wrenches of segments, Eq. (3.6)-(3.8): segment j sums the
+    elements ``seg_lo[j]:seg_hi[j]`` under twist ``twists[seg_twist[j]]``.
+
+    A batch of K twists on N elements is K segments spanning ``0:N``; the
+    adaptive quadrature uses one segment per cell's Gauss points.  Segments
+    run in parallel; each one's sum is serial, so results are deterministic.
 
     twists : (K, 6) float, [v; omega] at the pressure center
-    rx..nz : (N,) float, torque arms c_i - o and unit normals
-    wgt    : (N,) float, p_i * a_i
-    out    : (K, 6) float, written in place
-    """
-    n_twists = twists.shape[0]
-    n = rx.shape[0]
-    for k in prange(n_twists):
-        vx = twists[k, 0]
-        vy = twists[k, 1]
-        vz = twists[k, 2]
-        wx = twists[k, 3]
-        wy = twists[k, 4]
-        wz = twists[k, 5]
-        fx = 0.0
-        fy = 0.0
-        fz = 0.0
-        mx = 0.0
-        my = 0.0
-        mz = 0.0
-        for i in range(n):
-            tx, ty, tz, s = _slip_scale(
-                vx, vy, vz, wx, wy, wz, rx[i], ry[i], rz[i], nx[i], ny[i], nz[i], wgt[i], rtol2
-            )
-            gx = s * tx
-            gy = s * ty
-            gz = s * tz
-            fx += gx
-            fy += gy
-            fz += gz
-            mx += ry[i] * gz - rz[i] * gy
-            my += rz[i] * gx - rx[i] * gz
-            mz += rx[i] * gy - ry[i] * gx
-        out[k, 0] = -mu * fx
-        out[k, 1] = -mu * fy
-        out[k, 2] = -mu * fz
-        out[k, 3] = -mu * mx
-        out[k, 4] = -mu * my
-        out[k, 5] = -mu * mz
-
-
-@njit(**NUMBA_FLAGS_PARALLEL)
-def _fw_segments(twists, seg_twist, seg_start, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
-    """Per-segment frictional wrenches: segment j sums points
-    ``seg_start[j]:seg_start[j+1]`` under twist ``twists[seg_twist[j]]``.
-
-    Used by the adaptive surface quadrature (one segment = one cell's Gauss
-    points).  Shapes: twists (K, 6); seg_twist (S,) int; seg_start (S+1,) int;
-    point arrays (P,); out (S, 6).
+    seg_twist, seg_lo, seg_hi : (S,) int
+    rx..nz : (P,) float, torque arms c_i - o and unit normals
+    wgt    : (P,) float, p_i * a_i (or quadrature weight times pressure)
+    out    : (S, 6) float, written in place
     """
     n_seg = seg_twist.shape[0]
     for j in prange(n_seg):
@@ -107,9 +68,20 @@ def _fw_segments(twists, seg_twist, seg_start, rx, ry, rz, nx, ny, nz, wgt, mu, 
         mx = 0.0
         my = 0.0
         mz = 0.0
-        for i in range(seg_start[j], seg_start[j + 1]):
+        lo = seg_lo[j]
+        hi = seg_hi[j]
+        # views + a loop from 0: Numba can then drop the negative-index
+        # wraparound checks, which would otherwise block vectorization (3x)
+        sx = rx[lo:hi]
+        sy = ry[lo:hi]
+        sz = rz[lo:hi]
+        ux = nx[lo:hi]
+        uy = ny[lo:hi]
+        uz = nz[lo:hi]
+        sw = wgt[lo:hi]
+        for i in range(hi - lo):
             tx, ty, tz, s = _slip_scale(
-                vx, vy, vz, wx, wy, wz, rx[i], ry[i], rz[i], nx[i], ny[i], nz[i], wgt[i], rtol2
+                vx, vy, vz, wx, wy, wz, sx[i], sy[i], sz[i], ux[i], uy[i], uz[i], sw[i], rtol2
             )
             gx = s * tx
             gy = s * ty
@@ -117,9 +89,9 @@ def _fw_segments(twists, seg_twist, seg_start, rx, ry, rz, nx, ny, nz, wgt, mu, 
             fx += gx
             fy += gy
             fz += gz
-            mx += ry[i] * gz - rz[i] * gy
-            my += rz[i] * gx - rx[i] * gz
-            mz += rx[i] * gy - ry[i] * gx
+            mx += sy[i] * gz - sz[i] * gy
+            my += sz[i] * gx - sx[i] * gz
+            mz += sx[i] * gy - sy[i] * gx
         out[j, 0] = -mu * fx
         out[j, 1] = -mu * fy
         out[j, 2] = -mu * fz

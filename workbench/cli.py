@@ -16,6 +16,7 @@ from typing import Any
 EXPERIMENTS = {
     "parametric-surfaces": "experiments.parametric_surfaces",
     "discretization": "experiments.discretization",
+    "ls-fitting": "experiments.ls_fitting",
 }
 
 

@@ -39,6 +39,15 @@ def length_factor(units: str | float) -> float:
     return factor
 
 
+def pca_box_longest_side(points: np.ndarray) -> float:
+    """Longest side of the PCA-aligned bounding box of points (m, 3) [m];
+    invariant under rigid motions (thesis §3.3.2 ``l_s``)."""
+    centered = points - points.mean(axis=0)
+    _, _, axes = np.linalg.svd(centered, full_matrices=False)
+    extent = centered @ axes.T
+    return float((extent.max(axis=0) - extent.min(axis=0)).max())
+
+
 def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.ndarray:
     try:
         arr = np.array(value, dtype=np.float64)  # copy: profiles own their data
@@ -201,12 +210,7 @@ class ContactProfile:
         if no mesh), so ``l_s`` is invariant under rigid motions.
         """
         pts = self.vertices if self.vertices is not None else self.centers
-        if pts.shape[0] < 2:
-            return float(np.sqrt(self.areas.sum()))
-        centered = pts - pts.mean(axis=0)
-        _, _, axes = np.linalg.svd(centered, full_matrices=False)
-        extent = centered @ axes.T
-        side = float((extent.max(axis=0) - extent.min(axis=0)).max())
+        side = pca_box_longest_side(pts) if pts.shape[0] >= 2 else 0.0
         return side if side > 0 else float(np.sqrt(self.areas.sum()))
 
     @cached_property

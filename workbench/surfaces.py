@@ -23,7 +23,7 @@ import numpy as np
 
 from . import _kernels
 from .config import TOL
-from .profile import ContactProfile
+from .profile import ContactProfile, pca_box_longest_side
 from .twists import canonical_twists
 from .wrench import check_mu, check_twists
 
@@ -298,11 +298,12 @@ def surface_wrenches(
         dw = da * p
         r = xyz - mom.pressure_center
         out = np.empty((cells.shape[0], 6))
-        seg_start = np.arange(0, cells.shape[0] * q + 1, q, dtype=np.int64)
+        seg_lo = np.arange(0, cells.shape[0] * q, q, dtype=np.int64)
         _kernels._fw_segments(
             twists,
             groups.astype(np.int64),
-            seg_start,
+            seg_lo,
+            seg_lo + q,
             *(np.ascontiguousarray(a) for a in (r[:, 0], r[:, 1], r[:, 2], n[:, 0], n[:, 1], n[:, 2], dw)),
             1.0,
             rtol2,
@@ -362,11 +363,7 @@ def _side_lengths(surface: ParametricSurface) -> tuple[float, float]:
 @lru_cache(maxsize=256)
 def _length_scale(surface: ParametricSurface) -> float:
     _, _, P = _grid(surface, 64, 64)
-    pts = P.reshape(-1, 3)
-    centered = pts - pts.mean(axis=0)
-    _, _, axes = np.linalg.svd(centered, full_matrices=False)
-    ext = centered @ axes.T
-    return float((ext.max(axis=0) - ext.min(axis=0)).max())
+    return pca_box_longest_side(P.reshape(-1, 3))
 
 
 def _collapsed_edges(surface: ParametricSurface) -> tuple[bool, bool, bool, bool]:

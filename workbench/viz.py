@@ -24,6 +24,17 @@ def _pyvista():
     return pv
 
 
+def save_screenshot(plotter: Any, path: Path) -> Path:
+    """Render an offscreen plotter to ``path`` (PNG, atomic) and close it."""
+    from PIL import Image
+
+    img = plotter.screenshot(return_img=True)
+    plotter.close()
+    buf = io.BytesIO()
+    Image.fromarray(img).save(buf, format="PNG")
+    return save_png(path, buf.getvalue())
+
+
 def profile_polydata(profile: ContactProfile) -> Any:
     """``pyvista.PolyData`` of a meshed profile with ``pressure`` cell data."""
     pv = _pyvista()
@@ -72,10 +83,4 @@ def render_friction_arrows(
         plotter.add_axes()
         plotter.camera_position = "iso"
         plotter.camera.azimuth = 30
-    img = plotter.screenshot(return_img=True)
-    plotter.close()
-    from PIL import Image
-
-    buf = io.BytesIO()
-    Image.fromarray(img).save(buf, format="PNG")
-    return save_png(path, buf.getvalue())
+    return save_screenshot(plotter, path)

@@ -75,9 +75,13 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
     prof = _check_profile(profile)
     xi, single = check_twists(twists)
     mu_f = check_mu(mu)
-    out = np.empty((xi.shape[0], 6))
+    k = xi.shape[0]
+    out = np.empty((k, 6))
     rtol2 = TOL.tangential_velocity_rtol**2
-    _kernels._fw_batch(xi, *prof._soa, mu_f, rtol2, out)
+    # a batch is K segments (one per twist) spanning all N elements
+    lo = np.zeros(k, dtype=np.int64)
+    hi = np.full(k, len(prof), dtype=np.int64)
+    _kernels._fw_segments(xi, np.arange(k, dtype=np.int64), lo, hi, *prof._soa, mu_f, rtol2, out)
     return out[0] if single else out
 
 

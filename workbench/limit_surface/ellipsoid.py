@@ -26,7 +26,7 @@ import numpy as np
 
 from ..config import TOL
 from .base import LimitSurfaceModel
-from .normalize import check_wrenches, pca_subspace, wrench_scale
+from .normalize import prepare
 
 #: incremented whenever a cvxpy ellipsoid problem is built (tests count it)
 BUILD_COUNT = {"sdp": 0}
@@ -114,7 +114,9 @@ def _sdp_problem(r: int):
     return prob, a, R, c, alpha, iu, ju
 
 
-def _sdp(y: np.ndarray, solver: str, alpha: float | None) -> tuple[np.ndarray, str | None]:
+def _sdp(
+    y: np.ndarray, solver: str, alpha: float | None, warm_start: bool = True
+) -> tuple[np.ndarray, str | None]:
     r = y.shape[1]
     prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r)
     phi = _sym_design(y)[0]
@@ -123,7 +125,7 @@ def _sdp(y: np.ndarray, solver: str, alpha: float | None) -> tuple[np.ndarray, s
     c.value = Q.T @ np.ones(len(y))
     alpha_p.value = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
     try:
-        prob.solve(solver=solver)
+        prob.solve(solver=solver, warm_start=warm_start)
     except Exception as exc:  # solver missing or numerical failure
         A, note = _lsq(y)
         return A, f"SDP with {solver} failed ({type(exc).__name__}: {exc}); used least squares" + (
@@ -147,6 +149,7 @@ def fit_ellipsoid(
     w_max: Any = None,
     solver: str = "CLARABEL",
     alpha: float | None = None,
+    warm_start: bool = True,
 ) -> EllipsoidLS:
     """Fit an ellipsoidal 6DLS to raw frictional wrenches (K, 6).
 
@@ -156,15 +159,9 @@ def fit_ellipsoid(
     The result's ``info`` names the method, solver, fallback (or None) and time.
     """
     t0 = time.perf_counter()
-    W = check_wrenches(wrenches)
     if method not in ("lsq", "sdp"):
         raise ValueError(f"method must be 'lsq' or 'sdp'; got {method!r}")
-    wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
-    if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
-        raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
-    scale = wrench_scale(wm)
-    x = W / scale
-    sub = pca_subspace(x)
+    W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     n_unknown = r * (r + 1) // 2
     if len(W) < n_unknown:
@@ -176,7 +173,7 @@ def fit_ellipsoid(
     if method == "lsq":
         A_r, fallback = _lsq(y)
     else:
-        A_r, fallback = _sdp(y, solver, alpha)
+        A_r, fallback = _sdp(y, solver, alpha, warm_start)
     info = {
         "model": "ellipsoid",
         "method": method,

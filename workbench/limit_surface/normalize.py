@@ -69,3 +69,18 @@ def pca_subspace(w_hat: np.ndarray, rtol: float = TOL.subspace_rtol) -> Subspace
     vec = vec[:, order]
     r = int((std > rtol * std[0]).sum())
     return Subspace(vec[:, :r].copy(), vec[:, r:].copy(), std)
+
+
+def prepare(
+    wrenches: Any, w_max: Any = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Subspace]:
+    """Common preamble of the fitters: validated raw wrenches W (K, 6), w_max
+    (given, or the sampled maxima of Algorithm 1), the guarded scale,
+    normalised wrenches x̂ (Eq. 3.10) and their PCA subspace."""
+    W = check_wrenches(wrenches)
+    wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
+    if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
+        raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
+    scale = wrench_scale(wm)
+    x = W / scale
+    return W, wm, scale, x, pca_subspace(x)

@@ -70,13 +70,24 @@ def sos_convexity_maps(n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     return V1, V2
 
 
+def _powers(x: np.ndarray, degree: int) -> np.ndarray:
+    """(n, degree + 1, N) powers x_j^k by repeated products; rows are contiguous
+    so the gathers below copy whole rows."""
+    xt = np.ascontiguousarray(x.T)
+    out = np.empty((x.shape[1], degree + 1, x.shape[0]))
+    out[:, 0] = 1.0
+    for k in range(1, degree + 1):
+        out[:, k] = out[:, k - 1] * xt
+    return out
+
+
 def monomials(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
     """(N, L) values ``x^{d_κ}`` for points x : (N, n) and exponents (L, n)."""
-    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]  # (N, n, deg+1)
-    out = np.ones((x.shape[0], expo.shape[0]))
-    for j in range(x.shape[1]):
-        out *= powers[:, j, expo[:, j]]
-    return out
+    powers = _powers(x, int(expo.max()))
+    out = powers[0][expo[:, 0]]  # (L, N)
+    for j in range(1, x.shape[1]):
+        out *= powers[j][expo[:, j]]
+    return out.T
 
 
 def monomial_gradients(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
