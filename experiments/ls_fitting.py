@@ -12,6 +12,7 @@ the SCS solver are reported next to it.
 from __future__ import annotations
 
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,7 @@ from workbench import (
 )
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
+from workbench.timing import median_runtime
 
 NAME = "ls-fitting"
 QUARTIC_COEFFS = 126  # homogeneous quartic in 6 variables: C(9, 5)
@@ -60,14 +62,25 @@ def wrenches(surface, n_twists: int, seed: int, config: dict) -> tuple[np.ndarra
 
 
 def _fit(kind: str, W: np.ndarray, wm: np.ndarray, solver: str = "CLARABEL"):
-    t0 = time.perf_counter()
+    """Fit and its median time; fast fits are repeated 3x because single calls
+    right after the parallel quadrature can stall ~20 ms on thread-pool
+    contention (Numba and BLAS on 2 cores)."""
     if kind == "ellipsoid_lsq":
-        m = fit_ellipsoid(W, "lsq", w_max=wm)
+        fn = partial(fit_ellipsoid, W, "lsq", w_max=wm)
     elif kind == "ellipsoid_sdp":
-        m = fit_ellipsoid(W, "sdp", w_max=wm, solver=solver)
+        fn = partial(fit_ellipsoid, W, "sdp", w_max=wm, solver=solver, warm_start=False)
     else:
-        m = fit_quartic(W, w_max=wm, solver=solver)
-    return m, time.perf_counter() - t0
+        fn = partial(fit_quartic, W, w_max=wm, solver=solver, warm_start=False)
+    dt, m = median_runtime(fn, 1 if kind == "quartic" else 3, warmup=0)
+    return m, dt
+
+
+def convexity(model) -> float:
+    """Smallest eigenvalue of A_e (relative) or of the quartic Hessian at 10,000 points."""
+    if hasattr(model, "A_e"):
+        lam = np.linalg.eigvalsh(model.A_e)
+        return float(lam.min() / lam.max())
+    return model.min_hessian_eigenvalue(10_000)
 
 
 def section_figure(config: dict, out: Path, models: dict, W: np.ndarray) -> str:
@@ -113,6 +126,7 @@ def run(config: dict) -> dict:
     rt = {k: {} for k in kinds}
     solver_rows = []
     rows = []
+    convex_min: dict[str, list[float]] = {}
     section_models, section_W = {}, None
     # one-time cvxpy problem builds (per subspace dimension), kept out of the fit timings
     W0, wm0 = wrenches(THESIS_SURFACES[config["surfaces"][0]], max(config["K"]), config["seed"] + 999, config)
@@ -128,6 +142,7 @@ def run(config: dict) -> dict:
                 if kind == "quartic" and K < QUARTIC_COEFFS:
                     continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
                 model, dt = _fit(kind, W, wm)
+                convex_min.setdefault(kind, []).append(convexity(model))
                 e = model.fitting_error(W_test)
                 err[kind][name][str(K)] = e
                 train_err[kind][name][str(K)] = model.fitting_error(W)
@@ -229,6 +244,11 @@ def run(config: dict) -> dict:
         "train_error": {"ellipsoid": train_err["ellipsoid_sdp"], "quartic": train_err["quartic"]},
         "fit_runtime_s": rt,
         "first_fit_incl_problem_build_s": build_s,
+        "convexity_min_relative_eigenvalue": {k: min(v) for k, v in convex_min.items()},
+        "all_models_convex": all(
+            min(v) > 0 if k != "quartic" else min(v) >= -1e-12 for k, v in convex_min.items()
+        ),
+        "n_models_checked": sum(len(v) for v in convex_min.values()),
         "solver_comparison": [
             dict(
                 zip(

@@ -23,7 +23,7 @@ import numpy as np
 from ..config import TOL
 from .base import LimitSurfaceModel
 from .normalize import prepare
-from .sos import exponents, monomial_hessians, monomials, sos_convexity_maps
+from .sos import exponents, monomials, sos_convexity_maps
 
 #: incremented whenever a cvxpy quartic problem is built (tests count it)
 BUILD_COUNT = {"quartic": 0, "sos_check": 0}
@@ -73,9 +73,34 @@ class QuarticLS(LimitSurfaceModel):
             g = g + (4.0 * np.sum(cx**2, axis=1, keepdims=True) / TOL.flat_axis**4) * (cx @ C.T)
         return g
 
+    @cached_property
+    def _hess_map(self) -> np.ndarray:
+        """(L2, r, r): ∇²f(y) = Σ_q m_q(y) C_q over the quadratic monomials m_q,
+        from ∂_j∂_k x^d = d_j (d_k - δ_jk) x^(d - e_j - e_k)."""
+        r = self.dim
+        e2 = exponents(r, 2)
+        index = {tuple(e): i for i, e in enumerate(e2)}
+        C = np.zeros((len(e2), r, r))
+        unit = np.eye(r, dtype=np.int64)
+        for a, d in zip(self.A_q, self._expo, strict=True):
+            for j in range(r):
+                for k in range(r):
+                    coef = d[j] * (d[k] - (j == k))
+                    if coef > 0:
+                        C[index[tuple(d - unit[j] - unit[k])], j, k] += a * coef
+        return C
+
     def hessian_subspace(self, y: np.ndarray) -> np.ndarray:
-        """(N, r, r) Hessian of the fitted quartic at subspace points y."""
-        return np.einsum("njkl,l->njk", monomial_hessians(y, self._expo), self.A_q)
+        """(N, r, r) Hessian of the fitted quartic at subspace points y : (N, r)."""
+        r = self.dim
+        return (monomials(y, exponents(r, 2)) @ self._hess_map.reshape(-1, r * r)).reshape(-1, r, r)
+
+    def min_hessian_eigenvalue(self, n_points: int = 10_000, seed: int = 0) -> float:
+        """Smallest Hessian eigenvalue over random directions of the subspace,
+        relative to the largest |eigenvalue| (>= -1e-12 means convex there)."""
+        y = np.random.default_rng(seed).standard_normal((n_points, self.dim))
+        lam = np.linalg.eigvalsh(self.hessian_subspace(y))
+        return float(lam.min() / np.abs(lam).max())
 
 
 @lru_cache(maxsize=16)
