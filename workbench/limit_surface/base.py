@@ -70,10 +70,22 @@ class LimitSurfaceModel:
             raise ValueError(f"scale factor must be > 0; got {factor}")
         return replace(self, w_max=self.w_max * factor, scale=self.scale * factor)
 
-    def fitting_error(self, wrenches: Any) -> float:
-        """Eq. (3.18): mean ``|f(ŵ) - 1|`` over (raw) wrenches."""
+    def fitting_error(self, wrenches: Any, kind: str = "eq3.18") -> float:
+        """Mean fitting error over (raw) wrenches.
+
+        ``"eq3.18"``: thesis Eq. (3.18), ``|f(ŵ) - 1|``.  ``"radial"``:
+        ``|f(ŵ)^(1/d) - 1|``, the relative radial distance to the surface.  For a
+        point at radius ``ρ`` times the surface's, Eq. (3.18) gives
+        ``|ρ^d - 1| ≈ d |ρ - 1|``: it charges a quartic twice what it charges
+        an ellipsoid for the same geometric miss; the radial error does not.
+        """
         arr, _ = self._as_rows(wrenches)
-        return float(np.mean(np.abs(self._value_n(arr / self.scale) - 1.0)))
+        f = self._value_n(arr / self.scale)
+        if kind == "eq3.18":
+            return float(np.mean(np.abs(f - 1.0)))
+        if kind == "radial":
+            return float(np.mean(np.abs(np.maximum(f, 0.0) ** (1.0 / self.degree) - 1.0)))
+        raise ValueError(f"kind must be 'eq3.18' or 'radial'; got {kind!r}")
 
     def linearize(self, M: int, kind: str = "inner", *, directions: str = "cube", seed: int = 0):
         """Inner vertices (Eq. 3.19-3.21) or outer tangent half-spaces
