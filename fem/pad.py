@@ -1,0 +1,139 @@
+"""A rigid jaw with a bonded compliant layer (thesis §3.5.2) and its face compliance.
+
+The layer occupies ``[-w/2, w/2] × [-l/2, l/2] × [0, h]``; its back face ``z = 0``
+is bonded to the jaw (all displacements fixed) and the contact face is ``z = h``.
+
+:func:`condense_pad` condenses the linear-elastic layer once onto its contact
+face: ``C = B K⁻¹ Bᵀ`` by unit-load solves with one sparse LU factorisation,
+all three displacement components per face node, so tangential coupling is
+kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
+cached on disk keyed by a content hash of the mesh, ``nu`` and the scheme.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import logging
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse.linalg as spla
+from skfem import MeshHex
+
+from workbench.results import _atomic_write_bytes
+
+from .elasticity import basis, stiffness
+from .material import Material
+
+log = logging.getLogger(__name__)
+
+#: bump when the condensation changes, to invalidate disk caches
+CACHE_VERSION = "1"
+
+
+@dataclass(frozen=True)
+class PadGeometry:
+    """Layer size [m] and hex counts (default: 20 × 40 mm face, 5 mm silicone)."""
+
+    width: float = 0.02  # x
+    length: float = 0.04  # y
+    thickness: float = 0.005  # z, the layer height h
+    nx: int = 20
+    ny: int = 40
+    nz: int = 5
+
+    def __post_init__(self) -> None:
+        for name in ("width", "length", "thickness"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be a positive length [m]; got {v}")
+        for name in ("nx", "ny", "nz"):
+            if int(getattr(self, name)) < 1:
+                raise ValueError(f"{name} must be >= 1; got {getattr(self, name)}")
+
+    def mesh(self) -> MeshHex:
+        return MeshHex.init_tensor(
+            np.linspace(-self.width / 2, self.width / 2, self.nx + 1),
+            np.linspace(-self.length / 2, self.length / 2, self.ny + 1),
+            np.linspace(0.0, self.thickness, self.nz + 1),
+        )
+
+
+@dataclass(frozen=True)
+class CondensedPad:
+    """Compliance of the contact face.
+
+    face_nodes : (n,) mesh node indices on ``z = h``; face_xy : (n, 2) [m];
+    compliance_unit : (3n, 3n) [m/N] for ``E = 1 Pa``, dofs ordered
+    ``[u_x, u_y, u_z]`` per face node; ``seconds`` : build time (0 if cached).
+    """
+
+    geometry: PadGeometry
+    material: Material
+    face_nodes: np.ndarray
+    face_xy: np.ndarray
+    compliance_unit: np.ndarray
+    seconds: float
+
+    @property
+    def compliance(self) -> np.ndarray:
+        """(3n, 3n) face compliance [m/N] for the pad's material: ``C_1 / E``."""
+        return self.compliance_unit / self.material.E
+
+
+def _key(mesh: MeshHex, nu: float, scheme: str) -> str:
+    h = hashlib.sha256()
+    for arr in (np.ascontiguousarray(mesh.p, dtype=np.float64), np.ascontiguousarray(mesh.t, dtype=np.int64)):
+        h.update(str(arr.shape).encode())
+        h.update(arr.tobytes())
+    h.update(f"nu={nu!r};scheme={scheme};v={CACHE_VERSION}".encode())
+    return h.hexdigest()
+
+
+def condense_pad(
+    geometry: PadGeometry,
+    material: Material,
+    *,
+    scheme: str = "sri",
+    cache_dir: str | Path | None = None,
+    block: int = 512,
+) -> CondensedPad:
+    """Face compliance of the bonded layer (see module docstring)."""
+    mesh = geometry.mesh()
+    x, y, z = mesh.p
+    face = np.flatnonzero(np.isclose(z, geometry.thickness))
+    path = None if cache_dir is None else Path(cache_dir) / f"pad-{_key(mesh, material.nu, scheme)}.npz"
+    if path is not None and path.exists():
+        with np.load(path) as d:
+            C1 = d["compliance_unit"]
+        log.info("pad compliance loaded from %s", path)
+        return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, 0.0)
+
+    t0 = time.perf_counter()
+    K = stiffness(mesh, Material(1.0, material.nu), scheme)  # E = 1: C scales with 1/E
+    nodal = basis(mesh).nodal_dofs  # (3, N)
+    fixed = np.zeros(K.shape[0], dtype=bool)
+    fixed[nodal[:, np.isclose(z, 0.0)].ravel()] = True
+    free = np.flatnonzero(~fixed)
+    pos = np.full(K.shape[0], -1)
+    pos[free] = np.arange(free.size)
+    lu = spla.splu(K[free][:, free].tocsc())
+    face_dofs = nodal[:, face].T.ravel()  # node-major [ux, uy, uz]
+    rows = pos[face_dofs]
+    n = face_dofs.size
+    C1 = np.empty((n, n))
+    for start in range(0, n, block):
+        cols = np.arange(start, min(start + block, n))
+        rhs = np.zeros((free.size, cols.size))
+        rhs[rows[cols], np.arange(cols.size)] = 1.0
+        C1[:, cols] = lu.solve(rhs)[rows]
+    C1 = 0.5 * (C1 + C1.T)  # symmetric up to round-off
+    seconds = time.perf_counter() - t0
+    if path is not None:
+        buf = io.BytesIO()
+        np.savez(buf, compliance_unit=C1)
+        _atomic_write_bytes(path, buf.getvalue())
+    return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, seconds)

@@ -1,0 +1,86 @@
+"""Pad mesh and the condensed face compliance: exact against full solves."""
+
+import numpy as np
+import pytest
+from skfem import condense, solve
+
+from fem.elasticity import basis, stiffness
+from fem.material import Material
+from fem.pad import PadGeometry, condense_pad
+
+GEOM = PadGeometry(width=0.01, length=0.016, thickness=0.004, nx=5, ny=8, nz=3)
+
+
+def full_face_displacement(geom, material, f_face):
+    """Reference: solve the whole layer for face forces f_face (3n,) node-major."""
+    mesh = geom.mesh()
+    K = stiffness(mesh, material)
+    nodal = basis(mesh).nodal_dofs
+    z = mesh.p[2]
+    face = np.flatnonzero(np.isclose(z, geom.thickness))
+    f = np.zeros(K.shape[0])
+    f[nodal[:, face].T.ravel()] = f_face
+    u = solve(*condense(K, f, D=nodal[:, np.isclose(z, 0)].ravel()))
+    return u[nodal[:, face].T.ravel()]
+
+
+def test_condensed_compliance_is_exact_symmetric_pd_and_scales_with_1_over_E():
+    mat = Material(E=2.0e6, nu=0.499)
+    pad = condense_pad(GEOM, mat)
+    n = pad.face_nodes.size
+    assert pad.compliance.shape == (3 * n, 3 * n)
+    rng = np.random.default_rng(0)
+    f = rng.standard_normal(3 * n)
+    ref = full_face_displacement(GEOM, mat, f)
+    np.testing.assert_allclose(pad.compliance @ f, ref, rtol=1e-9, atol=1e-12 * np.abs(ref).max())
+    C = pad.compliance
+    assert np.abs(C - C.T).max() <= 1e-12 * np.abs(C).max()
+    assert np.linalg.eigvalsh(C).min() > 0
+    # same nu, other E: exactly C / E (the cache stores E = 1)
+    soft = condense_pad(GEOM, Material(E=5.0e5, nu=0.499))
+    np.testing.assert_allclose(soft.compliance, C * 4.0, rtol=1e-12)
+    # tangential coupling is kept: a normal load moves face nodes sideways (Poisson effect)
+    k = n // 2
+    u = C[:, 3 * k + 2]
+    assert np.abs(u[0::3]).max() > 1e-3 * u[3 * k + 2]
+
+
+def test_compliance_disk_cache(tmp_path):
+    mat = Material(E=1.0e6, nu=0.45)
+    first = condense_pad(GEOM, mat, cache_dir=tmp_path)
+    assert first.seconds > 0 and len(list(tmp_path.glob("pad-*.npz"))) == 1
+    again = condense_pad(GEOM, Material(E=3.0e6, nu=0.45), cache_dir=tmp_path)
+    assert again.seconds == 0.0  # loaded, not recomputed
+    np.testing.assert_allclose(again.compliance, first.compliance / 3.0, rtol=1e-12)
+    other = condense_pad(GEOM, Material(E=1.0e6, nu=0.3), cache_dir=tmp_path)
+    assert other.seconds > 0  # nu is part of the key
+
+
+def test_uniform_pressure_on_a_thin_layer_matches_the_confined_modulus():
+    # a thin bonded layer (h << w) under uniform normal pressure deforms like a confined column:
+    # u_z = p h / M with M = (1 - nu) E / ((1 + nu)(1 - 2 nu)), away from the free edges
+    geom = PadGeometry(width=0.06, length=0.06, thickness=0.002, nx=30, ny=30, nz=2)
+    mat = Material(E=1.0e6, nu=0.3)
+    pad = condense_pad(geom, mat)
+    x, y = pad.face_xy.T
+    dx, dy = geom.width / geom.nx, geom.length / geom.ny
+    # consistent nodal forces of a uniform pressure p on a bilinear face: p * tributary area
+    area = (
+        dx
+        * dy
+        * np.where(np.isclose(np.abs(x), geom.width / 2), 0.5, 1.0)
+        * np.where(np.isclose(np.abs(y), geom.length / 2), 0.5, 1.0)
+    )
+    p = 1.0e4
+    f = np.zeros(3 * x.size)
+    f[2::3] = -p * area  # pressing the face towards the jaw
+    uz = (pad.compliance @ f)[2::3]
+    center = (np.abs(x) < 0.01) & (np.abs(y) < 0.01)
+    expected = -p * geom.thickness / mat.p_wave
+    assert uz[center].mean() == pytest.approx(expected, rel=0.02)
+
+
+@pytest.mark.parametrize("kw", [{"thickness": 0.0}, {"width": -1.0}, {"nz": 0}])
+def test_bad_geometry(kw):
+    with pytest.raises(ValueError, match="must be"):
+        PadGeometry(**kw)
