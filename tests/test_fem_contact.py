@@ -50,3 +50,46 @@ def test_plane_and_no_contact(thin_pad):
     assert flat.force > 0 and (flat.lam >= 0).all()
     with pytest.raises(ValueError, match="deeper than the layer"):
         solve_contact(thin_pad, Cylinder((0, 0, h + 0.01), (0, 1, 0), 0.01), 2 * h)
+
+
+def test_extracted_profile_on_the_sphere(thin_pad):
+    from fem.extract import extract_profile
+    from workbench import frictional_wrenches, w_max
+
+    R, delta = 0.05, 0.1e-3
+    h = thin_pad.geometry.thickness
+    sphere = Sphere((0, 0, h + R), R)
+    sol = solve_contact(thin_pad, sphere, delta)
+    prof = extract_profile(thin_pad, sol, sphere)
+    # elements lie on the object surface, normals point out of the object (towards the jaw, -z)
+    np.testing.assert_allclose(np.linalg.norm(prof.centers - sphere.center, axis=1), R, rtol=1e-12)
+    assert (prof.normals[:, 2] < 0).all()
+    # the profile carries the solved contact force; the normal wrench pushes the object away (+z)
+    assert prof.F == pytest.approx(sol.force, rel=0.05)
+    assert prof.normal_wrench[2] > 0.95 * prof.F
+    np.testing.assert_allclose(prof.pressure_center[:2], 0.0, atol=1e-6)  # symmetric contact
+    # and workbench computes its friction: planar-like cap -> f_x,max ≈ μF
+    wm = w_max(prof, 0.5)
+    assert wm[0] == pytest.approx(0.5 * prof.F, rel=0.01)
+    assert np.isfinite(frictional_wrenches(prof, np.eye(6), 0.5)).all()
+    assert (
+        extract_profile(thin_pad, solve_contact(thin_pad, Sphere((0, 0, h + R + 1e-3), R), 0.0), sphere)
+        is None
+    )
+
+
+def test_extracted_profile_exports_to_vtu(thin_pad, tmp_path):
+    import meshio
+
+    from fem.extract import extract_profile
+    from workbench import ContactProfile
+
+    h = thin_pad.geometry.thickness
+    sphere = Sphere((0, 0, h + 0.05), 0.05)
+    prof = extract_profile(thin_pad, solve_contact(thin_pad, sphere, 0.1e-3), sphere)
+    path = tmp_path / "profile.vtu"
+    prof.to_meshio().write(path)
+    back = ContactProfile.from_meshio(meshio.read(path))
+    np.testing.assert_allclose(back.pressures, prof.pressures)
+    # the quad winding reproduces the outward-from-object normals
+    assert (np.einsum("ij,ij->i", back.normals, prof.normals) > 0.99).all()

@@ -1,0 +1,60 @@
+"""Contact solution -> ``workbench.ContactProfile`` on the object surface.
+
+Nodal pressures are ``λ_i / A_i`` (tributary face areas).  Each face quad with
+a loaded node becomes one element: pressure = mean of its nodal pressures,
+center = its deformed center projected onto the obstacle, normal = the
+obstacle's outward normal there (outward from the object, into the jaw),
+area = the deformed quad's vector-area magnitude.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from workbench import ContactProfile
+
+from .contact import ContactSolution
+from .pad import CondensedPad
+
+
+def face_grid(pad: CondensedPad) -> tuple[np.ndarray, np.ndarray]:
+    """Quads (m, 4) of face-node indices (counter-clockwise seen from +z) and
+    tributary nodal areas (n,) of the undeformed face."""
+    xs, ix = np.unique(np.round(pad.face_xy[:, 0], 12), return_inverse=True)
+    ys, iy = np.unique(np.round(pad.face_xy[:, 1], 12), return_inverse=True)
+    grid = np.full((xs.size, ys.size), -1)
+    grid[ix, iy] = np.arange(pad.face_xy.shape[0])
+    quads = np.column_stack(
+        [grid[:-1, :-1].ravel(), grid[1:, :-1].ravel(), grid[1:, 1:].ravel(), grid[:-1, 1:].ravel()]
+    )
+    cell_area = np.outer(np.diff(xs), np.diff(ys)).ravel()
+    area = np.zeros(pad.face_xy.shape[0])
+    np.add.at(area, quads.ravel(), np.repeat(cell_area / 4.0, 4))
+    return quads, area
+
+
+def extract_profile(pad: CondensedPad, sol: ContactSolution, obstacle) -> ContactProfile | None:
+    """The contact profile on the object, or ``None`` if nothing touches."""
+    if not sol.in_contact:
+        return None
+    quads, node_area = face_grid(pad)
+    p_node = sol.lam / node_area
+    loaded = (sol.lam[quads] > 0).any(axis=1)
+    q = quads[loaded]
+    corners = sol.x[q]  # (m, 4, 3) deformed
+    center = corners.mean(axis=1)
+    d, n = obstacle.signed_distance(center)
+    on_surface = center - d[:, None] * n
+    vec = 0.5 * np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+    # mesh for export/plots: the used deformed nodes projected onto the obstacle
+    used, faces = np.unique(q, return_inverse=True)
+    dv, nv = obstacle.signed_distance(sol.x[used])
+    verts = sol.x[used] - dv[:, None] * nv
+    return ContactProfile(
+        on_surface,
+        n,
+        np.linalg.norm(vec, axis=1),
+        p_node[q].mean(axis=1),
+        vertices=verts,
+        faces=faces.reshape(-1, 4)[:, ::-1],  # wound so the face normal points out of the object
+    )
