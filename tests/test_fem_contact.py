@@ -93,3 +93,28 @@ def test_extracted_profile_exports_to_vtu(thin_pad, tmp_path):
     np.testing.assert_allclose(back.pressures, prof.pressures)
     # the quad winding reproduces the outward-from-object normals
     assert (np.einsum("ij,ij->i", back.normals, prof.normals) > 0.99).all()
+
+
+CASES = {
+    "sphere": (lambda h: Sphere((0, 0, h + 0.02), 0.02), 0.4e-3),
+    "sphere off-center": (lambda h: Sphere((0.002, -0.0015, h + 0.015), 0.015), 0.3e-3),
+    "cylinder": (lambda h: Cylinder((0, 0, h + 0.01), (0, 1, 0), 0.01), 0.3e-3),
+    "tilted cylinder": (lambda h: Cylinder((0.001, 0, h + 0.012), (0.3, 1, 0), 0.012), 0.3e-3),
+    "tilted plane": (lambda h: Plane((0, 0, h - 0.2e-3), (0.08, 0.05, -1)), 0.0),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_condensed_equals_full_mesh_linear_solve(case):
+    from fem.contact import solve_contact_full
+
+    geom = PadGeometry(width=0.008, length=0.01, thickness=0.002, nx=8, ny=10, nz=3)
+    mat = Material(E=1.0e6, nu=0.45)
+    make, delta = CASES[case]
+    obs = make(geom.thickness)
+    cond = solve_contact(condense_pad(geom, mat), obs, delta)
+    full = solve_contact_full(geom, mat, obs, delta)
+    assert cond.force > 0
+    assert cond.force == pytest.approx(full.force, rel=1e-8)
+    assert np.linalg.norm(cond.lam - full.lam) <= 1e-8 * np.linalg.norm(full.lam)
+    assert full.max_penetration <= 1e-9 * geom.thickness
