@@ -118,3 +118,47 @@ def test_condensed_equals_full_mesh_linear_solve(case):
     assert cond.force == pytest.approx(full.force, rel=1e-8)
     assert np.linalg.norm(cond.lam - full.lam) <= 1e-8 * np.linalg.norm(full.lam)
     assert full.max_penetration <= 1e-9 * geom.thickness
+
+
+def test_mesh_obstacle_matches_the_analytic_sphere():
+    import trimesh
+
+    from fem.obstacles import MeshObstacle
+
+    R = 0.02
+    obs = MeshObstacle(trimesh.creation.icosphere(subdivisions=5, radius=R * 1000), units="mm")
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(200, 3))
+    x *= (R * rng.uniform(0.5, 1.5, 200) / np.linalg.norm(x, axis=1))[:, None]
+    d, n = obs.signed_distance(x)
+    d_ref, n_ref = Sphere((0, 0, 0), R).signed_distance(x)
+    assert np.abs(d - d_ref).max() <= 2e-3 * R  # faceting of a 20,480-triangle sphere
+    assert (np.einsum("ij,ij->i", n, n_ref) > 0.99).all()
+    with pytest.raises(ValueError, match="not watertight"):
+        MeshObstacle(trimesh.Trimesh(*[np.eye(3), [[0, 1, 2]]]))
+
+
+def test_pad_on_a_thesis_object_if_available(thin_pad):
+    from pathlib import Path
+
+    from fem.extract import extract_profile
+    from fem.obstacles import MeshObstacle
+
+    path = (
+        Path(__file__).resolve().parents[2]
+        / "shared/data/thesis_objects/0006_bottle-gen_smoothie_150x040x040-04.obj"
+    )
+    if not path.exists():
+        pytest.skip("thesis objects not available")
+    obs = MeshObstacle(path)
+    # put the bottle's outermost side point (max x) onto the pad face center: x -> -z
+    top = obs.mesh.vertices[np.argmax(obs.mesh.vertices[:, 0])]
+    h = thin_pad.geometry.thickness
+    T = np.eye(4)
+    T[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]  # rotation taking +x to -z
+    T[:3, 3] = [-top[2], -top[1], h + top[0]]
+    placed = obs.transformed(T, facing=(0, 0, -1))  # the bottle's wall is 0.4 mm: one-sided
+    sol = solve_contact(thin_pad, placed, 0.2e-3)
+    prof = extract_profile(thin_pad, sol, placed)
+    assert prof is not None and prof.F > 0
+    assert (prof.normals[:, 2] < 0).all()  # outward from the bottle, towards the jaw
