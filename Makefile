@@ -17,6 +17,7 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run parametric-surfaces
 	$(BIN)/workbench run discretization
 	$(BIN)/workbench run ls-fitting
+	$(BIN)/workbench run fem-validation
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 

@@ -99,3 +99,16 @@ def test_ls_fitting_headlines(ls_fitting):
     assert {r["solver"] for r in s["solver_comparison"]} == {"SCS"}
     for fig in ("fig_3_9_error_runtime.png", "runtime_vs_error.png", "fig_3_10_cross_sections.png"):
         assert (out / fig).stat().st_size > 10_000
+
+
+def test_fem_validation_quick(tmp_path):
+    assert main(["run", "fem-validation", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    worst = s["locking"][-1]
+    assert worst["nu"] >= 0.499 and abs(worst["sri_over_exact"] - 1) < 0.02 and worst["full_over_exact"] < 0.8
+    assert all(abs(w["rel_err"]) < 0.05 for w in s["thin_layer"])  # within 5% where the limit applies
+    assert len(s["condensed_vs_full_cases"]) >= 10
+    assert s["condensed_vs_reference"]["pressure_rel_l2"] <= 0.02
+    assert s["condensed_vs_reference"]["force_rel_err"] <= 0.01
+    assert all(r["min_pressure"] >= 0 for r in s["condensed_vs_full_cases"])
+    assert s["force_displacement"]["monotone"]

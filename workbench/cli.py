@@ -17,6 +17,7 @@ EXPERIMENTS = {
     "parametric-surfaces": "experiments.parametric_surfaces",
     "discretization": "experiments.discretization",
     "ls-fitting": "experiments.ls_fitting",
+    "fem-validation": "experiments.fem_validation",
 }
 
 

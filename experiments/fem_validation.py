@@ -1,0 +1,251 @@
+"""FEM validation: SRI vs locking (Lamé cylinder), thin-layer limits, condensed vs full-mesh contact.
+
+Issue 4 scope 6 (partial: Hertz and the nonlinear level are not implemented
+yet).  (a) selective reduced integration against the Lamé thick-walled cylinder
+as nu -> 0.5; (b) compressible thin-layer (Winkler) limits: sphere
+F = π R M δ² / h, cylinder P' = (4/3)(M/h) a δ with a = sqrt(2Rδ); (c) the
+condensed face solve against the full-mesh Signorini solve on diverse cases
+(pressure field, force, speed); (d) p >= 0, no penetration, monotone F(δ).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+from skfem import FacetBasis, LinearForm, MeshHex, asm, condense, solve
+from skfem.helpers import dot
+from tqdm import tqdm
+
+from fem.contact import solve_contact, solve_contact_full
+from fem.elasticity import ELEMENT, basis, stiffness
+from fem.extract import face_grid
+from fem.material import Material
+from fem.obstacles import Cylinder, Plane, Sphere
+from fem.pad import PadGeometry, condense_pad
+from workbench.results import save_figure, write_csv, write_summary
+
+NAME = "fem-validation"
+
+DEFAULT_CONFIG = {
+    "seed": 0,
+    "nus": [0.3, 0.45, 0.49, 0.499, 0.4999],
+    "cylinder_mesh": [8, 12],  # radial, circumferential hexes (Lamé)
+    "winkler_h": 0.001,
+    "winkler_cells": 36,  # face cells per side of the 12 mm Winkler pad
+    "compare_pad": [16, 20, 4],  # nx, ny, nz of the 16 x 20 x 4 mm comparison pad
+    "compare_nu": 0.499,
+    "delta_sweep": [0.1e-3, 0.2e-3, 0.3e-3, 0.4e-3, 0.5e-3],
+}
+QUICK_CONFIG = {
+    "nus": [0.3, 0.499, 0.4999],
+    "winkler_cells": 24,
+    "compare_pad": [8, 10, 3],
+    "delta_sweep": [0.1e-3, 0.3e-3],
+}
+
+
+def lame(
+    material: Material, nr: int, nt: int, scheme: str, a: float = 1.0, b: float = 2.0
+) -> tuple[float, float]:
+    """(FE, exact) inner radial displacement of a plane-strain quarter cylinder, p = 1."""
+    m = MeshHex.init_tensor(
+        np.linspace(a, b, nr + 1), np.linspace(0, np.pi / 2, nt + 1), np.array([0.0, 0.25])
+    )
+    r, th, z = m.p
+    mesh = MeshHex(np.array([r * np.cos(th), r * np.sin(th), z]), m.t)
+    K = stiffness(mesh, material, scheme)
+    fb = FacetBasis(
+        mesh,
+        ELEMENT,
+        facets=mesh.facets_satisfying(
+            lambda x: np.hypot(x[0], x[1]) < a + 0.01 * (b - a), boundaries_only=True
+        ),
+    )
+
+    @LinearForm
+    def pressure(v, w):
+        rr = np.hypot(w.x[0], w.x[1])
+        return dot(np.array([w.x[0] / rr, w.x[1] / rr, 0 * rr]), v)
+
+    nodal = basis(mesh).nodal_dofs
+    x, y, _ = mesh.p
+    fixed = np.unique(np.concatenate([nodal[0][np.isclose(x, 0)], nodal[1][np.isclose(y, 0)], nodal[2]]))
+    u = solve(*condense(K, asm(pressure, fb), D=fixed))
+    inner = np.isclose(np.hypot(x, y), a)
+    fe = float(((x * u[nodal[0]] + y * u[nodal[1]])[inner] / a).mean())
+    E, nu = material.E, material.nu
+    exact = (1 + nu) * a**2 / (E * (b**2 - a**2)) * ((1 - 2 * nu) * a + b**2 / a)
+    return fe, exact
+
+
+def pressure_field(pad, sol) -> np.ndarray:
+    _, area = face_grid(pad)
+    return sol.lam / area
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    # (a) locking
+    locking = []
+    for nu in config["nus"]:
+        mat = Material(1.0e6, nu)
+        sri, exact = lame(mat, *config["cylinder_mesh"], "sri")
+        full, _ = lame(mat, *config["cylinder_mesh"], "full")
+        locking.append({"nu": nu, "sri_over_exact": sri / exact, "full_over_exact": full / exact})
+    write_csv(
+        out / "locking.csv", ["nu", "sri_over_exact", "full_over_exact"], [list(r.values()) for r in locking]
+    )
+
+    # (b) compressible thin-layer (Winkler) limits, nu = 0 (M = E)
+    h, n = config["winkler_h"], config["winkler_cells"]
+    wpad = condense_pad(PadGeometry(0.012, 0.012, h, n, n, 2), Material(1.0e6, 0.0))
+    M = wpad.material.p_wave
+    winkler = []
+    for R, delta in ((0.05, 0.1e-3), (0.1, 0.08e-3)):
+        sol = solve_contact(wpad, Sphere((0, 0, h + R), R), delta)
+        a = np.sqrt(2 * R * delta)
+        winkler.append(
+            {
+                "shape": "sphere",
+                "R": R,
+                "delta": delta,
+                "a_over_h": a / h,
+                "F_fe": sol.force,
+                "F_limit": np.pi * R * M * delta**2 / h,
+            }
+        )
+    R, delta = 0.05, 0.08e-3
+    sol = solve_contact(wpad, Cylinder((0, 0, h + R), (0, 1, 0), R), delta)
+    y = wpad.face_xy[:, 1]
+    strip = np.abs(y) < 0.002  # central 4 mm: force per unit length away from the pad's ends
+    a = np.sqrt(2 * R * delta)
+    winkler.append(
+        {
+            "shape": "cylinder",
+            "R": R,
+            "delta": delta,
+            "a_over_h": a / h,
+            "F_fe": float(sol.lam[strip].sum() / (np.unique(np.round(y[strip], 9)).size * 0.012 / n)),
+            "F_limit": 4.0 / 3.0 * (M / h) * a * delta,
+        }
+    )
+    for w in winkler:
+        w["rel_err"] = w["F_fe"] / w["F_limit"] - 1
+    write_csv(out / "thin_layer.csv", list(winkler[0]), [list(w.values()) for w in winkler])
+
+    # (c) condensed vs full-mesh linear, (d) sanity
+    nx, ny, nz = config["compare_pad"]
+    geom = PadGeometry(0.016, 0.02, 0.004, nx, ny, nz)
+    mat = Material(1.0e6, config["compare_nu"])
+    t0 = time.perf_counter()
+    pad = condense_pad(geom, mat)
+    precompute_s = time.perf_counter() - t0
+    hh = geom.thickness
+    cases = {
+        "sphere R20": (Sphere((0, 0, hh + 0.02), 0.02), 0.6e-3),
+        "sphere R10 off-center": (Sphere((0.003, -0.002, hh + 0.01), 0.01), 0.5e-3),
+        "sphere R40": (Sphere((0, 0, hh + 0.04), 0.04), 0.8e-3),
+        "cylinder R10 along y": (Cylinder((0, 0, hh + 0.01), (0, 1, 0), 0.01), 0.5e-3),
+        "cylinder R15 along x": (Cylinder((0, 0, hh + 0.015), (1, 0, 0), 0.015), 0.6e-3),
+        "cylinder tilted 20 deg": (
+            Cylinder((0.001, 0, hh + 0.012), (np.sin(0.35), np.cos(0.35), 0), 0.012),
+            0.5e-3,
+        ),
+        "cylinder off-center": (Cylinder((0.004, 0, hh + 0.01), (0, 1, 0), 0.01), 0.4e-3),
+        "plane tilted": (Plane((0, 0, hh - 0.3e-3), (0.06, 0.03, -1)), 0.0),
+        "sphere R5 small contact": (Sphere((0, 0, hh + 0.005), 0.005), 0.3e-3),
+        "cylinder tilted about x": (Cylinder((0, 0, hh + 0.012), (0, 1, 0.15), 0.012), 0.5e-3),
+    }
+    rows = []
+    for name, (obs, delta) in tqdm(cases.items(), desc="condensed vs full", unit="case"):
+        solve_contact(pad, obs, delta)  # warm
+        t0 = time.perf_counter()
+        c = solve_contact(pad, obs, delta)
+        tc = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        f = solve_contact_full(geom, mat, obs, delta)
+        tf = time.perf_counter() - t0
+        pc, pf = pressure_field(pad, c), pressure_field(pad, f)
+        rows.append(
+            {
+                "case": name,
+                "force_N": c.force,
+                "force_rel_err": abs(c.force / f.force - 1),
+                "pressure_rel_l2": float(np.linalg.norm(pc - pf) / np.linalg.norm(pf)),
+                "condensed_ms": tc * 1e3,
+                "full_s": tf,
+                "speed_ratio": tf / tc,
+                "min_pressure": float(pc.min()),
+                "max_penetration_m": c.max_penetration,
+                "active_nodes": int((c.lam > 0).sum()),
+            }
+        )
+    write_csv(out / "condensed_vs_full.csv", list(rows[0]), [list(r.values()) for r in rows])
+    sweep = [solve_contact(pad, cases["sphere R20"][0], d).force for d in config["delta_sweep"]]
+    monotone = bool(np.all(np.diff(sweep) > 0))
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    nus = [r["nu"] for r in locking]
+    axes[0].semilogx([0.5 - v for v in nus], [r["sri_over_exact"] for r in locking], "o-", label="SRI")
+    axes[0].semilogx(
+        [0.5 - v for v in nus], [r["full_over_exact"] for r in locking], "s--", label="full 2x2x2"
+    )
+    axes[0].axhline(1.0, color="k", lw=0.8)
+    axes[0].set_xlabel("0.5 - nu")
+    axes[0].set_ylabel("u_r / u_r Lamé")
+    axes[0].set_title("volumetric locking, thick cylinder")
+    axes[0].invert_xaxis()
+    axes[0].legend()
+    axes[1].plot(np.array(config["delta_sweep"]) * 1e3, sweep, "o-")
+    axes[1].set_xlabel("jaw displacement δ [mm]")
+    axes[1].set_ylabel("contact force [N]")
+    axes[1].set_title(f"sphere R20 on {geom.thickness * 1e3:.0f} mm layer, nu = {mat.nu}")
+    fig_path = save_figure(fig, out / "fem_validation.png")
+
+    summary_ms = float(np.median([r["condensed_ms"] for r in rows]))
+    summary_ratio = float(np.median([r["speed_ratio"] for r in rows]))
+    worst_l2 = max(r["pressure_rel_l2"] for r in rows)
+    worst_f = max(r["force_rel_err"] for r in rows)
+    summary = {
+        "locking": locking,
+        "thin_layer": winkler,
+        "condensed_vs_reference": {
+            "pressure_rel_l2": worst_l2,
+            "force_rel_err": worst_f,
+            "reference": "full-mesh linear",
+        },
+        "condensed_vs_full_cases": rows,
+        "pad_precompute_s": precompute_s,
+        "median_condensed_ms": summary_ms,
+        "median_speed_ratio": summary_ratio,
+        "force_displacement": {"delta_m": config["delta_sweep"], "force_N": sweep, "monotone": monotone},
+        "not_implemented": [
+            "Hertz (thick block, graded mesh)",
+            "nonlinear neo-Hookean level",
+            "bottle family generator",
+        ],
+        "figures": [str(fig_path)],
+        "headline": [
+            f"SRI u/u_exact at nu={locking[-1]['nu']}: {locking[-1]['sri_over_exact']:.4f} "
+            f"(full integration {locking[-1]['full_over_exact']:.4f})",
+            "thin-layer limits: "
+            + ", ".join(f"{w['shape']} a/h={w['a_over_h']:.1f}: {100 * w['rel_err']:+.1f}%" for w in winkler),
+            f"condensed vs full-mesh on {len(rows)} cases: pressure L2 <= {worst_l2:.1e}, "
+            f"force <= {worst_f:.1e}; median {summary_ms:.1f} ms vs full, ratio {summary_ratio:.0f}x",
+        ],
+    }
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+if __name__ == "__main__":
+    from workbench.cli import main
+
+    raise SystemExit(main(["run", NAME, *__import__("sys").argv[1:]]))
