@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 from skfem import MeshHex
 
-from workbench.results import _atomic_write_bytes
+from workbench.results import atomic_write_bytes
 
 from .elasticity import basis, stiffness
 from .material import Material
@@ -135,5 +135,5 @@ def condense_pad(
     if path is not None:
         buf = io.BytesIO()
         np.savez(buf, compliance_unit=C1)
-        _atomic_write_bytes(path, buf.getvalue())
+        atomic_write_bytes(path, buf.getvalue())
     return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, seconds)

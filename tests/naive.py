@@ -90,3 +90,24 @@ def random_profile(rng, n, curved=True):
     areas = rng.uniform(0.5, 1.5, n) * 4e-6
     pressures = rng.uniform(0.0, 2e5, n)
     return centers, normals, areas, pressures
+
+
+def monomial_hessians(x, expo):
+    """(N, n, n, L) Hessians ``∂_j ∂_k x^{d_κ}`` of every monomial, term by term —
+    the slow reference for ``QuarticLS.hessian_subspace``."""
+    n = x.shape[1]
+    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]
+    out = np.empty((x.shape[0], n, n, expo.shape[0]))
+    for j in range(n):
+        for k in range(j, n):
+            e = expo.copy()
+            coef = e[:, j].astype(float)
+            e[:, j] = np.maximum(e[:, j] - 1, 0)
+            coef = coef * e[:, k]
+            e[:, k] = np.maximum(e[:, k] - 1, 0)
+            term = coef[None, :] * np.ones((x.shape[0], 1))
+            for i in range(n):
+                term = term * powers[:, i, e[:, i]]
+            out[:, j, k] = term
+            out[:, k, j] = term
+    return out

@@ -1,6 +1,7 @@
 """6D limit-surface models: ellipsoid (LSQ/SDP), SOS-convex quartic, linearisation,
 contact-wrench model, 6DFC and the cache."""
 
+import naive
 import numpy as np
 import pytest
 from scipy.optimize import linprog
@@ -24,7 +25,7 @@ from workbench.limit_surface import (
 from workbench.limit_surface import ellipsoid as ell_mod
 from workbench.limit_surface import quartic as quart_mod
 from workbench.limit_surface.quartic import _square_norm_squared
-from workbench.limit_surface.sos import exponents, monomial_hessians
+from workbench.limit_surface.sos import exponents
 from workbench.pressure import power_law
 from workbench.surface_catalog import S4
 
@@ -110,7 +111,7 @@ def test_quartic_beats_ellipsoid_and_is_convex(s4_data, s4_quartic):
     assert q.info["certificate_delta"] >= 0
     # the fast quadratic-form Hessian against the slow per-monomial reference
     y = np.random.default_rng(4).standard_normal((50, q.dim))
-    slow = np.einsum("njkl,l->njk", monomial_hessians(y, exponents(q.dim, 4)), q.A_q)
+    slow = np.einsum("njkl,l->njk", naive.monomial_hessians(y, exponents(q.dim, 4)), q.A_q)
     np.testing.assert_allclose(q.hessian_subspace(y), slow, rtol=1e-10, atol=1e-10 * np.abs(slow).max())
 
 

@@ -22,7 +22,7 @@ import numpy as np
 PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "meshio", "trimesh", "pyvista", "matplotlib", "cvxpy")
 
 
-def _atomic_write_bytes(path: Path, data: bytes) -> Path:
+def atomic_write_bytes(path: Path, data: bytes) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -56,7 +56,7 @@ def _jsonable(obj: Any) -> Any:
 def write_json(path: Path, obj: Any) -> Path:
     """Write ``obj`` as indented JSON atomically (NumPy types converted)."""
     text = json.dumps(_jsonable(obj), indent=2, sort_keys=False) + "\n"
-    return _atomic_write_bytes(path, text.encode())
+    return atomic_write_bytes(path, text.encode())
 
 
 def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
@@ -66,7 +66,7 @@ def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) 
     writer.writerow(header)
     for row in rows:
         writer.writerow([_jsonable(v) for v in row])
-    return _atomic_write_bytes(path, buf.getvalue().encode())
+    return atomic_write_bytes(path, buf.getvalue().encode())
 
 
 def save_figure(fig: Any, path: Path, dpi: int = 130) -> Path:
@@ -76,12 +76,12 @@ def save_figure(fig: Any, path: Path, dpi: int = 130) -> Path:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
     plt.close(fig)
-    return _atomic_write_bytes(path, buf.getvalue())
+    return atomic_write_bytes(path, buf.getvalue())
 
 
 def save_png(path: Path, data: bytes) -> Path:
     """Write PNG bytes atomically."""
-    return _atomic_write_bytes(path, data)
+    return atomic_write_bytes(path, data)
 
 
 def versions() -> dict[str, str]:

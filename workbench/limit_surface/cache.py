@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..profile import ContactProfile
-from ..results import _atomic_write_bytes
+from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
 from ..wrench import frictional_wrenches, w_max
 from .base import LimitSurfaceModel
@@ -149,7 +149,7 @@ def _save(path: Path, model: LimitSurfaceModel) -> None:
         arrays.update(kind=np.array("quartic"), A_q=model.A_q, gram=model.gram)
     buf = io.BytesIO()
     np.savez(buf, **arrays)
-    _atomic_write_bytes(path, buf.getvalue())
+    atomic_write_bytes(path, buf.getvalue())
 
 
 def _load(path: Path) -> LimitSurfaceModel:

@@ -88,37 +88,3 @@ def monomials(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
     for j in range(1, x.shape[1]):
         out *= powers[j][expo[:, j]]
     return out.T
-
-
-def monomial_gradients(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
-    """(N, n, L): ``∂_j x^{d_κ}``."""
-    n = x.shape[1]
-    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]
-    out = np.empty((x.shape[0], n, expo.shape[0]))
-    for j in range(n):
-        term = expo[:, j].astype(float)[None, :] * powers[:, j, np.maximum(expo[:, j] - 1, 0)]
-        for i in range(n):
-            if i != j:
-                term = term * powers[:, i, expo[:, i]]
-        out[:, j] = term
-    return out
-
-
-def monomial_hessians(x: np.ndarray, expo: np.ndarray) -> np.ndarray:
-    """(N, n, n, L): ``∂_j ∂_k x^{d_κ}``."""
-    n = x.shape[1]
-    powers = x[:, :, None] ** np.arange(expo.max() + 1)[None, None, :]
-    out = np.empty((x.shape[0], n, n, expo.shape[0]))
-    for j in range(n):
-        for k in range(j, n):
-            e = expo.copy()
-            coef = e[:, j].astype(float)
-            e[:, j] = np.maximum(e[:, j] - 1, 0)
-            coef = coef * e[:, k]
-            e[:, k] = np.maximum(e[:, k] - 1, 0)
-            term = coef[None, :] * np.ones((x.shape[0], 1))
-            for i in range(n):
-                term = term * powers[:, i, e[:, i]]
-            out[:, j, k] = term
-            out[:, k, j] = term
-    return out
