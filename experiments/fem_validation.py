@@ -1,11 +1,13 @@
-"""FEM validation: SRI vs locking (Lamé cylinder), thin-layer limits, condensed vs full-mesh contact.
+"""FEM validation: SRI vs locking, Hertz, thin-layer limits, condensed vs full-mesh contact.
 
-Issue 4 scope 6 (partial: Hertz and the nonlinear level are not implemented
-yet).  (a) selective reduced integration against the Lamé thick-walled cylinder
-as nu -> 0.5; (b) compressible thin-layer (Winkler) limits: sphere
-F = π R M δ² / h, cylinder P' = (4/3)(M/h) a δ with a = sqrt(2Rδ); (c) the
-condensed face solve against the full-mesh Signorini solve on diverse cases
-(pressure field, force, speed); (d) p >= 0, no penetration, monotone F(δ).
+Issue 4 scope 6 (partial: the nonlinear level is not implemented yet).
+(a) selective reduced integration against the Lamé thick-walled cylinder as
+nu -> 0.5; (a') Hertz: rigid sphere into a thick block on graded meshes, a and
+p0 against the Hertz formulas for the computed force, with mesh convergence;
+(b) compressible thin-layer (Winkler) limits: sphere F = π R M δ² / h,
+cylinder P' = (4/3)(M/h) a δ with a = sqrt(2Rδ); (c) the condensed face solve
+against the full-mesh Signorini solve on diverse cases (pressure field, force,
+speed); (d) p >= 0, no penetration, monotone F(δ).
 """
 
 from __future__ import annotations
@@ -37,8 +39,11 @@ DEFAULT_CONFIG = {
     "compare_pad": [16, 20, 4],  # nx, ny, nz of the 16 x 20 x 4 mm comparison pad
     "compare_nu": 0.499,
     "delta_sweep": [0.1e-3, 0.2e-3, 0.3e-3, 0.4e-3, 0.5e-3],
+    "hertz_fine_sizes": [0.6e-3, 0.45e-3, 0.3e-3],  # a = 1.5 mm: a/h = 2.5, 3.3, 5
+    "hertz_growth": 1.35,
 }
 QUICK_CONFIG = {
+    "hertz_fine_sizes": [0.6e-3],
     "nus": [0.3, 0.499, 0.4999],
     "winkler_cells": 24,
     "compare_pad": [8, 10, 3],
@@ -82,7 +87,50 @@ def lame(
 
 def pressure_field(pad, sol) -> np.ndarray:
     _, area = face_grid(pad)
-    return sol.lam / area
+    return np.divide(sol.lam, area, out=np.zeros_like(sol.lam), where=area > 0)
+
+
+def hertz(
+    fine_size: float, growth: float, R: float = 0.02, a_target: float = 0.0015, nu: float = 0.3
+) -> dict:
+    """Rigid sphere into a 40 x 40 x 20 mm block (~13 a): a and p0 vs Hertz for the FE force.
+
+    a from a least-squares fit of p² = p0² (1 - r²/a²) over nodes with r < 0.8 a
+    (robust to the ±h/2 bias of counting active nodes, also reported); p0 as the
+    center nodal pressure (and from the fit).
+    """
+    mat = Material(1.0e6, nu)
+    e_star = mat.E / (1 - nu**2)
+    geom = PadGeometry(0.04, 0.04, 0.02, grading=(1.6 * a_target, fine_size, growth))
+    t0 = time.perf_counter()
+    pad = condense_pad(geom, mat, patch_radius=1.5 * a_target)
+    t_cond = time.perf_counter() - t0
+    sol = solve_contact(pad, Sphere((0, 0, geom.thickness + R), R), a_target**2 / R)
+    _, area = face_grid(pad)
+    p = pressure_field(pad, sol)
+    r = np.hypot(*pad.face_xy.T)
+    F = sol.force
+    a_h = (3 * F * R / (4 * e_star)) ** (1 / 3)
+    p0_h = 3 * F / (2 * np.pi * a_h**2)
+    sel = (sol.lam > 0) & (r < 0.8 * a_h)
+    slope, icpt = np.polyfit(r[sel] ** 2, p[sel] ** 2, 1)
+    a_fit = float(np.sqrt(-icpt / slope))
+    x, y, z = geom.axes()
+    return {
+        "fine_size_mm": fine_size * 1e3,
+        "a_over_h": a_target / fine_size,
+        "dofs": 3 * x.size * y.size * z.size,
+        "F_N": F,
+        "a_hertz_mm": a_h * 1e3,
+        "a_fit_mm": a_fit * 1e3,
+        "a_rel_err": a_fit / a_h - 1,
+        "a_area_rel_err": float(np.sqrt(area[sol.lam > 0].sum() / np.pi) / a_h - 1),
+        "p0_hertz_Pa": p0_h,
+        "p0_rel_err": float(p[np.argmin(r)] / p0_h - 1),
+        "p0_fit_rel_err": float(np.sqrt(icpt) / p0_h - 1),
+        "patch_edge_force_N": float(sol.lam[r > 1.4 * a_target].sum()),
+        "condense_s": t_cond,
+    }
 
 
 def run(config: dict) -> dict:
@@ -135,6 +183,13 @@ def run(config: dict) -> dict:
     for w in winkler:
         w["rel_err"] = w["F_fe"] / w["F_limit"] - 1
     write_csv(out / "thin_layer.csv", list(winkler[0]), [list(w.values()) for w in winkler])
+
+    # (a') Hertz mesh convergence
+    hz = [
+        hertz(size, config["hertz_growth"])
+        for size in tqdm(config["hertz_fine_sizes"], desc="Hertz", unit="mesh")
+    ]
+    write_csv(out / "hertz_convergence.csv", list(hz[0]), [list(r.values()) for r in hz])
 
     # (c) condensed vs full-mesh linear, (d) sanity
     nx, ny, nz = config["compare_pad"]
@@ -216,6 +271,7 @@ def run(config: dict) -> dict:
     worst_f = max(r["force_rel_err"] for r in rows)
     summary = {
         "locking": locking,
+        "hertz": {"a_rel_err": hz[-1]["a_rel_err"], "p0_rel_err": hz[-1]["p0_rel_err"], "convergence": hz},
         "thin_layer": winkler,
         "condensed_vs_reference": {
             "pressure_rel_l2": worst_l2,
@@ -236,6 +292,8 @@ def run(config: dict) -> dict:
         "headline": [
             f"SRI u/u_exact at nu={locking[-1]['nu']}: {locking[-1]['sri_over_exact']:.4f} "
             f"(full integration {locking[-1]['full_over_exact']:.4f})",
+            f"Hertz at a/h = {hz[-1]['a_over_h']:.1f}: a {100 * hz[-1]['a_rel_err']:+.2f}%, "
+            f"p0 {100 * hz[-1]['p0_rel_err']:+.2f}%",
             "thin-layer limits: "
             + ", ".join(f"{w['shape']} a/h={w['a_over_h']:.1f}: {100 * w['rel_err']:+.1f}%" for w in winkler),
             f"condensed vs full-mesh on {len(rows)} cases: pressure L2 <= {worst_l2:.1e}, "

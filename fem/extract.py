@@ -28,6 +28,8 @@ def face_grid(pad: CondensedPad) -> tuple[np.ndarray, np.ndarray]:
         [grid[:-1, :-1].ravel(), grid[1:, :-1].ravel(), grid[1:, 1:].ravel(), grid[:-1, 1:].ravel()]
     )
     cell_area = np.outer(np.diff(xs), np.diff(ys)).ravel()
+    whole = (quads >= 0).all(axis=1)  # a condensed patch need not fill the grid
+    quads, cell_area = quads[whole], cell_area[whole]
     area = np.zeros(pad.face_xy.shape[0])
     np.add.at(area, quads.ravel(), np.repeat(cell_area / 4.0, 4))
     return quads, area
@@ -38,7 +40,8 @@ def extract_profile(pad: CondensedPad, sol: ContactSolution, obstacle) -> Contac
     if not sol.in_contact:
         return None
     quads, node_area = face_grid(pad)
-    p_node = sol.lam / node_area
+    # nodes on the rim of a condensed patch belong to no whole quad (area 0, λ = 0)
+    p_node = np.divide(sol.lam, node_area, out=np.zeros_like(sol.lam), where=node_area > 0)
     loaded = (sol.lam[quads] > 0).any(axis=1)
     q = quads[loaded]
     corners = sol.x[q]  # (m, 4, 3) deformed

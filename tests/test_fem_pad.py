@@ -84,3 +84,30 @@ def test_uniform_pressure_on_a_thin_layer_matches_the_confined_modulus():
 def test_bad_geometry(kw):
     with pytest.raises(ValueError, match="must be"):
         PadGeometry(**kw)
+
+
+def test_graded_axes():
+    from fem.pad import graded_half_axis
+
+    ax = graded_half_axis(0.02, 0.003, 0.0002, 1.3)
+    assert ax[0] == 0.0 and ax[-1] == pytest.approx(0.02)
+    steps = np.diff(ax)
+    assert (steps > 0).all()
+    np.testing.assert_allclose(steps[ax[1:] <= 0.003], 0.0002)  # uniform in the fine zone
+    assert steps[-2] > 5 * 0.0002  # graded outside
+    g = PadGeometry(0.04, 0.04, 0.02, grading=(0.003, 0.0005, 1.3))
+    x, y, z = g.axes()
+    np.testing.assert_allclose(x, -x[::-1])  # symmetric about the face center
+    assert z[0] == pytest.approx(0.0) and z[-1] == pytest.approx(0.02)
+    assert np.diff(z)[-1] == pytest.approx(0.0005)  # fine just below the contact face
+
+
+def test_patch_condensation_is_the_sub_block_of_the_full_face():
+    mat = Material(E=1.0e6, nu=0.45)
+    full = condense_pad(GEOM, mat)
+    patch = condense_pad(GEOM, mat, patch_radius=0.003)
+    assert 0 < patch.face_nodes.size < full.face_nodes.size
+    idx = np.searchsorted(full.face_nodes, patch.face_nodes)
+    assert np.array_equal(full.face_nodes[idx], patch.face_nodes)
+    dofs = (3 * idx[:, None] + np.arange(3)).ravel()
+    np.testing.assert_allclose(patch.compliance, full.compliance[np.ix_(dofs, dofs)], rtol=1e-9, atol=1e-18)
