@@ -264,6 +264,21 @@ def run(config: dict) -> dict:
     axes[1].set_ylabel("contact force [N]")
     axes[1].set_title(f"sphere R20 on {geom.thickness * 1e3:.0f} mm layer, nu = {mat.nu}")
     fig_path = save_figure(fig, out / "fem_validation.png")
+    # offscreen renders of extracted profiles (Fig 3.11(d) style), pressure-colored with
+    # the friction the pad exerts for a torsion and a sliding motion of the object
+    from fem.extract import extract_profile
+    from workbench.viz import render_friction_arrows
+
+    renders = []
+    twists = {
+        "torsion about z": np.array([0, 0, 0, 0, 0, 1.0]),
+        "sliding along +x": np.array([1.0, 0, 0, 0, 0, 0]),
+    }
+    for name in ("sphere R20", "cylinder tilted 20 deg"):
+        obs, delta = cases[name]
+        prof = extract_profile(pad, solve_contact(pad, obs, delta), obs)
+        slug = name.replace(" ", "_")
+        renders.append(str(render_friction_arrows(prof, twists, out / f"profile_{slug}.png", title=name)))
 
     summary_ms = float(np.median([r["condensed_ms"] for r in rows]))
     summary_ratio = float(np.median([r["speed_ratio"] for r in rows]))
@@ -288,7 +303,7 @@ def run(config: dict) -> dict:
             "nonlinear neo-Hookean level",
             "bottle family generator",
         ],
-        "figures": [str(fig_path)],
+        "figures": [str(fig_path), *renders],
         "headline": [
             f"SRI u/u_exact at nu={locking[-1]['nu']}: {locking[-1]['sri_over_exact']:.4f} "
             f"(full integration {locking[-1]['full_over_exact']:.4f})",

@@ -73,14 +73,20 @@ def render_friction_arrows(
         if uniform:
             plotter.add_mesh(poly, color="lightsteelblue", show_edges=True, edge_color="gray", opacity=0.9)
         else:
-            plotter.add_mesh(poly, scalars="pressure", show_edges=False, cmap="viridis")
+            bar = {"title": "pressure [Pa]", "fmt": "%.2g", "n_labels": 3}
+            plotter.add_mesh(poly, scalars="pressure", show_edges=False, cmap="viridis", scalar_bar_args=bar)
         d = friction_directions(profile, xi)[idx]
-        pts = pv.PolyData(profile.centers[idx] + 1e-3 * length * profile.normals[idx])
+        pts = pv.PolyData(profile.centers[idx] + 0.05 * length * profile.normals[idx])  # just off the surface
         pts["d"] = d
         arrows = pts.glyph(orient="d", scale=False, factor=length)
         plotter.add_mesh(arrows, color="forestgreen")
         plotter.add_text(f"{title} {label}".strip(), font_size=10)
         plotter.add_axes()
-        plotter.camera_position = "iso"
-        plotter.camera.azimuth = 30
+        # look from the side the normals point to (the jaw side), tilted for depth
+        mean_n = profile.normals.mean(axis=0)
+        if np.linalg.norm(mean_n) > 0.5 and abs(mean_n[2]) > 0.9:
+            plotter.view_vector(mean_n + np.array([0.4, -0.6, 0.0]))
+        else:
+            plotter.camera_position = "iso"
+            plotter.camera.azimuth = 30
     return save_screenshot(plotter, path)
