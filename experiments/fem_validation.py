@@ -16,16 +16,14 @@ import time
 from pathlib import Path
 
 import numpy as np
-from skfem import FacetBasis, LinearForm, MeshHex, asm, condense, solve
-from skfem.helpers import dot
 from tqdm import tqdm
 
 from fem.contact import solve_contact, solve_contact_full
-from fem.elasticity import ELEMENT, basis, stiffness
-from fem.extract import face_grid
+from fem.extract import face_grid, nodal_pressures
 from fem.material import Material
 from fem.obstacles import Cylinder, Plane, Sphere
 from fem.pad import PadGeometry, condense_pad
+from fem.validation import lame_cylinder_fe, lame_inner_displacement
 from workbench.results import save_figure, write_csv, write_summary
 
 NAME = "fem-validation"
@@ -51,45 +49,6 @@ QUICK_CONFIG = {
 }
 
 
-def lame(
-    material: Material, nr: int, nt: int, scheme: str, a: float = 1.0, b: float = 2.0
-) -> tuple[float, float]:
-    """(FE, exact) inner radial displacement of a plane-strain quarter cylinder, p = 1."""
-    m = MeshHex.init_tensor(
-        np.linspace(a, b, nr + 1), np.linspace(0, np.pi / 2, nt + 1), np.array([0.0, 0.25])
-    )
-    r, th, z = m.p
-    mesh = MeshHex(np.array([r * np.cos(th), r * np.sin(th), z]), m.t)
-    K = stiffness(mesh, material, scheme)
-    fb = FacetBasis(
-        mesh,
-        ELEMENT,
-        facets=mesh.facets_satisfying(
-            lambda x: np.hypot(x[0], x[1]) < a + 0.01 * (b - a), boundaries_only=True
-        ),
-    )
-
-    @LinearForm
-    def pressure(v, w):
-        rr = np.hypot(w.x[0], w.x[1])
-        return dot(np.array([w.x[0] / rr, w.x[1] / rr, 0 * rr]), v)
-
-    nodal = basis(mesh).nodal_dofs
-    x, y, _ = mesh.p
-    fixed = np.unique(np.concatenate([nodal[0][np.isclose(x, 0)], nodal[1][np.isclose(y, 0)], nodal[2]]))
-    u = solve(*condense(K, asm(pressure, fb), D=fixed))
-    inner = np.isclose(np.hypot(x, y), a)
-    fe = float(((x * u[nodal[0]] + y * u[nodal[1]])[inner] / a).mean())
-    E, nu = material.E, material.nu
-    exact = (1 + nu) * a**2 / (E * (b**2 - a**2)) * ((1 - 2 * nu) * a + b**2 / a)
-    return fe, exact
-
-
-def pressure_field(pad, sol) -> np.ndarray:
-    _, area = face_grid(pad)
-    return np.divide(sol.lam, area, out=np.zeros_like(sol.lam), where=area > 0)
-
-
 def hertz(
     fine_size: float, growth: float, R: float = 0.02, a_target: float = 0.0015, nu: float = 0.3
 ) -> dict:
@@ -107,7 +66,7 @@ def hertz(
     t_cond = time.perf_counter() - t0
     sol = solve_contact(pad, Sphere((0, 0, geom.thickness + R), R), a_target**2 / R)
     _, area = face_grid(pad)
-    p = pressure_field(pad, sol)
+    p = nodal_pressures(pad, sol.lam)
     r = np.hypot(*pad.face_xy.T)
     F = sol.force
     a_h = (3 * F * R / (4 * e_star)) ** (1 / 3)
@@ -140,8 +99,10 @@ def run(config: dict) -> dict:
     locking = []
     for nu in config["nus"]:
         mat = Material(1.0e6, nu)
-        sri, exact = lame(mat, *config["cylinder_mesh"], "sri")
-        full, _ = lame(mat, *config["cylinder_mesh"], "full")
+        nr, nt = config["cylinder_mesh"]
+        exact = lame_inner_displacement(mat)
+        sri = lame_cylinder_fe(mat, "sri", nr=nr, nt=nt)
+        full = lame_cylinder_fe(mat, "full", nr=nr, nt=nt)
         locking.append({"nu": nu, "sri_over_exact": sri / exact, "full_over_exact": full / exact})
     write_csv(
         out / "locking.csv", ["nu", "sri_over_exact", "full_over_exact"], [list(r.values()) for r in locking]
@@ -223,7 +184,7 @@ def run(config: dict) -> dict:
         t0 = time.perf_counter()
         f = solve_contact_full(geom, mat, obs, delta)
         tf = time.perf_counter() - t0
-        pc, pf = pressure_field(pad, c), pressure_field(pad, f)
+        pc, pf = nodal_pressures(pad, c.lam), nodal_pressures(pad, f.lam)
         rows.append(
             {
                 "case": name,

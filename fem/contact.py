@@ -99,16 +99,14 @@ def solve_contact(
     lam = np.zeros(n_nodes)
     iters, method = 0, "none"
     for _ in range(10):  # grow the candidate set until no node penetrates
+        blocks = (3 * cand[:, None] + np.arange(3)).ravel()
         if cand.size:
-            blocks = (3 * cand[:, None] + np.arange(3)).ravel()
             Cc = C[np.ix_(blocks, blocks)].reshape(cand.size, 3, cand.size, 3)
             A = np.einsum("ia,iajb,jb->ij", nrm[cand], Cc, nrm[cand], optimize=True)  # n_iᵀ C_ij n_j
             lam_c, iters, method = solve_lcp(A, d[cand])
             lam = np.zeros(n_nodes)
             lam[cand] = lam_c
-        u = (
-            C[:, (3 * cand[:, None] + np.arange(3)).ravel()] @ (lam[cand, None] * nrm[cand]).ravel()
-        ).reshape(-1, 3)
+        u = (C[:, blocks] @ (lam[cand, None] * nrm[cand]).ravel()).reshape(-1, 3)
         gap = d + np.einsum("ij,ij->i", nrm, u)
         viol = np.setdiff1d(np.flatnonzero(gap < -1e-9 * h), cand)
         if viol.size == 0:

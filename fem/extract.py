@@ -35,13 +35,19 @@ def face_grid(pad: CondensedPad) -> tuple[np.ndarray, np.ndarray]:
     return quads, area
 
 
+def nodal_pressures(pad: CondensedPad, lam: np.ndarray) -> np.ndarray:
+    """(n,) nodal pressures ``λ_i / A_i`` [Pa]; nodes on the rim of a condensed
+    patch belong to no whole quad (area 0, λ = 0) and get 0."""
+    _, area = face_grid(pad)
+    return np.divide(lam, area, out=np.zeros_like(lam, dtype=float), where=area > 0)
+
+
 def extract_profile(pad: CondensedPad, sol: ContactSolution, obstacle) -> ContactProfile | None:
     """The contact profile on the object, or ``None`` if nothing touches."""
     if not sol.in_contact:
         return None
-    quads, node_area = face_grid(pad)
-    # nodes on the rim of a condensed patch belong to no whole quad (area 0, λ = 0)
-    p_node = np.divide(sol.lam, node_area, out=np.zeros_like(sol.lam), where=node_area > 0)
+    quads, _ = face_grid(pad)
+    p_node = nodal_pressures(pad, sol.lam)
     loaded = (sol.lam[quads] > 0).any(axis=1)
     q = quads[loaded]
     corners = sol.x[q]  # (m, 4, 3) deformed
