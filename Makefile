@@ -18,6 +18,7 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run discretization
 	$(BIN)/workbench run ls-fitting
 	$(BIN)/workbench run fem-validation
+	$(BIN)/workbench run fem-fitting
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 

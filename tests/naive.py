@@ -111,3 +111,15 @@ def monomial_hessians(x, expo):
             out[:, j, k] = term
             out[:, k, j] = term
     return out
+
+
+def normal_rows(C, nodes, nrm):
+    """``n_kᵀ C[k-block, :]`` per node by reshaping (reference of fem._kernels._normal_rows)."""
+    n = C.shape[0] // 3
+    return np.einsum("ka,kaj->kj", nrm[nodes], C.reshape(n, 3, -1)[nodes])
+
+
+def normal_block(G, nodes, nrm):
+    """``Σ_b G[k, 3 j + b] n_jb`` over the listed nodes j (reference of _normal_block)."""
+    n = G.shape[1] // 3
+    return np.einsum("kjb,jb->kj", G.reshape(len(G), n, 3)[:, nodes, :], nrm[nodes])

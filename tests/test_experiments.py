@@ -117,3 +117,34 @@ def test_fem_validation_quick(tmp_path):
     hz = s["hertz"]["convergence"][0]
     assert abs(hz["a_rel_err"]) < 0.1 and abs(hz["p0_rel_err"]) < 0.03
     assert hz["patch_edge_force_N"] == 0.0  # the condensed patch contains the contact
+
+
+def test_fem_fitting_quick(tmp_path):
+    """Table 3.3 pipeline in quick mode: bottle contacts -> profiles -> both fits."""
+    assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    for key in (
+        "n_profiles",
+        "ellipsoid_error_mean",
+        "ellipsoid_error_std",
+        "quartic_error_mean",
+        "quartic_error_std",
+        "hertz",
+        "condensed_vs_reference",
+        "seconds_per_profile",
+    ):
+        assert key in s
+    assert s["n_profiles"] >= 10 and s["n_empty"] == 0
+    # thesis §3.6 bars, and the quartic below the ellipsoid on average (Table 3.3)
+    assert s["ellipsoid_error_mean"] <= 0.04 and s["quartic_error_mean"] <= 0.02
+    assert s["quartic_error_mean"] < s["ellipsoid_error_mean"]
+    assert s["condensed_vs_reference"]["pressure_rel_l2"] <= 0.02
+    assert s["condensed_vs_reference"]["force_rel_err"] <= 0.01
+    rows = (tmp_path / "rows.jsonl").read_text().splitlines()
+    assert len(rows) == s["n_profiles"]
+    # a second run resumes from the checkpoint: no new rows, same table
+    assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
+    assert (
+        json.loads((tmp_path / "summary.json").read_text())["quartic_error_mean"] == s["quartic_error_mean"]
+    )

@@ -162,3 +162,42 @@ def test_pad_on_a_thesis_object_if_available(thin_pad):
     prof = extract_profile(thin_pad, sol, placed)
     assert prof is not None and prof.F > 0
     assert (prof.normals[:, 2] < 0).all()  # outward from the bottle, towards the jaw
+
+
+def test_normal_projection_kernels_match_numpy():
+    from naive import normal_block, normal_rows
+
+    from fem._kernels import _normal_block, _normal_rows
+
+    rng = np.random.default_rng(4)
+    n = 37
+    C = rng.standard_normal((3 * n, 3 * n))
+    nrm = rng.standard_normal((n, 3))
+    nodes = np.sort(rng.choice(n, 20, replace=False))
+    G = np.empty((nodes.size, 3 * n))
+    _normal_rows(C, nodes, nrm, G)
+    assert np.allclose(G, normal_rows(C, nodes, nrm), rtol=1e-13, atol=1e-13)
+    A = np.empty((nodes.size, nodes.size))
+    _normal_block(G, nodes, nrm, A)
+    assert np.allclose(A, normal_block(G, nodes, nrm), rtol=1e-13, atol=1e-12)
+
+
+@pytest.mark.parametrize("fraction", [0.0, 0.3, 1.0])
+def test_lcp_active_set_variants_agree_with_nnls(fraction, monkeypatch):
+    """Direct-Cholesky and factor-once (Schur) active-set steps give the NNLS optimum."""
+    from scipy.optimize import nnls
+
+    import fem.contact as fc
+
+    monkeypatch.setattr(fc, "SCHUR_FRACTION", fraction)
+    rng = np.random.default_rng(5)
+    X = rng.standard_normal((60, 60))
+    A = X @ X.T / 60 + np.eye(60)
+    d = rng.standard_normal(60)
+    lam, _, method = fc.solve_lcp(A, d)
+    L = np.linalg.cholesky(A)
+    ref, _ = nnls(L.T, -np.linalg.solve(L, d))
+    assert method == "pdas"
+    assert np.abs(lam - ref).max() < 1e-10
+    w = A @ lam + d
+    assert lam.min() >= 0 and w.min() > -1e-12 and abs(lam @ w) < 1e-10

@@ -27,3 +27,19 @@ def test_failed_write_keeps_old_file(tmp_path, monkeypatch):
         results.write_json(path, {"new": 2})
     assert json.loads(path.read_text()) == {"old": 1}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]  # no temp leftovers
+
+
+def test_checkpoint_resumes_without_loss_or_duplicates(tmp_path):
+    path = tmp_path / "rows.jsonl"
+    ck = results.Checkpoint(path, {"a": 1})
+    ck.add("k1", {"x": 1.0})
+    ck.add("k2", {"x": np.float64(2.0)})
+    with open(path, "a") as f:
+        f.write('{"key": "k3", "config_hash": "')  # a run killed mid-write
+    ck2 = results.Checkpoint(path, {"a": 1})
+    assert sorted(ck2.rows) == ["k1", "k2"] and "k3" not in ck2 and ck2.rows["k2"]["x"] == 2.0
+    ck2.add("k3", {"x": 3.0})
+    lines = path.read_text().splitlines()
+    assert [json.loads(line)["key"] for line in lines] == ["k1", "k2", "k3"]  # torn line dropped
+    # other settings: nothing is reused
+    assert results.Checkpoint(path, {"a": 2}).rows == {}

@@ -18,6 +18,7 @@ EXPERIMENTS = {
     "discretization": "experiments.discretization",
     "ls-fitting": "experiments.ls_fitting",
     "fem-validation": "experiments.fem_validation",
+    "fem-fitting": "experiments.fem_fitting",
 }
 
 

@@ -109,3 +109,45 @@ def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_
     full["wall_time_s"] = wall_time_s
     write_json(Path(out) / "summary.json", full)
     return full
+
+
+class Checkpoint:
+    """Append-only JSON-lines log of finished rows of a long sweep, for resuming.
+
+    Each row carries a ``key``; a row is appended (flushed and fsynced) only
+    when complete, so a killed run loses at most the row in progress and a
+    torn last line is ignored on reload.  Rows are kept only if their
+    ``config_hash`` matches, so changing the sweep's settings starts afresh
+    instead of mixing results.  Resuming never duplicates a key.
+    """
+
+    def __init__(self, path: Path, config: dict) -> None:
+        import hashlib
+
+        self.path = Path(path)
+        self.config_hash = hashlib.sha256(json.dumps(_jsonable(config), sort_keys=True).encode()).hexdigest()[
+            :16
+        ]
+        self.rows: dict[str, dict] = {}
+        if self.path.exists():
+            for line in self.path.read_text().splitlines():
+                try:
+                    row = json.loads(line)
+                except json.JSONDecodeError:
+                    continue  # a torn last line of a killed run
+                if row.get("config_hash") == self.config_hash:
+                    self.rows[row["key"]] = row
+        # rewrite only the valid rows, so a torn line never precedes new ones
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(self.path, "".join(json.dumps(r) + "\n" for r in self.rows.values()).encode())
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.rows
+
+    def add(self, key: str, row: dict) -> None:
+        row = {"key": key, "config_hash": self.config_hash, **_jsonable(row)}
+        with open(self.path, "a") as f:
+            f.write(json.dumps(row) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+        self.rows[key] = row

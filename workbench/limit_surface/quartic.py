@@ -32,7 +32,7 @@ BUILD_COUNT = {"quartic": 0, "sos_check": 0}
 @dataclass(frozen=True)
 class QuarticLS(LimitSurfaceModel):
     """Coefficients ``A_q`` (L,) of the quartic in the subspace coordinates
-    ``y = Bᵀ x̂`` (Eq. 3.17); ``gram`` is the certifying M."""
+    ``y = Bᵀ x̂`` (Eq. 3.17); ``gram`` is the certifying M of g(z) = f(z * info["whitening"])."""
 
     A_q: np.ndarray = None  # type: ignore[assignment]
     gram: np.ndarray = None  # type: ignore[assignment]
@@ -213,7 +213,14 @@ def fit_quartic(
             f"a quartic in {r} dimensions has {L} coefficients but only {len(W)} wrenches were given "
             f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid)"
         )
-    Q, Rm = np.linalg.qr(monomials(x @ sub.basis, exponents(r, 4)))
+    # fit in whitened coordinates z = y / s (s: RMS of the wrenches along each PCA
+    # direction): thin contacts have directions ~100x thinner than others, whose
+    # quartic monomials (~1e-8) made R ill-conditioned and Clarabel fail. A diagonal
+    # change of variables maps SOS-convex quartics to SOS-convex quartics and leaves
+    # the objective unchanged, so this is the same fit, only well-posed.
+    expo = exponents(r, 4)
+    s = sub.std[:r]
+    Q, Rm = np.linalg.qr(monomials((x @ sub.basis) / s, expo))
     c_val = Q.T @ np.ones(len(W))
     failures = []
     for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
@@ -227,13 +234,15 @@ def fit_quartic(
             "(cvxpy.installed_solvers())? try another solver or fit_ellipsoid"
         )
     fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
-    coeffs, delta = certify(a_val, M_val, r)
+    g, delta = certify(a_val, M_val, r)  # rigorously convex in z
+    coeffs = g / np.prod(s**expo, axis=1)  # f(y) = g(y / s)
     info = {
         "model": "quartic",
         "solver": name,
         "status": status,
         "fallback": fallback,
-        "certificate_delta": delta,  # weight of (xᵀx)² added to make convexity rigorous
+        "certificate_delta": delta,  # weight of (zᵀz)² added to make convexity rigorous
+        "whitening": s,  # the certificate ``gram`` is for g(z), z = y / whitening
         "dim": r,
         "n_wrenches": len(W),
         "fit_time_s": time.perf_counter() - t0,

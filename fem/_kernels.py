@@ -1,0 +1,32 @@
+"""Private ``@njit`` kernels of the condensed contact solve (math only; the
+callers in ``contact.py`` own validation).  NumPy references: ``tests/naive.py``."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from workbench.config import NUMBA_FLAGS_PARALLEL
+
+
+@njit(**NUMBA_FLAGS_PARALLEL)
+def _normal_rows(C: np.ndarray, nodes: np.ndarray, nrm: np.ndarray, out: np.ndarray) -> None:
+    """``out[k, :] = Σ_a nrm[nodes[k], a] C[3 nodes[k] + a, :]``: the compliance rows
+    of each node projected on its normal (reads three contiguous rows of C per node,
+    no gathered copy of C)."""
+    m = C.shape[1]
+    for k in prange(nodes.size):
+        i = nodes[k]
+        n0, n1, n2 = nrm[i, 0], nrm[i, 1], nrm[i, 2]
+        r0, r1, r2 = 3 * i, 3 * i + 1, 3 * i + 2
+        for j in range(m):
+            out[k, j] = n0 * C[r0, j] + n1 * C[r1, j] + n2 * C[r2, j]
+
+
+@njit(**NUMBA_FLAGS_PARALLEL)
+def _normal_block(G: np.ndarray, nodes: np.ndarray, nrm: np.ndarray, out: np.ndarray) -> None:
+    """``out[k, l] = Σ_b G[k, 3 nodes[l] + b] nrm[nodes[l], b]`` = n_kᵀ C_kl n_l."""
+    for k in prange(out.shape[0]):
+        for l in range(nodes.size):
+            j = nodes[l]
+            out[k, l] = G[k, 3 * j] * nrm[j, 0] + G[k, 3 * j + 1] * nrm[j, 1] + G[k, 3 * j + 2] * nrm[j, 2]
