@@ -100,7 +100,8 @@ class CondensedPad:
 
     face_nodes : (n,) mesh node indices on ``z = h``; face_xy : (n, 2) [m];
     compliance_unit : (3n, 3n) [m/N] for ``E = 1 Pa``, dofs ordered
-    ``[u_x, u_y, u_z]`` per face node; ``seconds`` : build time (0 if cached).
+    ``[u_x, u_y, u_z]`` per face node; ``seconds`` : the build time (also when
+    loaded from the disk cache, which ``from_cache`` says).
     """
 
     geometry: PadGeometry
@@ -109,6 +110,7 @@ class CondensedPad:
     face_xy: np.ndarray
     compliance_unit: np.ndarray
     seconds: float
+    from_cache: bool = False
 
     @property
     def compliance(self) -> np.ndarray:
@@ -150,8 +152,9 @@ def condense_pad(
     if path is not None and path.exists():
         with np.load(path) as d:
             C1 = d["compliance_unit"]
+            built = float(d["seconds"]) if "seconds" in d else float("nan")
         log.info("pad compliance loaded from %s", path)
-        return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, 0.0)
+        return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, built, True)
 
     t0 = time.perf_counter()
     K = stiffness(mesh, Material(1.0, material.nu), scheme)  # E = 1: C scales with 1/E
@@ -175,6 +178,6 @@ def condense_pad(
     seconds = time.perf_counter() - t0
     if path is not None:
         buf = io.BytesIO()
-        np.savez(buf, compliance_unit=C1)
+        np.savez(buf, compliance_unit=C1, seconds=seconds)
         atomic_write_bytes(path, buf.getvalue())
     return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, seconds)
