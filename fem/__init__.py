@@ -1,4 +1,13 @@
-"""scikit-fem contact of compliant pads -> ContactProfile (issue 4; not yet implemented).
+"""scikit-fem contact of compliant pads -> ``workbench.ContactProfile`` (thesis §3.5.2).
 
-This package is reserved by the repository layout; it knows nothing of friction.
+A rigid jaw with a bonded silicone layer (``pad``) presses into rigid obstacles
+(``obstacles``: plane, sphere, cylinder, triangle meshes; ``bottle``: the
+12-parameter bottle family) at three fidelities behind one interface
+(``fidelity.press``): condensed linear, full-mesh linear, neo-Hookean.
+``extract.extract_profile`` turns a solution into a contact profile.  This
+package knows nothing of friction.
 """
+
+from .fidelity import FIDELITIES, press
+
+__all__ = ["FIDELITIES", "press"]

@@ -121,3 +121,22 @@ def test_bad_inputs():
     nl = NonlinearPad(GEOM, MAT)
     with pytest.raises(ValueError, match="deeper than the layer"):
         nl.solve(Sphere((0, 0, GEOM.thickness + 0.01), 0.01), [2 * GEOM.thickness])
+
+
+def test_one_interface_for_three_fidelities():
+    from fem.fidelity import press
+
+    geom = PadGeometry(0.01, 0.01, 0.003, 6, 6, 2)
+    h = geom.thickness
+    obs = Sphere((0, 0, h + 0.008), 0.008)
+    ds = [0.005 * h, 0.01 * h]
+    res = {f: press(geom, MAT, obs, ds, fidelity=f, scheme="full") for f in ("condensed", "linear")}
+    res["nonlinear"] = press(geom, MAT, obs, ds, fidelity="nonlinear", step=ds[0])
+    for d in ds:
+        f_c, f_l, f_n = (res[k][d].force for k in ("condensed", "linear", "nonlinear"))
+        assert abs(f_c / f_l - 1) < 1e-9  # condensation is exact
+        assert abs(f_n / f_l - 1) < 0.02  # small strain: the neo-Hookean pad is the linear one
+    with pytest.raises(ValueError, match="fidelity must be one of"):
+        press(geom, MAT, obs, ds, fidelity="exact")
+    with pytest.raises(ValueError, match="unknown options"):
+        press(geom, MAT, obs, ds, fidelity="linear", step=1.0)
