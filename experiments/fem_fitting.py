@@ -26,10 +26,11 @@ import numpy as np
 from tqdm import tqdm
 
 from fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
-from fem.contact import solve_contact, solve_contact_full
-from fem.extract import extract_profile, nodal_pressures
+from fem.contact import solve_contact
+from fem.extract import extract_profile
 from fem.material import Material
 from fem.pad import PadGeometry, condense_pad
+from fem.validation import condensed_vs_full
 from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
@@ -92,31 +93,6 @@ def _fit_row(prof, config: dict, seed: int) -> dict:
         row[f"{name}_fallback"] = model.info.get("fallback")
         row["dim"] = model.dim
     return row
-
-
-def _reference_check(pad, geom, mat, cases: list, delta: float) -> list[dict]:
-    """Condensed vs full-mesh linear solve on bottle contacts."""
-    rows = []
-    for label, pose in cases:
-        t0 = time.perf_counter()
-        c = solve_contact(pad, pose, delta)
-        tc = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        f = solve_contact_full(geom, mat, pose, delta)
-        tf = time.perf_counter() - t0
-        pc, pf = nodal_pressures(pad, c.lam), nodal_pressures(pad, f.lam)
-        rows.append(
-            {
-                "case": label,
-                "force_N": c.force,
-                "force_rel_err": abs(c.force / f.force - 1),
-                "pressure_rel_l2": float(np.linalg.norm(pc - pf) / np.linalg.norm(pf)),
-                "condensed_ms": tc * 1e3,
-                "full_s": tf,
-                "speed_ratio": tf / tc,
-            }
-        )
-    return rows
 
 
 def _render_family(bottles: list[Bottle], markers: dict, path: Path) -> Path:
@@ -233,7 +209,9 @@ def run(config: dict) -> dict:
     ref_cases.append(
         ("elliptic cylinder 40 x 24 mm, minor axis", grasp_pose(ell, 0.1, np.pi / 2, pad.face_xy, h))
     )
-    ref = _reference_check(pad, geom, mat, ref_cases, config["reference_delta_mm"] * 1e-3)
+    ref = [
+        condensed_vs_full(pad, pose, config["reference_delta_mm"] * 1e-3, label) for label, pose in ref_cases
+    ]
     write_csv(out / "condensed_vs_full.csv", list(ref[0]), [list(r.values()) for r in ref])
 
     validation = None

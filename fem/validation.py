@@ -48,3 +48,34 @@ def lame_cylinder_fe(
     u = solve(*condense(K, asm(pressure, FacetBasis(mesh, ELEMENT, facets=inner)), D=fixed))
     on_inner = np.isclose(np.hypot(x, y), a)
     return float(((x * u[nodal[0]] + y * u[nodal[1]])[on_inner] / a).mean())
+
+
+def condensed_vs_full(pad, obstacle, delta: float, label: str) -> dict:
+    """One exactness check of the condensed level: the same contact solved on the
+    condensed face (timed after a warm-up call) and on the full mesh; the
+    pressure-field L2 and force errors, runtimes and sanity numbers."""
+    import time
+
+    from .contact import solve_contact, solve_contact_full
+    from .extract import nodal_pressures
+
+    solve_contact(pad, obstacle, delta)  # warm
+    t0 = time.perf_counter()
+    c = solve_contact(pad, obstacle, delta)
+    tc = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    f = solve_contact_full(pad.geometry, pad.material, obstacle, delta)
+    tf = time.perf_counter() - t0
+    pc, pf = nodal_pressures(pad, c.lam), nodal_pressures(pad, f.lam)
+    return {
+        "case": label,
+        "force_N": c.force,
+        "force_rel_err": abs(c.force / f.force - 1),
+        "pressure_rel_l2": float(np.linalg.norm(pc - pf) / np.linalg.norm(pf)),
+        "condensed_ms": tc * 1e3,
+        "full_s": tf,
+        "speed_ratio": tf / tc,
+        "min_pressure": float(pc.min()),
+        "max_penetration_m": c.max_penetration,
+        "active_nodes": int((c.lam > 0).sum()),
+    }

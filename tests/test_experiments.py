@@ -117,6 +117,18 @@ def test_fem_validation_quick(tmp_path):
     hz = s["hertz"]["convergence"][0]
     assert abs(hz["a_rel_err"]) < 0.1 and abs(hz["p0_rel_err"]) < 0.03
     assert hz["patch_edge_force_N"] == 0.0  # the condensed patch contains the contact
+    # linear vs neo-Hookean rows: at δ/h = 2% the same discretization agrees (small-strain
+    # limit), the neo-Hookean force grows with δ and linear theory falls behind it
+    rows = s["fidelity"]["rows"]
+    for case in ("cylinder R15", "sphere R15"):
+        mine = [r for r in rows if r["case"] == case]
+        assert sorted({round(r["delta_over_h"], 2) for r in mine}) == [0.02, 0.2, 0.4, 0.6]
+        small = next(r for r in mine if r["level"] == "condensed full" and r["delta_over_h"] < 0.05)
+        assert abs(small["force_rel_err"]) < 0.02 and small["pressure_rel_l2"] < 0.02
+        nl = [r["nl_force_N"] for r in mine if r["level"].startswith("nonlinear")]
+        assert all(np.diff(nl) > 0)
+        deep = next(r for r in mine if r["level"] == "condensed full" and r["delta_over_h"] > 0.5)
+        assert deep["force_rel_err"] < -0.2
 
 
 def test_fem_fitting_quick(tmp_path):
@@ -149,17 +161,3 @@ def test_fem_fitting_quick(tmp_path):
         json.loads((tmp_path / "summary.json").read_text())["quartic_error_mean"] == s["quartic_error_mean"]
     )
 
-
-def test_fem_validation_fidelity_table_quick(tmp_path):
-    """Linear vs neo-Hookean rows (quick pad): at δ/h = 2% the same discretization
-    agrees (small-strain limit), and the neo-Hookean force grows with δ."""
-    from experiments.fem_validation import DEFAULT_CONFIG, QUICK_CONFIG, fidelity_table
-
-    rows = fidelity_table({**DEFAULT_CONFIG, **QUICK_CONFIG})
-    for case in ("cylinder R15", "sphere R15"):
-        mine = [r for r in rows if r["case"] == case]
-        assert sorted({round(r["delta_over_h"], 2) for r in mine}) == [0.02, 0.2, 0.4, 0.6]
-        small = next(r for r in mine if r["level"] == "condensed full" and r["delta_over_h"] < 0.05)
-        assert abs(small["force_rel_err"]) < 0.02 and small["pressure_rel_l2"] < 0.02
-        nl = [r["nl_force_N"] for r in mine if r["level"].startswith("nonlinear")]
-        assert all(np.diff(nl) > 0)
