@@ -160,4 +160,3 @@ def test_fem_fitting_quick(tmp_path):
     assert (
         json.loads((tmp_path / "summary.json").read_text())["quartic_error_mean"] == s["quartic_error_mean"]
     )
-
