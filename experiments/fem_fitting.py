@@ -132,6 +132,7 @@ def run(config: dict) -> dict:
     ckpt_config = {k: v for k, v in config.items() if k not in ("out", "quick", "render_examples")}
     ckpt_config["row_version"] = ROW_VERSION
     ckpt = Checkpoint(out / "rows.jsonl", ckpt_config)
+    n_resumed = len(ckpt.rows)
     jobs = [
         (i, hf, name, ang)
         for i in range(len(bottles))
@@ -274,6 +275,14 @@ def run(config: dict) -> dict:
     summary = {
         "n_profiles": len(rows),
         "n_empty": sum(r["empty"] for r in ckpt.rows.values()),
+        # rows taken from the checkpoint of an earlier (killed or finished) run; wall_time_s
+        # then covers only the rest, row_compute_s is the sweep's own time over all rows
+        "n_resumed": n_resumed,
+        "row_compute_s": float(
+            sum(
+                r["profile_ms"] / 1e3 + sum(r.get(f"{m}_fit_s", 0.0) for m in err) for r in ckpt.rows.values()
+            )
+        ),
         "count": (
             f"{len(bottles)} bottles x {len(config['heights'])} heights x {len(config['approaches'])} "
             f"approach directions x {len(config['deltas_mm'])} displacements "

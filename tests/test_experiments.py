@@ -157,6 +157,6 @@ def test_fem_fitting_quick(tmp_path):
     # a second run resumes from the checkpoint: no new rows, same table
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
-    assert (
-        json.loads((tmp_path / "summary.json").read_text())["quartic_error_mean"] == s["quartic_error_mean"]
-    )
+    again = json.loads((tmp_path / "summary.json").read_text())
+    assert again["quartic_error_mean"] == s["quartic_error_mean"]
+    assert s["n_resumed"] == 0 and again["n_resumed"] == s["n_profiles"]
