@@ -6,10 +6,11 @@ Continuum Mechanics for FEA*, §6.5):
 
     W = μ/2 (J^(-2/3) I₁ − 3) + K/2 (ln J)²,   I₁ = F:F,  J = det F,
 
-whose small-strain limit is exactly the linear SRI split of ``elasticity.py``
-(``μ/2(Ī₁−3) → μ dev ε:dev ε``, ``K/2 (ln J)² → K/2 (tr ε)²``).  As there, the
-isochoric part is integrated with 2×2×2 Gauss points and the volumetric part
-with one point (selective reduced integration against locking at ν → 0.5).
+whose small-strain limit is exactly the linear split of ``elasticity.py``
+(``μ/2(Ī₁−3) → μ dev ε:dev ε``, ``K/2 (ln J)² → K/2 (tr ε)²``).  The isochoric
+part is integrated with 2×2×2 Gauss points; the volumetric part with a blend
+of one point (SRI, as the linear pad) and 2×2×2 points, by default all 2×2×2:
+pure SRI has hourglass modes at finite strain (see :class:`NonlinearPad`).
 
 First Piola stress and its consistent tangent ``dP[δF]`` (a = J^(-2/3)):
 
@@ -20,10 +21,10 @@ First Piola stress and its consistent tangent ``dP[δF]`` (a = J^(-2/3)):
 Contact: face node i (jaw motion δ along +z) at ``x_i = X_i + δ e_z + u_i`` has
 gap ``g_i = d(x_i)`` (signed distance to the rigid obstacle, evaluated in the
 *current* configuration, so finite sliding is allowed) and multiplier
-``λ_i = max(0, λ̄_i − k_i g_i)`` with nodal penalty ``k_i = β E A_i / h_z``;
-Newton solves equilibrium for fixed λ̄ (tangent ``K_T + Σ k_i n_i n_iᵀ``; the
-obstacle-curvature term is dropped), then ``λ̄ ← λ`` (Uzawa) until the largest
-penetration is below ``gap_tol · δ``.
+``λ_i = max(0, λ̄_i − k_i g_i)`` with nodal penalty ``k_i = penalty · E A_i / h_z``;
+Newton solves equilibrium for fixed λ̄ (tangent ``K_T + Σ (k_i n_i n_iᵀ − λ_i ∇n_i)``
+with the obstacle curvature ``∇n = ∇²d`` by central differences), then
+``λ̄ ← λ`` (Uzawa) until the largest penetration is below ``gap_tol · δ``.
 """
 
 from __future__ import annotations
