@@ -56,30 +56,34 @@ class _Quadrature:
         self.nodes = sb.element_dofs.T
 
 
-def _stress_tangent(F: np.ndarray, mu: float, kappa: float, part: str) -> tuple[np.ndarray, np.ndarray]:
-    """First Piola stress P (…, 3, 3) and tangent A (…, 3, 3, 3, 3), ``dP_cl = A_cldm dF_dm``."""
+def _stress_tangent(F: np.ndarray, mu: float, kappa: float) -> tuple[np.ndarray, np.ndarray]:
+    """First Piola stress P (…, 3, 3) and tangent A (…, 3, 3, 3, 3), ``dP_cl = A_cldm dF_dm``,
+    of the isochoric part with modulus ``mu`` plus the volumetric part with ``kappa``
+    (either may be 0: one quadrature rule can carry both parts or one of them)."""
     Fi = np.linalg.inv(F)
     FiT = np.swapaxes(Fi, -1, -2)
     J = np.linalg.det(F)
     if (J <= 0).any():
         raise RuntimeError("an element inverted (det F <= 0); reduce the load step")
     cross = np.einsum("...cm,...dl->...cldm", FiT, FiT)  # coefficient of F⁻ᵀ δFᵀ F⁻ᵀ
-    if part == "iso":
+    P = np.zeros_like(F)
+    A = np.zeros(F.shape + (3, 3))
+    if mu:
         a = (J ** (-2.0 / 3.0))[..., None, None]
         I1 = np.einsum("...ij,...ij->...", F, F)[..., None, None]
         S = F - I1 / 3.0 * FiT
-        P = mu * a * S
+        P += mu * a * S
         eye = np.eye(3)
-        A = (
+        A += (mu * a[..., None, None]) * (
             np.einsum("cd,lm->cldm", eye, eye)
             - 2.0 / 3.0 * np.einsum("...cl,...dm->...cldm", S, FiT)
             - 2.0 / 3.0 * np.einsum("...cl,...dm->...cldm", FiT, F)
             + I1[..., None, None] / 3.0 * cross
         )
-        return P, mu * a[..., None, None] * A
-    lnJ = np.log(J)[..., None, None]
-    P = kappa * lnJ * FiT
-    A = kappa * (np.einsum("...cl,...dm->...cldm", FiT, FiT) - lnJ[..., None, None] * cross)
+    if kappa:
+        lnJ = np.log(J)[..., None, None]
+        P += kappa * lnJ * FiT
+        A += kappa * (np.einsum("...cl,...dm->...cldm", FiT, FiT) - lnJ[..., None, None] * cross)
     return P, A
 
 
@@ -101,13 +105,14 @@ class NonlinearPad:
         self.mesh = geometry.mesh()
         self.b2 = basis(self.mesh, GAUSS_2)
         q2 = _Quadrature(self.mesh, GAUSS_2)
-        # (part, quadrature, weight)
-        self._parts = [("iso", q2, 1.0), ("vol", _Quadrature(self.mesh, GAUSS_1), 1.0 - stabilization)]
-        if stabilization > 0:
-            self._parts.append(("vol", q2, stabilization))
-        self._q = {"iso": q2}
+        m = material
+        # (quadrature, μ, K) per rule: the 2×2×2 points carry the isochoric part and
+        # the fraction β of the volumetric one, the centre point the rest (if any)
+        self._rules = [(q2, m.mu, stabilization * m.bulk)]
+        if stabilization < 1:
+            self._rules.append((_Quadrature(self.mesh, GAUSS_1), 0.0, (1.0 - stabilization) * m.bulk))
         # global dof of (element, local node, component)
-        self._edofs = self.b2.nodal_dofs.T[self._q["iso"].nodes]  # (e, 8, 3)
+        self._edofs = self.b2.nodal_dofs.T[q2.nodes]  # (e, 8, 3)
         ne = self._edofs.shape[0]
         self._rows = np.broadcast_to(self._edofs.reshape(ne, 24, 1), (ne, 24, 24)).ravel()
         self._cols = np.broadcast_to(self._edofs.reshape(ne, 1, 24), (ne, 24, 24)).ravel()
@@ -127,14 +132,13 @@ class NonlinearPad:
 
     def _internal(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
         """Internal force vector (3N,) and tangent stiffness (3N × 3N) at displacement u,
-        by element-batched einsums (isochoric part at 2×2×2 points, volumetric at 1)."""
-        m = self.material
+        by element-batched einsums/matmuls, one pass per quadrature rule."""
         ue = u[self._edofs]  # (e, 8, 3)
         r = np.zeros(u.size)
         Ke = 0.0
-        for part, q, weight in self._parts:
+        for q, mu, kappa in self._rules:
             F = np.einsum("eac,eqal->eqcl", ue, q.G) + np.eye(3)
-            P, A = _stress_tangent(F, m.mu, weight * m.bulk, part)
+            P, A = _stress_tangent(F, mu, kappa)
             np.add.at(r, self._edofs.ravel(), np.einsum("eq,eqcl,eqal->eac", q.dx, P, q.G).ravel())
             # K_e[a c, b d] = Σ_q dx G_al A_cldm G_bm as batched matmuls (einsum was 4x slower)
             Acd = (A * q.dx[..., None, None, None, None]).transpose(0, 1, 2, 4, 3, 5)  # (e,q,c,d,l,m)
@@ -148,7 +152,7 @@ class NonlinearPad:
         ue = u[self._edofs]
         return all(
             (np.linalg.det(np.einsum("eac,eqal->eqcl", ue, q.G) + np.eye(3)) > 0).all()
-            for _, q, _ in self._parts
+            for q, _, _ in self._rules
         )
 
     def _step(self, obstacle, delta, u, lam_bar, k, X0, opts) -> tuple:
@@ -287,7 +291,6 @@ class NonlinearPad:
             uf = u[self.face_dofs]
             x = X0 + [0, 0, target] + uf
             out[target] = ContactSolution(lam_bar.copy(), nrm, uf.copy(), x, its, "neo-Hookean AL", pen)
-        self.last_u = u  # full displacement of the last state (diagnostics)
         return out
 
     def deformed_areas(self, sol: ContactSolution) -> np.ndarray:
