@@ -39,6 +39,7 @@ from skfem import Basis, ElementHex1
 
 from .contact import ContactSolution, face_gaps
 from .elasticity import GAUSS_1, GAUSS_2, basis
+from .extract import face_grid, quad_vector_areas, tributary_areas
 from .material import Material
 from .pad import PadGeometry
 
@@ -123,12 +124,9 @@ class NonlinearPad:
         fixed[nodal[:, np.isclose(z, 0.0)].ravel()] = True
         self.free = np.flatnonzero(~fixed)
         self.face_dofs = nodal[:, self.face].T  # (n, 3) global dofs of the face nodes
-        # tributary areas of the undeformed face (penalty scaling, nominal pressures)
-        from .extract import face_grid
-
+        # face quads and tributary areas of the undeformed face (penalty scaling)
         self.face_xy = self.mesh.p[:2, self.face].T
-        self._grid = _FaceGrid(self.face_xy)
-        _, self.area0 = face_grid(self._grid)
+        self._quads, self.area0 = face_grid(self.face_xy)
 
     def _internal(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
         """Internal force vector (3N,) and tangent stiffness (3N × 3N) at displacement u,
@@ -295,18 +293,5 @@ class NonlinearPad:
 
     def deformed_areas(self, sol: ContactSolution) -> np.ndarray:
         """(n,) tributary areas of the deformed face (for Cauchy pressures λ / a)."""
-        from .extract import face_grid
-
-        quads, _ = face_grid(self._grid)
-        c = sol.x[quads]
-        qa = 0.5 * np.linalg.norm(np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]), axis=1)
-        a = np.zeros(self.face.size)
-        np.add.at(a, quads.ravel(), np.repeat(qa / 4.0, 4))
-        return a
-
-
-class _FaceGrid:
-    """Duck-typed stand-in for ``CondensedPad`` in :func:`fem.extract.face_grid`."""
-
-    def __init__(self, face_xy: np.ndarray) -> None:
-        self.face_xy = face_xy
+        qa = np.linalg.norm(quad_vector_areas(sol.x[self._quads]), axis=1)
+        return tributary_areas(self._quads, qa, self.face.size)
