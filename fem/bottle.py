@@ -138,13 +138,11 @@ class Bottle:
             r, rz = P - X, z - x[:, 2]
             dot = lambda a, b: (a * np.conj(b)).real  # noqa: E731 (2D dot of complex numbers)
             g = np.stack([dot(r, P_t), dot(r, P_z) + rz])
-            Htt = dot(P_t, P_t) + dot(r, P_tt)
-            Htz = dot(P_t, P_z) + dot(r, P_tz)
-            Hzz = dot(P_z, P_z) + 1.0 + dot(r, P_zz)
-            det = Htt * Hzz - Htz**2
-            # Newton where the Hessian is positive definite, else Gauss-Newton
-            ok = (det > 0) & (Htt > 0)
+            # Gauss-Newton part plus the curvature terms of the full Hessian
             Gtt, Gtz, Gzz = dot(P_t, P_t), dot(P_t, P_z), dot(P_z, P_z) + 1.0
+            Htt, Htz, Hzz = Gtt + dot(r, P_tt), Gtz + dot(r, P_tz), Gzz + dot(r, P_zz)
+            # Newton where the Hessian is positive definite, else Gauss-Newton
+            ok = (Htt * Hzz - Htz**2 > 0) & (Htt > 0)
             Htt, Htz, Hzz = np.where(ok, Htt, Gtt), np.where(ok, Htz, Gtz), np.where(ok, Hzz, Gzz)
             det = Htt * Hzz - Htz**2
             dth = -(Hzz * g[0] - Htz * g[1]) / det
@@ -219,7 +217,7 @@ class Posed:
         self.obstacle, self.R, self.t = obstacle, np.asarray(R, float), np.asarray(t, float)
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        d, n = self.obstacle.signed_distance(np.asarray(x, float) @ self.R.T + self.t)
+        d, n = self.obstacle.signed_distance(self.to_object(x))
         return d, n @ self.R
 
     def to_object(self, x: np.ndarray) -> np.ndarray:
@@ -246,8 +244,7 @@ def grasp_pose(
     offset = 1.5 * max(A, B) + pad_thickness  # start outside, then close the gap
     origin = np.r_[centre, height] + out * offset
     for _ in range(50):
-        posed = Posed(bottle, R, origin - R @ np.array([0.0, 0.0, 0.0]))
-        d, _ = posed.signed_distance(X)
+        d, _ = Posed(bottle, R, origin).signed_distance(X)
         gap = float(d.min())
         origin = origin - out * gap
         if abs(gap) < 1e-12:

@@ -68,7 +68,7 @@ def solve_lcp(
     for it in range(1, max_iter + 1):
         R = np.flatnonzero(~active)
         lam = np.zeros(n)
-        if R.size == n:
+        if R.size == n:  # nothing active: λ = 0
             pass
         elif R.size <= SCHUR_FRACTION * n:
             if full is None:
@@ -86,9 +86,8 @@ def solve_lcp(
             lam = -v
             lam[R] = 0.0
         else:
-            S = active
-            lam[S] = sla.cho_solve(
-                sla.cho_factor(A[np.ix_(S, S)], check_finite=False), -d[S], check_finite=False
+            lam[active] = sla.cho_solve(
+                sla.cho_factor(A[np.ix_(active, active)], check_finite=False), -d[active], check_finite=False
             )
         w = A @ lam + d
         new = (active & (lam > 0)) | (~active & (w < -1e-12 * scale))
