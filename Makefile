@@ -19,6 +19,7 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run ls-fitting
 	$(BIN)/workbench run fem-validation
 	$(BIN)/workbench run fem-fitting
+	$(BIN)/workbench run wall-stiffness
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 

@@ -180,11 +180,22 @@ def solve_contact(
 
 
 def solve_contact_full(
-    geometry: PadGeometry, material, obstacle, delta: float, *, scheme: str = "sri", max_iter: int = 30
+    geometry: PadGeometry,
+    material,
+    obstacle,
+    delta: float,
+    *,
+    scheme: str = "sri",
+    max_iter: int = 30,
+    plane_strain: bool = False,
 ) -> ContactSolution:
     """Reference (``fidelity="linear"``): the same frictionless Signorini problem on
     the full sparse mesh, by a primal-dual active set with Lagrange multipliers
-    ``[[K, Bᵀ], [B, 0]] [u; -λ] = [0; -d_S]`` — no condensation involved."""
+    ``[[K, Bᵀ], [B, 0]] [u; -λ] = [0; -d_S]`` — no condensation involved.
+
+    plane_strain : fix ``u_y`` at every node (validation of y-invariant contacts,
+        e.g. a cylinder along y on a one-element-long slab: exact plane strain).
+    """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -198,6 +209,8 @@ def solve_contact_full(
     nodal = basis(mesh).nodal_dofs
     free = np.ones(K.shape[0], dtype=bool)
     free[nodal[:, np.isclose(z, 0.0)].ravel()] = False
+    if plane_strain:
+        free[nodal[1]] = False
     fidx = np.flatnonzero(free)
     pos = np.full(K.shape[0], -1)
     pos[fidx] = np.arange(fidx.size)
@@ -209,8 +222,11 @@ def solve_contact_full(
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 (reported)
         S = np.flatnonzero(active)
+        cols = face_free[S].ravel()
+        keep = cols >= 0  # a fixed dof (plane strain u_y) carries no constraint term
         B = sp.csr_matrix(
-            (nrm[S].ravel(), face_free[S].ravel(), np.arange(0, 3 * S.size + 1, 3)), shape=(S.size, fidx.size)
+            (nrm[S].ravel()[keep], (np.repeat(np.arange(S.size), 3)[keep], cols[keep])),
+            shape=(S.size, fidx.size),
         )
         Ksys = sp.bmat([[Kff, B.T], [B, None]], format="csc")
         rhs = np.concatenate([np.zeros(fidx.size), -d[S]])
@@ -218,7 +234,7 @@ def solve_contact_full(
         u = sol[: fidx.size]
         lam = np.zeros(face.size)
         lam[S] = -sol[fidx.size :]
-        u_face = u[face_free]
+        u_face = np.where(face_free >= 0, u[face_free], 0.0)
         gap = d + np.einsum("ij,ij->i", nrm, u_face)
         new = (active & (lam > 0)) | (~active & (gap < -1e-12 * geometry.thickness))
         if np.array_equal(new, active):

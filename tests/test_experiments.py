@@ -107,6 +107,10 @@ def test_fem_validation_quick(tmp_path):
     worst = s["locking"][-1]
     assert worst["nu"] >= 0.499 and abs(worst["sri_over_exact"] - 1) < 0.02 and worst["full_over_exact"] < 0.8
     assert all(abs(w["rel_err"]) < 0.05 for w in s["thin_layer"])  # within 5% where the limit applies
+    # incompressible thin film (plane strain): the (h/a)² correction shrinks with a/h,
+    # within 5% of P' = 2Ga⁵/(15Rh³) at a/h = 20
+    film = {w["a_over_h"]: w["rel_err"] for w in s["thin_film"]}
+    assert abs(film[20]) < 0.05 < abs(film[10])
     assert len(s["condensed_vs_full_cases"]) >= 10
     assert s["condensed_vs_reference"]["pressure_rel_l2"] <= 0.02
     assert s["condensed_vs_reference"]["force_rel_err"] <= 0.01
@@ -160,3 +164,20 @@ def test_fem_fitting_quick(tmp_path):
     again = json.loads((tmp_path / "summary.json").read_text())
     assert again["quartic_error_mean"] == s["quartic_error_mean"]
     assert s["n_resumed"] == 0 and again["n_resumed"] == s["n_profiles"]
+
+
+def test_wall_stiffness_quick(tmp_path):
+    assert main(["run", "wall-stiffness", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    ring = s["ring_validation"]
+    # Roark's thin ring: both diameters within 0.5% at 64 elements, converging
+    assert abs(ring[-1]["perpendicular_rel_err"]) < 0.005 and abs(ring[-1]["load_line_rel_err"]) < 0.005
+    assert abs(ring[0]["load_line_rel_err"]) > abs(ring[-1]["load_line_rel_err"])
+    (grid,) = (np.array(m["stiffness_N_per_m"]) for m in s["maps"].values())  # heights x angles
+    assert (grid > 0).all()
+    # clamped base, open top: the wall is stiffer near the base; pressing the flat sides of
+    # the elliptic section (axis along the minor axis) is softer than pressing its ends
+    assert (grid[0] > grid[-1]).all() and (grid[:, 0] > grid[:, 1]).all()
+    rows = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]
+    assert len(rows) == s["n_grasps"] == 4
+    assert (tmp_path / "stiffness_maps.png").stat().st_size > 10_000

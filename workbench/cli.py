@@ -19,6 +19,7 @@ EXPERIMENTS = {
     "ls-fitting": "experiments.ls_fitting",
     "fem-validation": "experiments.fem_validation",
     "fem-fitting": "experiments.fem_fitting",
+    "wall-stiffness": "experiments.wall_stiffness",
 }
 
 

@@ -1,0 +1,295 @@
+"""Wall stiffness maps of thin-walled bottles (thesis §4.3.3.1, the s_i of Eq. 4.5).
+
+Issue 4 scope 5.  The thesis measured ``s_i = f_⊥ / (l_s − l_e)`` with a
+parallel-jaw gripper closing to 10 N per jaw at antipodal grasp locations; here
+a PET-like wall (linear elastic, 0.5 mm, clamped base, open top) of bottles
+from the thesis family is squeezed between two rigid 20 × 40 mm jaws
+(:mod:`fem.wall`) at a grid of heights × grasp-axis angles, giving a stiffness
+map over the surface.  Validation first: the thin ring under diametral loads
+(Roark), perpendicular diameter (load applied) and load-line closing (through
+:func:`fem.wall.squeeze`, i.e. the contact solve itself), with mesh refinement;
+then the bottle's mesh convergence at one location.
+
+Rows are checkpointed per (bottle, height, angle) so a killed run resumes.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from fem.bottle import Bottle, bottle_family
+from fem.material import Material
+from fem.wall import build_wall, ring_pinch, squeeze
+from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+
+NAME = "wall-stiffness"
+
+DEFAULT_CONFIG = {
+    "seed": 0,
+    "bottles": [0, 5, 20],  # indices into bottle_family(seed); 16..23 are the asymmetric ones
+    "E": 2.5e9,  # PET ~2-4 GPa
+    "nu": 0.4,
+    "thickness": 0.5e-3,
+    "mesh": [48, 24],  # hexes around, along the height (one triquadratic hex through the wall)
+    "height_fractions": [0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8],
+    "n_angles": 6,  # grasp-axis angles in [0, π) from the section's major axis
+    "force": 10.0,  # N per jaw (thesis)
+    "jaw": [0.02, 0.04],  # width (horizontal), length (vertical) [m]
+    "ring_meshes": [32, 64, 128],
+    "convergence_meshes": [[32, 16], [48, 24], [64, 32]],
+}
+QUICK_CONFIG = {
+    "bottles": [0],
+    "mesh": [24, 12],
+    "height_fractions": [0.3, 0.7],
+    "n_angles": 2,
+    "ring_meshes": [32, 64],
+    "convergence_meshes": [],
+}
+
+
+def ring_rows(config: dict) -> list[dict]:
+    """Thin ring (R = 35 mm mid-surface) under diametral line loads, two ways."""
+    mat = Material(config["E"], config["nu"])
+    t = config["thickness"]
+    R = 0.035
+    D = mat.E * t**3 / (12 * (1 - mat.nu**2))
+    rows = []
+    for n in config["ring_meshes"]:
+        perp = ring_pinch(R, t, mat, n_theta=n)
+        ro = R + t / 2
+
+        def circle(th, z, ro=ro):
+            nrm = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
+            return np.column_stack([ro * nrm[:, :2], z]), nrm
+
+        wall = build_wall(
+            circle,
+            mat,
+            thickness=t,
+            n_theta=n,
+            n_z=1,
+            z_range=(0.0, t),
+            clamp_bottom=False,
+            plane_strain=True,
+        )
+        P = 1e-3  # N on a slab of length t: P' = 2 N/m, linear anyway
+        sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
+        exact = (np.pi / 4 - 2 / np.pi) * (P / t) * R**3 / D
+        rows.append(
+            {
+                "n_theta": n,
+                "perpendicular_rel_err": perp["rel_err"],
+                "load_line_rel_err": sq["delta"] / exact - 1,
+                "dofs": int(perp["dofs"]),
+            }
+        )
+    return rows
+
+
+def _axis(bottle: Bottle, z: float, angle: float) -> tuple[np.ndarray, np.ndarray]:
+    centre, _, _, phi = bottle.section(z)
+    return np.r_[centre, z], np.array([np.cos(phi + angle), np.sin(phi + angle), 0.0])
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    mat = Material(config["E"], config["nu"])
+    ring = ring_rows(config)
+    write_csv(out / "ring_validation.csv", list(ring[0]), [list(r.values()) for r in ring])
+
+    family = bottle_family(seed=config["seed"])
+    opts = {"force": config["force"], "jaw": tuple(config["jaw"])}
+    conv = []
+    if config["convergence_meshes"]:
+        b = Bottle(family[config["bottles"][0]])
+        H = b.params.height
+        for nt, nz in tqdm(config["convergence_meshes"], desc="mesh convergence", unit="mesh"):
+            wall = build_wall(
+                b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
+            )
+            for ang in (0.0, np.pi / 2):
+                r = squeeze(wall, *_axis(b, 0.5 * H, ang), **opts)
+                conv.append(
+                    {
+                        "mesh": f"{nt}x{nz}",
+                        "angle": ang,
+                        "stiffness_N_per_m": r["stiffness"],
+                        "build_s": wall.seconds,
+                    }
+                )
+        for r in conv:
+            ref = next(c for c in conv[::-1] if c["angle"] == r["angle"])
+            r["rel_to_finest"] = r["stiffness_N_per_m"] / ref["stiffness_N_per_m"] - 1
+        write_csv(out / "mesh_convergence.csv", list(conv[0]), [list(r.values()) for r in conv])
+
+    angles = np.arange(config["n_angles"]) * np.pi / config["n_angles"]
+    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k != "out"})
+    todo = [
+        (i, hf, float(a))
+        for i in config["bottles"]
+        for hf in config["height_fractions"]
+        for a in angles
+        if f"{i}/{hf}/{a:.6f}" not in ckpt.rows
+    ]
+    n_resumed = len(ckpt.rows)
+    build_s = {}
+    nt, nz = config["mesh"]
+    with tqdm(total=len(todo), desc="stiffness map", unit="grasp") as bar:
+        for i in sorted({t[0] for t in todo}):
+            b = Bottle(family[i])
+            H = b.params.height
+            wall = build_wall(
+                b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
+            )
+            build_s[i] = wall.seconds
+            for _, hf, a in (t for t in todo if t[0] == i):
+                t0 = time.perf_counter()
+                r = squeeze(wall, *_axis(b, hf * H, a), **opts)
+                ckpt.add(
+                    f"{i}/{hf}/{a:.6f}",
+                    {
+                        "bottle": i,
+                        "height_fraction": hf,
+                        "angle": a,
+                        "stiffness_N_per_m": r["stiffness"],
+                        "closing_mm": r["delta"] * 1e3,
+                        "contact_nodes": r["contact_nodes"],
+                        "contact_points": r["contact_points"].tolist(),
+                        "ms": (time.perf_counter() - t0) * 1e3,
+                    },
+                )
+                bar.update()
+    rows = list(ckpt.rows.values())
+    cols = ["bottle", "height_fraction", "angle", "stiffness_N_per_m", "closing_mm", "contact_nodes", "ms"]
+    write_csv(out / "stiffness_map.csv", cols, [[r[c] for c in cols] for r in rows])
+
+    maps = {}
+    for i in config["bottles"]:
+        grid = np.array(
+            [
+                [
+                    next(
+                        r
+                        for r in rows
+                        if r["bottle"] == i and r["height_fraction"] == hf and abs(r["angle"] - a) < 1e-9
+                    )["stiffness_N_per_m"]
+                    for a in angles
+                ]
+                for hf in config["height_fractions"]
+            ]
+        )
+        maps[str(i)] = {
+            "asymmetric": bool(family[i].asymmetric),
+            "height_fractions": config["height_fractions"],
+            "angles_rad": angles.tolist(),
+            "stiffness_N_per_m": grid.tolist(),
+            "min": float(grid.min()),
+            "max": float(grid.max()),
+        }
+    figures = _figures(out, family, maps, config)
+    ms = np.array([r["ms"] for r in rows])
+    summary = {
+        "ring_validation": ring,
+        "mesh_convergence": conv,
+        "maps": maps,
+        "n_grasps": len(rows),
+        "n_resumed": n_resumed,
+        "wall_build_s": build_s,
+        "ms_per_grasp": {"median": float(np.median(ms)), "max": float(ms.max())},
+        "model": (
+            f"linear elastic wall E = {mat.E:.3g} Pa, nu = {mat.nu}, t = {config['thickness'] * 1e3} mm, "
+            "clamped base, open top, rigid frictionless jaws, secant stiffness at the target force"
+        ),
+        "figures": figures,
+        "headline": [
+            "ring (Roark) at n_theta = {}: perpendicular {:+.2%}, load line {:+.2%}".format(
+                ring[-1]["n_theta"], ring[-1]["perpendicular_rel_err"], ring[-1]["load_line_rel_err"]
+            ),
+            *(
+                f"bottle {k}: stiffness {m['min']:.0f}..{m['max']:.0f} N/m over "
+                f"{len(config['height_fractions'])} heights x {len(angles)} axes"
+                for k, m in maps.items()
+            ),
+            f"{len(rows)} grasps, median {np.median(ms):.0f} ms per grasp after a one-off wall factorisation",
+        ],
+    }
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+def _figures(out: Path, family, maps: dict, config: dict) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figs = []
+    fig, axes = plt.subplots(1, len(maps), figsize=(4.2 * len(maps), 3.6), squeeze=False)
+    for ax, (k, m) in zip(axes[0], maps.items(), strict=True):
+        grid = np.array(m["stiffness_N_per_m"]) / 1e3
+        im = ax.imshow(
+            grid,
+            origin="lower",
+            aspect="auto",
+            cmap="viridis",
+            extent=[0, 180, m["height_fractions"][0], m["height_fractions"][-1]],
+        )
+        ax.set_xlabel("grasp axis angle from major axis [deg]")
+        ax.set_ylabel("height / H")
+        ax.set_title(f"bottle {k}" + (" (asymmetric)" if m["asymmetric"] else ""))
+        fig.colorbar(im, ax=ax, label="stiffness [N/mm]")
+    figs.append(str(save_figure(fig, out / "stiffness_maps.png")))
+    try:
+        figs.append(str(_render(out, family, maps)))
+    except Exception as exc:  # a render is a convenience; the map is the result
+        import logging
+
+        logging.getLogger(__name__).warning("offscreen rendering failed: %s", exc)
+    return figs
+
+
+def _render(out: Path, family, maps: dict) -> Path:
+    """Bottles coloured by the interpolated stiffness at each wall point (Fig 4.13(a) style)."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    from workbench.viz import _pyvista, save_screenshot
+
+    pv = _pyvista()
+    pl = pv.Plotter(off_screen=True, window_size=(300 * len(maps), 520))
+    for col, (k, m) in enumerate(maps.items()):
+        b = Bottle(family[int(k)])
+        tm = b.to_trimesh(96, 80)
+        H = b.params.height
+        ang = np.array(m["angles_rad"])
+        grid = np.array(m["stiffness_N_per_m"]) / 1e3
+        # periodic in the axis angle (period π): wrap one column
+        interp = RegularGridInterpolator(
+            (np.array(m["height_fractions"]), np.r_[ang, np.pi]),
+            np.column_stack([grid, grid[:, :1]]),
+            bounds_error=False,
+            fill_value=None,
+        )
+        v = np.asarray(tm.vertices)
+        zf = np.clip(v[:, 2] / H, m["height_fractions"][0], m["height_fractions"][-1])
+        beta = np.empty(len(v))
+        for j, (x, y, z) in enumerate(v):
+            c, _, _, phi = b.section(min(max(z, 0.0), H))
+            beta[j] = (np.arctan2(y - c[1], x - c[0]) - phi) % np.pi
+        mesh = pv.wrap(tm)
+        mesh.point_data["stiffness [N/mm]"] = interp(np.column_stack([zf, beta]))
+        mesh.translate((0.12 * col, 0.0, 0.0), inplace=True)
+        pl.add_mesh(mesh, scalars="stiffness [N/mm]", cmap="viridis", show_scalar_bar=col == 0)
+    pl.view_xz()
+    pl.camera.elevation = 15
+    return save_screenshot(pl, out / "stiffness_render.png")
+
+
+if __name__ == "__main__":
+    from workbench.cli import main
+
+    raise SystemExit(main(["run", NAME, *__import__("sys").argv[1:]]))

@@ -1,0 +1,306 @@
+"""Thin-walled deformable objects: wall stiffness ``s = f / Δ`` under a parallel-jaw squeeze.
+
+Thesis §4.3.3.1 measures, per grasp location, ``s_i = f_⊥ / (l_s − l_e)`` — the
+jaw force over the closing of the gripper from first touch — and the minimal-work
+metric uses it in Eq. (4.5), ``d_i = f_⊥i / s_i + ε``.  Here the same quantity
+is simulated: the object's side wall (plastic bottle or cup) is a linear-elastic
+solid shell, one triquadratic hex (27 nodes, 3×3×3 Gauss points) through the
+thickness — quadratic elements because trilinear hexes shear-lock in bending at
+these aspect ratios — clamped at its bottom rim (the base is far stiffer than
+the wall); two rigid flat jaws close symmetrically along the grasp axis with
+frictionless unilateral contact on the outer surface.  The wall's normal
+compliance at the candidate nodes is condensed by solves with one sparse LU per
+object, so each location is a small LCP (:func:`fem.contact.solve_lcp`), and the
+jaw closing ``Δ`` at the target force (default 10 N, as in the thesis) is found
+by a secant iteration.  ``s`` is the secant stiffness ``f / Δ`` there.
+
+Validated against the thin ring under diametral line loads (Roark):
+the perpendicular diameter grows by ``(4 − π)/(2π) · P' R³ / D``,
+``D = E t³ / (12 (1 − ν²))`` (:func:`ring_pinch`).
+
+Assumptions stated, not hidden: small strains (no buckling or snap-through of a
+squeezed bottle), rigid jaws (the pad's own compliance is in series and not
+included), empty object, open top rim.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse.linalg as spla
+from skfem import Basis, BilinearForm, ElementHex2, ElementVector, MeshHex, asm
+from skfem.helpers import ddot, sym_grad, trace
+
+from .contact import solve_lcp
+from .material import Material
+
+log = logging.getLogger(__name__)
+
+_X3 = np.array([0.5 - 0.5 * np.sqrt(0.6), 0.5, 0.5 + 0.5 * np.sqrt(0.6)])
+_W3 = np.array([5.0, 8.0, 5.0]) / 18.0
+#: 3×3×3 Gauss points on [0, 1]³ — exact for the triquadratic stiffness of a parallelepiped
+#: (scikit-fem's default for ElementHex2 uses 343 points)
+GAUSS_3 = (
+    np.array(np.meshgrid(_X3, _X3, _X3, indexing="ij")).reshape(3, -1),
+    np.einsum("i,j,k->ijk", _W3, _W3, _W3).ravel(),
+)
+
+#: PET-like default for plastic bottles (E ≈ 2–4 GPa, ν ≈ 0.37–0.44)
+PET = Material(2.5e9, 0.4)
+
+
+@BilinearForm
+def _elasticity(u, v, w):
+    eu, ev = sym_grad(u), sym_grad(v)
+    return 2.0 * w["mu"] * ddot(eu, ev) + w["lam"] * trace(eu) * trace(ev)
+
+
+def wall_mesh(surface, thickness: float, n_theta: int, n_z: int, z_range: tuple[float, float]) -> tuple:
+    """Closed tube of hexes, one element through the wall.
+
+    surface : callable ``(theta (N,), z (N,)) -> (points (N, 3), outward normals (N, 3))``
+        of the *outer* wall surface (e.g. :meth:`fem.bottle.Bottle.points_normals`);
+        the wall extends ``thickness`` inwards along the normal.
+    Returns ``(mesh, outer, bottom)``: (n_vertices,) bool masks of the outer-surface
+    and the bottom-rim vertices.
+    """
+    if not (np.isfinite(thickness) and thickness > 0):
+        raise ValueError(f"thickness must be a positive wall thickness [m]; got {thickness}")
+    if n_theta < 8 or n_z < 1:
+        raise ValueError(f"need n_theta >= 8 and n_z >= 1; got {n_theta}, {n_z}")
+    ref = MeshHex.init_tensor(np.arange(n_theta + 1.0), np.arange(n_z + 1.0), np.array([0.0, 1.0]))
+    i, j, k = np.rint(ref.p).astype(int)
+    i = i % n_theta  # close the tube: θ = 2π is θ = 0
+    key = (k * (n_z + 1) + j) * n_theta + i
+    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    ii, jj, kk = i[first], j[first], k[first]
+    theta = 2 * np.pi * ii / n_theta
+    z = z_range[0] + (z_range[1] - z_range[0]) * jj / n_z
+    pts, nrm = surface(theta, z)
+    p = pts - thickness * kk[:, None] * nrm
+    mesh = MeshHex(np.ascontiguousarray(p.T), inv[ref.t])
+    return mesh, kk == 0, jj == 0
+
+
+@dataclass
+class Wall:
+    """A meshed wall with its factorised stiffness (built once per object and material)."""
+
+    mesh: MeshHex
+    basis: Basis
+    material: Material
+    free: np.ndarray  # (n_free,) free dof indices
+    lu: object  # sparse LU of K_ff
+    outer_xyz: np.ndarray  # (m, 3) outer-surface node locations
+    outer_dofs: np.ndarray  # (m, 3) their x, y, z dofs
+    seconds: float
+
+    def compliance(self, nodes: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        """Normal compliance ``A_ij = n_iᵀ u_i(unit load n_j at node j)`` [m/N].
+
+        nodes : (c,) indices into ``outer_xyz``; directions : (c, 3) unit load directions.
+        """
+        pos = np.full(self.basis.N, -1)
+        pos[self.free] = np.arange(self.free.size)
+        rows = pos[self.outer_dofs[nodes]]  # (c, 3); -1 marks a fixed component
+        if (rows < 0).all(axis=1).any():
+            raise ValueError(
+                "the jaw footprint reaches the clamped base rim (a fully fixed node); grasp higher"
+            )
+        dirs = np.where(rows >= 0, directions, 0.0)  # a fixed component neither loads nor moves
+        rhs = np.zeros((self.free.size, nodes.size))
+        for c in range(3):
+            ok = rows[:, c] >= 0
+            rhs[rows[ok, c], np.flatnonzero(ok)] = dirs[ok, c]
+        U = np.vstack([self.lu.solve(rhs), np.zeros((1, nodes.size))])  # row -1: fixed, zero
+        A = np.einsum("icj,ic->ij", U[rows], dirs)  # U[rows] : (c, 3, c)
+        return 0.5 * (A + A.T)
+
+    def displacement(self, nodes: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Outer-surface displacements (m, 3) [m] under forces (c, 3) [N] at outer nodes."""
+        f = np.zeros(self.basis.N)
+        np.add.at(f, self.outer_dofs[nodes].ravel(), forces.ravel())
+        u = np.zeros(self.basis.N)
+        u[self.free] = self.lu.solve(f[self.free])
+        return u[self.outer_dofs]
+
+
+def build_wall(
+    surface,
+    material: Material = PET,
+    *,
+    thickness: float = 0.5e-3,
+    n_theta: int = 48,
+    n_z: int = 24,
+    z_range: tuple[float, float] = (0.0, 0.1),
+    clamp_bottom: bool = True,
+    plane_strain: bool = False,
+) -> Wall:
+    """Assemble and factorise the wall (see module docstring).
+
+    plane_strain : fix ``u_z`` everywhere (a slab of a long tube, for :func:`ring_pinch`);
+        then the rigid-body modes in the plane are removed by the symmetry
+        conditions ``u_y = 0`` at θ = 0, π and ``u_x = 0`` at θ = ±π/2 (n_theta % 4 == 0).
+    """
+    t0 = time.perf_counter()
+    mesh, outer, bottom = wall_mesh(surface, thickness, n_theta, n_z, z_range)
+    basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
+    K = asm(_elasticity, basis, mu=material.mu, lam=material.lam).tocsr()
+    fixed = np.zeros(basis.N, dtype=bool)
+    if clamp_bottom:
+        fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True
+    if plane_strain:
+        fixed[components(basis) == 2] = True
+        ang = np.arctan2(basis.doflocs[1], basis.doflocs[0])
+        tol = 1e-9
+        comp = components(basis)
+        on_x = (np.abs(np.sin(ang)) < tol) & (comp == 1)  # u_y dofs at θ = 0, π
+        on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
+        fixed |= on_x | on_y
+    free = np.flatnonzero(~fixed)
+    lu = spla.splu(K[free][:, free].tocsc())
+    # outer-surface dofs: the facets whose 4 vertices are all on the outer surface
+    view = basis.get_dofs(facets=_facets_within(mesh, outer))
+    comp = [view.all(f"u^{c + 1}") for c in range(3)]
+    xyz = basis.doflocs[:, comp[0]].T
+    assert all(np.allclose(basis.doflocs[:, c].T, xyz) for c in comp[1:])  # same node order
+    return Wall(mesh, basis, material, free, lu, xyz, np.column_stack(comp), time.perf_counter() - t0)
+
+
+def _facets_within(mesh: MeshHex, vertices: np.ndarray) -> np.ndarray:
+    """Boundary facets whose 4 vertices all lie in the vertex mask."""
+    facets = mesh.boundary_facets()
+    return facets[vertices[mesh.facets[:, facets]].all(axis=0)]
+
+
+def components(basis: Basis) -> np.ndarray:
+    """(N,) the displacement component (0, 1, 2) of each dof of a vector basis."""
+    everything = basis.get_dofs(lambda x: np.ones(x.shape[1], dtype=bool))
+    comp = np.empty(basis.N, dtype=int)
+    for c in range(3):
+        comp[everything.all(f"u^{c + 1}")] = c
+    return comp
+
+
+def ring_pinch(
+    radius: float = 0.035, thickness: float = 0.5e-3, material: Material = PET, n_theta: int = 64
+) -> dict:
+    """Diametral line loads ``P'`` on a long tube (plane strain): FE vs the thin-ring formula.
+
+    The loads act along ∓x at θ = 0, π on the mid-surface (through-thickness nodes);
+    the measured quantity is the growth of the perpendicular (y) mid-surface
+    diameter, away from the load points.  ``radius`` is the mid-surface radius.
+    """
+    ro = radius + thickness / 2
+    slab = thickness
+
+    def circle(th, z):
+        n = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
+        return np.column_stack([ro * n[:, :2], z]), n
+
+    wall = build_wall(
+        circle,
+        material,
+        thickness=thickness,
+        n_theta=n_theta,
+        n_z=1,
+        z_range=(0.0, slab),
+        clamp_bottom=False,
+        plane_strain=True,
+    )
+    b = wall.basis
+    x, y = b.doflocs[0], b.doflocs[1]
+    r = np.hypot(x, y)
+    P = 1.0  # N per metre of tube
+    f = np.zeros(b.N)
+    comp = components(b)
+    for sgn in (1, -1):
+        sel = (comp == 0) & (np.abs(y) < 1e-9) & (np.sign(x) == sgn)
+        # consistent load of a line force on the quadratic element's faces: Simpson weights
+        # over the slab length (z = 0, slab/2, slab) and over the thickness (inner, mid, outer)
+        wz = np.where(np.isclose(b.doflocs[2], slab / 2), 4.0, 1.0) / 6.0
+        wr = np.where(np.isclose(r, radius, rtol=1e-6), 4.0, 1.0) / 6.0
+        f[sel] = -sgn * P * slab * (wz * wr)[sel]
+    u = np.zeros(b.N)
+    u[wall.free] = wall.lu.solve(f[wall.free])
+    mid_y = (comp == 1) & np.isclose(r, radius, rtol=1e-6) & (np.abs(x) < 1e-9)
+    grow = float(np.mean(np.abs(u[mid_y]))) * 2  # both sides move out by the same amount
+    D = material.E * thickness**3 / (12 * (1 - material.nu**2))
+    exact = (4 - np.pi) / (2 * np.pi) * P * radius**3 / D
+    return {"fe": grow, "exact": exact, "rel_err": grow / exact - 1, "dofs": b.N}
+
+
+def squeeze(
+    wall: Wall,
+    centre: np.ndarray,
+    axis: np.ndarray,
+    *,
+    jaw: tuple[float, float] = (0.02, 0.04),
+    force: float = 10.0,
+    margin: float = 0.2e-3,
+    max_iter: int = 20,
+) -> dict:
+    """Squeeze the wall between two rigid flat jaws closing along ``axis`` through ``centre``.
+
+    centre : (3,) a point on the grasp axis [m]; axis : (3,) horizontal grasp axis;
+    jaw : (width, length) [m] of the jaw faces (length vertical);
+    force : target jaw force [N] (thesis: 10 N).
+    Returns ``stiffness`` = force / Δ [N/m], the jaw closing ``delta`` [m] (sum of
+    both jaws' travel from first touch), the forces of both jaws, the contact
+    points of the grasp axis with the wall, and the number of LCP solves.
+    """
+    if not (np.isfinite(force) and force > 0):
+        raise ValueError(f"force must be a positive jaw force [N]; got {force}")
+    axis = np.asarray(axis, float)
+    axis = axis / np.linalg.norm(axis)
+    up = np.array([0.0, 0.0, 1.0])
+    side = np.cross(up, axis)
+    rel = wall.outer_xyz - centre
+    along, lat, vert = rel @ axis, rel @ side, rel @ up
+    in_print = (np.abs(lat) <= jaw[0] / 2) & (np.abs(vert) <= jaw[1] / 2)
+    nodes, dirs, gaps, owner = [], [], [], []
+    touch = []
+    for jaw_id, s in enumerate((1.0, -1.0)):  # the jaw on the +axis side moves along -axis
+        cand = np.flatnonzero(in_print & (s * along > 0))
+        if cand.size == 0:
+            raise ValueError("no wall under a jaw: the grasp axis misses the object")
+        reach = s * along[cand]
+        nodes.append(cand)
+        gaps.append(reach.max() - reach)  # first touch at the outermost node
+        dirs.append(np.tile(-s * axis, (cand.size, 1)))
+        owner.append(np.full(cand.size, jaw_id))
+        touch.append(centre + s * reach.max() * axis)
+    nodes, dirs, gaps, owner = map(np.concatenate, (nodes, dirs, gaps, owner))
+    # condense only near-touching nodes, then add any footprint node the wall pushes
+    # through a jaw (checked with one full solve per round): a rigid jaw on a convex
+    # wall touches a handful of nodes, so this keeps the LU solves few
+    active = np.flatnonzero(gaps < margin)
+    delta, solves, rounds, f = 1e-3, 0, 0, np.zeros(2)
+    while True:
+        rounds += 1
+        A = wall.compliance(nodes[active], dirs[active])
+        for _ in range(max_iter):  # secant on f(Δ): nearly proportional, a few solves
+            lam, _, _ = solve_lcp(A, gaps[active] - delta / 2)
+            solves += 1
+            f = np.array([lam[owner[active] == c].sum() for c in (0, 1)])
+            if abs(f.mean() / force - 1) < 1e-9:
+                break
+            delta *= force / f.mean()
+        u = wall.displacement(nodes[active], dirs[active] * lam[:, None])
+        gap_all = gaps - delta / 2 + np.einsum("ij,ij->i", dirs, u[nodes])
+        viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * delta), active)
+        if viol.size == 0 or rounds >= 10:
+            break
+        active = np.union1d(active, viol)
+    return {
+        "stiffness": float(force / delta),
+        "delta": float(delta),
+        "jaw_forces": f,
+        "contact_points": np.array(touch),
+        "contact_nodes": int((lam > 0).sum()),
+        "lcp_solves": solves,
+        "candidate_rounds": rounds,
+    }
