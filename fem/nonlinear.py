@@ -262,6 +262,12 @@ class NonlinearPad:
         u = np.zeros(self.b2.N)
         lam_bar = np.zeros(self.face.size)
         u_old, d_old, d_cur = u.copy(), 0.0, 0.0
+        # the state at δ = 0: stress-free unless the obstacle already overlaps the face
+        gap0, nrm = face_gaps(g, self.face_xy, obstacle, 0.0)[1:]
+        its, pen = 0, 0.0
+        if (gap0 < 0).any():
+            u, lam_bar, nrm, pen, its = self._step(obstacle, 0.0, u, lam_bar, k, X0, opts)
+            u_old = u.copy()
         out: dict[float, ContactSolution] = {}
         for target in deltas:
             inc = min(step, target - d_cur)

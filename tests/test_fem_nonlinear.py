@@ -140,3 +140,17 @@ def test_one_interface_for_three_fidelities():
         press(geom, MAT, obs, ds, fidelity="exact")
     with pytest.raises(ValueError, match="unknown options"):
         press(geom, MAT, obs, ds, fidelity="linear", step=1.0)
+
+
+def test_zero_displacement_and_preloaded_start():
+    """δ = 0 in the sequence: stress-free when the obstacle only touches, a real solve
+    when it already overlaps the face (then equal to the small linear contact)."""
+    nl = NonlinearPad(GEOM, MAT, stabilization=1.0)
+    h = GEOM.thickness
+    touch = nl.solve(Sphere((0, 0, h + 0.01), 0.01), [0.0, 0.01 * h], step=0.01 * h)
+    assert touch[0.0].force == 0.0 and touch[0.0].iterations == 0
+    assert touch[0.01 * h].force > 0
+    pre = Sphere((0, 0, h + 0.01 - 0.01 * h), 0.01)  # overlaps by 1% of h at δ = 0
+    sol = nl.solve(pre, [0.0], step=0.01 * h)[0.0]
+    lin = solve_contact(condense_pad(GEOM, MAT, scheme="full"), pre, 0.0)
+    assert sol.force == pytest.approx(lin.force, rel=0.02)
