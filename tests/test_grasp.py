@@ -1,0 +1,215 @@
+"""Grasp analysis (workbench.grasp): analytic grasps, GWS inclusions and symmetry,
+LP vs hull vs QP agreement, robust metric, bad input."""
+
+import numpy as np
+import pytest
+
+from workbench.grasp import (
+    Perturbation,
+    build_gws,
+    grasp_map,
+    gravity_wrench,
+    gws_points,
+    limit_surface_contact,
+    min_grasp_force,
+    point_contact,
+    q_robust,
+    reach_contacts,
+    resists_lp,
+    soft_point_contact,
+    wrench_resistance,
+)
+from workbench.grasp.gws import WrenchHull
+
+MU, F, A = 0.5, 10.0, 0.03
+
+
+def _antipodal(kind="inner", n=64, soft=None):
+    if soft is None:
+        return [
+            point_contact([A, 0, 0], [1, 0, 0], F, n_edges=n, kind=kind),
+            point_contact([-A, 0, 0], [-1, 0, 0], F, n_edges=n, kind=kind),
+        ]
+    return [
+        soft_point_contact([A, 0, 0], [1, 0, 0], F, soft, n_edges=n, kind=kind),
+        soft_point_contact([-A, 0, 0], [-1, 0, 0], F, soft, n_edges=n, kind=kind),
+    ]
+
+
+def test_contact_wrenches_are_forces_at_the_contact_point():
+    """Independent reference for Eq. (4.1): a force f at p gives [f, p × f]."""
+    p = np.array([0.01, -0.02, 0.03])
+    c = point_contact(p, [0.0, 0.6, 0.8], F, n_edges=5)
+    V = c.vertices(MU)
+    np.testing.assert_allclose(V[:, 3:], np.cross(p, V[:, :3]), atol=1e-14)
+    # every vertex on the cone's edge: normal part F, tangential part μF
+    n_in = -np.array([0.0, 0.6, 0.8])
+    fn = V[:, :3] @ n_in
+    np.testing.assert_allclose(fn, F, rtol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(V[:, :3] - fn[:, None] * n_in, axis=1), MU * F, rtol=1e-12)
+    G = grasp_map([c, c])
+    assert G.shape == (6, 12)
+
+
+@pytest.mark.parametrize("method", ["lp", "qp", "hull"])
+def test_antipodal_point_contacts_hold_iff_2_mu_F_ge_mg(method):
+    n = 64
+    for kind, lo, hi in (("inner", np.cos(np.pi / n), 1.0), ("outer", 1.0, 1 / np.cos(np.pi / n))):
+        grasp = _antipodal(kind, n)
+        hull = build_gws(grasp, MU) if method == "hull" else None
+        # LP and hull are exact; the QP classifies by its residual, resolution RESIST_TOL
+        eps = 1e-3 if method == "qp" else 1e-6
+        for factor, expect in ((lo * (1 - eps), True), (hi * (1 + eps), False)):
+            w = gravity_wrench(factor * 2 * MU * F / 9.81, [0, 0, 0])
+            if method == "lp":
+                got = resists_lp(grasp, w, MU)
+            elif method == "qp":
+                got = wrench_resistance(grasp, w, MU)[0]
+            else:
+                got = bool(hull.contains(-w)[0])
+            assert got is expect or got == expect, (kind, factor, method)
+
+
+def test_soft_point_torsion_limit_is_gamma_F():
+    ell = 0.004  # γ = μ ℓ
+    grasp = _antipodal(soft=ell, n=8)
+    # one contact's largest torque about its normal
+    tau_n = grasp[0].vertices(MU)[:, 3:] @ np.array([-1.0, 0, 0])
+    assert tau_n.max() == pytest.approx(MU * ell * F, rel=1e-12)
+    for factor, expect in ((1 - 1e-6, True), (1 + 1e-6, False)):
+        w = np.array([0, 0, 0, factor * 2 * MU * ell * F, 0, 0])  # torque about the grasp axis
+        assert resists_lp(grasp, w, MU) == expect
+    for factor, expect in ((1 - 1e-3, True), (1 + 1e-3, False)):
+        w = np.array([0, 0, 0, factor * 2 * MU * ell * F, 0, 0])
+        assert wrench_resistance(grasp, w, MU)[0] == expect
+
+
+def _three_finger():
+    pts = [np.array([np.cos(a), np.sin(a), 0.0]) * A for a in (0.0, 2.1, 4.0)]
+    return [soft_point_contact(p, p / A + [0, 0, 0.2], F, 0.003, n_edges=6) for p in pts]
+
+
+def test_l1_inside_linf_and_strictly_smaller():
+    grasp = _three_finger()
+    l1 = gws_points(grasp, MU, "l1")
+    linf = build_gws(grasp, MU, "linf")
+    assert linf.dim == 6
+    assert linf.contains(l1, tol=1e-9).all()
+    # and not the other way round: some Minkowski-sum points lie outside W_L1
+    l1_hull = WrenchHull.from_points(l1)
+    assert not l1_hull.contains(gws_points(grasp, MU, "linf")).all()
+    # LP membership says the same for the union vertices
+    assert all(resists_lp(grasp, -w, MU, "linf") for w in l1[::7])
+
+
+def test_gws_of_mirror_symmetric_contacts_is_symmetric():
+    grasp = _antipodal(soft=0.004, n=8)
+    hull = build_gws(grasp, MU)
+    pts = gws_points(grasp, MU)
+    # mirror x -> -x swaps the two contacts; forces reflect, torques are pseudovectors
+    Mx = np.diag([-1.0, 1, 1, 1, -1, -1])
+    My = np.diag([1.0, -1, 1, -1, 1, -1])
+    for M in (Mx, My):
+        assert hull.contains(pts @ M.T, tol=1e-9).all()
+    # gravity up or down is resisted alike
+    w = gravity_wrench(0.8, [0.0, 0.0, 0.0])
+    assert resists_lp(grasp, w, MU) == resists_lp(grasp, w * [1, 1, -1, 1, 1, -1], MU)
+
+
+def test_lp_hull_and_qp_agree_on_random_disturbances():
+    grasp = _antipodal(soft=0.004, n=8)
+    hull = build_gws(grasp, MU)
+    rng = np.random.default_rng(3)
+    W = rng.normal(size=(150, 6)) * [4, 4, 4, 0.05, 0.1, 0.1]
+    lp = np.array([resists_lp(grasp, w, MU) for w in W])
+    qp = np.array([wrench_resistance(grasp, w, MU)[0] for w in W])
+    hl = hull.contains(-W)
+    assert 0.1 < lp.mean() < 0.9  # both outcomes are exercised
+    assert np.array_equal(lp, hl) and np.array_equal(lp, qp)
+
+
+def test_epsilon_metric_of_a_symmetric_grasp():
+    grasp = _three_finger()
+    hull = build_gws(grasp, MU, torque_length=A)
+    eps = hull.epsilon()
+    assert eps > 0
+    # the ball of radius ε is inside: random directions at 0.999 ε are members
+    rng = np.random.default_rng(0)
+    d = rng.normal(size=(200, 6))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    assert hull.contains(0.999 * eps * d).all()
+    assert build_gws(_antipodal(), MU).epsilon() == 0.0  # 5-dimensional GWS: no ball fits
+
+
+def test_min_grasp_force_two_antipodal_points():
+    total, f = min_grasp_force(_antipodal(n=64), gravity_wrench(1.0, [0, 0, 0]), MU)
+    # inner 64-gon aligned with gravity: exactly mg / (2 μ) per jaw
+    assert f == pytest.approx([9.81, 9.81], rel=1e-6)
+    assert total == pytest.approx(2 * 9.81, rel=1e-6)
+    total, f = min_grasp_force(_antipodal(n=64), np.array([0, 0, 0, 1.0, 0, 0]), MU)
+    assert total == np.inf  # point contacts cannot resist torque about the grasp axis
+
+
+def test_q_robust_deterministic_and_bounded():
+    grasp = _antipodal(soft=0.004, n=16)
+    none = Perturbation(n_samples=5, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
+    assert q_robust(grasp, MU, 0.9 * 2 * MU * F / 9.81, [0, 0, 0], none) == 1.0
+    assert q_robust(grasp, MU, 1.1 * 2 * MU * F / 9.81, [0, 0, 0], none) == 0.0
+    p = Perturbation(n_samples=40)
+    m = 1.0 * 2 * MU * F / 9.81  # at the limit: perturbations split the outcomes
+    q1 = q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
+    assert q1 == q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
+    assert 0.0 < q1 < 1.0
+    assert q_robust(grasp, MU, 0.5 * m, [0, 0, 0.005], p, seed=7) >= q1
+
+
+def test_six_dls_contact_vertices_lie_on_the_model():
+    from workbench.limit_surface import LimitSurfaceCache
+    from workbench.surface_catalog import S2
+    from workbench.surfaces import mesh_profile
+
+    prof = mesh_profile(S2, 300, pressure_scale=1e4)
+    model = LimitSurfaceCache().contact_model(prof, mu=1.0)
+    c = limit_surface_contact(model, prof.pressure_center, prof.F, M=100)
+    local = c.local_vertices(1.0)
+    np.testing.assert_allclose(model.value(local, prof.F), 1.0, atol=1e-9)
+    # object frame: the pressure centre is the torque reference
+    V = c.vertices(1.0)
+    np.testing.assert_allclose(
+        V[:, 3:] - local[:, 3:], np.cross(prof.pressure_center, local[:, :3]), atol=1e-12
+    )
+
+
+def test_reach_clusters_keep_the_force():
+    from workbench.surface_catalog import S3
+    from workbench.surfaces import mesh_profile
+
+    prof = mesh_profile(S3, 400, pressure_scale=1e4)
+    subs = reach_contacts(prof, max_triangles=32)
+    assert 1 <= len(subs) <= 32
+    assert sum(s.force for s in subs) == pytest.approx(prof.F, rel=1e-12)
+    assert all(not s.cone for s in subs)
+
+
+def test_bad_input():
+    grasp = _antipodal()
+    with pytest.raises(ValueError, match="at least one contact"):
+        resists_lp([], np.zeros(6), MU)
+    with pytest.raises(ValueError, match="finite"):
+        resists_lp(grasp, np.array([0, 0, np.nan, 0, 0, 0]), MU)
+    with pytest.raises(ValueError, match=r"\(6,\)"):
+        wrench_resistance(grasp, np.zeros(3), MU)
+    # a single point contact cannot hold a weight: a clear False, not an error
+    assert resists_lp(grasp[:1], gravity_wrench(0.1, [0, 0, 0]), MU) is False
+    # a contact with zero force transmits nothing (fixed-force model at F = 0)
+    zero = [c.with_force(0.0) for c in grasp]
+    assert resists_lp([replace_cone(c) for c in zero], gravity_wrench(0.01, [0, 0, 0]), MU) is False
+    assert resists_lp(zero, np.zeros(6), MU) is True
+    with pytest.raises(ValueError, match="normal force"):
+        grasp[0].with_force(-1.0)
+
+
+def replace_cone(c):
+    from dataclasses import replace
+
+    return replace(c, cone=False)

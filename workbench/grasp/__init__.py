@@ -1,0 +1,41 @@
+"""Grasp analysis with every contact model (thesis §2.4–2.5, §4.1–4.3; 6DFC §V).
+
+contacts.py — contact models as wrench polytopes; gws.py — grasp map, GWS,
+hull and LP membership, ε-metric; qp.py — wrench-resistance QP and minimal
+grasp force; robust.py — q_robust.
+"""
+
+from .contacts import (
+    ContactSet,
+    contact_map,
+    limit_surface_contact,
+    normal_frame,
+    point_contact,
+    reach_contacts,
+    soft_point_contact,
+    wrench_hull_contact,
+)
+from .gws import WrenchHull, build_gws, grasp_map, gws_points, resists_lp
+from .qp import min_grasp_force, wrench_resistance
+from .robust import Perturbation, gravity_wrench, q_robust
+
+__all__ = [
+    "ContactSet",
+    "Perturbation",
+    "WrenchHull",
+    "build_gws",
+    "contact_map",
+    "grasp_map",
+    "gravity_wrench",
+    "gws_points",
+    "limit_surface_contact",
+    "min_grasp_force",
+    "normal_frame",
+    "point_contact",
+    "q_robust",
+    "reach_contacts",
+    "resists_lp",
+    "soft_point_contact",
+    "wrench_hull_contact",
+    "wrench_resistance",
+]

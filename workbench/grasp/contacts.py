@@ -1,0 +1,223 @@
+"""Contact models as polytopes of contact wrenches (thesis §2.3.5, §3.4, §4.1.2).
+
+Every model — hard point (Eq. 2.44/2.47), soft point (Eq. 2.50), planar and
+nonplanar 3DLS, raw 6DFW, REACH triangles, 6DLS and 6DFC — is reduced to one
+representation, :class:`ContactSet`:
+
+* in its local contact frame C (rotation ``R``, origin ``t`` in the object
+  frame), the frictional wrench vertices **at unit normal force and μ = 1**,
+  ``friction`` (M, 6), and the normal wrench at unit force, ``normal`` (6,);
+* a contact wrench at friction coefficient μ is then ``F (μ s + ŵ⊥)`` — all
+  these models scale linearly with the normal force and with μ (Eq. 3.20,
+  3.25–3.27), which is what lets the robust metric perturb μ without refitting;
+* ``cone=False``: the force ``F = force`` is known (a force-sensor reading,
+  §4.1.3.2): the set is ``conv{F (μ s_m + ŵ⊥)}`` (6DLS, 6DFW, 3DLS, REACH);
+  ``cone=True``: the normal force is a variable in ``[0, force]`` (hard and soft
+  point with ``f⊥ <= f_max``, the 6DFC of Eq. 3.30): ``conv({0} ∪ {f_max (μ s_m + ŵ⊥)})``.
+
+The contact map ``G_n = [[R, 0], [t̂ R, R]]`` (Eq. 2.79 / 4.1) takes local wrenches
+to the object frame (origin at the object's COM by convention, §4.1.3.1).
+Wrench order ``[f, τ]``; normals point out of the object, so a jaw pushes the
+object along ``−n`` (CONVENTIONS.md).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..limit_surface.contact_wrench import ContactWrenchModel
+from ..profile import ContactProfile
+
+
+def skew(t: np.ndarray) -> np.ndarray:
+    """(3, 3) cross-product matrix ``t̂`` with ``t̂ x = t × x``."""
+    return np.array([[0.0, -t[2], t[1]], [t[2], 0.0, -t[0]], [-t[1], t[0], 0.0]])
+
+
+def contact_map(R: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """(6, 6) ``G_n = [[R, 0], [t̂ R, R]]``, Eq. (2.79) with the identity wrench basis."""
+    G = np.zeros((6, 6))
+    G[:3, :3] = R
+    G[3:, 3:] = R
+    G[3:, :3] = skew(t) @ R
+    return G
+
+
+def normal_frame(normal_out: np.ndarray) -> np.ndarray:
+    """(3, 3) rotation whose z axis is the *inward* normal ``−n`` (thesis §2.3.5.1)."""
+    z = -np.asarray(normal_out, float)
+    z = z / np.linalg.norm(z)
+    a = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+    x = np.cross(a, z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+@dataclass(frozen=True)
+class ContactSet:
+    """One contact's wrench set (see module docstring).
+
+    friction : (M, 6) frictional wrench vertices, unit normal force, μ = 1, frame C;
+    normal : (6,) normal wrench at unit normal force, frame C;
+    R : (3, 3), t : (3,) pose of C in the object frame [m];
+    force : known normal force (``cone=False``) or its upper bound ``f_max`` [N].
+    """
+
+    name: str
+    friction: np.ndarray
+    normal: np.ndarray
+    R: np.ndarray
+    t: np.ndarray
+    force: float
+    cone: bool
+    meta: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.friction.ndim != 2 or self.friction.shape[1] != 6 or len(self.friction) == 0:
+            raise ValueError(f"{self.name}: friction must be (M, 6) with M >= 1; got {self.friction.shape}")
+        if not (np.isfinite(self.force) and self.force >= 0):
+            raise ValueError(f"{self.name}: the normal force must be finite and >= 0; got {self.force}")
+
+    @property
+    def G(self) -> np.ndarray:
+        return contact_map(self.R, self.t)
+
+    def local_vertices(self, mu: float) -> np.ndarray:
+        """(M, 6) contact wrench vertices in C at friction coefficient ``mu``."""
+        return self.force * (mu * self.friction + self.normal)
+
+    def vertices(self, mu: float) -> np.ndarray:
+        """(M, 6) contact wrench vertices in the object frame, Eq. (4.1)."""
+        return self.local_vertices(mu) @ self.G.T
+
+    def moved(self, R: np.ndarray, t: np.ndarray) -> ContactSet:
+        """The same contact under a rigid motion ``x -> R x + t`` of the gripper."""
+        return replace(self, R=R @ self.R, t=R @ self.t + t)
+
+    def with_force(self, force: float) -> ContactSet:
+        return replace(self, force=float(force))
+
+
+def _polygon(n_edges: int, kind: str) -> np.ndarray:
+    """(n, 2) vertices of the inner (on the circle) or outer (circumscribed) n-gon, Eq. (2.47)."""
+    if n_edges < 3:
+        raise ValueError(f"n_edges must be >= 3; got {n_edges}")
+    if kind not in ("inner", "outer"):
+        raise ValueError(f"kind must be 'inner' or 'outer'; got {kind!r}")
+    th = 2 * np.pi * np.arange(n_edges) / n_edges
+    r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
+    return r * np.column_stack([np.cos(th), np.sin(th)])
+
+
+def point_contact(
+    point, normal_out, f_max: float, *, n_edges: int = 8, kind: str = "inner", name: str = "point"
+) -> ContactSet:
+    """Hard point contact: the linearised friction cone (Eq. 2.44/2.47) with ``f⊥ <= f_max``."""
+    poly = _polygon(n_edges, kind)
+    fr = np.zeros((n_edges, 6))
+    fr[:, :2] = poly
+    normal = np.array([0, 0, 1.0, 0, 0, 0])
+    return ContactSet(
+        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True
+    )
+
+
+def soft_point_contact(
+    point,
+    normal_out,
+    f_max: float,
+    torsion_length: float,
+    *,
+    n_edges: int = 8,
+    kind: str = "inner",
+    name: str = "soft point",
+) -> ContactSet:
+    """Soft point contact (Eq. 2.50): ``‖f_t‖ <= μ f⊥`` and ``|τ_z| <= γ f⊥`` with
+    ``γ = μ · torsion_length`` (torsional friction scales with μ like the rest)."""
+    if not (np.isfinite(torsion_length) and torsion_length >= 0):
+        raise ValueError(f"torsion_length must be >= 0 [m]; got {torsion_length}")
+    poly = _polygon(n_edges, kind)
+    fr = np.zeros((2 * n_edges, 6))
+    fr[:, :2] = np.vstack([poly, poly])
+    fr[:n_edges, 5] = torsion_length
+    fr[n_edges:, 5] = -torsion_length
+    normal = np.array([0, 0, 1.0, 0, 0, 0])
+    return ContactSet(
+        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True
+    )
+
+
+def limit_surface_contact(
+    model: ContactWrenchModel,
+    origin,
+    force: float,
+    *,
+    M: int = 200,
+    cone: bool = False,
+    name: str = "6DLS",
+    seed: int = 0,
+) -> ContactSet:
+    """6DLS (``cone=False``, force known) or 6DFC (``cone=True``, ``f_C <= force``)
+    from a contact-wrench model fitted at μ = 1 on the normalised profile.
+
+    The model's wrenches are about the profile's pressure centre ``origin`` with
+    object-frame axes (CONVENTIONS.md), so ``R = I``, ``t = origin``.  The inner
+    linearisation (Eq. 3.19–3.21, 3.27) gives the vertices.
+    """
+    lin = model.limit_surface.linearize(M, "inner", seed=seed)
+    return ContactSet(
+        name,
+        lin.vertices,
+        np.asarray(model.normal_wrench, float),
+        np.eye(3),
+        np.asarray(origin, float),
+        float(force),
+        cone,
+    )
+
+
+def wrench_hull_contact(
+    profile: ContactProfile, wrenches_unit_mu: np.ndarray, *, name: str = "6DFW"
+) -> ContactSet:
+    """Raw 6DFW: the sampled frictional wrenches themselves (μ = 1, profile force F),
+    no limit-surface model — their convex hull is the contact's frictional set."""
+    W = np.asarray(wrenches_unit_mu, float) / profile.F
+    return ContactSet(
+        name,
+        W,
+        profile.normal_wrench / profile.F,
+        np.eye(3),
+        profile.pressure_center.copy(),
+        profile.F,
+        False,
+    )
+
+
+def reach_contacts(
+    profile: ContactProfile, *, torsion_length: float = 0.0, max_triangles: int = 64, n_edges: int = 6
+) -> list[ContactSet]:
+    """REACH-style model (thesis §2.3.1.3): each element is a soft point contact
+    with its own known normal force ``p a``; elements are merged (pressure-weighted,
+    by k-means on the centres) down to ``max_triangles`` to bound the cost."""
+    from scipy.cluster.vq import kmeans2
+
+    c, n, f = profile.centers, profile.normals, profile.forces
+    keep = f > 0
+    c, n, f = c[keep], n[keep], f[keep]
+    if len(f) == 0:
+        return []
+    if len(f) > max_triangles:
+        _, lab = kmeans2(c, c[np.linspace(0, len(c) - 1, max_triangles).astype(int)], minit="matrix", seed=0)
+        groups = [np.flatnonzero(lab == k) for k in range(max_triangles)]
+        groups = [g for g in groups if g.size]
+        c = np.array([np.average(c[g], axis=0, weights=f[g]) for g in groups])
+        nn = np.array([np.average(n[g], axis=0, weights=f[g]) for g in groups])
+        n = nn / np.linalg.norm(nn, axis=1, keepdims=True)
+        f = np.array([f[g].sum() for g in groups])
+    # each element presses with its own known force: a soft point contact with cone=False
+    return [
+        replace(soft_point_contact(ci, ni, fi, torsion_length, n_edges=n_edges), name="REACH", cone=False)
+        for ci, ni, fi in zip(c, n, f, strict=True)
+    ]

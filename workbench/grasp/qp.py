@@ -1,0 +1,148 @@
+"""Wrench resistance as a quadratic program (thesis Eq. 2.100, 6DFC Eq. IV.3) and the
+minimal grasp force LP (Eq. 4.4).
+
+QP over the V-representation: contact wrench ``c_i = Σ_k α_ik v_ik`` with
+``α_i`` in a simplex (``Σ = 1`` for a known force, ``<= 1`` for a cone whose
+zero-force origin is implicit), so
+
+    min ½ ‖A α + w_ext‖²,   A = [v_11 … v_NM] (6 × n),  α >= 0,  block sums,
+
+a dense QP with n = Σ M_i variables whose Hessian ``AᵀA`` has rank <= 6; a
+ridge ``ρ I`` (ρ = ``RIDGE`` × mean diagonal) makes it strictly convex for the
+active-set solvers that need it (quadprog, DAQP) and biases the residual by
+O(ρ) only.  Forces and torques are scaled by the largest vertex force and
+torque first (so the residual is relative in each).  The grasp
+resists ``w_ext`` iff ``√ε <= tol`` (relative).  Solvers are called through
+qpsolvers; which one is the default was decided by
+``benchmarks/bench_grasp.py`` (results/benchmarks/grasp.json).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from .gws import check_contacts, check_wrench
+
+#: relative Tikhonov term on the rank-6 Hessian (see module docstring)
+RIDGE = 1e-9
+#: default QP solver (benchmarks/bench_grasp.py: fastest that agrees with the LP on every case)
+DEFAULT_SOLVER = "quadprog"
+#: relative residual below which the wrench counts as resisted
+RESIST_TOL = 1e-5
+
+
+def _blocks(contacts, mu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    Vs = [c.vertices(mu) for c in contacts]
+    sizes = np.array([len(v) for v in Vs])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    return np.vstack(Vs), sizes, starts, Vs
+
+
+def qp_matrices(contacts, w_ext, mu: float) -> dict:
+    """The dense QP of the module docstring (scaled); keys P, q, G, h, A, b, lb, scale, V."""
+    w = check_wrench(w_ext)
+    contacts = check_contacts(contacts)
+    V, sizes, starts, _ = _blocks(contacts, mu)
+    # forces and torques scaled separately by the grasp's own capacities (N vs N·m:
+    # one common scale would make torque residuals invisible next to forces)
+    sf = float(np.abs(V[:, :3]).max()) or 1.0  # all-zero vertices: a contact without force
+    st = float(np.abs(V[:, 3:]).max()) or sf
+    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
+    A6 = V.T * D[:, None]
+    ws = w * D
+    scale = sf
+    n = V.shape[0]
+    P = A6.T @ A6
+    P[np.diag_indices(n)] += RIDGE * max(float(np.trace(P)) / n, 1e-300)
+    q = A6.T @ ws
+    rows_eq, rows_ub = [], []
+    for c, s, m in zip(contacts, starts, sizes, strict=True):
+        row = np.zeros(n)
+        row[s : s + m] = 1.0
+        (rows_ub if c.cone else rows_eq).append(row)
+    return {
+        "P": P,
+        "q": q,
+        "G": np.array(rows_ub) if rows_ub else None,
+        "h": np.ones(len(rows_ub)) if rows_ub else None,
+        "A": np.array(rows_eq) if rows_eq else None,
+        "b": np.ones(len(rows_eq)) if rows_eq else None,
+        "lb": np.zeros(n),
+        "scale": scale,
+        "A6": A6,
+        "w": ws,
+    }
+
+
+def wrench_resistance(
+    contacts, w_ext, mu: float, *, solver: str = DEFAULT_SOLVER, tol: float = RESIST_TOL
+) -> tuple[bool, float, np.ndarray]:
+    """Eq. (2.100): (resisted, relative residual ``‖Gc + w‖ / scale``, contact wrenches (N, 6))."""
+    from qpsolvers import solve_qp
+
+    contacts = check_contacts(contacts)
+    m = qp_matrices(contacts, w_ext, mu)
+    alpha = solve_qp(
+        m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], solver=solver, **_opts(solver)
+    )
+    if alpha is None:
+        raise RuntimeError(f"QP solver {solver!r} returned no solution")
+    resid = float(np.linalg.norm(m["A6"] @ alpha + m["w"]))
+    _, sizes, starts, Vs = _blocks(contacts, mu)
+    c = np.array([alpha[s : s + k] @ v for s, k, v in zip(starts, sizes, Vs, strict=True)])
+    return resid <= tol, resid, c
+
+
+def _opts(solver: str) -> dict:
+    # tight tolerances for the first-order / interior-point solvers (defaults ~1e-3..1e-6
+    # would blur the resisted / not-resisted boundary)
+    return {
+        "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "max_iter": 200_000, "polish": True, "verbose": False},
+        "scs": {"eps_abs": 1e-9, "eps_rel": 1e-9, "verbose": False},
+        "clarabel": {"tol_gap_abs": 1e-12, "tol_gap_rel": 1e-12, "tol_feas": 1e-12, "verbose": False},
+        "proxqp": {"eps_abs": 1e-10},
+        # DAQP's plain active set cycles on the near-singular Hessian when the residual
+        # is non-zero; its proximal-point mode is robust but less accurate (~1e-5)
+        "daqp": {"eps_prox": 1e-8},
+    }.get(solver, {})
+
+
+def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> tuple[float, np.ndarray]:
+    """Eq. (4.4): ``min Σ f⊥_i`` s.t. ``G c + w_ext = 0``, ``c_i`` in contact i's cone.
+
+    Every contact is used with its force as a variable (the cone over its
+    unit-force vertices ``μ s + ŵ⊥``), optionally ``f⊥_i <= f_max``.
+    Returns (total normal force [N], per-contact forces (N,)); ``inf`` and NaNs
+    if no finite force resists ``w_ext``.
+    """
+    w = check_wrench(w_ext)
+    contacts = check_contacts(contacts)
+    gens = [(mu * c.friction + c.normal) @ c.G.T for c in contacts]  # unit normal force
+    V = np.vstack(gens)
+    n = len(V)
+    sizes = [len(g) for g in gens]
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    scale = max(float(np.abs(V).max()), 1e-300)
+    A_ub = b_ub = None
+    if f_max is not None:
+        A_ub = np.zeros((len(contacts), n))
+        for i, (s, k) in enumerate(zip(starts, sizes, strict=True)):
+            A_ub[i, s : s + k] = 1.0
+        b_ub = np.full(len(contacts), float(f_max))
+    res = linprog(
+        np.ones(n),
+        A_ub=A_ub,
+        b_ub=b_ub,
+        A_eq=sp.csr_matrix(V.T / scale),
+        b_eq=-w / scale,
+        bounds=(0, None),
+        method="highs",
+    )
+    if res.status == 2:
+        return float("inf"), np.full(len(contacts), np.nan)
+    if res.status != 0:
+        raise RuntimeError(f"HiGHS failed on the minimal-force LP: {res.message}")
+    f = np.array([res.x[s : s + k].sum() for s, k in zip(starts, sizes, strict=True)])
+    return float(f.sum()), f
