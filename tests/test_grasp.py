@@ -123,9 +123,11 @@ def test_lp_hull_and_qp_agree_on_random_disturbances():
     W = rng.normal(size=(150, 6)) * [4, 4, 4, 0.05, 0.1, 0.1]
     lp = np.array([resists_lp(grasp, w, MU) for w in W])
     qp = np.array([wrench_resistance(grasp, w, MU)[0] for w in W])
+    qp_in = np.array([wrench_resistance(grasp, w, MU, representation="inner")[0] for w in W])
     hl = hull.contains(-W)
     assert 0.1 < lp.mean() < 0.9  # both outcomes are exercised
-    assert np.array_equal(lp, hl) and np.array_equal(lp, qp)
+    # polygons: the half-spaces describe exactly the vertex polytope, so all four agree
+    assert np.array_equal(lp, hl) and np.array_equal(lp, qp) and np.array_equal(lp, qp_in)
 
 
 def test_epsilon_metric_of_a_symmetric_grasp():
@@ -178,6 +180,38 @@ def test_six_dls_contact_vertices_lie_on_the_model():
     np.testing.assert_allclose(
         V[:, 3:] - local[:, 3:], np.cross(prof.pressure_center, local[:, :3]), atol=1e-12
     )
+
+
+def test_six_dls_outer_qp_contains_the_inner_gws():
+    """Outer half-spaces (Eq. 3.28) contain the inner vertices (Eq. 3.27): whatever the
+    inner LP resists, the outer QP resists; the 6DFC (force up to F) contains the 6DLS."""
+    from workbench.limit_surface import LimitSurfaceCache
+    from workbench.surface_catalog import S2
+    from workbench.surfaces import mesh_profile
+
+    prof = mesh_profile(S2, 300, pressure_scale=1e4)
+    # the other jaw: a half-turn about an axis normal to the net contact force, through a
+    # point beyond the pressure centre, so the two normal forces oppose (a parallel-jaw grasp)
+    n = prof.normal_wrench[:3] / np.linalg.norm(prof.normal_wrench[:3])
+    axis = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+    axis /= np.linalg.norm(axis)
+    R = 2 * np.outer(axis, axis) - np.eye(3)
+    centre = prof.pressure_center - 0.5 * n  # object centre inside, along -n (normals point out)
+    mirror = prof.transformed(R, centre - R @ centre)
+    cache = LimitSurfaceCache()
+    grasp, cones = [], []
+    for p in (prof, mirror):
+        m = cache.contact_model(p, mu=1.0)
+        grasp.append(limit_surface_contact(m, p.pressure_center, p.F, M=150))
+        cones.append(limit_surface_contact(m, p.pressure_center, p.F, M=150, cone=True, name="6DFC"))
+    rng = np.random.default_rng(1)
+    Fs = grasp[0].force
+    W = rng.normal(size=(60, 6)) * np.r_[np.full(3, 0.6 * Fs), np.full(3, 0.3 * Fs)]
+    inner = np.array([resists_lp(grasp, w, 1.0) for w in W])
+    outer = np.array([wrench_resistance(grasp, w, 1.0)[0] for w in W])
+    cone = np.array([wrench_resistance(cones, w, 1.0)[0] for w in W])
+    assert 0 < inner.sum() and not outer.all()
+    assert (outer | ~inner).all() and (cone | ~outer).all()
 
 
 def test_reach_clusters_keep_the_force():

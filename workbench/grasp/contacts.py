@@ -72,6 +72,10 @@ class ContactSet:
     t: np.ndarray
     force: float
     cone: bool
+    #: outer H-representation of the frictional set (μ = 1, unit force): ``A s <= b``
+    #: (m, 6), (m,) in frame C — the QP's constraints (Eq. 3.28 / 3.30); None: use vertices
+    A: np.ndarray | None = None
+    b: np.ndarray | None = None
     meta: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
@@ -111,6 +115,24 @@ def _polygon(n_edges: int, kind: str) -> np.ndarray:
     return r * np.column_stack([np.cos(th), np.sin(th)])
 
 
+def _polygon_halfspaces(n_edges: int, kind: str, free: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Half-spaces of the n-gon of :func:`_polygon` in (s_x, s_y), plus ``s_j = 0`` as
+    ± pairs for the local components j not in ``free`` (besides x, y)."""
+    th = 2 * np.pi * (np.arange(n_edges) + 0.5) / n_edges
+    r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
+    A = np.zeros((n_edges, 6))
+    A[:, 0], A[:, 1] = np.cos(th), np.sin(th)
+    b = np.full(n_edges, r * np.cos(np.pi / n_edges))
+    rows, rhs = [A], [b]
+    for j in range(2, 6):
+        if j not in free:
+            e = np.zeros((2, 6))
+            e[0, j], e[1, j] = 1.0, -1.0
+            rows.append(e)
+            rhs.append(np.zeros(2))
+    return np.vstack(rows), np.concatenate(rhs)
+
+
 def point_contact(
     point, normal_out, f_max: float, *, n_edges: int = 8, kind: str = "inner", name: str = "point"
 ) -> ContactSet:
@@ -119,8 +141,9 @@ def point_contact(
     fr = np.zeros((n_edges, 6))
     fr[:, :2] = poly
     normal = np.array([0, 0, 1.0, 0, 0, 0])
+    A, b = _polygon_halfspaces(n_edges, kind, ())
     return ContactSet(
-        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True
+        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True, A, b
     )
 
 
@@ -144,8 +167,11 @@ def soft_point_contact(
     fr[:n_edges, 5] = torsion_length
     fr[n_edges:, 5] = -torsion_length
     normal = np.array([0, 0, 1.0, 0, 0, 0])
+    A, b = _polygon_halfspaces(n_edges, kind, (5,))
+    A = np.vstack([A, np.eye(6)[5], -np.eye(6)[5]])
+    b = np.concatenate([b, [torsion_length, torsion_length]])
     return ContactSet(
-        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True
+        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True, A, b
     )
 
 
@@ -164,17 +190,22 @@ def limit_surface_contact(
 
     The model's wrenches are about the profile's pressure centre ``origin`` with
     object-frame axes (CONVENTIONS.md), so ``R = I``, ``t = origin``.  The inner
-    linearisation (Eq. 3.19–3.21, 3.27) gives the vertices.
+    linearisation (Eq. 3.19–3.21, 3.27) gives the vertices (GWS, LP), the outer
+    tangent half-spaces at the same points (Eq. 3.22–3.24, 3.28/3.30) the QP's constraints.
     """
-    lin = model.limit_surface.linearize(M, "inner", seed=seed)
+    ls = model.limit_surface
+    inner = ls.linearize(M, "inner", seed=seed)
+    outer = ls.linearize(M, "outer", seed=seed)  # same directions: tangent planes at the vertices
     return ContactSet(
         name,
-        lin.vertices,
+        inner.vertices,
         np.asarray(model.normal_wrench, float),
         np.eye(3),
         np.asarray(origin, float),
         float(force),
         cone,
+        outer.A,
+        outer.b,
     )
 
 

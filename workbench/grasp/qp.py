@@ -28,7 +28,7 @@ from .gws import check_contacts, check_wrench
 #: relative Tikhonov term on the rank-6 Hessian (see module docstring)
 RIDGE = 1e-9
 #: default QP solver (benchmarks/bench_grasp.py: fastest that agrees with the LP on every case)
-DEFAULT_SOLVER = "quadprog"
+DEFAULT_SOLVER = "daqp"
 #: relative residual below which the wrench counts as resisted
 RESIST_TOL = 1e-5
 
@@ -76,22 +76,139 @@ def qp_matrices(contacts, w_ext, mu: float) -> dict:
     }
 
 
+def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
+    """QP over the outer H-representation (thesis §4.1.2.2: Eq. 3.28 for a known force,
+    Eq. 3.30 for the 6DFC): variables ``c_i`` (6, frame C) and, for a cone, ``f_i``;
+
+        min ½ ‖D (Σ G_i c_i + w_ext)‖²   s.t.   A_i c_i <= F_i (μ b_i + A_i ŵ⊥_i)   (known F_i)
+                                                A_i c_i − f_i (μ b_i + A_i ŵ⊥_i) <= 0,  0 <= f_i <= f_max.
+
+    Small (6–7 variables per contact) whatever M is: the fast path for grasp analysis.
+    """
+    w = check_wrench(w_ext)
+    contacts = check_contacts(contacts)
+    if any(c.A is None for c in contacts):
+        raise ValueError(
+            "every contact needs half-spaces (A, b) for the outer QP; use representation='inner'"
+        )
+    V = np.vstack([c.vertices(mu) for c in contacts])
+    sf = float(np.abs(V[:, :3]).max()) or 1.0
+    st = float(np.abs(V[:, 3:]).max()) or sf
+    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
+    nvar = sum(6 + c.cone for c in contacts)
+    L = np.zeros((6, nvar))
+    rows, rhs, eq_rows = [], [], []
+    k = 0
+    for c in contacts:
+        L[:, k : k + 6] = c.G
+        ineq, eq = _split_pairs(c.A, c.b)
+        A_in = c.A[ineq]
+        bb = mu * c.b[ineq] + A_in @ c.normal
+        # s_j = 0 rows (± pairs in A s <= b; flat or point-like sets): equalities
+        # A_eq (c − F ŵ⊥) = 0, or A_eq c − f A_eq ŵ⊥ = 0 for a cone — as equalities, since
+        # active-set solvers (quadprog) reject the degenerate ± pair
+        A_eq = c.A[eq]
+        row = np.zeros((len(A_in), nvar))
+        row[:, k : k + 6] = A_in
+        erow = np.zeros((len(A_eq), nvar))
+        erow[:, k : k + 6] = A_eq
+        if c.cone:
+            row[:, k + 6] = -bb
+            erow[:, k + 6] = -(A_eq @ c.normal)
+            rhs.append(np.zeros(len(A_in)))
+            bounds = np.zeros((2, nvar))
+            bounds[0, k + 6], bounds[1, k + 6] = -1.0, 1.0  # -f <= 0, f <= f_max
+            rows += [row, bounds]
+            rhs.append([0.0, c.force])
+            eq_rows.append((erow, np.zeros(len(A_eq))))
+        else:
+            rows.append(row)
+            rhs.append(c.force * bb)
+            eq_rows.append((erow, c.force * (A_eq @ c.normal)))
+        k += 6 + c.cone
+    # variables in units of the grasp's capacities (x = S y): O(1) entries, so the
+    # ridge and the solvers' tolerances mean the same for forces, torques and f_i
+    S = np.concatenate([np.r_[np.full(3, sf), np.full(3, st), [sf] * c.cone] for c in contacts])
+    L6 = L * D[:, None] * S
+    P = L6.T @ L6
+    P[np.diag_indices(nvar)] += RIDGE * max(float(np.trace(P)) / nvar, 1e-300)
+    G = np.vstack(rows) * S
+    h = np.concatenate(rhs)
+    gn = np.linalg.norm(G, axis=1)
+    gn[gn == 0] = 1.0
+    has_eq = any(len(e) for e, _ in eq_rows)
+    return {
+        "P": P,
+        "q": L6.T @ (w * D),
+        "G": G / gn[:, None],
+        "h": h / gn,
+        "A": np.vstack([e for e, _ in eq_rows]) * S if has_eq else None,
+        "b": np.concatenate([r for _, r in eq_rows]) if has_eq else None,
+        "lb": None,
+        "ub": None,
+        "A6": L6,
+        "w": w * D,
+        "S": S,
+    }
+
+
+def _split_pairs(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Masks (inequality rows, one row of each ``a s <= 0, −a s <= 0`` pair)."""
+    eq = np.zeros(len(A), dtype=bool)
+    ineq = np.ones(len(A), dtype=bool)
+    zero = np.flatnonzero(b == 0)
+    for i in zero:
+        if not ineq[i]:
+            continue
+        for j in zero:
+            if j != i and ineq[j] and np.array_equal(A[j], -A[i]):
+                eq[i] = True
+                ineq[i] = ineq[j] = False
+                break
+    return ineq, eq
+
+
 def wrench_resistance(
-    contacts, w_ext, mu: float, *, solver: str = DEFAULT_SOLVER, tol: float = RESIST_TOL
+    contacts,
+    w_ext,
+    mu: float,
+    *,
+    solver: str = DEFAULT_SOLVER,
+    tol: float = RESIST_TOL,
+    representation: str = "outer",
 ) -> tuple[bool, float, np.ndarray]:
-    """Eq. (2.100): (resisted, relative residual ``‖Gc + w‖ / scale``, contact wrenches (N, 6))."""
+    """Eq. (2.100): (resisted, relative residual ``‖D (G c + w)‖``, object-frame contact
+    wrenches (N, 6)).
+
+    representation : "outer" — half-spaces (Eq. 3.28/3.30, the thesis's QP; 6–7
+        variables per contact); "inner" — convex combinations of the vertices
+        (conservative, like the GWS).
+    """
     from qpsolvers import solve_qp
 
     contacts = check_contacts(contacts)
-    m = qp_matrices(contacts, w_ext, mu)
-    alpha = solve_qp(
-        m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], solver=solver, **_opts(solver)
+    if representation == "outer":
+        m = qp_matrices_outer(contacts, w_ext, mu)
+    elif representation == "inner":
+        m = qp_matrices(contacts, w_ext, mu)
+        m["ub"] = None
+    else:
+        raise ValueError(f"representation must be 'outer' or 'inner'; got {representation!r}")
+    x = solve_qp(
+        m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], ub=m["ub"], solver=solver, **_opts(solver)
     )
-    if alpha is None:
+    if x is None:
         raise RuntimeError(f"QP solver {solver!r} returned no solution")
-    resid = float(np.linalg.norm(m["A6"] @ alpha + m["w"]))
+    resid = float(np.linalg.norm(m["A6"] @ x + m["w"]))
+    if representation == "outer":
+        c, k = [], 0
+        x = x * m["S"]
+        for ci in contacts:
+            c.append(ci.G @ x[k : k + 6])
+            k += 6 + ci.cone
+        return resid <= tol, resid, np.array(c)
     _, sizes, starts, Vs = _blocks(contacts, mu)
-    c = np.array([alpha[s : s + k] @ v for s, k, v in zip(starts, sizes, Vs, strict=True)])
+    c = np.array([x[s : s + k] @ v for s, k, v in zip(starts, sizes, Vs, strict=True)])
     return resid <= tol, resid, c
 
 
@@ -99,9 +216,8 @@ def _opts(solver: str) -> dict:
     # tight tolerances for the first-order / interior-point solvers (defaults ~1e-3..1e-6
     # would blur the resisted / not-resisted boundary)
     return {
-        "osqp": {"eps_abs": 1e-10, "eps_rel": 1e-10, "max_iter": 200_000, "polish": True, "verbose": False},
+        "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "max_iter": 20_000, "polish": True, "verbose": False},
         "scs": {"eps_abs": 1e-9, "eps_rel": 1e-9, "verbose": False},
-        "clarabel": {"tol_gap_abs": 1e-12, "tol_gap_rel": 1e-12, "tol_feas": 1e-12, "verbose": False},
         "proxqp": {"eps_abs": 1e-10},
         # DAQP's plain active set cycles on the near-singular Hessian when the residual
         # is non-zero; its proximal-point mode is robust but less accurate (~1e-5)
