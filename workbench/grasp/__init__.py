@@ -16,7 +16,7 @@ from .contacts import (
     wrench_hull_contact,
 )
 from .gws import WrenchHull, build_gws, grasp_map, gws_points, resists_lp
-from .qp import min_grasp_force, wrench_resistance
+from .qp import min_grasp_force, resists, wrench_resistance
 from .robust import Perturbation, gravity_wrench, q_robust
 
 __all__ = [
@@ -34,6 +34,7 @@ __all__ = [
     "point_contact",
     "q_robust",
     "reach_contacts",
+    "resists",
     "resists_lp",
     "soft_point_contact",
     "wrench_hull_contact",

@@ -24,6 +24,7 @@ object along ``−n`` (CONVENTIONS.md).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -84,9 +85,20 @@ class ContactSet:
         if not (np.isfinite(self.force) and self.force >= 0):
             raise ValueError(f"{self.name}: the normal force must be finite and >= 0; got {self.force}")
 
-    @property
+    @cached_property
     def G(self) -> np.ndarray:
+        """(6, 6) contact map of this contact's frame, Eq. (2.79)."""
         return contact_map(self.R, self.t)
+
+    @cached_property
+    def halfspace_parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(A_in, b_in, A_in ŵ⊥, A_eq, A_eq ŵ⊥)``: the half-spaces split into proper
+        inequalities and the ``a s = 0`` rows given as ``± a`` pairs (cached: fixed per contact)."""
+        from .qp import _split_pairs
+
+        ineq, eq = _split_pairs(self.A, self.b)
+        A_in, A_eq = self.A[ineq], self.A[eq]
+        return A_in, self.b[ineq], A_in @ self.normal, A_eq, A_eq @ self.normal
 
     def local_vertices(self, mu: float) -> np.ndarray:
         """(M, 6) contact wrench vertices in C at friction coefficient ``mu``."""

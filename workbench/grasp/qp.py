@@ -19,16 +19,22 @@ qpsolvers; which one is the default was decided by
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
 from .gws import check_contacts, check_wrench
 
+log = logging.getLogger(__name__)
+
 #: relative Tikhonov term on the rank-6 Hessian (see module docstring)
 RIDGE = 1e-9
 #: default QP solver (benchmarks/bench_grasp.py: fastest that agrees with the LP on every case)
-DEFAULT_SOLVER = "daqp"
+DEFAULT_SOLVER = "quadprog"
+#: tried when the chosen solver returns nothing (interior point: slower, never cycles)
+FALLBACK_SOLVER = "clarabel"
 #: relative residual below which the wrench counts as resisted
 RESIST_TOL = 1e-5
 
@@ -101,20 +107,18 @@ def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
     k = 0
     for c in contacts:
         L[:, k : k + 6] = c.G
-        ineq, eq = _split_pairs(c.A, c.b)
-        A_in = c.A[ineq]
-        bb = mu * c.b[ineq] + A_in @ c.normal
         # s_j = 0 rows (± pairs in A s <= b; flat or point-like sets): equalities
         # A_eq (c − F ŵ⊥) = 0, or A_eq c − f A_eq ŵ⊥ = 0 for a cone — as equalities, since
         # active-set solvers (quadprog) reject the degenerate ± pair
-        A_eq = c.A[eq]
+        A_in, b_in, An_in, A_eq, An_eq = c.halfspace_parts
+        bb = mu * b_in + An_in
         row = np.zeros((len(A_in), nvar))
         row[:, k : k + 6] = A_in
         erow = np.zeros((len(A_eq), nvar))
         erow[:, k : k + 6] = A_eq
         if c.cone:
             row[:, k + 6] = -bb
-            erow[:, k + 6] = -(A_eq @ c.normal)
+            erow[:, k + 6] = -An_eq
             rhs.append(np.zeros(len(A_in)))
             bounds = np.zeros((2, nvar))
             bounds[0, k + 6], bounds[1, k + 6] = -1.0, 1.0  # -f <= 0, f <= f_max
@@ -124,7 +128,7 @@ def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
         else:
             rows.append(row)
             rhs.append(c.force * bb)
-            eq_rows.append((erow, c.force * (A_eq @ c.normal)))
+            eq_rows.append((erow, c.force * An_eq))
         k += 6 + c.cone
     # variables in units of the grasp's capacities (x = S y): O(1) entries, so the
     # ridge and the solvers' tolerances mean the same for forces, torques and f_i
@@ -156,15 +160,15 @@ def _split_pairs(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Masks (inequality rows, one row of each ``a s <= 0, −a s <= 0`` pair)."""
     eq = np.zeros(len(A), dtype=bool)
     ineq = np.ones(len(A), dtype=bool)
-    zero = np.flatnonzero(b == 0)
-    for i in zero:
-        if not ineq[i]:
-            continue
-        for j in zero:
-            if j != i and ineq[j] and np.array_equal(A[j], -A[i]):
-                eq[i] = True
-                ineq[i] = ineq[j] = False
-                break
+    Z = np.flatnonzero(b == 0)
+    if Z.size >= 2:
+        dots = A[Z] @ A[Z].T
+        sq = np.diag(dots)
+        pair = np.isclose(dots, -np.sqrt(np.outer(sq, sq)), rtol=1e-12, atol=0) & (sq[:, None] > 0)
+        for r, c in zip(*np.nonzero(np.triu(pair, 1)), strict=True):
+            if ineq[Z[r]] and ineq[Z[c]]:
+                eq[Z[r]] = True
+                ineq[Z[r]] = ineq[Z[c]] = False
     return ineq, eq
 
 
@@ -176,6 +180,7 @@ def wrench_resistance(
     solver: str = DEFAULT_SOLVER,
     tol: float = RESIST_TOL,
     representation: str = "outer",
+    fallback: bool = True,
 ) -> tuple[bool, float, np.ndarray]:
     """Eq. (2.100): (resisted, relative residual ``‖D (G c + w)‖``, object-frame contact
     wrenches (N, 6)).
@@ -183,6 +188,7 @@ def wrench_resistance(
     representation : "outer" — half-spaces (Eq. 3.28/3.30, the thesis's QP; 6–7
         variables per contact); "inner" — convex combinations of the vertices
         (conservative, like the GWS).
+    fallback : retry with ``FALLBACK_SOLVER`` (logged) if the solver returns nothing.
     """
     from qpsolvers import solve_qp
 
@@ -197,8 +203,15 @@ def wrench_resistance(
     x = solve_qp(
         m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], ub=m["ub"], solver=solver, **_opts(solver)
     )
+    if x is not None and not np.isfinite(x).all():
+        x = None
+    if x is None and fallback and solver != FALLBACK_SOLVER:
+        log.warning("QP solver %r returned no solution; retrying with %r", solver, FALLBACK_SOLVER)
+        x = solve_qp(
+            m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], ub=m["ub"], solver=FALLBACK_SOLVER
+        )
     if x is None:
-        raise RuntimeError(f"QP solver {solver!r} returned no solution")
+        raise RuntimeError(f"QP solver {solver!r} (and the fallback) returned no solution")
     resid = float(np.linalg.norm(m["A6"] @ x + m["w"]))
     if representation == "outer":
         c, k = [], 0
@@ -262,3 +275,14 @@ def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> t
         raise RuntimeError(f"HiGHS failed on the minimal-force LP: {res.message}")
     f = np.array([res.x[s : s + k].sum() for s, k in zip(starts, sizes, strict=True)])
     return float(f.sum()), f
+
+
+def resists(contacts, w_ext, mu: float, **kw) -> bool:
+    """Prediction used by the experiments: the outer QP (Eq. 2.100 with Eq. 3.28/3.30)
+    when every contact has half-spaces, else the exact LP over its vertices (6DFW)."""
+    contacts = check_contacts(contacts)
+    if all(c.A is not None for c in contacts):
+        return wrench_resistance(contacts, w_ext, mu, **kw)[0]
+    from .gws import resists_lp
+
+    return resists_lp(contacts, w_ext, mu)

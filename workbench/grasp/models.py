@@ -1,0 +1,121 @@
+"""Every contact model of a contact profile, by name (thesis §4.1.3.3, §4.1.4.3; 6DFC §V).
+
+``contact_sets(profile, name, ...)`` returns the :class:`~.contacts.ContactSet` list
+one jaw contributes under model ``name``:
+
+==================  =====================================================================
+``point``           hard point contact (Eq. 2.44/2.47) at the pressure centre along the
+                    net normal force, ``f⊥ <= F``
+``soft_point``      soft point contact (Eq. 2.50; the thesis's "Point" baseline of
+                    §4.1.4.3), ``f⊥ <= F``, torsion ``γ = μ Σ p a |r_t| / F``
+``planar``          3DLS-planar: the profile projected onto its PCA plane (§4.1.4.3), a
+                    3D ellipsoid fitted to its (f_t1, f_t2, τ_n) wrenches
+``3dls_nonplanar``  3DLS fitted to the three principal components of the 6DFWs, the
+                    other three set to zero (§4.1.3.3)
+``6dfw``            the sampled 6DFWs themselves (no model): the "dense" reference
+``reach``           REACH-style: each element a soft point contact with its own force,
+                    clustered to ``reach_triangles`` (thesis §2.3.1.3)
+``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eq. 3.27/3.28)
+``6dfc``            6D friction cone, ``f_C <= F`` (Eq. 3.29/3.30)
+==================  =====================================================================
+
+All are built at μ = 1 and unit force semantics of :class:`ContactSet`, so one
+build serves every μ and every grasp force (rescale with ``with_force``).
+Limit surfaces go through a :class:`~workbench.limit_surface.LimitSurfaceCache`
+(same profile ⇒ no resampling, no refit).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..limit_surface import LimitSurfaceCache, fit_ellipsoid, fit_quartic
+from ..limit_surface.cache import ModelSpec, SamplerSpec
+from ..limit_surface.contact_wrench import ContactWrenchModel
+from ..profile import ContactProfile
+from ..wrench import frictional_wrenches
+from .contacts import (
+    ContactSet,
+    limit_surface_contact,
+    point_contact,
+    reach_contacts,
+    soft_point_contact,
+    wrench_hull_contact,
+)
+
+MODELS = ("point", "soft_point", "planar", "3dls_nonplanar", "6dfw", "reach", "6dls", "6dfc")
+
+
+def torsion_length(profile: ContactProfile, normal: np.ndarray) -> float:
+    """``Σ p a |r_t| / F``: mean in-plane distance from the pressure centre [m]."""
+    r = profile.centers - profile.pressure_center
+    r_t = r - np.outer(r @ normal, normal)
+    return float((profile.forces * np.linalg.norm(r_t, axis=1)).sum() / profile.F)
+
+
+def net_normal(profile: ContactProfile) -> np.ndarray:
+    """Unit outward normal of the contact: minus the net normal force direction."""
+    f = profile.normal_wrench[:3]
+    return -f / np.linalg.norm(f)
+
+
+def planar_profile(profile: ContactProfile) -> ContactProfile:
+    """The profile projected onto the plane through its pressure centre normal to the
+    least-variance PCA axis of its element centres (oriented like the net normal);
+    element forces are kept (so F is), areas shrink by ``|n·n_p|``."""
+    c = profile.centers - profile.pressure_center
+    _, _, Vt = np.linalg.svd(c * np.sqrt(profile.areas)[:, None], full_matrices=False)
+    n_p = Vt[-1] * np.sign(Vt[-1] @ net_normal(profile))
+    proj = profile.centers - np.outer(c @ n_p, n_p)
+    cos = np.clip(np.abs(profile.normals @ n_p), 1e-3, None)
+    areas = profile.areas * cos
+    return ContactProfile(proj, np.tile(n_p, (len(proj), 1)), areas, profile.forces / areas)
+
+
+def contact_sets(
+    profile: ContactProfile,
+    name: str,
+    *,
+    cache: LimitSurfaceCache | None = None,
+    M: int = 200,
+    n_edges: int = 8,
+    n_wrenches: int = 600,
+    reach_triangles: int = 16,
+    quartic: bool = False,
+    seed: int = 0,
+) -> list[ContactSet]:
+    """The contact sets of one jaw under model ``name`` (see the module table)."""
+    if name not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}; got {name!r}")
+    cache = cache if cache is not None else LimitSurfaceCache()
+    spec = ModelSpec(model="quartic") if quartic else ModelSpec(method="sdp")
+    F, o = profile.F, profile.pressure_center
+    if name in ("point", "soft_point"):
+        n = net_normal(profile)
+        if name == "point":
+            return [point_contact(o, n, F, n_edges=n_edges, name=name)]
+        return [soft_point_contact(o, n, F, torsion_length(profile, n), n_edges=n_edges, name=name)]
+    if name == "reach":
+        return reach_contacts(profile, max_triangles=reach_triangles, n_edges=n_edges)
+    if name in ("6dls", "6dfc"):
+        model = cache.contact_model(profile, 1.0, spec=spec)
+        return [limit_surface_contact(model, o, F, M=M, cone=name == "6dfc", name=name, seed=seed)]
+    if name == "planar":
+        flat = planar_profile(profile)
+        model = cache.contact_model(flat, 1.0, spec=spec)
+        return [limit_surface_contact(model, flat.pressure_center, F, M=M, name=name, seed=seed)]
+    sampler = SamplerSpec(n=n_wrenches // 2, seed=seed)  # n rotations + n translations
+    W = frictional_wrenches(profile.normalized(), sampler.twists(profile.normalized()), 1.0)
+    if name == "6dfw":
+        return [wrench_hull_contact(profile, W * F)]
+    # 3dls_nonplanar: keep the three principal components of the normalised wrenches
+    scale = np.abs(W).max(axis=0)
+    scale[scale == 0] = 1.0
+    _, _, Vt = np.linalg.svd(W / scale, full_matrices=False)
+    B = Vt[:3].T
+    W3 = ((W / scale) @ B @ B.T) * scale
+    ls = fit_quartic(W3) if quartic else fit_ellipsoid(W3, "sdp")
+    model = ContactWrenchModel(ls, profile.normal_wrench / F)
+    return [replace(limit_surface_contact(model, o, F, M=M, seed=seed), name=name)]
