@@ -20,8 +20,10 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run fem-validation
 	$(BIN)/workbench run fem-fitting
 	$(BIN)/workbench run wall-stiffness
+	$(BIN)/workbench run sensitivity
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
+	$(BIN)/python benchmarks/bench_grasp.py
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
@@ -38,6 +40,7 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
+	$(BIN)/python benchmarks/bench_grasp.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -276,3 +276,63 @@ def test_every_model_on_the_elliptic_cylinder_grasp():
             assert resists(sets, twist, mu), name
     with pytest.raises(ValueError, match="model must be one of"):
         contact_sets(profiles[0], "ellipsoid")
+
+
+def _disc(R=0.01, x=0.03, n_r=12, n_t=36, p=1e4, outward=1.0):
+    """Flat disc contact in the plane x = ±x0 (normal ±x outward), uniform pressure."""
+    from workbench.profile import ContactProfile
+
+    r_edges = np.linspace(0, R, n_r + 1)
+    rc = 0.5 * (r_edges[1:] + r_edges[:-1])
+    th = (np.arange(n_t) + 0.5) * 2 * np.pi / n_t
+    Rr, Th = np.meshgrid(rc, th, indexing="ij")
+    area = (np.pi * (r_edges[1:] ** 2 - r_edges[:-1] ** 2) / n_t)[:, None] * np.ones(n_t)
+    centers = np.column_stack(
+        [np.full(Rr.size, outward * x), (Rr * np.cos(Th)).ravel(), (Rr * np.sin(Th)).ravel()]
+    )
+    normals = np.tile([outward, 0.0, 0.0], (Rr.size, 1))
+    return ContactProfile(centers, normals, area.ravel(), np.full(Rr.size, p))
+
+
+def test_exact_resistance_of_two_flat_discs():
+    """Column generation with the exact support: the friction force limit 2μF and the
+    torsion limit 2μ Σ p a |r| of the discretised discs, to 1e-6 — no polygon, no sampling."""
+    from workbench.grasp.exact import ExactContacts, resists_exact
+
+    discs = [_disc(), _disc(outward=-1.0)]
+    ex = ExactContacts(discs, n_start=60)
+    Fd = discs[0].F
+    torsion = MU * float((discs[0].forces * np.linalg.norm(discs[0].centers[:, 1:], axis=1)).sum())
+    for factor, expect in ((1 - 1e-6, True), (1 + 1e-6, False)):
+        assert resists_exact(ex, np.array([0, 0, -factor * 2 * MU * Fd, 0, 0, 0]), MU)[0] == expect
+        assert resists_exact(ex, np.array([0, 0, 0, factor * 2 * torsion, 0, 0]), MU)[0] == expect
+    # the sampled 6DFW hull is an inner approximation of the same set
+    from workbench.grasp.models import contact_sets
+
+    rng = np.random.default_rng(2)
+    W = rng.normal(size=(40, 6)) * np.r_[np.full(3, 0.8 * MU * Fd), np.full(3, 1.2 * torsion)]
+    W[:, 0] = 0.0  # nothing along the grasp axis
+    hull = [c for d in discs for c in contact_sets(d, "6dfw", n_wrenches=300)]
+    dense = np.array([resists_lp(hull, w, MU) for w in W])
+    exact = np.array([resists_exact(ex, w, MU)[0] for w in W])
+    assert (exact | ~dense).all() and 0 < exact.mean() < 1
+
+
+def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp():
+    from workbench.grasp.models import contact_sets
+    from workbench.grasp.scenes import elliptic_cylinder_grasp
+
+    profiles = elliptic_cylinder_grasp(force=25.0, n_elements=200)
+    sets = [c for p in profiles for c in contact_sets(p, "6dls", M=100, n_wrenches=400)]
+    rng = np.random.default_rng(4)
+    W = np.zeros((40, 6))
+    W[:, 1] = -rng.uniform(2, 14, 40)
+    W[:, 3] = rng.uniform(-0.025, 0.025, 40) * -W[:, 1]
+    W[:, 5] = rng.uniform(-0.04, 0.04, 40) * W[:, 1]
+    # first the fixed outer polytope (the cutting planes below are stored on the contacts)
+    loose = np.array([wrench_resistance(sets, w, 0.3, refine=False)[0] for w in W])
+    socp = np.array([wrench_resistance(sets, w, 0.3)[0] for w in W])
+    cuts = np.array([wrench_resistance(sets, w, 0.3, exact=False)[0] for w in W])
+    assert np.array_equal(socp, cuts)  # two exact routes to the model's own answer
+    assert (loose | ~socp).all() and loose.sum() > socp.sum()  # the fixed outer polytope over-predicts
+    assert 0 < socp.mean() < 1

@@ -20,6 +20,7 @@ EXPERIMENTS = {
     "fem-validation": "experiments.fem_validation",
     "fem-fitting": "experiments.fem_fitting",
     "wall-stiffness": "experiments.wall_stiffness",
+    "sensitivity": "experiments.sensitivity",
 }
 
 

@@ -90,16 +90,6 @@ class ContactSet:
         """(6, 6) contact map of this contact's frame, Eq. (2.79)."""
         return contact_map(self.R, self.t)
 
-    @cached_property
-    def halfspace_parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``(A_in, b_in, A_in ŵ⊥, A_eq, A_eq ŵ⊥)``: the half-spaces split into proper
-        inequalities and the ``a s = 0`` rows given as ``± a`` pairs (cached: fixed per contact)."""
-        from .qp import _split_pairs
-
-        ineq, eq = _split_pairs(self.A, self.b)
-        A_in, A_eq = self.A[ineq], self.A[eq]
-        return A_in, self.b[ineq], A_in @ self.normal, A_eq, A_eq @ self.normal
-
     def local_vertices(self, mu: float) -> np.ndarray:
         """(M, 6) contact wrench vertices in C at friction coefficient ``mu``."""
         return self.force * (mu * self.friction + self.normal)
@@ -218,6 +208,7 @@ def limit_surface_contact(
         cone,
         outer.A,
         outer.b,
+        meta={"model": ls},  # the exact model, for the cutting-plane refinement of the QP
     )
 
 

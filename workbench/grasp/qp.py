@@ -110,7 +110,7 @@ def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
         # s_j = 0 rows (± pairs in A s <= b; flat or point-like sets): equalities
         # A_eq (c − F ŵ⊥) = 0, or A_eq c − f A_eq ŵ⊥ = 0 for a cone — as equalities, since
         # active-set solvers (quadprog) reject the degenerate ± pair
-        A_in, b_in, An_in, A_eq, An_eq = c.halfspace_parts
+        A_in, b_in, An_in, A_eq, An_eq = halfspace_parts(c)
         bb = mu * b_in + An_in
         row = np.zeros((len(A_in), nvar))
         row[:, k : k + 6] = A_in
@@ -181,6 +181,9 @@ def wrench_resistance(
     tol: float = RESIST_TOL,
     representation: str = "outer",
     fallback: bool = True,
+    refine: bool = True,
+    exact: bool = True,
+    max_cuts: int = 40,
 ) -> tuple[bool, float, np.ndarray]:
     """Eq. (2.100): (resisted, relative residual ``‖D (G c + w)‖``, object-frame contact
     wrenches (N, 6)).
@@ -188,18 +191,101 @@ def wrench_resistance(
     representation : "outer" — half-spaces (Eq. 3.28/3.30, the thesis's QP; 6–7
         variables per contact); "inner" — convex combinations of the vertices
         (conservative, like the GWS).
+    refine : for contacts carrying their limit-surface model (6DLS, 6DFC, 3DLS), cut
+        the outer polytope down to the model where the solution lands outside it: add
+        the tangent plane at the ray point ``s f(s)^(-1/d)`` (Eq. 3.22–3.24) and re-solve
+        (Kelley's cutting planes), until every contact wrench satisfies ``f <= 1 + CUT_TOL``.
+        In 6D a fixed outer linearisation is loose (support ratio 2.3 at M = 200,
+        results/benchmarks/limit_surface.json); the cuts make the answer the model's own.
+    exact : with ``refine``, ellipsoidal models go straight to :func:`socp_resistance`
+        (their second-order cones, ~1 ms); other models (quartic) use the cuts.
     fallback : retry with ``FALLBACK_SOLVER`` (logged) if the solver returns nothing.
     """
+    contacts = check_contacts(contacts)
+    if representation == "inner":
+        return _solve(contacts, w_ext, mu, solver, tol, "inner", fallback)
+    if (
+        refine
+        and exact
+        and representation == "outer"
+        and mu > 0
+        and any(_ellipsoid_factor(c) is not None for c in contacts)
+        and all(_ellipsoid_factor(c) is not None or "model" not in c.meta for c in contacts)
+    ):
+        return socp_resistance(contacts, w_ext, mu, tol=tol)
+    if representation != "outer":
+        raise ValueError(f"representation must be 'outer' or 'inner'; got {representation!r}")
+    work = list(contacts)
+    for _ in range(max_cuts + 1):
+        ok, resid, c, x = _solve(work, w_ext, mu, solver, tol, "outer", fallback, return_x=True)
+        if not refine:
+            break
+        cut = False
+        k = 0
+        for ci in work:
+            model = ci.meta.get("model")
+            n_i = 6 + ci.cone
+            if model is not None and mu > 0:
+                f = x[k + 6] if ci.cone else ci.force
+                if f > 1e-12 * max(ci.force, 1e-300):
+                    s = (x[k : k + 6] / f - ci.normal) / mu  # friction wrench, unit force, μ = 1
+                    val = float(model.value(s))
+                    if val > 1.0 + CUT_TOL:
+                        s_star = s * val ** (-1.0 / model.degree)
+                        g = model.gradient(s_star)
+                        g = g / np.linalg.norm(g)
+                        add_cut(ci, g, float(g @ s_star))
+                        cut = True
+            k += n_i
+        if not cut:
+            break
+    return ok, resid, c
+
+
+#: a contact wrench may exceed its limit-surface model by this (relative f) before a cut
+CUT_TOL = 1e-4
+#: cuts kept per contact model (beyond it new cuts still apply to the current solve only)
+MAX_STORED_CUTS = 2000
+
+
+def halfspace_parts(c) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(A_in, b_in, A_in ŵ⊥, A_eq, A_eq ŵ⊥)`` of a contact: its half-spaces split into
+    inequalities and ``a s = 0`` rows (given as ± pairs), plus the tangent-plane cuts
+    found by earlier refinements.  Cuts live in ``c.meta``, which every ``with_force`` /
+    ``moved`` copy shares, so a cached contact model is refined once for all grasps
+    (cuts are in the contact frame at μ = 1 and unit force: valid for any pose, μ, F)."""
+    base = c.meta.get("_split")
+    if base is None or base[0] is not c.A:
+        ineq, eq = _split_pairs(c.A, c.b)
+        A_in, A_eq = c.A[ineq], c.A[eq]
+        base = (c.A, A_in, c.b[ineq], A_in @ c.normal, A_eq, A_eq @ c.normal)
+        c.meta["_split"] = base
+    _, A_in, b_in, An_in, A_eq, An_eq = base
+    cuts = c.meta.get("_cuts")
+    if cuts:
+        A_c = np.array(cuts[0])
+        A_in = np.vstack([A_in, A_c])
+        b_in = np.concatenate([b_in, cuts[1]])
+        An_in = np.concatenate([An_in, A_c @ c.normal])
+    return A_in, b_in, An_in, A_eq, An_eq
+
+
+def add_cut(c, a: np.ndarray, b: float) -> None:
+    """Store the tangent plane ``a s <= b`` of contact ``c``'s model (shared by its copies)."""
+    cuts = c.meta.setdefault("_cuts", ([], []))
+    if len(cuts[0]) < MAX_STORED_CUTS:
+        cuts[0].append(np.asarray(a, float))
+        cuts[1].append(float(b))
+
+
+def _solve(contacts, w_ext, mu, solver, tol, representation, fallback, return_x=False):
     from qpsolvers import solve_qp
 
-    contacts = check_contacts(contacts)
     if representation == "outer":
         m = qp_matrices_outer(contacts, w_ext, mu)
-    elif representation == "inner":
+    else:
         m = qp_matrices(contacts, w_ext, mu)
         m["ub"] = None
-    else:
-        raise ValueError(f"representation must be 'outer' or 'inner'; got {representation!r}")
     x = solve_qp(
         m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], ub=m["ub"], solver=solver, **_opts(solver)
     )
@@ -214,12 +300,13 @@ def wrench_resistance(
         raise RuntimeError(f"QP solver {solver!r} (and the fallback) returned no solution")
     resid = float(np.linalg.norm(m["A6"] @ x + m["w"]))
     if representation == "outer":
-        c, k = [], 0
         x = x * m["S"]
+        c, k = [], 0
         for ci in contacts:
             c.append(ci.G @ x[k : k + 6])
             k += 6 + ci.cone
-        return resid <= tol, resid, np.array(c)
+        out = (resid <= tol, resid, np.array(c))
+        return (*out, x) if return_x else out
     _, sizes, starts, Vs = _blocks(contacts, mu)
     c = np.array([x[s : s + k] @ v for s, k, v in zip(starts, sizes, Vs, strict=True)])
     return resid <= tol, resid, c
@@ -286,3 +373,110 @@ def resists(contacts, w_ext, mu: float, **kw) -> bool:
     from .gws import resists_lp
 
     return resists_lp(contacts, w_ext, mu)
+
+
+def _ellipsoid_factor(c) -> np.ndarray | None:
+    """(r, 6) ``Q`` with ``f(s) = ‖Q s‖²`` if the contact's model is an ellipsoid (cached)."""
+    from ..limit_surface.ellipsoid import EllipsoidLS
+
+    model = c.meta.get("model")
+    if not isinstance(model, EllipsoidLS):
+        return None
+    Q = c.meta.get("_Q")
+    if Q is None:
+        lam, U = np.linalg.eigh(model.A_raw)
+        keep = lam > 1e-12 * lam.max()
+        Q = (np.sqrt(lam[keep])[:, None] * U[:, keep].T).copy()
+        c.meta["_Q"] = Q
+    return Q
+
+
+def socp_resistance(contacts, w_ext, mu: float, *, tol: float = RESIST_TOL) -> tuple[bool, float, np.ndarray]:
+    """Eq. (2.100) with the ellipsoidal limit surfaces themselves as constraints (no
+    linearisation): ``‖Q_i (c_i − F_i ŵ⊥_i)‖ <= μ F_i`` (second-order cones; ``F_i`` the
+    variable ``f_i <= f_max`` for a 6DFC), the flat directions of a low-rank model as
+    equalities, other contacts by their half-spaces — one small conic QP, Clarabel.
+    Same return as :func:`wrench_resistance`."""
+    import clarabel
+    import scipy.sparse as sp
+
+    m = qp_matrices_outer(contacts, w_ext, mu)  # objective, scaling S, and the polyhedral rows
+    S = m["S"]
+    nvar = len(S)
+    eq_rows, eq_rhs, nn_rows, nn_rhs, soc = [], [], [], [], []
+    k = 0
+    for c in contacts:
+        n_i = 6 + c.cone
+        A_in, b_in, An_in, A_eq, An_eq = halfspace_parts(c)
+        Q = _ellipsoid_factor(c) if mu > 0 else None
+
+        def block(mat, f_col=None, k=k):
+            row = np.zeros((len(mat), nvar))
+            row[:, k : k + 6] = mat
+            if f_col is not None:
+                row[:, k + 6] = f_col
+            return row * S
+
+        if c.cone:
+            eq_rows.append(block(A_eq, -An_eq))
+            eq_rhs.append(np.zeros(len(A_eq)))
+            bounds = np.zeros((2, nvar))
+            bounds[0, k + 6], bounds[1, k + 6] = -1.0, 1.0
+            nn_rows.append(bounds * S)
+            nn_rhs.append([0.0, c.force])
+        else:
+            eq_rows.append(block(A_eq))
+            eq_rhs.append(c.force * An_eq)
+        if Q is None:  # polyhedral contact: its inequalities
+            bb = mu * b_in + An_in
+            if c.cone:
+                nn_rows.append(block(A_in, -bb))
+                nn_rhs.append(np.zeros(len(A_in)))
+            else:
+                nn_rows.append(block(A_in))
+                nn_rhs.append(c.force * bb)
+        else:  # s = b − A x ∈ SOC: [μ F; Q (c − F ŵ⊥)]
+            Qn = Q @ c.normal
+            head = np.zeros((1, nvar))
+            if c.cone:
+                head[0, k + 6] = -mu
+                rows = np.vstack([head * S, -block(Q, -Qn)])
+                rhs = np.zeros(1 + len(Q))
+            else:
+                rows = np.vstack([head, -block(Q)])
+                rhs = np.concatenate([[mu * c.force], -c.force * Qn])
+            soc.append((rows, rhs))
+        k += n_i
+    A_parts = [np.vstack(eq_rows), np.vstack(nn_rows) if nn_rows else np.zeros((0, nvar))]
+    b_parts = [np.concatenate(eq_rhs), np.concatenate(nn_rhs) if nn_rhs else np.zeros(0)]
+    cones = [clarabel.ZeroConeT(len(A_parts[0])), clarabel.NonnegativeConeT(len(A_parts[1]))]
+    for rows, rhs in soc:
+        A_parts.append(rows)
+        b_parts.append(rhs)
+        cones.append(clarabel.SecondOrderConeT(len(rows)))
+    keep = [i for i, a in enumerate(A_parts) if len(a)]
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
+    settings.tol_feas = 1e-10
+    solver = clarabel.DefaultSolver(
+        sp.triu(sp.csc_matrix(m["P"])).tocsc(),
+        m["q"],
+        sp.csc_matrix(np.vstack([A_parts[i] for i in keep])),
+        np.concatenate([b_parts[i] for i in keep]),
+        [cones[i] for i in keep],
+        settings,
+    )
+    sol = solver.solve()
+    if str(sol.status) not in ("Solved", "AlmostSolved"):
+        # rare (low-rank planar models): the cutting-plane QP answers the same question
+        log.debug("Clarabel %s on the SOCP; using the cutting-plane QP", sol.status)
+        return wrench_resistance(contacts, w_ext, mu, tol=tol, exact=False)
+    y = np.array(sol.x)
+    resid = float(np.linalg.norm(m["A6"] @ y + m["w"]))
+    x = y * S
+    c_out, k = [], 0
+    for c in contacts:
+        c_out.append(c.G @ x[k : k + 6])
+        k += 6 + c.cone
+    return resid <= tol, resid, np.array(c_out)
