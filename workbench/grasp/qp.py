@@ -367,12 +367,32 @@ def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> t
 def resists(contacts, w_ext, mu: float, **kw) -> bool:
     """Prediction used by the experiments: the outer QP (Eq. 2.100 with Eq. 3.28/3.30)
     when every contact has half-spaces, else the exact LP over its vertices (6DFW)."""
-    contacts = check_contacts(contacts)
-    if all(c.A is not None for c in contacts):
-        return wrench_resistance(contacts, w_ext, mu, **kw)[0]
     from .gws import resists_lp
 
+    contacts = check_contacts(contacts)
+    if all(c.A is not None for c in contacts):
+        try:
+            return wrench_resistance(contacts, w_ext, mu, **kw)[0]
+        except RuntimeError as exc:  # every QP route failed: the conservative inner LP decides
+            log.warning("%s; deciding by the inner-vertex LP (conservative)", exc)
     return resists_lp(contacts, w_ext, mu)
+
+
+def _in_cones(slack: np.ndarray, cones: list, sizes: list[int], atol: float = 1e-7) -> bool:
+    """Whether a Clarabel slack vector lies in its cones (zero, nonnegative, SOC) to ``atol``."""
+    import clarabel
+
+    k = 0
+    for cone, n in zip(cones, sizes, strict=True):
+        part = slack[k : k + n]
+        k += n
+        if isinstance(cone, clarabel.ZeroConeT) and np.abs(part).max(initial=0.0) > atol:
+            return False
+        if isinstance(cone, clarabel.NonnegativeConeT) and part.min(initial=0.0) < -atol:
+            return False
+        if isinstance(cone, clarabel.SecondOrderConeT) and np.linalg.norm(part[1:]) > part[0] + atol:
+            return False
+    return True
 
 
 def _ellipsoid_factor(c) -> np.ndarray | None:
@@ -468,11 +488,16 @@ def socp_resistance(contacts, w_ext, mu: float, *, tol: float = RESIST_TOL) -> t
         settings,
     )
     sol = solver.solve()
-    if str(sol.status) not in ("Solved", "AlmostSolved"):
-        # rare (low-rank planar models): the cutting-plane QP answers the same question
-        log.debug("Clarabel %s on the SOCP; using the cutting-plane QP", sol.status)
-        return wrench_resistance(contacts, w_ext, mu, tol=tol, exact=False)
     y = np.array(sol.x)
+    status = str(sol.status)
+    if status not in ("Solved", "AlmostSolved"):
+        # Clarabel stalls now and then on low-rank (planar) models; its last iterate is
+        # still usable when it satisfies the constraints (s = b − A x in the cones)
+        A_all = np.vstack([A_parts[i] for i in keep])
+        slack = np.concatenate([b_parts[i] for i in keep]) - A_all @ y if np.isfinite(y).all() else None
+        if slack is None or not _in_cones(slack, [cones[i] for i in keep], [len(A_parts[i]) for i in keep]):
+            log.debug("Clarabel %s on the SOCP; using the cutting-plane QP", status)
+            return wrench_resistance(contacts, w_ext, mu, tol=tol, exact=False)
     resid = float(np.linalg.norm(m["A6"] @ y + m["w"]))
     x = y * S
     c_out, k = [], 0

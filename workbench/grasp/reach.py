@@ -1,0 +1,101 @@
+"""REACH-style contact profiles from triangle meshes (thesis §2.3.1.3, §4.1.4.1;
+Danielczuk et al.): the compliant pad, extruded from the jaw face along the
+approach direction, is intersected with the rigid object; each object triangle
+the pad overlaps carries a pressure proportional to the local pad compression
+(a Winkler foundation, ``p = k d`` with ``k = M / h``, M the pad's confined modulus).
+
+Geometry by projection, no booleans: the object is refined near the jaw to
+``max_edge``, triangles facing the jaw inside the pad footprint are binned on a
+grid over the footprint and only the front-most surface of each bin counts
+(what the pad can reach first); the jaw closes by ``closing`` from first touch.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..profile import ContactProfile
+
+
+def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unit (approach a, width axis e1, length axis e2) with e2 the part of ``up`` ⟂ a."""
+    a = np.asarray(approach, float)
+    a = a / np.linalg.norm(a)
+    e2 = np.asarray(up, float) - (np.asarray(up, float) @ a) * a
+    if np.linalg.norm(e2) < 1e-9:
+        raise ValueError("up must not be parallel to the approach direction")
+    e2 /= np.linalg.norm(e2)
+    return a, np.cross(e2, a), e2
+
+
+def reach_profile(
+    mesh,
+    center,
+    approach,
+    up=(0.0, 0.0, 1.0),
+    *,
+    pad: tuple[float, float] = (0.02, 0.04),
+    closing: float = 1e-3,
+    stiffness: float = 1.0e6 / 0.005,
+    max_edge: float = 1e-3,
+    depth_window: float = 0.01,
+) -> ContactProfile:
+    """Contact profile of a jaw approaching ``center`` (on or near the object) along
+    ``approach`` (into the object), pad ``(width, length)`` [m], closing ``closing`` [m]
+    past first touch, pressure ``stiffness · compression`` [Pa/m].
+
+    Raises ``ValueError`` for a non-watertight mesh or when the pad touches nothing.
+    """
+    import trimesh
+
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise ValueError(f"mesh must be a trimesh.Trimesh; got {type(mesh).__name__}")
+    if not mesh.is_watertight:
+        raise ValueError("the object mesh is not watertight (inside/outside undefined); repair it first")
+    if not (closing > 0 and stiffness > 0 and max_edge > 0):
+        raise ValueError("closing, stiffness and max_edge must be > 0")
+    a, e1, e2 = jaw_frame(approach, up)
+    c = np.asarray(center, float)
+    rel = mesh.vertices - c
+    u, v, z = rel @ e1, rel @ e2, rel @ a
+    # faces with a vertex near the footprint and in front of the centre (the jaw side)
+    near = (np.abs(u) <= pad[0] / 2 + 2 * max_edge) & (np.abs(v) <= pad[1] / 2 + 2 * max_edge)
+    near &= np.abs(z) <= depth_window
+    faces = mesh.faces[near[mesh.faces].any(axis=1)]
+    if len(faces) == 0:
+        raise ValueError("the pad footprint covers no part of the object: check center/approach")
+    sub_v, sub_f = trimesh.remesh.subdivide_to_size(mesh.vertices, faces, max_edge=max_edge)
+    tri = sub_v[sub_f]
+    cen = tri.mean(axis=1)
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    normal = cross / np.maximum(2 * area, 1e-300)[:, None]
+    rel = cen - c
+    u, v, z = rel @ e1, rel @ e2, rel @ a
+    keep = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2) & (normal @ a < 0) & (area > 0)
+    if not keep.any():
+        raise ValueError("no object surface faces the jaw inside the pad footprint")
+    idx = np.flatnonzero(keep)
+    # front-most surface per footprint bin (the pad cannot reach behind the first surface)
+    iu = np.floor((u[idx] + pad[0] / 2) / max_edge).astype(int)
+    iv = np.floor((v[idx] + pad[1] / 2) / max_edge).astype(int)
+    bins = iu * (int(pad[1] / max_edge) + 2) + iv
+    order = np.lexsort((z[idx], bins))
+    first = np.r_[True, bins[order][1:] != bins[order][:-1]]
+    front_z = np.repeat(z[idx][order][first], np.diff(np.r_[np.flatnonzero(first), len(order)]))
+    visible = np.zeros(len(cen), dtype=bool)
+    visible[idx[order]] = z[idx][order] <= front_z + 2 * max_edge
+    z0 = z[visible].min()  # first touch
+    depth = np.where(visible, z0 + closing - z, 0.0)
+    sel = depth > 0
+    return ContactProfile(cen[sel], normal[sel], area[sel], stiffness * depth[sel])
+
+
+def with_axis_force(profile: ContactProfile, axis, force: float) -> ContactProfile:
+    """The profile's pressures scaled so its normal force along ``axis`` has magnitude
+    ``force`` — a force-sensor reading along the grasp axis (thesis §4.1.3.2)."""
+    a = np.asarray(axis, float)
+    fa = abs(float(profile.normal_wrench[:3] @ (a / np.linalg.norm(a))))
+    if not fa > 0:
+        raise ValueError("the profile has no normal force along the axis")
+    return profile.with_pressures(profile.pressures * force / fa)

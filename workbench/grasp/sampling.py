@@ -1,0 +1,87 @@
+"""Antipodal grasp sampling on triangle meshes (Dex-Net style; thesis §4.1.4.2, §4.3.3.3).
+
+Sample a surface point ``p1`` with outward normal ``n1``; draw a grasp axis
+inside the friction cone around ``−n1`` (half-angle ``atan μ``); cast a ray from
+``p1`` along the axis and take the last point where it leaves the object,
+``p2`` — the outer surface on the far side, so a thin-walled (hollow) object is
+grasped across, not through its 0.4 mm wall; keep the grasp if ``n2`` is also
+within the friction cone of the axis (antipodal), the jaw opening ``|p2 − p1|``
+fits, and both contacts clear the table by ``clearance``.  Seeded; returns as
+many grasps as found (up to ``n``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _cone_directions(rng: np.random.Generator, axes: np.ndarray, half_angle: float) -> np.ndarray:
+    """Unit vectors uniformly within a cone of ``half_angle`` around each axis (n, 3)."""
+    n = len(axes)
+    cos_t = rng.uniform(np.cos(half_angle), 1.0, n)
+    phi = rng.uniform(0, 2 * np.pi, n)
+    helper = np.where(np.abs(axes[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    x = np.cross(axes, helper)
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    y = np.cross(axes, x)
+    sin_t = np.sqrt(1 - cos_t**2)
+    return cos_t[:, None] * axes + sin_t[:, None] * (np.cos(phi)[:, None] * x + np.sin(phi)[:, None] * y)
+
+
+def antipodal_grasps(
+    mesh,
+    n: int,
+    mu: float,
+    *,
+    max_width: float = 0.1,
+    min_width: float = 0.005,
+    table_z: float | None = None,
+    clearance: float = 0.01,
+    seed: int = 0,
+    max_samples: int | None = None,
+) -> list[dict]:
+    """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m]."""
+    import trimesh
+
+    if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
+        raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
+    if not (np.isfinite(mu) and mu >= 0):
+        raise ValueError(f"mu must be >= 0; got {mu}")
+    rng = np.random.default_rng(seed)
+    half = np.arctan(mu)
+    m = max_samples or 20 * n
+    pts, fid = trimesh.sample.sample_surface(mesh, m, seed=int(rng.integers(2**31)))
+    n1 = mesh.face_normals[fid]
+    axes = _cone_directions(rng, -n1, half)
+    eps = 1e-6 * mesh.scale
+    locs, ray_idx, tri_idx = mesh.ray.intersects_location(pts + eps * axes, axes, multiple_hits=True)
+    out = []
+    for k in range(m):
+        hits = np.flatnonzero(ray_idx == k)
+        if hits.size == 0:
+            continue
+        dist = (locs[hits] - pts[k]) @ axes[k]
+        exits = hits[(mesh.face_normals[tri_idx[hits]] @ axes[k] > 0) & (dist > eps)]
+        if exits.size == 0:
+            continue
+        j = exits[np.argmax((locs[exits] - pts[k]) @ axes[k])]
+        p2, n2 = locs[j], mesh.face_normals[tri_idx[j]]
+        width = float(np.linalg.norm(p2 - pts[k]))
+        if not min_width <= width <= max_width or np.arccos(np.clip(n2 @ axes[k], -1, 1)) > half:
+            continue
+        if table_z is not None and min(pts[k][2], p2[2]) < table_z + clearance:
+            continue
+        out.append(
+            {
+                "p1": pts[k],
+                "p2": p2,
+                "n1": n1[k],
+                "n2": n2,
+                "axis": axes[k],
+                "center": 0.5 * (pts[k] + p2),
+                "width": width,
+            }
+        )
+        if len(out) == n:
+            break
+    return out
