@@ -181,3 +181,25 @@ def test_wall_stiffness_quick(tmp_path):
     rows = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]
     assert len(rows) == s["n_grasps"] == 4
     assert (tmp_path / "stiffness_maps.png").stat().st_size > 10_000
+
+
+def test_sensitivity_quick(tmp_path):
+    assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert "no physical grasp data" in s["ground_truth"]
+    assert 0.2 < s["truth_positive_fraction"] < 0.8  # both outcomes exercised
+    ser = s["series"]
+    lines = map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())
+    rows = {(r["series"], r["x"], r["model"]): r for r in lines if "x" in r}
+    for m in ("soft_point", "planar", "6dls", "6dfc"):
+        # predictions shift with μ: more positives with a larger assumed μ
+        assert rows[("mu_offset", 0.2, m)]["positives"] > rows[("mu_offset", -0.2, m)]["positives"], m
+        # recall does not fall with k (a flatter pressure gives more torsional friction)
+        assert ser["k"][m]["recall"][-1] >= ser["k"][m]["recall"][0], m
+    # at the true parameters the 6D models recall at least what point and planar models do
+    at = {m: ser["k"][m] for m in ser["k"] if m != "x"}
+    for m in ("6dls", "6dfc"):
+        assert at[m]["recall"][0] >= max(at["point"]["recall"][0], at["planar"]["recall"][0])
+        assert at[m]["precision"][0] >= 0.8
+    assert set(s["ms_per_grasp"]) >= {"point", "soft_point", "planar", "6dls", "6dfc"}
+    assert (tmp_path / "fig_4_4_sensitivity.png").stat().st_size > 10_000

@@ -334,6 +334,13 @@ def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp(
     socp = np.array([wrench_resistance(sets, w, 0.3)[0] for w in W])
     cuts = np.array([wrench_resistance(sets, w, 0.3, exact=False)[0] for w in W])
     assert np.array_equal(socp, cuts)  # two exact routes to the model's own answer
+    # low-rank (flat) ellipsoids: the cone acts in the model's subspace, equalities pin the rest
+    for name in ("planar", "3dls_nonplanar"):
+        flat = [c for p in profiles for c in contact_sets(p, name, M=100, n_wrenches=400)]
+        a = np.array([wrench_resistance(flat, w, 0.3)[0] for w in W[:15]])
+        b = np.array([wrench_resistance(flat, w, 0.3, exact=False)[0] for w in W[:15]])
+        assert np.array_equal(a, b), name
+        assert not wrench_resistance(flat, np.array([0, -10 * 25.0, 0, 0, 0, 0]), 0.3)[0]
     assert (loose | ~socp).all() and loose.sum() > socp.sum()  # the fixed outer polytope over-predicts
     assert 0 < socp.mean() < 1
 

@@ -404,9 +404,12 @@ def _ellipsoid_factor(c) -> np.ndarray | None:
         return None
     Q = c.meta.get("_Q")
     if Q is None:
-        lam, U = np.linalg.eigh(model.A_raw)
-        keep = lam > 1e-12 * lam.max()
-        Q = (np.sqrt(lam[keep])[:, None] * U[:, keep].T).copy()
+        # the model restricted to its PCA subspace B (the complement is pinned by the
+        # equality rows; A_e carries a large penalty there, which must not enter Q):
+        # f(w) = yᵀ (Bᵀ A_e B) y with y = Bᵀ (w / scale)
+        B = model.subspace.basis
+        lam, U = np.linalg.eigh(B.T @ model.A_e @ B)
+        Q = (np.sqrt(np.clip(lam, 0.0, None))[:, None] * U.T) @ B.T / model.scale[None, :]
         c.meta["_Q"] = Q
     return Q
 
