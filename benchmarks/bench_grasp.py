@@ -1,13 +1,17 @@
 """Grasp-analysis runtimes and cross-checks (issue 5).
 
-* ``ms_per_grasp``: wrench resistance (outer QP, default solver) per grasp from
-  cached contact sets, each model, on the elliptic-cylinder parallel-jaw grasp
-  (median over random disturbances and grasp forces after a warm-up); the
-  one-off build of each model's contact sets is reported separately.
+* ``ms_per_grasp``: wrench resistance per grasp from cached contact sets, each
+  model, on the elliptic-cylinder parallel-jaw grasp (median over random
+  disturbances and grasp forces after a warm-up): the exact path of
+  :func:`wrench_resistance` — the ellipsoid itself as a second-order cone for
+  6DLS/6DFC/planar, half-spaces for point, soft point and REACH; ``6dls_linearized``
+  is the fixed outer polytope (M = 200) for comparison.  The one-off build of
+  each model's contact sets is reported separately.
 * ``lp_vs_hull``: membership of ``−w_ext`` in the 6DLS ``W_L∞`` by the LP over
   vertex weights and by the Qhull facets, on 1,000 random disturbances.
-* ``qp_solvers``: every installed qpsolvers backend on the same QPs: median
-  time and agreement with an exact LP feasibility check of the same half-spaces.
+* ``qp_solvers``: every installed qpsolvers backend on the same linearised QPs
+  (6DLS outer half-spaces): median time and agreement with an exact LP
+  feasibility check of the same half-spaces.
 
 Writes results/benchmarks/grasp.json.  Run: python benchmarks/bench_grasp.py [--quick]
 """
@@ -81,16 +85,18 @@ def main() -> None:
     ms, build_ms, resisted = {}, {}, {}
     W = disturbances(rng, n_grasps)
     forces = rng.uniform(20.0, 35.0, n_grasps)
-    for name in ("point", "soft_point", "planar", "reach", "6dls", "6dfc"):
+    for name in ("point", "soft_point", "planar", "reach", "6dls", "6dfc", "6dls_linearized"):
         t0 = time.perf_counter()
-        sets = [c for p in profiles for c in contact_sets(p, name, cache=cache)]
+        base = "6dls" if name == "6dls_linearized" else name
+        sets = [c for p in profiles for c in contact_sets(p, base, cache=cache)]
+        kw = {"refine": False} if name == "6dls_linearized" else {}
         build_ms[name] = (time.perf_counter() - t0) * 1e3
         scaled = [[c.with_force(c.force * f / 25.0) for c in sets] for f in forces]
-        wrench_resistance(scaled[0], W[0], MU)  # warm-up (imports)
+        wrench_resistance(scaled[0], W[0], MU, **kw)  # warm-up (imports)
         times, hits = [], 0
         for i in range(n_grasps):
             t0 = time.perf_counter()
-            hits += wrench_resistance(scaled[i], W[i], MU)[0]
+            hits += wrench_resistance(scaled[i], W[i], MU, **kw)[0]
             times.append(time.perf_counter() - t0)
         ms[name] = float(np.median(times) * 1e3)
         resisted[name] = hits / n_grasps
@@ -126,7 +132,7 @@ def main() -> None:
         for w in Wq:
             t0 = time.perf_counter()
             try:
-                dec.append(wrench_resistance(sets6, w, MU, solver=solver, fallback=False)[0])
+                dec.append(wrench_resistance(sets6, w, MU, solver=solver, fallback=False, refine=False)[0])
             except Exception:  # a backend failing is a result too: counted, decided "no"
                 failed += 1
                 dec.append(False)
