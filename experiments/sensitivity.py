@@ -339,7 +339,13 @@ def _render(out: Path, profiles: list) -> Path:
     pl.add_mesh(cyl, color="lightgray", opacity=0.35)
     for p in profiles:
         pl.add_mesh(profile_polydata(p), scalars="pressure", cmap="viridis", show_scalar_bar=p is profiles[0])
-    pl.add_arrows(np.array([[0.06, 0, 0], [-0.06, 0, 0]]), np.array([[-1.0, 0, 0], [1.0, 0, 0]]), mag=0.02)
+    pl.add_arrows(
+        np.array([[0.06, 0, 0], [-0.06, 0, 0]]),
+        np.array([[-1.0, 0, 0], [1.0, 0, 0]]),
+        mag=0.02,
+        color="black",
+        show_scalar_bar=False,
+    )
     pl.camera_position = "iso"
     return save_screenshot(pl, out / "example_grasp.png")
 

@@ -243,6 +243,7 @@ def _figures(out: Path, family, maps: dict, config: dict) -> list[str]:
         ax.set_ylabel("height / H")
         ax.set_title(f"bottle {k}" + (" (asymmetric)" if m["asymmetric"] else ""))
         fig.colorbar(im, ax=ax, label="stiffness [N/mm]")
+    fig.tight_layout()
     figs.append(str(save_figure(fig, out / "stiffness_maps.png")))
     try:
         figs.append(str(_render(out, family, maps)))
