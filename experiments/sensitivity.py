@@ -40,6 +40,8 @@ from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "sensitivity"
+#: bump when a model's predictions change, so checkpointed rows are recomputed
+ROW_VERSION = 2  # 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -149,7 +151,9 @@ def run(config: dict) -> dict:
     )
     truth_ms = (time.perf_counter() - t0) / n * 1e3
 
-    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k != "out"})
+    ckpt = Checkpoint(
+        out / "rows.jsonl", {"row_version": ROW_VERSION, **{k: v for k, v in config.items() if k != "out"}}
+    )
     n_resumed = len(ckpt.rows)
     jobs = (
         [("k", k) for k in config["k_values"]]

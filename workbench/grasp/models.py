@@ -10,8 +10,9 @@ one jaw contributes under model ``name``:
                     §4.1.4.3), ``f⊥ <= F``, torsion ``γ = μ Σ p a |r_t| / F``
 ``planar``          3DLS-planar: the profile projected onto its PCA plane (§4.1.4.3), a
                     3D ellipsoid fitted to its (f_t1, f_t2, τ_n) wrenches
-``3dls_nonplanar``  3DLS fitted to the three principal components of the 6DFWs, the
-                    other three set to zero (§4.1.3.3)
+``3dls_nonplanar``  3DLS fitted to the three major components of the 6DFWs — tangential
+                    forces and torsion about the net normal — the other three set to
+                    zero (§4.1.3.3: f_y, f_z, τ_x for a grasp axis x)
 ``6dfw``            the sampled 6DFWs themselves (no model): the "dense" reference
 ``reach``           REACH-style: each element a soft point contact with its own force,
                     clustered to ``reach_triangles`` (thesis §2.3.1.3)
@@ -39,6 +40,7 @@ from ..wrench import frictional_wrenches
 from .contacts import (
     ContactSet,
     limit_surface_contact,
+    normal_frame,
     point_contact,
     reach_contacts,
     soft_point_contact,
@@ -110,12 +112,13 @@ def contact_sets(
     W = frictional_wrenches(profile.normalized(), sampler.twists(profile.normalized()), 1.0)
     if name == "6dfw":
         return [wrench_hull_contact(profile, W * F)]
-    # 3dls_nonplanar: keep the three principal components of the normalised wrenches
-    scale = np.abs(W).max(axis=0)
-    scale[scale == 0] = 1.0
-    _, _, Vt = np.linalg.svd(W / scale, full_matrices=False)
-    B = Vt[:3].T
-    W3 = ((W / scale) @ B @ B.T) * scale
+    # 3dls_nonplanar (§4.1.3.3): keep the three "major" components — the two tangential
+    # forces and the torque about the contact normal, in the contact frame — and set the
+    # other three (normal force, tilting torques) to zero
+    R = normal_frame(net_normal(profile))  # columns: t1, t2, inward normal
+    Wl = np.hstack([W[:, :3] @ R, W[:, 3:] @ R])  # wrenches in the contact frame
+    Wl[:, [2, 3, 4]] = 0.0
+    W3 = np.hstack([Wl[:, :3] @ R.T, Wl[:, 3:] @ R.T])
     ls = fit_quartic(W3) if quartic else fit_ellipsoid(W3, "sdp")
     model = ContactWrenchModel(ls, profile.normal_wrench / F)
     return [replace(limit_surface_contact(model, o, F, M=M, seed=seed), name=name)]
