@@ -23,7 +23,7 @@ from tqdm import tqdm
 
 from fem.bottle import Bottle, bottle_family
 from fem.material import Material
-from fem.wall import build_wall, ring_pinch, squeeze
+from fem.wall import build_wall, ring_pinch, ring_wall, squeeze
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "wall-stiffness"
@@ -61,22 +61,7 @@ def ring_rows(config: dict) -> list[dict]:
     rows = []
     for n in config["ring_meshes"]:
         perp = ring_pinch(R, t, mat, n_theta=n)
-        ro = R + t / 2
-
-        def circle(th, z, ro=ro):
-            nrm = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
-            return np.column_stack([ro * nrm[:, :2], z]), nrm
-
-        wall = build_wall(
-            circle,
-            mat,
-            thickness=t,
-            n_theta=n,
-            n_z=1,
-            z_range=(0.0, t),
-            clamp_bottom=False,
-            plane_strain=True,
-        )
+        wall = ring_wall(R, t, mat, n)
         P = 1e-3  # N on a slab of length t: P' = 2 N/m, linear anyway
         sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
         exact = (np.pi / 4 - 2 / np.pi) * (P / t) * R**3 / D

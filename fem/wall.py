@@ -185,6 +185,31 @@ def components(basis: Basis) -> np.ndarray:
     return comp
 
 
+def circle_surface(radius: float):
+    """Outer surface ``(θ, z) -> (points, outward normals)`` of a circular tube of ``radius``."""
+
+    def surface(th, z):
+        n = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
+        return np.column_stack([radius * n[:, :2], z]), n
+
+    return surface
+
+
+def ring_wall(radius: float, thickness: float, material: Material = PET, n_theta: int = 64) -> Wall:
+    """A plane-strain slab (one element, ``thickness`` long) of a tube with mid-surface
+    ``radius`` — the thin ring of Roark's formulas."""
+    return build_wall(
+        circle_surface(radius + thickness / 2),
+        material,
+        thickness=thickness,
+        n_theta=n_theta,
+        n_z=1,
+        z_range=(0.0, thickness),
+        clamp_bottom=False,
+        plane_strain=True,
+    )
+
+
 def ring_pinch(
     radius: float = 0.035, thickness: float = 0.5e-3, material: Material = PET, n_theta: int = 64
 ) -> dict:
@@ -194,23 +219,8 @@ def ring_pinch(
     the measured quantity is the growth of the perpendicular (y) mid-surface
     diameter, away from the load points.  ``radius`` is the mid-surface radius.
     """
-    ro = radius + thickness / 2
     slab = thickness
-
-    def circle(th, z):
-        n = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
-        return np.column_stack([ro * n[:, :2], z]), n
-
-    wall = build_wall(
-        circle,
-        material,
-        thickness=thickness,
-        n_theta=n_theta,
-        n_z=1,
-        z_range=(0.0, slab),
-        clamp_bottom=False,
-        plane_strain=True,
-    )
+    wall = ring_wall(radius, thickness, material, n_theta)
     b = wall.basis
     x, y = b.doflocs[0], b.doflocs[1]
     r = np.hypot(x, y)

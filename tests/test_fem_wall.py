@@ -6,34 +6,17 @@ import pytest
 
 from fem.bottle import Bottle, bottle_family
 from fem.material import Material
-from fem.wall import PET, build_wall, ring_pinch, squeeze, wall_mesh
+from fem.wall import PET, build_wall, circle_surface, ring_pinch, ring_wall, squeeze, wall_mesh
 
 R, T = 0.035, 0.5e-3
 
 
-def _circle(ro):
-    def surface(th, z):
-        n = np.column_stack([np.cos(th), np.sin(th), np.zeros_like(th)])
-        return np.column_stack([ro * n[:, :2], z]), n
-
-    return surface
-
-
 def _ring(n_theta, material=PET):
-    return build_wall(
-        _circle(R + T / 2),
-        material,
-        thickness=T,
-        n_theta=n_theta,
-        n_z=1,
-        z_range=(0.0, T),
-        clamp_bottom=False,
-        plane_strain=True,
-    )
+    return ring_wall(R, T, material, n_theta)
 
 
 def test_wall_mesh_closes_the_tube():
-    mesh, outer, bottom = wall_mesh(_circle(0.03), 1e-3, 16, 3, (0.0, 0.05))
+    mesh, outer, bottom = wall_mesh(circle_surface(0.03), 1e-3, 16, 3, (0.0, 0.05))
     assert mesh.p.shape[1] == 16 * 4 * 2  # θ = 2π merged onto θ = 0
     assert mesh.t.shape[1] == 16 * 3
     r = np.hypot(*mesh.p[:2])
@@ -107,4 +90,4 @@ def test_squeeze_bad_input(bottle_wall):
     with pytest.raises(ValueError, match="clamped base"):
         squeeze(wall, np.array([0, 0, 0.05 * H]), np.array([1.0, 0, 0]))
     with pytest.raises(ValueError, match="positive wall thickness"):
-        wall_mesh(_circle(0.03), 0.0, 16, 3, (0.0, 0.05))
+        wall_mesh(circle_surface(0.03), 0.0, 16, 3, (0.0, 0.05))
