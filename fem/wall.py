@@ -177,11 +177,18 @@ def _facets_within(mesh: MeshHex, vertices: np.ndarray) -> np.ndarray:
 
 
 def components(basis: Basis) -> np.ndarray:
-    """(N,) the displacement component (0, 1, 2) of each dof of a vector basis."""
-    everything = basis.get_dofs(lambda x: np.ones(x.shape[1], dtype=bool))
-    comp = np.empty(basis.N, dtype=int)
-    for c in range(3):
-        comp[everything.all(f"u^{c + 1}")] = c
+    """(N,) the displacement component (0, 1, 2) of each dof of a vector basis.
+
+    From the basis's dof tables (row c = component c for every node, edge, facet and
+    interior dof) — not from ``get_dofs``, which only sees boundary facets and would
+    leave interior facet and bubble dofs unassigned."""
+    comp = np.full(basis.N, -1)
+    for table in (basis.nodal_dofs, basis.edge_dofs, basis.facet_dofs, basis.interior_dofs):
+        if table.size:
+            for c in range(3):
+                comp[table[c::3] if table.shape[0] > 3 else table[c]] = c
+    if (comp < 0).any():
+        raise RuntimeError("a dof of the vector basis has no component")  # not expected
     return comp
 
 

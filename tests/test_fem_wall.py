@@ -91,3 +91,16 @@ def test_squeeze_bad_input(bottle_wall):
         squeeze(wall, np.array([0, 0, 0.05 * H]), np.array([1.0, 0, 0]))
     with pytest.raises(ValueError, match="positive wall thickness"):
         wall_mesh(circle_surface(0.03), 0.0, 16, 3, (0.0, 0.05))
+
+
+def test_every_dof_has_its_component():
+    """Interior facet and bubble dofs of the triquadratic basis included (get_dofs sees only
+    boundary facets: building the table from it left them unassigned)."""
+    from fem.wall import components
+
+    b = _ring(16).basis
+    comp = components(b)
+    assert np.bincount(comp).tolist() == [b.N // 3] * 3
+    for c in range(3):
+        assert (comp[b.get_dofs(lambda x: np.ones(x.shape[1], dtype=bool)).all(f"u^{c + 1}")] == c).all()
+    assert (comp[b.interior_dofs[1]] == 1).all()
