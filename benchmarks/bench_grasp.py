@@ -28,7 +28,7 @@ from scipy.optimize import linprog
 from workbench.grasp import build_gws, resists_lp, wrench_resistance
 from workbench.grasp.models import contact_sets
 from workbench.grasp.qp import DEFAULT_SOLVER, qp_matrices_outer
-from workbench.grasp.scenes import elliptic_cylinder_grasp
+from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import versions, write_json
 
@@ -36,21 +36,6 @@ ROOT = Path(__file__).resolve().parents[1]
 MU = 0.3
 #: thesis Tables 4.2/4.3, last column (QP-based grasp analysis per grasp)
 THESIS_MS = {"6dls": "236-252", "6dfc": "236-252", "point": "13-14"}
-
-
-def disturbances(rng: np.random.Generator, n: int) -> np.ndarray:
-    """Weights hung at lever arms (the thesis's (f_y, τ_x, τ_z) disturbances) plus small
-    off-plane components, so both outcomes occur for a 20-35 N grasp."""
-    mg = rng.uniform(1.0, 14.0, n)
-    rx, rz = rng.uniform(-0.06, 0.06, n), rng.uniform(-0.08, 0.08, n)
-    w = np.zeros((n, 6))
-    w[:, 1] = -mg
-    w[:, 3] = rz * mg
-    w[:, 5] = -rx * mg
-    # small off-plane parts (f_z, τ_y); none along the grasp axis x, which the thesis's
-    # setups never load and a planar 3DLS cannot resist by construction (§4.1.3.4)
-    w += rng.normal(0.0, 1.0, (n, 6)) * [0.0, 0.3, 0.3, 0.003, 0.003, 0.003]
-    return w
 
 
 def outer_lp(contacts, w, mu) -> bool:
@@ -83,7 +68,7 @@ def main() -> None:
 
     # ms per grasp from cached contact sets
     ms, build_ms, resisted = {}, {}, {}
-    W = disturbances(rng, n_grasps)
+    W = lever_disturbances(rng, n_grasps)
     forces = rng.uniform(20.0, 35.0, n_grasps)
     for name in ("point", "soft_point", "planar", "reach", "6dls", "6dfc", "6dls_linearized"):
         t0 = time.perf_counter()
@@ -106,7 +91,7 @@ def main() -> None:
     t0 = time.perf_counter()
     hull = build_gws(model_sets, MU)
     hull_build_s = time.perf_counter() - t0
-    Wh = disturbances(rng, n_hull)
+    Wh = lever_disturbances(rng, n_hull)
     t0 = time.perf_counter()
     lp = np.array([resists_lp(model_sets, w, MU) for w in Wh])
     lp_ms = (time.perf_counter() - t0) / n_hull * 1e3
@@ -124,7 +109,7 @@ def main() -> None:
     import qpsolvers
 
     sets6 = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache)]
-    Wq = disturbances(rng, 100 if args.quick else 300)
+    Wq = lever_disturbances(rng, 100 if args.quick else 300)
     ref = np.array([outer_lp(sets6, w, MU) for w in Wq])
     solvers = {}
     for solver in sorted(qpsolvers.available_solvers):

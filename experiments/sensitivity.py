@@ -31,11 +31,10 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from workbench.grasp import Perturbation, resists
+from workbench.grasp import Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.models import contact_sets
-from workbench.grasp.robust import rotation_from_vector
-from workbench.grasp.scenes import elliptic_cylinder_grasp
+from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
@@ -83,19 +82,6 @@ QUICK_CONFIG = {
 }
 
 
-def disturbances(rng: np.random.Generator, n: int, config: dict) -> np.ndarray:
-    """Weights at lever arms (τ_x = r_z m g, τ_z = −r_x m g) plus small f_z, τ_y noise;
-    nothing along the grasp axis x (thesis §4.1.3.1)."""
-    mg = rng.uniform(*config["weight_range"], n)
-    rx = rng.uniform(-config["lever_x"], config["lever_x"], n)
-    rz = rng.uniform(-config["lever_z"], config["lever_z"], n)
-    w = np.zeros((n, 6))
-    w[:, 1] = -mg
-    w[:, 3] = rz * mg
-    w[:, 5] = -rx * mg
-    return w + rng.normal(0.0, 1.0, (n, 6)) * [0.0, 0.3, 0.3, 0.003, 0.003, 0.003]
-
-
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
     tp = int((pred & truth).sum())
     fp = int((pred & ~truth).sum())
@@ -131,7 +117,7 @@ def run(config: dict) -> dict:
     out = Path(config["out"])
     rng = np.random.default_rng(config["seed"])
     n = config["n_disturbances"]
-    W = disturbances(rng, n, config)
+    W = lever_disturbances(rng, n, config["weight_range"], config["lever_x"], config["lever_z"])
     forces = rng.uniform(*config["force_range"], n)  # sensor readings
     mu_true = config["mu"] * (1 + config["noise_mu"] * rng.standard_normal(n))
     f_true = forces * (1 + config["noise_force"] * rng.standard_normal(n))
@@ -202,7 +188,20 @@ def run(config: dict) -> dict:
             )
             t0 = time.perf_counter()
             pred = np.array(
-                [_q_robust(base, W[i], forces[i], config["mu"], p, seed=i) >= 0.5 for i in range(nr)]
+                [
+                    q_robust(
+                        [c.with_force(c.force * forces[i]) for c in base],
+                        config["mu"],
+                        1.0,  # unused: the disturbance is W[i]
+                        np.zeros(3),
+                        p,
+                        seed=i,
+                        method="auto",
+                        w_ext=W[i],
+                    )
+                    >= 0.5
+                    for i in range(nr)
+                ]
             )
             ms = (time.perf_counter() - t0) / nr * 1e3
             ckpt.add(
@@ -278,17 +277,6 @@ def run(config: dict) -> dict:
         ],
     }
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
-
-
-def _q_robust(sets, w, force, mu, p: Perturbation, seed: int) -> float:
-    """q_robust of one grasp (Eq. 2.101): pose noise only (the jaws move together)."""
-    rng = np.random.default_rng(seed)
-    Rs = rotation_from_vector(rng.normal(0.0, p.sigma_rot, (p.n_samples, 3)))
-    ts = rng.normal(0.0, p.sigma_trans, (p.n_samples, 3))
-    scaled = [c.with_force(c.force * force) for c in sets]
-    return float(
-        np.mean([resists([c.moved(R, t) for c in scaled], w, mu) for R, t in zip(Rs, ts, strict=True)])
-    )
 
 
 def _plot(out: Path, series: dict, config: dict) -> Path:

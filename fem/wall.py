@@ -28,6 +28,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -98,14 +99,19 @@ class Wall:
     outer_dofs: np.ndarray  # (m, 3) their x, y, z dofs
     seconds: float
 
+    @cached_property
+    def free_position(self) -> np.ndarray:
+        """(N,) index of each dof among the free ones, −1 for a fixed dof."""
+        pos = np.full(self.basis.N, -1)
+        pos[self.free] = np.arange(self.free.size)
+        return pos
+
     def compliance(self, nodes: np.ndarray, directions: np.ndarray) -> np.ndarray:
         """Normal compliance ``A_ij = n_iᵀ u_i(unit load n_j at node j)`` [m/N].
 
         nodes : (c,) indices into ``outer_xyz``; directions : (c, 3) unit load directions.
         """
-        pos = np.full(self.basis.N, -1)
-        pos[self.free] = np.arange(self.free.size)
-        rows = pos[self.outer_dofs[nodes]]  # (c, 3); -1 marks a fixed component
+        rows = self.free_position[self.outer_dofs[nodes]]  # (c, 3); -1 marks a fixed component
         if (rows < 0).all(axis=1).any():
             raise ValueError(
                 "the jaw footprint reaches the clamped base rim (a fully fixed node); grasp higher"
@@ -153,10 +159,10 @@ def build_wall(
     if clamp_bottom:
         fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True
     if plane_strain:
-        fixed[components(basis) == 2] = True
+        comp = components(basis)
+        fixed[comp == 2] = True
         ang = np.arctan2(basis.doflocs[1], basis.doflocs[0])
         tol = 1e-9
-        comp = components(basis)
         on_x = (np.abs(np.sin(ang)) < tol) & (comp == 1)  # u_y dofs at θ = 0, π
         on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
         fixed |= on_x | on_y

@@ -106,47 +106,55 @@ class ContactSet:
         return replace(self, force=float(force))
 
 
-def _polygon(n_edges: int, kind: str) -> np.ndarray:
-    """(n, 2) vertices of the inner (on the circle) or outer (circumscribed) n-gon, Eq. (2.47)."""
+def _point_like(
+    point, normal_out, f_max: float, n_edges: int, kind: str, name: str, torsion_length: float | None
+) -> ContactSet:
+    """Friction cone linearised by an n-gon (Eq. 2.47) — ``kind`` "inner" (vertices on the
+    circle) or "outer" (circumscribed) — and, for a soft contact, ``|τ_z| <= torsion_length``
+    at μ = 1, unit force; as vertices and as half-spaces (``s_j = 0`` rows as ± pairs)."""
     if n_edges < 3:
         raise ValueError(f"n_edges must be >= 3; got {n_edges}")
     if kind not in ("inner", "outer"):
         raise ValueError(f"kind must be 'inner' or 'outer'; got {kind!r}")
+    r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
     th = 2 * np.pi * np.arange(n_edges) / n_edges
-    r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
-    return r * np.column_stack([np.cos(th), np.sin(th)])
-
-
-def _polygon_halfspaces(n_edges: int, kind: str, free: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """Half-spaces of the n-gon of :func:`_polygon` in (s_x, s_y), plus ``s_j = 0`` as
-    ± pairs for the local components j not in ``free`` (besides x, y)."""
-    th = 2 * np.pi * (np.arange(n_edges) + 0.5) / n_edges
-    r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
-    A = np.zeros((n_edges, 6))
-    A[:, 0], A[:, 1] = np.cos(th), np.sin(th)
-    b = np.full(n_edges, r * np.cos(np.pi / n_edges))
-    rows, rhs = [A], [b]
-    for j in range(2, 6):
-        if j not in free:
-            e = np.zeros((2, 6))
-            e[0, j], e[1, j] = 1.0, -1.0
-            rows.append(e)
-            rhs.append(np.zeros(2))
-    return np.vstack(rows), np.concatenate(rhs)
+    poly = np.zeros((n_edges, 6))
+    poly[:, 0], poly[:, 1] = r * np.cos(th), r * np.sin(th)
+    edge = th + np.pi / n_edges  # outward normals of the polygon's edges
+    A = [np.column_stack([np.cos(edge), np.sin(edge), np.zeros((n_edges, 4))])]
+    b = [np.full(n_edges, r * np.cos(np.pi / n_edges))]
+    eye = np.eye(6)
+    for j in range(2, 6):  # f_z, τ_x, τ_y (and τ_z for a hard contact) are zero
+        if j == 5 and torsion_length is not None:
+            continue
+        A.append(np.array([eye[j], -eye[j]]))
+        b.append(np.zeros(2))
+    fr = poly
+    if torsion_length is not None:
+        if not (np.isfinite(torsion_length) and torsion_length >= 0):
+            raise ValueError(f"torsion_length must be >= 0 [m]; got {torsion_length}")
+        fr = np.vstack([poly, poly])
+        fr[:n_edges, 5], fr[n_edges:, 5] = torsion_length, -torsion_length
+        A.append(np.array([eye[5], -eye[5]]))
+        b.append(np.full(2, float(torsion_length)))
+    return ContactSet(
+        name,
+        fr,
+        eye[2].copy(),  # unit normal force along the local z (the inward normal)
+        normal_frame(normal_out),
+        np.asarray(point, float),
+        float(f_max),
+        True,
+        np.vstack(A),
+        np.concatenate(b),
+    )
 
 
 def point_contact(
     point, normal_out, f_max: float, *, n_edges: int = 8, kind: str = "inner", name: str = "point"
 ) -> ContactSet:
     """Hard point contact: the linearised friction cone (Eq. 2.44/2.47) with ``f⊥ <= f_max``."""
-    poly = _polygon(n_edges, kind)
-    fr = np.zeros((n_edges, 6))
-    fr[:, :2] = poly
-    normal = np.array([0, 0, 1.0, 0, 0, 0])
-    A, b = _polygon_halfspaces(n_edges, kind, ())
-    return ContactSet(
-        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True, A, b
-    )
+    return _point_like(point, normal_out, f_max, n_edges, kind, name, None)
 
 
 def soft_point_contact(
@@ -161,20 +169,7 @@ def soft_point_contact(
 ) -> ContactSet:
     """Soft point contact (Eq. 2.50): ``‖f_t‖ <= μ f⊥`` and ``|τ_z| <= γ f⊥`` with
     ``γ = μ · torsion_length`` (torsional friction scales with μ like the rest)."""
-    if not (np.isfinite(torsion_length) and torsion_length >= 0):
-        raise ValueError(f"torsion_length must be >= 0 [m]; got {torsion_length}")
-    poly = _polygon(n_edges, kind)
-    fr = np.zeros((2 * n_edges, 6))
-    fr[:, :2] = np.vstack([poly, poly])
-    fr[:n_edges, 5] = torsion_length
-    fr[n_edges:, 5] = -torsion_length
-    normal = np.array([0, 0, 1.0, 0, 0, 0])
-    A, b = _polygon_halfspaces(n_edges, kind, (5,))
-    A = np.vstack([A, np.eye(6)[5], -np.eye(6)[5]])
-    b = np.concatenate([b, [torsion_length, torsion_length]])
-    return ContactSet(
-        name, fr, normal, normal_frame(normal_out), np.asarray(point, float), float(f_max), True, A, b
-    )
+    return _point_like(point, normal_out, f_max, n_edges, kind, name, torsion_length)
 
 
 def limit_surface_contact(
@@ -196,11 +191,10 @@ def limit_surface_contact(
     tangent half-spaces at the same points (Eq. 3.22–3.24, 3.28/3.30) the QP's constraints.
     """
     ls = model.limit_surface
-    inner = ls.linearize(M, "inner", seed=seed)
-    outer = ls.linearize(M, "outer", seed=seed)  # same directions: tangent planes at the vertices
+    outer = ls.linearize(M, "outer", seed=seed)  # its vertices are the inner ones (same directions)
     return ContactSet(
         name,
-        inner.vertices,
+        outer.vertices,
         np.asarray(model.normal_wrench, float),
         np.eye(3),
         np.asarray(origin, float),

@@ -53,6 +53,37 @@ def grasp_map(contacts) -> np.ndarray:
     return np.hstack([c.G for c in check_contacts(contacts)])
 
 
+def stacked_vertices(contacts, mu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[np.ndarray]]:
+    """Object-frame vertices of all contacts stacked (n, 6), per-contact block sizes and
+    starts, and the blocks themselves."""
+    Vs = [c.vertices(mu) for c in contacts]
+    sizes = np.array([len(v) for v in Vs])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    return np.vstack(Vs), sizes, starts, Vs
+
+
+def capacity_scaling(V: np.ndarray) -> np.ndarray:
+    """(6,) row scaling ``D``: forces divided by the largest vertex force, torques by the
+    largest vertex torque (N vs N·m: one common scale would make torque residuals and
+    feasibility tolerances invisible next to forces).  All-zero vertices (a contact
+    without force) fall back to 1."""
+    sf = float(np.abs(V[:, :3]).max()) or 1.0
+    st = float(np.abs(V[:, 3:]).max()) or sf
+    return np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
+
+
+def simplex_rows(contacts, sizes: np.ndarray, starts: np.ndarray) -> tuple[list, list]:
+    """One row of ones over each contact's vertex weights: (equality rows of the
+    known-force contacts, ``<= 1`` rows of the cones, whose origin is then implicit)."""
+    n = int(np.sum(sizes))
+    eq, ub = [], []
+    for c, s, m in zip(contacts, starts, sizes, strict=True):
+        row = np.zeros(n)
+        row[s : s + m] = 1.0
+        (ub if c.cone else eq).append(row)
+    return eq, ub
+
+
 def vertex_blocks(contacts, mu: float) -> list[np.ndarray]:
     """Per contact, (M_i, 6) object-frame vertices (plus the origin row for cones)."""
     blocks = []
@@ -162,23 +193,18 @@ def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float = 1e-9
     if norm not in NORMS:
         raise ValueError(f"norm must be one of {NORMS}; got {norm!r}")
     contacts = check_contacts(contacts)
-    Vs = [c.vertices(mu) for c in contacts]
-    V = np.vstack(Vs)
-    # forces and torques scaled by the grasp's own capacities (see qp.py)
-    sf = float(np.abs(V[:, :3]).max()) or 1.0  # all-zero vertices: a contact without force
-    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / (float(np.abs(V[:, 3:]).max()) or sf))]
+    V, sizes, starts, _ = stacked_vertices(contacts, mu)
+    D = capacity_scaling(V)
     n = len(V)
     A_eq = [V.T * D[:, None]]
     b_eq = [-w * D]
     A_ub, b_ub = [], []
-    sizes = [len(v) for v in Vs]
-    starts = np.cumsum([0, *sizes[:-1]])
     if norm == "linf":
-        for c, s, m in zip(contacts, starts, sizes, strict=True):
-            row = np.zeros(n)
-            row[s : s + m] = 1.0
-            (A_ub if c.cone else A_eq).append(row[None, :])
-            (b_ub if c.cone else b_eq).append([1.0])
+        eq, ub = simplex_rows(contacts, sizes, starts)
+        A_eq += [np.array(eq)] if eq else []
+        b_eq += [np.ones(len(eq))]
+        A_ub += [np.array(ub)] if ub else []
+        b_ub += [np.ones(len(ub))] if ub else []
     else:
         row = np.ones((1, n))
         if any(c.cone for c in contacts):
@@ -202,19 +228,16 @@ def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float = 1e-9
     return res.status == 0
 
 
-def minkowski_count(contacts) -> int:
-    """Number of Minkowski-sum points (for choosing hull vs LP)."""
-    return int(np.prod([len(c.friction) + c.cone for c in contacts], dtype=float))
-
-
 __all__ = [
     "WrenchHull",
     "build_gws",
+    "capacity_scaling",
     "check_wrench",
     "grasp_map",
     "gws_points",
-    "minkowski_count",
     "resists_lp",
     "scale_torque",
+    "simplex_rows",
+    "stacked_vertices",
     "vertex_blocks",
 ]

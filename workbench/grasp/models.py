@@ -109,7 +109,8 @@ def contact_sets(
         model = cache.contact_model(flat, 1.0, spec=spec)
         return [limit_surface_contact(model, flat.pressure_center, F, M=M, name=name, seed=seed)]
     sampler = SamplerSpec(n=n_wrenches // 2, seed=seed)  # n rotations + n translations
-    W = frictional_wrenches(profile.normalized(), sampler.twists(profile.normalized()), 1.0)
+    unit = profile.normalized()
+    W = frictional_wrenches(unit, sampler.twists(unit), 1.0)
     if name == "6dfw":
         return [wrench_hull_contact(profile, W * F)]
     # 3dls_nonplanar (§4.1.3.3): keep the three "major" components — the two tangential

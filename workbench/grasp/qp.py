@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from .gws import check_contacts, check_wrench
+from .gws import capacity_scaling, check_contacts, check_wrench, simplex_rows, stacked_vertices
 
 log = logging.getLogger(__name__)
 
@@ -39,50 +39,34 @@ FALLBACK_SOLVER = "clarabel"
 RESIST_TOL = 1e-5
 
 
-def _blocks(contacts, mu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
-    Vs = [c.vertices(mu) for c in contacts]
-    sizes = np.array([len(v) for v in Vs])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    return np.vstack(Vs), sizes, starts, Vs
-
-
 def qp_matrices(contacts, w_ext, mu: float) -> dict:
-    """The dense QP of the module docstring (scaled); keys P, q, G, h, A, b, lb, scale, V."""
+    """The dense QP of the module docstring (scaled); keys P, q, G, h, A, b, lb, A6, w and
+    the vertex blocks (``V``, ``sizes``, ``starts``) for recovering the contact wrenches."""
     w = check_wrench(w_ext)
     contacts = check_contacts(contacts)
-    V, sizes, starts, _ = _blocks(contacts, mu)
-    # forces and torques scaled separately by the grasp's own capacities (N vs N·m:
-    # one common scale would make torque residuals invisible next to forces)
-    sf = float(np.abs(V[:, :3]).max()) or 1.0  # all-zero vertices: a contact without force
-    st = float(np.abs(V[:, 3:]).max()) or sf
-    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
+    V, sizes, starts, Vs = stacked_vertices(contacts, mu)
+    D = capacity_scaling(V)
     A6 = V.T * D[:, None]
-    ws = w * D
-    scale = sf
     n = V.shape[0]
     P = A6.T @ A6
     P[np.diag_indices(n)] += RIDGE * max(float(np.trace(P)) / n, 1e-300)
-    q = A6.T @ ws
-    rows_eq, rows_ub = [], []
-    for c, s, m in zip(contacts, starts, sizes, strict=True):
-        row = np.zeros(n)
-        row[s : s + m] = 1.0
-        (rows_ub if c.cone else rows_eq).append(row)
+    rows_eq, rows_ub = simplex_rows(contacts, sizes, starts)
     return {
         "P": P,
-        "q": q,
+        "q": A6.T @ (w * D),
         "G": np.array(rows_ub) if rows_ub else None,
         "h": np.ones(len(rows_ub)) if rows_ub else None,
         "A": np.array(rows_eq) if rows_eq else None,
         "b": np.ones(len(rows_eq)) if rows_eq else None,
         "lb": np.zeros(n),
-        "scale": scale,
+        "ub": None,
         "A6": A6,
-        "w": ws,
+        "w": w * D,
+        "blocks": (sizes, starts, Vs),
     }
 
 
-def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
+def qp_matrices_outer(contacts, w_ext, mu: float, conic: frozenset[int] = frozenset()) -> dict:
     """QP over the outer H-representation (thesis §4.1.2.2: Eq. 3.28 for a known force,
     Eq. 3.30 for the 6DFC): variables ``c_i`` (6, frame C) and, for a cone, ``f_i``;
 
@@ -90,6 +74,8 @@ def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
                                                 A_i c_i − f_i (μ b_i + A_i ŵ⊥_i) <= 0,  0 <= f_i <= f_max.
 
     Small (6–7 variables per contact) whatever M is: the fast path for grasp analysis.
+    conic : indices of contacts whose inequalities :func:`socp_resistance` replaces by
+        their model's second-order cone (their equalities and force bounds stay).
     """
     w = check_wrench(w_ext)
     contacts = check_contacts(contacts)
@@ -97,20 +83,20 @@ def qp_matrices_outer(contacts, w_ext, mu: float) -> dict:
         raise ValueError(
             "every contact needs half-spaces (A, b) for the outer QP; use representation='inner'"
         )
-    V = np.vstack([c.vertices(mu) for c in contacts])
-    sf = float(np.abs(V[:, :3]).max()) or 1.0
-    st = float(np.abs(V[:, 3:]).max()) or sf
-    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
+    D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]))
+    sf, st = 1 / D[0], 1 / D[3]
     nvar = sum(6 + c.cone for c in contacts)
     L = np.zeros((6, nvar))
     rows, rhs, eq_rows = [], [], []
     k = 0
-    for c in contacts:
+    for i, c in enumerate(contacts):
         L[:, k : k + 6] = c.G
         # s_j = 0 rows (± pairs in A s <= b; flat or point-like sets): equalities
         # A_eq (c − F ŵ⊥) = 0, or A_eq c − f A_eq ŵ⊥ = 0 for a cone — as equalities, since
         # active-set solvers (quadprog) reject the degenerate ± pair
         A_in, b_in, An_in, A_eq, An_eq = halfspace_parts(c)
+        if i in conic:
+            A_in, b_in, An_in = A_in[:0], b_in[:0], An_in[:0]
         bb = mu * b_in + An_in
         row = np.zeros((len(A_in), nvar))
         row[:, k : k + 6] = A_in
@@ -204,17 +190,15 @@ def wrench_resistance(
     contacts = check_contacts(contacts)
     if representation == "inner":
         return _solve(contacts, w_ext, mu, solver, tol, "inner", fallback)
-    if (
-        refine
-        and exact
-        and representation == "outer"
-        and mu > 0
-        and any(_ellipsoid_factor(c) is not None for c in contacts)
-        and all(_ellipsoid_factor(c) is not None or "model" not in c.meta for c in contacts)
-    ):
-        return socp_resistance(contacts, w_ext, mu, tol=tol)
     if representation != "outer":
         raise ValueError(f"representation must be 'outer' or 'inner'; got {representation!r}")
+    if refine and exact and mu > 0:
+        Qs = [_ellipsoid_factor(c) for c in contacts]
+        # every model an ellipsoid (polyhedral contacts may join): the cone QP is exact
+        if any(Q is not None for Q in Qs) and all(
+            Q is not None or "model" not in c.meta for c, Q in zip(contacts, Qs, strict=True)
+        ):
+            return socp_resistance(contacts, w_ext, mu, tol=tol)
     work = list(contacts)
     for _ in range(max_cuts + 1):
         ok, resid, c, x = _solve(work, w_ext, mu, solver, tol, "outer", fallback, return_x=True)
@@ -281,11 +265,7 @@ def add_cut(c, a: np.ndarray, b: float) -> None:
 def _solve(contacts, w_ext, mu, solver, tol, representation, fallback, return_x=False):
     from qpsolvers import solve_qp
 
-    if representation == "outer":
-        m = qp_matrices_outer(contacts, w_ext, mu)
-    else:
-        m = qp_matrices(contacts, w_ext, mu)
-        m["ub"] = None
+    m = (qp_matrices_outer if representation == "outer" else qp_matrices)(contacts, w_ext, mu)
     x = solve_qp(
         m["P"], m["q"], m["G"], m["h"], m["A"], m["b"], lb=m["lb"], ub=m["ub"], solver=solver, **_opts(solver)
     )
@@ -301,15 +281,20 @@ def _solve(contacts, w_ext, mu, solver, tol, representation, fallback, return_x=
     resid = float(np.linalg.norm(m["A6"] @ x + m["w"]))
     if representation == "outer":
         x = x * m["S"]
-        c, k = [], 0
-        for ci in contacts:
-            c.append(ci.G @ x[k : k + 6])
-            k += 6 + ci.cone
-        out = (resid <= tol, resid, np.array(c))
+        out = (resid <= tol, resid, _contact_wrenches(contacts, x))
         return (*out, x) if return_x else out
-    _, sizes, starts, Vs = _blocks(contacts, mu)
+    sizes, starts, Vs = m["blocks"]
     c = np.array([x[s : s + k] @ v for s, k, v in zip(starts, sizes, Vs, strict=True)])
     return resid <= tol, resid, c
+
+
+def _contact_wrenches(contacts, x: np.ndarray) -> np.ndarray:
+    """(N, 6) object-frame contact wrenches from the outer/conic variables x (unscaled)."""
+    c, k = [], 0
+    for ci in contacts:
+        c.append(ci.G @ x[k : k + 6])
+        k += 6 + ci.cone
+    return np.array(c)
 
 
 def _opts(solver: str) -> dict:
@@ -340,7 +325,7 @@ def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> t
     n = len(V)
     sizes = [len(g) for g in gens]
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    scale = max(float(np.abs(V).max()), 1e-300)
+    D = capacity_scaling(V)
     A_ub = b_ub = None
     if f_max is not None:
         A_ub = np.zeros((len(contacts), n))
@@ -351,8 +336,8 @@ def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> t
         np.ones(n),
         A_ub=A_ub,
         b_ub=b_ub,
-        A_eq=sp.csr_matrix(V.T / scale),
-        b_eq=-w / scale,
+        A_eq=sp.csr_matrix(V.T * D[:, None]),
+        b_eq=-w * D,
         bounds=(0, None),
         method="highs",
     )
@@ -423,72 +408,39 @@ def socp_resistance(contacts, w_ext, mu: float, *, tol: float = RESIST_TOL) -> t
     import clarabel
     import scipy.sparse as sp
 
-    m = qp_matrices_outer(contacts, w_ext, mu)  # objective, scaling S, and the polyhedral rows
+    Qs = [_ellipsoid_factor(c) if mu > 0 else None for c in contacts]
+    # objective, scaling S, equalities, force bounds and the polyhedral contacts' rows
+    m = qp_matrices_outer(contacts, w_ext, mu, conic=frozenset(i for i, Q in enumerate(Qs) if Q is not None))
     S = m["S"]
     nvar = len(S)
-    eq_rows, eq_rhs, nn_rows, nn_rhs, soc = [], [], [], [], []
+    parts = [
+        (m["A"], m["b"], clarabel.ZeroConeT),
+        (m["G"], m["h"], clarabel.NonnegativeConeT),
+    ]
     k = 0
-    for c in contacts:
-        n_i = 6 + c.cone
-        A_in, b_in, An_in, A_eq, An_eq = halfspace_parts(c)
-        Q = _ellipsoid_factor(c) if mu > 0 else None
-
-        def block(mat, f_col=None, k=k):
-            row = np.zeros((len(mat), nvar))
-            row[:, k : k + 6] = mat
-            if f_col is not None:
-                row[:, k + 6] = f_col
-            return row * S
-
-        if c.cone:
-            eq_rows.append(block(A_eq, -An_eq))
-            eq_rhs.append(np.zeros(len(A_eq)))
-            bounds = np.zeros((2, nvar))
-            bounds[0, k + 6], bounds[1, k + 6] = -1.0, 1.0
-            nn_rows.append(bounds * S)
-            nn_rhs.append([0.0, c.force])
-        else:
-            eq_rows.append(block(A_eq))
-            eq_rhs.append(c.force * An_eq)
-        if Q is None:  # polyhedral contact: its inequalities
-            bb = mu * b_in + An_in
-            if c.cone:
-                nn_rows.append(block(A_in, -bb))
-                nn_rhs.append(np.zeros(len(A_in)))
-            else:
-                nn_rows.append(block(A_in))
-                nn_rhs.append(c.force * bb)
-        else:  # s = b − A x ∈ SOC: [μ F; Q (c − F ŵ⊥)]
+    for c, Q in zip(contacts, Qs, strict=True):
+        if Q is not None:  # s = b − A x ∈ SOC: [μ F; Q (c − F ŵ⊥)], F = f_i for a cone
+            rows = np.zeros((1 + len(Q), nvar))
+            rows[1:, k : k + 6] = -Q
             Qn = Q @ c.normal
-            head = np.zeros((1, nvar))
             if c.cone:
-                head[0, k + 6] = -mu
-                rows = np.vstack([head * S, -block(Q, -Qn)])
+                rows[0, k + 6] = -mu
+                rows[1:, k + 6] = Qn
                 rhs = np.zeros(1 + len(Q))
             else:
-                rows = np.vstack([head, -block(Q)])
                 rhs = np.concatenate([[mu * c.force], -c.force * Qn])
-            soc.append((rows, rhs))
-        k += n_i
-    A_parts = [np.vstack(eq_rows), np.vstack(nn_rows) if nn_rows else np.zeros((0, nvar))]
-    b_parts = [np.concatenate(eq_rhs), np.concatenate(nn_rhs) if nn_rhs else np.zeros(0)]
-    cones = [clarabel.ZeroConeT(len(A_parts[0])), clarabel.NonnegativeConeT(len(A_parts[1]))]
-    for rows, rhs in soc:
-        A_parts.append(rows)
-        b_parts.append(rhs)
-        cones.append(clarabel.SecondOrderConeT(len(rows)))
-    keep = [i for i, a in enumerate(A_parts) if len(a)]
+            parts.append((rows * S, rhs, clarabel.SecondOrderConeT))
+        k += 6 + c.cone
+    parts = [(a, b, cone) for a, b, cone in parts if a is not None and len(a)]
+    A_all = np.vstack([a for a, _, _ in parts])
+    b_all = np.concatenate([b for _, b, _ in parts])
+    cones = [cone(len(a)) for a, _, cone in parts]
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
     settings.tol_feas = 1e-10
     solver = clarabel.DefaultSolver(
-        sp.triu(sp.csc_matrix(m["P"])).tocsc(),
-        m["q"],
-        sp.csc_matrix(np.vstack([A_parts[i] for i in keep])),
-        np.concatenate([b_parts[i] for i in keep]),
-        [cones[i] for i in keep],
-        settings,
+        sp.triu(sp.csc_matrix(m["P"])).tocsc(), m["q"], sp.csc_matrix(A_all), b_all, cones, settings
     )
     sol = solver.solve()
     y = np.array(sol.x)
@@ -496,15 +448,9 @@ def socp_resistance(contacts, w_ext, mu: float, *, tol: float = RESIST_TOL) -> t
     if status not in ("Solved", "AlmostSolved"):
         # Clarabel stalls now and then on low-rank (planar) models; its last iterate is
         # still usable when it satisfies the constraints (s = b − A x in the cones)
-        A_all = np.vstack([A_parts[i] for i in keep])
-        slack = np.concatenate([b_parts[i] for i in keep]) - A_all @ y if np.isfinite(y).all() else None
-        if slack is None or not _in_cones(slack, [cones[i] for i in keep], [len(A_parts[i]) for i in keep]):
+        feasible = np.isfinite(y).all() and _in_cones(b_all - A_all @ y, cones, [len(a) for a, _, _ in parts])
+        if not feasible:
             log.debug("Clarabel %s on the SOCP; using the cutting-plane QP", status)
             return wrench_resistance(contacts, w_ext, mu, tol=tol, exact=False)
     resid = float(np.linalg.norm(m["A6"] @ y + m["w"]))
-    x = y * S
-    c_out, k = [], 0
-    for c in contacts:
-        c_out.append(c.G @ x[k : k + 6])
-        k += 6 + c.cone
-    return resid <= tol, resid, np.array(c_out)
+    return resid <= tol, resid, _contact_wrenches(contacts, y * S)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .gws import check_contacts, resists_lp
-from .qp import wrench_resistance
+from .qp import resists, wrench_resistance
 
 G_ACC = 9.81  # m/s²
 
@@ -61,14 +61,28 @@ def q_robust(
     *,
     seed: int | np.random.Generator = 0,
     method: str = "lp",
+    w_ext=None,
 ) -> float:
-    """Eq. (2.101) for the task "hold against gravity" (vertical lifting)."""
+    """Eq. (2.101) for the task "hold against gravity" (vertical lifting).
+
+    w_ext : a fixed disturbance (6,) to resist instead of the gravity wrench of
+        ``mass`` at ``com`` (then σ_mass and σ_com do not apply).
+    method : "lp" (vertex LP), "qp" (:func:`wrench_resistance`) or "auto" (:func:`resists`:
+        the QP where every contact has half-spaces, the LP otherwise).
+    """
     contacts = check_contacts(contacts)
-    if not (np.isfinite(mass) and mass > 0):
+    if w_ext is None and not (np.isfinite(mass) and mass > 0):
         raise ValueError(f"mass must be > 0 [kg]; got {mass}")
     p = perturbation
     if p.n_samples < 1:
         raise ValueError(f"n_samples must be >= 1; got {p.n_samples}")
+    predict = {
+        "lp": resists_lp,
+        "qp": lambda cs, w, m: wrench_resistance(cs, w, m)[0],
+        "auto": resists,
+    }.get(method)
+    if predict is None:
+        raise ValueError(f"method must be 'lp', 'qp' or 'auto'; got {method!r}")
     rng = np.random.default_rng(seed)
     K = p.n_samples
     Rs = rotation_from_vector(rng.normal(0.0, p.sigma_rot, (K, 3)))
@@ -79,11 +93,6 @@ def q_robust(
     ok = 0
     for i in range(K):
         moved = [c.moved(Rs[i], ts[i]) for c in contacts]
-        w = gravity_wrench(masses[i], coms[i])
-        if method == "lp":
-            ok += resists_lp(moved, w, mus[i])
-        elif method == "qp":
-            ok += wrench_resistance(moved, w, mus[i])[0]
-        else:
-            raise ValueError(f"method must be 'lp' or 'qp'; got {method!r}")
+        w = gravity_wrench(masses[i], coms[i]) if w_ext is None else w_ext
+        ok += predict(moved, w, mus[i])
     return ok / K
