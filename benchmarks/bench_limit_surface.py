@@ -55,7 +55,8 @@ def main() -> None:
     t_start = time.perf_counter()
     for surface in THESIS_SURFACES.values():
         prof = mesh_profile(surface, 1500).normalized()
-        W = frictional_wrenches(prof, sample_twists_thesis(K // 2, prof, seed=1))
+        xi = sample_twists_thesis(K // 2, prof, seed=1)
+        W = frictional_wrenches(prof, xi)
         test = frictional_wrenches(prof, sample_twists_thesis(2500, prof, seed=2))
         wm = w_max(prof)
         cases = {
@@ -65,6 +66,9 @@ def main() -> None:
                 W, "sdp", w_max=wm, solver="SCS", warm_start=False
             ),
             "quartic (CLARABEL)": lambda W=W, wm=wm: fit_quartic(W, w_max=wm, fallback_solver=None),
+            "quartic+normals (CLARABEL)": lambda W=W, wm=wm, xi=xi: fit_quartic(
+                W, twists=xi, w_max=wm, fallback_solver=None
+            ),
             "quartic (SCS)": lambda W=W, wm=wm: fit_quartic(
                 W, w_max=wm, solver="SCS", fallback_solver=None, warm_start=False
             ),

@@ -21,6 +21,16 @@ k of the assumed pressure (Fig 4.4(b)), μ offset (Fig 4.4(c)), contact-length
 offset (Fig 4.4(d)), and for the robust metric (6DFC Fig 3) ``q_robust >= 0.5``
 of the 6DLS with N_r samples of pose noise σ_r.  Per model: precision, recall
 and the median prediction time per grasp.
+
+**Comparable precision.**  Plain predictions trade precision for recall
+differently per model (the planar model is optimistic on a curved contact), so
+at the true parameters each model's resistance margin s* — the largest scale of
+the disturbance it resists, by bisection — is thresholded at every safety
+factor t, and recall is compared at precision levels 0.9/0.95/0.98
+(``at_matched_precision``, ``precision_recall.png``).  The truth's own margin
+gives each model's capacity error ``margin_vs_truth`` (median |log ratio| and
+its sign: > 0 optimistic).  ``make reproduce`` also runs a more wrapped contact
+(``half_angle=1.0`` → ``results/sensitivity-wrapped``), where nonplanarity matters more.
 """
 
 from __future__ import annotations
@@ -67,6 +77,11 @@ DEFAULT_CONFIG = {
     "robust_n_r": [1, 5, 10, 20],
     "robust_sigma_r": [0.0005, 0.001, 0.002, 0.004],  # m (rotation σ = σ_r / 0.03 m)
     "robust_disturbances": 80,
+    # precision-recall at the true parameters: each model's resistance margin s* (largest
+    # scale of the disturbance it resists) thresholded at a safety factor t, to compare
+    # recall at matched precision
+    "precision_levels": [0.9, 0.95, 0.98],
+    "margin_steps": 12,  # bisection steps on log2 s* in [-6, 6] (resolution 2^(12/2^12) ≈ 0.2 %)
 }
 QUICK_CONFIG = {
     "n_elements": 150,
@@ -79,6 +94,7 @@ QUICK_CONFIG = {
     "robust_n_r": [5],
     "robust_sigma_r": [0.002],
     "robust_disturbances": 20,
+    "margin_steps": 8,
 }
 
 
@@ -110,6 +126,45 @@ def _predict(sets, W, forces, mu) -> tuple[np.ndarray, float]:
         out.append(resists([c.with_force(c.force * f) for c in sets], w, mu))
         times.append(time.perf_counter() - t0)
     return np.array(out), float(np.median(times) * 1e3)
+
+
+def _margin(resisted, w: np.ndarray, steps: int, span: float = 64.0) -> float:
+    """Largest s in [1/span, span] with ``resisted(s w)`` (0 below, span above).
+
+    The resistible set is convex and contains 0 (the squeeze forces balance), so
+    resistance is monotone along the ray and a bisection on log s finds s*.
+    """
+    if resisted(span * w):
+        return span
+    if not resisted(w / span):
+        return 0.0
+    lo, hi = -np.log2(span), np.log2(span)
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        if resisted(2.0**mid * w):
+            lo = mid
+        else:
+            hi = mid
+    return float(2.0**lo)
+
+
+def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
+    """Precision-recall curve of ``margins >= t`` over every threshold t, and for each
+    precision level the best recall at precision >= level (and its t; NaN if the
+    model never reaches it).  ``t = 1`` is the model's plain prediction."""
+    ts = np.unique(margins[margins > 0])
+    curve = [(float(t), *(scores(margins >= t, truth)[k] for k in ("precision", "recall"))) for t in ts]
+    out = {
+        "threshold": [c[0] for c in curve],
+        "precision": [c[1] for c in curve],
+        "recall": [c[2] for c in curve],
+    }
+    best = []
+    for level in levels:
+        ok = [c for c in curve if c[1] >= level]
+        best.append(max(ok, key=lambda c: (c[2], -c[0])) if ok else (float("nan"),) * 3)
+    out["at_levels"] = {"level": levels, "recall": [b[2] for b in best], "threshold": [b[0] for b in best]}
+    return out
 
 
 def run(config: dict) -> dict:
@@ -170,6 +225,80 @@ def run(config: dict) -> dict:
                 },
             )
 
+    # resistance margins at the true parameters (recall at matched precision)
+    for model in tqdm(config["models"], desc="margins", unit="model"):
+        key = f"margin/{model}"
+        if key in ckpt:
+            continue
+        sets = _sets(true_prof, model, cache, config)
+        t0 = time.perf_counter()
+        margins = []
+        for w, f in zip(W, forces, strict=True):
+            scaled = [c.with_force(c.force * f) for c in sets]
+            margins.append(
+                _margin(lambda v, s=scaled: resists(s, v, config["mu"]), w, config["margin_steps"])
+            )
+        ckpt.add(
+            key,
+            {
+                "series": "margin",
+                "model": model,
+                "margins": margins,
+                "s_per_grasp": (time.perf_counter() - t0) / n,
+            },
+        )
+    if "margin/truth" not in ckpt:  # the simulated truth's own margin (same noise as `truth`)
+        t0 = time.perf_counter()
+        margins = [
+            _margin(
+                lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0],
+                w,
+                config["margin_steps"],
+            )
+            for w, f, m in zip(W, f_true, mu_true, strict=True)
+        ]
+        ckpt.add(
+            "margin/truth",
+            {
+                "series": "margin",
+                "model": "truth",
+                "margins": margins,
+                "s_per_grasp": (time.perf_counter() - t0) / n,
+            },
+        )
+    true_margin = np.array(ckpt.rows["margin/truth"]["margins"])
+    margin_error = {}
+    for m in config["models"]:
+        s_m = np.array(ckpt.rows[f"margin/{m}"]["margins"])
+        ok = (s_m > 0) & (true_margin > 0) & (s_m < 64) & (true_margin < 64)
+        lr = np.log(s_m[ok] / true_margin[ok])
+        margin_error[m] = {
+            "n": int(ok.sum()),  # disturbances where both margins are finite and nonzero
+            "median_abs_log_ratio": float(np.median(np.abs(lr))) if ok.any() else float("nan"),
+            "median_log_ratio": float(np.median(lr)) if ok.any() else float("nan"),  # > 0: optimistic
+            "optimistic_fraction": float((lr > 0).mean()) if ok.any() else float("nan"),
+        }
+    matched = {
+        m: matched_precision(np.array(ckpt.rows[f"margin/{m}"]["margins"]), truth, config["precision_levels"])
+        for m in config["models"]
+    }
+    levels = config["precision_levels"]
+
+    def recall_at(m: str, j: int) -> float:
+        return matched[m]["at_levels"]["recall"][j]
+
+    nonplanar = [m for m in ("6dls", "6dfc") if m in matched]
+    baselines = [m for m in ("planar", "point") if m in matched]
+    # a model that never reaches a level has recall 0 there (it cannot be made that precise)
+    nonplanar_ge = {
+        str(lv): all(
+            np.nan_to_num(recall_at(a, j)) >= np.nan_to_num(recall_at(b, j))
+            for a in nonplanar
+            for b in baselines
+        )
+        for j, lv in enumerate(levels)
+    }
+
     # robust metric (6DFC paper Fig 3): q_robust >= 0.5 of the 6DLS under pose noise
     nr = config["robust_disturbances"]
     base = _sets(true_prof, "6dls", cache, config)
@@ -216,7 +345,7 @@ def run(config: dict) -> dict:
                 },
             )
 
-    rows = list(ckpt.rows.values())
+    rows = [r for r in ckpt.rows.values() if r["series"] != "margin"]
     cols = ["series", "x", "n_r", "sigma_r", "model", "precision", "recall", "positives", "ms_per_grasp"]
     write_csv(out / "sensitivity.csv", cols, [[r.get(c, "") for c in cols] for r in rows])
     series_out = {}
@@ -241,7 +370,7 @@ def run(config: dict) -> dict:
         m: float(np.median([r["ms_per_grasp"] for r in rows if r.get("model") == m]))
         for m in config["models"]
     }
-    figures = [str(_plot(out, series_out, config))]
+    figures = [str(_plot(out, series_out, config)), str(_plot_pr(out, matched, config))]
     try:
         figures.append(str(_render(out, true_prof)))
     except Exception as exc:  # a render is a convenience
@@ -265,6 +394,18 @@ def run(config: dict) -> dict:
         "series": series_out,
         "ms_per_grasp": ms_model,
         "at_true_parameters": base_row,
+        "at_matched_precision": {
+            "method": "each model's margin s* (largest resisted scale of the disturbance, bisection); "
+            "predict s* >= t; per precision level the best recall over t (t = 1: plain prediction)",
+            "levels": levels,
+            "recall": {m: matched[m]["at_levels"]["recall"] for m in config["models"]},
+            "threshold": {m: matched[m]["at_levels"]["threshold"] for m in config["models"]},
+            "nonplanar_recall_ge_planar_and_point": nonplanar_ge,
+        },
+        "margin_vs_truth": margin_error,
+        "pr_curves": {
+            m: {k: matched[m][k] for k in ("threshold", "precision", "recall")} for m in config["models"]
+        },
         "n_resumed": n_resumed,
         "figures": figures,
         "headline": [
@@ -273,6 +414,17 @@ def run(config: dict) -> dict:
                 f"{m}: recall vs k {[round(v, 2) for v in series_out['k'][m]['recall']]}, "
                 f"{ms_model[m]:.2f} ms/grasp"
                 for m in config["models"]
+            ),
+            "recall at matched precision "
+            + "; ".join(
+                f"P>={lv}: " + ", ".join(f"{m} {recall_at(m, j):.2f}" for m in config["models"])
+                for j, lv in enumerate(levels)
+            ),
+            f"6DLS/6DFC recall >= planar and point at matched precision: {nonplanar_ge}",
+            "resistance margin vs the truth's, median |log ratio| (bias): "
+            + ", ".join(
+                f"{m} {e['median_abs_log_ratio']:.3f} ({e['median_log_ratio']:+.3f})"
+                for m, e in margin_error.items()
             ),
         ],
     }
@@ -317,6 +469,36 @@ def _plot(out: Path, series: dict, config: dict) -> Path:
     fig.suptitle("simulated ground truth: exact 6DFW set with per-grasp noise (no physical data)")
     fig.tight_layout()
     return save_figure(fig, out / "fig_4_4_sensitivity.png")
+
+
+def _plot_pr(out: Path, matched: dict, config: dict) -> Path:
+    """Precision-recall curves at the true parameters (threshold on the margin s*),
+    the plain predictions (t = 1) marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    for j, (m, c) in enumerate(matched.items()):
+        label = m if c["recall"] else f"{m} (resists none)"
+        ls = "--" if m == "6dfc" else "-"  # 6DFC coincides with the 6DLS here
+        ax.step(c["recall"], c["precision"], ls, where="post", color=f"C{j}", label=label)
+        t = np.array(c["threshold"])
+        if len(t):
+            i = int(np.searchsorted(t, 1.0))  # the smallest threshold >= 1
+            if i < len(t):
+                ax.plot(c["recall"][i], c["precision"][i], "o", color=f"C{j}")
+    for lv in config["precision_levels"]:
+        ax.axhline(lv, color="0.8", lw=0.8, zorder=0)
+    ax.set_xlabel("recall")
+    ax.set_ylabel("precision")
+    ax.set_xlim(0.6, 1.01)
+    ax.set_ylim(0.6, 1.005)
+    ax.set_title("true parameters: threshold t on the resistance margin (dot: t = 1)", fontsize=9)
+    ax.legend(fontsize=8, loc="lower left")
+    fig.tight_layout()
+    return save_figure(fig, out / "precision_recall.png")
 
 
 def _render(out: Path, profiles: list) -> Path:

@@ -93,8 +93,13 @@ def test_ls_fitting_headlines(ls_fitting):
         e, q = s["heldout_error"]["ellipsoid"][name]["600"], s["heldout_error"]["quartic"][name]["600"]
         assert q < e, name  # thesis §3.5.1.3: the quartic wins with enough wrenches
         assert e <= 0.04 and q <= 0.02, (name, e, q)  # thesis §3.6 bounds
+        # K = 200 (126 coefficients): the values-only quartic of Eq. (3.17) overfits; the twist
+        # normals (maximum dissipation) fix it — quartic below the ellipsoid from K = 200 on
+        e2, q2 = s["heldout_error"]["ellipsoid"][name]["200"], s["heldout_error"]["quartic"][name]["200"]
+        assert q2 < e2, (name, q2, e2)
+        assert q2 < s["heldout_error"]["quartic_values_only"][name]["200"], name
     rt = s["fit_runtime_s"]
-    assert set(rt) == {"ellipsoid_lsq", "ellipsoid_sdp", "quartic"}
+    assert set(rt) == {"ellipsoid_lsq", "ellipsoid_sdp", "quartic_values", "quartic"}
     assert all(rt["ellipsoid_lsq"][n]["600"] < rt["quartic"][n]["600"] for n in surfaces)
     assert {r["solver"] for r in s["solver_comparison"]} == {"SCS"}
     for fig in ("fig_3_9_error_runtime.png", "runtime_vs_error.png", "fig_3_10_cross_sections.png"):
@@ -203,3 +208,43 @@ def test_sensitivity_quick(tmp_path):
         assert at[m]["precision"][0] >= 0.8
     assert set(s["ms_per_grasp"]) >= {"point", "soft_point", "planar", "6dls", "6dfc"}
     assert (tmp_path / "fig_4_4_sensitivity.png").stat().st_size > 10_000
+    mp = s["at_matched_precision"]
+    assert mp["levels"] == [0.9, 0.95, 0.98] and set(mp["recall"]) == set(s["ms_per_grasp"])
+    # the point contact cannot resist τ_x at any threshold; soft and 6D models can
+    assert all(np.isnan(r) or r < 0.5 for r in mp["recall"]["point"])
+    assert mp["recall"]["6dls"][0] > 0.8
+    assert (tmp_path / "precision_recall.png").stat().st_size > 10_000
+
+
+def test_margin_of_antipodal_point_contacts_is_2_mu_F_over_mg():
+    """The bisected resistance margin against the analytic one: two antipodal point
+    contacts (64-gon inner cone, aligned with gravity) hold s·mg iff s <= 2μF/(mg)."""
+    from experiments.sensitivity import _margin
+    from workbench.grasp import point_contact, resists
+
+    mu, F = 0.5, 10.0
+    sets = [
+        point_contact([0.03, 0, 0], [1, 0, 0], F, n_edges=64),
+        point_contact([-0.03, 0, 0], [-1, 0, 0], F, n_edges=64),
+    ]
+    for mg in (2.0, 5.0, 20.0):
+        w = np.array([0.0, -mg, 0, 0, 0, 0])
+        s_star = _margin(lambda v: resists(sets, v, mu), w, steps=14)
+        exact = 2 * mu * F / mg
+        # inner 64-gon: support along y is μF cos(π/64) at worst; bisection resolution 2^(12/2^14)
+        assert exact * np.cos(np.pi / 64) * (1 - 1e-3) <= s_star <= exact * (1 + 1e-6), (mg, s_star, exact)
+    assert (
+        _margin(lambda v: resists(sets, v, mu), np.array([0, 0, 0, 1.0, 0, 0]), steps=4) == 0.0
+    )  # no torsion
+
+
+def test_matched_precision_on_a_hand_made_ranking():
+    from experiments.sensitivity import matched_precision
+
+    truth = np.array([True, True, True, False, True, False])
+    margins = np.array([3.0, 2.5, 2.0, 1.8, 1.2, 0.5])
+    out = matched_precision(margins, truth, [0.8, 1.0])
+    # t = 1.2 keeps the top 5: precision 4/5, recall 1; t = 2.0: precision 1, recall 3/4
+    assert out["at_levels"]["recall"] == [1.0, 0.75]
+    assert out["at_levels"]["threshold"] == [1.2, 2.0]
+    assert np.isnan(matched_precision(np.zeros(6), truth, [0.5])["at_levels"]["recall"][0])

@@ -321,3 +321,68 @@ def test_quartic_with_a_thin_direction_is_recovered_without_fallback(rng):
     W_test = on_surface(2000)
     assert np.abs(model.value(W_test) - 1).max() < 1e-4
     assert model.min_hessian_eigenvalue(2000) >= -1e-12
+
+
+# ------------------------------------------------- quartic with twist normals
+def _known_quartic():
+    s = np.array([1.0, 0.8, 0.6, 0.3, 0.1, 0.05])
+
+    def f(w):
+        z = w / s
+        return (z**4).sum(axis=1) + ((z**2).sum(axis=1)) ** 2
+
+    def grad(w):
+        z = w / s
+        return (4 * z**3 + 4 * (z**2).sum(axis=1, keepdims=True) * z) / s
+
+    return f, grad
+
+
+def test_normal_rows_are_satisfied_by_the_true_quartic(rng):
+    """The gradient rows are linear in the coefficients: the true quartic's
+    coefficients (interpolated exactly from values) satisfy them to round-off."""
+    f, grad = _known_quartic()
+    expo = exponents(6, 4)
+    u = rng.standard_normal((300, 6))
+    z = u * f(u)[:, None] ** -0.25  # on f = 1
+    a_true = np.linalg.lstsq(quart_mod.monomials(z, expo), f(z), rcond=None)[0]
+    A, b = quart_mod._normal_rows(z, grad(z), expo, 1.0)
+    assert A.shape == (6 * 300, 126)
+    np.testing.assert_allclose(A @ a_true, b, atol=1e-9 * np.abs(b).max())
+    # Euler: z·∇f = 4 on the surface, so the target is the true gradient itself
+    np.testing.assert_allclose(b.reshape(6, -1).T * 4, grad(z), rtol=1e-12)
+
+
+def test_quartic_with_normals_recovers_a_known_quartic_from_few_wrenches(rng):
+    f, grad = _known_quartic()
+    u = rng.standard_normal((130, 6))  # just above the 126 coefficients
+    W = u * f(u)[:, None] ** -0.25
+    twists = -grad(W)  # friction wrench minimises w·ξ: ξ is the inward normal
+    model = fit_quartic(W, twists=twists, w_max=np.abs(W).max(axis=0), fallback_solver=None)
+    v = rng.standard_normal((2000, 6))
+    W_test = v * f(v)[:, None] ** -0.25
+    assert np.abs(model.value(W_test) - 1).max() < 1e-4
+    g = model.gradient(W)
+    cos = np.einsum("ij,ij->i", g, -twists) / np.linalg.norm(g, axis=1) / np.linalg.norm(twists, axis=1)
+    assert cos.min() > 1 - 1e-8
+    assert model.info["normal_weight"] == pytest.approx(0.5 * np.sqrt(126 / 130))
+
+
+def test_normals_fix_the_quartic_at_small_k(s4_data):
+    """K = 200 on S4: Eq. (3.17) on values alone overfits the 126 coefficients;
+    the sampling twists as normals bring the quartic below the ellipsoid."""
+    prof, _, test = s4_data
+    xi = sample_twists_thesis(100, prof, seed=7)
+    W = frictional_wrenches(prof, xi)
+    values = fit_quartic(W).fitting_error(test)
+    hermite = fit_quartic(W, twists=xi)
+    ellipsoid = fit_ellipsoid(W, "sdp").fitting_error(test)
+    assert hermite.fitting_error(test) < min(values, ellipsoid)
+    assert hermite.min_hessian_eigenvalue(10_000, seed=3) >= -1e-12
+    with pytest.raises(ValueError, match="not a friction twist"):
+        fit_quartic(W, twists=-xi)  # sign flipped: w·ξ > 0
+    with pytest.raises(ValueError, match="wrenches' shape"):
+        fit_quartic(W, twists=xi[:-1])
+    with pytest.raises(ValueError, match="normal_weight"):
+        fit_quartic(W, twists=xi, normal_weight=-1.0)
+    assert fit_quartic(W, twists=xi, normal_weight=0.0).fitting_error(test) == pytest.approx(values, rel=1e-6)

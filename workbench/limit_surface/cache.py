@@ -58,6 +58,7 @@ class ModelSpec:
     method: str = "lsq"  # ellipsoid: "lsq" | "sdp"
     solver: str = "CLARABEL"
     exact_w_max: bool = True  # normalise by the canonical-twist support values
+    normals: bool = True  # quartic: also fit the twists as outward normals (fit_quartic(twists=...))
 
 
 def _hash_arrays(*arrays: np.ndarray) -> hashlib._Hash:
@@ -124,13 +125,14 @@ class LimitSurfaceCache:
         self, prof: ContactProfile, mu: float, sampler: SamplerSpec, spec: ModelSpec
     ) -> LimitSurfaceModel:
         self.stats["sampling"] += 1
-        W = frictional_wrenches(prof, sampler.twists(prof), mu)
+        xi = sampler.twists(prof)
+        W = frictional_wrenches(prof, xi, mu)
         wm = w_max(prof, mu) if spec.exact_w_max else None
         self.stats["solves"] += 1
         if spec.model == "ellipsoid":
             return fit_ellipsoid(W, spec.method, w_max=wm, solver=spec.solver)
         if spec.model == "quartic":
-            return fit_quartic(W, w_max=wm, solver=spec.solver)
+            return fit_quartic(W, twists=xi if spec.normals else None, w_max=wm, solver=spec.solver)
         raise ValueError(f"model must be 'ellipsoid' or 'quartic'; got {spec.model!r}")
 
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import TOL
+from ..config import DEFAULTS, TOL
 from .base import LimitSurfaceModel
 from .normalize import prepare
 from .sos import exponents, monomials, sos_convexity_maps
@@ -183,9 +183,47 @@ def _solve(r: int, solver: str, Rm: np.ndarray, c_val: np.ndarray, warm_start: b
     return True, np.array(a.value), np.array(M.value), prob.status
 
 
+def _normal_rows(
+    z: np.ndarray, n_z: np.ndarray, expo: np.ndarray, beta: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares rows ``(β/4)(∇g(z_k) - 4 n_k / (n_k·z_k)) = 0`` for the
+    quartic g with exponents ``expo`` (L, r).
+
+    z : (K, r) wrenches on the surface, n_z : (K, r) outward normals there (the
+    negated twists, maximum dissipation §2.3.4).  For a homogeneous quartic with
+    ``g(z) = 1``, Euler's ``z·∇g = 4`` fixes the normal's length, so the target
+    gradient is linear data and the rows are linear in the coefficients.  Rows
+    whose normal is (nearly) tangent to the ray — zero wrenches, e.g. a
+    translation along a planar contact's normal — carry no information and are
+    dropped.  Returns (A (K' r, L), b (K' r,)).
+    """
+    nz = np.einsum("ij,ij->i", n_z, z)
+    tol = 1e-9 * np.linalg.norm(n_z, axis=1) * np.linalg.norm(z, axis=1)
+    if (nz < -tol).any():
+        k = int(np.argmax(nz < -tol))
+        raise ValueError(
+            f"twist {k} is not a friction twist of its wrench: friction opposes motion (w·ξ <= 0) but "
+            f"w·ξ > 0 there ({int((nz < -tol).sum())} of {len(nz)} rows) — pass the twists the wrenches "
+            "were computed from, unchanged in sign and order"
+        )
+    keep = nz > tol
+    z, n_z, nz = z[keep], n_z[keep], nz[keep]
+    target = 4.0 * n_z / nz[:, None]
+    A, b = [], []
+    for j in range(z.shape[1]):
+        d = expo[:, j]
+        lowered = expo.copy()
+        lowered[:, j] = np.maximum(d - 1, 0)  # ∂_j z^d = d_j z^(d - e_j); d_j = 0 rows vanish
+        A.append(monomials(z, lowered) * (0.25 * beta * d))
+        b.append(0.25 * beta * target[:, j])
+    return np.vstack(A), np.concatenate(b)
+
+
 def fit_quartic(
     wrenches: Any,
     *,
+    twists: Any = None,
+    normal_weight: float | None = None,
     w_max: Any = None,
     solver: str = "CLARABEL",
     fallback_solver: str | None = "SCS",
@@ -193,6 +231,16 @@ def fit_quartic(
 ) -> QuarticLS:
     """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. (3.17).
 
+    twists : optional (K, 6) twists ``[v; ω]`` the wrenches were sampled with.
+        By maximum dissipation ``-twist`` is the outward normal of the limit
+        surface at its wrench, so each twist adds r linear gradient rows
+        (:func:`_normal_rows`) to the value rows of Eq. (3.17) — Hermite
+        instead of Lagrange fitting.  This is our addition to the thesis, which
+        fits values only; it matters for K near the 126 coefficients, where the
+        values-only quartic overfits (held-out error above the ellipsoid's).
+    normal_weight : β of those rows; default ``DEFAULTS.quartic_normal_weight *
+        sqrt(L / K)`` (a fixed total weight that fades against the K value rows).
+        0 fits values only.
     w_max : optional exact (6,) maxima; default the sampled maxima.
     solver : cvxpy conic solver with SDP support ("CLARABEL" or "SCS").
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
@@ -220,8 +268,27 @@ def fit_quartic(
     # the objective unchanged, so this is the same fit, only well-posed.
     expo = exponents(r, 4)
     s = sub.std[:r]
-    Q, Rm = np.linalg.qr(monomials((x @ sub.basis) / s, expo))
-    c_val = Q.T @ np.ones(len(W))
+    z = (x @ sub.basis) / s
+    A_fit, b_fit = monomials(z, expo), np.ones(len(W))
+    beta = 0.0
+    if twists is not None:
+        xi = np.asarray(twists, dtype=np.float64)
+        if xi.shape != W.shape or not np.all(np.isfinite(xi)):
+            raise ValueError(
+                f"twists must be a finite array of the wrenches' shape {W.shape} (one twist per "
+                f"wrench, [v; ω]); got shape {xi.shape} — pass the twists the wrenches came from"
+            )
+        beta = (
+            DEFAULTS.quartic_normal_weight * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
+        )
+        if not np.isfinite(beta) or beta < 0:
+            raise ValueError(f"normal_weight must be finite and >= 0; got {beta}")
+        if beta > 0:
+            # power w·ξ = z·(s ⊙ Bᵀ(scale ⊙ ξ)); friction minimises it, so the outward normal is -that
+            A_n, b_n = _normal_rows(z, -((xi * scale) @ sub.basis) * s, expo, float(beta))
+            A_fit, b_fit = np.vstack([A_fit, A_n]), np.concatenate([b_fit, b_n])
+    Q, Rm = np.linalg.qr(A_fit)
+    c_val = Q.T @ b_fit
     failures = []
     for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
         ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
@@ -245,6 +312,7 @@ def fit_quartic(
         "whitening": s,  # the certificate ``gram`` is for g(z), z = y / whitening
         "dim": r,
         "n_wrenches": len(W),
+        "normal_weight": float(beta),  # 0: values only (Eq. 3.17 as in the thesis)
         "fit_time_s": time.perf_counter() - t0,
     }
     return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M_val)
