@@ -50,7 +50,9 @@ from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "sensitivity"
 #: bump when a model's predictions change, so checkpointed rows are recomputed
-ROW_VERSION = 2  # 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components
+# 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components; 3: the cut refinement
+# stops when the outer set fails and never returns an unconverged "resisted"
+ROW_VERSION = 3
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -69,7 +71,17 @@ DEFAULT_CONFIG = {
     "weight_range": [2.0, 14.0],  # N
     "lever_x": 0.04,  # m, |r_x| (τ_z = −r_x m g)
     "lever_z": 0.025,  # m, |r_z| (τ_x = r_z m g: torsion about the grasp axis)
-    "models": ["point", "soft_point", "planar", "3dls_nonplanar", "6dfw", "reach", "6dls", "6dfc"],
+    "models": [
+        "point",
+        "soft_point",
+        "planar",
+        "3dls_nonplanar",
+        "6dfw",
+        "reach",
+        "6dls",
+        "6dls_quartic",
+        "6dfc",
+    ],
     "M": 200,
     "k_values": [1.5, 2.0, 2.4, 4.0, 8.0, 1e6],
     "mu_offsets": [-0.2, -0.1, 0.0, 0.1, 0.2],

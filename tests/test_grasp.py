@@ -419,3 +419,34 @@ def test_grasp_pipeline_on_a_thesis_object_if_available():
     light = gravity_wrench(0.2 * 0.5 * F / 9.81, mesh.center_mass)
     heavy = gravity_wrench(5 * 0.5 * F / 9.81, mesh.center_mass)
     assert resists(sets, light, 0.5) and not resists(sets, heavy, 0.5)
+
+
+@pytest.mark.parametrize("model", ["ellipsoid", "quartic"])
+def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model):
+    """One 6DLS contact alone: ``w_ext`` is resisted iff ``f_{μF}(-w_ext - F ŵ⊥) <= 1``
+    (Eq. 3.26).  Points 3% inside / outside the fitted surface along random
+    directions decide the QP (second-order cone for the ellipsoid, cutting planes
+    on the quartic) against the model's own value."""
+    from workbench import mesh_profile
+    from workbench.limit_surface import LimitSurfaceCache, ModelSpec
+    from workbench.surface_catalog import S4
+
+    prof = mesh_profile(S4, 600)
+    spec = ModelSpec(model="quartic") if model == "quartic" else ModelSpec(method="sdp")
+    cm = LimitSurfaceCache().contact_model(prof, 1.0, spec=spec)
+    mu, F = 0.4, prof.F
+    contact = limit_surface_contact(cm, np.zeros(3), F, M=200)
+    ls = cm.limit_surface.scaled(mu * F)
+    u = np.random.default_rng(3).standard_normal((30, 6)) * ls.scale
+    if model == "quartic":
+        # without cuts (max_cuts=0) the outer polytope alone would call points just outside
+        # the model resisted; unconverged refinement must defer to the inner LP instead
+        fresh = limit_surface_contact(cm, np.zeros(3), F, M=200)
+        outside = [-(F * cm.normal_wrench + 1.03 * ls.value(ui) ** -0.25 * ui) for ui in u]
+        loose = sum(wrench_resistance([fresh], w, mu, refine=False)[0] for w in outside)
+        assert loose > 0  # the M = 200 outer polytope is loose in 6D
+        assert not any(wrench_resistance([fresh], w, mu, max_cuts=0)[0] for w in outside)
+    for rho in (0.97, 1.03):
+        for ui in u:
+            w_ext = -(F * cm.normal_wrench + rho * ls.value(ui) ** (-1 / ls.degree) * ui)
+            assert resists([contact], w_ext, mu) == (rho < 1), (rho, ui)

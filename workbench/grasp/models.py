@@ -17,6 +17,8 @@ one jaw contributes under model ``name``:
 ``reach``           REACH-style: each element a soft point contact with its own force,
                     clustered to ``reach_triangles`` (thesis §2.3.1.3)
 ``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eq. 3.27/3.28)
+``6dls_quartic``    ``6dls`` with the SOS-convex quartic (Eq. 3.17, fitted with the
+                    twist normals); the QP refines its linearisation by cutting planes
 ``6dfc``            6D friction cone, ``f_C <= F`` (Eq. 3.29/3.30)
 ==================  =====================================================================
 
@@ -47,7 +49,7 @@ from .contacts import (
     wrench_hull_contact,
 )
 
-MODELS = ("point", "soft_point", "planar", "3dls_nonplanar", "6dfw", "reach", "6dls", "6dfc")
+MODELS = ("point", "soft_point", "planar", "3dls_nonplanar", "6dfw", "reach", "6dls", "6dls_quartic", "6dfc")
 
 
 def torsion_length(profile: ContactProfile, normal: np.ndarray) -> float:
@@ -92,6 +94,8 @@ def contact_sets(
     if name not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {name!r}")
     cache = cache if cache is not None else LimitSurfaceCache()
+    if name == "6dls_quartic":
+        quartic = True
     spec = ModelSpec(model="quartic") if quartic else ModelSpec(method="sdp")
     F, o = profile.F, profile.pressure_center
     if name in ("point", "soft_point"):
@@ -101,7 +105,7 @@ def contact_sets(
         return [soft_point_contact(o, n, F, torsion_length(profile, n), n_edges=n_edges, name=name)]
     if name == "reach":
         return reach_contacts(profile, max_triangles=reach_triangles, n_edges=n_edges)
-    if name in ("6dls", "6dfc"):
+    if name in ("6dls", "6dls_quartic", "6dfc"):
         model = cache.contact_model(profile, 1.0, spec=spec)
         return [limit_surface_contact(model, o, F, M=M, cone=name == "6dfc", name=name, seed=seed)]
     if name == "planar":

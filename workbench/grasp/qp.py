@@ -204,6 +204,8 @@ def wrench_resistance(
         ok, resid, c, x = _solve(work, w_ext, mu, solver, tol, "outer", fallback, return_x=True)
         if not refine:
             break
+        if not ok:  # the outer set cannot resist it: neither can the model inside it
+            break
         cut = False
         k = 0
         for ci in work:
@@ -223,12 +225,21 @@ def wrench_resistance(
             k += n_i
         if not cut:
             break
+    else:
+        # the cuts did not converge: the outer answer "resisted" may be optimistic, so
+        # the inner vertices (on the model) decide, conservatively
+        from .gws import resists_lp
+
+        ok = resists_lp(contacts, w_ext, mu)
+        log.warning("cutting planes did not converge in %d cuts; inner-vertex LP decides: %s", max_cuts, ok)
     return ok, resid, c
 
 
 #: a contact wrench may exceed its limit-surface model by this (relative f) before a cut
 CUT_TOL = 1e-4
-#: cuts kept per contact model (beyond it new cuts still apply to the current solve only)
+#: cuts kept per contact model; beyond it the oldest is dropped (every cut is a valid
+#: tangent plane, so any subset keeps an outer approximation; the newest must stay, or
+#: the refinement would re-solve the same QP)
 MAX_STORED_CUTS = 2000
 
 
@@ -246,7 +257,7 @@ def halfspace_parts(c) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, 
         c.meta["_split"] = base
     _, A_in, b_in, An_in, A_eq, An_eq = base
     cuts = c.meta.get("_cuts")
-    if cuts:
+    if cuts and cuts[0]:
         A_c = np.array(cuts[0])
         A_in = np.vstack([A_in, A_c])
         b_in = np.concatenate([b_in, cuts[1]])
@@ -257,9 +268,10 @@ def halfspace_parts(c) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, 
 def add_cut(c, a: np.ndarray, b: float) -> None:
     """Store the tangent plane ``a s <= b`` of contact ``c``'s model (shared by its copies)."""
     cuts = c.meta.setdefault("_cuts", ([], []))
-    if len(cuts[0]) < MAX_STORED_CUTS:
-        cuts[0].append(np.asarray(a, float))
-        cuts[1].append(float(b))
+    while cuts[0] and len(cuts[0]) >= MAX_STORED_CUTS:
+        del cuts[0][0], cuts[1][0]
+    cuts[0].append(np.asarray(a, float))
+    cuts[1].append(float(b))
 
 
 def _solve(contacts, w_ext, mu, solver, tol, representation, fallback, return_x=False):
