@@ -9,9 +9,10 @@
   each model's contact sets is reported separately.
 * ``lp_vs_hull``: membership of ``−w_ext`` in the 6DLS ``W_L∞`` by the LP over
   vertex weights and by the Qhull facets, on 1,000 random disturbances.
-* ``qp_solvers``: every installed qpsolvers backend on the same linearised QPs
-  (6DLS outer half-spaces): median time and agreement with an exact LP
-  feasibility check of the same half-spaces.
+* ``qp_solvers``: every installed qpsolvers backend (and the default "auto") on
+  two sizes of the same outer QPs — two 6DLS contacts (12 variables) and REACH
+  (32 soft contacts, 224 variables): median time and agreement with an exact LP
+  on the same constraints.  They decided ``DEFAULT_SOLVER``.
 
 Writes results/benchmarks/grasp.json.  Run: python benchmarks/bench_grasp.py [--quick]
 """
@@ -28,7 +29,7 @@ from scipy.optimize import linprog
 
 from workbench.grasp import build_gws, resists_lp, wrench_resistance
 from workbench.grasp.models import contact_sets
-from workbench.grasp.qp import DEFAULT_SOLVER, qp_matrices_outer
+from workbench.grasp.qp import AUTO_LARGE_QP, DEFAULT_SOLVER, qp_matrices_outer
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import versions, write_json
@@ -37,6 +38,33 @@ ROOT = Path(__file__).resolve().parents[1]
 MU = 0.3
 #: thesis Tables 4.2/4.3, last column (QP-based grasp analysis per grasp)
 THESIS_MS = {"6dls": "236-252", "6dfc": "236-252", "point": "13-14"}
+
+
+def compare_solvers(sets, W, ref) -> dict:
+    """Median time, agreement with the exact decisions ``ref`` and failures of every
+    installed qpsolvers backend (and "auto") on the outer QPs of ``sets`` for ``W``."""
+    import qpsolvers
+
+    out = {}
+    for solver in ["auto", *sorted(qpsolvers.available_solvers)]:
+        times, dec, failed = [], [], 0
+        for w in W:
+            t0 = time.perf_counter()
+            try:
+                # backends' status/conversion warnings are the results counted here, not news
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    dec.append(wrench_resistance(sets, w, MU, solver=solver, fallback=False, refine=False)[0])
+            except Exception:  # a backend failing is a result too: counted, decided "no"
+                failed += 1
+                dec.append(False)
+            times.append(time.perf_counter() - t0)
+        out[solver] = {
+            "median_ms": float(np.median(times[1:]) * 1e3),  # the first call imports the backend
+            "agree_with_exact_lp": float((np.array(dec) == np.array(ref)).mean()),
+            "failures": failed,
+        }
+    return out
 
 
 def outer_lp(contacts, w, mu) -> bool:
@@ -106,34 +134,17 @@ def main() -> None:
         t_single.append(time.perf_counter() - t1)
     hull_single_ms = float(np.median(t_single) * 1e3)
 
-    # QP solvers on the 6DLS outer QP vs the exact LP check of the same constraints
-    import qpsolvers
-
+    # QP solvers on two sizes of the outer QP vs an exact LP of the same constraints:
+    # two 6DLS contacts (12 variables) and REACH (32 soft contacts, 224 variables)
     sets6 = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache)]
+    sets_reach = [c for p in profiles for c in contact_sets(p, "reach", cache=cache)]
     Wq = lever_disturbances(rng, 100 if args.quick else 300)
-    ref = np.array([outer_lp(sets6, w, MU) for w in Wq])
-    solvers = {}
-    for solver in sorted(qpsolvers.available_solvers):
-        times, dec, failed = [], [], 0
-        for w in Wq:
-            t0 = time.perf_counter()
-            try:
-                # backends' status/conversion warnings are the results counted here, not news
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    dec.append(
-                        wrench_resistance(sets6, w, MU, solver=solver, fallback=False, refine=False)[0]
-                    )
-            except Exception:  # a backend failing is a result too: counted, decided "no"
-                failed += 1
-                dec.append(False)
-            times.append(time.perf_counter() - t0)
-        dec = np.array(dec)
-        solvers[solver] = {
-            "median_ms": float(np.median(times[1:]) * 1e3),  # the first call imports the backend
-            "agree_with_exact_lp": float((dec == ref).mean()),
-            "failures": failed,
-        }
+    solvers = {
+        "6dls_12_variables": compare_solvers(sets6, Wq, [outer_lp(sets6, w, MU) for w in Wq]),
+        "reach_224_variables": compare_solvers(
+            sets_reach, Wq[:100], [resists_lp(sets_reach, w, MU) for w in Wq[:100]]
+        ),
+    }
 
     out = {
         "setup": (
@@ -160,7 +171,7 @@ def main() -> None:
             "queries_to_amortise_hull": hull_build_s * 1e3 / max(lp_ms - hull_single_ms, 1e-9),
         },
         "qp_solvers": solvers,
-        "default_solver": DEFAULT_SOLVER,
+        "default_solver": f"{DEFAULT_SOLVER}: quadprog up to {AUTO_LARGE_QP} variables, DAQP above",
         "versions": versions(),
     }
     write_json(Path(args.out), out)
@@ -170,8 +181,9 @@ def main() -> None:
     print(
         f"  LP vs hull agree: {out['lp_vs_hull_agree']} ({lp_ms:.2f} ms vs {hull_single_ms:.3f} ms per query)"
     )
-    for k, v in solvers.items():
-        print(f"  {k:>9}: {v}")
+    for size, table in solvers.items():
+        for k, v in table.items():
+            print(f"  {size} {k:>9}: {v}")
 
 
 if __name__ == "__main__":

@@ -51,8 +51,9 @@ from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 NAME = "sensitivity"
 #: bump when a model's predictions change, so checkpointed rows are recomputed
 # 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components; 3: the cut refinement
-# stops when the outer set fails and never returns an unconverged "resisted"
-ROW_VERSION = 3
+# stops when the outer set fails and never returns an unconverged "resisted"; 4: the "auto"
+# QP solver (DAQP above 48 variables: REACH timings)
+ROW_VERSION = 4
 
 DEFAULT_CONFIG = {
     "seed": 0,

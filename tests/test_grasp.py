@@ -450,3 +450,29 @@ def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model):
         for ui in u:
             w_ext = -(F * cm.normal_wrench + rho * ls.value(ui) ** (-1 / ls.degree) * ui)
             assert resists([contact], w_ext, mu) == (rho < 1), (rho, ui)
+
+
+def test_membership_lp_phase_one_fallback_decides_the_same(monkeypatch):
+    """When HiGHS ends the feasibility LP with an unknown status (seen with 128 REACH
+    contacts), the phase-one re-solve (min L1 violation) gives the same decisions."""
+    import types
+
+    import workbench.grasp.gws as gws_mod
+
+    grasp = _antipodal("inner", n=16, soft=0.01)
+    rng = np.random.default_rng(11)
+    W = rng.standard_normal((60, 6)) * np.r_[np.full(3, 2 * MU * F), np.full(3, 0.02 * MU * F)] * 0.4
+    plain = [resists_lp(grasp, w, MU) for w in W]
+    assert 10 < sum(plain) < 50  # both outcomes exercised
+    real = gws_mod.linprog
+    calls = {"n": 0}
+
+    def flaky(c, *args, **kw):
+        calls["n"] += 1
+        if not np.any(c):  # the zero-objective feasibility form "fails"
+            return types.SimpleNamespace(status=4, message="simulated HiGHS status 15")
+        return real(c, *args, **kw)
+
+    monkeypatch.setattr(gws_mod, "linprog", flaky)
+    assert [resists_lp(grasp, w, MU) for w in W] == plain
+    assert calls["n"] == 2 * len(W)

@@ -17,6 +17,7 @@
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +26,8 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull
 
 from .contacts import ContactSet
+
+log = logging.getLogger(__name__)
 
 NORMS = ("linf", "l1")
 
@@ -213,19 +216,34 @@ def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float = 1e-9
         else:
             A_eq.append(row)
             b_eq.append([1.0])
+    A_ub_m = sp.csr_matrix(np.vstack(A_ub)) if A_ub else None
+    b_ub_v = np.concatenate(b_ub) if b_ub else None
+    A_eq_m, b_eq_v = sp.csr_matrix(np.vstack(A_eq)), np.concatenate(b_eq)
+    opts = {"primal_feasibility_tolerance": max(tol, 1e-10)}
+    res = linprog(np.zeros(n), A_ub_m, b_ub_v, A_eq_m, b_eq_v, bounds=(0, None), method="highs", options=opts)
+    if res.status in (0, 2):
+        return res.status == 0
+    # HiGHS can end a zero-objective feasibility LP with an unknown status when it is
+    # infeasible by ~its tolerance (seen with 128 REACH contacts); the phase-one form —
+    # minimise the L1 violation of the 6 wrench rows over slacks — is always feasible
+    # and bounded, and decides by the size of the violation
+    log.debug("membership LP status %s (%s); re-solving in phase-one form", res.status, res.message)
+    S = sp.vstack(
+        [sp.hstack([sp.eye(6), -sp.eye(6)]), sp.csr_matrix((A_eq_m.shape[0] - 6, 12))], format="csr"
+    )
     res = linprog(
-        np.zeros(n),
-        A_ub=sp.csr_matrix(np.vstack(A_ub)) if A_ub else None,
-        b_ub=np.concatenate(b_ub) if b_ub else None,
-        A_eq=sp.csr_matrix(np.vstack(A_eq)),
-        b_eq=np.concatenate(b_eq),
+        np.r_[np.zeros(n), np.ones(12)],
+        None if A_ub_m is None else sp.hstack([A_ub_m, sp.csr_matrix((A_ub_m.shape[0], 12))], format="csr"),
+        b_ub_v,
+        sp.hstack([A_eq_m, S], format="csr"),
+        b_eq_v,
         bounds=(0, None),
         method="highs",
-        options={"primal_feasibility_tolerance": max(tol, 1e-10)},
+        options=opts,
     )
-    if res.status not in (0, 2):
+    if res.status != 0:
         raise RuntimeError(f"HiGHS failed on the membership LP: {res.message}")
-    return res.status == 0
+    return bool(res.fun <= 6 * max(tol, 1e-10))
 
 
 __all__ = [
