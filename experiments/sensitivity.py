@@ -36,6 +36,7 @@ its sign: > 0 optimistic).  ``make reproduce`` also runs a more wrapped contact
 from __future__ import annotations
 
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -141,7 +142,11 @@ def _predict(sets, W, forces, mu) -> tuple[np.ndarray, float]:
     return np.array(out), float(np.median(times) * 1e3)
 
 
-def _margin(resisted, w: np.ndarray, steps: int, span: float = 64.0) -> float:
+#: margins are bisected in [1/MARGIN_SPAN, MARGIN_SPAN] (0 below, MARGIN_SPAN above)
+MARGIN_SPAN = 64.0
+
+
+def _margin(resisted, w: np.ndarray, steps: int, span: float = MARGIN_SPAN) -> float:
     """Largest s in [1/span, span] with ``resisted(s w)`` (0 below, span above).
 
     The resistible set is convex and contains 0 (the squeeze forces balance), so
@@ -159,6 +164,19 @@ def _margin(resisted, w: np.ndarray, steps: int, span: float = 64.0) -> float:
         else:
             hi = mid
     return float(2.0**lo)
+
+
+def _margin_row(model: str, deciders, W: np.ndarray, steps: int) -> dict:
+    """Checkpoint row of the margins of ``W`` (N, 6), one decider ``v -> bool`` per
+    disturbance, and the time per disturbance."""
+    t0 = time.perf_counter()
+    margins = [_margin(d, w, steps) for d, w in zip(deciders, W, strict=True)]
+    return {
+        "series": "margin",
+        "model": model,
+        "margins": margins,
+        "s_per_grasp": (time.perf_counter() - t0) / len(W),
+    }
 
 
 def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
@@ -244,46 +262,20 @@ def run(config: dict) -> dict:
         if key in ckpt:
             continue
         sets = _sets(true_prof, model, cache, config)
-        t0 = time.perf_counter()
-        margins = []
-        for w, f in zip(W, forces, strict=True):
-            scaled = [c.with_force(c.force * f) for c in sets]
-            margins.append(
-                _margin(lambda v, s=scaled: resists(s, v, config["mu"]), w, config["margin_steps"])
-            )
-        ckpt.add(
-            key,
-            {
-                "series": "margin",
-                "model": model,
-                "margins": margins,
-                "s_per_grasp": (time.perf_counter() - t0) / n,
-            },
-        )
+        grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
+        deciders = [partial(resists, g, mu=config["mu"]) for g in grasps]
+        ckpt.add(key, _margin_row(model, deciders, W, config["margin_steps"]))
     if "margin/truth" not in ckpt:  # the simulated truth's own margin (same noise as `truth`)
-        t0 = time.perf_counter()
-        margins = [
-            _margin(
-                lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0],
-                w,
-                config["margin_steps"],
-            )
-            for w, f, m in zip(W, f_true, mu_true, strict=True)
+        deciders = [
+            lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]
+            for f, m in zip(f_true, mu_true, strict=True)
         ]
-        ckpt.add(
-            "margin/truth",
-            {
-                "series": "margin",
-                "model": "truth",
-                "margins": margins,
-                "s_per_grasp": (time.perf_counter() - t0) / n,
-            },
-        )
+        ckpt.add("margin/truth", _margin_row("truth", deciders, W, config["margin_steps"]))
     true_margin = np.array(ckpt.rows["margin/truth"]["margins"])
     margin_error = {}
     for m in config["models"]:
         s_m = np.array(ckpt.rows[f"margin/{m}"]["margins"])
-        ok = (s_m > 0) & (true_margin > 0) & (s_m < 64) & (true_margin < 64)
+        ok = (s_m > 0) & (true_margin > 0) & (s_m < MARGIN_SPAN) & (true_margin < MARGIN_SPAN)
         lr = np.log(s_m[ok] / true_margin[ok])
         margin_error[m] = {
             "n": int(ok.sum()),  # disturbances where both margins are finite and nonzero

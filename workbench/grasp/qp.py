@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from .gws import capacity_scaling, check_contacts, check_wrench, simplex_rows, stacked_vertices
+from .gws import capacity_scaling, check_contacts, check_wrench, resists_lp, simplex_rows, stacked_vertices
 
 log = logging.getLogger(__name__)
 
@@ -232,8 +232,6 @@ def wrench_resistance(
     else:
         # the cuts did not converge: the outer answer "resisted" may be optimistic, so
         # the inner vertices (on the model) decide, conservatively
-        from .gws import resists_lp
-
         ok = resists_lp(contacts, w_ext, mu)
         log.warning("cutting planes did not converge in %d cuts; inner-vertex LP decides: %s", max_cuts, ok)
     return ok, resid, c
@@ -370,7 +368,6 @@ def min_grasp_force(contacts, w_ext, mu: float, f_max: float | None = None) -> t
 def resists(contacts, w_ext, mu: float, **kw) -> bool:
     """Prediction used by the experiments: the outer QP (Eq. 2.100 with Eq. 3.28/3.30)
     when every contact has half-spaces, else the exact LP over its vertices (6DFW)."""
-    from .gws import resists_lp
 
     contacts = check_contacts(contacts)
     if all(c.A is not None for c in contacts):
