@@ -12,7 +12,7 @@
 * ``qp_solvers``: every installed qpsolvers backend (and the default "auto") on
   two sizes of the same outer QPs — two 6DLS contacts (12 variables) and REACH
   (32 soft contacts, 224 variables): median time and agreement with an exact LP
-  on the same constraints.  They decided ``DEFAULT_SOLVER``.
+  on the same constraints.  They decided ``config.DEFAULTS.qp_solver``.
 
 Writes results/benchmarks/grasp.json.  Run: python benchmarks/bench_grasp.py [--quick]
 """
@@ -25,11 +25,12 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import linprog
 
-from workbench.grasp import build_gws, resists_lp, wrench_resistance
+from workbench import config
+from workbench.grasp import build_gws, resists, resists_lp
 from workbench.grasp.models import contact_sets
-from workbench.grasp.qp import AUTO_LARGE_QP, DEFAULT_SOLVER, qp_matrices_outer
+from workbench.grasp.resistance.program import assemble
+from workbench.grasp.resistance.solvers import solve_min_lp
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import versions, write_json
@@ -50,14 +51,14 @@ def compare_solvers(sets, W, ref) -> dict:
         times, dec, failed = [], [], 0
         for w in W:
             t0 = time.perf_counter()
-            try:
-                # backends' status/conversion warnings are the results counted here, not news
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    dec.append(wrench_resistance(sets, w, MU, solver=solver, fallback=False, refine=False)[0])
-            except Exception:  # a backend failing is a result too: counted, decided "no"
-                failed += 1
-                dec.append(False)
+            # backends' status/conversion warnings are the results counted here, not news
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                r = resists(sets, w, MU, representation="outer", solver=solver)
+            # a backend failing is a result too: counted, decided "no" (the recorded
+            # fallback answered instead)
+            failed += bool(r.fallbacks)
+            dec.append(bool(r) and not r.fallbacks)
             times.append(time.perf_counter() - t0)
         out[solver] = {
             "median_ms": float(np.median(times[1:]) * 1e3),  # the first call imports the backend
@@ -68,20 +69,10 @@ def compare_solvers(sets, W, ref) -> dict:
 
 
 def outer_lp(contacts, w, mu) -> bool:
-    """Exact feasibility of the outer QP's constraints with zero residual (reference)."""
-    m = qp_matrices_outer(contacts, w, mu)
-    A_eq = m["A6"] if m["A"] is None else np.vstack([m["A6"], m["A"]])
-    b_eq = -m["w"] if m["b"] is None else np.concatenate([-m["w"], m["b"]])
-    res = linprog(
-        np.zeros(m["P"].shape[0]),
-        A_ub=m["G"],
-        b_ub=m["h"],
-        A_eq=A_eq,
-        b_eq=b_eq,
-        bounds=(None, None),
-        method="highs",
-    )
-    return res.status == 0
+    """Exact feasibility of the outer program's constraints with zero residual (reference)."""
+    prog = assemble(contacts, np.asarray(w, float), mu, "outer", None)
+    _, status = solve_min_lp(prog, np.zeros(prog.n))
+    return status == "optimal"
 
 
 def main() -> None:
@@ -103,14 +94,14 @@ def main() -> None:
         t0 = time.perf_counter()
         base = "6dls" if name == "6dls_linearized" else name
         sets = [c for p in profiles for c in contact_sets(p, base, cache=cache)]
-        kw = {"refine": False} if name == "6dls_linearized" else {}
+        kw = {"representation": "outer"} if name == "6dls_linearized" else {}
         build_ms[name] = (time.perf_counter() - t0) * 1e3
         scaled = [[c.with_force(c.force * f / 25.0) for c in sets] for f in forces]
-        wrench_resistance(scaled[0], W[0], MU, **kw)  # warm-up (imports)
+        resists(scaled[0], W[0], MU, **kw)  # warm-up (imports)
         times, hits = [], 0
         for i in range(n_grasps):
             t0 = time.perf_counter()
-            hits += wrench_resistance(scaled[i], W[i], MU, **kw)[0]
+            hits += bool(resists(scaled[i], W[i], MU, **kw))
             times.append(time.perf_counter() - t0)
         ms[name] = float(np.median(times) * 1e3)
         resisted[name] = hits / n_grasps
@@ -122,7 +113,7 @@ def main() -> None:
     hull_build_s = time.perf_counter() - t0
     Wh = lever_disturbances(rng, n_hull)
     t0 = time.perf_counter()
-    lp = np.array([resists_lp(model_sets, w, MU) for w in Wh])
+    lp = np.array([bool(resists_lp(model_sets, w, MU)) for w in Wh])
     lp_ms = (time.perf_counter() - t0) / n_hull * 1e3
     t0 = time.perf_counter()
     hl = hull.contains(-Wh)
@@ -142,7 +133,7 @@ def main() -> None:
     solvers = {
         "6dls_12_variables": compare_solvers(sets6, Wq, [outer_lp(sets6, w, MU) for w in Wq]),
         "reach_224_variables": compare_solvers(
-            sets_reach, Wq[:100], [resists_lp(sets_reach, w, MU) for w in Wq[:100]]
+            sets_reach, Wq[:100], [outer_lp(sets_reach, w, MU) for w in Wq[:100]]
         ),
     }
 
@@ -150,7 +141,8 @@ def main() -> None:
         "setup": (
             f"elliptic-cylinder parallel-jaw grasp (a=30, b=20 mm, half angle 0.6 rad, length 30 mm, "
             f"power law k=2.4), mu={MU}, forces 20-35 N, {n_grasps} disturbances; outer QP with "
-            f"{DEFAULT_SOLVER} via qpsolvers"
+            f"{config.DEFAULTS.qp_solver} via qpsolvers; known forces in [F(1-r), F], "
+            f"r = {config.TOL.known_force_rtol}"
         ),
         "ms_per_grasp": ms,
         "build_ms": build_ms,
@@ -171,7 +163,10 @@ def main() -> None:
             "queries_to_amortise_hull": hull_build_s * 1e3 / max(lp_ms - hull_single_ms, 1e-9),
         },
         "qp_solvers": solvers,
-        "default_solver": f"{DEFAULT_SOLVER}: quadprog up to {AUTO_LARGE_QP} variables, DAQP above",
+        "default_solver": (
+            f"{config.DEFAULTS.qp_solver}: quadprog up to {config.DEFAULTS.qp_auto_large} variables, "
+            "DAQP above"
+        ),
         "versions": versions(),
     }
     write_json(Path(args.out), out)

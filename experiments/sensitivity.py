@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from workbench.grasp import Perturbation, q_robust, resists
+from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.models import contact_sets
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
@@ -54,7 +54,7 @@ NAME = "sensitivity"
 # 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components; 3: the cut refinement
 # stops when the outer set fails and never returns an unconverged "resisted"; 4: the "auto"
 # QP solver (DAQP above 48 variables: REACH timings)
-ROW_VERSION = 4
+ROW_VERSION = 5  # 5: one meaning of resisted (issue 11: known-force interval, model itself)
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -133,11 +133,11 @@ def _sets(profiles, model: str, cache: LimitSurfaceCache, config: dict) -> list:
     return [c for p in profiles for c in contact_sets(p, model, cache=cache, M=config["M"])]
 
 
-def _predict(sets, W, forces, mu) -> tuple[np.ndarray, float]:
+def _predict(sets, W, forces, mu, cuts: CutStore) -> tuple[np.ndarray, float]:
     out, times = [], []
     for w, f in zip(W, forces, strict=True):
         t0 = time.perf_counter()
-        out.append(resists([c.with_force(c.force * f) for c in sets], w, mu))
+        out.append(bool(resists([c.with_force(c.force * f) for c in sets], w, mu, cuts=cuts)))
         times.append(time.perf_counter() - t0)
     return np.array(out), float(np.median(times) * 1e3)
 
@@ -208,6 +208,7 @@ def run(config: dict) -> dict:
     mu_true = config["mu"] * (1 + config["noise_mu"] * rng.standard_normal(n))
     f_true = forces * (1 + config["noise_force"] * rng.standard_normal(n))
     cache = LimitSurfaceCache()
+    cuts = CutStore()  # tangent planes of the quartic models, shared by every grasp
 
     # ground truth: the true profile's 6DFW set, exactly (column generation), per-grasp noise
     true_prof = _profiles(config, config["k_true"], config["length"])
@@ -243,7 +244,7 @@ def run(config: dict) -> dict:
             t0 = time.perf_counter()
             sets = _sets(_profiles(config, k, length), model, cache, config)
             build_s = time.perf_counter() - t0
-            pred, ms = _predict(sets, W, forces, mu)
+            pred, ms = _predict(sets, W, forces, mu, cuts)
             ckpt.add(
                 key,
                 {
@@ -263,7 +264,7 @@ def run(config: dict) -> dict:
             continue
         sets = _sets(true_prof, model, cache, config)
         grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
-        deciders = [partial(resists, g, mu=config["mu"]) for g in grasps]
+        deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
         ckpt.add(key, _margin_row(model, deciders, W, config["margin_steps"]))
     if "margin/truth" not in ckpt:  # the simulated truth's own margin (same noise as `truth`)
         deciders = [
@@ -330,7 +331,7 @@ def run(config: dict) -> dict:
                         np.zeros(3),
                         p,
                         seed=i,
-                        method="auto",
+                        cuts=cuts,
                         w_ext=W[i],
                     )
                     >= 0.5

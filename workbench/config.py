@@ -124,6 +124,69 @@ class Tolerances:
     # translation when converting to Plücker coordinates.
     translation_omega_atol: float = 1e-12
 
+    # --- grasp resistance (workbench.grasp.resistance) ----------------------
+    # A disturbance counts as resisted iff the smallest residual ‖D (Σ G c + w)‖
+    # over the contact model is <= this, with D dividing forces by the grasp's
+    # largest contact force and torques by its largest contact torque (so the
+    # residual is relative).  1e-5 is what every solver route reaches reliably:
+    # DAQP's proximal mode is accurate to ~1e-6 on the rank-6 Hessian, quadprog,
+    # Clarabel and HiGHS to < 1e-8 (benchmarks/bench_grasp.py).  One value for
+    # every entry point (resists, wrench_resistance, resists_lp,
+    # min_grasp_force's feasibility check, q_robust, the exact 6DFW solver).
+    resist_rtol: float = 1e-5
+
+    # A known-force contact (6DLS, planar/nonplanar 3DLS, 6DFW, REACH) is read by
+    # a force sensor (§4.1.3.2): its normal force lies in [F(1-r), F].  Without
+    # the interval two jaws whose forces differ by 0.02 % cannot balance along
+    # the grasp axis and every such grasp fails (planar/3DLS models have no
+    # normal freedom at all).  The reading bounds the force from above, so the
+    # model never credits more friction than the measured force gives (the
+    # analytic limits 2 mu F stay exact).  1 % is the accuracy class of strain-
+    # gauge jaw force sensors (~1 % of full scale).  0 restores the exact force.
+    known_force_rtol: float = 1e-2
+
+    # A contact wrench may exceed its limit-surface model by this (relative f)
+    # before the cutting-plane refinement adds a tangent plane (Kelley).
+    cut_rtol: float = 1e-4
+
+    # Cutting-plane rounds before an unconverged refinement defers to the
+    # conservative inner-vertex LP (median 7 rounds in the sensitivity scenes).
+    max_cut_rounds: int = 40
+
+    # Cuts kept per limit-surface model in a CutStore (oldest dropped first; any
+    # subset of tangent planes is still an outer approximation).
+    max_stored_cuts: int = 2000
+
+    # Relative Tikhonov term on the rank-6 Hessian of the dense QPs (quadprog
+    # and DAQP need a strictly convex objective); it biases the residual by
+    # O(1e-9), four decades below resist_rtol.
+    qp_ridge: float = 1e-9
+
+    # Largest bounding-box side [m] of a FEM object mesh beyond which mm-read-as-m is assumed.
+    max_object_extent_m: float = 2.0
+
+    # Smallest accepted largest side [m] (0.1 mm): below it, a double mm -> m scaling is assumed.
+    min_object_extent_m: float = 1e-4
+
+    # Relative slack of both extent limits (workbench.units.check_extent): a size
+    # at a limit passes even with rounding on top — the thesis's surfaces S1-S6
+    # are exactly 2 m long and their mesh profiles measure 2(1 + 2e-16) m.
+    extent_limit_rtol: float = 1e-9
+
+    # Two eigenvalues of a point set's covariance within this fraction of the
+    # largest are equal (workbench.profile.pca_box_longest_side): rounding makes
+    # exactly equal ones differ by ~1e-15, so 1e-8 catches them with 7 decades to
+    # spare, while the PCA axes of any spread above it are resolved to
+    # ~1e-16/gap rad (l_s then moves by <= ~1e-8 relative under rotation).
+    pca_degenerate_rtol: float = 1e-8
+
+    # ContactProfile logs a warning when elements carrying more than this
+    # fraction of F have normals pointing away from the force-weighted mean
+    # normal (n_i . n_mean < 0): the signature of half-flipped mesh normals.
+    # A jaw wrapping less than ±100° of the object stays below 10 % under
+    # uniform pressure ((α - 90°)/α at half-angle α), so real contacts pass.
+    flipped_normal_force_fraction: float = 0.1
+
 
 TOL = Tolerances()
 
@@ -150,6 +213,18 @@ class Defaults:
     # of small samples and fades as K grows.  0.5 was chosen on validation
     # samples (seeds 777,000+) of S1-S6, never on the reported held-out sets.
     quartic_normal_weight: float = 0.5
+
+    # Dense QP solver of wrench resistance: "auto" = quadprog up to
+    # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree
+    # with the exact LP on every case; 12 variables quadprog 0.22 ms vs DAQP
+    # 0.24 ms, 224 variables (REACH) quadprog 34 ms vs DAQP 3.8 ms).
+    qp_solver: str = "auto"
+    qp_auto_large: int = 48
+    # Tried (and recorded in the result) when the chosen QP solver returns nothing.
+    qp_fallback_solver: str = "clarabel"
+    # Directions of the 6DLS/6DFC linearisation (Eq. 3.19-3.24) when a caller
+    # asks for representation="inner" or "outer".
+    linearization_M: int = 200
 
 
 DEFAULTS = Defaults()

@@ -1,8 +1,9 @@
 """Grasp analysis with every contact model (thesis §2.4–2.5, §4.1–4.3; 6DFC §V).
 
-contacts.py — contact models as wrench polytopes; gws.py — grasp map, GWS,
-hull and LP membership, ε-metric; qp.py — wrench-resistance QP and minimal
-grasp force; robust.py — q_robust.
+contacts.py — contact models as wrench sets; models.py — every model of a profile
+by name; gws.py — grasp map, GWS, hull and LP membership, ε-metric;
+resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp force
+(Eq. 4.4); robust.py — q_robust.
 """
 
 from .contacts import (
@@ -16,11 +17,14 @@ from .contacts import (
     wrench_hull_contact,
 )
 from .gws import WrenchHull, build_gws, grasp_map, gws_points, resists_lp
-from .qp import min_grasp_force, resists, wrench_resistance
+from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists, wrench_resistance
 from .robust import Perturbation, gravity_wrench, q_robust
 
 __all__ = [
     "ContactSet",
+    "CutStore",
+    "MinimalForce",
+    "Resistance",
     "Perturbation",
     "WrenchHull",
     "build_gws",

@@ -28,8 +28,25 @@ from functools import cached_property
 
 import numpy as np
 
+from ..limit_surface.base import LimitSurfaceModel
 from ..limit_surface.contact_wrench import ContactWrenchModel
 from ..profile import ContactProfile
+
+
+def _split_pairs(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Masks (inequality rows, one row of each ``a s <= 0, −a s <= 0`` pair)."""
+    eq = np.zeros(len(A), dtype=bool)
+    ineq = np.ones(len(A), dtype=bool)
+    Z = np.flatnonzero(b == 0)
+    if Z.size >= 2:
+        dots = A[Z] @ A[Z].T
+        sq = np.diag(dots)
+        pair = np.isclose(dots, -np.sqrt(np.outer(sq, sq)), rtol=1e-12, atol=0) & (sq[:, None] > 0)
+        for r, c in zip(*np.nonzero(np.triu(pair, 1)), strict=True):
+            if ineq[Z[r]] and ineq[Z[c]]:
+                eq[Z[r]] = True
+                ineq[Z[r]] = ineq[Z[c]] = False
+    return ineq, eq
 
 
 def skew(t: np.ndarray) -> np.ndarray:
@@ -77,13 +94,44 @@ class ContactSet:
     #: (m, 6), (m,) in frame C — the QP's constraints (Eq. 3.28 / 3.30); None: use vertices
     A: np.ndarray | None = None
     b: np.ndarray | None = None
-    meta: dict = field(default_factory=dict, compare=False)
+    #: the limit-surface model itself (6DLS/6DFC/3DLS contacts; frame C, μ = 1, unit
+    #: force): what "resisted" means for this contact unless a caller asks for a
+    #: linearisation (``representation="inner"|"outer"``)
+    model: LimitSurfaceModel | None = field(default=None, compare=False)
+    #: relative accuracy of a known force (``cone=False``): the force lies in
+    #: ``[F(1 − r), F]``; None reads ``config.TOL.known_force_rtol`` at use
+    force_rtol: float | None = None
 
     def __post_init__(self) -> None:
         if self.friction.ndim != 2 or self.friction.shape[1] != 6 or len(self.friction) == 0:
             raise ValueError(f"{self.name}: friction must be (M, 6) with M >= 1; got {self.friction.shape}")
         if not (np.isfinite(self.force) and self.force >= 0):
             raise ValueError(f"{self.name}: the normal force must be finite and >= 0; got {self.force}")
+        if self.force_rtol is not None and not (0 <= self.force_rtol < 1):
+            raise ValueError(f"{self.name}: force_rtol must be in [0, 1); got {self.force_rtol}")
+
+    def force_bounds(self) -> tuple[float, float]:
+        """``(f_lo, f_hi)`` [N]: ``(0, f_max)`` for a cone (6DFC, point contacts), the
+        sensor interval ``(F (1 − r), F)`` for a known force (thesis §4.1.3.2; see
+        ``Tolerances.known_force_rtol`` for why an interval and why F bounds it)."""
+        if self.cone:
+            return 0.0, self.force
+        from .. import config
+
+        r = config.TOL.known_force_rtol if self.force_rtol is None else self.force_rtol
+        return self.force * (1.0 - r), self.force
+
+    @cached_property
+    def halfspaces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """``(A_in, b_in, A_in ŵ⊥, A_eq, A_eq ŵ⊥)``: the half-spaces split into inequalities
+        and the ``a s = 0`` rows given as ± pairs (flat or point-like sets: active-set QP
+        solvers reject a degenerate ± pair, so they become equalities); None without
+        half-spaces.  Derived from immutable fields only (a cache, not state)."""
+        if self.A is None:
+            return None
+        ineq, eq = _split_pairs(self.A, self.b)
+        A_in, A_eq = self.A[ineq], self.A[eq]
+        return A_in, self.b[ineq], A_in @ self.normal, A_eq, A_eq @ self.normal
 
     @cached_property
     def G(self) -> np.ndarray:
@@ -202,7 +250,7 @@ def limit_surface_contact(
         cone,
         outer.A,
         outer.b,
-        meta={"model": ls},  # the exact model, for the cutting-plane refinement of the QP
+        model=ls,
     )
 
 

@@ -58,37 +58,64 @@ def resists_exact(
     mu: float,
     forces=None,
     *,
-    tol: float = 1e-9,
+    tol: float | None = None,
+    force_rtol: float | None = None,
     max_iter: int = 200,
 ) -> tuple[bool, int]:
     """Whether the profiles pressed with ``forces`` (default: their own F) resist
-    ``w_ext`` with friction ``mu``: (answer, LP iterations)."""
+    ``w_ext`` with friction ``mu``: (answer, LP iterations).
+
+    Same meaning of "resisted" as :func:`~workbench.grasp.resistance.resists`: each
+    force lies in the sensor interval ``[F(1 − r), F(1 + r)]`` (``force_rtol``, default
+    ``config.TOL.known_force_rtol``), the residual is scaled by the grasp's capacity
+    (largest contact force and torque of the starting columns) and compared with
+    ``tol`` (``config.TOL.resist_rtol``).
+    """
+    from .. import config
+    from .gws import capacity_scaling, check_mu
+
     w = check_wrench(w_ext)
+    check_mu(mu)
+    tol = config.TOL.resist_rtol if tol is None else float(tol)
+    r = config.TOL.known_force_rtol if force_rtol is None else float(force_rtol)
     F = contacts.F if forces is None else np.asarray(forces, float)
     N = len(F)
+    lo, hi = F * (1 - r), F
     cols = [list(s) for s in contacts.start]
-    sf = float(np.max(F) * (1 + mu)) or 1.0
-    D = np.r_[np.full(3, 1 / sf), np.full(3, 1 / (sf * 0.05))]  # 5 cm torque arm: N·m vs N
+    # unit-force columns u = μ w + ŵ⊥ in the object frame; weights α in newtons
+    D = capacity_scaling(
+        np.vstack(
+            [(F[i] * (mu * np.array(cols[i]) + contacts.normal[i])) @ contacts.G[i].T for i in range(N)]
+        )
+    )
     target = -w * D
     for it in range(1, max_iter + 1):
-        V = [(F[i] * (mu * np.array(cols[i]) + contacts.normal[i])) @ contacts.G[i].T * D for i in range(N)]
-        sizes = [len(v) for v in V]
+        U = [((mu * np.array(cols[i]) + contacts.normal[i]) @ contacts.G[i].T * D) * F[i] for i in range(N)]
+        sizes = [len(u) for u in U]
         n = sum(sizes)
-        A = np.zeros((6 + N, n + 12))
-        A[:6, :n] = np.vstack(V).T
+        A = np.zeros((6, n + 12))
+        A[:6, :n] = np.vstack(U).T
         A[:6, n : n + 6] = -np.eye(6)
         A[:6, n + 6 :] = np.eye(6)
+        # Σ α_i ∈ [lo_i, hi_i] / F_i (α in units of F_i)
+        B = np.zeros((2 * N, n + 12))
         s0 = 0
         for i, m in enumerate(sizes):
-            A[6 + i, s0 : s0 + m] = 1.0
+            B[i, s0 : s0 + m] = 1.0
+            B[N + i, s0 : s0 + m] = -1.0
             s0 += m
-        cost = np.r_[np.zeros(n), np.ones(12)]
         res = linprog(
-            cost, A_eq=sp.csr_matrix(A), b_eq=np.r_[target, np.ones(N)], bounds=(0, None), method="highs"
+            np.r_[np.zeros(n), np.ones(12)],
+            A_ub=sp.csr_matrix(B),
+            b_ub=np.r_[hi / F, -lo / F],
+            A_eq=sp.csr_matrix(A),
+            b_eq=target,
+            bounds=(0, None),
+            method="highs",
         )
         if res.status != 0:
             raise RuntimeError(f"HiGHS failed in resists_exact: {res.message}")
-        if res.fun <= tol * max(1.0, np.abs(target).max()):
+        if res.fun <= tol:
             return True, it
         y = np.asarray(res.eqlin.marginals[:6])
         d = D * y  # raw-wrench direction of the scaled dual
@@ -97,8 +124,9 @@ def resists_exact(
         for i in range(N):
             wi = contacts.support(i, d)
             new.append(wi)
-            gap -= (F[i] * (mu * wi + contacts.normal[i])) @ contacts.G[i].T @ d
-        if gap > tol * max(1.0, np.abs(target).max()):
+            h = (mu * wi + contacts.normal[i]) @ contacts.G[i].T @ d  # support at unit force
+            gap -= max(lo[i] * h, hi[i] * h)
+        if gap > tol:
             return False, it  # separated by the exact support: certified outside
         for i in range(N):
             cols[i].append(new[i])

@@ -48,7 +48,20 @@ def check_contacts(contacts) -> list[ContactSet]:
     contacts = list(contacts)
     if not contacts:
         raise ValueError("a grasp needs at least one contact; got none (the jaws touch nothing)")
+    bad = [type(c).__name__ for c in contacts if not isinstance(c, ContactSet)]
+    if bad:
+        raise ValueError(
+            f"contacts must be ContactSet objects; got {bad[:3]} (build them with "
+            "workbench.grasp.contact_sets(profile, model) or the *_contact constructors)"
+        )
     return contacts
+
+
+def check_mu(mu) -> float:
+    """A finite friction coefficient ``>= 0`` or a ValueError."""
+    if isinstance(mu, (bool, np.bool_)) or not np.isscalar(mu) or not np.isfinite(mu) or mu < 0:
+        raise ValueError(f"mu (friction coefficient) must be a finite number >= 0; got {mu!r}")
+    return float(mu)
 
 
 def grasp_map(contacts) -> np.ndarray:
@@ -88,11 +101,20 @@ def simplex_rows(contacts, sizes: np.ndarray, starts: np.ndarray) -> tuple[list,
 
 
 def vertex_blocks(contacts, mu: float) -> list[np.ndarray]:
-    """Per contact, (M_i, 6) object-frame vertices (plus the origin row for cones)."""
+    """Per contact, the object-frame points whose hull is its wrench set: the vertices at
+    both ends of its force interval (:meth:`ContactSet.force_bounds`: the origin row for
+    a cone, the vertices at ``F (1 − r)`` as well for a known force), so the hull means
+    what :func:`~workbench.grasp.resistance.resists` means."""
     blocks = []
     for c in check_contacts(contacts):
         V = c.vertices(mu)
-        blocks.append(np.vstack([V, np.zeros(6)]) if c.cone else V)
+        lo, hi = c.force_bounds()
+        if c.cone:
+            blocks.append(np.vstack([V, np.zeros(6)]))
+        elif lo < hi:
+            blocks.append(np.vstack([V, V * (lo / hi)]))
+        else:
+            blocks.append(V)
     return blocks
 
 
@@ -184,72 +206,60 @@ def scale_torque(w: np.ndarray, torque_length: float) -> np.ndarray:
     return w
 
 
-def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float = 1e-9) -> bool:
-    """Whether ``−w_ext`` lies in the GWS, by an LP over vertex weights (no hull).
+def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float | None = None):
+    """Whether ``−w_ext`` lies in the GWS of the contacts' vertices, by an LP (no hull):
+    a :class:`~workbench.grasp.resistance.Resistance` (truthy iff resisted).
 
-    Minkowski sum (L∞): one weight vector per contact, ``Σ_k α_ik = 1`` (``<= 1``
-    for a cone, whose zero-force origin is then implicit); union (L1): one
-    simplex over all vertices.  Feasibility of ``Σ α v = −w_ext`` up to ``tol``
-    relative to the wrench scale (HiGHS, primal feasibility tolerance).
+    ``norm="linf"`` (Minkowski sum, Eq. 4.2) is :func:`~workbench.grasp.resistance.resists`
+    with ``representation="inner"``: one weight vector per contact, its force in the
+    contact's interval (:meth:`ContactSet.force_bounds`).  ``norm="l1"`` (union,
+    Eq. 2.88): one simplex over the points of :func:`vertex_blocks`.  Both
+    minimise the L1 residual ``‖D (Σ α v + w_ext)‖₁`` (HiGHS) and decide with
+    ``tol`` (``config.TOL.resist_rtol``), like every other entry point.
     """
-    w = check_wrench(w_ext)
+    from ..config import TOL
+    from .resistance import Resistance, resists
+
     if norm not in NORMS:
         raise ValueError(f"norm must be one of {NORMS}; got {norm!r}")
+    if norm == "linf":
+        return resists(contacts, w_ext, mu, representation="inner", tol=tol)
+    w = check_wrench(w_ext)
     contacts = check_contacts(contacts)
-    V, sizes, starts, _ = stacked_vertices(contacts, mu)
+    check_mu(mu)
+    tol = TOL.resist_rtol if tol is None else float(tol)
+    V = np.vstack(vertex_blocks(contacts, mu))  # the union of the contacts' sets
     D = capacity_scaling(V)
     n = len(V)
-    A_eq = [V.T * D[:, None]]
-    b_eq = [-w * D]
-    A_ub, b_ub = [], []
-    if norm == "linf":
-        eq, ub = simplex_rows(contacts, sizes, starts)
-        A_eq += [np.array(eq)] if eq else []
-        b_eq += [np.ones(len(eq))]
-        A_ub += [np.array(ub)] if ub else []
-        b_ub += [np.ones(len(ub))] if ub else []
-    else:
-        row = np.ones((1, n))
-        if any(c.cone for c in contacts):
-            A_ub.append(row)
-            b_ub.append([1.0])
-        else:
-            A_eq.append(row)
-            b_eq.append([1.0])
-    A_ub_m = sp.csr_matrix(np.vstack(A_ub)) if A_ub else None
-    b_ub_v = np.concatenate(b_ub) if b_ub else None
-    A_eq_m, b_eq_v = sp.csr_matrix(np.vstack(A_eq)), np.concatenate(b_eq)
-    opts = {"primal_feasibility_tolerance": max(tol, 1e-10)}
-    res = linprog(np.zeros(n), A_ub_m, b_ub_v, A_eq_m, b_eq_v, bounds=(0, None), method="highs", options=opts)
-    if res.status in (0, 2):
-        return res.status == 0
-    # HiGHS can end a zero-objective feasibility LP with an unknown status when it is
-    # infeasible by ~its tolerance (seen with 128 REACH contacts); the phase-one form —
-    # minimise the L1 violation of the 6 wrench rows over slacks — is always feasible
-    # and bounded, and decides by the size of the violation
-    log.debug("membership LP status %s (%s); re-solving in phase-one form", res.status, res.message)
-    S = sp.vstack(
-        [sp.hstack([sp.eye(6), -sp.eye(6)]), sp.csr_matrix((A_eq_m.shape[0] - 6, 12))], format="csr"
-    )
+    A_eq = np.vstack([np.hstack([V.T * D[:, None], -np.eye(6), np.eye(6)]), np.r_[np.ones(n), np.zeros(12)]])
     res = linprog(
         np.r_[np.zeros(n), np.ones(12)],
-        None if A_ub_m is None else sp.hstack([A_ub_m, sp.csr_matrix((A_ub_m.shape[0], 12))], format="csr"),
-        b_ub_v,
-        sp.hstack([A_eq_m, S], format="csr"),
-        b_eq_v,
+        A_eq=sp.csr_matrix(A_eq),
+        b_eq=np.r_[-w * D, 1.0],
         bounds=(0, None),
         method="highs",
-        options=opts,
     )
     if res.status != 0:
-        raise RuntimeError(f"HiGHS failed on the membership LP: {res.message}")
-    return bool(res.fun <= 6 * max(tol, 1e-10))
+        raise RuntimeError(f"HiGHS failed on the L1-GWS membership LP: {res.message}")
+    alpha = res.x[:n]
+    return Resistance(
+        bool(res.fun <= tol),
+        float(res.fun),
+        tol,
+        "highs",
+        "inner",
+        "l1",
+        (alpha @ V)[None],
+        np.array([np.nan]),
+    )
 
 
 __all__ = [
     "WrenchHull",
     "build_gws",
     "capacity_scaling",
+    "check_contacts",
+    "check_mu",
     "check_wrench",
     "grasp_map",
     "gws_points",

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .gws import check_contacts, resists_lp
-from .qp import resists, wrench_resistance
+from .gws import check_contacts, check_mu
+from .resistance import REPRESENTATIONS, CutStore, resists
 
 G_ACC = 9.81  # m/s²
 
@@ -35,9 +35,20 @@ class Perturbation:
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
-    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``."""
-    f = mass * G_ACC * np.asarray(down, float)
-    return np.concatenate([f, np.cross(np.asarray(com, float), f)])
+    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
+
+    mass : kg, > 0; com : (3,) centre of mass [m]; down : (3,) gravity direction.
+    """
+    if isinstance(mass, (bool, np.bool_)) or not np.isscalar(mass) or not (np.isfinite(mass) and mass > 0):
+        raise ValueError(f"mass must be a finite number > 0 [kg]; got {mass!r}")
+    c = np.asarray(com, float)
+    if c.shape != (3,) or not np.isfinite(c).all():
+        raise ValueError(f"com must be a finite (3,) point [m]; got shape {c.shape}: {c.tolist()}")
+    d = np.asarray(down, float)
+    if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
+        raise ValueError(f"down must be a non-zero (3,) direction; got {d.tolist()}")
+    f = mass * G_ACC * d / np.linalg.norm(d)
+    return np.concatenate([f, np.cross(c, f)])
 
 
 def rotation_from_vector(v: np.ndarray) -> np.ndarray:
@@ -60,39 +71,41 @@ def q_robust(
     perturbation: Perturbation = Perturbation(),
     *,
     seed: int | np.random.Generator = 0,
-    method: str = "lp",
+    representation: str = "model",
+    cuts: CutStore | None = None,
     w_ext=None,
 ) -> float:
-    """Eq. (2.101) for the task "hold against gravity" (vertical lifting).
+    """Eq. (2.101) for the task "hold against gravity" (vertical lifting): the fraction
+    of perturbed samples that :func:`~workbench.grasp.resistance.resists` says hold —
+    the same meaning of "resisted", the same ``representation`` (default: the contact
+    models themselves).
 
     w_ext : a fixed disturbance (6,) to resist instead of the gravity wrench of
-        ``mass`` at ``com`` (then σ_mass and σ_com do not apply).
-    method : "lp" (vertex LP), "qp" (:func:`wrench_resistance`) or "auto" (:func:`resists`:
-        the QP where every contact has half-spaces, the LP otherwise).
+        ``mass`` at ``com`` (then σ_mass and σ_com do not apply, and ``mass``/``com``
+        are not used).
+    cuts : a cut store shared by the samples (a fresh one if None).
     """
     contacts = check_contacts(contacts)
-    if w_ext is None and not (np.isfinite(mass) and mass > 0):
-        raise ValueError(f"mass must be > 0 [kg]; got {mass}")
+    check_mu(mu)
+    if representation not in REPRESENTATIONS:
+        raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
+    if w_ext is None:
+        gravity_wrench(mass, com)  # validates mass and com
     p = perturbation
     if p.n_samples < 1:
         raise ValueError(f"n_samples must be >= 1; got {p.n_samples}")
-    predict = {
-        "lp": resists_lp,
-        "qp": lambda cs, w, m: wrench_resistance(cs, w, m)[0],
-        "auto": resists,
-    }.get(method)
-    if predict is None:
-        raise ValueError(f"method must be 'lp', 'qp' or 'auto'; got {method!r}")
+    cuts = CutStore() if cuts is None else cuts
     rng = np.random.default_rng(seed)
     K = p.n_samples
     Rs = rotation_from_vector(rng.normal(0.0, p.sigma_rot, (K, 3)))
     ts = rng.normal(0.0, p.sigma_trans, (K, 3))
     mus = mu * np.clip(1 + rng.normal(0.0, p.sigma_mu, K), 0.0, None)
-    masses = mass * np.clip(1 + rng.normal(0.0, p.sigma_mass, K), 1e-6, None)
-    coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     ok = 0
+    if w_ext is None:
+        masses = mass * np.clip(1 + rng.normal(0.0, p.sigma_mass, K), 1e-6, None)
+        coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     for i in range(K):
         moved = [c.moved(Rs[i], ts[i]) for c in contacts]
         w = gravity_wrench(masses[i], coms[i]) if w_ext is None else w_ext
-        ok += predict(moved, w, mus[i])
+        ok += bool(resists(moved, w, mus[i], representation=representation, cuts=cuts))
     return ok / K

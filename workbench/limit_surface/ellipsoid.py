@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Any
 
 import numpy as np
@@ -54,6 +54,18 @@ class EllipsoidLS(LimitSurfaceModel):
         ``f(w) = wᵀ S⁻¹ A_e S⁻¹ w`` with ``S = diag(scale)``."""
         inv = 1.0 / self.scale
         return self.A_e * inv[:, None] * inv[None, :]
+
+    @cached_property
+    def factor(self) -> np.ndarray:
+        """(r, 6) ``Q`` with ``f(w) = ‖Q w‖²`` on the model's PCA subspace (raw wrenches):
+        the second-order cone ``‖Q w‖ <= 1`` of the grasp programs.  The complement of
+        the subspace is left out (``A_e`` gives it a large ``TOL.flat_axis`` penalty that
+        must not enter a cone; grasp programs pin it with equality rows instead):
+        ``f = yᵀ (Bᵀ A_e B) y`` with ``y = Bᵀ (w / scale)``.  Derived from immutable
+        fields only (a cache, not state)."""
+        B = self.subspace.basis
+        lam, U = np.linalg.eigh(B.T @ self.A_e @ B)
+        return (np.sqrt(np.clip(lam, 0.0, None))[:, None] * U.T) @ B.T / self.scale[None, :]
 
 
 def _sym_design(y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

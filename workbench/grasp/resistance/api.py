@@ -1,0 +1,247 @@
+"""Public grasp-resistance questions: one meaning of "resisted" for all of them.
+
+A grasp resists ``w_ext`` iff some contact wrenches ``c_i ∈ C_i`` balance it,
+``Σ_i G_i c_i + w_ext = 0`` (thesis Eq. 2.100), where ``C_i`` is contact i's model
+*itself* unless the caller names a linearisation (``representation=``), and
+"balance" means a relative residual ``<= config.TOL.resist_rtol``.  Every answer
+says which solver decided, the residual and any fallback (fallbacks are logged
+and recorded, never silent).  Nothing here recurses: :func:`resists` tries the
+cone program, then the cutting-plane loop, then the conservative inner LP, in
+that order.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ... import config
+from ..gws import check_contacts, check_mu, check_wrench
+from .cuts import CutStore
+from .program import REPRESENTATIONS, Program, add_cuts, assemble, contact_violations
+from .result import MinimalForce, Resistance
+from .solvers import choose_qp_solver, solve_conic, solve_l1_lp, solve_l2_qp, solve_min_lp
+
+log = logging.getLogger(__name__)
+
+OBJECTIVES = ("scale", "sum")
+
+
+def _check(contacts, w_ext, mu, representation):
+    w = check_wrench(w_ext)
+    contacts = check_contacts(contacts)
+    check_mu(mu)
+    if representation not in REPRESENTATIONS:
+        raise ValueError(
+            f"representation must be one of {REPRESENTATIONS} ('model': the contact models "
+            f"themselves; 'outer'/'inner': their linearisations); got {representation!r}"
+        )
+    return contacts, w, float(mu)
+
+
+def _fallback(fallbacks: list[str], text: str) -> None:
+    log.warning("grasp resistance: %s", text)
+    fallbacks.append(text)
+
+
+def resists(
+    contacts,
+    w_ext,
+    mu: float,
+    *,
+    representation: str = "model",
+    cuts: CutStore | None = None,
+    solver: str | None = None,
+    tol: float | None = None,
+) -> Resistance:
+    """Whether the contacts resist the disturbance ``w_ext`` (6,) at friction ``mu``
+    (thesis Eq. 2.100; 6DFC Eq. IV.3), as a :class:`Resistance` (truthy iff resisted).
+
+    representation : "model" (default) — each contact as its model: an ellipsoidal
+        limit surface (6DLS, 6DFC, 3DLS) as its second-order cone (exact, Clarabel),
+        another model (quartic) by cutting planes until the contact wrenches lie on it,
+        polygonal contacts (point, soft point, REACH) by their half-spaces, the raw
+        6DFW by its wrenches; "outer" — the fixed outer linearisations (Eq. 3.28/3.30,
+        the thesis's QP); "inner" — the vertices (Eq. 3.27, the GWS of Eq. 4.2).
+    cuts : a :class:`CutStore` shared between calls (cuts of a model are valid for
+        every pose, μ and force); a fresh one per call if None.
+    solver : dense QP solver for polyhedral programs (``config.DEFAULTS.qp_solver``).
+    tol : residual threshold (``config.TOL.resist_rtol``).
+
+    Known-force contacts take their force from the interval of
+    :meth:`ContactSet.force_bounds` (a sensor reading's accuracy), cones from ``[0, f_max]``.
+    """
+    contacts, w, mu = _check(contacts, w_ext, mu, representation)
+    tol = config.TOL.resist_rtol if tol is None else float(tol)
+    cuts = CutStore() if cuts is None else cuts
+    fallbacks: list[str] = []
+    prog = assemble(contacts, w, mu, representation, cuts)
+    if prog.soc:
+        y, status = solve_conic(prog)
+        if y is not None:
+            if status != "optimal":
+                _fallback(fallbacks, f"Clarabel {status}")
+            return _result(prog, contacts, y, tol, "clarabel", representation, "l2", 0, fallbacks)
+        _fallback(fallbacks, f"Clarabel {status} on the cone program; cutting planes on the ellipsoids")
+        prog = None
+    return _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, prog)
+
+
+#: Eq. (2.100) by its thesis name; the same function as :func:`resists`.
+wrench_resistance = resists
+
+
+def _solve_polyhedral(prog: Program, solver, fallbacks) -> tuple[np.ndarray, str, str, float | None]:
+    """(y, solver, norm, residual or None): the L1 LP for vertex sets (6DFW, inner
+    linearisations: large and sparse), the dense L2 QP otherwise."""
+    if "vertex" in prog.kinds:
+        y, resid = solve_l1_lp(prog)
+        if y is None:
+            raise RuntimeError("HiGHS failed on the residual LP of a polyhedral grasp")
+        return y, "highs", "l1", resid
+    name = choose_qp_solver(solver, prog.n)
+    y = solve_l2_qp(prog, name)
+    if y is None:
+        backup = config.DEFAULTS.qp_fallback_solver
+        _fallback(fallbacks, f"QP solver {name!r} returned no solution; retrying with {backup!r}")
+        name = backup
+        y = solve_l2_qp(prog, name)
+    if y is None:
+        _fallback(fallbacks, "every QP solver failed; the residual LP (HiGHS) decides")
+        y, resid = solve_l1_lp(prog)
+        if y is None:
+            raise RuntimeError("every solver failed on the grasp-resistance program")
+        return y, "highs", "l1", resid
+    return y, name, "l2", None
+
+
+def _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, prog) -> Resistance:
+    """Polyhedral program; contacts refined by cuts are re-solved with the tangent planes
+    at their violations until none is left (Kelley).  ``prog`` None: ellipsoids by cuts
+    as well (the cone solver failed)."""
+    cone_as_cuts = prog is None
+    rounds = 0
+    while True:
+        if prog is None:
+            prog = assemble(contacts, w, mu, representation, cuts, cone_as_cuts=cone_as_cuts)
+        y, name, norm, resid = _solve_polyhedral(prog, solver, fallbacks)
+        res = _result(prog, contacts, y, tol, name, representation, norm, rounds, fallbacks, resid)
+        if "cuts" not in prog.kinds or not res.resisted:
+            return res  # the outer set fails to resist: the model inside it fails too
+        viol = contact_violations(prog, contacts, y, mu)
+        if not viol:
+            return res
+        if rounds >= config.TOL.max_cut_rounds:
+            break
+        add_cuts(cuts, contacts, viol)
+        rounds += 1
+        prog = None
+    # unconverged: "resisted" by the outer set may be optimistic; the inner vertices
+    # (on the model) decide, conservatively
+    _fallback(fallbacks, f"cutting planes did not converge in {rounds} rounds; the inner vertices decide")
+    inner = assemble(contacts, w, mu, "inner", cuts)
+    y, resid = solve_l1_lp(inner)
+    if y is None:
+        raise RuntimeError("HiGHS failed on the inner-vertex LP")
+    return _result(inner, contacts, y, tol, "highs", representation, "l1", rounds, fallbacks, resid)
+
+
+def _result(
+    prog, contacts, y, tol, solver, representation, norm, rounds, fallbacks, resid=None
+) -> Resistance:
+    if resid is None:
+        resid = float(np.linalg.norm(prog.A6 @ y + prog.w))
+    cw, f = prog.contact_solution(contacts, y)
+    return Resistance(
+        bool(resid <= tol), float(resid), tol, solver, representation, norm, cw, f, rounds, tuple(fallbacks)
+    )
+
+
+def min_grasp_force(
+    contacts,
+    w_ext,
+    mu: float,
+    *,
+    objective: str = "scale",
+    representation: str = "model",
+    cuts: CutStore | None = None,
+    f_max: float | None = None,
+) -> MinimalForce:
+    """Smallest grasp force that resists ``w_ext`` (thesis Eq. 4.4), on the same contact
+    models and force semantics as :func:`resists`.
+
+    objective : "scale" (default) — the smallest factor ``s`` on every contact's current
+        force such that ``resists([c.with_force(s * c.force) ...])`` holds: the jaws keep
+        their force ratio, as one gripper force does; "sum" — Eq. (4.4) as published:
+        every contact's force an independent variable in ``[0, f_max]`` (known-force
+        contacts become cones), ``Σ f_i`` minimised.  With ``representation="outer"``
+        and "sum" this is the thesis's program over ``C_outer``.
+    representation : as in :func:`resists` ("model": second-order cones for
+        ellipsoids, cutting planes for quartics).
+    f_max : per-contact force cap for "sum" [N].
+    """
+    contacts, w, mu = _check(contacts, w_ext, mu, representation)
+    if objective not in OBJECTIVES:
+        raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
+    if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
+        raise ValueError(f"f_max must be a positive force [N] or None; got {f_max}")
+    cuts = CutStore() if cuts is None else cuts
+    fallbacks: list[str] = []
+    rounds = 0
+    cone_as_cuts = False
+    while True:
+        prog = assemble(
+            contacts, w, mu, representation, cuts, minforce=objective, f_max=f_max, cone_as_cuts=cone_as_cuts
+        )
+        cost = np.zeros(prog.n)
+        if objective == "scale":
+            cost[-1] = 1.0
+        else:
+            for s0, phi in zip(prog.starts, prog.phi, strict=True):
+                cost[s0 : s0 + len(phi)] = phi * prog.S[s0 : s0 + len(phi)]
+        if prog.soc:
+            solver = "clarabel"
+            y, status = solve_conic(prog, cost)
+            if y is not None and status != "optimal":
+                y = None  # a stalled iterate is feasible but not minimal
+            if y is None and status != "infeasible":
+                _fallback(fallbacks, f"Clarabel {status} on the minimal-force cone program; cutting planes")
+                cone_as_cuts = True
+                continue
+        else:
+            solver = "highs"
+            y, status = solve_min_lp(prog, cost)
+            if y is None and status != "infeasible":
+                raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
+        if y is None:
+            nan = np.full(len(contacts), np.nan)
+            return MinimalForce(
+                float("inf"), nan, float("nan"), objective, solver, representation, rounds, tuple(fallbacks)
+            )
+        viol = contact_violations(prog, contacts, y, mu)
+        if viol and rounds < config.TOL.max_cut_rounds:
+            add_cuts(cuts, contacts, viol)
+            rounds += 1
+            continue
+        if viol:
+            _fallback(
+                fallbacks, f"cutting planes did not converge in {rounds} rounds; the value is a lower bound"
+            )
+        _, f = prog.contact_solution(contacts, y)
+        if objective == "scale":
+            s = float(y[-1] * prog.S[-1])
+            forces = s * np.array([c.force for c in contacts])
+        else:
+            s, forces = float("nan"), f
+        return MinimalForce(
+            float(forces.sum()),
+            forces,
+            s,
+            objective,
+            solver,
+            representation,
+            rounds,
+            tuple(fallbacks),
+            not viol,
+        )

@@ -1,0 +1,185 @@
+"""Solver adapters for :class:`~.program.Program`: dense QP (qpsolvers: quadprog,
+DAQP, …), LP (HiGHS) and second-order-cone programs (Clarabel).  Each returns the
+solution ``y`` (or None) and never decides anything; the caller records fallbacks."""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from ... import config
+from .program import Program
+
+log = logging.getLogger(__name__)
+
+
+def _qp_opts(solver: str) -> dict:
+    # tight tolerances for the first-order / interior-point solvers (defaults ~1e-3..1e-6
+    # would blur the resisted / not-resisted boundary)
+    return {
+        "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "max_iter": 20_000, "polish": True, "verbose": False},
+        "scs": {"eps_abs": 1e-9, "eps_rel": 1e-9, "verbose": False},
+        "proxqp": {"eps_abs": 1e-10},
+        # DAQP's plain active set cycles on the near-singular Hessian when the residual
+        # is non-zero; its proximal-point mode is robust but less accurate (~1e-6)
+        "daqp": {"eps_prox": 1e-8},
+    }.get(solver, {})
+
+
+def _ineq_with_bounds(prog: Program) -> tuple[np.ndarray | None, np.ndarray | None]:
+    G, h = prog.rows("ineq")
+    fin = np.flatnonzero(np.isfinite(prog.lb))
+    if fin.size:
+        Gb = np.zeros((fin.size, prog.n))
+        Gb[np.arange(fin.size), fin] = -1.0
+        G = Gb if G is None else np.vstack([G, Gb])
+        h = -prog.lb[fin] if h is None else np.concatenate([h, -prog.lb[fin]])
+    return G, h
+
+
+def choose_qp_solver(solver: str | None, n: int) -> str:
+    solver = config.DEFAULTS.qp_solver if solver is None else solver
+    if solver == "auto":
+        return "quadprog" if n <= config.DEFAULTS.qp_auto_large else "daqp"
+    return solver
+
+
+def solve_l2_qp(prog: Program, solver: str) -> np.ndarray | None:
+    """``min ½‖A6 y + w‖² + ridge`` over the polyhedral rows (no cones)."""
+    from qpsolvers import solve_qp
+
+    P = prog.A6.T @ prog.A6
+    P[np.diag_indices(prog.n)] += config.TOL.qp_ridge * max(float(np.trace(P)) / prog.n, 1e-300)
+    G, h = _ineq_with_bounds(prog)
+    A, b = prog.rows("eq")
+    try:
+        y = solve_qp(P, prog.A6.T @ prog.w, G, h, A, b, solver=solver, **_qp_opts(solver))
+    except Exception as exc:  # noqa: BLE001 - solver-specific errors (e.g. quadprog's ValueError)
+        log.debug("QP solver %s raised %s", solver, exc)
+        return None
+    if y is not None and not np.isfinite(y).all():
+        return None
+    return y
+
+
+def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
+    """``min ‖A6 y + w‖₁`` (slacks ``t⁺, t⁻``) over the polyhedral rows (HiGHS): always
+    feasible when the rows are; returns (y, residual)."""
+    n = prog.n
+    G, h = prog.rows("ineq")
+    A, b = prog.rows("eq")
+    A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
+    b_eq = [-prog.w]
+    if A is not None:
+        A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
+        b_eq.append(b)
+    A_ub = None if G is None else sp.csr_matrix(np.hstack([G, np.zeros((len(G), 12))]))
+    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb] + [(0, None)] * 12
+    res = linprog(
+        np.r_[np.zeros(n), np.ones(12)],
+        A_ub=A_ub,
+        b_ub=h,
+        A_eq=sp.csr_matrix(np.vstack(A_eq)),
+        b_eq=np.concatenate(b_eq),
+        bounds=bounds,
+        method="highs",
+    )
+    if res.status != 0:
+        log.debug("HiGHS on the residual LP: %s", res.message)
+        return None, float("nan")
+    return res.x[:n], float(res.fun)
+
+
+def solve_min_lp(prog: Program, cost: np.ndarray) -> tuple[np.ndarray | None, str]:
+    """``min costᵀ y`` s.t. ``A6 y + w = 0`` and the polyhedral rows (HiGHS): (y, status)
+    with status "optimal", "infeasible" or HiGHS's message."""
+    G, h = prog.rows("ineq")
+    A, b = prog.rows("eq")
+    A_eq = prog.A6 if A is None else np.vstack([prog.A6, A])
+    b_eq = -prog.w if A is None else np.concatenate([-prog.w, b])
+    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb]
+    res = linprog(
+        cost,
+        A_ub=None if G is None else sp.csr_matrix(G),
+        b_ub=h,
+        A_eq=sp.csr_matrix(A_eq),
+        b_eq=b_eq,
+        bounds=bounds,
+        method="highs",
+    )
+    if res.status == 0:
+        return res.x, "optimal"
+    if res.status == 2:
+        return None, "infeasible"
+    return None, str(res.message)
+
+
+def _conic_data(prog: Program, with_residual_eq: bool):
+    import clarabel
+
+    parts = []
+    A, b = prog.rows("eq")
+    if with_residual_eq:
+        A = prog.A6 if A is None else np.vstack([prog.A6, A])
+        b = -prog.w if b is None else np.concatenate([-prog.w, b])
+    if A is not None:
+        parts.append((A, b, clarabel.ZeroConeT))
+    G, h = _ineq_with_bounds(prog)
+    if G is not None:
+        parts.append((G, h, clarabel.NonnegativeConeT))
+    for rows, rhs in prog.soc:
+        parts.append((rows, rhs, clarabel.SecondOrderConeT))
+    A_all = np.vstack([a for a, _, _ in parts])
+    b_all = np.concatenate([r for _, r, _ in parts])
+    cones = [cone(len(a)) for a, _, cone in parts]
+    return A_all, b_all, cones, [len(a) for a, _, _ in parts]
+
+
+def _in_cones(slack: np.ndarray, cones: list, sizes: list[int], atol: float = 1e-7) -> bool:
+    """Whether a Clarabel slack vector lies in its cones (zero, nonnegative, SOC) to ``atol``."""
+    import clarabel
+
+    k = 0
+    for cone, n in zip(cones, sizes, strict=True):
+        part = slack[k : k + n]
+        k += n
+        if isinstance(cone, clarabel.ZeroConeT) and np.abs(part).max(initial=0.0) > atol:
+            return False
+        if isinstance(cone, clarabel.NonnegativeConeT) and part.min(initial=0.0) < -atol:
+            return False
+        if isinstance(cone, clarabel.SecondOrderConeT) and np.linalg.norm(part[1:]) > part[0] + atol:
+            return False
+    return True
+
+
+def solve_conic(prog: Program, cost: np.ndarray | None = None) -> tuple[np.ndarray | None, str]:
+    """Clarabel: ``min ½‖A6 y + w‖²`` (``cost`` None) or ``min costᵀ y`` s.t. ``A6 y + w = 0``,
+    over rows and cones.  Returns (y, status); y is None unless solved, or stalled at
+    an iterate that satisfies every cone (Clarabel stalls now and then on low-rank,
+    planar models; such an iterate is still a valid point of the program)."""
+    import clarabel
+
+    A_all, b_all, cones, sizes = _conic_data(prog, with_residual_eq=cost is not None)
+    if cost is None:
+        P = sp.triu(sp.csc_matrix(prog.A6.T @ prog.A6)).tocsc()
+        q = prog.A6.T @ prog.w
+    else:
+        P = sp.csc_matrix((prog.n, prog.n))
+        q = cost
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
+    settings.tol_feas = 1e-10
+    sol = clarabel.DefaultSolver(P, q, sp.csc_matrix(A_all), b_all, cones, settings).solve()
+    status = str(sol.status)
+    y = np.array(sol.x)
+    if status in ("Solved", "AlmostSolved"):
+        return y, "optimal"
+    if "Infeasible" in status:
+        return None, "infeasible"
+    if np.isfinite(y).all() and _in_cones(b_all - A_all @ y, cones, sizes):
+        return y, f"stalled ({status}), iterate feasible"
+    return None, status
