@@ -85,7 +85,7 @@ def test_profile_arrays_are_read_only():
 
 def _grid_mesh(nx=4, ny=3):
     x, y = np.meshgrid(np.linspace(0, 3, nx), np.linspace(0, 2, ny), indexing="ij")
-    verts = np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() ** 2])
+    verts = 0.01 * np.column_stack([x.ravel(), y.ravel(), 0.1 * x.ravel() ** 2])  # 3 x 2 cm
     idx = np.arange(nx * ny).reshape(nx, ny)
     quads = np.column_stack(
         [idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()]

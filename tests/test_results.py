@@ -43,3 +43,34 @@ def test_checkpoint_resumes_without_loss_or_duplicates(tmp_path):
     assert [json.loads(line)["key"] for line in lines] == ["k1", "k2", "k3"]  # torn line dropped
     # other settings: nothing is reused
     assert results.Checkpoint(path, {"a": 2}).rows == {}
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
+def test_written_files_get_the_umask_mode(tmp_path, umask, mode):
+    # mkstemp creates 0o600 and os.replace keeps it: results were unreadable to others
+    old = os.umask(umask)
+    try:
+        paths = [
+            results.write_json(tmp_path / "s.json", {"a": 1}),
+            results.write_csv(tmp_path / "t.csv", ["x"], [[1]]),
+            results.save_png(tmp_path / "f.png", b"\x89PNG"),
+        ]
+        results.Checkpoint(tmp_path / "rows.jsonl", {"a": 1}).add("k", {"x": 1})
+        paths.append(tmp_path / "rows.jsonl")
+    finally:
+        os.umask(old)
+    assert [p.stat().st_mode & 0o777 for p in paths] == [mode] * 4
+
+
+def test_umask_fallback_without_proc_restores_the_mask(monkeypatch):
+    old = os.umask(0o027)
+    try:
+
+        def no_proc(*args, **kwargs):
+            raise OSError("no /proc")
+
+        monkeypatch.setattr(results, "open", no_proc, raising=False)  # shadows the builtin
+        assert results.current_umask() == 0o027
+        assert os.umask(0o027) == 0o027  # restored, not left at the probe value
+    finally:
+        os.umask(old)

@@ -19,7 +19,7 @@ def _profile(rng, n=400):
 def test_scale_covariance(rng, s):
     # lengths x s at fixed pressure => forces x s^2, torques x s^3 (CONVENTIONS.md)
     prof = _profile(rng)
-    big = ContactProfile(prof.centers * s, prof.normals, prof.areas * s**2, prof.pressures)
+    big = ContactProfile(prof.centers * s, prof.normals, prof.areas * s**2, prof.pressures, allow_scale=True)
     xi = sample_twists_thesis(100, prof, seed=9)
     xi_s = xi.copy()
     xi_s[:, :3] *= s  # v = h e + m carries a length
@@ -93,7 +93,7 @@ def test_slip_along_normal_with_rounding_noise_is_zero():
     n = rng.standard_normal((100, 3))
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     c = np.zeros((100, 3))
-    prof = ContactProfile(c, n, np.ones(100), np.ones(100))
+    prof = ContactProfile(c, n, np.ones(100), np.ones(100), allow_scale=True)  # l_s = sqrt(100 m²)
     for i in range(10):
         assert np.all(
             frictional_wrenches(prof.with_pressures(np.eye(100)[i] + 0.0), np.r_[n[i], 0, 0, 0])[:3] == 0

@@ -1,5 +1,9 @@
 """``workbench`` console script: ``workbench run <experiment> [--quick] [--out DIR]
-[--seed N] [--set key=value ...]`` and ``workbench list``."""
+[--seed N] [--set key=value ...]`` and ``workbench list``.
+
+``--set`` values are JSON (a bare word is a string) and are checked against the
+type of the experiment's default before anything runs: ``workbench run NAME
+--help`` lists every key with its type and default."""
 
 from __future__ import annotations
 
@@ -7,6 +11,7 @@ import argparse
 import importlib
 import json
 import logging
+import math
 import sys
 import time
 from pathlib import Path
@@ -24,6 +29,10 @@ EXPERIMENTS = {
 }
 
 
+class _CliText(str):
+    """The raw text of a ``--set`` value, parsed once the key's type is known."""
+
+
 def _parse_value(text: str) -> Any:
     try:
         return json.loads(text)
@@ -32,17 +41,158 @@ def _parse_value(text: str) -> Any:
 
 
 def _parse_sets(items: list[str]) -> dict[str, Any]:
-    out = {}
+    out: dict[str, Any] = {}
     for item in items:
         if "=" not in item:
             raise SystemExit(f"--set expects key=value; got {item!r}")
         key, value = item.split("=", 1)
-        out[key.strip()] = _parse_value(value)
+        out[key.strip()] = _CliText(value)
     return out
 
 
+# ------------------------------------------------------------------ value types
+# A schema is inferred from a default value: "bool", "int", "float", "str",
+# "any" (None defaults, or lists mixing kinds), ("list", element schema or None
+# for an empty default), ("map", value schema) for dicts whose values share one
+# type (free keys, e.g. {"major": 0.0, "minor": 1.57}), ("record", {key: schema})
+# for dicts of mixed types (fixed keys, e.g. a pad's width and nx).
+
+
+def _schema(default: Any) -> Any:
+    if default is None:
+        return "any"
+    if isinstance(default, bool):
+        return "bool"
+    if isinstance(default, int):
+        return "int"
+    if isinstance(default, float):
+        return "float"
+    if isinstance(default, str):
+        return "str"
+    if isinstance(default, (list, tuple)):
+        return ("list", _merge([_schema(v) for v in default]) if default else None)
+    if isinstance(default, dict):
+        values = {str(k): _schema(v) for k, v in default.items()}
+        kinds = set(map(repr, values.values()))
+        if not values:
+            return ("map", "any")
+        if len(kinds) == 1:
+            return ("map", next(iter(values.values())))
+        return ("record", values)
+    return "any"
+
+
+def _merge(schemas: list[Any]) -> Any:
+    """One schema for the elements of a list: int and float merge to float."""
+    kinds = {repr(s) for s in schemas}
+    if len(kinds) == 1:
+        return schemas[0]
+    if kinds == {"'int'", "'float'"}:
+        return "float"
+    return "any"
+
+
+def _describe(schema: Any) -> str:
+    if schema is None:
+        return "any JSON value"
+    if isinstance(schema, str):
+        return {"any": "any JSON value"}.get(schema, schema)
+    kind, inner = schema
+    if kind == "list":
+        return "list" if inner is None else f"list of {_describe(inner)}"
+    if kind == "map":
+        return f"object of {_describe(inner)}"
+    return "object {" + ", ".join(f"{k}: {_describe(v)}" for k, v in inner.items()) + "}"
+
+
+class _Mismatch(Exception):
+    """A value does not fit its schema; ``args[0]`` says where and why."""
+
+
+def _check(value: Any, schema: Any, where: str) -> Any:
+    """``value`` coerced to ``schema`` (int -> float); raises _Mismatch."""
+    if schema == "any" or schema is None:
+        _check_finite(value, where)
+        return value
+    if schema == "bool":
+        if isinstance(value, bool):
+            return value
+        raise _Mismatch(f"{where}{value!r} is not a bool (true or false)")
+    if schema == "int":
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        raise _Mismatch(f"{where}{value!r} is not an int")
+    if schema == "float":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if not math.isfinite(value):
+                raise _Mismatch(f"{where}{value!r} is not finite")
+            return float(value)
+        raise _Mismatch(f"{where}{value!r} is not a number")
+    if schema == "str":
+        if isinstance(value, str):
+            return str(value)
+        raise _Mismatch(f"{where}{value!r} is not a string")
+    kind, inner = schema
+    if kind == "list":
+        if not isinstance(value, (list, tuple)):
+            raise _Mismatch(f"{where}{value!r} is not a list")
+        return [_check(v, inner, f"{where}element {i}: ") for i, v in enumerate(value)]
+    if not isinstance(value, dict):
+        raise _Mismatch(f"{where}{value!r} is not an object")
+    if kind == "map":
+        return {k: _check(v, inner, f"{where}[{k!r}]: ") for k, v in value.items()}
+    extra = sorted(set(value) - set(inner))
+    if extra:
+        raise _Mismatch(f"{where}unknown key(s) {extra} (known: {sorted(inner)})")
+    return {k: _check(v, inner[k], f"{where}[{k!r}]: ") for k, v in value.items()}
+
+
+def _check_finite(value: Any, where: str) -> None:
+    if isinstance(value, float) and not math.isfinite(value):
+        raise _Mismatch(f"{where}{value!r} is not finite")
+    if isinstance(value, (list, tuple)):
+        for v in value:
+            _check_finite(v, where)
+    elif isinstance(value, dict):
+        for v in value.values():
+            _check_finite(v, where)
+
+
+def _coerce(key: str, value: Any, default: Any) -> Any:
+    """The ``--set`` value for ``key`` checked against its default's type."""
+    schema = _schema(default)
+    if isinstance(value, _CliText):
+        text = str(value)
+        parsed = _parse_value(text)
+        # a str key takes the text itself unless it is a JSON string ("S3" or "\"S3\"")
+        value = parsed if schema != "str" or isinstance(parsed, str) else text
+    else:
+        text = _dumps(value)
+    try:
+        return _check(value, schema, "")
+    except _Mismatch as exc:
+        shown = _dumps(default)
+        raise SystemExit(
+            f"--set {key}={text}: {key} expects {_describe(schema)} (default {shown}); "
+            f"{exc.args[0]} — give e.g. --set {key}={shown}"
+        ) from None
+
+
+def _dumps(value: Any) -> str:
+    return json.dumps(value, default=repr)
+
+
 def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets: dict[str, Any]) -> dict:
-    """Experiment config: its defaults, then quick overrides, then CLI values."""
+    """Experiment config: its defaults, then quick overrides, then CLI values.
+
+    Every ``sets`` value must fit the type of the key's default (bool, int, float
+    — an int is accepted and converted —, str, lists and dicts element by
+    element, anything for a ``None`` default) and numbers must be finite;
+    otherwise, or for an unknown key, ``SystemExit`` says which key, what it
+    expects and what it got — before any work starts.
+    """
+    if name not in EXPERIMENTS:
+        raise SystemExit(f"unknown experiment {name!r}; known: {sorted(EXPERIMENTS)}")
     module = importlib.import_module(EXPERIMENTS[name])
     config = dict(module.DEFAULT_CONFIG)
     if quick:
@@ -54,33 +204,118 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     unknown = set(sets) - set(config)
     if unknown:
         raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}; known: {sorted(config)}")
-    config.update(sets)
+    defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
+    config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
     return config
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="workbench", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+def config_help(name: str) -> str:
+    """The keys of experiment ``name`` with type, default and ``--quick`` value."""
+    module = importlib.import_module(EXPERIMENTS[name])
+    quick = module.QUICK_CONFIG
+    lines = ["config keys (--set KEY=VALUE, JSON; a bare word is a string):"]
+    for key, default in module.DEFAULT_CONFIG.items():
+        line = f"  {key} ({_describe(_schema(default))}) = {_dumps(default)}"
+        if key in quick:
+            line += f"   [--quick: {_dumps(quick[key])}]"
+        lines.append(line)
+    lines.append("  quick, out: set by --quick and --out")
+    return "\n".join(lines)
+
+
+def _first_doc_line(name: str) -> str:
+    return (importlib.import_module(EXPERIMENTS[name]).__doc__ or "").strip().splitlines()[0]
+
+
+class _ExperimentParser(argparse.ArgumentParser):
+    """``workbench run NAME``: its help lists the experiment's config keys
+    (built on demand, so only ``--help`` imports the experiment)."""
+
+    experiment = ""
+
+    def format_help(self) -> str:
+        self.epilog = config_help(self.experiment)
+        self.description = _first_doc_line(self.experiment)
+        return super().format_help()
+
+
+class _CommandParser(argparse.ArgumentParser):
+    """``workbench list`` / ``workbench run``: the latter's help lists every experiment."""
+
+    lists_experiments = False
+
+    def format_help(self) -> str:
+        if self.lists_experiments:
+            names = "\n".join(f"  {n:22s} {_first_doc_line(n)}" for n in EXPERIMENTS)
+            self.epilog = f"experiments (workbench run NAME --help lists NAME's config keys):\n{names}"
+        return super().format_help()
+
+
+def _add_run_options(p: argparse.ArgumentParser, *, suppress: bool) -> None:
+    """The run options, on ``run`` itself (so they may precede NAME) and on each
+    experiment's parser with suppressed defaults (so they do not overwrite)."""
+
+    def d(value: Any) -> Any:
+        return argparse.SUPPRESS if suppress else value
+
+    p.add_argument("--quick", action="store_true", default=d(False), help="small, fast configuration")
+    p.add_argument("--out", default=d(None), help="output directory (default results/<experiment>)")
+    p.add_argument("--seed", type=int, default=d(None))
+    p.add_argument(
+        "--set",
+        dest="sets_after" if suppress else "sets",
+        action="append",
+        default=d([]),
+        metavar="KEY=VALUE",
+        help="override a config key (repeatable); the keys are listed below"
+        if suppress
+        else "override a config key (repeatable); workbench run NAME --help lists them",
+    )
+    p.add_argument("-v", "--verbose", action="store_true", default=d(False))
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``workbench`` argument parser (``list`` and ``run NAME`` with per-experiment help)."""
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(prog="workbench", description=__doc__, formatter_class=fmt)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_CommandParser)
     sub.add_parser("list", help="list experiments")
-    run = sub.add_parser("run", help="run an experiment and write results/<name>/")
-    run.add_argument("experiment", choices=sorted(EXPERIMENTS))
-    run.add_argument("--quick", action="store_true", help="small, fast configuration")
-    run.add_argument("--out", default=None, help="output directory (default results/<experiment>)")
-    run.add_argument("--seed", type=int, default=None)
-    run.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE")
-    run.add_argument("-v", "--verbose", action="store_true")
+    run = sub.add_parser("run", help="run an experiment and write results/<name>/", formatter_class=fmt)
+    run.lists_experiments = True
+    _add_run_options(run, suppress=False)
+    names = run.add_subparsers(
+        dest="experiment",
+        metavar="experiment",
+        required=True,
+        parser_class=_ExperimentParser,
+        help="one of the experiments below",
+    )
+    for name in EXPERIMENTS:
+        p = names.add_parser(name, formatter_class=fmt)
+        p.experiment = name
+        _add_run_options(p, suppress=True)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     args = parser.parse_args(argv)
 
     if args.command == "list":
-        for name, mod in EXPERIMENTS.items():
-            doc = (importlib.import_module(mod).__doc__ or "").strip().splitlines()[0]
-            print(f"{name:24s} {doc}")
+        for name in EXPERIMENTS:
+            print(f"{name:24s} {_first_doc_line(name)}")
         return 0
 
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
     )
-    config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(args.sets))
+    sets = args.sets + getattr(args, "sets_after", [])
+    try:
+        config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(sets))
+    except SystemExit as exc:
+        if isinstance(exc.code, str):
+            parser.exit(2, f"workbench run {args.experiment}: error: {exc.code}\n")
+        raise
     module = importlib.import_module(EXPERIMENTS[args.experiment])
     t0 = time.perf_counter()
     summary = module.run(config)

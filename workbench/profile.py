@@ -10,42 +10,130 @@ Normals: a normal whose length is within ``TOL.normal_unit_atol`` of 1 is
 renormalised silently; any other length is rejected with a ``ValueError``
 unless ``normalize_normals=True`` is passed (then every non-zero normal is
 rescaled; zero normals are always rejected).
+
+Size: the length scale ``l_s`` is computed at construction, and a profile
+longer than ``TOL.max_object_extent_m`` (2 m) is rejected as a likely unit
+mistake unless ``allow_scale=True`` (see :mod:`workbench.units`).
 """
 
 from __future__ import annotations
 
+import logging
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .config import TOL
+from .units import check_extent, length_factor
+
+__all__ = ["ContactProfile", "length_factor", "pca_box_longest_side"]
 
 if TYPE_CHECKING:  # pragma: no cover
     from .surfaces import ParametricSurface
 
-_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6}
-
-
-def length_factor(units: str | float) -> float:
-    """Metres per unit for ``units`` ("m", "cm", "mm", "um" or a positive float)."""
-    if isinstance(units, str):
-        if units not in _UNITS:
-            raise ValueError(f"units must be one of {sorted(_UNITS)} or a positive float; got {units!r}")
-        return _UNITS[units]
-    factor = float(units)
-    if not np.isfinite(factor) or factor <= 0:
-        raise ValueError(f"units scale must be a positive finite float; got {units!r}")
-    return factor
+log = logging.getLogger(__name__)
 
 
 def pca_box_longest_side(points: np.ndarray) -> float:
-    """Longest side of the PCA-aligned bounding box of points (m, 3) [m];
-    invariant under rigid motions (thesis §3.3.2 ``l_s``)."""
-    centered = points - points.mean(axis=0)
-    _, _, axes = np.linalg.svd(centered, full_matrices=False)
+    """Longest side ``l_s`` of the PCA-aligned bounding box of points (m, 3) [m]
+    (thesis §3.3.2, whose "smallest rectangular cuboid" the principal axes stand in for).
+
+    Invariant under rigid motions, including where the principal axes are not
+    unique.  Eigenvalues of the covariance equal within ``TOL.pca_degenerate_rtol``
+    leave the box free to turn in their eigenspace, and an SVD picks whatever
+    rounding selects (under rotation a square's ``l_s`` jumped between its side
+    and its diagonal, up to +41 %, a 64-gon disc's by 1e-3).  Such sets are resolved by geometry:
+
+    - two equal eigenvalues (a square or disc patch, any set with a 3-fold or
+      higher symmetry axis): the box is turned in their plane to the smallest
+      longest side over all turns — the thesis's smallest cuboid among the PCA
+      frames — computed exactly on the plane's convex hull;
+    - three equal eigenvalues (cube- or sphere-like point clouds, not contact
+      patches): the set's diameter, the largest longest side over all frames, an
+      upper bound (a cube's corners give its space diagonal, not its side).
+
+    Distinct eigenvalues keep the SVD axes, bit for bit the value of the plain
+    PCA box.  Under rigid motion ``l_s`` then changes by rounding only (~1e-15
+    relative) except for spectra whose relative gap ``g`` lies just above the
+    tolerance: the axes turn by ~1e-16/g rad there, so ``l_s`` moves by up to
+    ~1e-8 relative for g ~ 1e-8 (and < 1e-12 once g > 1e-4).
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    centered = pts - pts.mean(axis=0)
+    _, s, axes = np.linalg.svd(centered, full_matrices=False)
     extent = centered @ axes.T
-    return float((extent.max(axis=0) - extent.min(axis=0)).max())
+    sides = extent.max(axis=0) - extent.min(axis=0)
+    lam = s**2
+    if lam.size < 2 or lam[0] == 0:
+        return float(sides.max())
+    equal = np.abs(np.diff(lam)) <= TOL.pca_degenerate_rtol * lam[0]
+    if not equal.any():
+        return float(sides.max())
+    if equal.all() and lam.size == 3:
+        return _diameter(centered, fallback=float(sides.max()))
+    i = 0 if equal[0] else 1  # the equal pair (i, i + 1); the third axis is well defined
+    rest = [float(sides[k]) for k in range(lam.size) if k not in (i, i + 1)]
+    turned = _min_longest_side_2d(centered @ axes[i : i + 2].T, fallback=float(sides[i : i + 2].max()))
+    return max([turned, *rest])
+
+
+def _min_longest_side_2d(q: np.ndarray, fallback: float) -> float:
+    """min over θ of max(w(θ), w(θ + π/2)) for points q (m, 2), w the width along u(θ).
+
+    Between consecutive hull-edge directions (mod π/2) each width is a fixed
+    antipodal pair's projection, a concave sinusoid, so the minimum of the larger
+    one lies at an edge direction or where the two widths cross; both kinds of
+    candidate angle are evaluated exactly."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        v = q[ConvexHull(q).vertices]
+    except (QhullError, ValueError):  # collinear or coincident: widths at rounding level
+        return fallback
+    edges = np.roll(v, -1, axis=0) - v
+    lo = np.unique(np.mod(np.arctan2(edges[:, 1], edges[:, 0]), np.pi / 2))
+    hi = np.append(lo[1:], lo[0] + np.pi / 2)
+    mid = 0.5 * (lo + hi)
+    u, up = _directions(mid)
+    pu, pp = v @ u.T, v @ up.T  # (k, t) projections on u(θ), u(θ + π/2)
+    p1 = v[pu.argmax(axis=0)] - v[pu.argmin(axis=0)]  # w1(θ) = p1 · u(θ) on the interval
+    p2 = v[pp.argmax(axis=0)] - v[pp.argmin(axis=0)]  # w2(θ) = p2 · u(θ + π/2) = q2 · u(θ)
+    d = p1 - np.column_stack([p2[:, 1], -p2[:, 0]])
+    cross = np.arctan2(d[:, 1], d[:, 0]) + np.pi / 2  # d · u(θ) = 0
+    cross = lo + np.mod(cross - lo, np.pi)
+    inside = cross <= hi
+    theta = np.concatenate([lo, cross[inside]])
+    best = np.inf
+    step = max(1, 2_000_000 // len(v))
+    for j in range(0, theta.size, step):
+        u, up = _directions(theta[j : j + step])
+        pu, pp = v @ u.T, v @ up.T
+        g = np.maximum(pu.max(axis=0) - pu.min(axis=0), pp.max(axis=0) - pp.min(axis=0))
+        best = min(best, float(g.min()))
+    return best
+
+
+def _directions(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors u(θ) and u(θ + π/2), each (t, 2)."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.column_stack([c, s]), np.column_stack([-s, c])
+
+
+def _diameter(points: np.ndarray, fallback: float) -> float:
+    """Largest distance between two of points (m, 3), over their convex hull's vertices."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        v = points[ConvexHull(points).vertices]
+    except (QhullError, ValueError):
+        return fallback
+    best = 0.0
+    step = max(1, 2_000_000 // len(v))
+    for j in range(0, len(v), step):
+        d = np.linalg.norm(v[j : j + step, None, :] - v[None, :, :], axis=2)
+        best = max(best, float(d.max()))
+    return best
 
 
 def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.ndarray:
@@ -84,6 +172,24 @@ class ContactProfile:
         Mesh vertices (for plotting/export); ``faces`` : (n, k) int, optional.
     normalize_normals : bool
         Rescale non-unit normals instead of rejecting them.
+    allow_scale : bool
+        Accept a profile longer than ``TOL.max_object_extent_m`` (2 m).  Without
+        it such a profile raises ``ValueError``: it is almost surely in
+        millimetres (build it with ``from_mesh(..., units="mm")``).  Only this
+        upper bound is checked: real contacts can be tiny (an FEM contact at
+        δ = 0.1 mm on a 20 mm sphere is ~2 mm wide, a Hertz patch less, one
+        element has zero extent), so no lower bound tells a unit mistake from a
+        small patch.  A millimetre profile smaller than 2 mm is not caught either.
+
+    Normals: elements carrying more than ``TOL.flipped_normal_force_fraction``
+    of ``F`` with normals pointing away from the force-weighted mean normal
+    (``n_i · n̄ < 0``) log a warning — the mark of a mesh with part of its faces
+    wound the other way.  What cannot be seen here: a profile whose normals are
+    *all* flipped (into the object) is a consistent surface that only the object
+    could contradict, indistinguishable from a contact on the other side of a
+    thin shell; the grasp layer checks that each jaw pushes rather than pulls.
+    A contact genuinely wrapping more than about ±100° around the object also
+    triggers the warning.
     """
 
     def __init__(
@@ -96,6 +202,7 @@ class ContactProfile:
         vertices: Any = None,
         faces: Any = None,
         normalize_normals: bool = False,
+        allow_scale: bool = False,
     ) -> None:
         centers = _as_float_array("centers", centers, (3,))
         normals = _as_float_array("normals", normals, (3,))
@@ -162,6 +269,36 @@ class ContactProfile:
         self.faces = None if faces is None else np.asarray(faces, dtype=np.int64)
         for arr in (self.centers, self.normals, self.areas, self.pressures):
             arr.flags.writeable = False  # cached properties depend on them
+        self.allow_scale = bool(allow_scale)
+        check_extent(
+            self.length_scale,
+            "ContactProfile (l_s, the longest side of its PCA box)",
+            allow_scale=self.allow_scale,
+            check_lower=False,
+            fix="build it with ContactProfile.from_mesh(..., units={units!r}), or scale centers and "
+            "vertices by {factor:g} and areas by {area_factor:g}",
+        )
+        self._warn_flipped_normals()
+
+    def _warn_flipped_normals(self) -> None:
+        """Log a warning if normals disagreeing with the force-weighted mean normal
+        carry more than ``TOL.flipped_normal_force_fraction`` of ``F``."""
+        mean = (self.forces[:, None] * self.normals).sum(axis=0)
+        norm = float(np.linalg.norm(mean))
+        if norm == 0:
+            return
+        against = self.normals @ (mean / norm) < 0
+        fraction = float(self.forces[against].sum()) / self.F
+        if fraction > TOL.flipped_normal_force_fraction:
+            log.warning(
+                "ContactProfile: %d of %d elements, carrying %.0f%% of the force, have normals pointing "
+                "away from the force-weighted mean normal (n_i . n_mean < 0): part of the mesh is probably "
+                "wound the other way — fix the winding (trimesh.repair.fix_normals) or pass the normals "
+                "outward from the object; ignore this only if the contact wraps more than ~±100° around it",
+                int(against.sum()),
+                len(self),
+                100 * fraction,
+            )
 
     # ------------------------------------------------------------------ basics
     def __len__(self) -> int:
@@ -226,7 +363,13 @@ class ContactProfile:
     def with_pressures(self, pressures: Any) -> ContactProfile:
         """Same geometry with new per-element pressures (n,)."""
         return ContactProfile(
-            self.centers, self.normals, self.areas, pressures, vertices=self.vertices, faces=self.faces
+            self.centers,
+            self.normals,
+            self.areas,
+            pressures,
+            vertices=self.vertices,
+            faces=self.faces,
+            allow_scale=self.allow_scale,
         )
 
     def normalized(self) -> ContactProfile:
@@ -255,6 +398,7 @@ class ContactProfile:
             vertices=verts,
             faces=self.faces,
             normalize_normals=True,
+            allow_scale=self.allow_scale,
         )
 
     def in_contact_frame(self, rotation: Any = None) -> ContactProfile:
@@ -276,6 +420,7 @@ class ContactProfile:
         units: str | float = "m",
         flip_normals: bool = False,
         drop_degenerate: bool = False,
+        allow_scale: bool = False,
     ) -> ContactProfile:
         """Profile from a triangle ``(m, 3)`` or quad ``(m, 4)`` mesh.
 
@@ -285,7 +430,8 @@ class ContactProfile:
         ``½ d1 × d2`` of the diagonals, their center is the vertex mean.
 
         vertices : (v, 3) float in ``units``; faces : (m, 3|4) int;
-        pressures : (m,) float [Pa], or a scalar for uniform pressure.
+        pressures : (m,) float [Pa], or a scalar for uniform pressure;
+        allow_scale : accept a profile longer than 2 m (see the class docstring).
         """
         scale = length_factor(units)
         verts = _as_float_array("vertices", vertices, (3,)) * scale
@@ -315,7 +461,7 @@ class ContactProfile:
         if flip_normals:
             normals = -normals
             f = f[:, ::-1]
-        return cls(centers, normals, areas, p, vertices=verts, faces=f)
+        return cls(centers, normals, areas, p, vertices=verts, faces=f, allow_scale=allow_scale)
 
     @classmethod
     def from_meshio(cls, mesh: Any, pressure: str | Any = "pressure", **kwargs: Any) -> ContactProfile:
@@ -361,10 +507,21 @@ class ContactProfile:
         return mesh_profile(surface, n_elements, pressure_scale=pressure_scale)
 
     def to_meshio(self) -> Any:
-        """``meshio.Mesh`` with pressure as cell data (needs vertices/faces)."""
+        """``meshio.Mesh`` (needs vertices/faces) with cell data ``"pressure"`` (n,) [Pa],
+        ``"normals"`` (n, 3) (the profile's unit normals, outward from the object) and
+        ``"areas"`` (n,) [m²] — the element values themselves, which for FEM profiles
+        differ slightly from what the exported faces' winding and size would give."""
         import meshio
 
         if self.vertices is None or self.faces is None:
-            raise ValueError("profile has no mesh (vertices/faces); build it with from_mesh")
+            raise ValueError(
+                "profile has no mesh (vertices/faces) to export; build it with from_mesh / "
+                "from_meshio, or pass vertices= and faces= to ContactProfile"
+            )
         kind = "triangle" if self.faces.shape[1] == 3 else "quad"
-        return meshio.Mesh(self.vertices, [(kind, self.faces)], cell_data={"pressure": [self.pressures]})
+        cell_data = {
+            "pressure": [np.array(self.pressures)],
+            "normals": [np.array(self.normals)],
+            "areas": [np.array(self.areas)],
+        }
+        return meshio.Mesh(self.vertices, [(kind, self.faces)], cell_data=cell_data)

@@ -22,13 +22,40 @@ import numpy as np
 PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "meshio", "trimesh", "pyvista", "matplotlib", "cvxpy")
 
 
+def current_umask() -> int:
+    """The process umask, read afresh on every call (a program may change it).
+
+    Linux reports it in ``/proc/self/status`` (a read, safe with threads).  POSIX
+    has no other query than setting it and restoring it at once: a file another
+    thread creates between the two calls gets the temporary mask, so it is
+    0o077 (owner only — too strict at worst, never too open).
+    """
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o077)
+    os.umask(mask)
+    return mask
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` via a temporary sibling and ``os.replace``.
+
+    The file gets the mode a plain ``open(path, "wb")`` would give (0o666 minus
+    the umask: 0o644 under umask 022), not mkstemp's owner-only 0o600, which
+    ``os.replace`` would carry over and leave results unreadable to others.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
+        os.chmod(tmp, 0o666 & ~current_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -16,12 +16,24 @@ from .contacts import (
     soft_point_contact,
     wrench_hull_contact,
 )
+from .evaluate import GraspEvaluation, evaluate_grasp, jaw_profiles
 from .gws import WrenchHull, build_gws, grasp_map, gws_points, resists_lp
+from .models import MODELS, contact_sets
+from .reach import reach_profile, with_axis_force
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists, wrench_resistance
 from .robust import Perturbation, gravity_wrench, q_robust
+from .sampling import antipodal_grasps
 
 __all__ = [
+    "MODELS",
     "ContactSet",
+    "GraspEvaluation",
+    "antipodal_grasps",
+    "contact_sets",
+    "evaluate_grasp",
+    "jaw_profiles",
+    "reach_profile",
+    "with_axis_force",
     "CutStore",
     "MinimalForce",
     "Resistance",

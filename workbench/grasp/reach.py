@@ -39,19 +39,30 @@ def reach_profile(
     stiffness: float = 1.0e6 / 0.005,
     max_edge: float = 1e-3,
     depth_window: float = 0.01,
+    units: str | float | None = None,
+    allow_scale: bool = False,
 ) -> ContactProfile:
     """Contact profile of a jaw approaching ``center`` (on or near the object) along
     ``approach`` (into the object), pad ``(width, length)`` [m], closing ``closing`` [m]
     past first touch, pressure ``stiffness · compression`` [Pa/m].
 
-    Raises ``ValueError`` for a non-watertight mesh or when the pad touches nothing.
+    ``units`` is the unit of ``mesh.vertices`` only (``None``: metres; "mm" scales a
+    copy by 1e-3): ``center`` and every other length are in metres, as returned by
+    ``antipodal_grasps(mesh, ..., units=...)``.
+
+    Raises ``ValueError`` for a non-watertight mesh, when the pad touches nothing, or
+    for a mesh spanning more than ``TOL.max_object_extent_m`` or less than
+    ``TOL.min_object_extent_m`` (a likely unit mistake; ``allow_scale=True`` accepts it).
     """
     import trimesh
+
+    from ..units import mesh_in_metres
 
     if not isinstance(mesh, trimesh.Trimesh):
         raise ValueError(f"mesh must be a trimesh.Trimesh; got {type(mesh).__name__}")
     if not mesh.is_watertight:
         raise ValueError("the object mesh is not watertight (inside/outside undefined); repair it first")
+    mesh = mesh_in_metres(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
     if not (closing > 0 and stiffness > 0 and max_edge > 0):
         raise ValueError("closing, stiffness and max_edge must be > 0")
     a, e1, e2 = jaw_frame(approach, up)

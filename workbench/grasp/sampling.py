@@ -12,7 +12,11 @@ many grasps as found (up to ``n``).
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
+
+log = logging.getLogger(__name__)
 
 
 def _cone_directions(rng: np.random.Generator, axes: np.ndarray, half_angle: float) -> np.ndarray:
@@ -39,12 +43,33 @@ def antipodal_grasps(
     clearance: float = 0.01,
     seed: int = 0,
     max_samples: int | None = None,
+    units: str | float | None = None,
+    allow_scale: bool = False,
+    pad: tuple[float, float] | None = (0.02, 0.04),
+    up=(0.0, 0.0, 1.0),
+    edge_depth: float = 1e-3,
 ) -> list[dict]:
-    """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m]."""
+    """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m].
+
+    ``units`` is the unit of ``mesh.vertices`` (``None``: metres; "mm" scales a
+    copy by 1e-3); every other length argument and every result is in metres.  A
+    mesh spanning more than ``TOL.max_object_extent_m`` or less than
+    ``TOL.min_object_extent_m`` raises ``ValueError`` naming the likely unit
+    (``allow_scale=True`` accepts it): a millimetre mesh read as metres would
+    otherwise yield no grasp at all, every width exceeding ``max_width``.
+
+    pad, up, edge_depth : grasps whose flat jaws (``pad = (width, length)`` [m], length
+        axis along ``up``) would first meet the surface at a pad edge more than
+        ``edge_depth`` [m] before the contact point are dropped (counted in the log; see
+        :func:`edge_touch`); ``pad=None`` keeps every antipodal pair.
+    """
     import trimesh
+
+    from ..units import mesh_in_metres
 
     if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
         raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
+    mesh = mesh_in_metres(mesh, "mesh passed to antipodal_grasps", units=units, allow_scale=allow_scale)
     if not (np.isfinite(mu) and mu >= 0):
         raise ValueError(f"mu must be >= 0; got {mu}")
     rng = np.random.default_rng(seed)
@@ -56,6 +81,7 @@ def antipodal_grasps(
     eps = 1e-6 * mesh.scale
     locs, ray_idx, tri_idx = mesh.ray.intersects_location(pts + eps * axes, axes, multiple_hits=True)
     out = []
+    n_edge = 0
     for k in range(m):
         hits = np.flatnonzero(ray_idx == k)
         if hits.size == 0:
@@ -71,6 +97,12 @@ def antipodal_grasps(
             continue
         if table_z is not None and min(pts[k][2], p2[2]) < table_z + clearance:
             continue
+        if pad is not None and (
+            edge_touch(mesh, pts[k], axes[k], up, pad, edge_depth)
+            or edge_touch(mesh, p2, -axes[k], up, pad, edge_depth)
+        ):
+            n_edge += 1
+            continue
         out.append(
             {
                 "p1": pts[k],
@@ -84,4 +116,30 @@ def antipodal_grasps(
         )
         if len(out) == n:
             break
+    if n_edge:
+        log.info("antipodal_grasps: dropped %d grasps whose jaws meet the surface at a pad edge", n_edge)
     return out
+
+
+def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float = 0.75) -> bool:
+    """Whether a flat jaw ``pad = (width, length)`` [m] centred on ``p`` and closing along
+    ``approach`` meets the surface of ``mesh`` only near the edge of its face: after
+    closing ``depth`` past first touch (:func:`~.reach.reach_profile`, faces refined to
+    1 mm under the footprint), the patch's pressure centre lies in the outer
+    ``1 − rim`` of the face (or nothing faces the jaw).  The jaw then presses with its
+    edge, far from the planned contact, and face-contact models do not describe what it
+    transmits.  A patch that merely spans the face (a cylinder along the pad) is not
+    an edge contact: its pressure centre stays inside."""
+    from .reach import jaw_frame, reach_profile
+
+    a = np.asarray(approach, float) / np.linalg.norm(approach)
+    up = np.asarray(up, float)
+    if abs(a @ up) > 0.99 * np.linalg.norm(up):  # jaw length axis undefined: any perpendicular
+        up = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    try:
+        prof = reach_profile(mesh, p, a, up, pad=pad, closing=depth, allow_scale=True)
+    except ValueError:  # the pad touches nothing facing it: no face contact at all
+        return True
+    _, e1, e2 = jaw_frame(a, up)
+    rel = prof.pressure_center - p
+    return bool(abs(rel @ e1) >= rim * pad[0] / 2 or abs(rel @ e2) >= rim * pad[1] / 2)

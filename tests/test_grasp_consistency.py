@@ -1,0 +1,220 @@
+"""One meaning of "resisted" (issue 11): resists, min_grasp_force and q_robust agree on
+every contact model; known-force models tolerate jaw-force mismatch; the one-call
+evaluation reaches the same verdict; edge contacts are filtered."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from workbench import config
+from workbench.grasp import (
+    MODELS,
+    CutStore,
+    Perturbation,
+    antipodal_grasps,
+    contact_sets,
+    evaluate_grasp,
+    gravity_wrench,
+    min_grasp_force,
+    q_robust,
+    resists,
+)
+from workbench.grasp.exact import ExactContacts, resists_exact
+from workbench.grasp.scenes import elliptic_cylinder_grasp
+from workbench.limit_surface import LimitSurfaceCache
+
+MU = 0.5
+BOTTLE = (
+    Path(__file__).resolve().parents[2]
+    / "shared/data/thesis_objects/0014_bottle-gen_bottle_100x030x030-03.obj"
+)
+NO_NOISE = Perturbation(n_samples=2, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    """Elliptic-cylinder grasp, 10 N per jaw, jaw 2's pressures × 1.0002 (a 0.02 % force
+    mismatch, as every real pair of profiles has), and a cache shared by the models."""
+    profiles = elliptic_cylinder_grasp(force=10.0, n_elements=200)
+    profiles[1] = profiles[1].with_pressures(profiles[1].pressures * 1.0002)
+    return profiles, LimitSurfaceCache()
+
+
+def _scaled(sets, s):
+    return [c.with_force(c.force * s) for c in sets]
+
+
+def _agree(sets, w, cuts):
+    """min_grasp_force's scale s*: resists (and q_robust without noise) is True at
+    1.03 s* and False at 0.97 s*."""
+    m = min_grasp_force(sets, w, MU, cuts=cuts)
+    assert m.feasible and m.converged and not m.fallbacks
+    for factor, expect in ((1.03, True), (0.97, False)):
+        grasp = _scaled(sets, factor * m.scale)
+        r = resists(grasp, w, MU, cuts=cuts)
+        assert bool(r) is expect, (factor, r)
+        assert q_robust(grasp, MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w, cuts=cuts) == float(expect)
+    return m
+
+
+@pytest.mark.parametrize("model", [m for m in MODELS if m != "point"])
+def test_three_grasp_functions_agree_on_the_elliptic_cylinder(scene, model):
+    profiles, cache = scene
+    sets = [c for p in profiles for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=400)]
+    w = gravity_wrench(0.3, [0.0, 0.0, 0.01])
+    m = _agree(sets, w, CutStore())
+    # friction carries the weight: Coulomb gives μ Σ f >= mg, so Σ f >= mg / μ — exactly for
+    # the unfitted models (polygons, sampled 6DFWs, REACH); a fitted limit surface may exceed
+    # the true wrench set by its fitting error (measured: the 6DLS ellipsoid 0.6 % below)
+    fitted = model in ("planar", "3dls_nonplanar", "6dls", "6dls_quartic", "6dfc")
+    assert m.total >= 0.3 * 9.81 / MU * (1 - (0.02 if fitted else 1e-6)), m.total
+    assert m.scale <= 1.0  # the grasp holds at the scene's 10 N
+
+
+def test_point_contacts_never_resist_torsion_about_the_grasp_axis(scene):
+    """Two hard point contacts on the grasp axis have no torque about it: the gravity
+    wrench at a COM off the axis is out of reach at any force — all three functions say so."""
+    profiles, cache = scene
+    sets = [c for p in profiles for c in contact_sets(p, "point", cache=cache)]
+    w = gravity_wrench(0.3, [0.0, 0.01, 0.0])  # τ_x = −0.01 · mg about the grasp axis x
+    assert not min_grasp_force(sets, w, MU).feasible
+    assert not resists(_scaled(sets, 100.0), w, MU)
+    assert q_robust(_scaled(sets, 100.0), MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w) == 0.0
+
+
+@pytest.mark.parametrize("model", ["planar", "3dls_nonplanar", "6dls", "6dfc"])
+def test_known_force_models_are_continuous_in_the_jaw_forces(model):
+    """Issue 11 item 2: with jaw 2 × 1.0002 the planar 3DLS was False at every force from
+    3 to 50 N.  Within the sensor interval (config.TOL.known_force_rtol) the verdict is the
+    same as for exactly equal forces; beyond it a force-known planar contact, which has no
+    normal freedom, cannot balance the axis force (the documented limit)."""
+    w = gravity_wrench(0.3, [0.0, 0.0, 0.01])
+    cache = LimitSurfaceCache()
+    r = config.TOL.known_force_rtol
+    for force in (2.0, 10.0, 50.0):  # 0.3 kg at μ = 0.5 needs ~2.9 N per jaw
+        verdicts = []
+        for mismatch in (1.0, 1.0002, 1 + 0.5 * r):
+            prof = elliptic_cylinder_grasp(force=force, n_elements=150)
+            prof[1] = prof[1].with_pressures(prof[1].pressures * mismatch)
+            sets = [c for p in prof for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=300)]
+            verdicts.append(bool(resists(sets, w, MU)))
+        assert verdicts == [force >= 10.0] * 3, (force, verdicts)  # the same at every mismatch
+    if model in ("planar", "3dls_nonplanar"):
+        prof = elliptic_cylinder_grasp(force=10.0, n_elements=150)
+        prof[1] = prof[1].with_pressures(prof[1].pressures * (1 + 3 * r))
+        sets = [c for p in prof for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=300)]
+        assert not resists(sets, w, MU)
+
+
+def test_min_grasp_force_of_the_sampled_6dfw_bounds_the_exact_one_from_above(scene):
+    """Independent reference: the exact 6DFW set (column generation on the true profile's
+    support function) contains the hull of any sample of its wrenches, so the sampled
+    6DFW's minimal force is at least the exact one — and the ellipsoid's is close to both."""
+    profiles, cache = scene
+    w = gravity_wrench(0.3, [0.0, 0.0, 0.01])
+    ex = ExactContacts(profiles, n_start=200)
+    lo, hi = 0.05, 1.0  # bisection on the common force scale with the exact solver
+    assert resists_exact(ex, w, MU, forces=ex.F * hi)[0] and not resists_exact(ex, w, MU, forces=ex.F * lo)[0]
+    for _ in range(14):
+        mid = np.sqrt(lo * hi)
+        lo, hi = (lo, mid) if resists_exact(ex, w, MU, forces=ex.F * mid)[0] else (mid, hi)
+    s_exact = hi
+    sampled = min_grasp_force([c for p in profiles for c in contact_sets(p, "6dfw", n_wrenches=600)], w, MU)
+    ell = min_grasp_force([c for p in profiles for c in contact_sets(p, "6dls", cache=cache)], w, MU)
+    assert sampled.scale >= s_exact * (1 - 2e-3)
+    assert sampled.scale <= 1.15 * s_exact  # 600 samples miss little of this set
+    assert abs(ell.scale / s_exact - 1) < 0.15, (ell.scale, s_exact)
+
+
+def test_thesis_objective_sum_over_independent_forces():
+    """Eq. (4.4) as published (objective="sum", C_outer by name): per-contact forces are free;
+    for two symmetric soft point contacts it equals the common-scale answer."""
+    profiles = elliptic_cylinder_grasp(force=10.0, n_elements=150)
+    sets = [c for p in profiles for c in contact_sets(p, "soft_point")]
+    w = gravity_wrench(0.3, [0.0, 0.0, 0.0])
+    a = min_grasp_force(sets, w, MU, objective="sum", representation="outer")
+    b = min_grasp_force(sets, w, MU)
+    assert a.total == pytest.approx(b.total, rel=1e-6)
+    # the inner 8-gon (local x = object z for a normal along x) has a vertex along −z:
+    # mg along it needs exactly mg / (2 μ) per jaw
+    assert a.forces == pytest.approx([0.3 * 9.81 / (2 * MU)] * 2, rel=1e-6)
+
+
+def test_bad_inputs_raise_with_a_fix():
+    profiles = elliptic_cylinder_grasp(force=10.0, n_elements=100)
+    sets = [c for p in profiles for c in contact_sets(p, "soft_point")]
+    w = gravity_wrench(0.3, [0, 0, 0])
+    for bad in (-1.0, np.nan, np.inf, True):
+        for fn in (resists, min_grasp_force):
+            with pytest.raises(ValueError, match="mu"):
+                fn(sets, w, bad)
+        with pytest.raises(ValueError, match="mu"):
+            q_robust(sets, bad, 0.3, [0, 0, 0])
+    with pytest.raises(ValueError, match="mass"):
+        gravity_wrench(-1.0, [0, 0, 0])  # pointed up before
+    with pytest.raises(ValueError, match="com"):
+        gravity_wrench(1.0, [0, 0])  # only warned before
+    with pytest.raises(ValueError, match="representation"):
+        resists(sets, w, MU, representation="exact")
+    with pytest.raises(ValueError, match="ContactSet"):
+        resists(profiles, w, MU)
+
+
+@pytest.mark.skipif(not BOTTLE.exists(), reason="thesis objects not available")
+def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
+    """Mesh → antipodal grasp → REACH profiles → every model: the verdict, the minimal
+    force and q_robust agree (1.03 / 0.97 × the minimal force); the sampled 6DFW's minimal
+    force bounds the exact 6DFW's from above (the exact set contains the samples' hull)."""
+    import trimesh
+
+    mesh = trimesh.load(BOTTLE, force="mesh")
+    grasps = antipodal_grasps(mesh, 3, MU, seed=1)
+    assert grasps
+    cache, cuts = LimitSurfaceCache(), CutStore()
+    first = evaluate_grasp(mesh, grasps[0], model="soft_point", force=4.0, mu=MU, mass=0.3, com=[0, 0, 0])
+    per_jaw = {}
+    for model in [m for m in MODELS if m not in ("point", "6dls_quartic")]:
+        ev = evaluate_grasp(
+            mesh,
+            grasps[0],
+            model=model,
+            force=4.0,
+            mu=MU,
+            mass=0.3,
+            com=[0, 0, 0],
+            profiles=first.profiles,
+            cache=cache,
+            cuts=cuts,
+        )
+        m = _agree(ev.contacts, ev.w_ext, cuts)
+        assert bool(ev.resistance) == (m.scale <= 1.0)
+        per_jaw[model] = 4.0 * m.scale
+    ex = ExactContacts(first.profiles, n_start=200)
+    w = gravity_wrench(0.3, [0, 0, 0])
+    s_6dfw = per_jaw["6dfw"] / 4.0
+    assert resists_exact(ex, w, MU, forces=ex.F * s_6dfw * 1.001)[0]  # exact ⊇ sampled
+    # the models do differ on this tilted grasp (the minimal forces are in the closing
+    # note of issue 11); polygonal soft points and REACH are the most conservative
+    assert per_jaw["soft_point"] >= per_jaw["6dfw"] and per_jaw["reach"] >= per_jaw["6dfw"], per_jaw
+
+
+def test_antipodal_grasps_drop_edge_contacts():
+    """A flat jaw tilted against a cylinder wall presses it with the pad's edge: such
+    grasps are dropped (pressure centre in the outer quarter of the face); kept ones have
+    their REACH pressure centres within the face's inner 3/4."""
+    import trimesh
+
+    from workbench.grasp.reach import jaw_frame, reach_profile
+
+    cyl = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=96)
+    everything = antipodal_grasps(cyl, 20, 0.5, seed=3, pad=None)
+    kept = antipodal_grasps(cyl, 20, 0.5, seed=3)
+    tilts = [abs(g["axis"][2]) for g in kept]
+    assert len(kept) >= 10 and max(tilts) < max(abs(g["axis"][2]) for g in everything)
+    for g in kept[:5]:
+        for p, a in ((g["p1"], g["axis"]), (g["p2"], -g["axis"])):
+            prof = reach_profile(cyl, p, a, closing=1e-3)
+            _, e1, e2 = jaw_frame(a, (0, 0, 1))
+            off = prof.pressure_center - p
+            assert abs(off @ e1) < 0.75 * 0.01 and abs(off @ e2) < 0.75 * 0.02
