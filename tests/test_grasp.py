@@ -152,12 +152,14 @@ def test_epsilon_metric_of_a_symmetric_grasp():
 def test_min_grasp_force_two_antipodal_points():
     grasp = _antipodal(n=64)
     m = min_grasp_force(grasp, gravity_wrench(1.0, [0, 0, 0]), MU, objective="sum")
-    # inner 64-gon aligned with gravity: exactly mg / (2 μ) per jaw
-    assert m.forces == pytest.approx([9.81, 9.81], rel=1e-6)
-    assert m.total == pytest.approx(2 * 9.81, rel=1e-6)
+    # inner 64-gon aligned with gravity: mg / (2 μ) per jaw, less the residual band that
+    # "resisted" allows (config.TOL.resist_rtol, relative to the contact force)
+    band = 2 * config.TOL.resist_rtol
+    assert m.forces == pytest.approx([9.81, 9.81], rel=band)
+    assert m.total == pytest.approx(2 * 9.81, rel=band)
     # the common-scale objective: the same forces here (symmetric jaws), as a factor on F
     s = min_grasp_force(grasp, gravity_wrench(1.0, [0, 0, 0]), MU)
-    assert s.scale == pytest.approx(9.81 / F, rel=1e-6) and s.total == pytest.approx(2 * 9.81, rel=1e-6)
+    assert s.scale == pytest.approx(9.81 / F, rel=band) and s.total == pytest.approx(2 * 9.81, rel=band)
     m = min_grasp_force(grasp, np.array([0, 0, 0, 1.0, 0, 0]), MU)
     assert m.total == np.inf and not m.feasible  # point contacts cannot resist torque about the axis
 
@@ -202,11 +204,13 @@ def test_six_dls_outer_qp_contains_the_inner_gws():
     prof = mesh_profile(S2, 300, pressure_scale=1e4)
     # the other jaw: a half-turn about an axis normal to the net contact force, through a
     # point beyond the pressure centre, so the two normal forces oppose (a parallel-jaw grasp)
-    n = prof.normal_wrench[:3] / np.linalg.norm(prof.normal_wrench[:3])
+    n = prof.normal_wrench[:3] / np.linalg.norm(prof.normal_wrench[:3])  # the force on the object
     axis = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
     axis /= np.linalg.norm(axis)
     R = 2 * np.outer(axis, axis) - np.eye(3)
-    centre = prof.pressure_center - 0.5 * n  # object centre inside, along -n (normals point out)
+    # object centre inside: along the normal force, which points into the object (an
+    # earlier version went the other way and built a pulling grasp; the check now warns)
+    centre = prof.pressure_center + 0.5 * n
     mirror = prof.transformed(R, centre - R @ centre)
     cache = LimitSurfaceCache()
     grasp, cones = [], []

@@ -150,8 +150,11 @@ class Tolerances:
     cut_rtol: float = 1e-4
 
     # Cutting-plane rounds before an unconverged refinement defers to the
-    # conservative inner-vertex LP (median 7 rounds in the sensitivity scenes).
-    max_cut_rounds: int = 40
+    # conservative inner-vertex LP (resistance) or reports a lower bound (minimal
+    # force).  Resistance takes a median of 7 rounds in the sensitivity scenes; the
+    # minimal force on a quartic 6DLS, which drives the contact wrenches onto the
+    # surface, 39-41 on the elliptic-cylinder scene (Kelley converges linearly).
+    max_cut_rounds: int = 100
 
     # Cuts kept per limit-surface model in a CutStore (oldest dropped first; any
     # subset of tangent planes is still an outer approximation).
@@ -218,6 +221,12 @@ class Defaults:
     # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree
     # with the exact LP on every case; 12 variables quadprog 0.22 ms vs DAQP
     # 0.24 ms, 224 variables (REACH) quadprog 34 ms vs DAQP 3.8 ms).
+    # REACH profiles (grasp/reach.py): surface elements whose outward normal has
+    # less than this component against the approach (within ~6 deg of parallel to
+    # it) get no Winkler pressure — their area under the pad vanishes; without it
+    # a box's side walls carried up to 9 % of the jaw force sideways.
+    reach_min_facing: float = 0.1
+
     qp_solver: str = "auto"
     qp_auto_large: int = 48
     # Tried (and recorded in the result) when the chosen QP solver returns nothing.

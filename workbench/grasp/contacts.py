@@ -274,9 +274,11 @@ def wrench_hull_contact(
 def reach_contacts(
     profile: ContactProfile, *, torsion_length: float = 0.0, max_triangles: int = 64, n_edges: int = 6
 ) -> list[ContactSet]:
-    """REACH-style model (thesis §2.3.1.3): each element is a soft point contact
-    with its own known normal force ``p a``; elements are merged (pressure-weighted,
-    by k-means on the centres) down to ``max_triangles`` to bound the cost."""
+    """The REACH *contact model* of a profile (thesis §2.3.1.3; the ``"reach"`` model of
+    :func:`~.models.contact_sets`): each element a soft point contact with its own known
+    normal force ``p a``; elements are merged (pressure-weighted, by k-means on the
+    centres) down to ``max_triangles`` to bound the cost.  Any profile works — not only
+    one made by :func:`~.reach.reach_profile`, which is a *profile source* (pad ∩ mesh)."""
     from scipy.cluster.vq import kmeans2
 
     c, n, f = profile.centers, profile.normals, profile.forces

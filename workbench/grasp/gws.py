@@ -45,6 +45,11 @@ def check_wrench(w, name: str = "w_ext") -> np.ndarray:
 
 
 def check_contacts(contacts) -> list[ContactSet]:
+    if isinstance(contacts, ContactSet) or not hasattr(contacts, "__iter__"):
+        raise ValueError(
+            f"contacts must be a list of ContactSet objects; got one {type(contacts).__name__} "
+            "(wrap it in a list, or build the sets with workbench.grasp.contact_sets(profile, model))"
+        )
     contacts = list(contacts)
     if not contacts:
         raise ValueError("a grasp needs at least one contact; got none (the jaws touch nothing)")
@@ -55,6 +60,28 @@ def check_contacts(contacts) -> list[ContactSet]:
             "workbench.grasp.contact_sets(profile, model) or the *_contact constructors)"
         )
     return contacts
+
+
+def squeeze_check(contacts: list[ContactSet]) -> None:
+    """Warn when the contacts' normal forces push away from their common centroid, as
+    they do when a profile's normals point into the object (CONVENTIONS.md wants them
+    outward).  A warning, not an error: an internal grasp (jaws opening inside a cup)
+    pushes outward on purpose."""
+    if len(contacts) < 2:
+        return
+    t = np.array([c.t for c in contacts])
+    d = np.array([(c.R @ c.normal[:3]) * c.force for c in contacts])  # normal force on the object
+    to_centre = t.mean(axis=0) - t
+    score = float(np.einsum("ij,ij->", d, to_centre))
+    if score < 0:
+        import warnings
+
+        warnings.warn(
+            "the contacts' normal forces push away from the contacts' centroid: are the profiles' "
+            "normals pointing into the object? (they must point out of it; fine for an internal grasp)",
+            UserWarning,
+            stacklevel=3,
+        )
 
 
 def check_mu(mu) -> float:
@@ -78,13 +105,18 @@ def stacked_vertices(contacts, mu: float) -> tuple[np.ndarray, np.ndarray, np.nd
     return np.vstack(Vs), sizes, starts, Vs
 
 
-def capacity_scaling(V: np.ndarray) -> np.ndarray:
+def capacity_scaling(V: np.ndarray, arm: float = 0.0) -> np.ndarray:
     """(6,) row scaling ``D``: forces divided by the largest vertex force, torques by the
     largest vertex torque (N vs N·m: one common scale would make torque residuals and
     feasibility tolerances invisible next to forces).  All-zero vertices (a contact
-    without force) fall back to 1."""
+    without force) fall back to 1.
+
+    arm : the grasp's lever arm [m] (largest distance of a contact from the origin): the
+        torque scale is at least ``1e-3 · arm`` × the force scale, so contacts with no
+        torque of their own (μ = 0) do not divide round-off by ~0.
+    """
     sf = float(np.abs(V[:, :3]).max()) or 1.0
-    st = float(np.abs(V[:, 3:]).max()) or sf
+    st = max(float(np.abs(V[:, 3:]).max()), 1e-3 * float(arm) * sf) or sf
     return np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
 
 

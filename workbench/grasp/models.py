@@ -14,8 +14,10 @@ one jaw contributes under model ``name``:
                     forces and torsion about the net normal — the other three set to
                     zero (§4.1.3.3: f_y, f_z, τ_x for a grasp axis x)
 ``6dfw``            the sampled 6DFWs themselves (no model): the "dense" reference
-``reach``           REACH-style: each element a soft point contact with its own force,
-                    clustered to ``reach_triangles`` (thesis §2.3.1.3)
+``reach``           REACH-style contact model (:func:`~.contacts.reach_contacts`): each
+                    element of *any* profile a soft point contact with its own force,
+                    clustered to ``reach_triangles`` (thesis §2.3.1.3); not to be confused
+                    with :func:`~.reach.reach_profile`, a profile source from meshes
 ``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eq. 3.27/3.28)
 ``6dls_quartic``    ``6dls`` with the SOS-convex quartic (Eq. 3.17, fitted with the
                     twist normals); the QP refines its linearisation by cutting planes
@@ -90,7 +92,18 @@ def contact_sets(
     quartic: bool = False,
     seed: int = 0,
 ) -> list[ContactSet]:
-    """The contact sets of one jaw under model ``name`` (see the module table)."""
+    """The contact sets of one jaw's ``profile`` under model ``name``: one of
+    ``point``, ``soft_point``, ``planar``, ``3dls_nonplanar``, ``6dfw``, ``reach``,
+    ``6dls``, ``6dls_quartic``, ``6dfc`` (the module docstring says what each is).
+
+    Only what the model needs is computed: no limit surface for point/soft point/REACH,
+    no 6DFW sampling except for ``6dfw``/``3dls_nonplanar``, no quartic unless asked.
+    cache : limit surfaces of the same normalised profile are reused (and scaled by F).
+    M : linearisation directions of 6DLS/6DFC/3DLS (their ``representation="inner"|"outer"``);
+    n_edges : friction-cone polygon of point-like contacts; n_wrenches : 6DFW samples;
+    reach_triangles : REACH element clusters; quartic : the quartic limit surface for
+    ``6dls``/``planar``; seed : sampler seed.
+    """
     if name not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {name!r}")
     cache = cache if cache is not None else LimitSurfaceCache()

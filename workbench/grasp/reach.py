@@ -42,7 +42,8 @@ def reach_profile(
     units: str | float | None = None,
     allow_scale: bool = False,
 ) -> ContactProfile:
-    """Contact profile of a jaw approaching ``center`` (on or near the object) along
+    """A *profile source*: the REACH-style contact profile (pad ∩ mesh, Winkler pressure)
+    of a jaw approaching ``center`` (on or near the object) along
     ``approach`` (into the object), pad ``(width, length)`` [m], closing ``closing`` [m]
     past first touch, pressure ``stiffness · compression`` [Pa/m].
 
@@ -69,12 +70,20 @@ def reach_profile(
     c = np.asarray(center, float)
     rel = mesh.vertices - c
     u, v, z = rel @ e1, rel @ e2, rel @ a
-    # faces with a vertex near the footprint and in front of the centre (the jaw side)
-    near = (np.abs(u) <= pad[0] / 2 + 2 * max_edge) & (np.abs(v) <= pad[1] / 2 + 2 * max_edge)
-    near &= np.abs(z) <= depth_window
-    faces = mesh.faces[near[mesh.faces].any(axis=1)]
+    # faces whose bounding box (in the jaw frame) overlaps the footprint and the depth
+    # window: a large face can cover the pad with no vertex inside it (a box's side, a
+    # coarse cylinder), so vertices alone would miss it
+    fu, fv, fz = u[mesh.faces], v[mesh.faces], z[mesh.faces]  # (m, 3) each
+    hu, hv = pad[0] / 2 + 2 * max_edge, pad[1] / 2 + 2 * max_edge
+    near = (fu.min(1) <= hu) & (fu.max(1) >= -hu) & (fv.min(1) <= hv) & (fv.max(1) >= -hv)
+    near &= (fz.min(1) <= depth_window) & (fz.max(1) >= -depth_window)
+    faces = mesh.faces[near]
     if len(faces) == 0:
-        raise ValueError("the pad footprint covers no part of the object: check center/approach")
+        raise ValueError(
+            f"the pad footprint {pad} m around {np.round(c, 4).tolist()} covers no part of the object "
+            f"within ±{depth_window} m along the approach {np.round(a, 3).tolist()}: check center, "
+            "approach (into the object) and units"
+        )
     sub_v, sub_f = trimesh.remesh.subdivide_to_size(mesh.vertices, faces, max_edge=max_edge)
     tri = sub_v[sub_f]
     cen = tri.mean(axis=1)
@@ -83,9 +92,17 @@ def reach_profile(
     normal = cross / np.maximum(2 * area, 1e-300)[:, None]
     rel = cen - c
     u, v, z = rel @ e1, rel @ e2, rel @ a
-    keep = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2) & (normal @ a < 0) & (area > 0)
+    # faces (nearly) parallel to the approach have no area under the pad: a Winkler
+    # foundation along the approach puts no pressure on them (a box's side walls)
+    from .. import config
+
+    facing = normal @ a < -config.DEFAULTS.reach_min_facing
+    keep = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2) & facing & (area > 0)
     if not keep.any():
-        raise ValueError("no object surface faces the jaw inside the pad footprint")
+        raise ValueError(
+            f"no object surface faces the jaw inside the pad footprint (approach {np.round(a, 3).tolist()} "
+            "must point into the object, from the jaw towards the surface)"
+        )
     idx = np.flatnonzero(keep)
     # front-most surface per footprint bin (the pad cannot reach behind the first surface)
     iu = np.floor((u[idx] + pad[0] / 2) / max_edge).astype(int)

@@ -24,7 +24,9 @@ G_ACC = 9.81  # m/s²
 
 @dataclass(frozen=True)
 class Perturbation:
-    """Standard deviations of the Monte-Carlo perturbations (0 switches one off)."""
+    """Standard deviations of the Monte-Carlo perturbations (0 switches one off):
+    grasp-pose translation [m] and rotation [rad], relative friction coefficient and mass
+    (σ of a factor 1 + N(0, σ)), centre of mass [m]; ``n_samples`` is N_r of Eq. 2.101."""
 
     n_samples: int = 100  # N_r
     sigma_trans: float = 0.002  # m, grasp-pose translation (σ_r of the 6DFC paper, position part)
@@ -32,6 +34,14 @@ class Perturbation:
     sigma_mu: float = 0.1  # relative
     sigma_mass: float = 0.1  # relative
     sigma_com: float = 0.002  # m
+
+    def __post_init__(self) -> None:
+        if isinstance(self.n_samples, bool) or int(self.n_samples) != self.n_samples or self.n_samples < 1:
+            raise ValueError(f"n_samples must be an integer >= 1; got {self.n_samples!r}")
+        for name in ("sigma_trans", "sigma_rot", "sigma_mu", "sigma_mass", "sigma_com"):
+            v = getattr(self, name)
+            if not (np.isscalar(v) and np.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be a finite standard deviation >= 0; got {v!r}")
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
@@ -68,7 +78,7 @@ def q_robust(
     mu: float,
     mass: float,
     com,
-    perturbation: Perturbation = Perturbation(),
+    perturbation: Perturbation | None = None,
     *,
     seed: int | np.random.Generator = 0,
     representation: str = "model",
@@ -91,9 +101,9 @@ def q_robust(
         raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
     if w_ext is None:
         gravity_wrench(mass, com)  # validates mass and com
-    p = perturbation
-    if p.n_samples < 1:
-        raise ValueError(f"n_samples must be >= 1; got {p.n_samples}")
+    p = Perturbation() if perturbation is None else perturbation
+    if not isinstance(p, Perturbation):
+        raise ValueError(f"perturbation must be a Perturbation (or None: defaults); got {type(p).__name__}")
     cuts = CutStore() if cuts is None else cuts
     rng = np.random.default_rng(seed)
     K = p.n_samples

@@ -17,7 +17,7 @@ import logging
 import numpy as np
 
 from ... import config
-from ..gws import check_contacts, check_mu, check_wrench
+from ..gws import check_contacts, check_mu, check_wrench, squeeze_check
 from .cuts import CutStore
 from .program import REPRESENTATIONS, Program, add_cuts, assemble, contact_violations
 from .result import MinimalForce, Resistance
@@ -32,6 +32,7 @@ def _check(contacts, w_ext, mu, representation):
     w = check_wrench(w_ext)
     contacts = check_contacts(contacts)
     check_mu(mu)
+    squeeze_check(contacts)
     if representation not in REPRESENTATIONS:
         raise ValueError(
             f"representation must be one of {REPRESENTATIONS} ('model': the contact models "
@@ -180,8 +181,14 @@ def min_grasp_force(
     representation : as in :func:`resists` ("model": second-order cones for
         ellipsoids, cutting planes for quartics).
     f_max : per-contact force cap for "sum" [N].
+
+    The balance is accepted to the residual band of :func:`resists`
+    (``config.TOL.resist_rtol`` of the capacity at the contacts' given forces), so
+    ``resists`` agrees just above and below the answer; a wrench out of the contacts'
+    reach (a torque about the axis of two hard points) stays out of reach at any force.
     """
     contacts, w, mu = _check(contacts, w_ext, mu, representation)
+    tol = config.TOL.resist_rtol
     if objective not in OBJECTIVES:
         raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
     if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
@@ -195,6 +202,10 @@ def min_grasp_force(
             contacts, w, mu, representation, cuts, minforce=objective, f_max=f_max, cone_as_cuts=cone_as_cuts
         )
         cost = np.zeros(prog.n)
+        # the residual band of resists, tol, relative to the capacity at the contacts'
+        # *given* forces and fixed: relative to the scaled forces (tol · s) any shortfall
+        # would vanish at absurd forces (point contacts "resisting" torsion at 10⁶ × F)
+        scale_col = None
         if objective == "scale":
             cost[-1] = 1.0
         else:
@@ -202,7 +213,7 @@ def min_grasp_force(
                 cost[s0 : s0 + len(phi)] = phi * prog.S[s0 : s0 + len(phi)]
         if prog.soc:
             solver = "clarabel"
-            y, status = solve_conic(prog, cost)
+            y, status = solve_conic(prog, cost, tol, scale_col)
             if y is not None and status != "optimal":
                 y = None  # a stalled iterate is feasible but not minimal
             if y is None and status != "infeasible":
@@ -211,7 +222,7 @@ def min_grasp_force(
                 continue
         else:
             solver = "highs"
-            y, status = solve_min_lp(prog, cost)
+            y, status = solve_min_lp(prog, cost, tol, scale_col)
             if y is None and status != "infeasible":
                 raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
         if y is None:

@@ -12,7 +12,8 @@ Each contact i contributes variables ``x_i`` that give its local contact wrench
   (other models); ``a s = 0`` rows of flat models are equalities;
 * **vertex contacts** (``x_i = α_i >= 0``, one weight per vertex, in newtons):
   ``c_i = Σ_m α_m (μ s_m + ŵ⊥)``, ``f_i = Σ_m α_m`` (6DFW, or any contact asked for
-  ``representation="inner"``).
+  ``representation="inner"``);
+* **frictionless contacts** (μ = 0, any model; ``x_i = f_i``): ``c_i = f_i ŵ⊥``.
 
 Forces: ``f_lo <= f_i <= f_hi`` from :meth:`ContactSet.force_bounds` (a cone from 0,
 a sensor interval for a known force); for the minimal-force program the bounds
@@ -76,9 +77,11 @@ class Program:
 def contact_kind(c, representation: str, mu: float, cone_as_cuts: bool = False) -> str:
     """How contact ``c`` enters the program under ``representation``
     (``cone_as_cuts``: ellipsoids by cutting planes too, the cone solver's fallback)."""
+    if mu <= 0:  # no friction: the contact wrench is its normal wrench, c = f ŵ⊥ (any model)
+        return "frictionless"
     if representation == "inner" or c.A is None:
         return "vertex"
-    if representation == "outer" or c.model is None or mu <= 0:
+    if representation == "outer" or c.model is None:
         return "halfspace"
     return "cone" if isinstance(c.model, EllipsoidLS) and not cone_as_cuts else "cuts"
 
@@ -103,9 +106,11 @@ def assemble(
     cone_as_cuts : ellipsoidal models by cutting planes instead of their cones.
     """
     kinds = [contact_kind(c, representation, mu, cone_as_cuts) for c in contacts]
-    D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]))
+    arm = max(float(np.linalg.norm(c.t)) for c in contacts)
+    D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]), arm)
     sf, st = 1.0 / D[0], 1.0 / D[3]
-    sizes = [len(c.friction) if k == "vertex" else 7 for c, k in zip(contacts, kinds, strict=True)]
+    size = {"frictionless": 1, "halfspace": 7, "cone": 7, "cuts": 7}
+    sizes = [len(c.friction) if k == "vertex" else size[k] for c, k in zip(contacts, kinds, strict=True)]
     n_x = int(sum(sizes))
     n = n_x + (minforce == "scale")
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
@@ -122,6 +127,10 @@ def assemble(
             L, phi = U.T, np.ones(m)
             S[sl] = sf
             lb[sl] = 0.0
+        elif kind == "frictionless":  # x = f: a 6-by-1 map onto ŵ⊥ (a polytope with an
+            # empty interior would leave active-set solvers a degenerate face)
+            L, phi = c.normal[:, None].astype(float), np.ones(1)
+            S[sl] = sf
         else:
             L = np.hstack([np.eye(6), np.zeros((6, 1))])
             phi = np.r_[np.zeros(6), 1.0]

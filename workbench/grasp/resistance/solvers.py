@@ -26,6 +26,9 @@ def _qp_opts(solver: str) -> dict:
         # DAQP's plain active set cycles on the near-singular Hessian when the residual
         # is non-zero; its proximal-point mode is robust but less accurate (~1e-6)
         "daqp": {"eps_prox": 1e-8},
+        # HiGHS's QP solver was seen to cycle for > 30 min on one 12-variable program
+        # (benchmarks/bench_grasp.py): a time limit turns that into a recorded failure
+        "highs": {"time_limit": 2.0},
     }.get(solver, {})
 
 
@@ -93,38 +96,59 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     return res.x[:n], float(res.fun)
 
 
-def solve_min_lp(prog: Program, cost: np.ndarray) -> tuple[np.ndarray | None, str]:
-    """``min costᵀ y`` s.t. ``A6 y + w = 0`` and the polyhedral rows (HiGHS): (y, status)
-    with status "optimal", "infeasible" or HiGHS's message."""
+def _band(prog: Program, tol: float, scale_col: int | None) -> tuple[np.ndarray, float]:
+    """Coefficients ``(b_row, b0)`` of the residual bound ``‖r‖ <= b_row·y + b0``: the
+    resistance tolerance relative to the capacity at the program's forces, i.e.
+    ``tol · s`` when the forces scale with the variable ``s`` (D ∝ 1/force), else ``tol``."""
+    row = np.zeros(prog.n)
+    if scale_col is None:
+        return row, tol
+    row[scale_col] = tol
+    return row, 0.0
+
+
+def solve_min_lp(
+    prog: Program, cost: np.ndarray, tol: float = 0.0, scale_col: int | None = None
+) -> tuple[np.ndarray | None, str]:
+    """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol (· s)`` (slacks ``t⁺, t⁻``; the same band
+    :func:`resists` accepts) and the polyhedral rows (HiGHS): (y, status) with status
+    "optimal", "infeasible" or HiGHS's message."""
+    n = prog.n
     G, h = prog.rows("ineq")
     A, b = prog.rows("eq")
-    A_eq = prog.A6 if A is None else np.vstack([prog.A6, A])
-    b_eq = -prog.w if A is None else np.concatenate([-prog.w, b])
-    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb]
+    b_row, b0 = _band(prog, tol, scale_col)
+    A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
+    b_eq = [-prog.w]
+    if A is not None:
+        A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
+        b_eq.append(b)
+    band = np.r_[-b_row, np.ones(12)][None]  # Σ t − b_row·y <= b0
+    A_ub = band if G is None else np.vstack([np.hstack([G, np.zeros((len(G), 12))]), band])
+    b_ub = np.array([b0]) if h is None else np.r_[h, b0]
+    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb] + [(0, None)] * 12
     res = linprog(
-        cost,
-        A_ub=None if G is None else sp.csr_matrix(G),
-        b_ub=h,
-        A_eq=sp.csr_matrix(A_eq),
-        b_eq=b_eq,
+        np.r_[cost, np.zeros(12)],
+        A_ub=sp.csr_matrix(A_ub),
+        b_ub=b_ub,
+        A_eq=sp.csr_matrix(np.vstack(A_eq)),
+        b_eq=np.concatenate(b_eq),
         bounds=bounds,
         method="highs",
     )
     if res.status == 0:
-        return res.x, "optimal"
+        return res.x[:n], "optimal"
     if res.status == 2:
         return None, "infeasible"
     return None, str(res.message)
 
 
-def _conic_data(prog: Program, with_residual_eq: bool):
+def _conic_data(prog: Program, band: tuple[np.ndarray, float] | None):
+    """Clarabel's ``(A, b, cones)``; ``band`` adds the residual bound
+    ``‖A6 y + w‖₂ <= b_row·y + b0`` as one more second-order cone."""
     import clarabel
 
     parts = []
     A, b = prog.rows("eq")
-    if with_residual_eq:
-        A = prog.A6 if A is None else np.vstack([prog.A6, A])
-        b = -prog.w if b is None else np.concatenate([-prog.w, b])
     if A is not None:
         parts.append((A, b, clarabel.ZeroConeT))
     G, h = _ineq_with_bounds(prog)
@@ -132,6 +156,9 @@ def _conic_data(prog: Program, with_residual_eq: bool):
         parts.append((G, h, clarabel.NonnegativeConeT))
     for rows, rhs in prog.soc:
         parts.append((rows, rhs, clarabel.SecondOrderConeT))
+    if band is not None:  # s = [b_row·y + b0; A6 y + w] = rhs − rows y
+        b_row, b0 = band
+        parts.append((np.vstack([-b_row, -prog.A6]), np.r_[b0, prog.w], clarabel.SecondOrderConeT))
     A_all = np.vstack([a for a, _, _ in parts])
     b_all = np.concatenate([r for _, r, _ in parts])
     cones = [cone(len(a)) for a, _, cone in parts]
@@ -155,14 +182,17 @@ def _in_cones(slack: np.ndarray, cones: list, sizes: list[int], atol: float = 1e
     return True
 
 
-def solve_conic(prog: Program, cost: np.ndarray | None = None) -> tuple[np.ndarray | None, str]:
-    """Clarabel: ``min ½‖A6 y + w‖²`` (``cost`` None) or ``min costᵀ y`` s.t. ``A6 y + w = 0``,
-    over rows and cones.  Returns (y, status); y is None unless solved, or stalled at
+def solve_conic(
+    prog: Program, cost: np.ndarray | None = None, tol: float = 0.0, scale_col: int | None = None
+) -> tuple[np.ndarray | None, str]:
+    """Clarabel: ``min ½‖A6 y + w‖²`` (``cost`` None) or ``min costᵀ y`` s.t.
+    ``‖A6 y + w‖₂ <= tol (· s)`` (the band :func:`resists` accepts), over rows and cones.
+    Returns (y, status); y is None unless solved, or stalled at
     an iterate that satisfies every cone (Clarabel stalls now and then on low-rank,
     planar models; such an iterate is still a valid point of the program)."""
     import clarabel
 
-    A_all, b_all, cones, sizes = _conic_data(prog, with_residual_eq=cost is not None)
+    A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else _band(prog, tol, scale_col))
     if cost is None:
         P = sp.triu(sp.csc_matrix(prog.A6.T @ prog.A6)).tocsc()
         q = prog.A6.T @ prog.w
