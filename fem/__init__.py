@@ -4,10 +4,11 @@ A rigid jaw with a bonded silicone layer (``pad``) presses into rigid obstacles
 (``obstacles``: plane, sphere, cylinder, triangle meshes; ``bottle``: the
 12-parameter bottle family) at three fidelities behind one interface
 (``fidelity.press``): condensed linear, full-mesh linear, neo-Hookean.
-``extract.extract_profile`` turns a solution into a contact profile.  This
-package knows nothing of friction.
+``extract.extract_profile`` turns a solution into a contact profile; in one line,
+``press(geometry, material, obstacle, [delta]).profile(delta)``.  This package
+knows nothing of friction.
 """
 
-from .fidelity import FIDELITIES, press
+from .fidelity import FIDELITIES, Pressed, press
 
-__all__ = ["FIDELITIES", "press"]
+__all__ = ["FIDELITIES", "Pressed", "press"]

@@ -26,7 +26,15 @@ from .pad import CondensedPad, PadGeometry
 @dataclass(frozen=True)
 class ContactSolution:
     """Nodal contact forces ``lam`` (n,) [N] along ``normals`` (n, 3), face
-    displacements ``u`` (n, 3) [m], deformed face positions ``x`` (n, 3)."""
+    displacements ``u`` (n, 3) [m], deformed face positions ``x`` (n, 3).
+
+    ``lam[i] >= 0`` is the magnitude of node i's contact force along the
+    obstacle's outward unit normal ``normals[i]`` (outward from the object, i.e.
+    towards the jaw), not along the press axis +z: the pad receives
+    ``lam[i] * normals[i]``, the object the opposite.  The linear levels
+    evaluate the normals at the face positions after the rigid jaw motion
+    (before deformation, small sliding), the nonlinear level at the deformed ones.
+    """
 
     lam: np.ndarray
     normals: np.ndarray
@@ -40,6 +48,13 @@ class ContactSolution:
     def force(self) -> float:
         """Total normal force magnitude Σ λ_i [N]."""
         return float(self.lam.sum())
+
+    @property
+    def force_vector(self) -> np.ndarray:
+        """(3,) resultant contact force on the object ``−Σ λ_i n_i`` [N] (the pad's
+        normal force on the object; equals ``profile.normal_wrench[:3]`` of the
+        extracted profile up to the normals' spread within an element)."""
+        return -(self.lam[:, None] * self.normals).sum(axis=0)
 
     @property
     def in_contact(self) -> bool:

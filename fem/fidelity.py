@@ -6,18 +6,55 @@ problem on the full mesh (the exactness check of the condensed level);
 ``"nonlinear"``: neo-Hookean layer with augmented-Lagrangian contact and load
 stepping (the accuracy reference at 20-60% layer compression).  All return
 :class:`fem.contact.ContactSolution` per jaw displacement on the same face
-nodes, so :func:`fem.extract.extract_profile` turns any of them into a profile.
+nodes, collected in a :class:`Pressed` that also holds the pad and the obstacle,
+so a profile is one call away::
+
+    from fem import press
+    res = press(PadGeometry(), Material(), obstacle, [1e-3, 2e-3])
+    prof = res.profile(2e-3)   # == extract_profile(res.pad, res[2e-3], res.obstacle)
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from .contact import ContactSolution, solve_contact, solve_contact_full
 from .material import Material
-from .pad import PadGeometry, condense_pad
+from .pad import PadFace, PadGeometry, condense_pad
 
 FIDELITIES = ("condensed", "linear", "nonlinear")
+
+
+class Pressed(dict):
+    """``{delta [m]: ContactSolution}`` (a plain dict, increasing ``delta``) plus what
+    :func:`fem.extract.extract_profile` needs: ``pad`` (the
+    :class:`~fem.pad.CondensedPad`, :class:`~fem.nonlinear.NonlinearPad` or, for
+    ``fidelity="linear"``, the :class:`~fem.pad.PadFace`), ``obstacle`` and ``fidelity``.
+    """
+
+    def __init__(self, solutions: dict[float, ContactSolution], pad: Any, obstacle: Any, fidelity: str):
+        super().__init__(solutions)
+        self.pad = pad
+        self.obstacle = obstacle
+        self.fidelity = fidelity
+
+    def profile(self, delta: float):
+        """The contact profile at jaw displacement ``delta`` (a key of this dict), or
+        ``None`` if nothing touches; ``profile.F == self[delta].force``."""
+        from .extract import extract_profile
+
+        key = float(delta)
+        if key not in self:
+            raise ValueError(
+                f"no solution at delta = {delta!r} m; solved displacements are {sorted(self)} "
+                "— pass one of them (or press again with this delta)"
+            )
+        return extract_profile(self.pad, self[key], self.obstacle)
+
+    def profiles(self) -> dict:
+        """``{delta: ContactProfile | None}`` for every solved displacement."""
+        return {d: self.profile(d) for d in self}
 
 
 def press(
@@ -27,11 +64,17 @@ def press(
     deltas,
     *,
     fidelity: str = "condensed",
-    cache_dir: str | Path | None = None,
+    cache_dir: str | Path | bool | None = None,
     **options,
-) -> dict[float, ContactSolution]:
+) -> Pressed:
     """Press the pad into ``obstacle`` by each jaw displacement in ``deltas`` [m].
 
+    Returns a :class:`Pressed`: the dict ``{delta: ContactSolution}`` with ``.pad``
+    and ``.obstacle``; ``press(...).profile(delta)`` is the contact profile
+    (:func:`fem.extract.extract_profile`), whose ``F`` equals the solved ``Σ λ``.
+
+    cache_dir : the condensed level's compliance cache (:func:`fem.pad.condense_pad`:
+        ``None`` the default user cache, a path, or ``False`` for none).
     options : passed to the level's solver (e.g. ``scheme`` for the linear levels,
         ``stabilization``/``step`` for the nonlinear one).
     """
@@ -44,14 +87,16 @@ def press(
         from .nonlinear import NonlinearPad
 
         stab = options.pop("stabilization", 1.0)
-        return NonlinearPad(geometry, material, stabilization=stab).solve(obstacle, deltas, **options)
+        pad = NonlinearPad(geometry, material, stabilization=stab)
+        return Pressed(pad.solve(obstacle, deltas, **options), pad, obstacle, fidelity)
     scheme = options.pop("scheme", "sri")
     if options:
         raise ValueError(f"unknown options for fidelity {fidelity!r}: {sorted(options)}")
     if fidelity == "linear":
-        return {d: solve_contact_full(geometry, material, obstacle, d, scheme=scheme) for d in deltas}
+        sols = {d: solve_contact_full(geometry, material, obstacle, d, scheme=scheme) for d in deltas}
+        return Pressed(sols, PadFace.of(geometry, material), obstacle, fidelity)
     pad = condense_pad(geometry, material, scheme=scheme, cache_dir=cache_dir)
     out, prev = {}, None
     for d in deltas:
         out[d] = prev = solve_contact(pad, obstacle, d, warm=prev)
-    return out
+    return Pressed(out, pad, obstacle, fidelity)

@@ -78,15 +78,30 @@ class MeshObstacle:
     misclassified points near the surface), and the normal is the distance
     gradient ``±(x - c)/|x - c|``; within 1e-6 edge lengths of the surface both
     come from the closest face.
-    ``units`` converts the mesh to metres; a non-watertight mesh is rejected.
+    A non-watertight mesh is rejected.
+
+    units : the mesh's length unit (``"m"``, ``"cm"``, ``"mm"``, ``"um"`` or metres per
+        unit; ``None``: metres).  The size is checked after the conversion
+        (:func:`workbench.units.check_extent`): a mesh whose largest bounding-box side
+        is above ``TOL.max_object_extent_m`` (2 m) or below ``TOL.min_object_extent_m``
+        (0.1 mm) raises ``ValueError`` naming the likely unit (a 150 mm bottle exported
+        in mm reads as 150 m: pass ``units="mm"``); ``allow_scale=True`` accepts any size.
+    transform : 4×4 rigid transform applied after the unit conversion (metres).
+    facing : keep only faces whose normal has a positive component along it (one-sided).
     """
 
     def __init__(
-        self, mesh, *, units: str | float = "m", transform: np.ndarray | None = None, facing=None
+        self,
+        mesh,
+        *,
+        units: str | float | None = None,
+        transform: np.ndarray | None = None,
+        facing=None,
+        allow_scale: bool = False,
     ) -> None:
         import trimesh
 
-        from workbench.profile import length_factor
+        from workbench.units import check_extent, length_factor
 
         if isinstance(mesh, (str, bytes)) or hasattr(mesh, "__fspath__"):
             mesh = trimesh.load(mesh, force="mesh")
@@ -100,7 +115,14 @@ class MeshObstacle:
         # rebuild from vertices/faces: vertex normals then come from the faces, not
         # from the file (some thesis OBJs carry inward vertex normals)
         mesh = trimesh.Trimesh(np.array(mesh.vertices), np.array(mesh.faces), process=False)
-        mesh.apply_scale(length_factor(units))
+        factor = length_factor("m" if units is None else units)
+        check_extent(
+            float(np.ptp(mesh.vertices, axis=0).max()) * factor,
+            "mesh passed to MeshObstacle (largest bounding-box side)",
+            units=units,
+            allow_scale=allow_scale,
+        )
+        mesh.apply_scale(factor)
         if transform is not None:
             mesh.apply_transform(np.asarray(transform, dtype=float))
         self.mesh = mesh
@@ -147,7 +169,8 @@ class MeshObstacle:
 
     def transformed(self, transform: np.ndarray, facing=None) -> MeshObstacle:
         """Copy moved by a 4×4 homogeneous transform (metres), optionally one-sided."""
-        return MeshObstacle(self.mesh, transform=transform, facing=facing)
+        # already in metres and checked (or accepted with allow_scale) when this one was made
+        return MeshObstacle(self.mesh, allow_scale=True, transform=transform, facing=facing)
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from trimesh.triangles import points_to_barycentric

@@ -7,7 +7,18 @@ is bonded to the jaw (all displacements fixed) and the contact face is ``z = h``
 face: ``C = B K⁻¹ Bᵀ`` by unit-load solves with one sparse LU factorisation,
 all three displacement components per face node, so tangential coupling is
 kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
-cached on disk keyed by a content hash of the mesh, ``nu`` and the scheme.
+cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and
+:data:`CACHE_VERSION`.
+
+Cache location (:func:`pad_cache_dir`): ``cache_dir=None`` (default) uses
+``$WORKBENCH_CACHE_DIR`` if set, else the user cache directory
+(``platformdirs.user_cache_dir("nonplanar-workbench")``, or
+``$XDG_CACHE_HOME/nonplanar-workbench`` / ``~/.cache/nonplanar-workbench``
+without platformdirs), sub-folder ``pads``; a path uses that directory;
+``cache_dir=False`` disables the cache (always condense, write nothing).
+Cache files are written atomically (temp file + ``os.replace``) with the
+usual permissions (``0o666 & ~umask``); an unreadable cache file is rebuilt and
+an unwritable cache directory only costs the rebuild next time.
 """
 
 from __future__ import annotations
@@ -15,6 +26,7 @@ from __future__ import annotations
 import hashlib
 import io
 import logging
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,8 +42,11 @@ from .material import Material
 
 log = logging.getLogger(__name__)
 
-#: bump when the condensation changes, to invalidate disk caches
+#: bump when the condensation changes, to invalidate disk caches (part of every cache key)
 CACHE_VERSION = "1"
+#: environment variable overriding the default cache directory
+CACHE_ENV = "WORKBENCH_CACHE_DIR"
+_APP = "nonplanar-workbench"
 
 
 @dataclass(frozen=True)
@@ -118,6 +133,59 @@ class CondensedPad:
         return self.compliance_unit / self.material.E
 
 
+@dataclass(frozen=True)
+class PadFace:
+    """The contact face of a pad without its compliance: what
+    :func:`fem.extract.extract_profile` needs of a full-mesh (``fidelity="linear"``)
+    solution.  face_nodes : (n,) mesh node indices on ``z = h``; face_xy : (n, 2) [m]."""
+
+    geometry: PadGeometry
+    material: Material
+    face_nodes: np.ndarray
+    face_xy: np.ndarray
+
+    @classmethod
+    def of(cls, geometry: PadGeometry, material: Material) -> PadFace:
+        """The face of the whole layer (the nodes and order of ``solve_contact_full``)."""
+        x, y, z = geometry.mesh().p
+        face = np.flatnonzero(np.isclose(z, geometry.thickness))
+        return cls(geometry, material, face, np.column_stack([x[face], y[face]]))
+
+
+def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
+    """The directory pad compliances are cached in, or ``None`` when caching is off.
+
+    cache_dir : ``None`` (or ``True``) -> ``$WORKBENCH_CACHE_DIR`` if set and non-empty
+        (``0``/``off``/``false``/``no`` disable the cache), else ``<user cache dir>/pads``;
+        a path -> that directory; ``False`` -> no cache.
+    """
+    if cache_dir is False:
+        return None
+    if cache_dir is True or cache_dir is None:
+        env = os.environ.get(CACHE_ENV, "").strip()
+        if env:
+            if env.lower() in {"0", "off", "false", "no"}:
+                return None
+            return Path(env).expanduser()
+        return _user_cache_root() / "pads"
+    if isinstance(cache_dir, (str, os.PathLike)):
+        return Path(cache_dir).expanduser()
+    raise ValueError(
+        f"cache_dir must be None (default location), a directory path or False (no cache); "
+        f"got {cache_dir!r}"
+    )
+
+
+def _user_cache_root() -> Path:
+    try:
+        import platformdirs
+    except ImportError:  # not a declared dependency: fall back to the XDG convention
+        xdg = os.environ.get("XDG_CACHE_HOME")
+        base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
+        return base / _APP
+    return Path(platformdirs.user_cache_dir(_APP, appauthor=False))
+
+
 def _key(mesh: MeshHex, nu: float, scheme: str) -> str:
     h = hashlib.sha256()
     for arr in (np.ascontiguousarray(mesh.p, dtype=np.float64), np.ascontiguousarray(mesh.t, dtype=np.int64)):
@@ -132,12 +200,15 @@ def condense_pad(
     material: Material,
     *,
     scheme: str = "sri",
-    cache_dir: str | Path | None = None,
+    cache_dir: str | Path | bool | None = None,
     block: int = 512,
     patch_radius: float | None = None,
 ) -> CondensedPad:
     """Face compliance of the bonded layer (see module docstring).
 
+    cache_dir : ``None`` (default): ``$WORKBENCH_CACHE_DIR`` or the user cache
+        directory; a path: that directory; ``False``: no disk cache
+        (:func:`pad_cache_dir`).  ``from_cache`` on the result says whether it was loaded.
     patch_radius : condense only the face nodes within this distance of the
         face center (the candidate contact zone of a large block, e.g. Hertz);
         contact outside it is then not represented.
@@ -148,13 +219,23 @@ def condense_pad(
     if patch_radius is not None:
         face = face[np.hypot(x[face], y[face]) <= patch_radius]
     tag = scheme if patch_radius is None else f"{scheme};patch={patch_radius!r}"
-    path = None if cache_dir is None else Path(cache_dir) / f"pad-{_key(mesh, material.nu, tag)}.npz"
+    folder = pad_cache_dir(cache_dir)
+    path = None if folder is None else folder / f"pad-{_key(mesh, material.nu, tag)}.npz"
+    n = 3 * face.size
     if path is not None and path.exists():
-        with np.load(path) as d:
-            C1 = d["compliance_unit"]
-            built = float(d["seconds"]) if "seconds" in d else float("nan")
-        log.info("pad compliance loaded from %s", path)
-        return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, built, True)
+        try:
+            with np.load(path) as d:
+                C1 = d["compliance_unit"]
+                built = float(d["seconds"]) if "seconds" in d else float("nan")
+            if C1.shape != (n, n):
+                raise ValueError(f"compliance of shape {C1.shape}, expected {(n, n)}")
+        except Exception as exc:  # truncated/corrupt file: rebuild and overwrite it
+            log.warning("pad cache %s unreadable (%s); condensing again", path, exc)
+        else:
+            log.info("pad compliance loaded from %s", path)
+            return CondensedPad(
+                geometry, material, face, np.column_stack([x[face], y[face]]), C1, built, True
+            )
 
     t0 = time.perf_counter()
     K = stiffness(mesh, Material(1.0, material.nu), scheme)  # E = 1: C scales with 1/E
@@ -179,5 +260,9 @@ def condense_pad(
     if path is not None:
         buf = io.BytesIO()
         np.savez(buf, compliance_unit=C1, seconds=seconds)
-        atomic_write_bytes(path, buf.getvalue())
+        try:
+            atomic_write_bytes(path, buf.getvalue())  # temp file + os.replace, 0o666 & ~umask
+            log.info("pad compliance (%.1f s) cached in %s", seconds, path)
+        except OSError as exc:  # a read-only cache only costs the rebuild next time
+            log.warning("could not write the pad cache %s (%s); continuing without it", path, exc)
     return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, seconds)

@@ -9,6 +9,23 @@ sys.path.insert(0, str(Path(__file__).parent))  # tests/naive.py
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _workbench_cache(tmp_path_factory):
+    """Keep the tests' disk caches (condensed pads) out of the user's cache directory:
+    under the repository's .pytest_cache, so local re-runs still reuse them."""
+    import os
+
+    root = Path(__file__).resolve().parents[1] / ".pytest_cache" / "workbench-cache"
+    root.mkdir(parents=True, exist_ok=True)
+    old = os.environ.get("WORKBENCH_CACHE_DIR")
+    os.environ["WORKBENCH_CACHE_DIR"] = str(root)
+    yield root
+    if old is None:
+        os.environ.pop("WORKBENCH_CACHE_DIR", None)
+    else:
+        os.environ["WORKBENCH_CACHE_DIR"] = old
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

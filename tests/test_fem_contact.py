@@ -24,7 +24,7 @@ def test_lcp_solution_is_complementary():
 def thin_pad():
     # h = 1 mm, 0.5 mm face spacing: a/h = 3.2 for the indentation below
     geom = PadGeometry(width=0.012, length=0.012, thickness=0.001, nx=24, ny=24, nz=2)
-    return condense_pad(geom, Material(E=1.0e6, nu=0.0))
+    return condense_pad(geom, Material(E=1.0e6, nu=0.0), cache_dir=False)
 
 
 def test_sphere_on_thin_compressible_layer_matches_winkler(thin_pad):
@@ -64,8 +64,9 @@ def test_extracted_profile_on_the_sphere(thin_pad):
     # elements lie on the object surface, normals point out of the object (towards the jaw, -z)
     np.testing.assert_allclose(np.linalg.norm(prof.centers - sphere.center, axis=1), R, rtol=1e-12)
     assert (prof.normals[:, 2] < 0).all()
-    # the profile carries the solved contact force; the normal wrench pushes the object away (+z)
-    assert prof.F == pytest.approx(sol.force, rel=0.05)
+    # the profile carries the solved contact force (exactly, fem/extract.py); the normal
+    # wrench pushes the object away (+z)
+    assert prof.F == pytest.approx(sol.force, rel=1e-12)
     assert prof.normal_wrench[2] > 0.95 * prof.F
     np.testing.assert_allclose(prof.pressure_center[:2], 0.0, atol=1e-6)  # symmetric contact
     # and workbench computes its friction: planar-like cap -> f_x,max ≈ μF
@@ -112,7 +113,7 @@ def test_condensed_equals_full_mesh_linear_solve(case):
     mat = Material(E=1.0e6, nu=0.45)
     make, delta = CASES[case]
     obs = make(geom.thickness)
-    cond = solve_contact(condense_pad(geom, mat), obs, delta)
+    cond = solve_contact(condense_pad(geom, mat, cache_dir=False), obs, delta)
     full = solve_contact_full(geom, mat, obs, delta)
     assert cond.force > 0
     assert cond.force == pytest.approx(full.force, rel=1e-8)
@@ -136,6 +137,34 @@ def test_mesh_obstacle_matches_the_analytic_sphere():
     assert (np.einsum("ij,ij->i", n, n_ref) > 0.99).all()
     with pytest.raises(ValueError, match="not watertight"):
         MeshObstacle(trimesh.Trimesh(*[np.eye(3), [[0, 1, 2]]]))
+
+
+def test_mesh_obstacle_rejects_a_mesh_in_the_wrong_unit():
+    import trimesh
+
+    from fem.obstacles import MeshObstacle
+    from workbench.config import TOL
+
+    mm = trimesh.creation.icosphere(subdivisions=2, radius=20.0)  # a 40 mm ball written in mm
+    with pytest.raises(ValueError, match=r"spans 40 m .*millimetres: pass units='mm'"):
+        MeshObstacle(mm)
+    with pytest.raises(ValueError, match="millimetres"):
+        MeshObstacle(mm, units="m")  # declaring metres does not make a 40 m ball plausible
+    ball = MeshObstacle(mm, units="mm")
+    assert np.ptp(ball.mesh.vertices, axis=0).max() == pytest.approx(0.04, rel=1e-9)
+    big = MeshObstacle(mm, allow_scale=True)  # a 40 m object on purpose
+    assert np.ptp(big.mesh.vertices, axis=0).max() == pytest.approx(40.0)
+    assert big.transformed(np.eye(4)).mesh.vertices.max() == pytest.approx(big.mesh.vertices.max())
+    twice = trimesh.creation.icosphere(subdivisions=2, radius=20e-6)  # mm -> m applied twice: 40 µm
+    with pytest.raises(ValueError, match="converted to metres twice"):
+        MeshObstacle(twice)
+    # the limits are the config's: just inside both passes unchanged
+    for side in (TOL.max_object_extent_m * (1 - 1e-6), TOL.min_object_extent_m * (1 + 1e-6)):
+        box = trimesh.creation.box(extents=[side] * 3)
+        assert np.ptp(MeshObstacle(box).mesh.vertices, axis=0).max() == pytest.approx(side, rel=1e-9)
+    big = trimesh.creation.box(extents=[2.0 * TOL.max_object_extent_m] * 3)
+    with pytest.raises(ValueError, match=r"largest bounding-box side\) spans 4 m .*TOL.max_object_extent_m"):
+        MeshObstacle(big)
 
 
 def test_pad_on_a_thesis_object_if_available(thin_pad):

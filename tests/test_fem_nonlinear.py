@@ -97,7 +97,7 @@ def test_small_indentation_matches_the_linear_pad():
     obs = Sphere((0, 0, h + 0.008), 0.008)
     d = 0.01 * h
     nl = NonlinearPad(geom, MAT, stabilization=1.0).solve(obs, [d], step=d)[d]
-    lin = solve_contact(condense_pad(geom, MAT, scheme="full"), obs, d)
+    lin = solve_contact(condense_pad(geom, MAT, scheme="full", cache_dir=False), obs, d)
     assert abs(nl.force / lin.force - 1) < 0.02
     assert np.array_equal(nl.lam > 0, lin.lam > 0)
     assert nl.max_penetration <= 1e-3 * h
@@ -111,7 +111,7 @@ def test_force_grows_and_stiffens_with_compression():
     sols = NonlinearPad(geom, MAT).solve(obs, ds)
     F = [sols[d].force for d in ds]
     assert F[0] < F[1] < F[2]
-    lin = condense_pad(geom, MAT, scheme="full")
+    lin = condense_pad(geom, MAT, scheme="full", cache_dir=False)
     assert sols[ds[-1]].force > solve_contact(lin, obs, ds[-1]).force  # geometric stiffening
 
 
@@ -130,12 +130,21 @@ def test_one_interface_for_three_fidelities():
     h = geom.thickness
     obs = Sphere((0, 0, h + 0.008), 0.008)
     ds = [0.005 * h, 0.01 * h]
-    res = {f: press(geom, MAT, obs, ds, fidelity=f, scheme="full") for f in ("condensed", "linear")}
+    res = {
+        f: press(geom, MAT, obs, ds, fidelity=f, scheme="full", cache_dir=False)
+        for f in ("condensed", "linear")
+    }
     res["nonlinear"] = press(geom, MAT, obs, ds, fidelity="nonlinear", step=ds[0])
     for d in ds:
         f_c, f_l, f_n = (res[k][d].force for k in ("condensed", "linear", "nonlinear"))
         assert abs(f_c / f_l - 1) < 1e-9  # condensation is exact
         assert abs(f_n / f_l - 1) < 0.02  # small strain: the neo-Hookean pad is the linear one
+        for r in res.values():  # every level carries its pad: press, then extract the profile
+            prof = r.profile(d)
+            assert prof.F == pytest.approx(r[d].force, rel=1e-12)
+            assert prof.normal_wrench[2] > 0  # pushes the object away from the jaw (+z)
+    assert type(res["linear"].pad).__name__ == "PadFace"
+    assert res["nonlinear"].pad.face_xy.shape == res["condensed"].pad.face_xy.shape
     with pytest.raises(ValueError, match="fidelity must be one of"):
         press(geom, MAT, obs, ds, fidelity="exact")
     with pytest.raises(ValueError, match="unknown options"):
@@ -152,5 +161,5 @@ def test_zero_displacement_and_preloaded_start():
     assert touch[0.01 * h].force > 0
     pre = Sphere((0, 0, h + 0.01 - 0.01 * h), 0.01)  # overlaps by 1% of h at δ = 0
     sol = nl.solve(pre, [0.0], step=0.01 * h)[0.0]
-    lin = solve_contact(condense_pad(GEOM, MAT, scheme="full"), pre, 0.0)
+    lin = solve_contact(condense_pad(GEOM, MAT, scheme="full", cache_dir=False), pre, 0.0)
     assert sol.force == pytest.approx(lin.force, rel=0.02)

@@ -26,7 +26,7 @@ def full_face_displacement(geom, material, f_face):
 
 def test_condensed_compliance_is_exact_symmetric_pd_and_scales_with_1_over_E():
     mat = Material(E=2.0e6, nu=0.499)
-    pad = condense_pad(GEOM, mat)
+    pad = condense_pad(GEOM, mat, cache_dir=False)
     n = pad.face_nodes.size
     assert pad.compliance.shape == (3 * n, 3 * n)
     rng = np.random.default_rng(0)
@@ -37,7 +37,7 @@ def test_condensed_compliance_is_exact_symmetric_pd_and_scales_with_1_over_E():
     assert np.abs(C - C.T).max() <= 1e-12 * np.abs(C).max()
     assert np.linalg.eigvalsh(C).min() > 0
     # same nu, other E: exactly C / E (the cache stores E = 1)
-    soft = condense_pad(GEOM, Material(E=5.0e5, nu=0.499))
+    soft = condense_pad(GEOM, Material(E=5.0e5, nu=0.499), cache_dir=False)
     np.testing.assert_allclose(soft.compliance, C * 4.0, rtol=1e-12)
     # tangential coupling is kept: a normal load moves face nodes sideways (Poisson effect)
     k = n // 2
@@ -56,12 +56,62 @@ def test_compliance_disk_cache(tmp_path):
     assert other.seconds > 0 and not other.from_cache  # nu is part of the key
 
 
+def test_default_disk_cache_location_and_file_mode(tmp_path, monkeypatch):
+    import os
+
+    from fem.pad import CACHE_VERSION, pad_cache_dir
+
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
+    assert pad_cache_dir() == tmp_path
+    mat = Material(E=1.0e6, nu=0.45)
+    first = condense_pad(GEOM, mat)  # cache_dir=None: the default location (here the env override)
+    files = list(tmp_path.glob("pad-*.npz"))
+    assert not first.from_cache and len(files) == 1
+    assert not list(tmp_path.glob(".*.tmp"))  # atomic: no temp file left behind
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert files[0].stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's 0600
+    again = condense_pad(GEOM, mat)
+    assert again.from_cache
+    assert np.array_equal(again.compliance, first.compliance)  # bit-identical
+    # the key holds the code version: another CACHE_VERSION misses the file
+    monkeypatch.setattr("fem.pad.CACHE_VERSION", CACHE_VERSION + "-next")
+    assert not condense_pad(GEOM, mat).from_cache
+    assert len(list(tmp_path.glob("pad-*.npz"))) == 2
+
+
+def test_cache_can_be_disabled_and_survives_a_corrupt_file(tmp_path, monkeypatch):
+    from fem.pad import pad_cache_dir
+
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
+    mat = Material(E=1.0e6, nu=0.45)
+    off = condense_pad(GEOM, mat, cache_dir=False)
+    assert not off.from_cache and not list(tmp_path.iterdir())
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", "off")
+    assert pad_cache_dir() is None
+    monkeypatch.delenv("WORKBENCH_CACHE_DIR")
+    default = pad_cache_dir()
+    assert default.name == "pads" and default.parent.name == "nonplanar-workbench"
+    assert pad_cache_dir(tmp_path / "x") == tmp_path / "x"
+    with pytest.raises(ValueError, match="cache_dir must be None"):
+        pad_cache_dir(3)
+    # a truncated cache file is rebuilt (and replaced), not trusted
+    first = condense_pad(GEOM, mat, cache_dir=tmp_path)
+    (path,) = tmp_path.glob("pad-*.npz")
+    path.write_bytes(path.read_bytes()[:100])
+    rebuilt = condense_pad(GEOM, mat, cache_dir=tmp_path)
+    assert not rebuilt.from_cache
+    np.testing.assert_allclose(rebuilt.compliance, off.compliance, rtol=1e-12)
+    assert condense_pad(GEOM, mat, cache_dir=tmp_path).from_cache
+    np.testing.assert_allclose(first.compliance, off.compliance, rtol=1e-12)
+
+
 def test_uniform_pressure_on_a_thin_layer_matches_the_confined_modulus():
     # a thin bonded layer (h << w) under uniform normal pressure deforms like a confined column:
     # u_z = p h / M with M = (1 - nu) E / ((1 + nu)(1 - 2 nu)), away from the free edges
     geom = PadGeometry(width=0.06, length=0.06, thickness=0.002, nx=30, ny=30, nz=2)
     mat = Material(E=1.0e6, nu=0.3)
-    pad = condense_pad(geom, mat)
+    pad = condense_pad(geom, mat, cache_dir=False)
     x, y = pad.face_xy.T
     dx, dy = geom.width / geom.nx, geom.length / geom.ny
     # consistent nodal forces of a uniform pressure p on a bilinear face: p * tributary area
@@ -104,8 +154,8 @@ def test_graded_axes():
 
 def test_patch_condensation_is_the_sub_block_of_the_full_face():
     mat = Material(E=1.0e6, nu=0.45)
-    full = condense_pad(GEOM, mat)
-    patch = condense_pad(GEOM, mat, patch_radius=0.003)
+    full = condense_pad(GEOM, mat, cache_dir=False)
+    patch = condense_pad(GEOM, mat, patch_radius=0.003, cache_dir=False)
     assert 0 < patch.face_nodes.size < full.face_nodes.size
     idx = np.searchsorted(full.face_nodes, patch.face_nodes)
     assert np.array_equal(full.face_nodes[idx], patch.face_nodes)
