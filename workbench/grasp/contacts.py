@@ -148,10 +148,19 @@ class ContactSet:
 
     def moved(self, R: np.ndarray, t: np.ndarray) -> ContactSet:
         """The same contact under a rigid motion ``x -> R x + t`` of the gripper."""
-        return replace(self, R=R @ self.R, t=R @ self.t + t)
+        return self._keep_split(replace(self, R=R @ self.R, t=R @ self.t + t))
 
     def with_force(self, force: float) -> ContactSet:
-        return replace(self, force=float(force))
+        """The same contact with normal force (or bound) ``force`` [N]."""
+        return self._keep_split(replace(self, force=float(force)))
+
+    def _keep_split(self, other: ContactSet) -> ContactSet:
+        # the half-space split depends on A, b and normal only, which a moved or
+        # re-forced copy shares: hand the computed value over instead of recomputing
+        # it per copy (a sweep makes thousands of copies)
+        if self.A is not None:
+            other.__dict__["halfspaces"] = self.halfspaces  # computed once, on the source
+        return other
 
 
 def _point_like(

@@ -36,17 +36,23 @@ from .cuts import CutStore
 
 REPRESENTATIONS = ("model", "outer", "inner")
 
+#: local-wrench and force maps of a half-space contact's variables (c, f)
+_L7 = np.hstack([np.eye(6), np.zeros((6, 1))])
+_PHI7 = np.r_[np.zeros(6), 1.0]
+
 
 @dataclass
 class Program:
     """Scaled program data in ``y`` (``x = S y``); rows ``G y <= h``, ``A y = b``,
-    second-order cones ``h_k − G_k y ∈ SOC``, lower bounds ``lb`` (−inf: free)."""
+    second-order cones ``h_k − G_k y ∈ SOC``, bounds ``lb <= y <= ub`` (a known force's
+    interval is a bound on its variable: DAQP and HiGHS take bounds natively)."""
 
     n: int
     A6: np.ndarray  # (6, n) residual map: r = A6 y + w
     w: np.ndarray  # (6,) scaled disturbance
     S: np.ndarray  # (n,) variable scaling
-    lb: np.ndarray  # (n,)
+    lb: np.ndarray  # (n,) lower bounds (−inf: free)
+    ub: np.ndarray  # (n,) upper bounds (+inf: free)
     G: list = field(default_factory=list)
     h: list = field(default_factory=list)
     A: list = field(default_factory=list)
@@ -116,10 +122,11 @@ def assemble(
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     S = np.ones(n)
     lb = np.full(n, -np.inf)
+    ub = np.full(n, np.inf)
     A6 = np.zeros((6, n))
     if minforce == "scale":
         lb[-1] = 0.0  # the force scale s >= 0
-    prog = Program(n, A6, w_ext * D, S, lb, kinds=kinds, starts=list(starts))
+    prog = Program(n, A6, w_ext * D, S, lb, ub, kinds=kinds, starts=list(starts))
     for c, kind, s0, m in zip(contacts, kinds, starts, sizes, strict=True):
         sl = slice(s0, s0 + m)
         if kind == "vertex":
@@ -132,19 +139,19 @@ def assemble(
             L, phi = c.normal[:, None].astype(float), np.ones(1)
             S[sl] = sf
         else:
-            L = np.hstack([np.eye(6), np.zeros((6, 1))])
-            phi = np.r_[np.zeros(6), 1.0]
-            S[sl] = np.r_[np.full(3, sf), np.full(3, st), sf]
+            L, phi = _L7, _PHI7
+            S[s0 : s0 + 3], S[s0 + 3 : s0 + 6], S[s0 + 6] = sf, st, sf
             _wrench_rows(prog, c, kind, mu, s0, n, cuts)
         prog.L.append(L)
         prog.phi.append(phi)
         A6[:, sl] = (D[:, None] * (c.G @ L)) * S[sl]
-        _force_rows(prog, c, phi, s0, n, minforce, f_max)
+        _force_rows(prog, c, kind, phi, s0, n, minforce, f_max)
     # scale the collected rows into y and normalise inequality rows (quadprog is
     # sensitive to row scale; normalising leaves the feasible set unchanged)
     prog.G = [g * S for g in prog.G]
     prog.A = [a * S for a in prog.A]
     prog.soc = [(r * S, rhs) for r, rhs in prog.soc]
+    prog.lb, prog.ub = lb / S, ub / S  # bounds on y = x / S
     if prog.G:
         G, h = np.vstack(prog.G), np.concatenate(prog.h)
         gn = np.linalg.norm(G, axis=1)
@@ -187,12 +194,17 @@ def _wrench_rows(prog: Program, c, kind: str, mu: float, s0: int, n: int, cuts: 
 
 
 def _force_rows(
-    prog: Program, c, phi: np.ndarray, s0: int, n: int, minforce: str | None, f_max: float | None
+    prog: Program, c, kind: str, phi: np.ndarray, s0: int, n: int, minforce: str | None, f_max: float | None
 ) -> None:
-    """``f_lo (s) <= φ x <= f_hi (s)``, or an equality when the interval is a point."""
+    """``f_lo (s) <= φ x <= f_hi (s)``, or an equality when the interval is a point; a
+    bound on the force variable itself when it has one and the bounds are fixed."""
     lo, hi = c.force_bounds()
     if minforce == "sum":
         lo, hi = 0.0, (np.inf if f_max is None else float(f_max))
+    if kind != "vertex" and minforce != "scale" and lo < hi:
+        k = s0 + len(phi) - 1  # the force variable (last of the contact's block)
+        prog.lb[k], prog.ub[k] = lo, hi
+        return
     row = np.zeros(n)
     row[s0 : s0 + len(phi)] = phi
     scale_col = n - 1 if minforce == "scale" else None

@@ -33,14 +33,33 @@ def _qp_opts(solver: str) -> dict:
 
 
 def _ineq_with_bounds(prog: Program) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The inequality rows with the finite bounds appended as rows (for solvers without
+    native bounds: quadprog, Clarabel)."""
     G, h = prog.rows("ineq")
-    fin = np.flatnonzero(np.isfinite(prog.lb))
-    if fin.size:
-        Gb = np.zeros((fin.size, prog.n))
-        Gb[np.arange(fin.size), fin] = -1.0
-        G = Gb if G is None else np.vstack([G, Gb])
-        h = -prog.lb[fin] if h is None else np.concatenate([h, -prog.lb[fin]])
-    return G, h
+    lo, hi = np.flatnonzero(np.isfinite(prog.lb)), np.flatnonzero(np.isfinite(prog.ub))
+    rows = [G] if G is not None else []
+    rhs = [h] if h is not None else []
+    if lo.size:
+        Gb = np.zeros((lo.size, prog.n))
+        Gb[np.arange(lo.size), lo] = -1.0
+        rows.append(Gb)
+        rhs.append(-prog.lb[lo])
+    if hi.size:
+        Gb = np.zeros((hi.size, prog.n))
+        Gb[np.arange(hi.size), hi] = 1.0
+        rows.append(Gb)
+        rhs.append(prog.ub[hi])
+    if not rows:
+        return None, None
+    return np.vstack(rows), np.concatenate(rhs)
+
+
+def _bounds(prog: Program) -> list[tuple[float | None, float | None]]:
+    """HiGHS bounds (None: unbounded)."""
+    return [
+        (lo if np.isfinite(lo) else None, hi if np.isfinite(hi) else None)
+        for lo, hi in zip(prog.lb, prog.ub, strict=True)
+    ]
 
 
 def choose_qp_solver(solver: str | None, n: int) -> str:
@@ -56,10 +75,15 @@ def solve_l2_qp(prog: Program, solver: str) -> np.ndarray | None:
 
     P = prog.A6.T @ prog.A6
     P[np.diag_indices(prog.n)] += config.TOL.qp_ridge * max(float(np.trace(P)) / prog.n, 1e-300)
-    G, h = _ineq_with_bounds(prog)
     A, b = prog.rows("eq")
+    bounds = {}
+    if solver == "daqp":  # native simple bounds (1e30: none)
+        G, h = prog.rows("ineq")
+        bounds = {"lb": np.maximum(prog.lb, -1e30), "ub": np.minimum(prog.ub, 1e30)}
+    else:
+        G, h = _ineq_with_bounds(prog)
     try:
-        y = solve_qp(P, prog.A6.T @ prog.w, G, h, A, b, solver=solver, **_qp_opts(solver))
+        y = solve_qp(P, prog.A6.T @ prog.w, G, h, A, b, solver=solver, **bounds, **_qp_opts(solver))
     except Exception as exc:  # noqa: BLE001 - solver-specific errors (e.g. quadprog's ValueError)
         log.debug("QP solver %s raised %s", solver, exc)
         return None
@@ -80,7 +104,7 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
         A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
         b_eq.append(b)
     A_ub = None if G is None else sp.csr_matrix(np.hstack([G, np.zeros((len(G), 12))]))
-    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb] + [(0, None)] * 12
+    bounds = _bounds(prog) + [(0, None)] * 12
     res = linprog(
         np.r_[np.zeros(n), np.ones(12)],
         A_ub=A_ub,
@@ -125,7 +149,7 @@ def solve_min_lp(
     band = np.r_[-b_row, np.ones(12)][None]  # Σ t − b_row·y <= b0
     A_ub = band if G is None else np.vstack([np.hstack([G, np.zeros((len(G), 12))]), band])
     b_ub = np.array([b0]) if h is None else np.r_[h, b0]
-    bounds = [(lo if np.isfinite(lo) else None, None) for lo in prog.lb] + [(0, None)] * 12
+    bounds = _bounds(prog) + [(0, None)] * 12
     res = linprog(
         np.r_[cost, np.zeros(12)],
         A_ub=sp.csr_matrix(A_ub),
