@@ -299,6 +299,11 @@ def test_evaluate_grasp_applies_force_and_checks_given_profiles():
         band = 2 * config.TOL.resist_rtol * max(force, 10.0) * (1 + MU)
         assert force * ev.min_force.scale == pytest.approx(10.0 * base.min_force.scale, abs=band)
         assert ev.contacts[0].force == pytest.approx(force * base.contacts[0].force / 10.0, rel=1e-9)
+    # q_robust without noise is the verdict itself, for the gravity task and a given wrench
+    for kw in ({"mass": 0.3, "com": [0, 0, 0]}, {"w_ext": gravity_wrench(0.3, [0, 0, 0])}):
+        for force in (0.9 * 10.0 * base.min_force.scale, 1.1 * 10.0 * base.min_force.scale):
+            ev = evaluate_grasp(box, g, model="6dls", force=force, mu=MU, robust=NO_NOISE, **kw)
+            assert ev.q_robust == float(ev.resisted) and ev.resisted == (force > 10.0 * base.min_force.scale)
     flipped = [p.__class__(p.centers, -p.normals, p.areas, p.pressures) for p in base.profiles]
     with pytest.raises(ValueError, match="pull"):
         evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=flipped)

@@ -221,22 +221,17 @@ def evaluate_grasp(
     q = None
     if robust is not None:
         t0 = time.perf_counter()
-        q = (
-            q_robust(
-                contacts,
-                mu,
-                1.0,
-                np.zeros(3),
-                robust,
-                seed=seed,
-                representation=representation,
-                cuts=cuts,
-                w_ext=w,
-            )
-            if w_ext is not None
-            else q_robust(
-                contacts, mu, mass, com, robust, seed=seed, representation=representation, cuts=cuts
-            )
+        # a given w_ext is resisted as is (mass and com are then unused by q_robust)
+        q = q_robust(
+            contacts,
+            mu,
+            1.0 if mass is None else mass,
+            np.zeros(3) if com is None else com,
+            robust,
+            seed=seed,
+            representation=representation,
+            cuts=cuts,
+            w_ext=w if w_ext is not None else None,
         )
         t["q_robust"] = (time.perf_counter() - t0) * 1e3
     return GraspEvaluation(model, w, verdict, mf, q, profiles, contacts, t)

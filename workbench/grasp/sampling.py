@@ -66,12 +66,12 @@ def antipodal_grasps(
     import trimesh
 
     from ..units import mesh_in_metres
+    from .gws import check_mu
 
     if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
         raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
     mesh = mesh_in_metres(mesh, "mesh passed to antipodal_grasps", units=units, allow_scale=allow_scale)
-    if not (np.isfinite(mu) and mu >= 0):
-        raise ValueError(f"mu must be >= 0; got {mu}")
+    check_mu(mu)
     rng = np.random.default_rng(seed)
     half = np.arctan(mu)
     m = max_samples or 20 * n

@@ -188,6 +188,9 @@ def min_grasp_force(
     reach (a torque about the axis of two hard points) stays out of reach at any force.
     """
     contacts, w, mu = _check(contacts, w_ext, mu, representation)
+    # the residual band of resists, relative to the capacity at the contacts' *given*
+    # forces and fixed: relative to the scaled forces any shortfall would vanish at
+    # absurd forces (point contacts "resisting" torsion at 10⁶ × F)
     tol = config.TOL.resist_rtol
     if objective not in OBJECTIVES:
         raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
@@ -202,10 +205,6 @@ def min_grasp_force(
             contacts, w, mu, representation, cuts, minforce=objective, f_max=f_max, cone_as_cuts=cone_as_cuts
         )
         cost = np.zeros(prog.n)
-        # the residual band of resists, tol, relative to the capacity at the contacts'
-        # *given* forces and fixed: relative to the scaled forces (tol · s) any shortfall
-        # would vanish at absurd forces (point contacts "resisting" torsion at 10⁶ × F)
-        scale_col = None
         if objective == "scale":
             cost[-1] = 1.0
         else:
@@ -213,7 +212,7 @@ def min_grasp_force(
                 cost[s0 : s0 + len(phi)] = phi * prog.S[s0 : s0 + len(phi)]
         if prog.soc:
             solver = "clarabel"
-            y, status = solve_conic(prog, cost, tol, scale_col)
+            y, status = solve_conic(prog, cost, tol)
             if y is not None and status != "optimal":
                 y = None  # a stalled iterate is feasible but not minimal
             if y is None and status != "infeasible":
@@ -222,7 +221,7 @@ def min_grasp_force(
                 continue
         else:
             solver = "highs"
-            y, status = solve_min_lp(prog, cost, tol, scale_col)
+            y, status = solve_min_lp(prog, cost, tol)
             if y is None and status != "infeasible":
                 raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
         if y is None:

@@ -120,27 +120,20 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     return res.x[:n], float(res.fun)
 
 
-def _band(prog: Program, tol: float, scale_col: int | None) -> tuple[np.ndarray, float]:
+def _band(prog: Program, tol: float) -> tuple[np.ndarray, float]:
     """Coefficients ``(b_row, b0)`` of the residual bound ``‖r‖ <= b_row·y + b0``: the
-    resistance tolerance relative to the capacity at the program's forces, i.e.
-    ``tol · s`` when the forces scale with the variable ``s`` (D ∝ 1/force), else ``tol``."""
-    row = np.zeros(prog.n)
-    if scale_col is None:
-        return row, tol
-    row[scale_col] = tol
-    return row, 0.0
+    resistance tolerance relative to the capacity at the contacts' given forces."""
+    return np.zeros(prog.n), tol
 
 
-def solve_min_lp(
-    prog: Program, cost: np.ndarray, tol: float = 0.0, scale_col: int | None = None
-) -> tuple[np.ndarray | None, str]:
-    """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol (· s)`` (slacks ``t⁺, t⁻``; the same band
+def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.ndarray | None, str]:
+    """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` (slacks ``t⁺, t⁻``; the same band
     :func:`resists` accepts) and the polyhedral rows (HiGHS): (y, status) with status
     "optimal", "infeasible" or HiGHS's message."""
     n = prog.n
     G, h = prog.rows("ineq")
     A, b = prog.rows("eq")
-    b_row, b0 = _band(prog, tol, scale_col)
+    b_row, b0 = _band(prog, tol)
     A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
     b_eq = [-prog.w]
     if A is not None:
@@ -207,16 +200,16 @@ def _in_cones(slack: np.ndarray, cones: list, sizes: list[int], atol: float = 1e
 
 
 def solve_conic(
-    prog: Program, cost: np.ndarray | None = None, tol: float = 0.0, scale_col: int | None = None
+    prog: Program, cost: np.ndarray | None = None, tol: float = 0.0
 ) -> tuple[np.ndarray | None, str]:
     """Clarabel: ``min ½‖A6 y + w‖²`` (``cost`` None) or ``min costᵀ y`` s.t.
-    ``‖A6 y + w‖₂ <= tol (· s)`` (the band :func:`resists` accepts), over rows and cones.
+    ``‖A6 y + w‖₂ <= tol`` (the band :func:`resists` accepts), over rows and cones.
     Returns (y, status); y is None unless solved, or stalled at
     an iterate that satisfies every cone (Clarabel stalls now and then on low-rank,
     planar models; such an iterate is still a valid point of the program)."""
     import clarabel
 
-    A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else _band(prog, tol, scale_col))
+    A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else _band(prog, tol))
     if cost is None:
         P = sp.triu(sp.csc_matrix(prog.A6.T @ prog.A6)).tocsc()
         q = prog.A6.T @ prog.w
