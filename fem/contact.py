@@ -20,7 +20,7 @@ import scipy.linalg as sla
 from scipy.optimize import nnls
 
 from ._kernels import _normal_block, _normal_rows
-from .pad import CondensedPad, PadGeometry
+from .pad import CondensedPad, PadGeometry, top_face_nodes
 
 
 @dataclass(frozen=True)
@@ -218,7 +218,7 @@ def solve_contact_full(
 
     mesh = geometry.mesh()
     z = mesh.p[2]
-    face = np.flatnonzero(np.isclose(z, geometry.thickness))
+    face = top_face_nodes(mesh.p, geometry.thickness)
     X, d, nrm = face_gaps(geometry, mesh.p[:2, face].T, obstacle, delta)
     K = stiffness(mesh, material, scheme)
     nodal = basis(mesh).nodal_dofs

@@ -41,7 +41,7 @@ from .contact import ContactSolution, face_gaps
 from .elasticity import GAUSS_1, GAUSS_2, basis
 from .extract import face_grid, quad_vector_areas, tributary_areas
 from .material import Material
-from .pad import PadGeometry
+from .pad import PadGeometry, top_face_nodes
 
 log = logging.getLogger(__name__)
 
@@ -118,7 +118,7 @@ class NonlinearPad:
         self._rows = np.broadcast_to(self._edofs.reshape(ne, 24, 1), (ne, 24, 24)).ravel()
         self._cols = np.broadcast_to(self._edofs.reshape(ne, 1, 24), (ne, 24, 24)).ravel()
         z = self.mesh.p[2]
-        self.face = np.flatnonzero(np.isclose(z, geometry.thickness))
+        self.face = top_face_nodes(self.mesh.p, geometry.thickness)
         nodal = self.b2.nodal_dofs
         fixed = np.zeros(self.b2.N, dtype=bool)
         fixed[nodal[:, np.isclose(z, 0.0)].ravel()] = True

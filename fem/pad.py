@@ -12,9 +12,7 @@ cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and
 
 Cache location (:func:`pad_cache_dir`): ``cache_dir=None`` (default) uses
 ``$WORKBENCH_CACHE_DIR`` if set, else the user cache directory
-(``platformdirs.user_cache_dir("nonplanar-workbench")``, or
-``$XDG_CACHE_HOME/nonplanar-workbench`` / ``~/.cache/nonplanar-workbench``
-without platformdirs), sub-folder ``pads``; a path uses that directory;
+(``platformdirs.user_cache_dir("nonplanar-workbench")``), sub-folder ``pads``; a path uses that directory;
 ``cache_dir=False`` disables the cache (always condense, write nothing).
 Cache files are written atomically (temp file + ``os.replace``) with the
 usual permissions (``0o666 & ~umask``); an unreadable cache file is rebuilt and
@@ -147,9 +145,15 @@ class PadFace:
     @classmethod
     def of(cls, geometry: PadGeometry, material: Material) -> PadFace:
         """The face of the whole layer (the nodes and order of ``solve_contact_full``)."""
-        x, y, z = geometry.mesh().p
-        face = np.flatnonzero(np.isclose(z, geometry.thickness))
-        return cls(geometry, material, face, np.column_stack([x[face], y[face]]))
+        p = geometry.mesh().p
+        face = top_face_nodes(p, geometry.thickness)
+        return cls(geometry, material, face, p[:2, face].T)
+
+
+def top_face_nodes(points: np.ndarray, thickness: float) -> np.ndarray:
+    """Indices of the nodes of a pad mesh (``points`` (3, N) [m]) on its free face
+    ``z = thickness`` — the contact face every fidelity solves on."""
+    return np.flatnonzero(np.isclose(points[2], thickness))
 
 
 def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
@@ -171,18 +175,13 @@ def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
     if isinstance(cache_dir, (str, os.PathLike)):
         return Path(cache_dir).expanduser()
     raise ValueError(
-        f"cache_dir must be None (default location), a directory path or False (no cache); "
-        f"got {cache_dir!r}"
+        f"cache_dir must be None (default location), a directory path or False (no cache); got {cache_dir!r}"
     )
 
 
 def _user_cache_root() -> Path:
-    try:
-        import platformdirs
-    except ImportError:  # not a declared dependency: fall back to the XDG convention
-        xdg = os.environ.get("XDG_CACHE_HOME")
-        base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
-        return base / _APP
+    import platformdirs
+
     return Path(platformdirs.user_cache_dir(_APP, appauthor=False))
 
 
@@ -215,7 +214,7 @@ def condense_pad(
     """
     mesh = geometry.mesh()
     x, y, z = mesh.p
-    face = np.flatnonzero(np.isclose(z, geometry.thickness))
+    face = top_face_nodes(mesh.p, geometry.thickness)
     if patch_radius is not None:
         face = face[np.hypot(x[face], y[face]) <= patch_radius]
     tag = scheme if patch_radius is None else f"{scheme};patch={patch_radius!r}"

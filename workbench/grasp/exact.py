@@ -66,7 +66,7 @@ def resists_exact(
     ``w_ext`` with friction ``mu``: (answer, LP iterations).
 
     Same meaning of "resisted" as :func:`~workbench.grasp.resistance.resists`: each
-    force lies in the sensor interval ``[F(1 − r), F(1 + r)]`` (``force_rtol``, default
+    force lies in the sensor interval ``[F(1 − r), F]`` (``force_rtol``, default
     ``config.TOL.known_force_rtol``), the residual is scaled by the grasp's capacity
     (largest contact force and torque of the starting columns) and compared with
     ``tol`` (``config.TOL.resist_rtol``).

@@ -96,15 +96,6 @@ def grasp_map(contacts) -> np.ndarray:
     return np.hstack([c.G for c in check_contacts(contacts)])
 
 
-def stacked_vertices(contacts, mu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[np.ndarray]]:
-    """Object-frame vertices of all contacts stacked (n, 6), per-contact block sizes and
-    starts, and the blocks themselves."""
-    Vs = [c.vertices(mu) for c in contacts]
-    sizes = np.array([len(v) for v in Vs])
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    return np.vstack(Vs), sizes, starts, Vs
-
-
 def capacity_scaling(V: np.ndarray, arm: float = 0.0) -> np.ndarray:
     """(6,) row scaling ``D``: forces divided by the largest vertex force, torques by the
     largest vertex torque (N vs N·m: one common scale would make torque residuals and
@@ -118,18 +109,6 @@ def capacity_scaling(V: np.ndarray, arm: float = 0.0) -> np.ndarray:
     sf = float(np.abs(V[:, :3]).max()) or 1.0
     st = max(float(np.abs(V[:, 3:]).max()), 1e-3 * float(arm) * sf) or sf
     return np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
-
-
-def simplex_rows(contacts, sizes: np.ndarray, starts: np.ndarray) -> tuple[list, list]:
-    """One row of ones over each contact's vertex weights: (equality rows of the
-    known-force contacts, ``<= 1`` rows of the cones, whose origin is then implicit)."""
-    n = int(np.sum(sizes))
-    eq, ub = [], []
-    for c, s, m in zip(contacts, starts, sizes, strict=True):
-        row = np.zeros(n)
-        row[s : s + m] = 1.0
-        (ub if c.cone else eq).append(row)
-    return eq, ub
 
 
 def vertex_blocks(contacts, mu: float) -> list[np.ndarray]:
@@ -297,7 +276,5 @@ __all__ = [
     "gws_points",
     "resists_lp",
     "scale_torque",
-    "simplex_rows",
-    "stacked_vertices",
     "vertex_blocks",
 ]

@@ -120,12 +120,6 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     return res.x[:n], float(res.fun)
 
 
-def _band(prog: Program, tol: float) -> tuple[np.ndarray, float]:
-    """Coefficients ``(b_row, b0)`` of the residual bound ``‖r‖ <= b_row·y + b0``: the
-    resistance tolerance relative to the capacity at the contacts' given forces."""
-    return np.zeros(prog.n), tol
-
-
 def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.ndarray | None, str]:
     """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` (slacks ``t⁺, t⁻``; the same band
     :func:`resists` accepts) and the polyhedral rows (HiGHS): (y, status) with status
@@ -133,15 +127,14 @@ def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.
     n = prog.n
     G, h = prog.rows("ineq")
     A, b = prog.rows("eq")
-    b_row, b0 = _band(prog, tol)
     A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
     b_eq = [-prog.w]
     if A is not None:
         A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
         b_eq.append(b)
-    band = np.r_[-b_row, np.ones(12)][None]  # Σ t − b_row·y <= b0
+    band = np.r_[np.zeros(n), np.ones(12)][None]  # Σ t <= tol
     A_ub = band if G is None else np.vstack([np.hstack([G, np.zeros((len(G), 12))]), band])
-    b_ub = np.array([b0]) if h is None else np.r_[h, b0]
+    b_ub = np.array([tol]) if h is None else np.r_[h, tol]
     bounds = _bounds(prog) + [(0, None)] * 12
     res = linprog(
         np.r_[cost, np.zeros(12)],
@@ -159,9 +152,9 @@ def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.
     return None, str(res.message)
 
 
-def _conic_data(prog: Program, band: tuple[np.ndarray, float] | None):
+def _conic_data(prog: Program, band: float | None):
     """Clarabel's ``(A, b, cones)``; ``band`` adds the residual bound
-    ``‖A6 y + w‖₂ <= b_row·y + b0`` as one more second-order cone."""
+    ``‖A6 y + w‖₂ <= band`` as one more second-order cone."""
     import clarabel
 
     parts = []
@@ -173,9 +166,9 @@ def _conic_data(prog: Program, band: tuple[np.ndarray, float] | None):
         parts.append((G, h, clarabel.NonnegativeConeT))
     for rows, rhs in prog.soc:
         parts.append((rows, rhs, clarabel.SecondOrderConeT))
-    if band is not None:  # s = [b_row·y + b0; A6 y + w] = rhs − rows y
-        b_row, b0 = band
-        parts.append((np.vstack([-b_row, -prog.A6]), np.r_[b0, prog.w], clarabel.SecondOrderConeT))
+    if band is not None:  # s = [band; A6 y + w] = rhs − rows y
+        rows = np.vstack([np.zeros(prog.n), -prog.A6])
+        parts.append((rows, np.r_[band, prog.w], clarabel.SecondOrderConeT))
     A_all = np.vstack([a for a, _, _ in parts])
     b_all = np.concatenate([r for _, r, _ in parts])
     cones = [cone(len(a)) for a, _, cone in parts]
@@ -209,7 +202,7 @@ def solve_conic(
     planar models; such an iterate is still a valid point of the program)."""
     import clarabel
 
-    A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else _band(prog, tol))
+    A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else tol)
     if cost is None:
         P = sp.triu(sp.csc_matrix(prog.A6.T @ prog.A6)).tocsc()
         q = prog.A6.T @ prog.w
