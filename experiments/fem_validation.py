@@ -136,7 +136,11 @@ def thin_film(config: dict) -> list[dict]:
         geom = PadGeometry(2 * half, slab, h, int(round(2 * half / 0.5e-3)), 1, 4)
         t0 = time.perf_counter()
         sol = solve_contact_full(
-            geom, mat, Cylinder((0, 0, h + R), (0, 1, 0), R), a**2 / (6 * R), plane_strain=True
+            geom,
+            mat,
+            Cylinder((0, 0, h + R), (0, 1, 0), R, allow_scale=True),
+            a**2 / (6 * R),
+            plane_strain=True,
         )
         rows.append(
             {
@@ -153,7 +157,7 @@ def thin_film(config: dict) -> list[dict]:
         n = int(round(2 * (a + 5 * h) / 1.0e-3))
         geom = PadGeometry(n * 1.0e-3, n * 1.0e-3, h, n, n, 4)
         t0 = time.perf_counter()
-        sol = solve_contact_full(geom, mat, Sphere((0, 0, h + R), R), a**2 / (4 * R))
+        sol = solve_contact_full(geom, mat, Sphere((0, 0, h + R), R, allow_scale=True), a**2 / (4 * R))
         rows.append(
             {
                 "shape": "sphere",

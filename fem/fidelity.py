@@ -83,6 +83,14 @@ def press(
     deltas = sorted(float(d) for d in deltas)
     if not deltas:
         raise ValueError("deltas is empty: give at least one jaw displacement [m]")
+    if deltas[-1] >= geometry.thickness:
+        # the jaw cannot advance by the layer's whole thickness past first touch: the rigid
+        # back would hit the obstacle (a δ in millimetres, 1.0 for 1 mm, lands here and
+        # otherwise moves the jaw through the obstacle: zero force, no error)
+        raise ValueError(
+            f"jaw displacement {deltas[-1]!r} m is not below the layer thickness h = "
+            f"{geometry.thickness} m: displacements are in metres (1 mm = 1e-3)"
+        )
     if fidelity == "nonlinear":
         from .nonlinear import NonlinearPad
 

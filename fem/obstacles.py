@@ -37,10 +37,20 @@ class Plane:
 class Sphere:
     center: tuple = (0.0, 0.0, 0.0)
     radius: float = 0.02
+    allow_scale: bool = False  # accept a radius outside the plausible object sizes
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
+        from workbench.units import check_extent
+
+        # the same plausibility check as MeshObstacle: a radius of 20 reads as 20 m
+        if not self.allow_scale:
+            check_extent(
+                2.0 * float(self.radius),
+                f"{type(self).__name__} of radius {self.radius} (diameter)",
+                fix="give the radius and centre in metres (20 mm = 0.02), or allow_scale=True",
+            )
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r = x - np.asarray(self.center, float)
@@ -55,11 +65,21 @@ class Cylinder:
     point: tuple = (0.0, 0.0, 0.0)
     axis: tuple = (0.0, 1.0, 0.0)
     radius: float = 0.02
+    allow_scale: bool = False  # accept a radius outside the plausible object sizes
     _a: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
+        from workbench.units import check_extent
+
+        # the same plausibility check as MeshObstacle: a radius of 20 reads as 20 m
+        if not self.allow_scale:
+            check_extent(
+                2.0 * float(self.radius),
+                f"{type(self).__name__} of radius {self.radius} (diameter)",
+                fix="give the radius and centre in metres (20 mm = 0.02), or allow_scale=True",
+            )
         object.__setattr__(self, "_a", _unit(self.axis))
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

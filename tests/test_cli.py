@@ -121,3 +121,26 @@ def test_quick_overrides_fit_the_default_types(name):
     module = importlib.import_module(EXPERIMENTS[name])
     cfg = build_config(name, False, None, None, dict(module.QUICK_CONFIG))
     assert {k: cfg[k] for k in module.QUICK_CONFIG} == module.QUICK_CONFIG
+
+
+@pytest.mark.parametrize(
+    "item, words",
+    [
+        ("mu=-1", ["mu", "negative", "default 0.3"]),
+        ("force_range=[1]", ["force_range", "[lo, hi]"]),
+        ("force_range=[35, 20]", ["force_range", "lo <= hi"]),
+        ("noise_mu=-0.1", ["noise_mu", "negative"]),
+        ("k_values=[2, -1]", ["k_values", "[-1.0]", "negative"]),
+    ],
+)
+def test_ranges_read_off_the_defaults_are_checked_before_any_work(item, words):
+    """Seen in a new-user trial: these started the sensitivity run and failed deep inside
+    (or, noise_mu=-0.1, ran on and wrote rows)."""
+    with pytest.raises(SystemExit) as exc:
+        build_config("sensitivity", False, None, None, _parse_sets([item]))
+    assert all(w in str(exc.value) for w in words), str(exc.value)
+
+
+def test_offsets_with_negative_defaults_stay_free():
+    cfg = build_config("sensitivity", False, None, None, _parse_sets(["mu_offsets=[-0.3, 0.3]"]))
+    assert cfg["mu_offsets"] == [-0.3, 0.3]

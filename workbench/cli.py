@@ -169,13 +169,34 @@ def _coerce(key: str, value: Any, default: Any) -> Any:
     else:
         text = _dumps(value)
     try:
-        return _check(value, schema, "")
+        return _check_range(key, _check(value, schema, ""), default)
     except _Mismatch as exc:
         shown = _dumps(default)
         raise SystemExit(
             f"--set {key}={text}: {key} expects {_describe(schema)} (default {shown}); "
             f"{exc.args[0]} — give e.g. --set {key}={shown}"
         ) from None
+
+
+def _number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _check_range(key: str, value: Any, default: Any) -> Any:
+    """Generic ranges read off the defaults (no per-key tables): a number, or a list's
+    numbers, whose default is non-negative must be non-negative (μ, counts, sizes,
+    noise levels; offsets with negative defaults are free); a ``*_range`` key is
+    ``[lo, hi]`` with ``lo <= hi``.  Maps (e.g. approach angles) are not judged."""
+    if _number(default) and default >= 0 and _number(value) and value < 0:
+        raise _Mismatch(f"{value!r} is negative (the default is not: this key takes values >= 0)")
+    if isinstance(default, (list, tuple)) and default and all(_number(d) and d >= 0 for d in default):
+        bad = [v for v in value if _number(v) and v < 0]
+        if bad:
+            raise _Mismatch(f"elements {bad} are negative (this key takes values >= 0)")
+    if key.endswith("_range") and isinstance(default, (list, tuple)) and len(default) == 2:
+        if len(value) != 2 or not value[0] <= value[1]:
+            raise _Mismatch(f"{value!r} is not a range [lo, hi] with lo <= hi")
+    return value
 
 
 def _dumps(value: Any) -> str:

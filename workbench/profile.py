@@ -469,7 +469,9 @@ class ContactProfile:
 
         ``pressure`` names a cell-data field (one array per cell block) or is an
         array over all triangle/quad cells in block order.  ``kwargs`` go to
-        :meth:`from_mesh` (``units``, ``flip_normals``, ``drop_degenerate``).
+        :meth:`from_mesh` (``units``, ``flip_normals``, ``drop_degenerate``).  Cell data
+        ``normals`` and ``areas`` (as :meth:`to_meshio` writes them) replace the ones
+        derived from the cells, so a written profile reads back with its own ``F``.
         """
         blocks = [(i, c) for i, c in enumerate(mesh.cells) if c.type in ("triangle", "quad")]
         if not blocks:
@@ -488,7 +490,24 @@ class ContactProfile:
             p = np.concatenate([np.asarray(mesh.cell_data[pressure][i]).reshape(-1) for i, _ in blocks])
         else:
             p = pressure
-        return cls.from_mesh(mesh.points[:, :3], faces, p, **kwargs)
+        prof = cls.from_mesh(mesh.points[:, :3], faces, p, **kwargs)
+        # the element normals and areas written by to_meshio are the profile's own (an FEM
+        # profile's areas are not the quads' geometric ones): use them when every cell survived
+        if all(k in mesh.cell_data for k in ("normals", "areas")) and len(prof) == len(faces):
+            nrm = np.concatenate([np.asarray(mesh.cell_data["normals"][i]).reshape(-1, 3) for i, _ in blocks])
+            area = np.concatenate([np.asarray(mesh.cell_data["areas"][i]).reshape(-1) for i, _ in blocks])
+            scale = length_factor(kwargs.get("units", "m"))
+            sign = -1.0 if kwargs.get("flip_normals", False) else 1.0
+            prof = cls(
+                prof.centers,
+                sign * nrm,
+                area * scale**2,
+                prof.pressures,
+                vertices=prof.vertices,
+                faces=prof.faces,
+                allow_scale=kwargs.get("allow_scale", False),
+            )
+        return prof
 
     @classmethod
     def from_trimesh(cls, mesh: Any, pressures: Any, **kwargs: Any) -> ContactProfile:
