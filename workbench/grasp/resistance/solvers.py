@@ -92,10 +92,9 @@ def solve_l2_qp(prog: Program, solver: str) -> np.ndarray | None:
     return y
 
 
-def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
-    """``min ‖A6 y + w‖₁`` (slacks ``t⁺, t⁻``) over the polyhedral rows (HiGHS): always
-    feasible when the rows are; returns (y, residual)."""
-    n = prog.n
+def _slack_form(prog: Program):
+    """The polyhedral rows with the residual written as slacks, ``A6 y + w = t⁺ − t⁻``
+    (12 slack columns appended, t >= 0): ``(A_eq, b_eq, G, h, bounds)`` for HiGHS."""
     G, h = prog.rows("ineq")
     A, b = prog.rows("eq")
     A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
@@ -103,50 +102,48 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     if A is not None:
         A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
         b_eq.append(b)
-    A_ub = None if G is None else sp.csr_matrix(np.hstack([G, np.zeros((len(G), 12))]))
-    bounds = _bounds(prog) + [(0, None)] * 12
+    G12 = None if G is None else np.hstack([G, np.zeros((len(G), 12))])
+    return np.vstack(A_eq), np.concatenate(b_eq), G12, h, _bounds(prog) + [(0, None)] * 12
+
+
+def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
+    """``min ‖A6 y + w‖₁`` (slacks ``t⁺, t⁻``) over the polyhedral rows (HiGHS): always
+    feasible when the rows are; returns (y, residual)."""
+    A_eq, b_eq, G, h, bounds = _slack_form(prog)
     res = linprog(
-        np.r_[np.zeros(n), np.ones(12)],
-        A_ub=A_ub,
+        np.r_[np.zeros(prog.n), np.ones(12)],
+        A_ub=None if G is None else sp.csr_matrix(G),
         b_ub=h,
-        A_eq=sp.csr_matrix(np.vstack(A_eq)),
-        b_eq=np.concatenate(b_eq),
+        A_eq=sp.csr_matrix(A_eq),
+        b_eq=b_eq,
         bounds=bounds,
         method="highs",
     )
     if res.status != 0:
         log.debug("HiGHS on the residual LP: %s", res.message)
         return None, float("nan")
-    return res.x[:n], float(res.fun)
+    return res.x[: prog.n], float(res.fun)
 
 
 def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.ndarray | None, str]:
     """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` (slacks ``t⁺, t⁻``; the same band
     :func:`resists` accepts) and the polyhedral rows (HiGHS): (y, status) with status
     "optimal", "infeasible" or HiGHS's message."""
-    n = prog.n
-    G, h = prog.rows("ineq")
-    A, b = prog.rows("eq")
-    A_eq = [np.hstack([prog.A6, -np.eye(6), np.eye(6)])]
-    b_eq = [-prog.w]
-    if A is not None:
-        A_eq.append(np.hstack([A, np.zeros((len(A), 12))]))
-        b_eq.append(b)
-    band = np.r_[np.zeros(n), np.ones(12)][None]  # Σ t <= tol
-    A_ub = band if G is None else np.vstack([np.hstack([G, np.zeros((len(G), 12))]), band])
+    A_eq, b_eq, G, h, bounds = _slack_form(prog)
+    band = np.r_[np.zeros(prog.n), np.ones(12)][None]  # Σ t <= tol
+    A_ub = band if G is None else np.vstack([G, band])
     b_ub = np.array([tol]) if h is None else np.r_[h, tol]
-    bounds = _bounds(prog) + [(0, None)] * 12
     res = linprog(
         np.r_[cost, np.zeros(12)],
         A_ub=sp.csr_matrix(A_ub),
         b_ub=b_ub,
-        A_eq=sp.csr_matrix(np.vstack(A_eq)),
-        b_eq=np.concatenate(b_eq),
+        A_eq=sp.csr_matrix(A_eq),
+        b_eq=b_eq,
         bounds=bounds,
         method="highs",
     )
     if res.status == 0:
-        return res.x[:n], "optimal"
+        return res.x[: prog.n], "optimal"
     if res.status == 2:
         return None, "infeasible"
     return None, str(res.message)
