@@ -59,7 +59,7 @@ def test_nested_dict_values_are_checked():
 
 
 def test_good_values_are_coerced_to_the_default_types():
-    sets = _parse_sets(["mu=1", "heights=[1, 0.5]", "validation_summary=5", 'n_objects=3', "quick=true"])
+    sets = _parse_sets(["mu=1", "heights=[1, 0.5]", "validation_summary=5", "n_objects=3", "quick=true"])
     cfg = build_config("fem-fitting", False, None, None, sets)
     assert cfg["mu"] == 1.0 and isinstance(cfg["mu"], float)  # an int is accepted for a float
     assert cfg["heights"] == [1.0, 0.5] and all(isinstance(h, float) for h in cfg["heights"])

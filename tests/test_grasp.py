@@ -228,15 +228,26 @@ def test_six_dls_outer_qp_contains_the_inner_gws():
     assert (outer | ~inner).all() and (cone | ~outer).all()
 
 
-def test_reach_clusters_keep_the_force():
+def test_reach_clusters_keep_the_normal_wrench():
+    """Merging a curved profile's elements keeps its normal wrench exactly (force and
+    moment, reference: the profile's own Eq. 3.2 wrench moved to the origin); the
+    scalar forces then sum to between |net force| and Σ p a (normals spread)."""
     from workbench.surface_catalog import S3
     from workbench.surfaces import mesh_profile
 
     prof = mesh_profile(S3, 400, pressure_scale=1e4)
     subs = reach_contacts(prof, max_triangles=32)
     assert 1 <= len(subs) <= 32
-    assert sum(s.force for s in subs) == pytest.approx(prof.F, rel=1e-12)
-    assert all(not s.cone for s in subs)
+    assert all(not s.cone for s in subs) and len({s.group for s in subs}) == 1
+    wn = prof.normal_wrench
+    ref = np.r_[wn[:3], wn[3:] + np.cross(prof.pressure_center, wn[:3])]  # about the origin
+    got = sum(s.G @ (s.force * s.normal) for s in subs)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * prof.F)
+    total = sum(s.force for s in subs)
+    assert np.linalg.norm(wn[:3]) <= total <= prof.F
+    assert total < 0.99 * prof.F  # S3 is curved: the scalar sum would overstate the force
+    # a second call is a second jaw: its own force group
+    assert reach_contacts(prof, max_triangles=32)[0].group != subs[0].group
 
 
 def test_bad_input():
@@ -339,6 +350,7 @@ def _cone_solver_failing():
     import workbench.grasp.resistance.api as api
 
     real = api.solve_conic
+
     def failing(prog, cost=None):
         return (None, "simulated failure") if cost is None else real(prog, cost)
 
@@ -488,3 +500,25 @@ def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model, monkey
         for ui in u:
             w_ext = -(F * cm.normal_wrench + rho * ls.value(ui) ** (-1 / ls.degree) * ui)
             assert bool(resists([contact], w_ext, mu)) == (rho < 1), (rho, ui)
+
+
+def test_force_group_hull_matches_the_program():
+    """The GWS of force-grouped contacts (one Minkowski block per group, at full force and
+    at (1 − r)) holds exactly the wrenches the grouped program resists (inner vertices):
+    two jaws of two point elements each, known forces, one reading per jaw."""
+    jaws = []
+    for side, g in ((1.0, "jaw-a"), (-1.0, "jaw-b")):
+        for dz in (-0.01, 0.01):
+            c = point_contact([side * A, 0, dz], [side, 0, 0], F / 2, n_edges=4)
+            jaws.append(replace(c, cone=False, group=g))
+    hull = build_gws(jaws, MU)
+    rng = np.random.default_rng(5)
+    W = np.c_[rng.normal(0, 0.25 * F, (300, 3)), rng.normal(0, 0.25 * F * A, (300, 3))]
+    W[:, 0] *= 0.05  # along the grasp axis only the force mismatch (1 %) is reachable
+    inside = hull.contains(-W)
+    lp = np.array([bool(resists(jaws, w, MU, representation="inner")) for w in W])
+    qp = np.array([bool(resists(jaws, w, MU)) for w in W])
+    assert 20 < inside.sum() < 280
+    assert (inside == lp).mean() >= 0.99 and (lp == qp).mean() >= 0.99  # boundary cases aside (measured: 1.0)
+    with pytest.raises(ValueError, match="max_points"):
+        gws_points(jaws, MU, max_points=100)

@@ -2,6 +2,7 @@
 every contact model; known-force models tolerate jaw-force mismatch; the one-call
 evaluation reaches the same verdict; edge contacts are filtered."""
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -332,3 +333,64 @@ def test_careless_inputs_name_the_fix():
     with pytest.raises(ValueError, match="sigma_mu"):
         Perturbation(sigma_mu=-0.1)
     assert 0.0 <= q_robust(sets, MU, 0.1, [0, 0, 0], None) <= 1.0  # None: the default perturbation
+
+
+def _reference_residual(sets, w, mu, grouped):
+    """Independent reference (cvxpy, vertex form, object frame, no scaling): the smallest
+    ‖Σ_i G_i Σ_m α_im F_i(μ s_m + ŵ⊥) + w‖ with Σ_m α_im = σ_g(i) (grouped: one σ per
+    force group) or σ_i (each contact its own), every σ in [1 − r, 1]."""
+    import cvxpy as cp
+
+    r = config.TOL.known_force_rtol
+    keys = [c.group if grouped else k for k, c in enumerate(sets)]
+    sig = {k: cp.Variable() for k in dict.fromkeys(keys)}
+    total, cons = 0, []
+    for c, k in zip(sets, keys, strict=True):
+        V = c.vertices(mu)  # (M, 6) object frame at the contact's force
+        a = cp.Variable(len(V), nonneg=True)
+        cons.append(cp.sum(a) == sig[k])
+        total = total + V.T @ a
+    cons += [s >= 1 - r for s in sig.values()] + [s <= 1 for s in sig.values()]
+    prob = cp.Problem(cp.Minimize(cp.norm(total + w)), cons)
+    prob.solve(solver="CLARABEL")
+    return prob.value
+
+
+def test_reach_jaw_is_one_force_group(scene):
+    """A REACH jaw's elements share its sensor reading: they scale together by one
+    σ ∈ [1 − r, 1] (ContactSet.group).  resists (half-spaces on each element's affine
+    hull) and its vertex form agree with an independent cvxpy program of the grouped
+    vertex sets, and the solution's forces keep each jaw's distribution."""
+    profiles, _ = scene
+    sets = [c for p in profiles for c in contact_sets(p, "reach", n_edges=6)]
+    assert len({c.group for c in sets}) == 2
+    rng = np.random.default_rng(3)
+    W = np.c_[rng.normal(0, 3.0, (24, 3)), rng.normal(0, 0.03, (24, 3))]
+    cap = sum(c.force for c in sets)
+    decided = 0
+    for w in W:
+        ref = _reference_residual(sets, w, MU, grouped=True) / cap
+        res = resists(sets, w, MU)
+        inner = resists(sets, w, MU, representation="inner")
+        if ref < 1e-9 or ref > 1e-3:  # clear cases (the solvers' bands differ in scaling)
+            decided += 1
+            assert bool(res) == bool(inner) == bool(ref < 1e-9), (ref, res.residual, inner.residual)
+        if res:
+            for g in {c.group for c in sets}:
+                idx = [i for i, c in enumerate(sets) if c.group == g]
+                sigma = res.forces[idx] / np.array([sets[i].force for i in idx])
+                np.testing.assert_allclose(sigma, sigma[0], rtol=1e-6)
+                r = config.TOL.known_force_rtol
+                assert 1 - r - 1e-6 <= sigma[0] <= 1 + 1e-6
+    assert decided >= 20
+    # grouping is a real constraint: frictionless, a per-element interval reaches a
+    # pressure redistribution inside a jaw (half its elements at F(1 − r)); one
+    # reading per jaw cannot — the reference and resists (group equality rows) agree
+    r = config.TOL.known_force_rtol
+    f = np.array([c.force * (1 - r if k % 2 else 1.0) for k, c in enumerate(sets)])
+    w = -sum(fi * (c.G @ c.normal) for fi, c in zip(f, sets, strict=True))
+    assert _reference_residual(sets, w, 0.0, grouped=False) < 1e-9 * cap
+    assert _reference_residual(sets, w, 0.0, grouped=True) > 0.5 * abs(w[5])  # its torque stays
+    assert not resists(sets, w, 0.0)
+    ungrouped = [dataclasses.replace(c, group=None) for c in sets]
+    assert resists(ungrouped, w, 0.0)

@@ -23,6 +23,7 @@ object along ``−n`` (CONVENTIONS.md).
 
 from __future__ import annotations
 
+import uuid
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -101,6 +102,12 @@ class ContactSet:
     #: relative accuracy of a known force (``cone=False``): the force lies in
     #: ``[F(1 − r), F]``; None reads ``config.TOL.known_force_rtol`` at use
     force_rtol: float | None = None
+    #: force group (``cone=False`` only): the contacts of one group share one sensor
+    #: reading, so their known forces scale *together* by one factor σ in
+    #: ``[1 − r, 1]`` instead of each moving in its own interval — the elements of one
+    #: REACH jaw (their split of the jaw force is the model's, not a measurement).
+    #: None: the contact is its own group.  Any hashable token, unique per jaw.
+    group: str | None = None
 
     def __post_init__(self) -> None:
         if self.friction.ndim != 2 or self.friction.shape[1] != 6 or len(self.friction) == 0:
@@ -109,29 +116,47 @@ class ContactSet:
             raise ValueError(f"{self.name}: the normal force must be finite and >= 0; got {self.force}")
         if self.force_rtol is not None and not (0 <= self.force_rtol < 1):
             raise ValueError(f"{self.name}: force_rtol must be in [0, 1); got {self.force_rtol}")
+        if self.group is not None and self.cone:
+            raise ValueError(
+                f"{self.name}: a force group shares one known force reading; a cone contact "
+                "(cone=True, force a bound) cannot be in one (set group=None)"
+            )
+
+    @property
+    def rtol(self) -> float:
+        """Relative accuracy r of a known force (``force_rtol`` or the config's, read now)."""
+        from .. import config
+
+        return config.TOL.known_force_rtol if self.force_rtol is None else self.force_rtol
 
     def force_bounds(self) -> tuple[float, float]:
         """``(f_lo, f_hi)`` [N]: ``(0, f_max)`` for a cone (6DFC, point contacts), the
         sensor interval ``(F (1 − r), F)`` for a known force (thesis §4.1.3.2; see
-        ``Tolerances.known_force_rtol`` for why an interval and why F bounds it)."""
+        ``Tolerances.known_force_rtol`` for why an interval and why F bounds it).  The
+        contacts of one force ``group`` each stay in their interval and move together,
+        ``f_i = σ F_i`` with one σ per group."""
         if self.cone:
             return 0.0, self.force
-        from .. import config
-
-        r = config.TOL.known_force_rtol if self.force_rtol is None else self.force_rtol
-        return self.force * (1.0 - r), self.force
+        return self.force * (1.0 - self.rtol), self.force
 
     @cached_property
-    def halfspaces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-        """``(A_in, b_in, A_in ŵ⊥, A_eq, A_eq ŵ⊥)``: the half-spaces split into inequalities
-        and the ``a s = 0`` rows given as ± pairs (flat or point-like sets: active-set QP
-        solvers reject a degenerate ± pair, so they become equalities); None without
-        half-spaces.  Derived from immutable fields only (a cache, not state)."""
+    def halfspaces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """``(A_in N, b_in, N)``: the frictional set ``A s <= b`` on its affine hull.  The
+        ``a s = 0`` rows given as ± pairs (flat or point-like sets: a point contact's
+        f_z, τ_x, τ_y, τ_z) confine ``s`` to the span of the orthonormal basis
+        ``N`` (6, d), so ``s = N z`` with ``z`` (d,) free and only the other rows,
+        ``A_in N z <= b_in``, remain (active-set QP solvers also reject degenerate ±
+        pairs).  None without half-spaces.  Derived from immutable fields only (a
+        cache, not state)."""
         if self.A is None:
             return None
         ineq, eq = _split_pairs(self.A, self.b)
-        A_in, A_eq = self.A[ineq], self.A[eq]
-        return A_in, self.b[ineq], A_in @ self.normal, A_eq, A_eq @ self.normal
+        N = np.eye(6)
+        if eq.any():
+            _, sv, Vt = np.linalg.svd(self.A[eq])
+            rank = int((sv > 1e-12 * sv[0]).sum())
+            N = Vt[rank:].T
+        return self.A[ineq] @ N, self.b[ineq], N
 
     @cached_property
     def G(self) -> np.ndarray:
@@ -151,8 +176,10 @@ class ContactSet:
         return self._keep_split(replace(self, R=R @ self.R, t=R @ self.t + t))
 
     def with_force(self, force: float) -> ContactSet:
-        """The same contact with normal force (or bound) ``force`` [N]."""
-        return self._keep_split(replace(self, force=float(force)))
+        """The same contact with normal force (or bound) ``force`` [N] (same group)."""
+        other = self._keep_split(replace(self, force=float(force)))
+        other.__dict__["G"] = self.G  # same pose: the contact map is shared, not recomputed
+        return other
 
     def _keep_split(self, other: ContactSet) -> ContactSet:
         # the half-space split depends on A, b and normal only, which a moved or
@@ -280,13 +307,36 @@ def wrench_hull_contact(
     )
 
 
+def _merge_elements(c: np.ndarray, n: np.ndarray, f: np.ndarray, groups) -> tuple:
+    """One contact per group of elements (centres (n, 3), unit outward normals (n, 3),
+    forces (n,)) with the group's exact normal wrench: the force vector ``Σ f_k n_k``,
+    applied on its line of action nearest the force-weighted centre, and the rest of
+    the moment ``Σ c_k × f_k n_k`` — a torsion about that line, κ per newton — carried
+    by the merged contact's normal wrench.  Summing scalar forces along an averaged
+    normal instead inflated a curved jaw's net force by ~1 % and left a moment that no
+    contact could balance.  Returns centres, normals, forces, torsions κ [m]."""
+    cs, ns, fs, ks = [], [], [], []
+    for g in groups:
+        Fv = (f[g, None] * n[g]).sum(axis=0)
+        F2 = float(Fv @ Fv)
+        F = np.sqrt(F2)
+        cbar = np.average(c[g], axis=0, weights=f[g])
+        m = np.cross(c[g] - cbar, f[g, None] * n[g]).sum(axis=0)  # moment about cbar
+        cs.append(cbar + np.cross(Fv, m) / F2)
+        ns.append(Fv / F)
+        fs.append(F)
+        ks.append(float(m @ Fv) / F2)  # the moment's part along the force, per newton
+    return np.array(cs), np.array(ns), np.array(fs), np.array(ks)
+
+
 def reach_contacts(
     profile: ContactProfile, *, torsion_length: float = 0.0, max_triangles: int = 64, n_edges: int = 6
 ) -> list[ContactSet]:
     """The REACH *contact model* of a profile (thesis §2.3.1.3; the ``"reach"`` model of
     :func:`~.models.contact_sets`): each element a soft point contact with its own known
     normal force ``p a``; elements are merged (pressure-weighted, by k-means on the
-    centres) down to ``max_triangles`` to bound the cost.  Any profile works — not only
+    centres) down to ``max_triangles`` to bound the cost.  The elements share one force
+    ``group``: a force-sensor's accuracy scales the jaw's elements together.  Any profile works — not only
     one made by :func:`~.reach.reach_profile`, which is a *profile source* (pad ∩ mesh)."""
     from scipy.cluster.vq import kmeans2
 
@@ -299,12 +349,19 @@ def reach_contacts(
         _, lab = kmeans2(c, c[np.linspace(0, len(c) - 1, max_triangles).astype(int)], minit="matrix", seed=0)
         groups = [np.flatnonzero(lab == k) for k in range(max_triangles)]
         groups = [g for g in groups if g.size]
-        c = np.array([np.average(c[g], axis=0, weights=f[g]) for g in groups])
-        nn = np.array([np.average(n[g], axis=0, weights=f[g]) for g in groups])
-        n = nn / np.linalg.norm(nn, axis=1, keepdims=True)
-        f = np.array([f[g].sum() for g in groups])
-    # each element presses with its own known force: a soft point contact with cone=False
-    return [
-        replace(soft_point_contact(ci, ni, fi, torsion_length, n_edges=n_edges), name="REACH", cone=False)
-        for ci, ni, fi in zip(c, n, f, strict=True)
-    ]
+        c, n, f, kappa = _merge_elements(c, n, f, groups)
+    else:
+        kappa = np.zeros(len(f))
+    # each element presses with its own known force, a soft point contact with
+    # cone=False; the jaw's sensor reads their sum, so the elements form one force
+    # group (one reading's accuracy scales them together; ContactSet.group)
+    group = f"reach-{uuid.uuid4().hex[:12]}"
+    out = []
+    for ci, ni, fi, ki in zip(c, n, f, kappa, strict=True):
+        sp = soft_point_contact(ci, ni, fi, torsion_length, n_edges=n_edges)
+        normal = sp.normal.copy()
+        # the merged elements' torsion about the force (object torque −κ f n, and
+        # local z = −n)
+        normal[5] = ki
+        out.append(replace(sp, name="REACH", cone=False, group=group, normal=normal))
+    return out

@@ -111,13 +111,19 @@ def capacity_scaling(V: np.ndarray, arm: float = 0.0) -> np.ndarray:
     return np.r_[np.full(3, 1 / sf), np.full(3, 1 / st)]
 
 
-def vertex_blocks(contacts, mu: float) -> list[np.ndarray]:
+def vertex_blocks(contacts, mu: float, max_points: int = 2_000_000) -> list[np.ndarray]:
     """Per contact, the object-frame points whose hull is its wrench set: the vertices at
     both ends of its force interval (:meth:`ContactSet.force_bounds`: the origin row for
     a cone, the vertices at ``F (1 − r)`` as well for a known force), so the hull means
-    what :func:`~workbench.grasp.resistance.resists` means."""
-    blocks = []
-    for c in check_contacts(contacts):
+    what :func:`~workbench.grasp.resistance.resists` means.  The contacts of one force
+    ``group`` (a REACH jaw) are one block: the Minkowski sum of their vertex sets at full
+    force and its ``(1 − r)`` copy (one reading scales them together)."""
+    contacts = check_contacts(contacts)
+    blocks, members = [], {}
+    for c in contacts:
+        if c.group is not None:
+            members.setdefault(c.group, []).append(c)
+            continue
         V = c.vertices(mu)
         lo, hi = c.force_bounds()
         if c.cone:
@@ -126,6 +132,17 @@ def vertex_blocks(contacts, mu: float) -> list[np.ndarray]:
             blocks.append(np.vstack([V, V * (lo / hi)]))
         else:
             blocks.append(V)
+    for g, cs in members.items():
+        n = 2 * float(np.prod([len(c.friction) for c in cs], dtype=float))
+        if n > max_points:
+            raise ValueError(
+                f"force group {g!r}: the Minkowski sum of its {len(cs)} contacts has {n:.3g} points "
+                f"(> max_points={max_points}); use resists (no hull), or fewer REACH elements"
+            )
+        V = cs[0].vertices(mu)
+        for c in cs[1:]:
+            V = (V[:, None, :] + c.vertices(mu)[None, :, :]).reshape(-1, 6)
+        blocks.append(np.vstack([V, V * (1.0 - cs[0].rtol)]) if cs[0].rtol > 0 else V)
     return blocks
 
 
@@ -133,7 +150,7 @@ def gws_points(contacts, mu: float, norm: str = "linf", max_points: int = 2_000_
     """(P, 6) points whose hull is ``W_L∞`` (Minkowski sum) or ``W_L1`` (union)."""
     if norm not in NORMS:
         raise ValueError(f"norm must be one of {NORMS}; got {norm!r}")
-    blocks = vertex_blocks(contacts, mu)
+    blocks = vertex_blocks(contacts, mu, max_points)
     if norm == "l1":
         return np.unique(np.vstack(blocks), axis=0)
     n = int(np.prod([len(b) for b in blocks], dtype=float))

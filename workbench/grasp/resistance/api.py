@@ -208,8 +208,7 @@ def min_grasp_force(
         if objective == "scale":
             cost[-1] = 1.0
         else:
-            for s0, phi in zip(prog.starts, prog.phi, strict=True):
-                cost[s0 : s0 + len(phi)] = phi * prog.S[s0 : s0 + len(phi)]
+            cost = prog.Phi.sum(axis=0) * prog.S  # Σ f_i in y
         if prog.soc:
             solver = "clarabel"
             y, status = solve_conic(prog, cost, tol)

@@ -2,14 +2,16 @@
 6DFC Eq. IV.3), assembled once for all solvers.
 
 Each contact i contributes variables ``x_i`` that give its local contact wrench
-``c_i = L_i x_i`` (frame C) and its normal force ``f_i = φ_i·x_i``:
+``c_i = L_i x_i + f_i n_i`` (frame C) and its normal force ``f_i = Φ_i·x`` (its own
+variable, or ``F_i σ_g`` in a force group, below):
 
-* **half-space contacts** (``x_i = (c_i, f_i)``, 7 variables): the outer
-  linearisation ``A (c − f ŵ⊥) <= μ f b`` (Eq. 3.28/3.30) — exact for polygonal
-  models (point, soft point, REACH) — plus, for a limit-surface model taken as
-  itself, either its second-order cone ``‖Q (c − f ŵ⊥)‖ <= μ f`` (ellipsoid,
-  replacing the linearisation) or tangent-plane cuts from a :class:`CutStore`
-  (other models); ``a s = 0`` rows of flat models are equalities;
+* **half-space contacts** (``x_i = (z_i, f_i)``): the frictional part on the set's
+  affine hull, ``c − f ŵ⊥ = N z`` (``N`` (6, d) from :attr:`ContactSet.halfspaces`:
+  d = 2 for a point contact, 3 for a soft point, 6 for a full-dimensional model), and
+  the outer linearisation ``A N z <= μ f b`` (Eq. 3.28/3.30) — exact for polygonal
+  models (point, soft point, REACH) — plus, for a limit-surface model taken as itself,
+  either its second-order cone ``‖Q N z‖ <= μ f`` (ellipsoid, replacing the
+  linearisation) or tangent-plane cuts from a :class:`CutStore` (other models);
 * **vertex contacts** (``x_i = α_i >= 0``, one weight per vertex, in newtons):
   ``c_i = Σ_m α_m (μ s_m + ŵ⊥)``, ``f_i = Σ_m α_m`` (6DFW, or any contact asked for
   ``representation="inner"``);
@@ -17,7 +19,11 @@ Each contact i contributes variables ``x_i`` that give its local contact wrench
 
 Forces: ``f_lo <= f_i <= f_hi`` from :meth:`ContactSet.force_bounds` (a cone from 0,
 a sensor interval for a known force); for the minimal-force program the bounds
-scale with a variable ``s`` (``f_lo s <= f_i <= f_hi s``).  The residual is
+scale with a variable ``s`` (``f_lo s <= f_i <= f_hi s``).  The known-force contacts
+of one force ``group`` (a REACH jaw's elements) share one variable σ_g in
+``[1 − r, 1]`` (``[(1 − r) s, s]``) and ``f_i = F_i σ_g``: a half-space contact of a
+group has no force variable of its own, which keeps the program as small as with
+fixed forces.  The residual is
 ``D (Σ_i G_i c_i + w_ext)`` with the capacity scaling D, and every variable is
 scaled to O(1) (``x = S y``) so that one tolerance means the same for forces,
 torques and weights.
@@ -35,10 +41,6 @@ from ..gws import capacity_scaling
 from .cuts import CutStore
 
 REPRESENTATIONS = ("model", "outer", "inner")
-
-#: local-wrench and force maps of a half-space contact's variables (c, f)
-_L7 = np.hstack([np.eye(6), np.zeros((6, 1))])
-_PHI7 = np.r_[np.zeros(6), 1.0]
 
 
 @dataclass
@@ -60,8 +62,9 @@ class Program:
     soc: list = field(default_factory=list)  # [(rows (k, n), rhs (k,))]
     kinds: list = field(default_factory=list)  # per contact: "vertex" | "halfspace" | "cone" | "cuts"
     starts: list = field(default_factory=list)  # first variable of each contact
-    L: list = field(default_factory=list)  # per contact (6, n_i) local wrench map (unscaled x)
-    phi: list = field(default_factory=list)  # per contact (n_i,) force map (unscaled x)
+    L: list = field(default_factory=list)  # per contact (6, n_i): c = L x_i + f n (unscaled x)
+    n_f: list = field(default_factory=list)  # per contact (6,) n: ŵ⊥ (half-space kinds) or 0
+    Phi: np.ndarray | None = None  # (N, n) normal forces f = Phi x (unscaled x)
 
     def rows(self, which: str) -> tuple[np.ndarray | None, np.ndarray | None]:
         M, v = (self.G, self.h) if which == "ineq" else (self.A, self.b)
@@ -72,12 +75,12 @@ class Program:
     def contact_solution(self, contacts, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(N, 6) object-frame contact wrenches and (N,) forces at ``y``."""
         x = y * self.S
-        cw, f = [], []
-        for c, s, L, phi in zip(contacts, self.starts, self.L, self.phi, strict=True):
-            xi = x[s : s + len(phi)]
-            cw.append(c.G @ (L @ xi))
-            f.append(float(phi @ xi))
-        return np.array(cw), np.array(f)
+        f = self.Phi @ x
+        cw = [
+            c.G @ (L @ x[s : s + L.shape[1]] + fi * nf)
+            for c, s, L, nf, fi in zip(contacts, self.starts, self.L, self.n_f, f, strict=True)
+        ]
+        return np.array(cw), f
 
 
 def contact_kind(c, representation: str, mu: float, cone_as_cuts: bool = False) -> str:
@@ -112,13 +115,21 @@ def assemble(
     cone_as_cuts : ellipsoidal models by cutting planes instead of their cones.
     """
     kinds = [contact_kind(c, representation, mu, cone_as_cuts) for c in contacts]
+    groups = _force_groups(contacts) if minforce != "sum" else {}  # "sum": every force free
+    gcol = {g: k for k, g in enumerate(groups)}
     arm = max(float(np.linalg.norm(c.t)) for c in contacts)
     D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]), arm)
     sf, st = 1.0 / D[0], 1.0 / D[3]
-    size = {"frictionless": 1, "halfspace": 7, "cone": 7, "cuts": 7}
-    sizes = [len(c.friction) if k == "vertex" else size[k] for c, k in zip(contacts, kinds, strict=True)]
+    sizes = []
+    for c, k in zip(contacts, kinds, strict=True):
+        if k == "vertex":
+            sizes.append(len(c.friction))
+        elif k == "frictionless":
+            sizes.append(1)
+        else:  # z (d,) and, outside a force group, f
+            sizes.append(c.halfspaces[2].shape[1] + (c.group not in gcol))
     n_x = int(sum(sizes))
-    n = n_x + (minforce == "scale")
+    n = n_x + len(groups) + (minforce == "scale")
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
     S = np.ones(n)
     lb = np.full(n, -np.inf)
@@ -126,26 +137,54 @@ def assemble(
     A6 = np.zeros((6, n))
     if minforce == "scale":
         lb[-1] = 0.0  # the force scale s >= 0
-    prog = Program(n, A6, w_ext * D, S, lb, ub, kinds=kinds, starts=list(starts))
-    for c, kind, s0, m in zip(contacts, kinds, starts, sizes, strict=True):
+    N_c = len(contacts)
+    prog = Program(n, A6, w_ext * D, S, lb, ub, kinds=kinds, starts=list(starts), Phi=np.zeros((N_c, n)))
+    zero6 = np.zeros(6)
+    for i, (c, kind, s0, m) in enumerate(zip(contacts, kinds, starts, sizes, strict=True)):
         sl = slice(s0, s0 + m)
+        gc = n_x + gcol[c.group] if c.group in gcol else None  # the group's σ column
+        n_f = zero6
         if kind == "vertex":
             U = mu * c.friction + c.normal  # (M, 6) unit-force vertices
-            L, phi = U.T, np.ones(m)
+            L = U.T
+            prog.Phi[i, sl] = 1.0
             S[sl] = sf
             lb[sl] = 0.0
         elif kind == "frictionless":  # x = f: a 6-by-1 map onto ŵ⊥ (a polytope with an
             # empty interior would leave active-set solvers a degenerate face)
-            L, phi = c.normal[:, None].astype(float), np.ones(1)
+            L = c.normal[:, None].astype(float)
+            prog.Phi[i, sl] = 1.0
             S[sl] = sf
         else:
-            L, phi = _L7, _PHI7
-            S[s0 : s0 + 3], S[s0 + 3 : s0 + 6], S[s0 + 6] = sf, st, sf
-            _wrench_rows(prog, c, kind, mu, s0, n, cuts)
+            N = c.halfspaces[2]
+            d = N.shape[1]
+            # z in newtons or newton-metres after scaling: a basis column is a force
+            # or a torque direction for every model here (mixed ones get a blend)
+            S[s0 : s0 + d] = sf * np.linalg.norm(N[:3], axis=0) + st * np.linalg.norm(N[3:], axis=0)
+            L = np.hstack([N, np.zeros((6, m - d))])
+            n_f = c.normal
+            if gc is None:  # its own force variable, the block's last
+                S[s0 + d] = sf
+                prog.Phi[i, s0 + d] = 1.0
+            else:  # f_i = F_i σ_g
+                prog.Phi[i, gc] = c.force
+            _wrench_rows(prog, c, kind, mu, s0, prog.Phi[i], cuts)
         prog.L.append(L)
-        prog.phi.append(phi)
-        A6[:, sl] = (D[:, None] * (c.G @ L)) * S[sl]
-        _force_rows(prog, c, kind, phi, s0, n, minforce, f_max)
+        prog.n_f.append(n_f)
+        DG = D[:, None] * c.G
+        A6[:, sl] = (DG @ L) * S[sl]
+        if n_f is not zero6:  # the normal wrench f ŵ⊥ through the force's column(s)
+            A6 += np.outer(DG @ n_f, prog.Phi[i]) * S
+        if gc is None:
+            _force_rows(prog, c, kind, prog.Phi[i], s0, m, n, minforce, f_max)
+        elif kind in ("vertex", "frictionless"):  # their force variables equal F_i σ_g
+            row = np.zeros(n)
+            row[sl] = 1.0
+            row[gc] = -c.force
+            prog.A.append(row[None])
+            prog.b.append(np.zeros(1))
+    for g, r in groups.items():
+        _group_rows(prog, n_x + gcol[g], r, minforce)
     # scale the collected rows into y and normalise inequality rows (quadprog is
     # sensitive to row scale; normalising leaves the feasible set unchanged)
     prog.G = [g * S for g in prog.G]
@@ -160,53 +199,98 @@ def assemble(
     return prog
 
 
-def _wrench_rows(prog: Program, c, kind: str, mu: float, s0: int, n: int, cuts: CutStore | None) -> None:
-    """Rows of a half-space contact: ``A_in c − f (μ b + A_in ŵ⊥) <= 0`` (+ cuts), the
-    flat directions ``A_eq c − f A_eq ŵ⊥ = 0``, and the ellipsoid's cone."""
-    A_in, b_in, An_in, A_eq, An_eq = c.halfspaces
+def _force_groups(contacts) -> dict:
+    """{group: r} of the contacts' force groups (insertion order), checked: one
+    reading has one accuracy."""
+    groups: dict = {}
+    for c in contacts:
+        if c.group is None:
+            continue
+        r = groups.setdefault(c.group, c.rtol)
+        if r != c.rtol:
+            raise ValueError(
+                f"force group {c.group!r} mixes force accuracies {r} and {c.rtol}: the contacts of "
+                "one group share one sensor reading (give them one force_rtol)"
+            )
+    return groups
+
+
+def _group_rows(prog: Program, col: int, r: float, minforce: str | None) -> None:
+    """σ_g in ``[1 − r, 1]`` (bounds), or ``[(1 − r) s, s]`` (rows) for the minimal-force
+    program; an equality when r = 0."""
+    if minforce != "scale":
+        if r > 0:
+            prog.lb[col], prog.ub[col] = 1.0 - r, 1.0
+        else:
+            row = np.zeros(prog.n)
+            row[col] = 1.0
+            prog.A.append(row[None])
+            prog.b.append(np.ones(1))
+        return
+    row = np.zeros(prog.n)
+    row[col], row[-1] = 1.0, -1.0  # σ − s
+    if r == 0:
+        prog.A.append(row[None])
+        prog.b.append(np.zeros(1))
+        return
+    down = np.zeros(prog.n)
+    down[col], down[-1] = -1.0, 1.0 - r  # (1 − r) s − σ
+    prog.G.append(np.vstack([row, down]))
+    prog.h.append(np.zeros(2))
+    prog.lb[col] = 0.0
+
+
+def _wrench_rows(
+    prog: Program, c, kind: str, mu: float, s0: int, phi: np.ndarray, cuts: CutStore | None
+) -> None:
+    """Rows of a half-space contact on its affine hull, ``c − f ŵ⊥ = N z``:
+    ``A N z − μ f b <= 0`` (+ cuts ``a s <= b`` likewise), or the ellipsoid's cone
+    ``[μ f; Q N z] ∈ SOC``; ``f = phi x`` (its own variable, or ``F_i σ_g`` in a force
+    group)."""
+    AN, b_in, N = c.halfspaces
+    d = N.shape[1]
     if kind == "cone":
-        A_in, b_in, An_in = A_in[:0], b_in[:0], An_in[:0]
+        AN, b_in = AN[:0], b_in[:0]
     if kind == "cuts" and cuts is not None:
         A_c, b_c = cuts.rows(c.model)
         if len(A_c):
-            A_in = np.vstack([A_in, A_c])
+            AN = np.vstack([AN, A_c @ N])
             b_in = np.concatenate([b_in, b_c])
-            An_in = np.concatenate([An_in, A_c @ c.normal])
-    if len(A_in):
-        row = np.zeros((len(A_in), n))
-        row[:, s0 : s0 + 6] = A_in
-        row[:, s0 + 6] = -(mu * b_in + An_in)
+    if len(AN):
+        row = np.outer(-mu * b_in, phi)
+        row[:, s0 : s0 + d] = AN
         prog.G.append(row)
-        prog.h.append(np.zeros(len(A_in)))
-    if len(A_eq):
-        row = np.zeros((len(A_eq), n))
-        row[:, s0 : s0 + 6] = A_eq
-        row[:, s0 + 6] = -An_eq
-        prog.A.append(row)
-        prog.b.append(np.zeros(len(A_eq)))
-    if kind == "cone":  # [μ f; Q (c − f ŵ⊥)] ∈ SOC, written as rhs − rows x
+        prog.h.append(np.zeros(len(AN)))
+    if kind == "cone":  # written as rhs − rows x
         Q = c.model.factor
-        rows = np.zeros((1 + len(Q), n))
-        rows[0, s0 + 6] = -mu
-        rows[1:, s0 : s0 + 6] = -Q
-        rows[1:, s0 + 6] = Q @ c.normal
+        rows = np.zeros((1 + len(Q), len(phi)))
+        rows[0] = -mu * phi
+        rows[1:, s0 : s0 + d] = -Q @ N
         prog.soc.append((rows, np.zeros(1 + len(Q))))
 
 
 def _force_rows(
-    prog: Program, c, kind: str, phi: np.ndarray, s0: int, n: int, minforce: str | None, f_max: float | None
+    prog: Program,
+    c,
+    kind: str,
+    phi: np.ndarray,
+    s0: int,
+    m: int,
+    n: int,
+    minforce: str | None,
+    f_max: float | None,
 ) -> None:
     """``f_lo (s) <= φ x <= f_hi (s)``, or an equality when the interval is a point; a
-    bound on the force variable itself when it has one and the bounds are fixed."""
+    bound on the force variable itself when it has one and the bounds are fixed
+    (a contact with its own force variable or weights: not in a force group)."""
     lo, hi = c.force_bounds()
     if minforce == "sum":
         lo, hi = 0.0, (np.inf if f_max is None else float(f_max))
     if kind != "vertex" and minforce != "scale" and lo < hi:
-        k = s0 + len(phi) - 1  # the force variable (last of the contact's block)
+        k = s0 + m - 1  # the force variable (last of the contact's block)
         prog.lb[k], prog.ub[k] = lo, hi
         return
-    row = np.zeros(n)
-    row[s0 : s0 + len(phi)] = phi
+    row = phi.copy()
     scale_col = n - 1 if minforce == "scale" else None
     if lo == hi:
         eq = row.copy()
@@ -225,7 +309,7 @@ def _force_rows(
             up[scale_col], rhs = -hi, 0.0
         prog.G.append(up[None])
         prog.h.append(np.array([rhs]))
-    if lo > 0 or not np.all(prog.lb[s0 : s0 + len(phi)] >= 0):
+    if lo > 0 or not np.all(prog.lb[s0 : s0 + m] >= 0):
         down = -row
         rhs = -lo
         if scale_col is not None:
@@ -245,11 +329,11 @@ def contact_violations(
     for i, (c, kind) in enumerate(zip(contacts, prog.kinds, strict=True)):
         if kind != "cuts":
             continue
-        s0 = prog.starts[i]
-        ci, f = x[s0 : s0 + 6], x[s0 + 6]
+        s0, L = prog.starts[i], prog.L[i]
+        f = float(prog.Phi[i] @ x)
         if f <= 1e-12 * max(c.force, 1e-300):
             continue
-        s = (ci / f - c.normal) / mu
+        s = (L @ x[s0 : s0 + L.shape[1]]) / (f * mu)  # (c/f − ŵ⊥)/μ
         val = float(c.model.value(s))
         if val > 1.0 + config.TOL.cut_rtol:
             out.append((i, s, val))
