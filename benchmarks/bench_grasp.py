@@ -11,7 +11,7 @@
   vertex weights and by the Qhull facets, on 1,000 random disturbances.
 * ``qp_solvers``: every installed qpsolvers backend (and the default "auto") on
   two sizes of the same outer QPs — two 6DLS contacts (12 variables) and REACH
-  (32 soft contacts, 224 variables): median time and agreement with an exact LP
+  (32 soft contacts, 66 variables): median time and agreement with an exact LP
   on the same constraints.  They decided ``config.DEFAULTS.qp_solver``.
 
 Writes results/benchmarks/grasp.json.  Run: python benchmarks/bench_grasp.py [--quick]
@@ -25,6 +25,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from bench_wrench import machine_roofline  # the sibling benchmark's roofline
 
 from workbench import config
 from workbench.grasp import build_gws, resists, resists_lp
@@ -163,13 +164,16 @@ def main() -> None:
     hull_single_ms = float(np.median(t_single) * 1e3)
 
     # QP solvers on two sizes of the outer QP vs an exact LP of the same constraints:
-    # two 6DLS contacts (12 variables) and REACH (32 soft contacts, 224 variables)
+    # two 6DLS contacts (14 variables) and REACH (32 soft contacts in two force groups,
+    # 2 variables each on their affine hulls + one σ per jaw)
     sets6 = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache)]
     sets_reach = [c for p in profiles for c in contact_sets(p, "reach", cache=cache)]
     Wq = lever_disturbances(rng, 100 if args.quick else 300)
+    n6 = assemble(sets6, Wq[0], MU, "outer", None).n
+    nr = assemble(sets_reach, Wq[0], MU, "outer", None).n
     solvers = {
-        "6dls_12_variables": compare_solvers(sets6, Wq, [outer_lp(sets6, w, MU) for w in Wq]),
-        "reach_224_variables": compare_solvers(
+        f"6dls_{n6}_variables": compare_solvers(sets6, Wq, [outer_lp(sets6, w, MU) for w in Wq]),
+        f"reach_{nr}_variables": compare_solvers(
             sets_reach, Wq[:100], [outer_lp(sets_reach, w, MU) for w in Wq[:100]]
         ),
     }
@@ -209,6 +213,8 @@ def main() -> None:
             f"{config.DEFAULTS.qp_solver}: quadprog up to {config.DEFAULTS.qp_auto_large} variables, "
             "DAQP above"
         ),
+        # this machine's measured FMA throughput beside the timings (machines differ ~7x)
+        "machine": machine_roofline(quick=True),
         "versions": versions(),
     }
     write_json(Path(args.out), out)

@@ -143,6 +143,8 @@ class Tolerances:
     # model never credits more friction than the measured force gives (the
     # analytic limits 2 mu F stay exact).  1 % is the accuracy class of strain-
     # gauge jaw force sensors (~1 % of full scale).  0 restores the exact force.
+    # The reading is the jaw's: the elements of a REACH jaw share one factor in
+    # [1-r, 1] (ContactSet.group), they do not redistribute the pressure.
     known_force_rtol: float = 1e-2
 
     # A contact wrench may exceed its limit-surface model by this (relative f)

@@ -140,8 +140,9 @@ class ContactSet:
         return self.force * (1.0 - self.rtol), self.force
 
     @cached_property
-    def halfspaces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-        """``(A_in N, b_in, N)``: the frictional set ``A s <= b`` on its affine hull.  The
+    def halfspaces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """``(A_in N, b_in, N, (2, d) force and torque norms of N's columns)``: the
+        frictional set ``A s <= b`` on its affine hull.  The
         ``a s = 0`` rows given as ± pairs (flat or point-like sets: a point contact's
         f_z, τ_x, τ_y, τ_z) confine ``s`` to the span of the orthonormal basis
         ``N`` (6, d), so ``s = N z`` with ``z`` (d,) free and only the other rows,
@@ -156,7 +157,7 @@ class ContactSet:
             _, sv, Vt = np.linalg.svd(self.A[eq])
             rank = int((sv > 1e-12 * sv[0]).sum())
             N = Vt[rank:].T
-        return self.A[ineq] @ N, self.b[ineq], N
+        return self.A[ineq] @ N, self.b[ineq], N, np.linalg.norm(N.reshape(2, 3, -1), axis=1)
 
     @cached_property
     def G(self) -> np.ndarray:

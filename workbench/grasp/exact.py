@@ -41,6 +41,8 @@ class ExactContacts:
         self.norm = [p.normalized() for p in profiles]
         self.F = np.array([p.F for p in profiles])
         self.G = [contact_map(np.eye(3), p.pressure_center) for p in profiles]
+        #: largest contact lever arm [m]: the torque floor of the capacity scaling
+        self.arm = max(float(np.linalg.norm(p.pressure_center)) for p in profiles)
         self.normal = [p.normal_wrench / p.F for p in profiles]
         self.start = [
             frictional_wrenches(q, sample_twists_thesis(n_start // 2, q, seed), 1.0) for q in self.norm
@@ -68,8 +70,9 @@ def resists_exact(
     Same meaning of "resisted" as :func:`~workbench.grasp.resistance.resists`: each
     force lies in the sensor interval ``[F(1 − r), F]`` (``force_rtol``, default
     ``config.TOL.known_force_rtol``), the residual is scaled by the grasp's capacity
-    (largest contact force and torque of the starting columns) and compared with
-    ``tol`` (``config.TOL.resist_rtol``).
+    (largest contact force and torque of the starting columns, the torque floored at
+    the force times the largest lever arm, as in the resistance program) and compared
+    with ``tol`` (``config.TOL.resist_rtol``).
     """
     from .. import config
     from .gws import capacity_scaling, check_mu
@@ -86,7 +89,8 @@ def resists_exact(
     D = capacity_scaling(
         np.vstack(
             [(F[i] * (mu * np.array(cols[i]) + contacts.normal[i])) @ contacts.G[i].T for i in range(N)]
-        )
+        ),
+        contacts.arm,
     )
     target = -w * D
     for it in range(1, max_iter + 1):

@@ -117,7 +117,7 @@ def assemble(
     kinds = [contact_kind(c, representation, mu, cone_as_cuts) for c in contacts]
     groups = _force_groups(contacts) if minforce != "sum" else {}  # "sum": every force free
     gcol = {g: k for k, g in enumerate(groups)}
-    arm = max(float(np.linalg.norm(c.t)) for c in contacts)
+    arm = float(np.sqrt(max(c.t @ c.t for c in contacts)))
     D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]), arm)
     sf, st = 1.0 / D[0], 1.0 / D[3]
     sizes = []
@@ -156,25 +156,26 @@ def assemble(
             prog.Phi[i, sl] = 1.0
             S[sl] = sf
         else:
-            N = c.halfspaces[2]
+            _, _, N, nrm = c.halfspaces
             d = N.shape[1]
             # z in newtons or newton-metres after scaling: a basis column is a force
             # or a torque direction for every model here (mixed ones get a blend)
-            S[s0 : s0 + d] = sf * np.linalg.norm(N[:3], axis=0) + st * np.linalg.norm(N[3:], axis=0)
-            L = np.hstack([N, np.zeros((6, m - d))])
+            S[s0 : s0 + d] = sf * nrm[0] + st * nrm[1]
+            L = N if m == d else np.hstack([N, np.zeros((6, 1))])
             n_f = c.normal
             if gc is None:  # its own force variable, the block's last
-                S[s0 + d] = sf
-                prog.Phi[i, s0 + d] = 1.0
+                fcol, fcoef = s0 + d, 1.0
+                S[fcol] = sf
             else:  # f_i = F_i σ_g
-                prog.Phi[i, gc] = c.force
-            _wrench_rows(prog, c, kind, mu, s0, prog.Phi[i], cuts)
+                fcol, fcoef = gc, c.force
+            prog.Phi[i, fcol] = fcoef
+            _wrench_rows(prog, c, kind, mu, s0, fcol, fcoef, cuts)
         prog.L.append(L)
         prog.n_f.append(n_f)
         DG = D[:, None] * c.G
         A6[:, sl] = (DG @ L) * S[sl]
-        if n_f is not zero6:  # the normal wrench f ŵ⊥ through the force's column(s)
-            A6 += np.outer(DG @ n_f, prog.Phi[i]) * S
+        if n_f is not zero6:  # the normal wrench f ŵ⊥ through the force's column
+            A6[:, fcol] += (DG @ n_f) * (fcoef * S[fcol])
         if gc is None:
             _force_rows(prog, c, kind, prog.Phi[i], s0, m, n, minforce, f_max)
         elif kind in ("vertex", "frictionless"):  # their force variables equal F_i σ_g
@@ -241,13 +242,13 @@ def _group_rows(prog: Program, col: int, r: float, minforce: str | None) -> None
 
 
 def _wrench_rows(
-    prog: Program, c, kind: str, mu: float, s0: int, phi: np.ndarray, cuts: CutStore | None
+    prog: Program, c, kind: str, mu: float, s0: int, fcol: int, fcoef: float, cuts: CutStore | None
 ) -> None:
     """Rows of a half-space contact on its affine hull, ``c − f ŵ⊥ = N z``:
     ``A N z − μ f b <= 0`` (+ cuts ``a s <= b`` likewise), or the ellipsoid's cone
-    ``[μ f; Q N z] ∈ SOC``; ``f = phi x`` (its own variable, or ``F_i σ_g`` in a force
-    group)."""
-    AN, b_in, N = c.halfspaces
+    ``[μ f; Q N z] ∈ SOC``; ``f = fcoef · x[fcol]`` (its own variable, or ``F_i σ_g``
+    in a force group)."""
+    AN, b_in, N, _ = c.halfspaces
     d = N.shape[1]
     if kind == "cone":
         AN, b_in = AN[:0], b_in[:0]
@@ -257,14 +258,15 @@ def _wrench_rows(
             AN = np.vstack([AN, A_c @ N])
             b_in = np.concatenate([b_in, b_c])
     if len(AN):
-        row = np.outer(-mu * b_in, phi)
+        row = np.zeros((len(AN), prog.n))
         row[:, s0 : s0 + d] = AN
+        row[:, fcol] = -mu * fcoef * b_in
         prog.G.append(row)
         prog.h.append(np.zeros(len(AN)))
     if kind == "cone":  # written as rhs − rows x
         Q = c.model.factor
-        rows = np.zeros((1 + len(Q), len(phi)))
-        rows[0] = -mu * phi
+        rows = np.zeros((1 + len(Q), prog.n))
+        rows[0, fcol] = -mu * fcoef
         rows[1:, s0 : s0 + d] = -Q @ N
         prog.soc.append((rows, np.zeros(1 + len(Q))))
 
