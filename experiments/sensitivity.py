@@ -54,7 +54,7 @@ NAME = "sensitivity"
 # 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components; 3: the cut refinement
 # stops when the outer set fails and never returns an unconverged "resisted"; 4: the "auto"
 # QP solver (DAQP above 48 variables: REACH timings)
-ROW_VERSION = 5  # 5: one meaning of resisted (issue 11: known-force interval, model itself)
+ROW_VERSION = 6  # 5: one meaning of resisted (issue 11); 6: one force reading per REACH jaw
 
 DEFAULT_CONFIG = {
     "seed": 0,
