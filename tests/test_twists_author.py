@@ -1,0 +1,85 @@
+"""The author's twist grid and grid downsampling ("thesis-code" protocol, issue 12):
+documented structure and a brute-force reference of the downsampling."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from workbench.limit_surface.downsample import grid_downsample
+from workbench.twists import plucker_from_twists
+from workbench.twists_author import AUTHOR_LEVELS, author_sphere, sample_twists_author
+
+SIDES = np.array([0.012, 0.020, 0.0037])  # a contact's axis-aligned box [m]
+
+
+def test_author_sphere_has_the_six_axes_and_is_spread():
+    w = author_sphere(25)
+    assert w.shape == (25, 3)
+    np.testing.assert_allclose(np.linalg.norm(w, axis=1), 1.0)
+    for a in np.vstack([np.eye(3), -np.eye(3)]):
+        assert np.isclose(w @ a, 1.0).sum() == 1
+    d = np.linalg.norm(w[:, None] - w[None], axis=2) + 10 * np.eye(25)
+    assert d.min() > 0.3  # no two directions closer than ~17° (25 points: mean spacing ~41°)
+
+
+def test_level0_grid_has_the_documented_structure():
+    xi = sample_twists_author(SIDES, 0)
+    lv = AUTHOR_LEVELS[0]
+    n_d = 2 * 2 * len(lv.coeffs) + 1  # ±c·min, ±c·max and 0, all distinct for these sides
+    n_axes = lv.n_axes * n_d**2 + lv.n_through
+    n_pitch = 2 * len(lv.pitch_factors) + 1
+    assert len(xi) == (n_axes + 36) * n_pitch == 48_483
+    e, m, h, trans = plucker_from_twists(xi)
+    assert trans.sum() == 36 * n_pitch  # the near-translations
+    rot = ~trans
+    # pitches {0, ±0.25 mean(L)}
+    np.testing.assert_allclose(np.unique(np.round(h[rot] / SIDES.mean(), 12)), [-0.25, 0.0, 0.25])
+    # axis points: q = e × m is the point of the axis nearest o; on the author's grid it is
+    # the offset p ⊥ e itself, with its two grid coordinates at most 1.0 × the longest side
+    q = np.cross(e[rot], m[rot])
+    assert np.abs(np.einsum("ij,ij->i", q, e[rot])).max() < 1e-15
+    k = np.argmax(np.abs(e[rot]), axis=1)
+    others = np.abs(q).copy()
+    others[np.arange(len(k)), k] = 0.0
+    assert others.max() == pytest.approx(SIDES.max(), rel=1e-12)
+    # axes through o: n_through plus the offset grid's (0, 0) per direction, per pitch;
+    # the translations are along the ± axes and the face diagonals
+    assert (np.linalg.norm(q, axis=1) < 1e-12).sum() == (lv.n_through + lv.n_axes) * n_pitch
+    dirs = np.unique(np.round(e[trans], 12), axis=0)
+    assert len(dirs) == 12 and set(np.round(np.abs(dirs).sum(axis=1) ** 2, 9)) == {1.0, 2.0}
+
+
+def test_levels_and_bad_input():
+    assert len(sample_twists_author(SIDES, -1)) == 10 + 36  # the parametric example's level
+    with pytest.raises(ValueError, match="fine_level"):
+        sample_twists_author(SIDES, 7)
+    with pytest.raises(ValueError, match="box sides"):
+        sample_twists_author([0.0, 0.0, 0.0])
+
+
+def _reference_downsample(W, steps):
+    """Slow reference: loop over every grid cell like the author's code (closed cells)."""
+    lo, hi = W.min(0), W.max(0)
+    width = (hi - lo) / steps
+    starts = [np.arange(lo[j], hi[j] + 1e-15, width[j]) if width[j] > 0 else [lo[j]] for j in range(6)]
+    keep = set()
+    for cell in itertools.product(*starts):
+        inside = np.ones(len(W), dtype=bool)
+        for j, x in enumerate(cell):
+            if width[j] > 0:
+                inside &= (W[:, j] >= x) & (W[:, j] <= x + width[j])
+        idx = np.flatnonzero(inside)
+        if idx.size:
+            keep.add(int(idx[np.argmin(np.linalg.norm(W[idx] - W[idx].mean(0), axis=1))]))
+    return np.array(sorted(keep))
+
+
+def test_grid_downsample_keeps_one_wrench_per_occupied_cell(rng):
+    W = rng.standard_normal((400, 6))
+    W[:, 5] = 0.0  # a flat dimension is one cell
+    got = grid_downsample(W, 2.5)
+    np.testing.assert_array_equal(got, _reference_downsample(W, 2.5))
+    assert 50 < len(got) < 3**5  # 3 cells per non-flat dimension, many occupied
+    with pytest.raises(ValueError, match="steps"):
+        grid_downsample(W, 0)
