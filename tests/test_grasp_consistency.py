@@ -394,3 +394,33 @@ def test_reach_jaw_is_one_force_group(scene):
     assert not resists(sets, w, 0.0)
     ungrouped = [dataclasses.replace(c, group=None) for c in sets]
     assert resists(ungrouped, w, 0.0)
+
+
+def test_a_mirrored_jaw_needs_its_own_force_group(scene):
+    """Trial finding: jaw 2 built by moving jaw 1's REACH contacts kept jaw 1's group, so
+    both jaws silently shared one reading.  A group whose normal forces cancel is now
+    rejected; ``moved(..., group=)`` gives the copy its own reading, and then the
+    mirrored grasp decides like the grasp built from both profiles."""
+    profiles, _ = scene
+    jaw1 = contact_sets(profiles[0], "reach")
+    Rz = np.diag([-1.0, -1.0, 1.0])  # the scene is symmetric under a half turn about z
+    w = gravity_wrench(0.3, [0.0, 0.0, 0.01])
+    with pytest.raises(ValueError, match="spans opposing jaws"):
+        resists(jaw1 + [c.moved(Rz, np.zeros(3)) for c in jaw1], w, MU)
+    mirrored = jaw1 + [c.moved(Rz, np.zeros(3), group="jaw-2") for c in jaw1]
+    both = jaw1 + contact_sets(profiles[1], "reach")
+    m1 = min_grasp_force(mirrored, w, MU)
+    m2 = min_grasp_force(both, w, MU)
+    assert m1.feasible and m1.scale == pytest.approx(m2.scale, rel=2e-3)  # jaw 2 is 0.02 % stronger
+
+
+def test_reach_defaults_are_one_model_and_bad_sizes_are_refused(scene):
+    from workbench.grasp import reach_contacts
+
+    profiles, _ = scene
+    a = contact_sets(profiles[0], "reach")
+    b = reach_contacts(profiles[0])
+    assert len(a) == len(b) and len(a[0].friction) == len(b[0].friction)
+    np.testing.assert_allclose([c.force for c in a], [c.force for c in b])
+    with pytest.raises(ValueError, match="max_triangles"):
+        reach_contacts(profiles[0], max_triangles=0)

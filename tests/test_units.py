@@ -160,3 +160,15 @@ def test_flip_detection_limits(caplog):
         ring = np.column_stack([np.sin(t), np.cos(t), np.zeros_like(t)])
         ContactProfile(0.02 * ring, ring, np.full(41, 1e-6), np.ones(41))
     assert not caplog.records
+
+
+def test_planar_model_keeps_allow_scale():
+    """Trial finding: a millimetre profile accepted with allow_scale=True was rejected
+    again inside the planar model; it now gives the metre profile's verdict scaled."""
+    from workbench.grasp import contact_sets
+    from workbench.grasp.scenes import elliptic_cylinder_grasp
+
+    p = elliptic_cylinder_grasp(force=10.0, n_elements=100)[0]
+    mm = ContactProfile(p.centers * 1e3, p.normals, p.areas * 1e6, p.pressures * 1e-6, allow_scale=True)
+    (c,) = contact_sets(mm, "planar")
+    assert c.force == pytest.approx(p.F, rel=1e-12)

@@ -147,6 +147,12 @@ class Tolerances:
     # [1-r, 1] (ContactSet.group), they do not redistribute the pressure.
     known_force_rtol: float = 1e-2
 
+    # A force group is one jaw: its contacts' net normal force must be at least this
+    # fraction of the force they press with (a jaw wrapped ±1 rad around a cylinder:
+    # sin(1)/1 = 0.84; two opposing jaws in one group: ~0).  Below it the group is
+    # rejected as spanning opposing jaws.
+    group_min_net_push: float = 0.3
+
     # A contact wrench may exceed its limit-surface model by this (relative f)
     # before the cutting-plane refinement adds a tangent plane (Kelley).
     cut_rtol: float = 1e-4

@@ -172,9 +172,13 @@ class ContactSet:
         """(M, 6) contact wrench vertices in the object frame, Eq. (4.1)."""
         return self.local_vertices(mu) @ self.G.T
 
-    def moved(self, R: np.ndarray, t: np.ndarray) -> ContactSet:
-        """The same contact under a rigid motion ``x -> R x + t`` of the gripper."""
-        return self._keep_split(replace(self, R=R @ self.R, t=R @ self.t + t))
+    def moved(self, R: np.ndarray, t: np.ndarray, *, group: str | None | object = ...) -> ContactSet:
+        """The same contact under a rigid motion ``x -> R x + t`` of the gripper, in
+        the same force ``group`` — or in ``group=`` when the copy is *another* jaw
+        (a mirrored jaw built from this one reads its own sensor: give it a new group,
+        or None)."""
+        kw = {} if group is ... else {"group": group}
+        return self._keep_split(replace(self, R=R @ self.R, t=R @ self.t + t, **kw))
 
     def with_force(self, force: float) -> ContactSet:
         """The same contact with normal force (or bound) ``force`` [N] (same group)."""
@@ -331,16 +335,29 @@ def _merge_elements(c: np.ndarray, n: np.ndarray, f: np.ndarray, groups) -> tupl
 
 
 def reach_contacts(
-    profile: ContactProfile, *, torsion_length: float = 0.0, max_triangles: int = 64, n_edges: int = 6
+    profile: ContactProfile, *, torsion_length: float = 0.0, max_triangles: int = 16, n_edges: int = 8
 ) -> list[ContactSet]:
     """The REACH *contact model* of a profile (thesis §2.3.1.3; the ``"reach"`` model of
     :func:`~.models.contact_sets`): each element a soft point contact with its own known
     normal force ``p a``; elements are merged (pressure-weighted, by k-means on the
     centres) down to ``max_triangles`` to bound the cost.  The elements share one force
     ``group``: a force-sensor's accuracy scales the jaw's elements together.  Any profile works — not only
-    one made by :func:`~.reach.reach_profile`, which is a *profile source* (pad ∩ mesh)."""
+    one made by :func:`~.reach.reach_profile`, which is a *profile source* (pad ∩ mesh).
+
+    torsion_length : torsional friction per newton at μ = 1 of each element [m]; the
+        default 0 makes every element a hard point contact (REACH's elements are points).
+    max_triangles : element clusters per jaw (the defaults match ``contact_sets(p, "reach")``).
+    n_edges : sides of each element's friction polygon, inscribed (conservative: the
+        capacity in a direction between two vertices is cos(π/n_edges) of the circle's).
+    A merged cluster presses with ``|Σ p a n|`` (slightly less than ``Σ p a`` on a
+    curved jaw) so that the jaw's normal wrench is kept exactly."""
     from scipy.cluster.vq import kmeans2
 
+    if int(max_triangles) < 1 or int(n_edges) < 3:
+        raise ValueError(
+            f"max_triangles must be >= 1 and n_edges >= 3; got {max_triangles}, {n_edges} "
+            "(16 clusters of 8-sided polygons are the defaults)"
+        )
     c, n, f = profile.centers, profile.normals, profile.forces
     keep = f > 0
     c, n, f = c[keep], n[keep], f[keep]

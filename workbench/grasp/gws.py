@@ -78,7 +78,8 @@ def squeeze_check(contacts: list[ContactSet]) -> None:
 
         warnings.warn(
             "the contacts' normal forces push away from the contacts' centroid: are the profiles' "
-            "normals pointing into the object? (they must point out of it; fine for an internal grasp)",
+            "normals pointing into the object? (they must point out of it; fine for an internal grasp; "
+            "a single jaw's curved contacts can trigger this too — a grasp needs its opposing jaw)",
             UserWarning,
             stacklevel=3,
         )
@@ -150,6 +151,7 @@ def gws_points(contacts, mu: float, norm: str = "linf", max_points: int = 2_000_
     """(P, 6) points whose hull is ``W_L∞`` (Minkowski sum) or ``W_L1`` (union)."""
     if norm not in NORMS:
         raise ValueError(f"norm must be one of {NORMS}; got {norm!r}")
+    check_mu(mu)
     blocks = vertex_blocks(contacts, mu, max_points)
     if norm == "l1":
         return np.unique(np.vstack(blocks), axis=0)

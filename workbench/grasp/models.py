@@ -77,7 +77,9 @@ def planar_profile(profile: ContactProfile) -> ContactProfile:
     proj = profile.centers - np.outer(c @ n_p, n_p)
     cos = np.clip(np.abs(profile.normals @ n_p), 1e-3, None)
     areas = profile.areas * cos
-    return ContactProfile(proj, np.tile(n_p, (len(proj), 1)), areas, profile.forces / areas)
+    return ContactProfile(
+        proj, np.tile(n_p, (len(proj), 1)), areas, profile.forces / areas, allow_scale=profile.allow_scale
+    )
 
 
 def contact_sets(

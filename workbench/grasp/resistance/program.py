@@ -202,8 +202,11 @@ def assemble(
 
 def _force_groups(contacts) -> dict:
     """{group: r} of the contacts' force groups (insertion order), checked: one
-    reading has one accuracy."""
+    reading has one accuracy, and a group is one jaw — its contacts' normal forces
+    must not cancel (two opposing jaws in one group, e.g. a jaw mirrored with
+    ``moved`` without a new ``group=``, would share one reading silently)."""
     groups: dict = {}
+    push: dict = {}
     for c in contacts:
         if c.group is None:
             continue
@@ -212,6 +215,16 @@ def _force_groups(contacts) -> dict:
             raise ValueError(
                 f"force group {c.group!r} mixes force accuracies {r} and {c.rtol}: the contacts of "
                 "one group share one sensor reading (give them one force_rtol)"
+            )
+        v, tot = push.get(c.group, (np.zeros(3), 0.0))
+        push[c.group] = (v + c.force * (c.R @ c.normal[:3]), tot + c.force)
+    for g, (v, tot) in push.items():
+        if tot > 0 and np.linalg.norm(v) < config.TOL.group_min_net_push * tot:
+            raise ValueError(
+                f"force group {g!r}: its contacts' normal forces cancel (net {np.linalg.norm(v):.3g} N of "
+                f"{tot:.3g} N pressed): a group is one jaw's reading, and this one spans opposing jaws. "
+                "Give the other jaw its own group (ContactSet.moved(R, t, group='jaw-2') or "
+                "dataclasses.replace(c, group=...))"
             )
     return groups
 
