@@ -205,23 +205,33 @@ def _force_groups(contacts) -> dict:
     reading has one accuracy, and a group is one jaw — its contacts' normal forces
     must not cancel (two opposing jaws in one group, e.g. a jaw mirrored with
     ``moved`` without a new ``group=``, would share one reading silently)."""
+    members = [c for c in contacts if c.group is not None]
+    if not members:
+        return {}
+    r_default = config.TOL.known_force_rtol
     groups: dict = {}
-    push: dict = {}
-    for c in contacts:
-        if c.group is None:
-            continue
-        r = groups.setdefault(c.group, c.rtol)
-        if r != c.rtol:
+    for c in members:
+        rc = r_default if c.force_rtol is None else c.force_rtol
+        r = groups.setdefault(c.group, rc)
+        if r != rc:
             raise ValueError(
-                f"force group {c.group!r} mixes force accuracies {r} and {c.rtol}: the contacts of "
+                f"force group {c.group!r} mixes force accuracies {r} and {rc}: the contacts of "
                 "one group share one sensor reading (give them one force_rtol)"
             )
-        v, tot = push.get(c.group, (np.zeros(3), 0.0))
-        push[c.group] = (v + c.force * (c.R @ c.normal[:3]), tot + c.force)
-    for g, (v, tot) in push.items():
-        if tot > 0 and np.linalg.norm(v) < config.TOL.group_min_net_push * tot:
+    f = np.array([c.force for c in members])
+    push = np.einsum(
+        "kij,kj->ki", np.array([c.R for c in members]), np.array([c.normal[:3] for c in members])
+    )
+    push *= f[:, None]
+    label = (
+        np.array([list(groups).index(c.group) for c in members]) if len(groups) > 1 else np.zeros(len(f), int)
+    )
+    for k, g in enumerate(groups):
+        sel = label == k
+        net, tot = float(np.linalg.norm(push[sel].sum(axis=0))), float(f[sel].sum())
+        if tot > 0 and net < config.TOL.group_min_net_push * tot:
             raise ValueError(
-                f"force group {g!r}: its contacts' normal forces cancel (net {np.linalg.norm(v):.3g} N of "
+                f"force group {g!r}: its contacts' normal forces cancel (net {net:.3g} N of "
                 f"{tot:.3g} N pressed): a group is one jaw's reading, and this one spans opposing jaws. "
                 "Give the other jaw its own group (ContactSet.moved(R, t, group='jaw-2') or "
                 "dataclasses.replace(c, group=...))"
