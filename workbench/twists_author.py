@@ -150,7 +150,7 @@ def sample_twists_author(profile_or_sides: Any, fine_level: int = 0) -> np.ndarr
     m = np.cross(p, omega)
     rot = [twists_from_plucker(omega, m, np.full(len(omega), h)) for h in pitches]
     trans = translation_twists(_near_translations())  # the pitch is invisible 10⁷ away
-    return np.vstack([r for r in rot] + [trans] * len(pitches))
+    return np.vstack(rot + [trans] * len(pitches))
 
 
 __all__ = ["AUTHOR_LEVELS", "AuthorLevel", "author_sphere", "box_sides", "sample_twists_author"]

@@ -29,6 +29,7 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import config
 from ..limit_surface.base import LimitSurfaceModel
 from ..limit_surface.contact_wrench import ContactWrenchModel
 from ..profile import ContactProfile
@@ -125,8 +126,6 @@ class ContactSet:
     @property
     def rtol(self) -> float:
         """Relative accuracy r of a known force (``force_rtol`` or the config's, read now)."""
-        from .. import config
-
         return config.TOL.known_force_rtol if self.force_rtol is None else self.force_rtol
 
     def force_bounds(self) -> tuple[float, float]:

@@ -41,6 +41,8 @@ from ..gws import capacity_scaling
 from .cuts import CutStore
 
 REPRESENTATIONS = ("model", "outer", "inner")
+#: kinds whose variables are (z, f) on the set's affine hull: c = N z + f ŵ⊥
+_HALFSPACE_KINDS = ("halfspace", "cone", "cuts")
 
 
 @dataclass
@@ -62,8 +64,7 @@ class Program:
     soc: list = field(default_factory=list)  # [(rows (k, n), rhs (k,))]
     kinds: list = field(default_factory=list)  # per contact: "vertex" | "halfspace" | "cone" | "cuts"
     starts: list = field(default_factory=list)  # first variable of each contact
-    L: list = field(default_factory=list)  # per contact (6, n_i): c = L x_i + f n (unscaled x)
-    n_f: list = field(default_factory=list)  # per contact (6,) n: ŵ⊥ (half-space kinds) or 0
+    L: list = field(default_factory=list)  # per contact (6, n_i): c = L x_i (+ f ŵ⊥, half-space kinds)
     Phi: np.ndarray | None = None  # (N, n) normal forces f = Phi x (unscaled x)
 
     def rows(self, which: str) -> tuple[np.ndarray | None, np.ndarray | None]:
@@ -77,8 +78,8 @@ class Program:
         x = y * self.S
         f = self.Phi @ x
         cw = [
-            c.G @ (L @ x[s : s + L.shape[1]] + fi * nf)
-            for c, s, L, nf, fi in zip(contacts, self.starts, self.L, self.n_f, f, strict=True)
+            c.G @ (L @ x[s : s + L.shape[1]] + (fi * c.normal if k in _HALFSPACE_KINDS else 0.0))
+            for c, k, s, L, fi in zip(contacts, self.kinds, self.starts, self.L, f, strict=True)
         ]
         return np.array(cw), f
 
@@ -139,11 +140,9 @@ def assemble(
         lb[-1] = 0.0  # the force scale s >= 0
     N_c = len(contacts)
     prog = Program(n, A6, w_ext * D, S, lb, ub, kinds=kinds, starts=list(starts), Phi=np.zeros((N_c, n)))
-    zero6 = np.zeros(6)
     for i, (c, kind, s0, m) in enumerate(zip(contacts, kinds, starts, sizes, strict=True)):
         sl = slice(s0, s0 + m)
         gc = n_x + gcol[c.group] if c.group in gcol else None  # the group's σ column
-        n_f = zero6
         if kind == "vertex":
             U = mu * c.friction + c.normal  # (M, 6) unit-force vertices
             L = U.T
@@ -162,7 +161,6 @@ def assemble(
             # or a torque direction for every model here (mixed ones get a blend)
             S[s0 : s0 + d] = sf * nrm[0] + st * nrm[1]
             L = N if m == d else np.hstack([N, np.zeros((6, 1))])
-            n_f = c.normal
             if gc is None:  # its own force variable, the block's last
                 fcol, fcoef = s0 + d, 1.0
                 S[fcol] = sf
@@ -171,11 +169,10 @@ def assemble(
             prog.Phi[i, fcol] = fcoef
             _wrench_rows(prog, c, kind, mu, s0, fcol, fcoef, cuts)
         prog.L.append(L)
-        prog.n_f.append(n_f)
         DG = D[:, None] * c.G
         A6[:, sl] = (DG @ L) * S[sl]
-        if n_f is not zero6:  # the normal wrench f ŵ⊥ through the force's column
-            A6[:, fcol] += (DG @ n_f) * (fcoef * S[fcol])
+        if kind in _HALFSPACE_KINDS:  # the normal wrench f ŵ⊥ through the force's column
+            A6[:, fcol] += (DG @ c.normal) * (fcoef * S[fcol])
         if gc is None:
             _force_rows(prog, c, kind, prog.Phi[i], s0, m, n, minforce, f_max)
         elif kind in ("vertex", "frictionless"):  # their force variables equal F_i σ_g
@@ -208,14 +205,12 @@ def _force_groups(contacts) -> dict:
     members = [c for c in contacts if c.group is not None]
     if not members:
         return {}
-    r_default = config.TOL.known_force_rtol
     groups: dict = {}
     for c in members:
-        rc = r_default if c.force_rtol is None else c.force_rtol
-        r = groups.setdefault(c.group, rc)
-        if r != rc:
+        r = groups.setdefault(c.group, c.rtol)
+        if r != c.rtol:
             raise ValueError(
-                f"force group {c.group!r} mixes force accuracies {r} and {rc}: the contacts of "
+                f"force group {c.group!r} mixes force accuracies {r} and {c.rtol}: the contacts of "
                 "one group share one sensor reading (give them one force_rtol)"
             )
     f = np.array([c.force for c in members])
@@ -223,9 +218,8 @@ def _force_groups(contacts) -> dict:
         "kij,kj->ki", np.array([c.R for c in members]), np.array([c.normal[:3] for c in members])
     )
     push *= f[:, None]
-    label = (
-        np.array([list(groups).index(c.group) for c in members]) if len(groups) > 1 else np.zeros(len(f), int)
-    )
+    index = {g: k for k, g in enumerate(groups)}
+    label = np.array([index[c.group] for c in members])
     for k, g in enumerate(groups):
         sel = label == k
         net, tot = float(np.linalg.norm(push[sel].sum(axis=0))), float(f[sel].sum())
