@@ -1,16 +1,29 @@
 """Fig 3.9/3.10: ellipsoid and quartic 6DLS fitted to K = 100..1,000 wrenches of S1-S6.
 
-Thesis §3.5.1.3.  For each K a fresh thesis sample of K twists (§3.3.2:
-K/2 Fibonacci rotations + K/2 translations) gives the training wrenches, a
-separate seed the ``n_heldout`` held-out ones, on the continuous surfaces (or
-fine meshes with ``wrench_source=mesh``), normalised by the exact ``w_max``;
-the error is Eq. (3.18) on the held-out wrenches.  "ellipsoid" is the SDP of
-Eq. (3.12) as in the thesis figure; the least-squares ellipsoid (Eq. 3.13) and
-the SCS solver are reported next to it.  "quartic" is fitted to the wrenches
-*and* their sampling twists (outward normals by maximum dissipation, see
+Thesis §3.5.1.3, under two sampling/scoring protocols:
+
+* ``"thesis-text"`` (``heldout_error``, always run): the sampler the thesis describes (§3.3.2:
+  K/2 Fibonacci rotations + K/2 translations, pitch ``h ∈ [−1, 1]·l_s``) gives
+  the K training wrenches, a separate seed the ``n_heldout`` held-out ones; the
+  error is Eq. (3.18) on the held-out wrenches.
+* ``"thesis-code"`` (``thesis_protocol_error``, ``thesis_code=True``): the author's code
+  (:mod:`workbench.twists_author`, 48 483 twists at ``fine_level`` 0); Fig 3.9
+  trains on K wrenches drawn from that set and scores Eq. (3.18) on all of it;
+  the code's own training set (grid downsampling, a few hundred wrenches) is
+  scored the same way (``thesis_protocol_error.downsampled``).
+
+Wrenches come from the continuous surfaces (or fine meshes with
+``wrench_source=mesh``), normalised by the exact ``w_max``.  The error a user can
+compare across protocols is the sampler-independent one (``support_error``,
+:mod:`workbench.limit_surface.support_error`): radial distance at exact surface
+points of uniformly distributed normals.  "ellipsoid" is the PSD-constrained
+least squares of Eq. (3.12) (cvxpy; the log-det term is ``α = 1e-6·K`` and
+changes nothing measurable, ``sdp_log_det_effect``); the unconstrained
+least-squares ellipsoid (Eq. 3.13) and the SCS solver are reported next to it.
+"quartic" is fitted to the wrenches *and* their sampling twists (outward normals
+by maximum dissipation, as the author's code does with other weights, see
 :func:`workbench.fit_quartic`); "quartic_values" is Eq. (3.17) on the values
-alone, as in the thesis.  Normals do not help the ellipsoid (its error is
-bias, not variance: measured +0.003 on S2), so it stays values-only.
+alone, as the thesis text writes it.
 """
 
 from __future__ import annotations
@@ -32,12 +45,19 @@ from workbench import (
     surface_wrenches,
     w_max,
 )
+from workbench.limit_surface.support_error import support_error
+from workbench.limit_surface.thesis_code import thesis_code_split
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
+from workbench.twists_author import box_sides, sample_twists_author
 
 NAME = "ls-fitting"
 QUARTIC_COEFFS = 126  # homogeneous quartic in 6 variables: C(9, 5)
+#: §3.6 and §5: the models "reached as low as 0.02 and 0.04 mean wrench error" — best
+#: values over six surfaces and 2,932 FEM contacts, not bounds; Fig 3.9's curves are not
+#: printed as numbers anywhere in the thesis
+THESIS_AS_LOW_AS = {"quartic": 0.02, "ellipsoid": 0.04}
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -47,39 +67,119 @@ DEFAULT_CONFIG = {
     "n_heldout": 20_000,
     "wrench_source": "continuous",  # "continuous" (adaptive quadrature) or "mesh"
     "quad_rtol": 1e-4,
-    "mesh_elements": 2000,
-    "solver_comparison_K": 600,  # K at which SCS is also run
+    "mesh_elements": 2000,  # wrench_source=mesh, and the contact box of the thesis-code grid
+    "thesis_code": True,  # also run the thesis-code protocol (the thesis-text one always runs)
+    "fine_level": 0,  # thesis-code: the author's twist grid (0: 48,483 twists)
+    "downsample_steps": 2.5,  # thesis-code: grid cells per wrench range (downsamplewrench.m)
+    "support_directions": 4000,  # sampler-independent error: normals per surface
+    "log_det_alphas": [0.0, 1e-6, 1e-3, 1e-2],  # α/K of Eq. (3.12) measured at solver_comparison_K
+    "solver_comparison_K": 600,  # K at which SCS is also run (and support errors measured)
     "section_surface": "S4",  # Fig 3.10
     "section_K": 600,
 }
 QUICK_CONFIG = {"K": [200, 600], "n_heldout": 4000, "wrench_source": "mesh", "mesh_elements": 800}
 
 
+class Contact:
+    """One normalised surface under ``config``: its exact wrenches for any twists
+    (memoised by twist bytes: the support-error normals are shared by the models of
+    a surface), exact ``w_max``, length scale and axis-aligned box sides."""
+
+    def __init__(self, surface, config: dict) -> None:
+        self.surface = surface.normalized()
+        self.mu = config["mu"]
+        prof = mesh_profile(surface, config["mesh_elements"]).normalized()
+        self.sides = box_sides(prof)  # the author's lengthArray, from the mesh's centres
+        if config["wrench_source"] == "continuous":
+            self._fn = partial(surface_wrenches, self.surface, mu=self.mu, rtol=config["quad_rtol"])
+            self.w_max = surface_w_max(self.surface, self.mu)
+        else:
+            self._fn = partial(frictional_wrenches, prof, mu=self.mu)
+            self.w_max = w_max(prof, self.mu)
+        self._memo: dict[bytes, np.ndarray] = {}
+        self._memo_max = config["support_directions"]  # only direction sets are reused
+
+    def wrenches(self, xi: np.ndarray) -> np.ndarray:
+        if len(xi) > self._memo_max:
+            return self._fn(xi)
+        key = np.ascontiguousarray(xi).tobytes()
+        if key not in self._memo:
+            self._memo[key] = self._fn(xi)
+        return self._memo[key]
+
+
 def wrenches(surface, n_twists: int, seed: int, config: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Raw wrenches (K, 6) of the normalised surface for thesis-sampled twists,
     the exact w_max (6,) and the twists (K, 6)."""
-    s = surface.normalized()
-    xi = sample_twists_thesis(n_twists // 2, s.length_scale, seed)
-    if config["wrench_source"] == "continuous":
-        W = surface_wrenches(s, xi, config["mu"], rtol=config["quad_rtol"])
-        return W, surface_w_max(s, config["mu"]), xi
-    prof = mesh_profile(surface, config["mesh_elements"]).normalized()
-    return frictional_wrenches(prof, xi, config["mu"]), w_max(prof, config["mu"]), xi
+    c = surface if isinstance(surface, Contact) else Contact(surface, config)
+    xi = sample_twists_thesis(n_twists // 2, c.surface.length_scale, seed)
+    return c.wrenches(xi), c.w_max, xi
 
 
-def _fit(kind: str, W: np.ndarray, wm: np.ndarray, xi: np.ndarray, solver: str = "CLARABEL"):
+def _fit(kind: str, W: np.ndarray, wm: np.ndarray, xi: np.ndarray, solver: str = "CLARABEL", **kw):
     """Fit and its median time; fast fits are repeated 3x because single calls
     right after the parallel quadrature can stall ~20 ms on thread-pool
     contention (Numba and BLAS on 2 cores)."""
     if kind == "ellipsoid_lsq":
         fn = partial(fit_ellipsoid, W, "lsq", w_max=wm)
     elif kind == "ellipsoid_sdp":
-        fn = partial(fit_ellipsoid, W, "sdp", w_max=wm, solver=solver, warm_start=False)
+        fn = partial(fit_ellipsoid, W, "sdp", w_max=wm, solver=solver, warm_start=False, **kw)
     else:
         twists = xi if kind == "quartic" else None  # "quartic_values": Eq. (3.17) alone
         fn = partial(fit_quartic, W, twists=twists, w_max=wm, solver=solver, warm_start=False)
     dt, m = median_runtime(fn, 1 if kind.startswith("quartic") else 3, warmup=0)
     return m, dt
+
+
+def _support(model, contact: Contact, config: dict) -> dict:
+    e = support_error(model, contact.wrenches, config["support_directions"], seed=config["seed"])
+    return {"radial_mean": e.radial_mean, "radial_p95": e.radial_p95, "eq318_mean": e.eq318_mean}
+
+
+def thesis_code_rows(contact: Contact, config: dict, seed: int, kinds: list[str]) -> dict:
+    """The thesis-code protocol on one surface: the author's twist grid, its
+    wrenches; Fig 3.9 trains on K of them (drawn without replacement), the code's
+    own fit on the grid-downsampled ones; Eq. (3.18) over all of them."""
+    xi = sample_twists_author(contact.sides, config["fine_level"])
+    W = contact.wrenches(xi)
+    rng = np.random.default_rng(seed)
+    out = {"n_pool": len(W), "error": {k: {} for k in kinds}, "fit_s": {k: {} for k in kinds}}
+    for K in config["K"]:
+        idx = rng.choice(len(W), K, replace=False)
+        for kind in kinds:
+            if kind.startswith("quartic") and K < QUARTIC_COEFFS:
+                continue
+            model, dt = _fit(kind, W[idx], contact.w_max, xi[idx])
+            out["error"][kind][str(K)] = model.fitting_error(W)
+            out["fit_s"][kind][str(K)] = dt
+            if K == config["solver_comparison_K"] and kind in ("ellipsoid_sdp", "quartic"):
+                out.setdefault("support", {})[kind] = _support(model, contact, config)
+    train = thesis_code_split(W, contact.w_max, config["downsample_steps"])
+    out["downsampled"] = {"n_train": len(train)}
+    for kind in ("ellipsoid_sdp", "quartic", "quartic_values"):
+        if len(train) >= (QUARTIC_COEFFS if kind.startswith("quartic") else 21):
+            model, _ = _fit(kind, W[train], contact.w_max, xi[train])
+            out["downsampled"][kind] = model.fitting_error(W)
+            if kind != "quartic_values":
+                out["downsampled"][f"{kind}_support"] = _support(model, contact, config)
+    return out
+
+
+def fig_3_9_vs_thesis(table: dict, config: dict) -> dict:
+    """Mean over surfaces per K of the ellipsoid (SDP) and quartic errors, the lowest
+    of them, and its ratio to the thesis's "as low as" value."""
+    out = {}
+    for model, kind in (("ellipsoid", "ellipsoid_sdp"), ("quartic", "quartic")):
+        ks = [str(k) for k in config["K"] if str(k) in table[kind][config["surfaces"][0]]]
+        mean = {k: float(np.mean([table[kind][s][k] for s in config["surfaces"]])) for k in ks}
+        lowest = min(mean.values())
+        out[model] = {
+            "mean_over_surfaces": mean,
+            "lowest": lowest,
+            "thesis_as_low_as": THESIS_AS_LOW_AS[model],
+            "ratio_to_thesis": lowest / THESIS_AS_LOW_AS[model],
+        }
+    return out
 
 
 def convexity(model) -> float:
@@ -136,18 +236,20 @@ def run(config: dict) -> dict:
     rows = []
     convex_min: dict[str, list[float]] = {}
     section_models, section_W = {}, None
+    code_rows, support, log_det = {}, {"thesis-text": {}}, {}
+    Kc = config["solver_comparison_K"]
     # one-time cvxpy problem builds (per subspace dimension), kept out of the fit timings
     W0, wm0, xi0 = wrenches(
         THESIS_SURFACES[config["surfaces"][0]], max(config["K"]), config["seed"] + 999, config
     )
     build_s = {kind: _fit(kind, W0, wm0, xi0)[1] for kind in kinds}
     for i, name in enumerate(tqdm(config["surfaces"], desc="surfaces", unit="surface")):
-        surface = THESIS_SURFACES[name]
-        W_test, wm, _ = wrenches(surface, config["n_heldout"], config["seed"] + 10_000 * i + 1, config)
+        contact = Contact(THESIS_SURFACES[name], config)
+        W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1, config)
         for kind in kinds:
             err[kind][name], train_err[kind][name], rt[kind][name], radial[kind][name] = {}, {}, {}, {}
         for K in config["K"]:
-            W, _, xi = wrenches(surface, K, config["seed"] + 10_000 * i + 2 + K, config)
+            W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K, config)
             for kind in kinds:
                 if kind.startswith("quartic") and K < QUARTIC_COEFFS:
                     continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
@@ -169,6 +271,8 @@ def run(config: dict) -> dict:
                         model.info.get("fallback"),
                     ]
                 )
+                if K == Kc and kind in ("ellipsoid_sdp", "quartic"):
+                    support["thesis-text"].setdefault(kind, {})[name] = _support(model, contact, config)
                 if (
                     name == config["section_surface"]
                     and K == config["section_K"]
@@ -176,12 +280,21 @@ def run(config: dict) -> dict:
                 ):
                     section_models["quartic" if kind == "quartic" else "ellipsoid (SDP)"] = model
                     section_W = W
-            if K == config["solver_comparison_K"]:
+            if K == Kc:
                 for kind in ("ellipsoid_sdp", "quartic"):
                     model, dt = _fit(kind, W, wm, xi, solver="SCS")
                     solver_rows.append(
                         [name, K, kind, "SCS", model.fitting_error(W_test), dt, model.info.get("fallback")]
                     )
+                log_det[name] = {}
+                for a in config["log_det_alphas"]:  # Eq. (3.12)'s penalty, α = a·K
+                    model = fit_ellipsoid(W, "sdp", w_max=wm, alpha=a * K)
+                    log_det[name][f"{a:g}"] = {
+                        "heldout_error": model.fitting_error(W_test),
+                        "support_radial": _support(model, contact, config)["radial_mean"],
+                    }
+        if config["thesis_code"]:
+            code_rows[name] = thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3, kinds)
     write_csv(
         out / "fits.csv",
         ["surface", "K", "model", "solver", "heldout_error", "fit_time_s", "fallback"],
@@ -194,29 +307,38 @@ def run(config: dict) -> dict:
     import matplotlib.pyplot as plt
 
     figs = []
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    for j, name in enumerate(config["surfaces"]):
-        ke = [int(k) for k in err["ellipsoid_sdp"][name]]
-        kq = [int(k) for k in err["quartic"][name]]
-        axes[0].plot(ke, list(err["ellipsoid_sdp"][name].values()), "--o", color=f"C{j}", ms=3)
-        axes[0].plot(kq, list(err["quartic"][name].values()), "-s", color=f"C{j}", ms=3, label=name)
-        axes[0].plot(kq, list(err["quartic_values"][name].values()), ":", color=f"C{j}", lw=1)
-        axes[1].plot(ke, list(rt["ellipsoid_sdp"][name].values()), "--o", color=f"C{j}", ms=3)
-        axes[1].plot(kq, list(rt["quartic"][name].values()), "-s", color=f"C{j}", ms=3)
-    axes[0].set_xlabel("number of wrenches K")
-    axes[0].set_ylabel("held-out wrench error (Eq. 3.18)")
-    axes[0].set_title(
-        "Fig 3.9(a): quartic (solid; dotted: values only) vs ellipsoid SDP (dashed)", fontsize=9
+    code = {k: {n: r["error"][k] for n, r in code_rows.items()} for k in kinds} if code_rows else None
+    panels = [("thesis-text: held-out", err)] + ([("thesis-code: all grid wrenches", code)] if code else [])
+    fig, axes = plt.subplots(1, len(panels) + 1, figsize=(5.5 * (len(panels) + 1), 3.8))
+    for p, (title, table) in enumerate(panels):
+        for j, name in enumerate(config["surfaces"]):
+            for kind, style in (("ellipsoid_sdp", "--o"), ("quartic", "-s"), ("quartic_values", ":")):
+                ks = [int(k) for k in table[kind][name]]
+                label = name if kind == "quartic" else None
+                axes[p].plot(ks, list(table[kind][name].values()), style, color=f"C{j}", ms=3, label=label)
+        for kind, v in THESIS_AS_LOW_AS.items():
+            axes[p].axhline(v, color="k", lw=0.7, ls="--" if kind == "ellipsoid" else "-")
+        axes[p].set_xlabel("number of wrenches K")
+        axes[p].set_ylabel("wrench error (Eq. 3.18)")
+        axes[p].set_title(f"Fig 3.9(a), {title}", fontsize=9)
+    axes[0].legend(
+        fontsize=7,
+        title="quartic solid (dotted: values only), ellipsoid dashed;\nblack: thesis 'as low as' 0.02 / 0.04",
+        title_fontsize=6,
     )
-    axes[0].legend(fontsize=8)
-    axes[1].set_xlabel("number of wrenches K")
-    axes[1].set_ylabel("fit time [s]")
-    axes[1].set_yscale("log")
-    axes[1].set_title("Fig 3.9(b): runtime (Clarabel)")
+    for j, name in enumerate(config["surfaces"]):
+        ke = [int(k) for k in rt["ellipsoid_sdp"][name]]
+        kq = [int(k) for k in rt["quartic"][name]]
+        axes[-1].plot(ke, list(rt["ellipsoid_sdp"][name].values()), "--o", color=f"C{j}", ms=3)
+        axes[-1].plot(kq, list(rt["quartic"][name].values()), "-s", color=f"C{j}", ms=3)
+    axes[-1].set_xlabel("number of wrenches K")
+    axes[-1].set_ylabel("fit time [s]")
+    axes[-1].set_yscale("log")
+    axes[-1].set_title("Fig 3.9(b): runtime (Clarabel)")
     figs.append(str(save_figure(fig, out / "fig_3_9_error_runtime.png")))
     # runtime vs error of every method / solver at the comparison K
     fig, ax = plt.subplots(figsize=(6.5, 4))
-    Kc = str(config["solver_comparison_K"])
+    Kc = str(Kc)
     marker = {"ellipsoid_lsq": "o", "ellipsoid_sdp": "s", "quartic_values": "v", "quartic": "^"}
     for kind in kinds:
         if Kc in err[kind][config["surfaces"][0]]:
@@ -262,6 +384,20 @@ def run(config: dict) -> dict:
     quartic_wins_gt = not [1 for _, k in losses if k > 200]
     max_e = max(err["ellipsoid_sdp"][s][str(k)] for s in config["surfaces"] for k in config["K"])
     max_q = max(err["quartic"][s][str(k)] for s in config["surfaces"] for k in big)
+    vs_thesis = {"thesis-text": fig_3_9_vs_thesis(err, config)}
+    if code_rows:
+        vs_thesis["thesis-code"] = fig_3_9_vs_thesis(code, config)
+        for kind in ("ellipsoid_sdp", "quartic"):
+            support.setdefault("thesis-code", {})[kind] = {
+                n: r["support"][kind] for n, r in code_rows.items()
+            }
+            support.setdefault("thesis-code-downsampled", {})[kind] = {
+                n: r["downsampled"][f"{kind}_support"] for n, r in code_rows.items()
+            }
+    support_mean = {
+        p: {k: float(np.mean([v["radial_mean"] for v in t.values()])) for k, t in by_kind.items()}
+        for p, by_kind in support.items()
+    }
     summary = {
         "heldout_error": {
             "ellipsoid": err["ellipsoid_sdp"],
@@ -295,7 +431,50 @@ def run(config: dict) -> dict:
         "quartic_values_only_not_below_ellipsoid_at": [f"{s}@K={k}" for s, k in losses_values],
         "max_heldout_error_ellipsoid": max_e,
         "max_heldout_error_quartic_K_ge_200": max_q,
-        "thesis": {"ellipsoid_max_error": 0.04, "quartic_max_error": 0.02},
+        "thesis": {
+            "as_low_as": THESIS_AS_LOW_AS,
+            "quote": "the quartic and ellipsoidal 6DLS models reached as low as 0.02 and 0.04 mean "
+            "wrench error (§3.6; six parametric surfaces and 2,932 FEM contacts together)",
+        },
+        "protocols": {
+            "thesis-text": "thesis §3.3.2 sampler (K/2 rotations + K/2 translations, h in [-1, 1] l_s); "
+            "Eq. 3.18 on n_heldout held-out wrenches of the same sampler",
+            "thesis-code": f"the author's twist grid (fineLevel {config['fine_level']}); Fig 3.9: K wrenches "
+            "drawn from it, Eq. 3.18 on all of it; downsampled: trained on one wrench per grid cell "
+            f"({config['downsample_steps']} widths per range), Eq. 3.18 on all",
+        },
+        "fig_3_9_vs_thesis": vs_thesis,
+        "thesis_protocol_error": (
+            {
+                "ellipsoid": code["ellipsoid_sdp"],
+                "quartic": code["quartic"],
+                "quartic_values_only": code["quartic_values"],
+                "ellipsoid_lsq": code["ellipsoid_lsq"],
+                "downsampled": {n: r["downsampled"] for n, r in code_rows.items()},
+                "n_pool": {n: r["n_pool"] for n, r in code_rows.items()},
+            }
+            if code_rows
+            else None
+        ),
+        "support_error": support,
+        "support_error_mean_radial": support_mean,
+        "support_error_note": (
+            f"radial |f^(1/deg) - 1| at the exact surface points of {config['support_directions']} normals "
+            f"uniform on the sphere of normalised twists, models at K = {Kc} (and the downsampled fit): "
+            "independent of the training sampler, comparable across protocols and model degrees"
+        ),
+        "sdp_log_det_effect": {
+            "alpha_per_wrench": [f"{a:g}" for a in config["log_det_alphas"]],
+            "by_surface": log_det,
+            "max_change_vs_alpha_0": {
+                f"{a:g}": max(
+                    abs(v[f"{a:g}"]["heldout_error"] - v["0"]["heldout_error"]) for v in log_det.values()
+                )
+                for a in config["log_det_alphas"]
+            }
+            if "0" in next(iter(log_det.values()), {})
+            else None,
+        },
         "quartic_not_fitted_below_K": QUARTIC_COEFFS,
         "figures": figs,
         "headline": [
@@ -304,8 +483,16 @@ def run(config: dict) -> dict:
             f"values-only quartic (Eq. 3.17 as in the thesis) not below at "
             f"{[f'{s}@{k}' for s, k in losses_values]}",
             f"radial error |f^(1/d) - 1|: quartic below ellipsoid for every K >= 200: {not radial_losses}",
-            f"max held-out error: ellipsoid {max_e:.4f} (thesis <= 0.04), "
-            f"quartic (K >= 200) {max_q:.4f} (thesis <= 0.02)",
+            *(
+                f"Fig 3.9, {p}: lowest mean over surfaces ellipsoid {v['ellipsoid']['lowest']:.4f} "
+                f"({v['ellipsoid']['ratio_to_thesis']:.2f}x the thesis's 'as low as' 0.04), quartic "
+                f"{v['quartic']['lowest']:.4f} ({v['quartic']['ratio_to_thesis']:.2f}x 0.02)"
+                for p, v in vs_thesis.items()
+            ),
+            "sampler-independent radial error, mean over surfaces: "
+            + "; ".join(
+                f"{p} " + ", ".join(f"{k} {v:.4f}" for k, v in by.items()) for p, by in support_mean.items()
+            ),
             f"median fit time at K = {Kc}: "
             + ", ".join(
                 f"{k} {np.median([rt[k][s][Kc] for s in config['surfaces']]):.2g} s"

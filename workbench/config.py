@@ -112,9 +112,11 @@ class Tolerances:
     flat_axis: float = 1e-6
 
     # -alpha log det(A_e) penalty of the SDP ellipsoid (Eq. 3.12), as alpha =
-    # this * K: small against the K-term fit objective (the PCA subspace
-    # already removes singular directions) yet keeps A_e strictly definite.
-    sdp_alpha_per_wrench: float = 1e-6
+    # this * K.  Off: the thesis adds it so det A_e > 0 when the wrenches span a
+    # subspace, which the PCA subspace already ensures; 1e-6 (the old value)
+    # changed Eq. 3.18 by < 1e-5 and 1e-3 and more only raise it
+    # (results/ls-fitting/summary.json -> sdp_log_det_effect).
+    sdp_alpha_per_wrench: float = 0.0
 
     # Eigenvalue floor (relative to the largest) used when a least-squares
     # ellipsoid comes out indefinite and is projected to the PD cone.

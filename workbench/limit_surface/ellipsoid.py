@@ -6,10 +6,18 @@ contact is fitted in 3D, never as a singular 6D problem):
 * ``method="lsq"`` — Eq. (3.13): linear least squares on the ``r(r+1)/2``
   unique entries of ``A``.  An indefinite result (rare; noisy or too few
   wrenches) is projected to the PD cone and rescaled — reported as a fallback.
-* ``method="sdp"`` — Eq. (3.12): ``min Σ (x̂ᵀAx̂ - 1)² - α log det A``,
-  ``A ⪰ 0`` via cvxpy.  The K-term objective is compressed by a QR
-  factorisation to ``‖R a - c‖²`` so the cvxpy problem depends only on ``r``;
-  it is built once per ``(r, solver)`` with Parameters and re-solved.
+* ``method="sdp"`` — PSD-constrained least squares, Eq. (3.11) with ``A ⪰ 0``
+  solved as a semidefinite program via cvxpy; ``alpha > 0`` adds Eq. (3.12)'s
+  ``−α log det A``.  The thesis needs that penalty to keep ``det A > 0`` when the
+  wrenches span a subspace (planar contacts); here the PCA subspace already
+  does, so the default is ``α = TOL.sdp_alpha_per_wrench·K = 0``.  Measured
+  (``results/ls-fitting`` → ``sdp_log_det_effect``): ``α = 1e-6·K`` (our former
+  default) changes Eq. (3.18) by < 1e-5, ``α >= 1e-3·K`` only raises the error;
+  and on S1-S6 the PSD constraint is inactive, so this fit equals "lsq" to 1e-10
+  unless the least-squares matrix is indefinite.  The K-term objective is
+  compressed by a QR factorisation to ``‖R a - c‖²`` so the cvxpy problem depends
+  only on ``r``; it is built once per ``(r, log-det or not)`` with Parameters and
+  re-solved.
 
 The returned 6×6 ``A_e`` is always positive definite: dropped directions get a
 semi-axis ``TOL.flat_axis`` (the model is flat to that thickness).
@@ -104,8 +112,9 @@ def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
 
 
 @lru_cache(maxsize=32)
-def _sdp_problem(r: int):
-    """cvxpy problem for Eq. (3.12) in r dims with Parameters (R, c, alpha)."""
+def _sdp_problem(r: int, log_det: bool):
+    """cvxpy problem of Eq. (3.11) with ``A ⪰ 0`` in r dims with Parameters (R, c,
+    alpha); ``log_det``: with Eq. (3.12)'s ``−α log det A`` (exponential cones)."""
     import cvxpy as cp
 
     BUILD_COUNT["sdp"] += 1
@@ -122,7 +131,8 @@ def _sdp_problem(r: int):
     alpha = cp.Parameter(nonneg=True)
     A = cp.reshape(S @ a, (r, r), order="F")
     A = 0.5 * (A + A.T)  # symmetric by construction; makes the symmetry explicit to cvxpy
-    prob = cp.Problem(cp.Minimize(cp.sum_squares(R @ a - c) - alpha * cp.log_det(A)), [A >> 0])
+    objective = cp.sum_squares(R @ a - c) - (alpha * cp.log_det(A) if log_det else 0.0)
+    prob = cp.Problem(cp.Minimize(objective), [A >> 0])
     return prob, a, R, c, alpha, iu, ju
 
 
@@ -130,12 +140,15 @@ def _sdp(
     y: np.ndarray, solver: str, alpha: float | None, warm_start: bool = True
 ) -> tuple[np.ndarray, str | None]:
     r = y.shape[1]
-    prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r)
+    alpha_v = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
+    if not (np.isfinite(alpha_v) and alpha_v >= 0):
+        raise ValueError(f"alpha (the log-det weight of Eq. 3.12) must be finite and >= 0; got {alpha_v}")
+    prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
     phi = _sym_design(y)[0]
     Q, Rm = np.linalg.qr(phi)
     R.value = Rm
     c.value = Q.T @ np.ones(len(y))
-    alpha_p.value = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
+    alpha_p.value = alpha_v
     try:
         prob.solve(solver=solver, warm_start=warm_start)
     except Exception as exc:  # solver missing or numerical failure
@@ -167,7 +180,10 @@ def fit_ellipsoid(
 
     w_max : optional (6,) exact maxima (e.g. :func:`workbench.w_max`); default
         the sampled maxima ``max_k |w_k|`` of Algorithm 1.
-    method : "lsq" (Eq. 3.13) or "sdp" (Eq. 3.12, cvxpy with ``solver``).
+    method : "lsq" (Eq. 3.13) or "sdp" (PSD-constrained least squares, cvxpy with
+        ``solver``; module docstring).
+    alpha : log-det weight of Eq. (3.12) for "sdp"; default
+        ``TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
     The result's ``info`` names the method, solver, fallback (or None) and time.
     """
     t0 = time.perf_counter()
