@@ -72,6 +72,7 @@ DEFAULT_CONFIG = {
     "mu": 1.0,  # normalised wrenches do not depend on mu
     "n_wrenches": 600,  # thesis: 600 per profile
     "n_heldout": 2000,
+    "pitch_range": [-1.0, 1.0],  # thesis-text sampler: h ~ U[lo, hi]·l_s (config.py Defaults.pitch_range)
     "thesis_code": True,  # also the thesis-code protocol (the author's twist grid, downsampled training)
     "fine_level": 0,  # its twist grid (0: the FEM study's, 48,483 twists)
     "downsample_steps": 2.5,  # its training grid: cells per wrench range
@@ -112,8 +113,9 @@ def _fit_row(prof, config: dict, seed: int) -> dict:
     under both protocols."""
     pn = prof.normalized()
     mu = config["mu"]
-    W = frictional_wrenches(pn, sample_twists_thesis(config["n_wrenches"] // 2, pn, seed), mu)
-    W_test = frictional_wrenches(pn, sample_twists_thesis(config["n_heldout"] // 2, pn, seed + 10**6), mu)
+    sample = partial(sample_twists_thesis, length_scale=pn, pitch_range=tuple(config["pitch_range"]))
+    W = frictional_wrenches(pn, sample(config["n_wrenches"] // 2, seed=seed), mu)
+    W_test = frictional_wrenches(pn, sample(config["n_heldout"] // 2, seed=seed + 10**6), mu)
     wm = w_max(pn, mu)
 
     def support(model) -> float:

@@ -93,6 +93,7 @@ def contact_sets(
     reach_triangles: int = 16,
     quartic: bool = False,
     seed: int = 0,
+    sampler: SamplerSpec | None = None,
 ) -> list[ContactSet]:
     """The contact sets of one jaw's ``profile`` under model ``name``: one of
     ``point``, ``soft_point``, ``planar``, ``3dls_nonplanar``, ``6dfw``, ``reach``,
@@ -104,7 +105,8 @@ def contact_sets(
     M : linearisation directions of 6DLS/6DFC/3DLS (their ``representation="inner"|"outer"``);
     n_edges : friction-cone polygon of point-like contacts; n_wrenches : 6DFW samples;
     reach_triangles : REACH element clusters; quartic : the quartic limit surface for
-    ``6dls``/``planar``; seed : sampler seed.
+    ``6dls``/``planar``; seed : sampler seed; sampler : training wrenches of the limit
+    surfaces (6DLS, 6DFC, planar; default ``SamplerSpec()``, see its kinds).
     """
     if name not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {name!r}")
@@ -121,15 +123,15 @@ def contact_sets(
     if name == "reach":
         return reach_contacts(profile, max_triangles=reach_triangles, n_edges=n_edges)
     if name in ("6dls", "6dls_quartic", "6dfc"):
-        model = cache.contact_model(profile, 1.0, spec=spec)
+        model = cache.contact_model(profile, 1.0, spec=spec, sampler=sampler)
         return [limit_surface_contact(model, o, F, M=M, cone=name == "6dfc", name=name, seed=seed)]
     if name == "planar":
         flat = planar_profile(profile)
-        model = cache.contact_model(flat, 1.0, spec=spec)
+        model = cache.contact_model(flat, 1.0, spec=spec, sampler=sampler)
         return [limit_surface_contact(model, flat.pressure_center, F, M=M, name=name, seed=seed)]
-    sampler = SamplerSpec(n=n_wrenches // 2, seed=seed)  # n rotations + n translations
+    fw_sampler = SamplerSpec(kind="thesis", n=n_wrenches // 2, seed=seed)  # n rotations + n translations
     unit = profile.normalized()
-    W = frictional_wrenches(unit, sampler.twists(unit), 1.0)
+    W = frictional_wrenches(unit, fw_sampler.twists(unit), 1.0)
     if name == "6dfw":
         return [wrench_hull_contact(profile, W * F)]
     # 3dls_nonplanar (§4.1.3.3): keep the three "major" components — the two tangential

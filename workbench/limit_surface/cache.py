@@ -15,11 +15,12 @@ import hashlib
 import io
 import json
 from collections import Counter
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
+from ..config import DEFAULTS
 from ..profile import ContactProfile
 from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
@@ -29,25 +30,56 @@ from .contact_wrench import ContactWrenchModel
 from .ellipsoid import EllipsoidLS, fit_ellipsoid
 from .normalize import Subspace
 from .quartic import QuarticLS, fit_quartic
+from .thesis_code import thesis_code_sample
+
+SAMPLER_KINDS = ("thesis", "6dfc", "thesis-code", "mix")
 
 
 @dataclass(frozen=True)
 class SamplerSpec:
-    """Twist sampler settings (part of the cache key)."""
+    """Training-wrench sampler settings (part of the cache key).
 
-    kind: str = "thesis"  # "thesis" (§3.3.2) or "6dfc" (paper §IV-C.1)
-    n: int = 300  # thesis: n rotations + n translations; 6dfc: k1 = n, k2 = n // 2
+    kind : "thesis" (§3.3.2: n rotations + n translations), "6dfc" (paper §IV-C.1:
+        k1 = n, k2 = n // 2), "thesis-code" (the author's twist grid of ``fine_level``,
+        one wrench per occupied cell of the downsampling grid,
+        :mod:`.thesis_code`; ``n``, ``seed`` and ``radius_factor`` unused) or "mix"
+        (the "thesis" sample and the "thesis-code" one together).
+    """
+
+    kind: str | None = None  # None: DEFAULTS.ls_training_sampler, read when the spec is made
+    n: int = 300
     seed: int = 0
     radius_factor: float = 0.25
+    fine_level: int = 0  # thesis-code / mix only
+
+    def __post_init__(self) -> None:
+        if self.kind is None:
+            object.__setattr__(self, "kind", DEFAULTS.ls_training_sampler)
+        if self.kind not in SAMPLER_KINDS:
+            raise ValueError(f"sampler kind must be one of {SAMPLER_KINDS}; got {self.kind!r}")
 
     def twists(self, profile: ContactProfile) -> np.ndarray:
+        """(K, 6) twists of the "thesis" or "6dfc" sampler (the grid kinds choose
+        their twists by their wrenches: use :meth:`training`)."""
         if self.kind == "thesis":
             return sample_twists_thesis(self.n, profile, self.seed, radius_factor=self.radius_factor)
         if self.kind == "6dfc":
             return sample_twists_6dfc(
                 self.n, self.n // 2, profile, self.seed, radius_factor=self.radius_factor
             )
-        raise ValueError(f"sampler kind must be 'thesis' or '6dfc'; got {self.kind!r}")
+        raise ValueError(f"{self.kind!r} selects twists by their wrenches; call training(profile, mu)")
+
+    def training(self, profile: ContactProfile, mu: float) -> tuple[np.ndarray, np.ndarray]:
+        """Training twists (K, 6) and their raw friction wrenches (K, 6) on ``profile``."""
+        parts = []
+        if self.kind in ("thesis", "6dfc", "mix"):
+            spec = self if self.kind != "mix" else replace(self, kind="thesis")
+            xi = spec.twists(profile)
+            parts.append((xi, frictional_wrenches(profile, xi, mu)))
+        if self.kind in ("thesis-code", "mix"):
+            code = thesis_code_sample(profile, mu, self.fine_level)
+            parts.append((code.train_twists, code.train_wrenches))
+        return np.vstack([p[0] for p in parts]), np.vstack([p[1] for p in parts])
 
 
 @dataclass(frozen=True)
@@ -95,11 +127,13 @@ class LimitSurfaceCache:
         profile: ContactProfile,
         mu: float = 1.0,
         *,
-        sampler: SamplerSpec = SamplerSpec(),
+        sampler: SamplerSpec | None = None,
         spec: ModelSpec = ModelSpec(),
         force: float | None = None,
     ) -> LimitSurfaceModel:
-        """Limit surface of ``profile`` scaled by ``force`` (default ``profile.F``)."""
+        """Limit surface of ``profile`` scaled by ``force`` (default ``profile.F``);
+        ``sampler`` default ``SamplerSpec()`` (``DEFAULTS.ls_training_sampler``)."""
+        sampler = SamplerSpec() if sampler is None else sampler
         k = self.key(profile, mu, sampler, spec)
         model = self._mem.get(k)
         if model is None and self.directory is not None and (self.directory / f"{k}.npz").exists():
@@ -125,8 +159,7 @@ class LimitSurfaceCache:
         self, prof: ContactProfile, mu: float, sampler: SamplerSpec, spec: ModelSpec
     ) -> LimitSurfaceModel:
         self.stats["sampling"] += 1
-        xi = sampler.twists(prof)
-        W = frictional_wrenches(prof, xi, mu)
+        xi, W = sampler.training(prof, mu)
         wm = w_max(prof, mu) if spec.exact_w_max else None
         self.stats["solves"] += 1
         if spec.model == "ellipsoid":

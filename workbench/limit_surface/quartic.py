@@ -235,9 +235,14 @@ def fit_quartic(
         By maximum dissipation ``-twist`` is the outward normal of the limit
         surface at its wrench, so each twist adds r linear gradient rows
         (:func:`_normal_rows`) to the value rows of Eq. (3.17) — Hermite
-        instead of Lagrange fitting.  This is our addition to the thesis, which
-        fits values only; it matters for K near the 126 coefficients, where the
-        values-only quartic overfits (held-out error above the ellipsoid's).
+        instead of Lagrange fitting.  The thesis text (Eq. 3.17) fits values
+        only; the author's code (``fit4thorderpoly6d.m``) does fit gradients to
+        twists, differently: L1 norms of the value residuals (weight 10) and of
+        ``∇f − s_k ξ_k`` with a free scale ``s_k > 0`` per twist (weight 1), plus
+        ``‖A_q‖`` (weight 1).  Here Euler's relation fixes the gradient's length,
+        so the rows stay linear least squares.  It matters for K near the 126
+        coefficients, where the values-only quartic overfits (held-out error
+        above the ellipsoid's).
     normal_weight : β of those rows; default ``DEFAULTS.quartic_normal_weight *
         sqrt(L / K)`` (a fixed total weight that fades against the K value rows).
         0 fits values only.
