@@ -241,6 +241,16 @@ def test_sensitivity_quick(tmp_path):
     assert all(np.isnan(r) or r < 0.5 for r in mp["recall"]["point"])
     assert mp["recall"]["6dls"][0] > 0.8
     assert (tmp_path / "precision_recall.png").stat().st_size > 10_000
+    # training distributions (issue 12): each sampler's 6DLS margins against the noise-free
+    # exact margins; the model's own error is a few percent, well below the noisy truth's spread
+    td = s["training_distribution"]["6dls"]
+    assert set(td) == {"thesis", "thesis-code", "mix"}
+    for kind, e in td.items():
+        assert e["vs_exact_nominal"]["n"] >= 30, kind
+        assert 0 < e["vs_exact_nominal"]["median_abs_log_ratio"] < 0.05, (kind, e)
+    # the default sampler is "mix": the plain 6dls margins are the @mix ones
+    rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
+    assert rows["margin/6dls"]["margins"] == rows["margin/6dls@mix"]["margins"]
 
 
 def test_margin_of_antipodal_point_contacts_is_2_mu_F_over_mg():

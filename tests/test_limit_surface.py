@@ -283,7 +283,8 @@ def test_bad_inputs():
 
 def test_missing_solver_falls_back_or_raises(s4_data):
     train = s4_data[1]
-    m = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER")
+    # α > 0 forces the conic solve (with α = 0 a PD least-squares fit is returned directly)
+    m = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER", alpha=1e-6 * len(train))
     assert "failed" in m.info["fallback"] and "least squares" in m.info["fallback"]
     assert np.linalg.eigvalsh(m.A_e).min() > 0
     with pytest.raises(RuntimeError, match="NOT_A_SOLVER"):
@@ -294,11 +295,24 @@ def test_missing_solver_falls_back_or_raises(s4_data):
 
 def test_sdp_problem_built_once_per_dimension(s4_data):
     train = s4_data[1]
-    fit_ellipsoid(train, "sdp")
+    a = 1e-6 * len(train)  # with the log-det term: a conic solve every time
+    fit_ellipsoid(train, "sdp", alpha=a)
     before = ell_mod.BUILD_COUNT["sdp"]
-    fit_ellipsoid(train[::2], "sdp")
-    fit_ellipsoid(train[1::2], "sdp")
+    fit_ellipsoid(train[::2], "sdp", alpha=a)
+    fit_ellipsoid(train[1::2], "sdp", alpha=a)
     assert ell_mod.BUILD_COUNT["sdp"] == before
+
+
+def test_psd_least_squares_is_least_squares_when_that_is_definite(s4_data):
+    """α = 0: the constraint A ⪰ 0 is inactive at a PD least-squares optimum, so "sdp"
+    returns it exactly; with α = 1e-6·K (Eq. 3.12) the conic solve lands within 1e-3."""
+    train = s4_data[1]
+    lsq = fit_ellipsoid(train, "lsq")
+    np.testing.assert_array_equal(fit_ellipsoid(train, "sdp").A_e, lsq.A_e)
+    pen = fit_ellipsoid(train, "sdp", alpha=1e-6 * len(train))
+    B = lsq.subspace.basis
+    a, b = B.T @ pen.A_e @ B, B.T @ lsq.A_e @ B
+    assert np.abs(a - b).max() < 1e-3 * np.abs(b).max()
 
 
 def test_quartic_with_a_thin_direction_is_recovered_without_fallback(rng):

@@ -31,20 +31,20 @@ def ellipsoid_case(rng):
     scale = np.array([2.0, 3.0, 5.0, 0.02, 0.03, 0.01])  # forces [N], torques [N m]
     x = rng.standard_normal((400, 6))
     x /= np.sqrt(np.einsum("ij,jk,ik->i", x, A_n, x))[:, None]  # exactly on x̂ᵀ A_n x̂ = 1
-    return A_n, scale, x * scale
+    return A_n, scale, x * scale, scale * np.sqrt(np.diag(np.linalg.inv(A_n)))  # ..., exact w_max
 
 
 def test_zero_for_an_exact_ellipsoid(ellipsoid_case):
-    A_n, scale, W = ellipsoid_case
-    model = fit_ellipsoid(W, "lsq", w_max=scale)  # exact data: the fit is the ellipsoid itself
+    A_n, scale, W, wm = ellipsoid_case
+    model = fit_ellipsoid(W, "lsq", w_max=wm)  # exact data: the fit is the ellipsoid itself
     err = support_error(model, _ellipsoid_support(A_n, scale), 3000, seed=3)
     assert err.dim == 6 and err.n_directions == 3000
     assert err.radial_max < 1e-9 and err.eq318_mean < 1e-9
 
 
 def test_a_ten_percent_larger_set_is_a_ten_percent_radial_miss(ellipsoid_case):
-    A_n, scale, W = ellipsoid_case
-    model = fit_ellipsoid(W, "lsq", w_max=scale)
+    A_n, scale, W, wm = ellipsoid_case
+    model = fit_ellipsoid(W, "lsq", w_max=wm)
     err = support_error(model, _ellipsoid_support(A_n, scale, factor=1.1), 500)
     np.testing.assert_allclose([err.radial_mean, err.radial_max], 0.1, rtol=1e-9)
     np.testing.assert_allclose(err.eq318_mean, 0.21, rtol=1e-9)  # |1.1² − 1|
@@ -89,12 +89,17 @@ def test_planar_contact_draws_normals_in_its_three_dimensions(rng):
 
 
 def test_careless_input_is_refused(ellipsoid_case):
-    A_n, scale, W = ellipsoid_case
-    model = fit_ellipsoid(W, "lsq", w_max=scale)
+    A_n, scale, W, wm = ellipsoid_case
+    model = fit_ellipsoid(W, "lsq", w_max=wm)
     with pytest.raises(ValueError, match="positive integer"):
         support_error(model, _ellipsoid_support(A_n, scale), 0)
     with pytest.raises(ValueError, match=r"\(K, 6\)"):
         support_error(model, lambda t: t[:, :3], 10)
+    with pytest.raises(ValueError, match="positive integer"):
+        support_error(model, _ellipsoid_support(A_n, scale), True)
+    # the wrenches of another μ (here half): refused, not scored as a 50 % miss
+    with pytest.raises(ValueError, match="w_max"):
+        support_error(model, _ellipsoid_support(A_n, scale, factor=0.5), 500)
 
 
 def test_thesis_code_sample_trains_on_one_wrench_per_cell(rng):

@@ -82,8 +82,9 @@ def author_sphere(n: int) -> np.ndarray:
 
 
 def box_sides(profile_or_sides: Any) -> np.ndarray:
-    """(3,) axis-aligned box sides ``L`` [m] of a contact (``lengthArray``): of a
-    ContactProfile's element centres, or given directly."""
+    """(3,) axis-aligned box sides ``L`` [m] of a contact (``lengthArray``): the extent
+    of a ContactProfile's element *centres* (slightly under the surface's own extent),
+    or given directly (metres: no unit check here)."""
     centers = getattr(profile_or_sides, "centers", None)
     L = (
         np.ptp(np.asarray(centers, float), axis=0)
@@ -91,9 +92,14 @@ def box_sides(profile_or_sides: Any) -> np.ndarray:
         else np.asarray(profile_or_sides, float)
     )
     if L.shape != (3,) or not np.isfinite(L).all() or (L < 0).any() or L.max() <= 0:
+        what = (
+            "the profile's element centres span no box (one element or coincident centres): "
+            "the author's grid needs a contact with extent"
+            if centers is not None
+            else "pass a ContactProfile or its axis-aligned extents"
+        )
         raise ValueError(
-            f"box sides must be three non-negative lengths [m], not all zero; got {L.tolist()} "
-            "(pass a ContactProfile or its axis-aligned extents)"
+            f"box sides must be three non-negative lengths [m], not all zero; got {L.tolist()} ({what})"
         )
     return L
 
@@ -130,7 +136,9 @@ def sample_twists_author(profile_or_sides: Any, fine_level: int = 0) -> np.ndarr
     Returns (K, 6) ``[v; ω]``: offset axes, axes through ``o`` and 36 translations,
     each with every pitch (rotations with ``|ω| = 1``, translations ``|v| = 1``);
     level 0 gives ``(25·25² + 500 + 36) · 3 = 48 483`` for a box with three distinct
-    non-zero sides.
+    non-zero sides.  A flat contact (one side 0) has fewer distinct offsets: a
+    20 mm square patch gives 14 283 twists (and, downsampled, a few dozen training
+    wrenches — its wrench set is 3D).
     """
     if fine_level not in AUTHOR_LEVELS:
         raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {fine_level!r}")

@@ -24,6 +24,7 @@ from ..config import DEFAULTS
 from ..profile import ContactProfile
 from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
+from ..twists_author import AUTHOR_LEVELS
 from ..wrench import frictional_wrenches, w_max
 from .base import LimitSurfaceModel
 from .contact_wrench import ContactWrenchModel
@@ -57,6 +58,8 @@ class SamplerSpec:
             object.__setattr__(self, "kind", DEFAULTS.ls_training_sampler)
         if self.kind not in SAMPLER_KINDS:
             raise ValueError(f"sampler kind must be one of {SAMPLER_KINDS}; got {self.kind!r}")
+        if self.fine_level not in AUTHOR_LEVELS:
+            raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {self.fine_level!r}")
 
     def twists(self, profile: ContactProfile) -> np.ndarray:
         """(K, 6) twists of the "thesis" or "6dfc" sampler (the grid kinds choose

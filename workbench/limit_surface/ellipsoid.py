@@ -13,8 +13,10 @@ contact is fitted in 3D, never as a singular 6D problem):
   does, so the default is ``α = TOL.sdp_alpha_per_wrench·K = 0``.  Measured
   (``results/ls-fitting`` → ``sdp_log_det_effect``): ``α = 1e-6·K`` (our former
   default) changes Eq. (3.18) by < 1e-5, ``α >= 1e-3·K`` only raises the error;
-  and on S1-S6 the PSD constraint is inactive, so this fit equals "lsq" to 1e-10
-  unless the least-squares matrix is indefinite.  The K-term objective is
+  without it the fit *is* "lsq" whenever the least-squares matrix is positive
+  definite (the constraint is inactive; returned directly, no conic solve — a
+  solver on an ill-conditioned ellipsoid stopped 25× short on its largest
+  eigenvalue), and the cvxpy SDP runs only when it is indefinite.  The K-term objective is
   compressed by a QR factorisation to ``‖R a - c‖²`` so the cvxpy problem depends
   only on ``r``; it is built once per ``(r, log-det or not)`` with Parameters and
   re-solved.
@@ -143,6 +145,10 @@ def _sdp(
     alpha_v = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
     if not (np.isfinite(alpha_v) and alpha_v >= 0):
         raise ValueError(f"alpha (the log-det weight of Eq. 3.12) must be finite and >= 0; got {alpha_v}")
+    if alpha_v == 0:
+        A, note = _lsq(y)
+        if note is None:  # least squares is already PD: the constraint A ⪰ 0 is inactive,
+            return A, None  # so it is the exact optimum (a conic solver only approximates it)
     prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
     phi = _sym_design(y)[0]
     Q, Rm = np.linalg.qr(phi)

@@ -21,12 +21,16 @@ same geometric miss).  It is 0 exactly when every exact point lies on the model.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..config import TOL
 from .base import LimitSurfaceModel
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -46,7 +50,7 @@ def uniform_normals(model: LimitSurfaceModel, n: int, seed: int = 0) -> np.ndarr
     (normalised coordinates): ``d = B u / |u|``, ``u ~ N(0, I_r)``.  A full (6D)
     subspace uses ``B = I``, so models of one contact with the same ``scale`` get
     the same twists for a seed (their exact wrenches can be computed once)."""
-    if not (isinstance(n, int | np.integer) and n > 0):
+    if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n > 0):
         raise ValueError(f"n must be a positive integer number of directions; got {n!r}")
     B = model.subspace.basis  # (6, r), orthonormal
     u = np.random.default_rng(seed).standard_normal((int(n), B.shape[1]))
@@ -75,11 +79,32 @@ def support_error(
     n_directions : directions d uniform on the model subspace's unit sphere.
     """
     d = uniform_normals(model, n_directions, seed)
-    W = np.asarray(wrenches_of(twists_for_normals(model, d)), float)
-    if W.shape != d.shape or not np.isfinite(W).all():
+    # plus ±e_i of the non-degenerate components: their exact points reach w_max_i exactly,
+    # so a wrench set of another μ, force or normalisation than the model's shows here
+    live = np.flatnonzero(model.w_max > TOL.degenerate_wmax_rtol * model.w_max.max())
+    probe = np.zeros((2 * len(live), 6))
+    probe[np.arange(len(live)), live] = 1.0
+    probe[len(live) + np.arange(len(live)), live] = -1.0
+    W_all = np.asarray(wrenches_of(twists_for_normals(model, np.vstack([d, probe]))), float)
+    if W_all.shape != (len(d) + len(probe), 6) or not np.isfinite(W_all).all():
         raise ValueError(
-            f"wrenches_of must map (K, 6) twists to finite (K, 6) wrenches; got shape {W.shape} "
+            f"wrenches_of must map (K, 6) twists to finite (K, 6) wrenches; got shape {W_all.shape} "
             "(pass e.g. lambda xi: frictional_wrenches(profile, xi, mu))"
+        )
+    W, W_probe = W_all[: len(d)], W_all[len(d) :]
+    reach = np.abs(W_probe[np.arange(len(probe)), np.r_[live, live]]) / model.w_max[np.r_[live, live]]
+    if reach.max() > 1 + TOL.support_wmax_mismatch:  # legitimate for sampled maxima, so a warning
+        log.warning(
+            "the contact's exact maxima exceed the model's w_max by up to %.0f %% (a model normalised "
+            "by sampled maxima, or wrenches_of of a larger μ or force): the radial error includes that",
+            100 * (reach.max() - 1),
+        )
+    if reach.min() < 1 - TOL.support_wmax_mismatch:  # below the model's own maxima: another contact
+        raise ValueError(
+            f"wrenches_of does not reproduce the model's w_max: |w_i| / w_max_i at the twists of the "
+            f"canonical normals ±e_i range over [{reach.min():.3g}, {reach.max():.3g}], expected ≈ 1 — pass "
+            "the wrenches of the contact the model was fitted to, with the same μ and force (e.g. the "
+            "normalised profile for a model from LimitSurfaceCache.get(..., force=1.0))"
         )
     f = np.asarray(model.value(W), float)
     r = np.abs(np.maximum(f, 0.0) ** (1.0 / model.degree) - 1.0)

@@ -25,7 +25,7 @@ from ..profile import ContactProfile
 from ..twists_author import sample_twists_author
 from ..wrench import frictional_wrenches, w_max
 from .downsample import grid_downsample
-from .normalize import wrench_scale
+from .normalize import check_wrenches, wrench_scale
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,10 @@ class ThesisCodeSample:
 def thesis_code_split(wrenches: np.ndarray, wm: np.ndarray, steps: float = 2.5) -> np.ndarray:
     """(n,) training indices: grid downsampling of ``wrenches`` (N, 6) normalised by
     ``wm`` (6,) (degenerate components guarded as in Eq. 3.10)."""
-    return grid_downsample(np.asarray(wrenches, float) / wrench_scale(np.asarray(wm, float)), steps)
+    wm = np.asarray(wm, float)
+    if wm.shape != (6,):
+        raise ValueError(f"wm must be the (6,) w_max of the wrenches' contact; got shape {wm.shape}")
+    return grid_downsample(check_wrenches(wrenches) / wrench_scale(wm), steps)
 
 
 def thesis_code_sample(
