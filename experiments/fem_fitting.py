@@ -47,6 +47,7 @@ from fem.material import Material
 from fem.pad import PadGeometry, condense_pad
 from fem.validation import condensed_vs_full
 from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
+from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import thesis_code_sample
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
@@ -57,6 +58,7 @@ log = logging.getLogger(__name__)
 #: bump when a row's computation changes, so checkpoints of older code are not reused
 #: (3: profiles carry the solved force, fem/extract.py; 4: thesis-code protocol, support error)
 ROW_VERSION = 4
+QUARTIC_COEFFS = len(exponents(6, 4))  # a quartic in 6D: C(9, 5) = 126
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
 DEFAULT_CONFIG = {
@@ -96,13 +98,18 @@ def _profile_key(i: int, h: float, approach: str, delta_mm: float) -> str:
 
 
 def _fits(W: np.ndarray, wm: np.ndarray) -> dict:
-    """The experiment's three fits of wrenches W (K, 6) normalised by wm (6,), timed."""
+    """The experiment's three fits of wrenches W (K, 6) normalised by wm (6,), timed.
+    The quartic is left out (absent key) when K is below its 126 coefficients — the
+    thesis-code training set can be (the author's code regularises instead; we do
+    not fake a fit)."""
     out = {}
     for name, fit in (
         ("ellipsoid", lambda: fit_ellipsoid(W, "sdp", w_max=wm)),
         ("ellipsoid_lsq", lambda: fit_ellipsoid(W, "lsq", w_max=wm)),
         ("quartic", lambda: fit_quartic(W, w_max=wm)),
     ):
+        if name == "quartic" and len(W) < QUARTIC_COEFFS:
+            continue
         t0 = time.perf_counter()
         out[name] = (fit(), time.perf_counter() - t0)
     return out
@@ -139,6 +146,11 @@ def _fit_row(prof, config: dict, seed: int) -> dict:
             row[f"{name}_code_error"] = model.fitting_error(code.wrenches)
             row[f"{name}_code_support"] = support(model)
     return row
+
+
+def _column(rows: list[dict], key: str) -> np.ndarray:
+    """(n,) values of ``key`` over the rows that have it."""
+    return np.array([r[key] for r in rows if r.get(key) is not None], float)
 
 
 def _stats(values: list) -> dict:
@@ -247,10 +259,11 @@ def run(config: dict) -> dict:
     err = {m: np.array([r[f"{m}_error"] for r in rows]) for m in ("ellipsoid", "ellipsoid_lsq", "quartic")}
     tr = {m: np.array([r[f"{m}_train_error"] for r in rows]) for m in ("ellipsoid", "quartic")}
     code = config["thesis_code"]
-    code_err = {m: np.array([r[f"{m}_code_error"] for r in rows]) for m in err} if code else None
-    sup = {"thesis-text": {m: np.array([r[f"{m}_support"] for r in rows]) for m in err}}
+    # thesis-code: over the rows where the model was fitted (the quartic needs >= 126 wrenches)
+    code_err = {m: _column(rows, f"{m}_code_error") for m in err} if code else None
+    sup = {"thesis-text": {m: _column(rows, f"{m}_support") for m in err}}
     if code:
-        sup["thesis-code"] = {m: np.array([r[f"{m}_code_support"] for r in rows]) for m in err}
+        sup["thesis-code"] = {m: _column(rows, f"{m}_code_support") for m in err}
     prof_ms = np.array([r["profile_ms"] for r in rows])
 
     # condensed vs full-mesh linear on bottle contacts (the exactness check of the fast level)
@@ -373,7 +386,11 @@ def run(config: dict) -> dict:
         },
         "thesis_protocol_error": (
             {
-                **{m: {"mean": float(v.mean()), "std": float(v.std())} for m, v in code_err.items()},
+                **{
+                    m: {"mean": float(v.mean()), "std": float(v.std()), "n_profiles": len(v)}
+                    for m, v in code_err.items()
+                },
+                "quartic_underdetermined": sum(r.get("quartic_code_error") is None for r in rows),
                 "n_train": _stats([r["code_n_train"] for r in rows]),
                 "n_pool": _stats([r["code_n_pool"] for r in rows]),
             }

@@ -45,6 +45,7 @@ from workbench import (
     surface_wrenches,
     w_max,
 )
+from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import thesis_code_split
 from workbench.results import save_figure, write_csv, write_summary
@@ -53,7 +54,8 @@ from workbench.timing import median_runtime
 from workbench.twists_author import box_sides, sample_twists_author
 
 NAME = "ls-fitting"
-QUARTIC_COEFFS = 126  # homogeneous quartic in 6 variables: C(9, 5)
+QUARTIC_COEFFS = len(exponents(6, 4))  # homogeneous quartic in 6 variables: C(9, 5) = 126
+ELLIPSOID_COEFFS = len(exponents(6, 2))  # symmetric 6 x 6 A_e: 21
 #: §3.6 and §5: the models "reached as low as 0.02 and 0.04 mean wrench error" — best
 #: values over six surfaces and 2,932 FEM contacts, not bounds; Fig 3.9's curves are not
 #: printed as numbers anywhere in the thesis
@@ -108,22 +110,21 @@ class Contact:
         return self._memo[key]
 
 
-def wrenches(surface, n_twists: int, seed: int, config: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def wrenches(contact: Contact, n_twists: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Raw wrenches (K, 6) of the normalised surface for thesis-sampled twists,
     the exact w_max (6,) and the twists (K, 6)."""
-    c = surface if isinstance(surface, Contact) else Contact(surface, config)
-    xi = sample_twists_thesis(n_twists // 2, c.surface.length_scale, seed)
-    return c.wrenches(xi), c.w_max, xi
+    xi = sample_twists_thesis(n_twists // 2, contact.surface.length_scale, seed)
+    return contact.wrenches(xi), contact.w_max, xi
 
 
-def _fit(kind: str, W: np.ndarray, wm: np.ndarray, xi: np.ndarray, solver: str = "CLARABEL", **kw):
+def _fit(kind: str, W: np.ndarray, wm: np.ndarray, xi: np.ndarray, solver: str = "CLARABEL"):
     """Fit and its median time; fast fits are repeated 3x because single calls
     right after the parallel quadrature can stall ~20 ms on thread-pool
     contention (Numba and BLAS on 2 cores)."""
     if kind == "ellipsoid_lsq":
         fn = partial(fit_ellipsoid, W, "lsq", w_max=wm)
     elif kind == "ellipsoid_sdp":
-        fn = partial(fit_ellipsoid, W, "sdp", w_max=wm, solver=solver, warm_start=False, **kw)
+        fn = partial(fit_ellipsoid, W, "sdp", w_max=wm, solver=solver, warm_start=False)
     else:
         twists = xi if kind == "quartic" else None  # "quartic_values": Eq. (3.17) alone
         fn = partial(fit_quartic, W, twists=twists, w_max=wm, solver=solver, warm_start=False)
@@ -157,7 +158,7 @@ def thesis_code_rows(contact: Contact, config: dict, seed: int, kinds: list[str]
     train = thesis_code_split(W, contact.w_max, config["downsample_steps"])
     out["downsampled"] = {"n_train": len(train)}
     for kind in ("ellipsoid_sdp", "quartic", "quartic_values"):
-        if len(train) >= (QUARTIC_COEFFS if kind.startswith("quartic") else 21):
+        if len(train) >= (QUARTIC_COEFFS if kind.startswith("quartic") else ELLIPSOID_COEFFS):
             model, _ = _fit(kind, W[train], contact.w_max, xi[train])
             out["downsampled"][kind] = model.fitting_error(W)
             if kind != "quartic_values":
@@ -240,16 +241,16 @@ def run(config: dict) -> dict:
     Kc = config["solver_comparison_K"]
     # one-time cvxpy problem builds (per subspace dimension), kept out of the fit timings
     W0, wm0, xi0 = wrenches(
-        THESIS_SURFACES[config["surfaces"][0]], max(config["K"]), config["seed"] + 999, config
+        Contact(THESIS_SURFACES[config["surfaces"][0]], config), max(config["K"]), config["seed"] + 999
     )
     build_s = {kind: _fit(kind, W0, wm0, xi0)[1] for kind in kinds}
     for i, name in enumerate(tqdm(config["surfaces"], desc="surfaces", unit="surface")):
         contact = Contact(THESIS_SURFACES[name], config)
-        W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1, config)
+        W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
         for kind in kinds:
             err[kind][name], train_err[kind][name], rt[kind][name], radial[kind][name] = {}, {}, {}, {}
         for K in config["K"]:
-            W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K, config)
+            W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
             for kind in kinds:
                 if kind.startswith("quartic") and K < QUARTIC_COEFFS:
                     continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
@@ -392,7 +393,9 @@ def run(config: dict) -> dict:
                 n: r["support"][kind] for n, r in code_rows.items()
             }
             support.setdefault("thesis-code-downsampled", {})[kind] = {
-                n: r["downsampled"][f"{kind}_support"] for n, r in code_rows.items()
+                n: r["downsampled"][f"{kind}_support"]
+                for n, r in code_rows.items()
+                if f"{kind}_support" in r["downsampled"]  # absent: fewer wrenches than unknowns
             }
     support_mean = {
         p: {k: float(np.mean([v["radial_mean"] for v in t.values()])) for k, t in by_kind.items()}

@@ -187,6 +187,13 @@ def _margin_row(model: str, deciders, W: np.ndarray, steps: int) -> dict:
     }
 
 
+def _model_margin_row(model: str, sets: list, forces: np.ndarray, W: np.ndarray, config: dict, cuts) -> dict:
+    """Margin row of a model's contact sets, scaled by each disturbance's force reading."""
+    grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
+    deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
+    return _margin_row(model, deciders, W, config["margin_steps"])
+
+
 def margin_vs_truth(s_m: np.ndarray, true_margin: np.ndarray) -> dict:
     """Capacity error of a model's margins (n,) against the truth's (n,), where both
     are finite and nonzero: median |log ratio| and its sign (> 0: optimistic)."""
@@ -215,9 +222,7 @@ def _training_distribution(
             key = f"margin/{model}@{kind}"
             if key not in ckpt:
                 sets = _sets(true_prof, model, cache, config, sampler=kind)
-                grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
-                deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
-                ckpt.add(key, _margin_row(model, deciders, W, config["margin_steps"]))
+                ckpt.add(key, _model_margin_row(model, sets, forces, W, config, cuts))
             s_m = np.array(ckpt.rows[key]["margins"])
             pr = matched_precision(s_m, truth, config["precision_levels"])
             out[model][kind] = {
@@ -313,10 +318,9 @@ def run(config: dict) -> dict:
         key = f"margin/{model}"
         if key in ckpt:
             continue
-        sets = _sets(true_prof, model, cache, config)
-        grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
-        deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
-        ckpt.add(key, _margin_row(model, deciders, W, config["margin_steps"]))
+        ckpt.add(
+            key, _model_margin_row(model, _sets(true_prof, model, cache, config), forces, W, config, cuts)
+        )
     if "margin/truth" not in ckpt:  # the simulated truth's own margin (same noise as `truth`)
         deciders = [
             lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]

@@ -285,3 +285,20 @@ def test_matched_precision_on_a_hand_made_ranking():
     assert out["at_levels"]["recall"] == [1.0, 0.75]
     assert out["at_levels"]["threshold"] == [1.2, 2.0]
     assert np.isnan(matched_precision(np.zeros(6), truth, [0.5])["at_levels"]["recall"][0])
+
+
+def test_fem_fitting_leaves_out_an_underdetermined_quartic():
+    """The thesis-code training set can have fewer wrenches than the quartic's 126
+    coefficients (121 on a bottle profile): the quartic is left out, not faked."""
+    from experiments.fem_fitting import _fits
+    from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, w_max
+
+    rng = np.random.default_rng(0)
+    c = np.c_[rng.uniform(-0.01, 0.01, (80, 2)), 0.002 * rng.standard_normal(80)]
+    n = np.tile([0.0, 0.0, 1.0], (80, 1))
+    prof = ContactProfile(c, n, np.full(80, 2e-6), rng.uniform(1e4, 2e4, 80))
+    xi = sample_twists_thesis(100, prof, seed=1)
+    W = frictional_wrenches(prof, xi)
+    few, enough = _fits(W[:121], w_max(prof)), _fits(W[:130], w_max(prof))
+    assert set(few) == {"ellipsoid", "ellipsoid_lsq"}
+    assert set(enough) == {"ellipsoid", "ellipsoid_lsq", "quartic"}
