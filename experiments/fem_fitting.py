@@ -49,7 +49,7 @@ from fem.validation import condensed_vs_full
 from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
-from workbench.limit_surface.thesis_code import thesis_code_sample
+from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "fem-fitting"
@@ -84,6 +84,9 @@ DEFAULT_CONFIG = {
     "validation_summary": "results/fem-validation/summary.json",
     "render_examples": 4,
 }
+#: the CLI checks settings with this before any work (workbench.cli.build_config)
+check_config = check_protocol_config
+
 QUICK_CONFIG = {
     "n_objects": 2,
     "n_asymmetric": 1,

@@ -47,7 +47,7 @@ from workbench import (
 )
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
-from workbench.limit_surface.thesis_code import thesis_code_split
+from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
@@ -79,6 +79,9 @@ DEFAULT_CONFIG = {
     "section_surface": "S4",  # Fig 3.10
     "section_K": 600,
 }
+#: the CLI checks settings with this before any work (workbench.cli.build_config)
+check_config = check_protocol_config
+
 QUICK_CONFIG = {"K": [200, 600], "n_heldout": 4000, "wrench_source": "mesh", "mesh_elements": 800}
 
 

@@ -119,6 +119,12 @@ QUICK_CONFIG = {
 }
 
 
+def check_config(config: dict) -> None:
+    """Sampler kinds are checked before the ground truth is computed (the CLI calls this)."""
+    for kind in config["training_samplers"]:
+        SamplerSpec(kind=kind)  # raises ValueError naming the known kinds
+
+
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
     tp = int((pred & truth).sum())
     fp = int((pred & ~truth).sum())

@@ -78,6 +78,20 @@ def test_cli_config_layers():
         build_config("discretization", False, None, None, {"nope": 1})
 
 
+@pytest.mark.parametrize(
+    "name, sets, match",
+    [
+        ("fem-fitting", {"fine_level": 9}, "fine_level must be one of"),
+        ("ls-fitting", {"support_directions": 0}, "support_directions must be a positive"),
+        ("fem-fitting", {"downsample_steps": 0.0}, "downsample_steps must be > 0"),
+        ("sensitivity", {"training_samplers": ["thesis", "nope"]}, "sampler kind must be one of"),
+    ],
+)
+def test_settings_a_default_cannot_judge_are_refused_before_any_work(name, sets, match):
+    with pytest.raises(SystemExit, match=f"{name}: {match}"):
+        build_config(name, True, None, None, sets)
+
+
 @pytest.fixture(scope="module")
 def ls_fitting(tmp_path_factory):
     out = tmp_path_factory.mktemp("ls")

@@ -83,3 +83,18 @@ def test_grid_downsample_keeps_one_wrench_per_occupied_cell(rng):
     assert 50 < len(got) < 3**5  # 3 cells per non-flat dimension, many occupied
     with pytest.raises(ValueError, match="steps"):
         grid_downsample(W, 0)
+
+
+def test_sides_in_millimetres_are_refused():
+    with pytest.raises(ValueError, match="millimetres"):
+        sample_twists_author([39.0, 19.0, 4.9])
+    assert len(sample_twists_author([39.0, 19.0, 4.9], allow_scale=True)) == 48_483
+
+
+def test_a_range_at_rounding_noise_is_one_cell(rng):
+    """A flat contact tilted by 1e-9 rad has components at noise level: one cell, as zero is."""
+    W = rng.standard_normal((500, 6))
+    flat, noisy = W.copy(), W.copy()
+    flat[:, 3:5] = 0.0
+    noisy[:, 3:5] = 1e-11 * rng.standard_normal((500, 2))
+    np.testing.assert_array_equal(grid_downsample(noisy), grid_downsample(flat))

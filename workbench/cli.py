@@ -210,7 +210,9 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     — an int is accepted and converted —, str, lists and dicts element by
     element, anything for a ``None`` default) and numbers must be finite;
     otherwise, or for an unknown key, ``SystemExit`` says which key, what it
-    expects and what it got — before any work starts.
+    expects and what it got — before any work starts.  An experiment's optional
+    ``check_config(config)`` then checks what the defaults cannot tell (a ``ValueError``
+    naming the key becomes the ``SystemExit``).
     """
     if name not in EXPERIMENTS:
         raise SystemExit(f"unknown experiment {name!r}; known: {sorted(EXPERIMENTS)}")
@@ -227,6 +229,12 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}; known: {sorted(config)}")
     defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
     config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
+    check = getattr(module, "check_config", None)  # what a key's default cannot tell (a level, a kind)
+    if check is not None:
+        try:
+            check(config)
+        except ValueError as exc:
+            raise SystemExit(f"{name}: {exc}") from None
     return config
 
 

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from .twists import translation_twists, twists_from_plucker
+from .units import check_extent
 
 
 @dataclass(frozen=True)
@@ -81,10 +82,12 @@ def author_sphere(n: int) -> np.ndarray:
     return np.vstack([pts[keep], axes[: min(6, n)]])
 
 
-def box_sides(profile_or_sides: Any) -> np.ndarray:
+def box_sides(profile_or_sides: Any, *, allow_scale: bool = False) -> np.ndarray:
     """(3,) axis-aligned box sides ``L`` [m] of a contact (``lengthArray``): the extent
-    of a ContactProfile's element *centres* (slightly under the surface's own extent),
-    or given directly (metres: no unit check here)."""
+    of a ContactProfile's element *centres* (slightly under the surface's own extent;
+    the profile's own unit check applies), or given directly — then the longest side
+    must be a plausible size in metres (:func:`workbench.units.check_extent`, no lower
+    limit; ``allow_scale=True`` accepts any)."""
     centers = getattr(profile_or_sides, "centers", None)
     L = (
         np.ptp(np.asarray(centers, float), axis=0)
@@ -100,6 +103,14 @@ def box_sides(profile_or_sides: Any) -> np.ndarray:
         )
         raise ValueError(
             f"box sides must be three non-negative lengths [m], not all zero; got {L.tolist()} ({what})"
+        )
+    if centers is None:
+        check_extent(
+            L.max(),
+            "box sides passed to sample_twists_author",
+            allow_scale=allow_scale,
+            check_lower=False,
+            fix="scale them by {factor:g}",
         )
     return L
 
@@ -128,10 +139,13 @@ def _near_translations() -> np.ndarray:
     return m / np.linalg.norm(m, axis=1, keepdims=True)
 
 
-def sample_twists_author(profile_or_sides: Any, fine_level: int = 0) -> np.ndarray:
+def sample_twists_author(
+    profile_or_sides: Any, fine_level: int = 0, *, allow_scale: bool = False
+) -> np.ndarray:
     """Unit twists about the pressure centre ``o`` on the author's grid (module docstring).
 
-    profile_or_sides : ContactProfile (its box sides) or (3,) box sides ``L`` [m].
+    profile_or_sides : ContactProfile (its box sides) or (3,) box sides ``L`` [m]
+        (``allow_scale``: see :func:`box_sides`).
     fine_level : the code's ``fineLevel`` (:data:`AUTHOR_LEVELS`; 0: the FEM study).
     Returns (K, 6) ``[v; ω]``: offset axes, axes through ``o`` and 36 translations,
     each with every pitch (rotations with ``|ω| = 1``, translations ``|v| = 1``);
@@ -143,7 +157,7 @@ def sample_twists_author(profile_or_sides: Any, fine_level: int = 0) -> np.ndarr
     if fine_level not in AUTHOR_LEVELS:
         raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {fine_level!r}")
     lv = AUTHOR_LEVELS[fine_level]
-    L = box_sides(profile_or_sides)
+    L = box_sides(profile_or_sides, allow_scale=allow_scale)
     c = np.asarray(lv.coeffs)
     half = np.r_[c * L.min(), c * L.max()]
     d = np.unique(np.r_[-half, 0.0, half])

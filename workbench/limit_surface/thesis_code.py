@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..profile import ContactProfile
-from ..twists_author import sample_twists_author
+from ..twists_author import AUTHOR_LEVELS, sample_twists_author
 from ..wrench import frictional_wrenches, w_max
 from .downsample import grid_downsample
 from .normalize import check_wrenches, wrench_scale
@@ -70,4 +70,21 @@ def thesis_code_sample(
     return ThesisCodeSample(xi, W, wm, thesis_code_split(W, wm, steps))
 
 
-__all__ = ["ThesisCodeSample", "thesis_code_sample", "thesis_code_split"]
+def check_protocol_config(config: dict) -> None:
+    """Raise ``ValueError`` naming the key if an experiment's thesis-code settings
+    (``fine_level``, ``downsample_steps``, ``support_directions``) would fail — so an
+    experiment refuses them before its first solve, not after it."""
+    if config["fine_level"] not in AUTHOR_LEVELS:
+        raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {config['fine_level']!r}")
+    if not config["downsample_steps"] > 0:
+        raise ValueError(
+            f"downsample_steps must be > 0 cell widths per range; got {config['downsample_steps']!r}"
+        )
+    if not (isinstance(config["support_directions"], int) and config["support_directions"] > 0):
+        raise ValueError(
+            "support_directions must be a positive number of directions; "
+            f"got {config['support_directions']!r}"
+        )
+
+
+__all__ = ["ThesisCodeSample", "check_protocol_config", "thesis_code_sample", "thesis_code_split"]
