@@ -21,9 +21,17 @@ The error to compare across protocols is the sampler-independent one
 (``support_error``: radial distance at exact surface points of uniform normals,
 :mod:`workbench.limit_surface.support_error`).  "ellipsoid" is the
 PSD-constrained least-squares fit ("sdp"), "quartic" Eq. (3.17) on the values
-alone, as the thesis writes both; the author's code instead minimises L1
-residuals (weight 10) plus twist-direction residuals (weight 1) plus
-``‖A‖`` (weight 1) — a departure in the fit, not measured here.
+alone, as the thesis writes both.
+
+The author's grid is axis-aligned, so the thesis-code protocol depends on the frame
+the contact is written in; it uses the author's, the object frame (z = the bottle's
+axis, ``code_frame``).  On every ``ablation_every``-th profile the protocol is
+repeated with one thing changed (``protocol_ablation``): the jaw frame (z = the
+grasp axis), the code's bounding box that contains the object origin
+(``convertelementinfo.m`` zero-fills its node array — a quirk, not adopted), 3 mm
+elements (the thesis's element size, :func:`workbench.coarsen.coarsen_profile`), and
+the author's fitting objective (L1 values, twist directions, ``‖A‖``;
+:mod:`workbench.limit_surface.author_objective`).
 
 The sweep checkpoints every profile (``rows.jsonl``), so a killed run resumes
 where it stopped and a finished one re-solves nothing.
@@ -47,6 +55,8 @@ from fem.material import Material
 from fem.pad import PadGeometry, condense_pad
 from fem.validation import condensed_vs_full
 from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
+from workbench.coarsen import coarsen_profile
+from workbench.limit_surface.author_objective import fit_author_objective
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
@@ -56,8 +66,9 @@ NAME = "fem-fitting"
 log = logging.getLogger(__name__)
 
 #: bump when a row's computation changes, so checkpoints of older code are not reused
-#: (3: profiles carry the solved force, fem/extract.py; 4: thesis-code protocol, support error)
-ROW_VERSION = 4
+#: (3: profiles carry the solved force, fem/extract.py; 4: thesis-code protocol, support error;
+#: 5: thesis-code protocol in the object frame, protocol ablation)
+ROW_VERSION = 5
 QUARTIC_COEFFS = len(exponents(6, 4))  # a quartic in 6D: C(9, 5) = 126
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
@@ -79,13 +90,32 @@ DEFAULT_CONFIG = {
     "fine_level": 0,  # its twist grid (0: the FEM study's, 48,483 twists)
     "downsample_steps": 2.5,  # its training grid: cells per wrench range
     "support_directions": 2000,  # sampler-independent error: uniform normals per profile
+    "code_frame": "object",  # frame of the author's axis-aligned grid: "object" (theirs) or "jaw"
+    "ablation_every": 16,  # protocol ablation on every n-th profile (0: none)
+    "ablation_cell_mm": 3.0,  # element size of the coarsened variant (the thesis's 3 mm)
     "reference_cases": 3,  # bottle contacts also solved on the full mesh (condensed vs reference)
     "reference_delta_mm": 2.0,
     "validation_summary": "results/fem-validation/summary.json",
     "render_examples": 4,
 }
+
+
 #: the CLI checks settings with this before any work (workbench.cli.build_config)
-check_config = check_protocol_config
+def check_config(config: dict) -> None:
+    """Refuse settings the defaults cannot judge before any work (workbench.cli.build_config)."""
+    check_protocol_config(config)
+    if config["code_frame"] not in ("object", "jaw"):
+        raise ValueError(f"code_frame must be 'object' or 'jaw'; got {config['code_frame']!r}")
+    if not (isinstance(config["ablation_every"], int) and config["ablation_every"] >= 0):
+        raise ValueError(
+            f"ablation_every must be an integer >= 0 (0: no ablation); got {config['ablation_every']!r}"
+        )
+    if not 0.1 <= config["ablation_cell_mm"] <= 100:
+        raise ValueError(
+            "ablation_cell_mm must be a cell size in mm in [0.1, 100] (3: the thesis's); "
+            f"got {config['ablation_cell_mm']!r}"
+        )
+
 
 QUICK_CONFIG = {
     "n_objects": 2,
@@ -118,9 +148,53 @@ def _fits(W: np.ndarray, wm: np.ndarray) -> dict:
     return out
 
 
-def _fit_row(prof, config: dict, seed: int) -> dict:
+#: the protocol ablation's variants: what each changes against the thesis-code row
+ABLATION_VARIANTS = {
+    "jaw_frame": "the grid in the jaw frame (z = grasp axis) instead of the object frame",
+    "origin_in_box": "box sides of the contact's nodes and the object origin (the code's zero-filled array)",
+    "coarse_elements": "elements merged into ablation_cell_mm squares (the thesis's element size)",
+    "author_objective": "the author's objective: L1 values (10) + twist directions (1) + ||A|| (1)",
+}
+
+
+def _code_errors(pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False) -> dict:
+    """Thesis-code Eq. (3.18) errors {model: error} of one variant on profile ``pc``."""
+    if coarse:
+        pc = coarsen_profile(pc, config["ablation_cell_mm"] * 1e-3)
+    code = thesis_code_sample(pc, config["mu"], config["fine_level"], config["downsample_steps"], sides=sides)
+    if author:
+        fits = {
+            m: fit_author_objective(code.train_wrenches, code.train_twists, m, w_max=code.w_max)
+            for m in ("ellipsoid", "quartic")
+        }
+    else:
+        fits = {m: model for m, (model, _) in _fits(code.train_wrenches, code.w_max).items()}
+    out = {m: fits[m].fitting_error(code.wrenches) for m in ("ellipsoid", "quartic") if m in fits}
+    out["n_train"] = len(code.train)
+    return out
+
+
+def _ablation(p_obj, p_jaw, config: dict) -> dict:
+    """Row keys ``abl_<variant>_<model>`` (module docstring)."""
+    pts = p_obj.vertices if p_obj.vertices is not None else p_obj.centers
+    box_with_origin = np.ptp(np.vstack([pts, np.zeros(3)]), axis=0)
+    variants = {
+        "jaw_frame": lambda: _code_errors(p_jaw, config),
+        "origin_in_box": lambda: _code_errors(p_obj, config, sides=box_with_origin),
+        "coarse_elements": lambda: _code_errors(p_obj, config, coarse=True),
+        "author_objective": lambda: _code_errors(p_obj, config, author=True),
+    }
+    row = {}
+    for name, fn in variants.items():
+        for key, v in fn().items():
+            row[f"abl_{name}_{key}"] = v
+    return row
+
+
+def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False) -> dict:
     """Sample, fit both models, and measure their errors on one normalised profile
-    under both protocols."""
+    under both protocols.  ``to_object`` : (R, t) of the jaw frame in the object
+    frame (``x_object = R x + t``), the frame of the thesis-code protocol."""
     pn = prof.normalized()
     mu = config["mu"]
     sample = partial(sample_twists_thesis, length_scale=pn, pitch_range=tuple(config["pitch_range"]))
@@ -141,14 +215,48 @@ def _fit_row(prof, config: dict, seed: int) -> dict:
         row[f"{name}_fallback"] = model.info.get("fallback")
         row["dim"] = model.dim
     if config["thesis_code"]:
-        code = thesis_code_sample(pn, mu, config["fine_level"], config["downsample_steps"])
+        p_obj = pn if to_object is None else pn.transformed(*to_object)
+        pc = p_obj if config["code_frame"] == "object" else pn
+        code = thesis_code_sample(pc, mu, config["fine_level"], config["downsample_steps"])
         row["code_n_train"] = len(code.train)
         row["code_n_pool"] = len(code.wrenches)
         for name, (model, dt) in _fits(code.train_wrenches, code.w_max).items():
             row[f"{name}_code_fit_s"] = dt
             row[f"{name}_code_error"] = model.fitting_error(code.wrenches)
-            row[f"{name}_code_support"] = support(model)
+            row[f"{name}_code_support"] = support_error(
+                model, partial(frictional_wrenches, pc, mu=mu), config["support_directions"], seed=seed
+            ).radial_mean
+        if ablate:
+            row.update(_ablation(p_obj, pn, config))
     return row
+
+
+def _ablation_summary(rows: list[dict]) -> dict | None:
+    """Per variant and model: the variant's mean Eq. (3.18) error beside the
+    thesis-code row's on the same profiles (paired), and their ratio."""
+    sub = [r for r in rows if "abl_jaw_frame_ellipsoid" in r]
+    if not sub:
+        return None
+    out = {"n_profiles": len(sub), "variants": ABLATION_VARIANTS}
+    for name in ABLATION_VARIANTS:
+        out[name] = {}
+        for m in ("ellipsoid", "quartic"):
+            pair = [
+                (r[f"abl_{name}_{m}"], r[f"{m}_code_error"])
+                for r in sub
+                if r.get(f"abl_{name}_{m}") is not None and r.get(f"{m}_code_error") is not None
+            ]
+            if pair:
+                v, base = np.array(pair).T
+                out[name][m] = {
+                    "mean": float(v.mean()),
+                    "std": float(v.std()),
+                    "protocol_mean": float(base.mean()),
+                    "ratio": float(v.mean() / base.mean()),
+                    "n_profiles": len(pair),
+                }
+        out[name]["n_train"] = _stats([r[f"abl_{name}_n_train"] for r in sub])
+    return out
 
 
 def _column(rows: list[dict], key: str) -> np.ndarray:
@@ -207,6 +315,7 @@ def run(config: dict) -> dict:
     ]
     n_total = len(jobs) * len(config["deltas_mm"])
     examples, markers = {}, {}
+    every = config["ablation_every"]
     bar = tqdm(total=n_total, desc="fem-fitting", unit="profile")
     for j, (i, hf, name, ang) in enumerate(jobs):
         b = bottles[i]
@@ -244,7 +353,13 @@ def run(config: dict) -> dict:
                     n_elements=len(prof),
                     area_mm2=float(prof.areas.sum() * 1e6),
                     peak_pressure_kPa=float(prof.pressures.max() / 1e3),
-                    **_fit_row(prof, config, config["seed"] + 1000 * j + k),
+                    **_fit_row(
+                        prof,
+                        config,
+                        config["seed"] + 1000 * j + k,
+                        to_object=(pose.R, pose.t),
+                        ablate=bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0,
+                    ),
                 )
                 if (i, name) not in examples and len(examples) < config["render_examples"] and k == 2:
                     if params[i].asymmetric or not any(not params[e[0]].asymmetric for e in examples):
@@ -385,8 +500,10 @@ def run(config: dict) -> dict:
             "thesis-text": f"{config['n_wrenches']} wrenches of the thesis §3.3.2 sampler; Eq. 3.18 on "
             f"{config['n_heldout']} held-out ones (the *_error_mean/std keys)",
             "thesis-code": f"the author's twist grid (fineLevel {config['fine_level']}), trained on one "
-            f"wrench per grid cell ({config['downsample_steps']} widths per range), Eq. 3.18 on all",
+            f"wrench per grid cell ({config['downsample_steps']} widths per range), Eq. 3.18 on all; the "
+            f"grid axis-aligned in the {config['code_frame']} frame",
         },
+        "protocol_ablation": _ablation_summary(rows) if code else None,
         "thesis_protocol_error": (
             {
                 **{
@@ -456,6 +573,20 @@ def run(config: dict) -> dict:
         + "; ".join(
             f"{proto} " + ", ".join(f"{m} {v['mean']:.4f}" for m, v in t.items())
             for proto, t in summary["support_error"].items()
+        ),
+        *(
+            [
+                f"thesis-code protocol ablation on {abl['n_profiles']} profiles, ellipsoid / quartic mean "
+                f"error ratio to the protocol's: "
+                + "; ".join(
+                    f"{v} {abl[v]['ellipsoid']['ratio']:.2f} / "
+                    + (f"{abl[v]['quartic']['ratio']:.2f}" if "quartic" in abl[v] else "n/a")
+                    for v in ABLATION_VARIANTS
+                    if "ellipsoid" in abl[v]
+                )
+            ]
+            if (abl := summary["protocol_ablation"])
+            else []
         ),
         f"contact profile: mean {prof_ms.mean():.1f} ms, median {np.median(prof_ms):.1f} ms, "
         f"p95 {np.percentile(prof_ms, 95):.1f} ms after a {summary['pad_precompute_s']:.1f} s pad precompute"

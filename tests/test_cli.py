@@ -144,3 +144,21 @@ def test_ranges_read_off_the_defaults_are_checked_before_any_work(item, words):
 def test_offsets_with_negative_defaults_stay_free():
     cfg = build_config("sensitivity", False, None, None, _parse_sets(["mu_offsets=[-0.3, 0.3]"]))
     assert cfg["mu_offsets"] == [-0.3, 0.3]
+
+
+def test_the_suggested_value_is_shell_quoted():
+    """The hint must work when pasted: a list with spaces and brackets is quoted."""
+    import shlex
+
+    with pytest.raises(SystemExit) as exc:
+        build_config("fem-fitting", True, None, None, _parse_sets(["heights=0.5"]))
+    hint = str(exc.value.code).split("give e.g. ")[1]
+    argv = shlex.split(hint)
+    assert argv[0] == "--set" and len(argv) == 2
+    assert build_config("fem-fitting", True, None, None, _parse_sets([argv[1]]))["heights"] == [
+        0.3,
+        0.4,
+        0.5,
+        0.6,
+        0.7,
+    ]

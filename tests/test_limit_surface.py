@@ -279,6 +279,8 @@ def test_bad_inputs():
         fit_ellipsoid(W[:, :5])
     with pytest.raises(ValueError, match="method must be"):
         fit_ellipsoid(W, "nope")
+    with pytest.raises(ValueError, match="belongs to method='sdp'"):  # never silently ignored
+        fit_ellipsoid(W, "lsq", alpha=1.0)
 
 
 def test_missing_solver_falls_back_or_raises(s4_data):
@@ -400,3 +402,15 @@ def test_normals_fix_the_quartic_at_small_k(s4_data):
     with pytest.raises(ValueError, match="normal_weight"):
         fit_quartic(W, twists=xi, normal_weight=-1.0)
     assert fit_quartic(W, twists=xi, normal_weight=0.0).fitting_error(test) == pytest.approx(values, rel=1e-6)
+
+
+def test_mu_zero_is_named_when_a_limit_surface_is_asked_for(rng):
+    from workbench.limit_surface.thesis_code import thesis_code_sample
+
+    prof = ContactProfile(*naive.random_profile(rng, 40))
+    with pytest.raises(ValueError, match="mu = 0 has no friction wrench"):
+        LimitSurfaceCache().get(prof, 0.0)
+    with pytest.raises(ValueError, match="mu = 0 has no friction wrench"):
+        thesis_code_sample(prof, 0.0)
+    # the wrenches themselves are fine at mu = 0 (all zero), only a fit is meaningless
+    assert not frictional_wrenches(prof, np.eye(6), 0.0).any()

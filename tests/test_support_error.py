@@ -114,3 +114,21 @@ def test_thesis_code_sample_trains_on_one_wrench_per_cell(rng):
     cells = {tuple(np.minimum(np.floor((row - lo) / width), 2).astype(int)) for row in x}
     assert len(s.train) == len(cells)  # one per occupied cell
     assert 100 < len(s.train) < 729
+
+
+def test_thesis_code_sample_depends_on_the_frame_and_takes_sides(rng):
+    """The author's grid is axis-aligned: the same contact rotated gives another wrench
+    set (why fem-fitting fixes the frame); ``sides`` replaces the profile's box."""
+    c, n, a, p = random_profile(rng, 60)
+    prof = ContactProfile(c, n, a, p)
+    base = thesis_code_sample(prof, 1.0)
+    same = thesis_code_sample(prof, 1.0, sides=np.ptp(prof.centers, axis=0))
+    np.testing.assert_array_equal(same.wrenches, base.wrenches)
+    bigger = thesis_code_sample(prof, 1.0, sides=2 * np.ptp(prof.centers, axis=0))
+    assert not np.allclose(bigger.twists, base.twists)
+    R = np.array([[0.0, 0, 1], [1, 0, 0], [0, 1, 0]])  # axes permuted: the box sides permute too
+    turned = thesis_code_sample(prof.transformed(R), 1.0)
+    # a rotated copy of the same wrench set would have the rotated norms of forces/torques
+    norms = lambda W: np.sort(np.linalg.norm(W[:, :3], axis=1))  # noqa: E731
+    assert len(turned.wrenches) == len(base.wrenches)
+    assert not np.allclose(norms(turned.wrenches), norms(base.wrenches), rtol=1e-3)

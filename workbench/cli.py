@@ -12,6 +12,7 @@ import importlib
 import json
 import logging
 import math
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -174,7 +175,7 @@ def _coerce(key: str, value: Any, default: Any) -> Any:
         shown = _dumps(default)
         raise SystemExit(
             f"--set {key}={text}: {key} expects {_describe(schema)} (default {shown}); "
-            f"{exc.args[0]} — give e.g. --set {key}={shown}"
+            f"{exc.args[0]} — give e.g. --set {shlex.quote(f'{key}={shown}')}"
         ) from None
 
 

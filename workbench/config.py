@@ -246,6 +246,11 @@ class Defaults:
     # of small samples and fades as K grows.  0.5 was chosen on validation
     # samples (seeds 777,000+) of S1-S6, never on the reported held-out sets.
     quartic_normal_weight: float = 0.5
+    # (λ, ω_w, ω_t) of the author's fitting objective (limit_surface/author_objective.py):
+    # regulariser ‖A‖, L1 value residuals, twist-direction residuals — the values
+    # of the author's exampleFEM.m, exampleParametricSurface.m and
+    # exampleMeshedSurface.m (all three use 1 / 10 / 1).
+    author_fit_weights: tuple[float, float, float] = (1.0, 10.0, 1.0)
 
     # Dense QP solver of wrench resistance: "auto" = quadprog up to
     # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree

@@ -40,14 +40,20 @@ def check_twists(twists: Any) -> tuple[np.ndarray, bool]:
     return np.ascontiguousarray(xi), single
 
 
-def check_mu(mu: Any) -> float:
-    """Validate a friction coefficient (finite, >= 0)."""
+def check_mu(mu: Any, *, what: str | None = None) -> float:
+    """Validate a friction coefficient (finite, >= 0).  ``what``: name of a result
+    that needs friction (e.g. "a limit surface"); then μ must be > 0."""
     try:
         mu_f = float(mu)
     except (TypeError, ValueError):
         raise ValueError(f"mu must be a non-negative float; got {mu!r}") from None
     if not np.isfinite(mu_f) or mu_f < 0:
         raise ValueError(f"mu must be a finite friction coefficient >= 0; got {mu_f}")
+    if what is not None and mu_f == 0:
+        raise ValueError(
+            f"mu = 0 has no friction wrench, so there is no {what} to compute; pass the contact's "
+            "friction coefficient mu > 0 (normalised wrenches do not depend on its value, e.g. 1.0)"
+        )
     return mu_f
 
 

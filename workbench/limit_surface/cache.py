@@ -25,7 +25,7 @@ from ..profile import ContactProfile
 from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
 from ..twists_author import AUTHOR_LEVELS
-from ..wrench import frictional_wrenches, w_max
+from ..wrench import check_mu, frictional_wrenches, w_max
 from .base import LimitSurfaceModel
 from .contact_wrench import ContactWrenchModel
 from .ellipsoid import EllipsoidLS, fit_ellipsoid
@@ -136,6 +136,7 @@ class LimitSurfaceCache:
     ) -> LimitSurfaceModel:
         """Limit surface of ``profile`` scaled by ``force`` (default ``profile.F``);
         ``sampler`` default ``SamplerSpec()`` (``DEFAULTS.ls_training_sampler``)."""
+        check_mu(mu, what="limit surface")
         sampler = SamplerSpec() if sampler is None else sampler
         k = self.key(profile, mu, sampler, spec)
         model = self._mem.get(k)

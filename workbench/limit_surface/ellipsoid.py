@@ -195,6 +195,11 @@ def fit_ellipsoid(
     t0 = time.perf_counter()
     if method not in ("lsq", "sdp"):
         raise ValueError(f"method must be 'lsq' or 'sdp'; got {method!r}")
+    if method == "lsq" and alpha is not None:  # one meaning per word: never silently ignored
+        raise ValueError(
+            f"alpha (Eq. 3.12's log-det weight, got {alpha!r}) belongs to method='sdp'; "
+            "method='lsq' has no such term — use method='sdp' or drop alpha"
+        )
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     n_unknown = r * (r + 1) // 2

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..profile import ContactProfile
 from ..twists_author import AUTHOR_LEVELS, sample_twists_author
-from ..wrench import frictional_wrenches, w_max
+from ..wrench import check_mu, frictional_wrenches, w_max
 from .downsample import grid_downsample
 from .normalize import check_wrenches, wrench_scale
 
@@ -56,15 +56,27 @@ def thesis_code_split(wrenches: np.ndarray, wm: np.ndarray, steps: float = 2.5) 
 
 
 def thesis_code_sample(
-    profile: ContactProfile, mu: float = 1.0, fine_level: int = 0, steps: float = 2.5
+    profile: ContactProfile,
+    mu: float = 1.0,
+    fine_level: int = 0,
+    steps: float = 2.5,
+    *,
+    sides: np.ndarray | None = None,
 ) -> ThesisCodeSample:
     """Author's twist grid (``fine_level``) on ``profile``, its wrenches, and the
     grid-downsampled training indices (``steps`` cell widths per range).
 
+    The grid is axis-aligned in the profile's own frame (its box sides, offsets on
+    its coordinate axes, a golden-angle sphere about its z axis), so the same
+    contact in two frames gives two different wrench sets and errors: pass the
+    profile in the frame the comparison calls for (the author's: the object frame).
+    sides : optional (3,) box sides [m] to use instead of the profile's (e.g. to
+        measure the effect of a different box).
     Level 0 (the FEM study) gives 48 483 twists and, on the bottle profiles, a few
     hundred training wrenches (the author reports 122-294).
     """
-    xi = sample_twists_author(profile, fine_level)
+    check_mu(mu, what="thesis-code wrench set")
+    xi = sample_twists_author(profile if sides is None else sides, fine_level)
     W = frictional_wrenches(profile, xi, mu)
     wm = w_max(profile, mu)
     return ThesisCodeSample(xi, W, wm, thesis_code_split(W, wm, steps))

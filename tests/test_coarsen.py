@@ -1,0 +1,68 @@
+"""coarsen_profile: conservation, the cell count on a regular grid, a brute-force
+merge on a small case, and careless input."""
+
+import numpy as np
+import pytest
+from naive import random_profile
+
+from workbench import ContactProfile
+from workbench.coarsen import coarsen_profile
+
+
+def _flat_grid(n: int, h: float) -> ContactProfile:
+    """n × n elements of side h on z = 0 (pressure varying), normals +z."""
+    u = (np.arange(n) + 0.5) * h
+    X, Y = np.meshgrid(u, u, indexing="ij")
+    c = np.column_stack([X.ravel(), Y.ravel(), np.zeros(n * n)])
+    p = 1e5 * (1.0 + c[:, 0] / (n * h)) * (1.0 + 0.5 * c[:, 1] / (n * h))
+    return ContactProfile(c, np.tile([0.0, 0, 1], (n * n, 1)), np.full(n * n, h * h), p)
+
+
+def test_force_area_and_pressure_centre_are_conserved(rng):
+    prof = ContactProfile(*random_profile(rng, 400))
+    coarse = coarsen_profile(prof, 3e-3)
+    assert len(coarse) < len(prof)
+    assert coarse.F == pytest.approx(prof.F, rel=1e-12)
+    kept = prof.pressures > 0  # zero-pressure elements only drop out with their whole cell
+    assert coarse.areas.sum() <= prof.areas.sum() + 1e-18
+    assert coarse.areas.sum() >= prof.areas[kept].sum() * (1 - 1e-12)
+    # force-weighted position: each cell's centre is area-weighted, so only the
+    # pressure variation inside a cell moves the centre of pressure (< one cell)
+    assert np.linalg.norm(coarse.pressure_center - prof.pressure_center) < 3e-3
+
+
+def test_regular_grid_merges_into_the_expected_cells():
+    prof = _flat_grid(12, 1e-3)  # 12 mm square of 1 mm elements
+    coarse = coarsen_profile(prof, 3e-3)
+    assert len(coarse) == 16  # 4 × 4 cells of 3 × 3 elements
+    np.testing.assert_allclose(coarse.areas, 9e-6, rtol=1e-12)
+    # brute force: each cell is the 3 × 3 block of elements it covers
+    c, p = prof.centers, prof.pressures
+    for centre, pressure in zip(coarse.centers, coarse.pressures, strict=True):
+        block = np.all(np.abs(c[:, :2] - centre[:2]) < 1.5e-3, axis=1)
+        assert block.sum() == 9
+        assert pressure == pytest.approx(p[block].mean(), rel=1e-12)
+        np.testing.assert_allclose(centre, c[block].mean(axis=0), atol=1e-15)
+    # flat: the normal force vector is exact; the centre of pressure moves by the
+    # pressure gradient inside a cell (here 0.04 mm), well under a cell
+    np.testing.assert_allclose(coarse.normal_wrench[:3], prof.normal_wrench[:3], rtol=1e-12)
+    shift = np.linalg.norm(coarse.pressure_center - prof.pressure_center)
+    assert 0 < shift < 0.1e-3
+
+
+def test_a_cell_smaller_than_the_elements_changes_nothing(rng):
+    prof = _flat_grid(6, 1e-3)
+    fine = coarsen_profile(prof, 0.999e-3)
+    order = np.lexsort(fine.centers.T[::-1])
+    ref = np.lexsort(prof.centers.T[::-1])
+    np.testing.assert_allclose(fine.centers[order], prof.centers[ref], atol=1e-15)
+    np.testing.assert_allclose(fine.pressures[order], prof.pressures[ref], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "cell, match", [(3.0, "millimetres"), (0.0, "positive length"), (np.nan, "positive length")]
+)
+def test_careless_cell_is_refused(rng, cell, match):
+    prof = ContactProfile(*random_profile(rng, 50))
+    with pytest.raises(ValueError, match=match):
+        coarsen_profile(prof, cell)
