@@ -61,6 +61,7 @@ from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.wrench import check_mu
 
 NAME = "fem-fitting"
 log = logging.getLogger(__name__)
@@ -100,10 +101,29 @@ DEFAULT_CONFIG = {
 }
 
 
-#: the CLI checks settings with this before any work (workbench.cli.build_config)
 def check_config(config: dict) -> None:
     """Refuse settings the defaults cannot judge before any work (workbench.cli.build_config)."""
     check_protocol_config(config)
+    check_mu(config["mu"], what="limit surface")
+    Material(config["E"], config["nu"])  # their own range checks (E > 0, -1 < ν < 0.5)
+    geom = PadGeometry(**config["pad"])
+    if max(geom.width, geom.length) > 0.2 or geom.thickness > 0.05:
+        raise ValueError(
+            f"pad {geom.width} x {geom.length} x {geom.thickness} m is not a gripper pad — are the "
+            "sizes in millimetres? give metres (the default is 0.02 x 0.04 x 0.005)"
+        )
+    if not all(0 < h < 1 for h in config["heights"]):
+        raise ValueError(f"heights are fractions of the bottle height in (0, 1); got {config['heights']}")
+    if not all(0 < d < geom.thickness * 1e3 for d in config["deltas_mm"]):
+        raise ValueError(
+            f"deltas_mm are jaw displacements after first touch in (0, {geom.thickness * 1e3:g}) mm "
+            f"(the pad's thickness); got {config['deltas_mm']}"
+        )
+    if config["n_wrenches"] < QUARTIC_COEFFS or config["n_heldout"] < 1:
+        raise ValueError(
+            f"n_wrenches must be >= {QUARTIC_COEFFS} (the quartic's coefficients; the thesis uses 600) and "
+            f"n_heldout >= 1; got {config['n_wrenches']} and {config['n_heldout']}"
+        )
     if config["code_frame"] not in ("object", "jaw"):
         raise ValueError(f"code_frame must be 'object' or 'jaw'; got {config['code_frame']!r}")
     if not (isinstance(config["ablation_every"], int) and config["ablation_every"] >= 0):

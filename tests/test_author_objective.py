@@ -68,14 +68,15 @@ def test_the_regularised_fit_minimises_the_stated_objective(ellipsoid_data, rng)
     assert model.fitting_error(W) < 1e-6
 
 
-def test_the_twists_sign_matters(ellipsoid_data):
-    """Twists of the right sign (friction opposes motion) fit with ~0 residual; the
-    flipped ones cannot be matched by any s >= 0."""
+def test_the_twists_sign_is_checked(ellipsoid_data):
+    """Twists of the right sign (friction opposes motion, w·ξ <= 0) fit with ~0 residual;
+    the author's +ξ convention would fit a wrong surface (a trial measured a quartic 0.13
+    off) and is refused."""
     A, W, xi = ellipsoid_data
     good = fit_author_objective(W, xi, "ellipsoid", w_max=np.ones(6), weights=(0, 10, 1))
-    bad = fit_author_objective(W, -xi, "ellipsoid", w_max=np.ones(6), weights=(0, 10, 1))
     assert good.info["train_twist_residual_mean"] < 1e-5
-    assert bad.info["train_twist_residual_mean"] > 0.1
+    with pytest.raises(ValueError, match="not a friction twist"):
+        fit_author_objective(W, -xi, "ellipsoid", w_max=np.ones(6))
 
 
 def test_exact_quartic_is_recovered(ellipsoid_data, rng):
@@ -111,11 +112,22 @@ def test_regularised_quartic_fits_below_126_wrenches(ellipsoid_data, rng):
         ({"weights": (1, 0, 1)}, "positive wrench weight"),
         ({"weights": (1, 10)}, "three numbers"),
         ({"weights": (-1, 10, 1)}, "must be finite, >= 0"),
-        ({"twists": "transposed"}, "twists must be a finite array"),
+        ({"twists": "transposed"}, "twists must have the wrenches' shape"),
+        ({"twists": "nan"}, "twist 3 is NaN/inf or zero"),
+        ({"twists": "zero"}, "twist 3 is NaN/inf or zero"),
+        ({"n": 5}, "5 wrenches span 5 dimensions: too few"),
+        ({"w_max": 0.5}, "exceed the given w_max in component"),
     ],
 )
 def test_careless_input_is_refused(ellipsoid_data, kwargs, match):
     A, W, xi = ellipsoid_data
-    twists = xi[:30].T if kwargs.pop("twists", None) == "transposed" else xi[:30]
+    n = kwargs.pop("n", 30)
+    W, twists = W[:n], xi[:n].copy()
+    how = kwargs.pop("twists", None)
+    if how == "transposed":
+        twists = twists.T
+    elif how in ("nan", "zero"):
+        twists[3] = np.nan if how == "nan" else 0.0
+    kwargs["w_max"] = kwargs.get("w_max", 1.0) * np.ones(6)  # torques in N·mm would look like this
     with pytest.raises(ValueError, match=match):
-        fit_author_objective(W[:30], twists, **{"model": "ellipsoid", **kwargs})
+        fit_author_objective(W, twists, **{"model": "ellipsoid", **kwargs})

@@ -66,3 +66,15 @@ def test_careless_cell_is_refused(rng, cell, match):
     prof = ContactProfile(*random_profile(rng, 50))
     with pytest.raises(ValueError, match=match):
         coarsen_profile(prof, cell)
+
+
+def test_opposing_normals_in_one_cell_are_refused():
+    """Both sides of a thin wall in one cell: their mean normal has no direction."""
+    c = np.array([[0.0, 0, 0], [0.2e-3, 0, 0], [2e-3, 0, 0], [4e-3, 0, 0]])
+    n = np.array([[0.0, 0, 1], [0, 0, -1], [0, 0, 1], [0, 0, 1]])
+    prof = ContactProfile(c, n, np.full(4, 1e-8), np.full(4, 1e5))
+    with pytest.raises(ValueError, match="opposing normals"):
+        coarsen_profile(prof, 1e-3)
+    # all of them cancelling: no tangent plane to lay the cells in
+    with pytest.raises(ValueError, match="normals cancel"):
+        coarsen_profile(ContactProfile(c[:2], n[:2], np.full(2, 1e-8), np.full(2, 1e5)), 1e-3)

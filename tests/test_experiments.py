@@ -83,7 +83,7 @@ def test_cli_config_layers():
     [
         ("fem-fitting", {"fine_level": 9}, "fine_level must be one of"),
         ("ls-fitting", {"support_directions": 0}, "support_directions must be a positive"),
-        ("fem-fitting", {"downsample_steps": 0.0}, "downsample_steps must be > 0"),
+        ("fem-fitting", {"downsample_steps": 0.0}, "downsample_steps must be >= 2"),
         ("fem-fitting", {"code_frame": "pad"}, "code_frame must be 'object' or 'jaw'"),
         ("fem-fitting", {"ablation_cell_mm": 0.003}, "ablation_cell_mm must be a cell size in mm"),
         ("sensitivity", {"training_samplers": ["thesis", "nope"]}, "sampler kind must be one of"),
@@ -325,3 +325,19 @@ def test_fem_fitting_leaves_out_an_underdetermined_quartic():
     few, enough = _fits(W[:121], w_max(prof)), _fits(W[:130], w_max(prof))
     assert set(few) == {"ellipsoid", "ellipsoid_lsq"}
     assert set(enough) == {"ellipsoid", "ellipsoid_lsq", "quartic"}
+
+
+@pytest.mark.parametrize(
+    "sets, match",
+    [
+        ({"mu": 0.0}, "mu = 0 has no friction wrench"),
+        ({"heights": [5.0]}, "heights are fractions of the bottle height"),
+        ({"nu": 0.5}, "nu must be in"),
+        ({"pad": {"width": 20.0}}, "pad 20.0 x 0.04 x 0.005 m is not a gripper pad"),
+        ({"deltas_mm": [7.0]}, "deltas_mm are jaw displacements"),
+        ({"n_wrenches": 10}, "n_wrenches must be >= 126"),
+    ],
+)
+def test_fem_fitting_refuses_physical_nonsense_before_any_work(sets, match):
+    with pytest.raises(SystemExit, match=f"fem-fitting: {match}"):
+        build_config("fem-fitting", True, None, None, sets)

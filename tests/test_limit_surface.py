@@ -288,6 +288,10 @@ def test_missing_solver_falls_back_or_raises(s4_data):
     # α > 0 forces the conic solve (with α = 0 a PD least-squares fit is returned directly)
     m = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER", alpha=1e-6 * len(train))
     assert "failed" in m.info["fallback"] and "least squares" in m.info["fallback"]
+    # without α the PD least-squares A is the SDP's optimum: no conic solve, and info
+    # names the solver that ran (not the one asked for)
+    direct = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER")
+    assert direct.info["fallback"] is None and direct.info["solver"] == "numpy.linalg.lstsq"
     assert np.linalg.eigvalsh(m.A_e).min() > 0
     with pytest.raises(RuntimeError, match="NOT_A_SOLVER"):
         fit_quartic(train, solver="NOT_A_SOLVER", fallback_solver=None)

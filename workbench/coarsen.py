@@ -44,6 +44,11 @@ def coarsen_profile(profile: ContactProfile, cell: float) -> ContactProfile:
     if len(c) < 2:
         raise ValueError(f"need a profile with >= 2 elements to coarsen; got {len(c)}")
     n_bar = a @ profile.normals
+    if np.linalg.norm(n_bar) < 1e-6 * a.sum():
+        raise ValueError(
+            "the profile's area-weighted normals cancel (both sides of a thin part?): there is no "
+            "tangent plane to lay the cells in — coarsen each side separately"
+        )
     n_bar /= np.linalg.norm(n_bar)
     # in-plane axes from the frame's x (y if x is near the normal): deterministic, where
     # principal axes would spin freely on a square patch
@@ -61,6 +66,14 @@ def coarsen_profile(profile: ContactProfile, cell: float) -> ContactProfile:
     centre = np.column_stack([np.bincount(cell_of, a * c[:, d], k) for d in range(3)]) / area[:, None]
     normal = np.column_stack([np.bincount(cell_of, a * profile.normals[:, d], k) for d in range(3)])
     keep = force > 0
+    length = np.linalg.norm(normal, axis=1)
+    folded = keep & (length < 1e-6 * area)
+    if folded.any():  # e.g. two sides of a thin wall, or a fold, in one cell
+        raise ValueError(
+            f"{int(folded.sum())} cell(s) of {cell * 1e3:g} mm hold elements with opposing normals, whose "
+            "mean has no direction (a fold or both sides of a thin part) — use a smaller cell or coarsen "
+            "each side separately"
+        )
     return ContactProfile(
         centre[keep], normal[keep], area[keep], force[keep] / area[keep], normalize_normals=True
     )

@@ -125,6 +125,12 @@ class Tolerances:
     # force (refused); above 1 + this, a warning is logged.
     support_wmax_mismatch: float = 0.2
 
+    # A w_max given to a fitter is the exact maxima of the wrenches' contact
+    # (analytic: the canonical twists reach them), so no wrench may exceed it by
+    # more than rounding; beyond this relative margin the w_max belongs to another
+    # contact, μ, force or unit and the fit is refused.
+    given_wmax_rtol: float = 1e-6
+
     # Eigenvalue floor (relative to the largest) used when a least-squares
     # ellipsoid comes out indefinite and is projected to the PD cone.
     ellipsoid_eig_floor: float = 1e-8

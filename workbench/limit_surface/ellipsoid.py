@@ -40,6 +40,8 @@ from .normalize import prepare
 
 #: incremented whenever a cvxpy ellipsoid problem is built (tests count it)
 BUILD_COUNT = {"sdp": 0}
+#: marker of an "sdp" fit answered by least squares without a conic solve (PD already)
+DIRECT = "direct"
 
 
 @dataclass(frozen=True)
@@ -148,7 +150,7 @@ def _sdp(
     if alpha_v == 0:
         A, note = _lsq(y)
         if note is None:  # least squares is already PD: the constraint A ⪰ 0 is inactive,
-            return A, None  # so it is the exact optimum (a conic solver only approximates it)
+            return A, DIRECT  # so it is the exact optimum (a conic solver only approximates it)
     prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
     phi = _sym_design(y)[0]
     Q, Rm = np.linalg.qr(phi)
@@ -213,10 +215,14 @@ def fit_ellipsoid(
         A_r, fallback = _lsq(y)
     else:
         A_r, fallback = _sdp(y, solver, alpha, warm_start)
+    direct = method == "lsq" or fallback == DIRECT
+    if fallback == DIRECT:
+        fallback = None  # not a fallback: the exact optimum of the same problem
     info = {
         "model": "ellipsoid",
         "method": method,
-        "solver": solver if method == "sdp" else "numpy.linalg.lstsq",
+        # the solver that ran: an "sdp" fit whose least-squares A is PD needs no conic solve
+        "solver": "numpy.linalg.lstsq" if direct else solver,
         "fallback": fallback,
         "dim": r,
         "n_wrenches": len(W),

@@ -81,6 +81,23 @@ def prepare(
     wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
     if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
         raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
+    if w_max is not None:
+        reach = np.abs(W).max(axis=0)
+        over = reach > wm * (1 + TOL.given_wmax_rtol) + TOL.degenerate_wmax_rtol * wm.max()
+        if over.any():
+            i = int(np.argmax(np.where(over, reach / np.maximum(wm, 1e-300), 0)))
+            raise ValueError(
+                f"the wrenches exceed the given w_max in component {i} ({reach[i]:.6g} > {wm[i]:.6g}): "
+                "w_max must be the exact maxima of these wrenches' contact (same μ, force and units, "
+                "e.g. workbench.w_max(profile, mu)) — or omit it to use the sampled maxima"
+            )
     scale = wrench_scale(wm)
     x = W / scale
-    return W, wm, scale, x, pca_subspace(x)
+    sub = pca_subspace(x)
+    if sub.dim >= len(W):
+        raise ValueError(
+            f"{len(W)} wrenches span {sub.dim} dimensions: too few to tell the contact's wrench space "
+            "from the sample (a fit would be flat in every direction not sampled) — sample at least "
+            "21 (a 6D ellipsoid's unknowns; the thesis uses 100-1,000)"
+        )
+    return W, wm, scale, x, sub

@@ -86,10 +86,16 @@ def support_error(
     probe[np.arange(len(live)), live] = 1.0
     probe[len(live) + np.arange(len(live)), live] = -1.0
     W_all = np.asarray(wrenches_of(twists_for_normals(model, np.vstack([d, probe]))), float)
-    if W_all.shape != (len(d) + len(probe), 6) or not np.isfinite(W_all).all():
+    K = len(d) + len(probe)
+    if W_all.shape != (K, 6):
         raise ValueError(
-            f"wrenches_of must map (K, 6) twists to finite (K, 6) wrenches; got shape {W_all.shape} "
+            f"wrenches_of must map (K, 6) twists to (K, 6) wrenches; got shape {W_all.shape} for K = {K} "
             "(pass e.g. lambda xi: frictional_wrenches(profile, xi, mu))"
+        )
+    if not np.isfinite(W_all).all():
+        raise ValueError(
+            f"wrenches_of returned NaN/inf in {int((~np.isfinite(W_all).all(axis=1)).sum())} of {K} rows: "
+            "it must give the finite friction wrenches of the model's contact"
         )
     W, W_probe = W_all[: len(d)], W_all[len(d) :]
     reach = np.abs(W_probe[np.arange(len(probe)), np.r_[live, live]]) / model.w_max[np.r_[live, live]]

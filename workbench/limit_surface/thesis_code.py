@@ -88,9 +88,12 @@ def check_protocol_config(config: dict) -> None:
     experiment refuses them before its first solve, not after it."""
     if config["fine_level"] not in AUTHOR_LEVELS:
         raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {config['fine_level']!r}")
-    if not config["downsample_steps"] > 0:
+    if not config["downsample_steps"] >= 2:
+        # below 2 cells per range the 6D grid has at most 2^6 cells and the training set a
+        # handful of wrenches (steps 1: 7 on a 60-element contact) — fewer than any fit needs
         raise ValueError(
-            f"downsample_steps must be > 0 cell widths per range; got {config['downsample_steps']!r}"
+            "downsample_steps must be >= 2 cell widths per range (the author's 2.5 gives ~3 cells per "
+            f"dimension); got {config['downsample_steps']!r}"
         )
     if not (isinstance(config["support_directions"], int) and config["support_directions"] > 0):
         raise ValueError(
