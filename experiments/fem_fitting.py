@@ -391,7 +391,8 @@ def run(config: dict) -> dict:
     rows = [r for r in ckpt.rows.values() if not r["empty"]]
     if not rows:
         raise RuntimeError("no contact profile was produced; check the pad placement")
-    cols = [c for c in rows[0] if c not in ("config_hash",)]
+    # every key of any row (the first may lack e.g. a quartic left out or the ablation's)
+    cols = [c for c in dict.fromkeys(k for r in rows for k in r) if c not in ("config_hash",)]
     write_csv(out / "profiles.csv", cols, [[r.get(c) for c in cols] for r in rows])
 
     err = {m: np.array([r[f"{m}_error"] for r in rows]) for m in ("ellipsoid", "ellipsoid_lsq", "quartic")}
