@@ -15,7 +15,10 @@ cell's area and normal force:
   centre of pressure moves by a fraction of a cell;
 * normal: the area-weighted mean normal, renormalised.
 
-Cells that carry no force (all their elements at zero pressure) are dropped.
+Cells that carry no force (all their elements at zero pressure) are dropped.  The
+grid starts at the smallest element centre along each in-plane axis, so it is not
+centred on the patch: on a symmetric 12 mm patch with 3 mm cells a trial measured
+the centre of pressure moving by 0.09 mm (a fraction of a cell, as above).
 """
 
 from __future__ import annotations
