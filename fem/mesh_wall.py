@@ -46,7 +46,8 @@ class RadialSurface:
 
     centre : (2,) the axis's (x, y) [m]; theta : (n_θ,) ray angles; z : (n_z,) heights;
     r : (n_θ, n_z) outer radius per ray; r_inner : (n_θ, n_z) inner radius (NaN where a
-    ray hits the mesh once, i.e. the mesh is a solid outer surface there).
+    ray hits the mesh once, i.e. the mesh is a solid outer surface there);
+    bounds : (2, 3) the mesh's box, including what lies outside the side wall.
     """
 
     centre: np.ndarray
@@ -54,6 +55,7 @@ class RadialSurface:
     z: np.ndarray
     r: np.ndarray
     r_inner: np.ndarray
+    bounds: np.ndarray  # (2, 3) the whole mesh's axis-aligned box [m]
     _spline: Any = field(repr=False, compare=False)
 
     @property
@@ -195,7 +197,7 @@ def radial_surface(
     th_pad = np.r_[theta[-_PAD:] - 2 * np.pi, theta, theta[:_PAD] + 2 * np.pi]
     r_pad = np.vstack([r[-_PAD:], r, r[:_PAD]])
     spline = RectBivariateSpline(th_pad, zs, r_pad, kx=3, ky=3, s=0)
-    return RadialSurface(c, theta, zs, r, r_in, spline)
+    return RadialSurface(c, theta, zs, r, r_in, np.array(mesh.bounds, float), spline)
 
 
 __all__ = ["RadialSurface", "radial_surface"]

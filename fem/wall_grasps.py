@@ -1,0 +1,109 @@
+"""Wall stiffness at given grasp locations (issue 13; thesis §4.3.3.1).
+
+The measured stiffness maps (``deformable_objects/stiffness_maps/*.json``) list
+``2n`` contact points: point ``i`` and point ``i + n`` are the two jaws of grasp
+``i``.  :func:`grasp_pairs` checks such a list against the object's outer surface
+(:class:`fem.mesh_wall.RadialSurface`); :func:`stiffness_at` squeezes the wall at
+each grasp (the grasp axis through both points, its midpoint as the centre,
+:func:`fem.wall.squeeze`) and reports ``s = f / Δ``.
+
+Grasps the wall model cannot squeeze are not errors of the whole run; each is
+flagged with its reason:
+
+* ``rigid``: a jaw point outside the modelled side wall's heights (a cap, a neck,
+  a rolled rim or the base, which :func:`fem.mesh_wall.radial_surface` leaves out)
+  — reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10;
+* ``failed``: the squeeze raised (e.g. the jaw footprint reaches the clamped base
+  rim) or the grasp axis is not horizontal (the squeeze's jaws are vertical) —
+  ``NaN`` with the reason.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from .mesh_wall import RadialSurface
+from .wall import Wall, squeeze
+
+#: stiffness reported for a rigid location [N/m] (the measured maps use 8e10)
+RIGID_STIFFNESS = 8.0e10
+
+
+def grasp_pairs(
+    locations: Any, surface: RadialSurface, *, max_offset: float = 1e-3
+) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 3) first and (n, 3) second jaw points of ``locations`` (2n, 3) [m].
+
+    Raises ``ValueError`` for a malformed or odd-length array, a point outside the
+    mesh's box, or more than ``max_offset`` [m] off the surface (radially) where the
+    surface is defined — the mark of another object, frame or unit.
+    """
+    L = np.asarray(locations, dtype=float)
+    if L.ndim != 2 or L.shape[1] != 3 or not np.isfinite(L).all():
+        raise ValueError(f"locations must be a finite (2n, 3) array [m]; got shape {L.shape}")
+    if len(L) == 0 or len(L) % 2:
+        raise ValueError(
+            f"locations must hold 2n points (point i and i + n are one grasp's two jaws); got {len(L)}"
+        )
+    outside = ((L < surface.bounds[0] - max_offset) | (L > surface.bounds[1] + max_offset)).any(axis=1)
+    if outside.any():
+        k = int(np.argmax(outside))
+        raise ValueError(
+            f"location {k} {L[k].tolist()} lies outside the object's box {surface.bounds.tolist()} m: "
+            "the locations must lie on this mesh, in its frame and in metres"
+        )
+    _, z, off = surface.parameters(L)
+    lo, hi = surface.z_range
+    on_wall = (z >= lo) & (z <= hi)
+    far = on_wall & (np.abs(off) > max_offset)
+    if far.any():
+        k = int(np.argmax(np.where(far, np.abs(off), 0)))
+        raise ValueError(
+            f"location {k} is {off[k] * 1e3:.2f} mm off the object's surface (more than "
+            f"{max_offset * 1e3:g} mm): the locations must lie on this mesh, in its frame and in metres"
+        )
+    n = len(L) // 2
+    return L[:n], L[n:]
+
+
+def stiffness_at(
+    wall: Wall,
+    surface: RadialSurface,
+    locations: Any,
+    *,
+    force: float = 10.0,
+    jaw: tuple[float, float] = (0.02, 0.04),
+    max_offset: float = 1e-3,
+) -> list[dict]:
+    """One dict per grasp of ``locations`` (2n, 3): ``stiffness`` [N/m], ``delta`` [m],
+    ``rigid`` and ``failed`` flags (module docstring), ``reason``, ``seconds``.
+
+    wall : the wall built on ``surface`` (:func:`fem.wall.build_wall`); force : jaw
+    force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m].
+    """
+    p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
+    lo, hi = surface.z_range
+    out = []
+    for a, b in zip(p1, p2, strict=True):
+        row = {"stiffness": np.nan, "delta": np.nan, "rigid": False, "failed": False, "reason": None}
+        t0 = time.perf_counter()
+        axis = b - a
+        if not all(lo <= p[2] <= hi for p in (a, b)):
+            row.update(stiffness=RIGID_STIFFNESS, delta=0.0, rigid=True, reason="outside the side wall")
+        elif abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3°: squeeze's jaws are vertical
+            row.update(failed=True, reason="grasp axis not horizontal (the wall squeeze assumes it is)")
+        else:
+            try:
+                res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
+                row.update(stiffness=float(res["stiffness"]), delta=float(res["delta"]))
+            except ValueError as exc:
+                row.update(failed=True, reason=str(exc))
+        row["seconds"] = time.perf_counter() - t0
+        out.append(row)
+    return out
+
+
+__all__ = ["RIGID_STIFFNESS", "grasp_pairs", "stiffness_at"]
