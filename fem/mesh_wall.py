@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
-from workbench.units import mesh_in_metres
+from workbench.units import closed_mesh
 
 log = logging.getLogger(__name__)
 
@@ -130,18 +130,7 @@ def radial_surface(
     Raises ``ValueError`` for an open mesh, a mesh in millimetres, or a section that is
     not star-shaped about the axis (rays with more than two hits, or none).
     """
-    try:
-        import trimesh
-    except ImportError as exc:  # pragma: no cover - a declared dependency
-        raise ImportError("radial_surface needs trimesh") from exc
-    if not isinstance(mesh, trimesh.Trimesh):
-        raise ValueError(f"mesh must be a trimesh.Trimesh; got {type(mesh).__name__}")
-    if not mesh.is_watertight:
-        raise ValueError(
-            "the mesh is not watertight (open edges): a wall needs a closed outer surface — "
-            "repair it (e.g. trimesh.repair.fill_holes) or pass a closed mesh"
-        )
-    mesh = mesh_in_metres(mesh, "object mesh", units=units)
+    mesh = closed_mesh(mesh, "the object mesh", units=units)
     if not (isinstance(n_theta, int) and n_theta >= 16):
         raise ValueError(f"n_theta must be an integer >= 16; got {n_theta!r}")
     lo, hi = mesh.bounds

@@ -126,3 +126,19 @@ def mesh_in_metres(
     scaled = mesh.copy()
     scaled.apply_scale(factor)
     return scaled
+
+
+def closed_mesh(mesh: Any, what: str, *, units: str | float | None = None, allow_scale: bool = False) -> Any:
+    """A watertight ``trimesh.Trimesh`` in metres, or a ``ValueError`` that says which
+    and how to fix it — the one gate of every mesh input (``what`` names the caller's
+    argument in the message).  Metres: :func:`mesh_in_metres`."""
+    import trimesh
+
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise ValueError(f"{what} must be a trimesh.Trimesh; got {type(mesh).__name__}")
+    if not mesh.is_watertight:
+        raise ValueError(
+            f"{what} is not watertight (open edges: inside and outside are undefined) — repair it "
+            "first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
+        )
+    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale)

@@ -57,13 +57,9 @@ def reach_profile(
     """
     import trimesh
 
-    from ..units import mesh_in_metres
+    from ..units import closed_mesh
 
-    if not isinstance(mesh, trimesh.Trimesh):
-        raise ValueError(f"mesh must be a trimesh.Trimesh; got {type(mesh).__name__}")
-    if not mesh.is_watertight:
-        raise ValueError("the object mesh is not watertight (inside/outside undefined); repair it first")
-    mesh = mesh_in_metres(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
+    mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
     if not (closing > 0 and stiffness > 0 and max_edge > 0):
         raise ValueError("closing, stiffness and max_edge must be > 0")
     a, e1, e2 = jaw_frame(approach, up)
