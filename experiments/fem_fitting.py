@@ -222,8 +222,8 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
     W_test = frictional_wrenches(pn, sample(config["n_heldout"] // 2, seed=seed + 10**6), mu)
     wm = w_max(pn, mu)
 
-    def support(model) -> float:
-        fn = partial(frictional_wrenches, pn, mu=mu)
+    def support(model, contact) -> float:  # exact wrenches of the contact the model was fitted to
+        fn = partial(frictional_wrenches, contact, mu=mu)
         return support_error(model, fn, config["support_directions"], seed=seed).radial_mean
 
     row = {}
@@ -231,7 +231,7 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
         row[f"{name}_fit_s"] = dt
         row[f"{name}_error"] = model.fitting_error(W_test)
         row[f"{name}_train_error"] = model.fitting_error(W)
-        row[f"{name}_support"] = support(model)
+        row[f"{name}_support"] = support(model, pn)
         row[f"{name}_fallback"] = model.info.get("fallback")
         row["dim"] = model.dim
     if config["thesis_code"]:
@@ -243,9 +243,7 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
         for name, (model, dt) in _fits(code.train_wrenches, code.w_max).items():
             row[f"{name}_code_fit_s"] = dt
             row[f"{name}_code_error"] = model.fitting_error(code.wrenches)
-            row[f"{name}_code_support"] = support_error(
-                model, partial(frictional_wrenches, pc, mu=mu), config["support_directions"], seed=seed
-            ).radial_mean
+            row[f"{name}_code_support"] = support(model, pc)
         if ablate:
             row.update(_ablation(p_obj, pn, config))
     return row

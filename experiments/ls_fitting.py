@@ -17,8 +17,8 @@ Wrenches come from the continuous surfaces (or fine meshes with
 compare across protocols is the sampler-independent one (``support_error``,
 :mod:`workbench.limit_surface.support_error`): radial distance at exact surface
 points of uniformly distributed normals.  "ellipsoid" is the PSD-constrained
-least squares of Eq. (3.12) (cvxpy; the log-det term is ``α = 1e-6·K`` and
-changes nothing measurable, ``sdp_log_det_effect``); the unconstrained
+least squares of Eq. (3.11) with ``A ⪰ 0`` (Eq. 3.12 without its log-det term, whose
+effect ``sdp_log_det_effect`` measures: none at ``α = 1e-6·K``); the unconstrained
 least-squares ellipsoid (Eq. 3.13) and the SCS solver are reported next to it.
 "quartic" is fitted to the wrenches *and* their sampling twists (outward normals
 by maximum dissipation, as the author's code does with other weights, see

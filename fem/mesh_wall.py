@@ -99,8 +99,8 @@ class RadialSurface:
         return th, p[:, 2], np.hypot(d[:, 0], d[:, 1]) - self.radius(th, p[:, 2])
 
 
-def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per ray: the sorted distances of all its hits (list of arrays)."""
+def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(hit count per ray, list of each ray's sorted hit distances)."""
     locs, ray_idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=True)
     dist = np.einsum("ij,ij->i", locs - origins[ray_idx], dirs[ray_idx])
     order = np.lexsort((dist, ray_idx))

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..config import DEFAULTS
 from .ellipsoid import EllipsoidLS, _embed
-from .normalize import Subspace, prepare
+from .normalize import Subspace, check_twists, prepare
 from .quartic import QuarticLS, certify
 from .sos import exponents, monomials, sos_convexity_maps
 
@@ -99,28 +99,7 @@ def fit_author_objective(
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
     lam, ww, tw = _check_weights(DEFAULTS.author_fit_weights if weights is None else weights)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
-    xi = np.asarray(twists, dtype=np.float64)
-    if xi.shape != W.shape:
-        raise ValueError(
-            f"twists must have the wrenches' shape {W.shape} (one twist [v; ω] per wrench); got shape "
-            f"{xi.shape} — pass the twists the wrenches were computed from"
-        )
-    bad = np.flatnonzero(~np.isfinite(xi).all(axis=1) | ~np.any(xi, axis=1))
-    if len(bad):
-        raise ValueError(
-            f"twist {bad[0]} is NaN/inf or zero ({len(bad)} such rows): every wrench needs the finite, "
-            "non-zero twist it was computed from"
-        )
-    # friction opposes motion: w·ξ <= 0 for every friction wrench; the author's code uses the
-    # opposite sign convention, and twists of that convention would fit a wrong surface
-    power = np.einsum("ij,ij->i", W, xi)
-    wrong = power > 1e-9 * np.linalg.norm(W, axis=1) * np.linalg.norm(xi, axis=1)
-    if wrong.any():
-        raise ValueError(
-            f"twist {int(np.argmax(wrong))} is not a friction twist of its wrench: friction opposes "
-            f"motion (w·ξ <= 0) but w·ξ > 0 there ({int(wrong.sum())} of {len(W)} rows) — pass the "
-            "twists the wrenches were computed from, unchanged in sign (not the author's +ξ convention)"
-        )
+    xi = check_twists(W, twists, nonzero=True)  # every term of the objective needs a direction
     if sub.dim == 6:  # fit in the normalised coordinates themselves, as the author's code
         sub = Subspace(np.eye(6), np.zeros((6, 0)), sub.std)
     B, r = sub.basis, sub.dim

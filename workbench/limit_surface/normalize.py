@@ -32,6 +32,41 @@ def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
     return W
 
 
+def check_twists(
+    W: np.ndarray, twists: Any, *, nonzero: bool = False, friction_sign: bool = True
+) -> np.ndarray:
+    """Validate the twists (K, 6) ``[v; ω]`` that validated wrenches ``W`` (K, 6) were
+    computed from: same shape, finite, non-zero rows if ``nonzero``, and — if
+    ``friction_sign`` — friction opposing motion, ``w·ξ <= 0`` in every row (the
+    author's code uses ``+ξ``; such twists would fit a wrong surface)."""
+    xi = np.asarray(twists, dtype=np.float64)
+    if xi.shape != W.shape:
+        raise ValueError(
+            f"twists must have the wrenches' shape {W.shape} (one twist [v; ω] per wrench); got shape "
+            f"{xi.shape} — pass the twists the wrenches were computed from"
+        )
+    bad = ~np.isfinite(xi).all(axis=1)
+    if nonzero:
+        bad |= ~np.any(xi, axis=1)
+    if bad.any():
+        what = "NaN/inf or zero" if nonzero else "NaN/inf"
+        raise ValueError(
+            f"twist {int(np.argmax(bad))} is {what} ({int(bad.sum())} such rows): every wrench needs the "
+            f"finite{', non-zero' if nonzero else ''} twist it was computed from"
+        )
+    if friction_sign:
+        power = np.einsum("ij,ij->i", W, xi)
+        wrong = power > 1e-9 * np.linalg.norm(W, axis=1) * np.linalg.norm(xi, axis=1)
+        if wrong.any():
+            raise ValueError(
+                f"twist {int(np.argmax(wrong))} is not a friction twist of its wrench: friction opposes "
+                f"motion (w·ξ <= 0) but w·ξ > 0 there ({int(wrong.sum())} of {len(W)} rows) — pass the "
+                "twists the wrenches were computed from, unchanged in sign and order (not the author's "
+                "+ξ convention)"
+            )
+    return xi
+
+
 def wrench_scale(w_max: np.ndarray) -> np.ndarray:
     """(6,) divisor per component: ``w_max`` with degenerate entries replaced
     by ``max(w_max)`` (Eq. 3.10 without dividing by ~0)."""

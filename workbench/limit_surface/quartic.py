@@ -22,7 +22,7 @@ import numpy as np
 
 from ..config import DEFAULTS, TOL
 from .base import LimitSurfaceModel
-from .normalize import prepare
+from .normalize import check_twists, prepare
 from .sos import exponents, monomials, sos_convexity_maps
 
 #: incremented whenever a cvxpy quartic problem is built (tests count it)
@@ -195,17 +195,11 @@ def _normal_rows(
     gradient is linear data and the rows are linear in the coefficients.  Rows
     whose normal is (nearly) tangent to the ray — zero wrenches, e.g. a
     translation along a planar contact's normal — carry no information and are
-    dropped.  Returns (A (K' r, L), b (K' r,)).
+    dropped; the caller has checked the twists' sign (:func:`.normalize.check_twists`).
+    Returns (A (K' r, L), b (K' r,)).
     """
     nz = np.einsum("ij,ij->i", n_z, z)
     tol = 1e-9 * np.linalg.norm(n_z, axis=1) * np.linalg.norm(z, axis=1)
-    if (nz < -tol).any():
-        k = int(np.argmax(nz < -tol))
-        raise ValueError(
-            f"twist {k} is not a friction twist of its wrench: friction opposes motion (w·ξ <= 0) but "
-            f"w·ξ > 0 there ({int((nz < -tol).sum())} of {len(nz)} rows) — pass the twists the wrenches "
-            "were computed from, unchanged in sign and order"
-        )
     keep = nz > tol
     z, n_z, nz = z[keep], n_z[keep], nz[keep]
     target = 4.0 * n_z / nz[:, None]
@@ -277,18 +271,14 @@ def fit_quartic(
     A_fit, b_fit = monomials(z, expo), np.ones(len(W))
     beta = 0.0
     if twists is not None:
-        xi = np.asarray(twists, dtype=np.float64)
-        if xi.shape != W.shape or not np.all(np.isfinite(xi)):
-            raise ValueError(
-                f"twists must be a finite array of the wrenches' shape {W.shape} (one twist per "
-                f"wrench, [v; ω]); got shape {xi.shape} — pass the twists the wrenches came from"
-            )
+        xi = check_twists(W, twists, friction_sign=False)
         beta = (
             DEFAULTS.quartic_normal_weight * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
         )
         if not np.isfinite(beta) or beta < 0:
             raise ValueError(f"normal_weight must be finite and >= 0; got {beta}")
         if beta > 0:
+            check_twists(W, xi)  # the rows take -ξ as the outward normal: friction must oppose ξ
             # power w·ξ = z·(s ⊙ Bᵀ(scale ⊙ ξ)); friction minimises it, so the outward normal is -that
             A_n, b_n = _normal_rows(z, -((xi * scale) @ sub.basis) * s, expo, float(beta))
             A_fit, b_fit = np.vstack([A_fit, A_n]), np.concatenate([b_fit, b_n])
