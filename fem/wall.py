@@ -10,7 +10,8 @@ these aspect ratios — clamped at its bottom rim (the base is far stiffer than
 the wall); two rigid flat jaws close symmetrically along the grasp axis with
 frictionless unilateral contact on the outer surface.  The wall's normal
 compliance at the candidate nodes is condensed by solves with one sparse LU per
-object, so each location is a small LCP (:func:`fem.contact.solve_lcp`), and the
+object (nested-dissection ordered, :mod:`fem.sparse_factor`), so each location
+is a small LCP (:func:`fem.contact.solve_lcp`), and the
 jaw closing ``Δ`` at the target force (default 10 N, as in the thesis) is found
 by a secant iteration.  ``s`` is the secant stiffness ``f / Δ`` there.
 
@@ -27,16 +28,17 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import scipy.sparse.linalg as spla
 from skfem import Basis, BilinearForm, ElementHex2, ElementVector, MeshHex, asm
 from skfem.helpers import ddot, sym_grad, trace
 
 from .contact import solve_lcp
 from .material import Material
+from .sparse_factor import factor_spd
 
 log = logging.getLogger(__name__)
 
@@ -59,16 +61,20 @@ def _elasticity(u, v, w):
     return 2.0 * w["mu"] * ddot(eu, ev) + w["lam"] * trace(eu) * trace(ev)
 
 
-def wall_mesh(surface, thickness: float, n_theta: int, n_z: int, z_range: tuple[float, float]) -> tuple:
+def wall_mesh(
+    surface, thickness: float | Callable, n_theta: int, n_z: int, z_range: tuple[float, float]
+) -> tuple:
     """Closed tube of hexes, one element through the wall.
 
     surface : callable ``(theta (N,), z (N,)) -> (points (N, 3), outward normals (N, 3))``
         of the *outer* wall surface (e.g. :meth:`fem.bottle.Bottle.points_normals`);
-        the wall extends ``thickness`` inwards along the normal.
-    Returns ``(mesh, outer, bottom)``: (n_vertices,) bool masks of the outer-surface
-    and the bottom-rim vertices.
+        the wall extends ``thickness`` [m] inwards along the normal — a number, or a
+        callable ``z (N,) -> (N,)`` for a wall whose thickness varies with height
+        (e.g. a rolled rim, :func:`fem.mesh_wall.lip_thickness`), applied at the vertices.
+    Returns ``(mesh, outer, bottom, top)``: (n_vertices,) bool masks of the outer-surface,
+    the bottom-rim and the top-rim vertices.
     """
-    if not (np.isfinite(thickness) and thickness > 0):
+    if not callable(thickness) and not (np.isfinite(thickness) and thickness > 0):
         raise ValueError(f"thickness must be a positive wall thickness [m]; got {thickness}")
     if n_theta < 8 or n_z < 1:
         raise ValueError(f"need n_theta >= 8 and n_z >= 1; got {n_theta}, {n_z}")
@@ -81,9 +87,12 @@ def wall_mesh(surface, thickness: float, n_theta: int, n_z: int, z_range: tuple[
     theta = 2 * np.pi * ii / n_theta
     z = z_range[0] + (z_range[1] - z_range[0]) * jj / n_z
     pts, nrm = surface(theta, z)
-    p = pts - thickness * kk[:, None] * nrm
+    t = np.broadcast_to(thickness(z) if callable(thickness) else thickness, z.shape)
+    if not (np.isfinite(t).all() and (t > 0).all()):
+        raise ValueError(f"thickness must be positive everywhere [m]; got {np.min(t)} at some height")
+    p = pts - (t * kk)[:, None] * nrm
     mesh = MeshHex(np.ascontiguousarray(p.T), inv[ref.t])
-    return mesh, kk == 0, jj == 0
+    return mesh, kk == 0, jj == 0, jj == n_z
 
 
 @dataclass
@@ -94,7 +103,7 @@ class Wall:
     basis: Basis
     material: Material
     free: np.ndarray  # (n_free,) free dof indices
-    lu: object  # sparse LU of K_ff
+    lu: object  # sparse factor of K_ff (fem.sparse_factor.SPDFactor): .solve(b)
     outer_xyz: np.ndarray  # (m, 3) outer-surface node locations
     outer_dofs: np.ndarray  # (m, 3) their x, y, z dofs
     seconds: float
@@ -138,26 +147,31 @@ def build_wall(
     surface,
     material: Material = PET,
     *,
-    thickness: float = 0.5e-3,
+    thickness: float | Callable = 0.5e-3,
     n_theta: int = 48,
     n_z: int = 24,
     z_range: tuple[float, float] = (0.0, 0.1),
     clamp_bottom: bool = True,
+    clamp_top: bool = False,
     plane_strain: bool = False,
 ) -> Wall:
     """Assemble and factorise the wall (see module docstring).
 
+    clamp_top : also clamp the top rim (a wall closed by a stiff shoulder, neck or cap);
+        default free (an open cup).
     plane_strain : fix ``u_z`` everywhere (a slab of a long tube, for :func:`ring_pinch`);
         then the rigid-body modes in the plane are removed by the symmetry
         conditions ``u_y = 0`` at θ = 0, π and ``u_x = 0`` at θ = ±π/2 (n_theta % 4 == 0).
     """
     t0 = time.perf_counter()
-    mesh, outer, bottom = wall_mesh(surface, thickness, n_theta, n_z, z_range)
+    mesh, outer, bottom, top = wall_mesh(surface, thickness, n_theta, n_z, z_range)
     basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
     K = asm(_elasticity, basis, mu=material.mu, lam=material.lam).tocsr()
     fixed = np.zeros(basis.N, dtype=bool)
     if clamp_bottom:
         fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True
+    if clamp_top:
+        fixed[basis.get_dofs(facets=_facets_within(mesh, top)).all()] = True
     if plane_strain:
         comp = components(basis)
         fixed[comp == 2] = True
@@ -167,7 +181,7 @@ def build_wall(
         on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
         fixed |= on_x | on_y
     free = np.flatnonzero(~fixed)
-    lu = spla.splu(K[free][:, free].tocsc())
+    lu = factor_spd(K[free][:, free])
     # outer-surface dofs: the facets whose 4 vertices are all on the outer surface
     view = basis.get_dofs(facets=_facets_within(mesh, outer))
     comp = [view.all(f"u^{c + 1}") for c in range(3)]
@@ -273,7 +287,10 @@ def squeeze(
     force : target jaw force [N] (thesis: 10 N).
     Returns ``stiffness`` = force / Δ [N/m], the jaw closing ``delta`` [m] (sum of
     both jaws' travel from first touch), the forces of both jaws, the contact
-    points of the grasp axis with the wall, and the number of LCP solves.
+    points of the grasp axis with the wall, and the number of LCP solves;
+    ``on_clamp`` is True when a jaw would travel past a clamped node of its
+    footprint (``clamp_gap`` [m] from first touch): the jaw then rests on the
+    clamped edge (the base) and the grasp is as stiff as the clamp — rigid.
     """
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be a positive jaw force [N]; got {force}")
@@ -297,6 +314,24 @@ def squeeze(
         owner.append(np.full(cand.size, jaw_id))
         touch.append(centre + s * reach.max() * axis)
     nodes, dirs, gaps, owner = map(np.concatenate, (nodes, dirs, gaps, owner))
+    # a clamped node under a jaw (the base or top edge) does not move: it stops that jaw
+    # once the jaw has travelled its gap; the rest of the footprint is the LCP's
+    pinned = (wall.free_position[wall.outer_dofs[nodes]] < 0).all(axis=1)
+    stop = float(gaps[pinned].min()) if pinned.any() else np.inf  # both jaws travel Δ/2
+    nodes, dirs, gaps, owner = nodes[~pinned], dirs[~pinned], gaps[~pinned], owner[~pinned]
+    if stop <= 0 or not ((owner == 0).any() and (owner == 1).any()):
+        # a jaw first touches the clamped edge: it cannot close at all
+        return {
+            "stiffness": np.inf,
+            "delta": 0.0,
+            "jaw_forces": np.full(2, np.nan),
+            "contact_points": np.array(touch),
+            "contact_nodes": 0,
+            "lcp_solves": 0,
+            "candidate_rounds": 0,
+            "on_clamp": True,
+            "clamp_gap": max(float(stop), 0.0),
+        }
     # condense only near-touching nodes, then add any footprint node the wall pushes
     # through a jaw (checked with one full solve per round): a rigid jaw on a convex
     # wall touches a handful of nodes, so this keeps the LU solves few
@@ -319,6 +354,8 @@ def squeeze(
             break
         active = np.union1d(active, viol)
     return {
+        "on_clamp": bool(delta / 2 > stop),
+        "clamp_gap": float(stop),
         "stiffness": float(force / delta),
         "delta": float(delta),
         "jaw_forces": f,

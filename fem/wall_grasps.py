@@ -10,9 +10,12 @@ each grasp (the grasp axis through both points, its midpoint as the centre,
 Grasps the wall model cannot squeeze are not errors of the whole run; each is
 flagged with its reason:
 
-* ``rigid``: a jaw point outside the modelled side wall's heights (a cap, a neck,
-  a rolled rim or the base, which :func:`fem.mesh_wall.radial_surface` leaves out)
-  — reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10;
+* ``rigid``: a jaw point outside the modelled wall's heights (a cap, a neck or the
+  base, which :func:`fem.mesh_wall.radial_surface` leaves out), a jaw that would
+  travel onto a clamped edge of the wall (the base: it stops there), or a closing
+  below ``rigid_closing`` (what the gripper cannot resolve) —
+  reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10 (the computed value
+  is kept as ``fem_stiffness``);
 * ``failed``: the squeeze raised (e.g. the jaw footprint reaches the clamped base
   rim) or the grasp axis is not horizontal (the squeeze's jaws are vertical) —
   ``NaN`` with the reason.
@@ -77,18 +80,33 @@ def stiffness_at(
     force: float = 10.0,
     jaw: tuple[float, float] = (0.02, 0.04),
     max_offset: float = 1e-3,
+    rigid_closing: float = 0.0,
+    z_range: tuple[float, float] | None = None,
 ) -> list[dict]:
     """One dict per grasp of ``locations`` (2n, 3): ``stiffness`` [N/m], ``delta`` [m],
-    ``rigid`` and ``failed`` flags (module docstring), ``reason``, ``seconds``.
+    ``rigid`` and ``failed`` flags (module docstring), ``reason``, ``fem_stiffness``
+    (the squeeze's value, also for a grasp flagged rigid by its closing), ``seconds``.
 
     wall : the wall built on ``surface`` (:func:`fem.wall.build_wall`); force : jaw
-    force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m].
+    force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
+    rigid_closing : closings [m] below this are reported rigid (0: never);
+    z_range : heights [m] of the modelled wall (default the side wall's,
+    ``surface.z_range``; :class:`fem.object_wall.WallGeometry` adds the lip).
     """
+    if not (np.isfinite(rigid_closing) and rigid_closing >= 0):
+        raise ValueError(f"rigid_closing must be a closing >= 0 [m]; got {rigid_closing}")
     p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
-    lo, hi = surface.z_range
+    lo, hi = surface.z_range if z_range is None else z_range
     out = []
     for a, b in zip(p1, p2, strict=True):
-        row = {"stiffness": np.nan, "delta": np.nan, "rigid": False, "failed": False, "reason": None}
+        row = {
+            "stiffness": np.nan,
+            "fem_stiffness": np.nan,
+            "delta": np.nan,
+            "rigid": False,
+            "failed": False,
+            "reason": None,
+        }
         t0 = time.perf_counter()
         axis = b - a
         if not all(lo <= p[2] <= hi for p in (a, b)):
@@ -98,7 +116,20 @@ def stiffness_at(
         else:
             try:
                 res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
-                row.update(stiffness=float(res["stiffness"]), delta=float(res["delta"]))
+                s = float(res["stiffness"])
+                row.update(stiffness=s, fem_stiffness=s, delta=float(res["delta"]))
+                if res["on_clamp"]:
+                    row.update(
+                        stiffness=RIGID_STIFFNESS,
+                        rigid=True,
+                        reason=f"a jaw rests on the clamped edge ({res['clamp_gap'] * 1e3:.2f} mm in)",
+                    )
+                elif res["delta"] < rigid_closing:
+                    row.update(
+                        stiffness=RIGID_STIFFNESS,
+                        rigid=True,
+                        reason=f"closing {res['delta'] * 1e3:.3f} mm below {rigid_closing * 1e3:g} mm",
+                    )
             except ValueError as exc:
                 row.update(failed=True, reason=str(exc))
         row["seconds"] = time.perf_counter() - t0
@@ -106,4 +137,32 @@ def stiffness_at(
     return out
 
 
-__all__ = ["RIGID_STIFFNESS", "grasp_pairs", "stiffness_at"]
+def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:
+    """``stiffness_locations`` (2n, 3) [m] of a JSON file in the measured maps' format,
+    and its ``stiffness_map`` as (n,) [N/m] (one value per grasp) when present, else None.
+
+    Raises ``ValueError`` when the file lacks ``stiffness_locations`` or the map's
+    length does not match (entries i and i + n must be equal: one grasp)."""
+    import json
+    from pathlib import Path
+
+    data = json.loads(Path(path).read_text())
+    if not isinstance(data, dict) or "stiffness_locations" not in data:
+        raise ValueError(
+            f"{path}: expected a JSON object with 'stiffness_locations' (2n points, i and i + n "
+            "one grasp) as in deformable_objects/stiffness_maps/*.json"
+        )
+    L = np.asarray(data["stiffness_locations"], dtype=float)
+    if "stiffness_map" not in data:
+        return L, None
+    S = np.asarray(data["stiffness_map"], dtype=float).ravel()
+    n = len(L) // 2
+    if S.shape != (len(L),) or not np.allclose(S[:n], S[n:], rtol=1e-9):
+        raise ValueError(
+            f"{path}: 'stiffness_map' must hold one value per location, equal for points i and i + n; "
+            f"got {S.size} values for {len(L)} locations"
+        )
+    return L, S[:n]
+
+
+__all__ = ["RIGID_STIFFNESS", "grasp_pairs", "read_locations", "stiffness_at"]

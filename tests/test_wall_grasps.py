@@ -37,12 +37,15 @@ def test_rigid_and_failed_grasps_are_flagged_not_fatal(tube):
     surf, wall = tube
     top = _pair(0.09)  # above the modelled wall
     tilted = np.array([[0.03, 0.0, 0.05], [-0.03, 0.0, 0.06]])
-    base = _pair(0.01)  # the jaw footprint reaches the clamped rim
+    base = _pair(0.01)  # the jaw footprint reaches the clamped rim: the jaw rests on it
     locs = np.vstack([top[:1], tilted[:1], base[:1], top[1:], tilted[1:], base[1:]])
     rows = stiffness_at(wall, surf, locs)
     assert rows[0]["rigid"] and rows[0]["stiffness"] == RIGID_STIFFNESS
     assert rows[1]["failed"] and "not horizontal" in rows[1]["reason"]
-    assert rows[2]["failed"] and "clamped base rim" in rows[2]["reason"] and np.isnan(rows[2]["stiffness"])
+    assert (
+        rows[2]["rigid"] and "clamped edge" in rows[2]["reason"] and rows[2]["stiffness"] == RIGID_STIFFNESS
+    )
+    assert not rows[2]["failed"]
 
 
 @pytest.mark.parametrize(

@@ -213,6 +213,13 @@ class Tolerances:
     # uniform pressure ((α - 90°)/α at half-angle α), so real contacts pass.
     flipped_normal_force_fraction: float = 0.1
 
+    # --- minimal work (workbench.grasp.stiffness_map, thesis §4.3) ----------
+    # A stiffness >= this [N/m] means "rigid: no measurable deflection" (the
+    # measured maps write 8e10).  Their largest finite value is 1.9e5 N/m (shampoo,
+    # 0.05 mm at 10 N), so 1e10 sits 4.7 decades above any measurement and below
+    # the maps' rigid marker.
+    rigid_stiffness_threshold: float = 1e10
+
 
 TOL = Tolerances()
 
@@ -275,6 +282,14 @@ class Defaults:
     # Directions of the 6DLS/6DFC linearisation (Eq. 3.19-3.24) when a caller
     # asks for representation="inner" or "outer".
     linearization_M: int = 200
+
+    # ε of the jaw displacement d_i = f_i / s_i + ε (Eq. 4.5) [m]: what a rigid
+    # contact (s = inf) is credited, so that W = ε Σ f on rigid objects (the
+    # minimal-force metric).  The thesis gives no value ("a small positive
+    # number"); 5e-5 m is the smallest deflection any measured map resolved
+    # (shampoo, 0.052 mm at the 10 N target force, §4.3.3.1): a region reported
+    # rigid deflected less than that.
+    work_eps: float = 5e-5
 
 
 DEFAULTS = Defaults()

@@ -3,7 +3,9 @@
 contacts.py — contact models as wrench sets; models.py — every model of a profile
 by name; gws.py — grasp map, GWS, hull and LP membership, ε-metric;
 resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp force
-(Eq. 4.4); robust.py — q_robust.
+(Eq. 4.4); robust.py — q_robust; stiffness_map.py — measured object stiffness on the
+surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
+balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3).
 """
 
 from .contacts import (
@@ -23,6 +25,9 @@ from .reach import reach_profile, with_axis_force
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists, wrench_resistance
 from .robust import Perturbation, gravity_wrench, q_robust
 from .sampling import antipodal_grasps
+from .stiffness_map import StiffnessMap, leave_one_out
+from .threshold import balanced_accuracy, fit_normaliser
+from .work import MinimalWork, minimal_work, q_force, q_work, work
 
 __all__ = [
     "MODELS",
@@ -55,4 +60,13 @@ __all__ = [
     "soft_point_contact",
     "wrench_hull_contact",
     "wrench_resistance",
+    "StiffnessMap",
+    "leave_one_out",
+    "balanced_accuracy",
+    "fit_normaliser",
+    "MinimalWork",
+    "minimal_work",
+    "q_force",
+    "q_work",
+    "work",
 ]

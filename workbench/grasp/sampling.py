@@ -143,3 +143,82 @@ def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float 
     _, e1, e2 = jaw_frame(a, up)
     rel = prof.pressure_center - p
     return bool(abs(rel @ e1) >= rim * pad[0] / 2 or abs(rel @ e2) >= rim * pad[1] / 2)
+
+
+def horizontal_grasps(
+    mesh,
+    heights,
+    n_angles: int,
+    mu: float,
+    *,
+    centre=None,
+    pad: tuple[float, float] | None = (0.02, 0.04),
+    edge_depth: float = 1e-3,
+    units: str | float | None = None,
+) -> list[dict]:
+    """Antipodal grasps with horizontal axes through a vertical axis, on a grid of
+    ``heights`` (k,) [m] × ``n_angles`` axis angles in [0, π) — the layout of the measured
+    stiffness maps (thesis §4.3.3.1) and of a parallel-jaw gripper grasping an upright
+    object from the side.  Same dicts as :func:`antipodal_grasps` (``p1``, ``p2`` the
+    outermost hits of the line, ``axis`` from jaw 1 into the object), kept when both
+    surface normals lie within the friction cone (half-angle ``arctan μ``) of the axis
+    and, with ``pad``, neither jaw first meets the surface at a pad edge (:func:`edge_touch`).
+
+    centre : (2,) the vertical axis's (x, y) [m] (default the mesh box's centre).
+    """
+    from ..units import closed_mesh
+    from .gws import check_mu
+
+    mesh = closed_mesh(mesh, "mesh passed to horizontal_grasps", units=units)
+    check_mu(mu)
+    if isinstance(n_angles, bool) or not isinstance(n_angles, (int, np.integer)) or n_angles < 1:
+        raise ValueError(f"n_angles must be an integer >= 1; got {n_angles!r}")
+    z = np.atleast_1d(np.asarray(heights, float))
+    lo, hi = mesh.bounds
+    if z.ndim != 1 or not np.isfinite(z).all() or ((z <= lo[2]) | (z >= hi[2])).any():
+        raise ValueError(f"heights must be finite and inside the mesh z extent ({lo[2]:.4g}, {hi[2]:.4g}) m")
+    c = (lo[:2] + hi[:2]) / 2 if centre is None else np.asarray(centre, float)
+    half = np.arctan(mu)
+    phis = np.pi * np.arange(n_angles) / n_angles
+    Z, P = np.meshgrid(z, phis, indexing="ij")
+    d = np.column_stack([np.cos(P.ravel()), np.sin(P.ravel()), np.zeros(P.size)])
+    far = float(np.linalg.norm(hi - lo))
+    origins = np.column_stack([c[0] - far * d[:, 0], c[1] - far * d[:, 1], Z.ravel()])
+    locs, ray_idx, tri_idx = mesh.ray.intersects_location(origins, d, multiple_hits=True)
+    out, n_cone, n_edge = [], 0, 0
+    for k in range(len(d)):
+        hits = np.flatnonzero(ray_idx == k)
+        if hits.size < 2:
+            continue
+        t = (locs[hits] - origins[k]) @ d[k]
+        i1, i2 = hits[np.argmin(t)], hits[np.argmax(t)]
+        p1, p2 = locs[i1], locs[i2]
+        n1, n2 = mesh.face_normals[tri_idx[i1]], mesh.face_normals[tri_idx[i2]]
+        if np.arccos(np.clip(-n1 @ d[k], -1, 1)) > half or np.arccos(np.clip(n2 @ d[k], -1, 1)) > half:
+            n_cone += 1
+            continue
+        if pad is not None and (
+            edge_touch(mesh, p1, d[k], (0.0, 0.0, 1.0), pad, edge_depth)
+            or edge_touch(mesh, p2, -d[k], (0.0, 0.0, 1.0), pad, edge_depth)
+        ):
+            n_edge += 1
+            continue
+        out.append(
+            {
+                "p1": p1,
+                "p2": p2,
+                "n1": n1,
+                "n2": n2,
+                "axis": d[k].copy(),
+                "center": 0.5 * (p1 + p2),
+                "width": float(np.linalg.norm(p2 - p1)),
+            }
+        )
+    log.info(
+        "horizontal_grasps: %d of %d kept (%d outside the friction cone, %d meet a pad edge)",
+        len(out),
+        len(d),
+        n_cone,
+        n_edge,
+    )
+    return out

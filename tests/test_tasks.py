@@ -1,0 +1,47 @@
+"""Task wrenches (thesis §4.3.3.3) and horizontal antipodal grasps against closed forms."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from workbench.grasp.robust import G_ACC
+from workbench.grasp.sampling import horizontal_grasps
+from workbench.grasp.tasks import task_wrenches
+
+
+def test_lifting_is_one_gravity_wrench():
+    (w,) = task_wrenches("vertical_lifting", 0.5, [0.0, 0.01, 0.02], [1.0, 0.0, 0.0])
+    f = np.array([0.0, 0.0, -0.5 * G_ACC])
+    np.testing.assert_allclose(w, np.r_[f, np.cross([0.0, 0.01, 0.02], f)], atol=1e-12)
+
+
+def test_rotation_about_the_grasp_axis_turns_gravity_in_the_object_frame():
+    W = task_wrenches("lift_and_rotate", 1.0, [0.0, 0.0, 0.0], [2.0, 0.0, 0.0])  # axis need not be unit
+    assert W.shape == (3, 6)
+    g = G_ACC
+    # object turned +90° about x: world "down" seen from the object is R_x(-90°)(0, 0, -1) = (0, -1, 0)
+    np.testing.assert_allclose(W[0, :3], [0, 0, -g], atol=1e-12)
+    np.testing.assert_allclose(W[1, :3], [0, -g / np.sqrt(2), -g / np.sqrt(2)], atol=1e-12)
+    np.testing.assert_allclose(W[2, :3], [0, -g, 0], atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(W[:, :3], axis=1), g)
+    with pytest.raises(ValueError, match="task must be one of"):
+        task_wrenches("pour", 1.0, [0, 0, 0], [1, 0, 0])
+    with pytest.raises(ValueError, match="axis"):
+        task_wrenches("lift_and_rotate", 1.0, [0, 0, 0], [0, 0, 0])
+
+
+def test_horizontal_grasps_on_a_cylinder():
+    m = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=128)
+    g = horizontal_grasps(m, [-0.02, 0.0, 0.02], 4, 0.3)
+    assert len(g) == 12  # every line through the axis is antipodal on a cylinder
+    for x in g:
+        assert x["width"] == pytest.approx(0.06, rel=1e-3)  # the 128-gon's sag at most
+        assert abs(x["axis"][2]) < 1e-12 and np.allclose(x["center"][:2], 0.0, atol=1e-9)
+        assert x["n1"] @ x["axis"] < -0.99 and x["n2"] @ x["axis"] > 0.99
+    # a box seen along its diagonal is outside a small friction cone
+    box = trimesh.creation.box((0.06, 0.04, 0.1))
+    assert len(horizontal_grasps(box, [0.0], 8, 0.2, pad=None)) == 2  # 0° and 90° only
+    with pytest.raises(ValueError, match="heights"):
+        horizontal_grasps(m, [0.2], 4, 0.3)
+    with pytest.raises(ValueError, match="n_angles"):
+        horizontal_grasps(m, [0.0], 0, 0.3)

@@ -1,0 +1,98 @@
+"""Binary grasp-success prediction from a quality: balanced accuracy and the normaliser
+(thesis §4.3.1.2, §4.3.4).
+
+A quality ``q = 1 − x / X_max`` (``x`` the minimal work W or the minimal force f⊥,
+Eq. 4.6 / §4.3.3.2) predicts success iff ``q >= σ`` (σ = 0.5 in the thesis), that is iff
+``x <= (1 − σ) X_max``.  The thesis chose ``W_max`` and ``f⊥max`` "based on the collected
+physical data"; :func:`fit_normaliser` makes that choice on training grasps, as the
+``X_max`` whose prediction has the best balanced accuracy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["balanced_accuracy", "fit_normaliser"]
+
+
+def _bools(a, name: str) -> np.ndarray:
+    arr = np.asarray(a)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ValueError(f"{name} must be a non-empty (n,) array of booleans; got shape {arr.shape}")
+    if arr.dtype != bool:
+        if arr.dtype.kind not in "iuf" or not np.isin(arr, (0, 1)).all():
+            raise ValueError(
+                f"{name} must hold booleans (or 0/1); got dtype {arr.dtype} with values "
+                f"{np.unique(arr)[:5].tolist()} — threshold the quality first (q >= sigma)"
+            )
+        arr = arr.astype(bool)
+    return arr
+
+
+def balanced_accuracy(predicted, truth) -> float:
+    """Mean of the recalls of the two classes (thesis §4.3.1.2: each grasp weighted by
+    the inverse prevalence of its true class).
+
+    predicted, truth : (n,) bool — predicted and real success (0/1 accepted).
+
+    When ``truth`` holds one class only, the recall of that class (the other recall is
+    undefined).
+    """
+    p = _bools(predicted, "predicted")
+    t = _bools(truth, "truth")
+    if p.shape != t.shape:
+        raise ValueError(f"predicted and truth must have one shape; got {p.shape} and {t.shape}")
+    recalls = []
+    for c in (True, False):
+        sel = t == c
+        if sel.any():
+            recalls.append(float((p[sel] == c).mean()))
+    return float(np.mean(recalls))
+
+
+def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
+    """``X_max`` (``W_max`` or ``f⊥max``) that best predicts ``truth`` from ``values``
+    by ``q = 1 − x / X_max >= sigma``.
+
+    values : (n,) float — the training grasps' W [J] or f⊥ [N], >= 0; ``np.inf`` for
+        an unresisted grasp, always predicted to fail (``q = −inf``).
+    truth : (n,) bool — their real success.
+    sigma : the quality threshold σ < 1 (0.5 in the thesis, §4.3.4).
+
+    Success is predicted iff ``x <= t`` with ``t = (1 − σ) X_max``.  Candidate ``t``:
+    the midpoints between consecutive distinct finite values, ``v_1 / 2`` (every grasp
+    predicted to fail, unless ``v_1 = 0``) and ``2 v_k`` (every resisted grasp predicted
+    to succeed), ``v_1 < … < v_k`` the sorted distinct finite values; only ``t > 0``
+    (``X_max > 0``).  The candidate of largest balanced accuracy wins; ties go to the
+    median of the tied candidates in ``t`` order (the lower of the two middle ones for
+    an even count), the middle of the best plateau.  Returns ``t / (1 − σ)``.
+
+    Raises ``ValueError`` when no value is finite and > 0 (every ``X_max`` predicts
+    the same, so none is fitted).
+    """
+    x = np.asarray(values, dtype=float)
+    t_true = _bools(truth, "truth")
+    if x.shape != t_true.shape:
+        raise ValueError(f"values and truth must have one shape (n,); got {x.shape} and {t_true.shape}")
+    bad = np.isnan(x) | (x < 0)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"values must be >= 0 (np.inf: unresisted); got {x[k]} at grasp {k}")
+    if (
+        isinstance(sigma, (bool, np.bool_))
+        or not np.isscalar(sigma)
+        or not (np.isfinite(sigma) and sigma < 1)
+    ):
+        raise ValueError(f"sigma must be a finite quality threshold < 1 (0.5 in the thesis); got {sigma!r}")
+    v = np.unique(x[np.isfinite(x)])
+    if v.size == 0 or v[-1] <= 0:
+        raise ValueError(
+            "fit_normaliser needs some finite value > 0: with every grasp unresisted (inf) or at 0, "
+            "any X_max predicts the same"
+        )
+    cand = np.concatenate([[v[0] / 2], (v[:-1] + v[1:]) / 2, [2 * v[-1]]])
+    cand = cand[cand > 0]
+    score = np.array([balanced_accuracy(x <= t, t_true) for t in cand])
+    best = np.flatnonzero(score >= score.max() - 1e-12)
+    t = float(cand[best[(len(best) - 1) // 2]])
+    return t / (1.0 - float(sigma))
