@@ -22,6 +22,7 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run wall-stiffness
 	$(BIN)/workbench run sensitivity
 	$(BIN)/workbench run sensitivity --set half_angle=1.0 --out results/sensitivity-wrapped
+	$(BIN)/workbench run minimal-work
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py

@@ -27,6 +27,7 @@ EXPERIMENTS = {
     "fem-fitting": "experiments.fem_fitting",
     "wall-stiffness": "experiments.wall_stiffness",
     "sensitivity": "experiments.sensitivity",
+    "minimal-work": "experiments.minimal_work",
 }
 
 
