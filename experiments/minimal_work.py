@@ -103,7 +103,7 @@ def _paths(config: dict, name: str) -> tuple[Path, Path]:
     return mesh, smap
 
 
-def _fem_rows(ckpt, name, mesh, L, wall_of, config) -> list[dict]:
+def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     """FEM stiffness at the measured grasps (checkpointed)."""
     from fem.wall_grasps import stiffness_at
 
@@ -157,7 +157,7 @@ def run(config: dict) -> dict:
         smap = StiffnessMap.from_measured(L, np.r_[measured, measured])
         interp[name] = leave_one_out(smap)
         # 2. FEM at the measured grasps, one scalar calibrated on half, checked on the other
-        fem = np.array([_num(r["stiffness"]) for r in _fem_rows(ckpt, name, mesh, L, wall_of, config)])
+        fem = np.array([_num(r["stiffness"]) for r in _fem_rows(ckpt, name, L, wall_of, config)])
         ok = np.isfinite(fem) & (fem < 1e9) & (measured < 1e9)
         idx = np.flatnonzero(ok)
         train = rng.permutation(idx)[: len(idx) // 2]
@@ -185,8 +185,9 @@ def run(config: dict) -> dict:
     todo = [x for x in grasps_all if f"grasp/{x[0]}/{x[1]}" not in ckpt]
     for name, k, g, smap, scale in tqdm(todo, desc="minimal work", unit="grasp"):
         seed = config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k
-        row = _grasp_row(name, g, meshes[name], smap, scale, wall_of, config, seed)
-        ckpt.add(f"grasp/{name}/{k}", {**row, "grasp": k})
+        ckpt.add(
+            f"grasp/{name}/{k}", _grasp_row(name, k, g, meshes[name], smap, scale, wall_of, config, seed)
+        )
     rows = [ckpt.rows[f"grasp/{x[0]}/{x[1]}"] for x in grasps_all]
 
     # 6. Table 4.6: W_max and f_max on a training half, balanced accuracy on the rest
@@ -273,7 +274,7 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _grasp_row(name, g, mesh, smap, scale, wall_of, config, seed: int) -> dict:
+def _grasp_row(name, k, g, mesh, smap, scale, wall_of, config, seed: int) -> dict:
     """Metrics and simulated truth of one candidate grasp (module docstring, steps 3-5)."""
     from fem.wall_grasps import stiffness_at
     from workbench.grasp.evaluate import jaw_profiles
@@ -295,13 +296,12 @@ def _grasp_row(name, g, mesh, smap, scale, wall_of, config, seed: int) -> dict:
         wall, geo.surface, np.array([g["p1"], g["p2"]]), z_range=geo.z_range, jaw=tuple(config["jaw"])
     )
     s_fem = np.inf if fem["rigid"] or fem["failed"] else fem["stiffness"] * scale
-    hull = mesh.convex_hull
-    com, mass = hull.center_mass, config["mass_kg"][name]
+    com, mass = mesh.convex_hull.center_mass, config["mass_kg"][name]  # the filled object's centre
     exact = ExactContacts(profiles, seed=config["seed"])
     rng = np.random.default_rng(seed)
     row = {
         "object": name,
-        "grasp": None,
+        "grasp": k,
         "z": float(g["center"][2]),
         "angle_deg": float(np.degrees(np.arctan2(g["axis"][1], g["axis"][0])) % 180),
         "s_map_1": float(s_map[0]),

@@ -30,8 +30,7 @@ from tqdm import tqdm
 
 from fem.bottle import Bottle, bottle_family
 from fem.material import Material
-from fem.mesh_wall import radial_surface
-from fem.object_wall import object_wall
+from fem.object_wall import wall_geometry
 from fem.wall import build_wall, ring_pinch, ring_wall, squeeze
 from fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
@@ -242,7 +241,9 @@ def run_object(config: dict) -> dict:
         )
     mesh = trimesh.load(config["object"], force="mesh")
     L, measured = read_locations(config["locations"])
-    grasp_pairs(L, radial_surface(mesh, units="m"))  # refuse careless locations before the wall is built
+    nt, nz = config["mesh"]
+    geo = wall_geometry(mesh, thickness=config["thickness"], n_z=nz, top=config["top"])
+    grasp_pairs(L, geo.surface)  # refuse careless locations before the wall is built
     n = len(L) // 2
     key_cfg = {k: v for k, v in config.items() if k != "out"}
     key_cfg |= {"object_sha": _file_hash(config["object"]), "locations_sha": _file_hash(config["locations"])}
@@ -250,17 +251,8 @@ def run_object(config: dict) -> dict:
     n_resumed = len(ckpt.rows)
     todo = [i for i in range(n) if str(i) not in ckpt]
     build_s = 0.0
-    nt, nz = config["mesh"]
-    geo = None
     if todo:
-        geo, wall = object_wall(
-            mesh,
-            Material(config["E"], config["nu"]),
-            thickness=config["thickness"],
-            n_theta=nt,
-            n_z=nz,
-            top=config["top"],
-        )
+        wall = geo.build(Material(config["E"], config["nu"]), n_theta=nt)
         build_s = wall.seconds
         for i in tqdm(todo, desc=f"wall stiffness {Path(config['object']).stem}", unit="grasp"):
             (row,) = stiffness_at(
@@ -287,9 +279,7 @@ def run_object(config: dict) -> dict:
         "failed": [bool(r["failed"]) for r in rows],
         "reasons": [r["reason"] for r in rows],
         "closing_mm": (np.array([r["delta"] for r in rows], dtype=float) * 1e3).tolist(),
-        "wall": None
-        if geo is None
-        else {
+        "wall": {
             "z_range_m": list(geo.z_range),
             "lip": None if geo.lip is None else vars(geo.lip),
             "top": "lip" if geo.lip else ("clamped" if geo.clamp_top else "free"),

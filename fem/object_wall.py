@@ -137,20 +137,34 @@ class WallGeometry:
             return np.full(z.shape, self.thickness)
         return np.where(z >= self.lip.z0, self.lip.width, self.thickness)
 
+    def build(self, material: Material = PET, *, n_theta: int = 48) -> Wall:
+        """The wall assembled and factorised (:func:`fem.wall.build_wall`), ``n_theta``
+        elements around and ``n_z`` along."""
+        return build_wall(
+            self.outer,
+            material,
+            thickness=self.thickness_at,
+            n_theta=n_theta,
+            n_z=self.n_z,
+            z_range=self.z_range,
+            clamp_top=self.clamp_top,
+        )
 
-def object_wall(
+
+def wall_geometry(
     mesh: Any,
-    material: Material = PET,
     *,
     thickness: float = 0.5e-3,
-    n_theta: int = 48,
     n_z: int = 24,
     top: str = "auto",
     units: str | float | None = None,
-) -> tuple[WallGeometry, Wall]:
-    """The wall of a hollow object's watertight mesh (metres), assembled and factorised.
+) -> WallGeometry:
+    """The modelled wall of a hollow object's watertight mesh (metres), before assembly:
+    the side wall by ray casting, its top edge (module docstring) and ``n_z`` rows
+    (at least one per lip height).  Cheap next to :meth:`WallGeometry.build`, so
+    locations can be checked against ``.surface`` before any FEM work.
 
-    thickness : wall thickness [m] (> 0); n_theta, n_z : elements around and along;
+    thickness : wall thickness [m] (> 0); n_z : elements along the height;
     top : "auto" (clamped if the object is closed above its side wall,
     :func:`is_closed_top`; an open one gets its lip if :func:`find_lip` finds one,
     else a free edge), "lip", "clamped" or "free".
@@ -172,25 +186,38 @@ def object_wall(
     if lip is not None:
         hi = lip.z1
         n_z = max(n_z, int(np.ceil((hi - lo) / (lip.z1 - lip.z0))))
-    geo = WallGeometry(surface, lip, float(thickness), (lo, hi), bool(clamp_top), int(n_z))
     log.info(
-        "object_wall: z = %.4g..%.4g m, top %s, %d x %d elements",
+        "wall_geometry: z = %.4g..%.4g m, top %s, %d element rows",
         lo,
         hi,
         "lip" if lip else ("clamped" if clamp_top else "free"),
-        n_theta,
         n_z,
     )
-    wall = build_wall(
-        geo.outer,
-        material,
-        thickness=geo.thickness_at,
-        n_theta=n_theta,
-        n_z=n_z,
-        z_range=geo.z_range,
-        clamp_top=clamp_top,
-    )
-    return geo, wall
+    return WallGeometry(surface, lip, float(thickness), (lo, hi), bool(clamp_top), int(n_z))
 
 
-__all__ = ["LIP_MAX_HEIGHT", "Lip", "WallGeometry", "find_lip", "is_closed_top", "object_wall"]
+def object_wall(
+    mesh: Any,
+    material: Material = PET,
+    *,
+    thickness: float = 0.5e-3,
+    n_theta: int = 48,
+    n_z: int = 24,
+    top: str = "auto",
+    units: str | float | None = None,
+) -> tuple[WallGeometry, Wall]:
+    """:func:`wall_geometry` and its wall assembled and factorised
+    (:meth:`WallGeometry.build` with ``n_theta`` elements around)."""
+    geo = wall_geometry(mesh, thickness=thickness, n_z=n_z, top=top, units=units)
+    return geo, geo.build(material, n_theta=n_theta)
+
+
+__all__ = [
+    "LIP_MAX_HEIGHT",
+    "Lip",
+    "WallGeometry",
+    "find_lip",
+    "is_closed_top",
+    "object_wall",
+    "wall_geometry",
+]

@@ -70,7 +70,7 @@ def wall_mesh(
         of the *outer* wall surface (e.g. :meth:`fem.bottle.Bottle.points_normals`);
         the wall extends ``thickness`` [m] inwards along the normal — a number, or a
         callable ``z (N,) -> (N,)`` for a wall whose thickness varies with height
-        (e.g. a rolled rim, :func:`fem.mesh_wall.lip_thickness`), applied at the vertices.
+        (e.g. a rolled lip, :meth:`fem.object_wall.WallGeometry.thickness_at`), applied at the vertices.
     Returns ``(mesh, outer, bottom, top)``: (n_vertices,) bool masks of the outer-surface,
     the bottom-rim and the top-rim vertices.
     """

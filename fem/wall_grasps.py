@@ -16,8 +16,8 @@ flagged with its reason:
   below ``rigid_closing`` (what the gripper cannot resolve) —
   reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10 (the computed value
   is kept as ``fem_stiffness``);
-* ``failed``: the squeeze raised (e.g. the jaw footprint reaches the clamped base
-  rim) or the grasp axis is not horizontal (the squeeze's jaws are vertical) —
+* ``failed``: the squeeze raised (e.g. no wall under a jaw) or the grasp axis is
+  not horizontal (the squeeze's jaws are vertical) —
   ``NaN`` with the reason.
 """
 

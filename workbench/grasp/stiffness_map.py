@@ -42,10 +42,28 @@ from ..units import check_extent
 
 log = logging.getLogger(__name__)
 
-__all__ = ["StiffnessMap", "leave_one_out"]
+__all__ = ["StiffnessMap", "check_stiffness", "leave_one_out"]
 
 #: kernel of the log-stiffness interpolation (module docstring)
 RBF_KERNEL = "cubic"
+
+
+def check_stiffness(values, n: int, where: str, *, fix: str, rigid: str = "np.inf") -> np.ndarray:
+    """(n,) float stiffness [N/m], one per ``where`` ("point", "contact"), each > 0 (``rigid``
+    says how a rigid one is written), or a ``ValueError`` naming the shape or the value
+    and ``fix`` (how to get the right shape)."""
+    s = np.asarray(values, dtype=float)
+    if s.shape != (n,):
+        raise ValueError(
+            f"stiffness must be (n,) = ({n},), one value per {where} [N/m]; got shape {s.shape} ({fix})"
+        )
+    bad = np.isnan(s) | (s <= 0)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(
+            f"stiffness must be > 0 [N/m] ({rigid} for a rigid {where}); got {s[k]} at {where} {k}"
+        )
+    return s
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -99,23 +117,18 @@ class StiffnessMap:
                 "(the measured maps mark rigid points with 8e10; the default is 1e10)"
             )
         P = np.asarray(self.points, dtype=float)
-        S = np.asarray(self.stiffness, dtype=float)
         if P.ndim != 2 or P.shape[1] != 3 or len(P) == 0:
             raise ValueError(f"points must be (m, 3) with m >= 1 [m]; got shape {P.shape}")
         if not np.isfinite(P).all():
             k = int(np.argmax(~np.isfinite(P).all(axis=1)))
             raise ValueError(f"points must be finite; point {k} is {P[k].tolist()}")
-        if S.shape != (len(P),):
-            raise ValueError(
-                f"stiffness must be (m,) = ({len(P)},), one value per point [N/m]; got shape {S.shape} "
-                "(a (m, 1) column: pass .ravel(), or use StiffnessMap.from_measured)"
-            )
-        bad = np.isnan(S) | (S <= 0)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise ValueError(
-                f"stiffness must be > 0 [N/m] (+inf or >= {thr:g} for a rigid point); got {S[k]} at point {k}"
-            )
+        S = check_stiffness(
+            self.stiffness,
+            len(P),
+            "point",
+            fix="a (m, 1) column: pass .ravel(), or use StiffnessMap.from_measured",
+            rigid=f"+inf or >= {thr:g}",
+        )
         check_extent(float(np.ptp(P, axis=0).max()), "stiffness map points", fix="scale them by {factor:g}")
         if self.grasp is None:
             g = np.arange(len(P))

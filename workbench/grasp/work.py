@@ -23,6 +23,7 @@ import numpy as np
 from .. import config
 from .gws import check_contacts
 from .resistance import CutStore, min_grasp_force
+from .stiffness_map import check_stiffness
 
 log = logging.getLogger(__name__)
 
@@ -40,19 +41,12 @@ def _eps(eps) -> float:
 
 
 def _check_stiffness(stiffness, n: int) -> np.ndarray:
-    s = np.asarray(stiffness, dtype=float)
-    if s.shape != (n,):
-        raise ValueError(
-            f"stiffness must be (N,) = ({n},), one value per contact [N/m]; got shape {s.shape} "
-            "(evaluate a StiffnessMap at the contact points: smap(np.array([c.t for c in contacts])))"
-        )
-    bad = np.isnan(s) | (s <= 0)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(
-            f"stiffness must be > 0 [N/m] (np.inf for a rigid contact); got {s[k]} at contact {k}"
-        )
-    return s
+    return check_stiffness(
+        stiffness,
+        n,
+        "contact",
+        fix="evaluate a StiffnessMap at the contact points: smap(np.array([c.t for c in contacts]))",
+    )
 
 
 def _check_forces(forces) -> np.ndarray:
