@@ -103,6 +103,12 @@ def _paths(config: dict, name: str) -> tuple[Path, Path]:
     return mesh, smap
 
 
+def check_config(config: dict) -> None:
+    """Before any work: every object's mesh and measured map are where ``data_dir`` says."""
+    for name in config["objects"]:
+        _paths(config, name)
+
+
 def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     """FEM stiffness at the measured grasps (checkpointed)."""
     from fem.wall_grasps import stiffness_at
@@ -122,6 +128,7 @@ def _num(x) -> float:
 def run(config: dict) -> dict:
     import trimesh
 
+    from fem.calibration import split_scores
     from fem.material import Material
     from fem.object_wall import object_wall
     from fem.wall_grasps import read_locations
@@ -149,16 +156,23 @@ def run(config: dict) -> dict:
             )
         return walls[name]
 
-    validation, interp, grasps_all = {}, {}, []
+    validation, interp, grasps_all, fig_data = {}, {}, [], {}
     for name in config["objects"]:
         mesh_path, map_path = _paths(config, name)
         meshes[name] = mesh = trimesh.load(mesh_path, force="mesh")
         L, measured = read_locations(map_path)
+        if measured is None:
+            raise ValueError(
+                f"{map_path}: minimal-work needs the measured 'stiffness_map' (one value per location) "
+                "beside 'stiffness_locations'; for locations without measurements use "
+                "`workbench run wall-stiffness --set object=... --set locations=...`"
+            )
         smap = StiffnessMap.from_measured(L, np.r_[measured, measured])
         interp[name] = leave_one_out(smap)
         # 2. FEM at the measured grasps, one scalar calibrated on half, checked on the other
         fem = np.array([_num(r["stiffness"]) for r in _fem_rows(ckpt, name, L, wall_of, config)])
         ok = np.isfinite(fem) & (fem < 1e9) & (measured < 1e9)
+        z_mid = 0.5 * (L[: len(fem), 2] + L[len(fem) :, 2])
         idx = np.flatnonzero(ok)
         train = rng.permutation(idx)[: len(idx) // 2]
         test = np.setdiff1d(idx, train)
@@ -174,11 +188,30 @@ def run(config: dict) -> dict:
             "n_test": int(test.size),
             "rigid_measured": int((measured >= 1e9).sum()),
             "rigid_fem": int(np.sum(fem >= 1e9)),
+            # one random half is noisy at 30-50 grasps: the same scores over 200 random halves,
+            # and with one factor per half of the heights (a stiffness varying with height)
+            "over_random_halves": split_scores(fem[idx], measured[idx]),
+            "two_factors_by_height": split_scores(
+                fem[idx], measured[idx], groups=(z_mid[idx] > np.median(z_mid[idx])).astype(int)
+            ),
+        }
+        fig_data[name] = {
+            "L": L,
+            "measured": measured,
+            "predicted": np.where(fem < 1e9, fem * np.exp(log_c), np.inf),  # rigid stays rigid
+            "train": train,
+            "test": test,
         }
         # 3. candidate grasps
         lo, hi = mesh.bounds[:, 2]
         heights = np.linspace(lo, hi, config["n_heights"] + 2)[1:-1]
         cands = horizontal_grasps(mesh, heights, config["n_angles"], config["mu"], pad=None)
+        if not cands:
+            raise ValueError(
+                f"{name}: no horizontal antipodal grasp within friction cone mu={config['mu']} at "
+                f"{config['n_heights']} heights x {config['n_angles']} angles — raise n_heights, "
+                "n_angles or mu"
+            )
         for k, g in enumerate(cands):
             grasps_all.append((name, k, g, smap, float(np.exp(log_c))))
 
@@ -223,7 +256,7 @@ def run(config: dict) -> dict:
             table[task][metric] = per
         class_balance[task] = {"success": int(truth.sum()), "failure": int((~truth).sum())}
 
-    figures = _figures(out, rows, config)
+    figures = _figures(out, rows, config) + _stiffness_figures(out, meshes, fig_data)
     cols = ["object", "grasp", "z", "angle_deg", "s_map_1", "s_map_2", "s_fem"]
     write_csv(
         out / "grasps.csv",
@@ -388,6 +421,36 @@ def _figures(out: Path, rows: list[dict], config: dict) -> list[str]:
     axes[0][0].legend(loc="lower left", fontsize=7)
     fig.tight_layout()
     return [str(save_figure(fig, out / "fig_4_13_work.png"))]
+
+
+def _stiffness_figures(out: Path, meshes: dict, fig_data: dict) -> list[str]:
+    """Measured vs calibrated-FEM stiffness: the scatter of all objects, and per object
+    both maps on its mesh (:mod:`workbench.stiffness_figures`)."""
+    from workbench.stiffness_figures import plot_stiffness_validation, render_stiffness_maps
+
+    panels = {}
+    for name, d in fig_data.items():
+        n = len(d["measured"])
+        panels[name] = {
+            "measured": d["measured"],
+            "predicted": d["predicted"],
+            "train": np.isin(np.arange(n), d["train"]),
+            "test": np.isin(np.arange(n), d["test"]),
+        }
+    paths = [plot_stiffness_validation(panels, out / "fig_stiffness_validation.png")]
+    for name, d in fig_data.items():
+        paths.append(
+            render_stiffness_maps(
+                meshes[name].vertices,
+                meshes[name].faces,
+                d["L"],
+                d["measured"],
+                d["predicted"],
+                out / f"fig_stiffness_map_{name}.png",
+                title=name,
+            )
+        )
+    return [str(p) for p in paths]
 
 
 if __name__ == "__main__":

@@ -228,22 +228,59 @@ def _file_hash(path: str) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
 
 
+def _object_inputs(config: dict) -> tuple:
+    """(mesh, locations (2n, 3), measured (n,) or None) of ``object=`` / ``locations=``, or a
+    ``ValueError`` naming the key, what it expects, what it got and the fix: the wall options,
+    both files, a watertight mesh in metres, 2n points.  Cheap (no ray casting), so
+    :func:`check_config` runs it before any work; the locations are checked against the
+    wall's surface by :func:`run_object`, before the wall is assembled."""
+    import trimesh
+
+    from fem.object_wall import check_wall_options
+    from workbench.units import closed_mesh
+
+    if not config["locations"]:
+        raise ValueError(
+            "object= needs locations=PATH.json (stiffness_locations: 2n points, i and i + n one grasp); "
+            "got none — add --set locations=PATH.json"
+        )
+    check_wall_options(config["thickness"], config["top"])
+    for key, what in (("object", "a watertight .obj mesh in metres"), ("locations", "a JSON file")):
+        if not Path(config[key]).is_file():
+            raise ValueError(f"{key}={config[key]}: no such file — give the path of {what}")
+    try:
+        mesh = trimesh.load(config["object"], force="mesh")
+    except Exception as exc:  # trimesh raises many kinds for an unreadable file
+        raise ValueError(
+            f"object={config['object']}: expected a triangle mesh file (.obj, .stl, .ply); "
+            f"trimesh cannot read it: {exc}"
+        ) from exc
+    mesh = closed_mesh(
+        mesh,
+        f"object={config['object']}",
+        fix="re-export it in metres (scale it by {factor:g}, e.g. trimesh's mesh.apply_scale({factor:g}))",
+    )
+    L, measured = read_locations(config["locations"])
+    return mesh, L, measured
+
+
+def check_config(config: dict) -> None:
+    """With ``object=``, refuse careless inputs before any work (:func:`_object_inputs`);
+    ``workbench run`` turns the ``ValueError`` into its error message."""
+    if config["object"]:
+        _object_inputs(config)
+
+
 def run_object(config: dict) -> dict:
     """The CLI contract: stiffness of ``object`` at the grasps of ``locations`` (module docstring)."""
-    import trimesh
     from scipy.stats import spearmanr
 
     t_start = time.perf_counter()
     out = Path(config["out"])
-    if not config["locations"]:
-        raise ValueError(
-            "object= needs locations=PATH.json (stiffness_locations: 2n points, i and i + n one grasp)"
-        )
-    mesh = trimesh.load(config["object"], force="mesh")
-    L, measured = read_locations(config["locations"])
+    mesh, L, measured = _object_inputs(config)
     nt, nz = config["mesh"]
     geo = wall_geometry(mesh, thickness=config["thickness"], n_z=nz, top=config["top"])
-    grasp_pairs(L, geo.surface)  # refuse careless locations before the wall is built
+    grasp_pairs(L, geo.surface, mesh=mesh)  # refuse careless locations before the wall is built
     n = len(L) // 2
     key_cfg = {k: v for k, v in config.items() if k != "out"}
     key_cfg |= {"object_sha": _file_hash(config["object"]), "locations_sha": _file_hash(config["locations"])}

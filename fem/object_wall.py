@@ -151,6 +151,25 @@ class WallGeometry:
         )
 
 
+def check_wall_options(thickness: Any, top: Any) -> None:
+    """``ValueError`` unless ``thickness`` is a finite wall thickness > 0 [m] and ``top`` one
+    of ``TOPS`` (:func:`wall_geometry`'s options, checkable before any mesh is read)."""
+    if not (
+        isinstance(thickness, (int, float, np.number))
+        and not isinstance(thickness, bool)
+        and np.isfinite(thickness)
+        and thickness > 0
+    ):
+        raise ValueError(
+            f"thickness must be a positive wall thickness [m]; got {thickness!r} — give the wall's "
+            "thickness in metres, e.g. 0.5e-3 for a 0.5 mm PET wall"
+        )
+    if top not in TOPS:
+        raise ValueError(
+            f"top must be one of {TOPS} (the wall's top edge; module fem.object_wall); got {top!r}"
+        )
+
+
 def wall_geometry(
     mesh: Any,
     *,
@@ -171,10 +190,7 @@ def wall_geometry(
     Raises ``ValueError`` for careless meshes (:func:`fem.mesh_wall.radial_surface`), a
     thickness <= 0, an unknown ``top`` or ``top="lip"`` on an object without one.
     """
-    if not (np.isscalar(thickness) and np.isfinite(thickness) and thickness > 0):
-        raise ValueError(f"thickness must be a positive wall thickness [m]; got {thickness!r}")
-    if top not in TOPS:
-        raise ValueError(f"top must be one of {TOPS}; got {top!r}")
+    check_wall_options(thickness, top)
     mesh = closed_mesh(mesh, "the object mesh", units=units)
     surface = radial_surface(mesh)
     closed = is_closed_top(mesh, surface)
@@ -216,6 +232,7 @@ __all__ = [
     "LIP_MAX_HEIGHT",
     "Lip",
     "WallGeometry",
+    "check_wall_options",
     "find_lip",
     "is_closed_top",
     "object_wall",

@@ -115,10 +115,19 @@ class Wall:
         pos[self.free] = np.arange(self.free.size)
         return pos
 
-    def compliance(self, nodes: np.ndarray, directions: np.ndarray) -> np.ndarray:
-        """Normal compliance ``A_ij = n_iᵀ u_i(unit load n_j at node j)`` [m/N].
+    def compliance(
+        self,
+        nodes: np.ndarray,
+        directions: np.ndarray,
+        at: np.ndarray | None = None,
+        at_directions: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Normal compliance ``A_ij = a_iᵀ u_i(unit load n_j at node j)`` [m/N].
 
-        nodes : (c,) indices into ``outer_xyz``; directions : (c, 3) unit load directions.
+        nodes : (c,) indices into ``outer_xyz`` loaded along directions (c, 3) (unit);
+        at, at_directions : (r,) nodes and (r, 3) directions where the displacement is
+        read (default the loaded ones: then A is (c, c), symmetrised).  Returns (r, c).
+        One sparse solve per loaded node, so callers load few nodes and read many.
         """
         rows = self.free_position[self.outer_dofs[nodes]]  # (c, 3); -1 marks a fixed component
         if (rows < 0).all(axis=1).any():
@@ -131,8 +140,11 @@ class Wall:
             ok = rows[:, c] >= 0
             rhs[rows[ok, c], np.flatnonzero(ok)] = dirs[ok, c]
         U = np.vstack([self.lu.solve(rhs), np.zeros((1, nodes.size))])  # row -1: fixed, zero
-        A = np.einsum("icj,ic->ij", U[rows], dirs)  # U[rows] : (c, 3, c)
-        return 0.5 * (A + A.T)
+        if at is None:
+            A = np.einsum("icj,ic->ij", U[rows], dirs)  # U[rows] : (c, 3, c)
+            return 0.5 * (A + A.T)
+        at_rows = self.free_position[self.outer_dofs[at]]
+        return np.einsum("icj,ic->ij", U[at_rows], np.where(at_rows >= 0, at_directions, 0.0))
 
     def displacement(self, nodes: np.ndarray, forces: np.ndarray) -> np.ndarray:
         """Outer-surface displacements (m, 3) [m] under forces (c, 3) [N] at outer nodes."""
@@ -279,18 +291,31 @@ def squeeze(
     force: float = 10.0,
     margin: float = 0.2e-3,
     max_iter: int = 20,
+    max_start: int = 24,
+    max_add: int = 48,
+    max_rounds: int = 30,
 ) -> dict:
     """Squeeze the wall between two rigid flat jaws closing along ``axis`` through ``centre``.
 
     centre : (3,) a point on the grasp axis [m]; axis : (3,) horizontal grasp axis;
     jaw : (width, length) [m] of the jaw faces (length vertical);
     force : target jaw force [N] (thesis: 10 N).
+    The jaws press with equal forces (the object is free between them; the wall's
+    clamps stand for its stiff base and shoulder, so they carry no net force), each
+    travelling its own distance ``jaw_travel`` (2,) [m] from first touch.
     Returns ``stiffness`` = force / Δ [N/m], the jaw closing ``delta`` [m] (sum of
-    both jaws' travel from first touch), the forces of both jaws, the contact
+    both jaws' travel), the forces of both jaws, the contact
     points of the grasp axis with the wall, and the number of LCP solves;
     ``on_clamp`` is True when a jaw would travel past a clamped node of its
-    footprint (``clamp_gap`` [m] from first touch): the jaw then rests on the
+    footprint (``clamp_gap`` [m] from that jaw's first touch): the jaw then rests on the
     clamped edge (the base) and the grasp is as stiff as the clamp — rigid.
+
+    The contact set is grown from the nodes within ``margin`` [m] of first touch (at
+    most ``max_start`` per jaw, spread over the footprint) by at most ``max_add``
+    nodes per round that pass through a jaw, for at most ``max_rounds`` rounds;
+    ``converged`` says both jaw forces are the target and no footprint node passes
+    through a jaw at the end (else a warning is logged); ``compliance_solves`` counts
+    the sparse solves.
     """
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be a positive jaw force [N]; got {force}")
@@ -314,12 +339,16 @@ def squeeze(
         owner.append(np.full(cand.size, jaw_id))
         touch.append(centre + s * reach.max() * axis)
     nodes, dirs, gaps, owner = map(np.concatenate, (nodes, dirs, gaps, owner))
+    lat, vert = lat[nodes], vert[nodes]
     # a clamped node under a jaw (the base or top edge) does not move: it stops that jaw
     # once the jaw has travelled its gap; the rest of the footprint is the LCP's
     pinned = (wall.free_position[wall.outer_dofs[nodes]] < 0).all(axis=1)
-    stop = float(gaps[pinned].min()) if pinned.any() else np.inf  # both jaws travel Δ/2
+    stop = np.array(
+        [gaps[pinned & (owner == c)].min() if (pinned & (owner == c)).any() else np.inf for c in (0, 1)]
+    )
     nodes, dirs, gaps, owner = nodes[~pinned], dirs[~pinned], gaps[~pinned], owner[~pinned]
-    if stop <= 0 or not ((owner == 0).any() and (owner == 1).any()):
+    lat, vert = lat[~pinned], vert[~pinned]
+    if (stop <= 0).any() or not ((owner == 0).any() and (owner == 1).any()):
         # a jaw first touches the clamped edge: it cannot close at all
         return {
             "stiffness": np.inf,
@@ -329,38 +358,106 @@ def squeeze(
             "contact_nodes": 0,
             "lcp_solves": 0,
             "candidate_rounds": 0,
+            "converged": True,
+            "compliance_solves": 0,
             "on_clamp": True,
-            "clamp_gap": max(float(stop), 0.0),
+            "clamp_gap": max(float(stop.min()), 0.0),
         }
-    # condense only near-touching nodes, then add any footprint node the wall pushes
-    # through a jaw (checked with one full solve per round): a rigid jaw on a convex
-    # wall touches a handful of nodes, so this keeps the LU solves few
-    active = np.flatnonzero(gaps < margin)
-    delta, solves, rounds, f = 1e-3, 0, 0, np.zeros(2)
+    # condense only a few near-touching nodes and add the footprint nodes the wall pushes
+    # through a jaw, round by round: a rigid jaw on a convex wall touches a handful of
+    # nodes, and on a flat face (a box) the contact gathers at the jaw's edges, so the
+    # contact set is small even when the whole footprint starts within ``margin``.
+    # Each compliance column (one sparse solve) is read at every footprint node and
+    # kept, so a round costs only its new nodes' solves and the check costs none.
+    active = _spread(np.flatnonzero(gaps < margin), gaps, owner, lat, vert, max_start)
+    cols = np.zeros((nodes.size, nodes.size))  # column j: displacement along dirs under unit load at j
+    have = np.zeros(nodes.size, dtype=bool)
+    travel, solves, rounds, f = np.full(2, 0.5e-3), 0, 0, np.zeros(2)  # each jaw's travel [m]
+    converged = False
     while True:
         rounds += 1
-        A = wall.compliance(nodes[active], dirs[active])
-        for _ in range(max_iter):  # secant on f(Δ): nearly proportional, a few solves
-            lam, _, _ = solve_lcp(A, gaps[active] - delta / 2)
+        new = active[~have[active]]
+        if new.size:
+            cols[:, new] = wall.compliance(nodes[new], dirs[new], nodes, dirs)
+            have[new] = True
+        A = cols[np.ix_(active, active)]
+        A = 0.5 * (A + A.T)
+        # equal and opposite jaw forces (a free object between the jaws; the clamps only
+        # stand for its stiff base and shoulder, so they carry no net force): Newton on
+        # the two jaws' travels, exact while the contact set holds (f = Mᵀ A_SS⁻¹ (M t − g))
+        force_ok = False
+        own = owner[active]
+        for _ in range(max_iter):
+            lam, _, _ = solve_lcp(A, gaps[active] - travel[own])
             solves += 1
-            f = np.array([lam[owner[active] == c].sum() for c in (0, 1)])
-            if abs(f.mean() / force - 1) < 1e-9:
+            f = np.array([lam[own == c].sum() for c in (0, 1)])
+            if np.all(np.abs(f / force - 1) < 1e-9):
+                force_ok = True
                 break
-            delta *= force / f.mean()
-        u = wall.displacement(nodes[active], dirs[active] * lam[:, None])
-        gap_all = gaps - delta / 2 + np.einsum("ij,ij->i", dirs, u[nodes])
-        viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * delta), active)
-        if viol.size == 0 or rounds >= 10:
+            S = lam > 0
+            touching = np.array([(S & (own == c)).any() for c in (0, 1)])
+            if not touching.all():  # a jaw off the wall: move it in
+                travel = np.where(touching, travel, 2 * travel)
+                continue
+            M = (own[S, None] == np.arange(2)).astype(float)  # (|S|, 2) jaw of each contact node
+            J = M.T @ np.linalg.solve(A[np.ix_(S, S)], M)
+            travel = np.maximum(travel + np.linalg.solve(J, force - f), 0.5 * travel)
+        gap_all = gaps - travel[owner] + cols[:, active] @ lam
+        viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * travel.sum()), active)
+        if viol.size == 0:
+            converged = force_ok
+            if not force_ok:
+                log.warning("squeeze: jaw forces %s N, target %.6g N", f, force)
             break
+        if rounds >= max_rounds:
+            log.warning(
+                "squeeze: %d footprint nodes still pass through a jaw after %d rounds", viol.size, rounds
+            )
+            break
+        # the deepest violators first, at most max_add per round (a flat face's whole footprint
+        # would otherwise come in at once)
+        viol = viol[np.argsort(gap_all[viol])][:max_add]
         active = np.union1d(active, viol)
+    delta = float(travel.sum())
     return {
-        "on_clamp": bool(delta / 2 > stop),
-        "clamp_gap": float(stop),
-        "stiffness": float(force / delta),
-        "delta": float(delta),
+        "on_clamp": bool((travel > stop).any()),
+        "clamp_gap": float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
+        "stiffness": force / delta,
+        "delta": delta,
+        "jaw_travel": travel,
         "jaw_forces": f,
         "contact_points": np.array(touch),
         "contact_nodes": int((lam > 0).sum()),
         "lcp_solves": solves,
         "candidate_rounds": rounds,
+        "converged": converged,
+        "compliance_solves": int(have.sum()),
     }
+
+
+def _spread(
+    near: np.ndarray,
+    gaps: np.ndarray,
+    owner: np.ndarray,
+    lat: np.ndarray,
+    vert: np.ndarray,
+    k: int,
+) -> np.ndarray:
+    """At most ``k`` of the ``near`` candidates per jaw, spread over the jaw face:
+    farthest-point sampling in the face's (lateral, vertical) coordinates from the
+    closest node — the footprint's corners and edges come first, where a flat jaw on a
+    flat face bears.  All of them when a jaw has at most ``k``."""
+    keep = []
+    for jaw in (0, 1):
+        cand = near[owner[near] == jaw]
+        if cand.size <= k:
+            keep.append(cand)
+            continue
+        xy = np.column_stack([lat[cand], vert[cand]])
+        pick = [int(np.argmin(gaps[cand]))]
+        d = np.linalg.norm(xy - xy[pick[0]], axis=1)
+        while len(pick) < k:
+            pick.append(int(np.argmax(d)))
+            d = np.minimum(d, np.linalg.norm(xy - xy[pick[-1]], axis=1))
+        keep.append(cand[pick])
+    return np.unique(np.concatenate(keep))

@@ -35,28 +35,45 @@ from .wall import Wall, squeeze
 RIGID_STIFFNESS = 8.0e10
 
 
+def _as_locations(locations: Any, what: str) -> np.ndarray:
+    """``locations`` as a finite (2n, 3) float array, n >= 1, or a ``ValueError`` naming ``what``."""
+    try:
+        L = np.asarray(locations, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{what} must be a finite (2n, 3) array [m], one [x, y, z] of numbers per point; got "
+            f"{str(locations)[:80]} — give every point three numbers"
+        ) from None
+    if L.ndim != 2 or L.shape[1] != 3 or not np.isfinite(L).all():
+        got = f"shape {L.shape}" if L.ndim != 2 or L.shape[1] != 3 else "non-finite values (NaN or inf)"
+        raise ValueError(f"{what} must be a finite (2n, 3) array [m], one [x, y, z] per point; got {got}")
+    if len(L) == 0 or len(L) % 2:
+        raise ValueError(
+            f"{what} must hold 2n points (point i and i + n are one grasp's two jaws); got {len(L)} — "
+            "every grasp needs both jaw points: add the missing one or drop the unpaired one"
+        )
+    return L
+
+
 def grasp_pairs(
-    locations: Any, surface: RadialSurface, *, max_offset: float = 1e-3
+    locations: Any, surface: RadialSurface, *, max_offset: float = 1e-3, mesh: Any = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """(n, 3) first and (n, 3) second jaw points of ``locations`` (2n, 3) [m].
 
     Raises ``ValueError`` for a malformed or odd-length array, a point outside the
     mesh's box, or more than ``max_offset`` [m] off the surface (radially) where the
-    surface is defined — the mark of another object, frame or unit.
+    surface is defined — the mark of another object, frame or unit.  With ``mesh`` (the
+    object's, in metres) points at other heights (a lip, cap, neck or base, which the
+    side wall leaves out) must lie within ``max_offset`` of it too.
     """
-    L = np.asarray(locations, dtype=float)
-    if L.ndim != 2 or L.shape[1] != 3 or not np.isfinite(L).all():
-        raise ValueError(f"locations must be a finite (2n, 3) array [m]; got shape {L.shape}")
-    if len(L) == 0 or len(L) % 2:
+    L = _as_locations(locations, "locations")
+    fix = "the locations must lie on this mesh, in its frame and in metres"
+    beyond = np.maximum(surface.bounds[0] - L, L - surface.bounds[1]).max(axis=1)
+    if (beyond > max_offset).any():
+        k = int(np.argmax(beyond))
         raise ValueError(
-            f"locations must hold 2n points (point i and i + n are one grasp's two jaws); got {len(L)}"
-        )
-    outside = ((L < surface.bounds[0] - max_offset) | (L > surface.bounds[1] + max_offset)).any(axis=1)
-    if outside.any():
-        k = int(np.argmax(outside))
-        raise ValueError(
-            f"location {k} {L[k].tolist()} lies outside the object's box {surface.bounds.tolist()} m: "
-            "the locations must lie on this mesh, in its frame and in metres"
+            f"location {k} {L[k].tolist()} lies outside the object's box {surface.bounds.tolist()} m, "
+            f"{beyond[k] * 1e3:.2f} mm beyond it (at most {max_offset * 1e3:g} mm): {fix}"
         )
     _, z, off = surface.parameters(L)
     lo, hi = surface.z_range
@@ -65,9 +82,21 @@ def grasp_pairs(
     if far.any():
         k = int(np.argmax(np.where(far, np.abs(off), 0)))
         raise ValueError(
-            f"location {k} is {off[k] * 1e3:.2f} mm off the object's surface (more than "
-            f"{max_offset * 1e3:g} mm): the locations must lie on this mesh, in its frame and in metres"
+            f"location {k} {L[k].tolist()} is {off[k] * 1e3:.2f} mm off the object's surface "
+            f"(radially, + outside; at most {max_offset * 1e3:g} mm): {fix}"
         )
+    if mesh is not None and not on_wall.all():
+        from trimesh.proximity import closest_point
+
+        idx = np.flatnonzero(~on_wall)
+        _, dist, _ = closest_point(mesh, L[idx])
+        if (dist > max_offset).any():
+            k = int(idx[np.argmax(dist)])
+            raise ValueError(
+                f"location {k} {L[k].tolist()} is {dist.max() * 1e3:.2f} mm from the object's mesh "
+                f"(at most {max_offset * 1e3:g} mm; it lies above or below the side wall, "
+                f"z = {lo:.4g}..{hi:.4g} m): {fix}"
+            )
     n = len(L) // 2
     return L[:n], L[n:]
 
@@ -141,27 +170,38 @@ def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:
     """``stiffness_locations`` (2n, 3) [m] of a JSON file in the measured maps' format,
     and its ``stiffness_map`` as (n,) [N/m] (one value per grasp) when present, else None.
 
-    Raises ``ValueError`` when the file lacks ``stiffness_locations`` or the map's
-    length does not match (entries i and i + n must be equal: one grasp)."""
+    Raises ``ValueError`` when the file is not JSON, lacks ``stiffness_locations``, holds
+    anything but 2n finite points [x, y, z], or the map's length does not match (entries
+    i and i + n must be equal: one grasp)."""
     import json
     from pathlib import Path
 
-    data = json.loads(Path(path).read_text())
+    fmt = (
+        "a JSON object with 'stiffness_locations' (2n points [m], i and i + n one grasp) as in "
+        "deformable_objects/stiffness_maps/*.json"
+    )
+    try:
+        data = json.loads(Path(path).read_text())
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: expected {fmt}; got text that is not JSON ({exc})") from None
     if not isinstance(data, dict) or "stiffness_locations" not in data:
-        raise ValueError(
-            f"{path}: expected a JSON object with 'stiffness_locations' (2n points, i and i + n "
-            "one grasp) as in deformable_objects/stiffness_maps/*.json"
-        )
-    L = np.asarray(data["stiffness_locations"], dtype=float)
+        got = f"keys {sorted(data)}" if isinstance(data, dict) else f"a JSON {type(data).__name__}"
+        raise ValueError(f"{path}: expected {fmt}; got {got}")
+    L = _as_locations(data["stiffness_locations"], f"{path}: 'stiffness_locations'")
     if "stiffness_map" not in data:
         return L, None
-    S = np.asarray(data["stiffness_map"], dtype=float).ravel()
+    want = f"{path}: 'stiffness_map' must hold one value [N/m] per location, equal for points i and i + n"
+    try:
+        S = np.asarray(data["stiffness_map"], dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"{want}; got {str(data['stiffness_map'])[:80]} (not all numbers)") from None
     n = len(L) // 2
-    if S.shape != (len(L),) or not np.allclose(S[:n], S[n:], rtol=1e-9):
-        raise ValueError(
-            f"{path}: 'stiffness_map' must hold one value per location, equal for points i and i + n; "
-            f"got {S.size} values for {len(L)} locations"
-        )
+    if S.shape != (len(L),):
+        raise ValueError(f"{want}; got {S.size} values for {len(L)} locations")
+    differ = ~np.isclose(S[:n], S[n:], rtol=1e-9)
+    if differ.any():
+        k = int(np.argmax(differ))
+        raise ValueError(f"{want}; got {S[k]:g} and {S[k + n]:g} for points {k} and {k + n}")
     return L, S[:n]
 
 

@@ -80,6 +80,58 @@ def test_squeeze_bottle_contact(bottle_wall):
     assert r["candidate_rounds"] <= 3 and r["contact_nodes"] >= 2
 
 
+def _square_surface(half: float):
+    """Outer surface of a square tube (a box's flat faces), rounded corners of 5 mm."""
+    r = 5e-3
+
+    def surface(th, z):
+        d = np.column_stack([np.cos(th), np.sin(th)])
+        # superellipse-like square: radius along d to the rounded square |x|, |y| <= half
+        p = np.empty_like(d)
+        n = np.empty_like(d)
+        for k, (c, s) in enumerate(d):
+            t = half / max(abs(c), abs(s))
+            q = t * np.array([c, s])
+            core = np.clip(q, -(half - r), half - r)
+            if np.all(np.abs(q) > half - r):  # on a rounded corner
+                u = (q - core) / np.linalg.norm(q - core)
+                p[k], n[k] = core + r * u, u
+            else:
+                p[k] = q
+                n[k] = [np.sign(c), 0.0] if abs(c) >= abs(s) else [0.0, np.sign(s)]
+        return np.column_stack([p, z]), np.column_stack([n, np.zeros_like(z)])
+
+    return surface
+
+
+def test_squeeze_flat_face_grows_few_nodes_to_the_full_answer():
+    """A flat jaw on a flat face: the whole footprint starts in contact range, the contact
+    gathers at the jaw's edges; growing the contact set from a spread start gives the
+    footprint-wide LCP's answer with far fewer compliance solves."""
+    wall = build_wall(_square_surface(0.03), thickness=0.5e-3, n_theta=32, n_z=12, z_range=(0.0, 0.08))
+    c, ax = np.array([0.0, 0.0, 0.04]), np.array([1.0, 0.0, 0.0])
+    grown = squeeze(wall, c, ax)
+    full = squeeze(wall, c, ax, margin=1.0, max_start=10**6, max_add=10**6)
+    assert grown["converged"] and full["converged"]
+    assert grown["stiffness"] == pytest.approx(full["stiffness"], rel=1e-9)
+    assert grown["compliance_solves"] < 0.6 * full["compliance_solves"]
+
+
+def test_squeeze_equal_jaw_forces_off_centre(bottle_wall):
+    """Low on the clamped wall, off the section's centre: each jaw travels its own
+    distance so both press with the target force (the clamps carry no net force)."""
+    b, wall = bottle_wall
+    H = b.params.height
+    c, _, _, phi = b.section(0.3 * H)
+    axis = np.array([np.cos(phi + 0.3), np.sin(phi + 0.3), 0.0])
+    side = np.cross([0.0, 0.0, 1.0], axis)
+    r = squeeze(wall, np.r_[c, 0.3 * H] + 0.01 * side, axis, force=10.0)
+    assert r["converged"]
+    np.testing.assert_allclose(r["jaw_forces"], [10.0, 10.0], rtol=1e-8)
+    assert r["delta"] == pytest.approx(r["jaw_travel"].sum(), rel=1e-12)
+    assert r["jaw_travel"].min() > 0
+
+
 def test_squeeze_bad_input(bottle_wall):
     b, wall = bottle_wall
     H = b.params.height

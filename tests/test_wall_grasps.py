@@ -61,3 +61,39 @@ def test_careless_locations_are_refused(tube, locs, match):
     surf, _ = tube
     with pytest.raises(ValueError, match=match):
         grasp_pairs(locs, surf)
+
+
+def test_one_factor_calibration_against_a_direct_computation():
+    """fem.calibration: the factor is the median log ratio on the training grasps (exact on
+    a model off by a constant), one per group, and the held-out scores are the plain ones."""
+    from scipy.stats import spearmanr
+
+    from fem.calibration import calibrate, held_out, split_scores
+
+    rng = np.random.default_rng(3)
+    measured = np.exp(rng.normal(7.0, 0.6, 30))
+    model = measured / 4.0  # a model 4x too soft everywhere
+    train = np.arange(0, 30, 2)
+    np.testing.assert_allclose(calibrate(model, measured, train), 4.0, rtol=1e-12)
+    assert held_out(model, measured, train)["median_abs_log_ratio"] < 1e-12
+    # off by 2x in the upper half of the grasps: one factor cannot fit, one per half can
+    groups = (np.arange(30) >= 15).astype(int)
+    model2 = model * np.where(groups == 1, 0.5, 1.0)
+    # training: 8 grasps of the lower half (ratio 4) and 7 of the upper (ratio 8): factor 4, so the
+    # 8 held-out upper grasps (of 15) are off by log 2
+    assert held_out(model2, measured, train)["median_abs_log_ratio"] == pytest.approx(np.log(2), rel=1e-12)
+    assert held_out(model2, measured, train, groups)["median_abs_log_ratio"] < 1e-12
+    # a noisy model: the held-out score is the direct one
+    noisy = measured * np.exp(rng.normal(0.0, 0.3, 30))
+    c = np.exp(np.median(np.log(measured[train] / noisy[train])))
+    test = np.setdiff1d(np.arange(30), train)
+    h = held_out(noisy, measured, train)
+    assert h["median_abs_log_ratio"] == pytest.approx(
+        np.median(np.abs(np.log(c * noisy[test] / measured[test])))
+    )
+    assert h["spearman"] == pytest.approx(spearmanr(noisy[test], measured[test]).statistic)
+    spread = split_scores(noisy, measured, n_splits=50)
+    assert spread["median_abs_log_ratio"]["p10"] <= spread["median_abs_log_ratio"]["median"]
+    assert spread["median_abs_log_ratio"]["median"] <= spread["median_abs_log_ratio"]["p90"]
+    with pytest.raises(ValueError, match="finite and > 0"):
+        calibrate(np.r_[model[:-1], np.inf], measured, train)

@@ -28,6 +28,7 @@ EXPERIMENTS = {
     "wall-stiffness": "experiments.wall_stiffness",
     "sensitivity": "experiments.sensitivity",
     "minimal-work": "experiments.minimal_work",
+    "wall-nonlinear": "experiments.wall_nonlinear",
 }
 
 

@@ -110,17 +110,24 @@ def check_extent(
 
 
 def mesh_in_metres(
-    mesh: Any, what: str, *, units: str | float | None = None, allow_scale: bool = False
+    mesh: Any,
+    what: str,
+    *,
+    units: str | float | None = None,
+    allow_scale: bool = False,
+    fix: str | None = None,
 ) -> Any:
     """``mesh`` (a ``trimesh.Trimesh``) in metres, after :func:`check_extent` on the
-    longest side of its axis-aligned bounding box.
+    longest side of its axis-aligned bounding box (``fix``: its remedy text, when the
+    caller cannot pass ``units``, e.g. a CLI reading a file).
 
     ``units`` is the unit of ``mesh.vertices`` (``None`` or "m": metres); any other
     unit is applied to a *copy*, the caller's mesh is never modified.
     """
     factor = 1.0 if units is None else length_factor(units)
     extents = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
-    check_extent(float(extents.max()) * factor, what, units=units, allow_scale=allow_scale)
+    opts = {} if fix is None else {"fix": fix}
+    check_extent(float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, **opts)
     if factor == 1.0:
         return mesh
     scaled = mesh.copy()
@@ -128,17 +135,32 @@ def mesh_in_metres(
     return scaled
 
 
-def closed_mesh(mesh: Any, what: str, *, units: str | float | None = None, allow_scale: bool = False) -> Any:
+def closed_mesh(
+    mesh: Any,
+    what: str,
+    *,
+    units: str | float | None = None,
+    allow_scale: bool = False,
+    fix: str | None = None,
+) -> Any:
     """A watertight ``trimesh.Trimesh`` in metres, or a ``ValueError`` that says which
     and how to fix it — the one gate of every mesh input (``what`` names the caller's
-    argument in the message).  Metres: :func:`mesh_in_metres`."""
+    argument in the message).  Metres: :func:`mesh_in_metres` (``fix`` as there)."""
     import trimesh
 
     if not isinstance(mesh, trimesh.Trimesh):
         raise ValueError(f"{what} must be a trimesh.Trimesh; got {type(mesh).__name__}")
+    if len(mesh.faces) == 0:
+        raise ValueError(f"{what} must be a closed triangle mesh; got one without faces")
     if not mesh.is_watertight:
-        raise ValueError(
-            f"{what} is not watertight (open edges: inside and outside are undefined) — repair it "
-            "first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
+        open_edges = len(trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1))
+        got = (
+            f"{open_edges} open edges (a hole or a missing face)"
+            if open_edges
+            else "edges shared by more than two faces (non-manifold)"
         )
-    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale)
+        raise ValueError(
+            f"{what} is not watertight: it must be closed (inside and outside defined) but has "
+            f"{got} — repair it first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
+        )
+    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix)

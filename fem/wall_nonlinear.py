@@ -1,0 +1,281 @@
+"""Geometrically nonlinear wall squeeze: total Lagrangian St. Venant–Kirchhoff, load stepping.
+
+The linear wall (:mod:`fem.wall`) assumes small displacements.  A disposable cup
+closes ~20 mm at 8–10 N (measured map, thesis §4.3.3.1) — half its radius — so
+rotations are not small there.  Strains stay small (a 0.5 mm wall bent to a few
+centimetres' radius: ε ≈ t / 2ρ ≲ 1 %), which is the range of St. Venant–Kirchhoff:
+
+    E = ½ (FᵀF − I),   S = λ tr(E) I + 2μ E,   P = F S                        (Green strain, 2nd / 1st Piola)
+    dP[δF] = δF S + F (λ tr(δE) I + 2μ δE),   δE = sym(Fᵀ δF)                   (consistent tangent)
+
+on the same triquadratic mesh, Gauss rule and clamps as the linear wall
+(:func:`fem.wall.build_wall`).  The weak form is assembled here element-wise with
+batched matrix products instead of scikit-fem's form language — for a 27-node hex
+with 27 Gauss points the latter evaluates the form once per (i, j) basis pair (6,561
+times) and takes ~40 s per tangent; this takes ~1 s.  ``tests/`` checks it against a
+scikit-fem ``BilinearForm`` / ``LinearForm`` of the same equations.
+
+The jaws are rigid frictionless planes normal to the grasp axis, which must be the
+mesh's x axis (build the wall in that frame: :func:`rotated_outer`); a footprint
+node in contact has its x displacement prescribed (Dirichlet), one released when
+its reaction turns tensile, one added when it passes a jaw.  Both jaws travel the
+same distance from their first touch (displacement control, so snap-through is
+followed); the jaw forces are reported and are equal for a grasp through the axis
+of an axisymmetric wall.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .sparse_factor import factor_spd
+from .wall import Wall
+
+log = logging.getLogger(__name__)
+
+
+def rotated_outer(outer: Any, angle: float):
+    """The outer-surface callable ``(θ, z) -> (points, normals)`` of a wall turned by
+    ``-angle`` [rad] about the z axis: a grasp axis at ``angle`` becomes the x axis."""
+    c, s = np.cos(-angle), np.sin(-angle)
+    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+    def surface(theta, z):
+        p, n = outer(theta, z)
+        return p @ R.T, n @ R.T
+
+    return surface
+
+
+def _gradients(basis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per local dof k of a vector basis: its component ``comp`` (81,), the gradient of
+    its scalar shape function ``g`` (e, q, 81, 3) and the weights × det J ``w`` (e, q)."""
+    comp, g = [], []
+    for k in range(basis.Nbfun):
+        G = np.asarray(basis.basis[k][0].grad)  # (3, 3, e, q): row = component
+        c = int(np.argmax(np.abs(G).reshape(3, -1).max(axis=1)))
+        comp.append(c)
+        g.append(G[c])
+    return np.array(comp), np.moveaxis(np.array(g), (0, 1), (2, 3)), np.asarray(basis.dx)
+
+
+def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None = None) -> tuple:
+    """Tangent stiffness ``K`` (N, N) csr and internal force ``r`` (N,) of a St. Venant–
+    Kirchhoff solid at displacement ``u`` (N,) (module docstring), total Lagrangian.
+
+    basis : a scikit-fem vector basis (e.g. the wall's ``ElementVector(ElementHex2())``);
+    mu, lam : Lamé parameters [Pa]; cache : a dict kept between calls on one basis
+    (shape-function gradients and the sparsity pattern).
+    """
+    c = {} if cache is None else cache
+    if "g" not in c:
+        c["comp"], c["g"], c["w"] = _gradients(basis)
+        dofs = basis.element_dofs.T  # (e, 81)
+        c["dofs"] = dofs
+        c["rows"] = np.repeat(dofs, dofs.shape[1], axis=1).ravel()
+        c["cols"] = np.tile(dofs, (1, dofs.shape[1])).ravel()
+        c["by_comp"] = [np.flatnonzero(c["comp"] == i) for i in range(3)]
+    comp, g, w, dofs = c["comp"], c["g"], c["w"], c["dofs"]
+    ue = u[dofs]  # (e, 81)
+    eye = np.eye(3)
+    # F_iJ = δ_iJ + Σ_k u_k [comp_k = i] g_kJ
+    F = np.broadcast_to(eye, (*w.shape, 3, 3)).copy()
+    for i, ks in enumerate(c["by_comp"]):
+        F[..., i, :] += np.einsum("ek,eqkJ->eqJ", ue[:, ks], g[:, :, ks, :])
+    C = np.einsum("eqiI,eqiJ->eqIJ", F, F)
+    E = 0.5 * (C - eye)
+    trE = np.trace(E, axis1=-2, axis2=-1)
+    S = lam * trE[..., None, None] * eye + 2 * mu * E
+    P = F @ S
+    # internal force r_k = Σ_q w g_kJ P_{comp_k, J}
+    re = np.einsum("eqkJ,eqkJ,eq->ek", g, P[:, :, comp, :], w)
+    r = np.zeros(basis.N)
+    np.add.at(r, dofs.ravel(), re.ravel())
+    # A_iJmL = δ_im S_JL + λ F_iJ F_mL + μ (F_iL F_mJ + δ_JL (F Fᵀ)_im)   (dP_iJ / dF_mL)
+    FFt = F @ np.swapaxes(F, -1, -2)
+    A = (
+        np.einsum("im,eqJL->eqiJmL", eye, S)
+        + lam * np.einsum("eqiJ,eqmL->eqiJmL", F, F)
+        + mu * np.einsum("eqiL,eqmJ->eqiJmL", F, F)
+        + mu * np.einsum("JL,eqim->eqiJmL", eye, FFt)
+    )
+    A *= w[..., None, None, None, None]
+    n_e, n_q, n_k = g.shape[0], g.shape[1], g.shape[2]
+    Ke = np.zeros((n_e, n_k, n_k))
+    for i, ki in enumerate(c["by_comp"]):
+        gi = g[:, :, ki, :]  # (e, q, a, J)
+        for m, km in enumerate(c["by_comp"]):
+            T = np.einsum("eqaJ,eqJL->eqaL", gi, A[:, :, i, :, m, :])
+            # Σ_q Σ_L T_qaL g_qbL as a batched product over elements
+            blk = np.matmul(
+                T.transpose(0, 2, 1, 3).reshape(n_e, ki.size, n_q * 3),
+                g[:, :, km, :].transpose(0, 1, 3, 2).reshape(n_e, n_q * 3, km.size),
+            )
+            Ke[:, ki[:, None], km[None, :]] = blk
+    K = sp.csr_matrix((Ke.ravel(), (c["rows"], c["cols"])), shape=(basis.N, basis.N))
+    return K, r
+
+
+def squeeze_nonlinear(
+    wall: Wall,
+    centre: np.ndarray,
+    *,
+    jaw: tuple[float, float] = (0.02, 0.04),
+    force: float = 10.0,
+    max_closing: float = 0.03,
+    step: float = 1e-3,
+    newton_tol: float = 1e-7,
+    max_newton: int = 40,
+) -> dict:
+    """Close two rigid jaws along x through ``centre`` (3,) [m] on a nonlinear wall.
+
+    wall : built in the grasp frame (x = grasp axis; :func:`rotated_outer`);
+    jaw : (width, length) [m]; the closing grows by ``step`` [m] (both jaws together)
+    until the mean jaw force exceeds ``force`` [N] or the closing reaches
+    ``max_closing`` [m].  Returns the load curve ``closing`` (k,) [m] and ``jaw_forces``
+    (k, 2) [N] (from 0), ``stiffness`` = force / closing at ``force`` (linear
+    interpolation on the curve; NaN if not reached), ``work`` = ∫ f dΔ [J] up to it,
+    Newton iterations and seconds; ``on_clamp`` when the curve stopped because a jaw
+    reached a clamped node of its footprint (the base: the grasp is rigid from there).
+    """
+    if not (np.isfinite(force) and force > 0):
+        raise ValueError(f"force must be a positive jaw force [N]; got {force}")
+    if not (0 < step < max_closing):
+        raise ValueError(f"need 0 < step < max_closing [m]; got {step}, {max_closing}")
+    t0 = time.perf_counter()
+    b = wall.basis
+    mu, lam = wall.material.mu, wall.material.lam
+    from .wall import components
+
+    comp = components(b)
+    fixed = np.ones(b.N, dtype=bool)
+    fixed[wall.free] = False
+    outer_x = wall.outer_dofs[:, 0]  # x dofs of the outer-surface nodes
+    X = wall.outer_xyz
+    rel = X - centre
+    in_print = (np.abs(rel[:, 1]) <= jaw[0] / 2) & (np.abs(rel[:, 2]) <= jaw[1] / 2)
+    sides = []
+    for s in (1.0, -1.0):  # jaw on the +x side moves along -x
+        cand = np.flatnonzero(in_print & (s * rel[:, 0] > 0))
+        if cand.size == 0:
+            raise ValueError("no wall under a jaw: the grasp axis misses the object")
+        # a clamped node under a jaw (the base) does not move: the jaw stops on it
+        pinned = fixed[outer_x[cand]]
+        reach = float((s * rel[cand, 0]).max())  # first touch at the outermost node
+        stop = float(reach - (s * rel[cand[pinned], 0]).max()) if pinned.any() else np.inf
+        sides.append((s, cand[~pinned], reach, stop))
+    assert (comp[outer_x] == 0).all()
+    u, u_prev = np.zeros(b.N), np.zeros(b.N)
+    cache: dict = {}
+    active = [np.zeros(0, dtype=int), np.zeros(0, dtype=int)]
+    closing, forces, iters, on_clamp = [0.0], [np.zeros(2)], 0, False
+    while closing[-1] < max_closing and np.mean(forces[-1]) < force:
+        d = closing[-1] + step
+        if any(d / 2 > stop for *_, stop in sides):
+            on_clamp = True  # the jaw would pass the clamped base: it rests on it from here
+            break
+        planes = [centre[0] + s * (reach - d / 2) for s, _, reach, _ in sides]
+        u, u_prev = u + (u - u_prev), u  # predictor: the last step's increment again
+        for _ in range(20):  # contact set for this step: Newton to equilibrium, then update
+            bc = fixed.copy()
+            target = np.zeros(b.N)
+            for (_, cand, _, _), act, plane in zip(sides, active, planes, strict=True):
+                bc[outer_x[cand[act]]] = True
+                target[outer_x[cand[act]]] = plane - X[cand[act], 0]
+            fr = np.flatnonzero(~bc)
+            for _ in range(max_newton):
+                K, r = svk_tangent(b, u, mu, lam, cache)
+                du = np.zeros(b.N)
+                du[bc] = target[bc] - u[bc]
+                du[fr] = factor_spd(K[fr][:, fr]).solve(-r[fr] - K[fr][:, bc] @ du[bc])
+                u += du
+                iters += 1
+                log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
+                if np.abs(du).max() < newton_tol * d:
+                    break
+            else:
+                log.warning("squeeze_nonlinear: Newton did not converge at closing %.3g mm", d * 1e3)
+            _, r = svk_tangent(b, u, mu, lam, cache)
+            changed = False
+            for j, ((s, cand, _, _), plane) in enumerate(zip(sides, planes, strict=True)):
+                act = active[j]
+                react = r[outer_x[cand]]  # internal force; the jaw pushes with -s along x
+                pos = X[cand, 0] + u[outer_x[cand]]
+                keep = act[s * react[act] < 0]  # still pressed
+                new = np.union1d(keep, np.flatnonzero(s * (pos - plane) > 1e-9 * d))  # or passing the jaw
+                changed |= not np.array_equal(new, act)
+                active[j] = new
+            if not changed:
+                break
+        _, r = svk_tangent(b, u, mu, lam, cache)
+        f = np.array(
+            [-s * r[outer_x[cand[act]]].sum() for (s, cand, _, _), act in zip(sides, active, strict=True)]
+        )
+        closing.append(d)
+        forces.append(f)
+        log.info("squeeze_nonlinear: closing %.2f mm, jaw forces %.3f %.3f N", d * 1e3, *f)
+    closing, forces = np.array(closing), np.array(forces)
+    stiff, work = curve_stiffness(closing, forces, force)
+    return {
+        "closing": closing,
+        "jaw_forces": forces,
+        "stiffness": stiff,
+        "work": work,
+        "newton_iterations": iters,
+        "on_clamp": on_clamp,
+        "seconds": time.perf_counter() - t0,
+    }
+
+
+def curve_stiffness(
+    closing: np.ndarray, jaw_forces: np.ndarray, force: float, e_scale: float = 1.0
+) -> tuple[float, float]:
+    """Secant stiffness ``force / Δ`` [N/m] and work ``∫ f dΔ`` [J] at ``force`` [N] on a
+    load curve: ``closing`` (k,) [m] from 0, ``jaw_forces`` (k, 2) [N] (their mean is f).
+
+    e_scale : the curve of the same wall with Young's modulus × ``e_scale`` — the St.
+    Venant–Kirchhoff displacements depend on f / E only (ν fixed), so that curve is
+    ``e_scale × f`` at the same closings.  (NaN, NaN) when the curve stops below ``force``.
+    """
+    closing = np.asarray(closing, float)
+    fm = e_scale * np.asarray(jaw_forces, float).mean(axis=1)
+    if closing.ndim != 1 or fm.shape != closing.shape or closing[0] != 0.0:
+        raise ValueError(f"need closing (k,) from 0 and jaw_forces (k, 2); got {closing.shape}, {fm.shape}")
+    if fm[-1] < force:
+        return float("nan"), float("nan")
+    k = int(np.argmax(fm >= force))
+    a = (force - fm[k - 1]) / (fm[k] - fm[k - 1])
+    d_at = closing[k - 1] + a * (closing[k] - closing[k - 1])
+    work = float(np.trapezoid(np.r_[fm[:k], force], np.r_[closing[:k], d_at]))
+    return float(force / d_at), work
+
+
+def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_theta: int = 48) -> tuple:
+    """The wall of :class:`fem.object_wall.WallGeometry` ``geo`` built in the frame of the
+    grasp from jaw point ``a`` (3,) to ``b`` (3,) [m] (horizontal axis): x is the grasp
+    axis, z stays vertical.  Returns ``(wall, centre)``: the built wall and the grasp's
+    midpoint (3,) in that frame, as :func:`squeeze_nonlinear` takes them."""
+    ax = np.asarray(b, float) - np.asarray(a, float)
+    ang = float(np.arctan2(ax[1], ax[0]))
+    c, s = np.cos(-ang), np.sin(-ang)
+    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    from .wall import build_wall
+
+    wall = build_wall(
+        rotated_outer(geo.outer, ang),
+        material,
+        thickness=geo.thickness_at,
+        n_theta=n_theta,
+        n_z=geo.n_z,
+        z_range=geo.z_range,
+        clamp_top=geo.clamp_top,
+    )
+    return wall, R @ ((np.asarray(a, float) + np.asarray(b, float)) / 2)
+
+
+__all__ = ["curve_stiffness", "grasp_frame_wall", "rotated_outer", "squeeze_nonlinear", "svk_tangent"]

@@ -1,0 +1,93 @@
+"""Geometrically nonlinear wall (fem.wall_nonlinear): the hand-vectorised St. Venant–Kirchhoff
+assembly against scikit-fem's form language (the slow reference), its small-closing limit
+against the linear squeeze, and the load-curve reading."""
+
+import numpy as np
+import pytest
+from skfem import BilinearForm, LinearForm, asm
+from skfem.helpers import ddot, eye, grad, mul, trace, transpose
+
+from fem.material import Material
+from fem.wall import PET, _elasticity, build_wall, circle_surface, squeeze
+from fem.wall_nonlinear import curve_stiffness, squeeze_nonlinear, svk_tangent
+
+
+def _svk(w_u, mu, lam):
+    F = grad(w_u) + eye(np.ones_like(grad(w_u)[0, 0]), 3)
+    identity = eye(np.ones_like(F[0, 0]), 3)
+    E = 0.5 * (mul(transpose(F), F) - identity)
+    return F, identity, lam * trace(E) * identity + 2 * mu * E
+
+
+@BilinearForm
+def _tangent_ref(du, v, w):
+    F, identity, S = _svk(w["u"], w["mu"], w["lam"])
+    dF = grad(du)
+    dE = 0.5 * (mul(transpose(F), dF) + mul(transpose(dF), F))
+    dS = w["lam"] * trace(dE) * identity + 2 * w["mu"] * dE
+    return ddot(mul(dF, S) + mul(F, dS), grad(v))
+
+
+@LinearForm
+def _residual_ref(v, w):
+    F, _, S = _svk(w["u"], w["mu"], w["lam"])
+    return ddot(mul(F, S), grad(v))
+
+
+@pytest.fixture(scope="module")
+def small_wall():
+    return build_wall(circle_surface(0.03), thickness=1e-3, n_theta=8, n_z=2, z_range=(0.0, 0.02))
+
+
+def test_svk_assembly_matches_scikit_fem_forms(small_wall):
+    b = small_wall.basis
+    u = 2e-3 * np.random.default_rng(0).standard_normal(b.N)  # rotations of order 0.1-1: far from linear
+    K, r = svk_tangent(b, u, PET.mu, PET.lam)
+    ui = b.interpolate(u)
+    K_ref = asm(_tangent_ref, b, u=ui, mu=PET.mu, lam=PET.lam)
+    r_ref = asm(_residual_ref, b, u=ui, mu=PET.mu, lam=PET.lam)
+    assert abs(K - K_ref).max() < 1e-12 * abs(K_ref).max()
+    assert np.abs(r - r_ref).max() < 1e-12 * np.abs(r_ref).max()
+    # at u = 0 the tangent is the linear stiffness and nothing is stressed
+    K0, r0 = svk_tangent(b, np.zeros(b.N), PET.mu, PET.lam)
+    KL = asm(_elasticity, b, mu=PET.mu, lam=PET.lam)
+    assert abs(K0 - KL).max() < 1e-12 * abs(KL).max() and not r0.any()
+
+
+def test_svk_tangent_is_the_derivative_of_the_force(small_wall):
+    b = small_wall.basis
+    rng = np.random.default_rng(1)
+    u, du = 1e-3 * rng.standard_normal(b.N), 1e-8 * rng.standard_normal(b.N)
+    K, _ = svk_tangent(b, u, PET.mu, PET.lam)
+    _, rp = svk_tangent(b, u + du, PET.mu, PET.lam)
+    _, rm = svk_tangent(b, u - du, PET.mu, PET.lam)
+    assert np.abs((rp - rm) / 2 - K @ du).max() < 1e-6 * np.abs(K @ du).max()
+
+
+def test_small_closing_is_the_linear_squeeze():
+    """At a closing of 1/50 of the wall thickness rotations are negligible: the nonlinear
+    wall's secant stiffness is the linear squeeze's (same mesh, clamps, jaws)."""
+    wall = build_wall(circle_surface(0.03), Material(2.5e9, 0.4), n_theta=16, n_z=6, z_range=(0.0, 0.06))
+    c = np.array([0.0, 0.0, 0.03])
+    lin = squeeze(wall, c, np.array([1.0, 0.0, 0.0]), force=1.0)
+    f_small = 0.02 * lin["stiffness"] * 1e-5  # the force at a closing of 0.01 mm
+    nl = squeeze_nonlinear(wall, c, force=f_small, step=0.5e-5, max_closing=1e-4)
+    assert nl["stiffness"] == pytest.approx(lin["stiffness"], rel=0.01)
+    np.testing.assert_allclose(nl["jaw_forces"][-1, 0], nl["jaw_forces"][-1, 1], rtol=1e-3)
+    with pytest.raises(ValueError, match="positive jaw force"):
+        squeeze_nonlinear(wall, c, force=0.0)
+    with pytest.raises(ValueError, match="misses the object"):
+        squeeze_nonlinear(wall, np.array([0.0, 0.0, 0.5]), force=1.0)
+
+
+def test_curve_stiffness_on_a_linear_spring():
+    closing = np.array([0.0, 1e-3, 2e-3, 3e-3])
+    forces = np.column_stack([5000.0 * closing] * 2)  # s = 5000 N/m
+    s, w = curve_stiffness(closing, forces, 10.0)
+    assert s == pytest.approx(5000.0) and w == pytest.approx(0.5 * 10.0 * 2e-3)
+    # the same wall twice as stiff (E x 2): same closings, twice the force
+    s2, w2 = curve_stiffness(closing, forces, 10.0, e_scale=2.0)
+    assert s2 == pytest.approx(10000.0) and w2 == pytest.approx(0.5 * 10.0 * 1e-3)
+    assert np.isnan(curve_stiffness(closing, forces, 100.0)[0])  # not reached
+    with pytest.raises(ValueError, match="closing"):
+        curve_stiffness(closing[1:], forces[1:], 10.0)
