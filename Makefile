@@ -22,10 +22,12 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run wall-stiffness
 	$(BIN)/workbench run sensitivity
 	$(BIN)/workbench run sensitivity --set half_angle=1.0 --out results/sensitivity-wrapped
+	$(BIN)/workbench run wall-nonlinear
 	$(BIN)/workbench run minimal-work
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py
+	$(BIN)/python benchmarks/bench_minimal_work.py
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
@@ -43,6 +45,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py
+	$(BIN)/python benchmarks/bench_minimal_work.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

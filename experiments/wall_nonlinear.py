@@ -49,7 +49,7 @@ DEFAULT_CONFIG = {
     "step_mm": 1.5,  # closing increment of the load stepping
     "max_closing_mm": 40.0,
 }
-QUICK_CONFIG = {"n_grasps": 1, "force_stop": 10.5, "step_mm": 3.0}
+QUICK_CONFIG = {"n_grasps": 1, "mesh": [12, 6], "force": 3.0, "force_stop": 3.3, "step_mm": 2.0}
 
 
 def run(config: dict) -> dict:
@@ -57,6 +57,7 @@ def run(config: dict) -> dict:
 
     from fem.material import Material
     from fem.object_wall import object_wall
+    from fem.wall import squeeze
     from fem.wall_grasps import read_locations, stiffness_at
     from fem.wall_nonlinear import curve_stiffness, grasp_frame_wall, squeeze_nonlinear
 
@@ -82,7 +83,8 @@ def run(config: dict) -> dict:
     # 2. nonlinear at E_lin at grasps spread over the heights
     z = 0.5 * (L[:n, 2] + L[n:, 2])
     cand = np.flatnonzero(ok)
-    pick = cand[np.argsort(z[cand])][np.linspace(0, cand.size - 1, config["n_grasps"]).round().astype(int)]
+    at = np.linspace(0, cand.size - 1, config["n_grasps"]) if config["n_grasps"] > 1 else [cand.size // 2]
+    pick = cand[np.argsort(z[cand])][np.round(at).astype(int)]  # base to lip (one: mid-height)
     mat = Material(E_lin, config["nu"])
     for k in tqdm([int(k) for k in pick if f"nl/{k}" not in ckpt], desc="nonlinear wall", unit="grasp"):
         w, centre = grasp_frame_wall(geo, mat, L[k], L[k + n], n_theta=nt)
@@ -99,6 +101,7 @@ def run(config: dict) -> dict:
                 "closing": res["closing"].tolist(),
                 "jaw_forces": res["jaw_forces"].tolist(),
                 "newton_iterations": res["newton_iterations"],
+                "on_clamp": res["on_clamp"],
                 "seconds": res["seconds"],
             },
         )
@@ -106,8 +109,17 @@ def run(config: dict) -> dict:
     F = config["force"]
     for k in pick:
         r = ckpt.rows[f"nl/{k}"]
+        fm = np.mean(r["jaw_forces"], axis=1)
+        # rows written before the flag: the curve stopped short of force_stop and max_closing
+        nl_clamp = r.get(
+            "on_clamp", fm[-1] < config["force_stop"] and r["closing"][-1] < config["max_closing_mm"] * 1e-3
+        )
         s_nl, w_nl = curve_stiffness(r["closing"], r["jaw_forces"], F)
-        s_l = s_lin_pet[k] * scale
+        # the linear squeeze on the same grasp-frame mesh at the same E: its closing decides
+        # whether a jaw reaches the clamped base too (closings at E_lin are ~1/scale those at PET)
+        w, centre = grasp_frame_wall(geo, mat, L[k], L[k + n], n_theta=nt)
+        lin_k = squeeze(w, centre, np.array([1.0, 0.0, 0.0]), force=F)
+        s_l = np.nan if lin_k["on_clamp"] else lin_k["stiffness"]
         rows.append(
             {
                 "grasp": int(k),
@@ -115,19 +127,26 @@ def run(config: dict) -> dict:
                 "measured": float(measured[k]),
                 "s_linear": float(s_l),
                 "s_nonlinear": s_nl,
+                "rests_on_base": {"linear": bool(lin_k["on_clamp"]), "nonlinear": bool(nl_clamp)},
                 "ratio_nl_lin": s_nl / s_l,
                 "closing_linear_mm": F / s_l * 1e3,
                 "closing_nonlinear_mm": F / s_nl * 1e3,
                 "work_linear_mJ": 0.5 * F**2 / s_l * 1e3,  # ∫ f dΔ of a linear spring
                 "work_nonlinear_mJ": w_nl * 1e3,
-                "jaw_force_imbalance": float(np.abs(np.diff(np.asarray(r["jaw_forces"])[-1]))[0] / F),
+                "jaw_force_imbalance": float(
+                    np.abs(np.diff(np.asarray(r["jaw_forces"])[-1]))[0] / max(fm[-1], 1e-12)
+                ),
+                "load_curve_mm_N": np.column_stack([np.asarray(r["closing"]) * 1e3, fm]).round(4).tolist(),
                 "newton_iterations": r["newton_iterations"],
                 "seconds": r["seconds"],
             }
         )
-    # 4. each model with its own single E on these grasps
-    meas = np.array([r["measured"] for r in rows])
-    curves = [ckpt.rows[f"nl/{r['grasp']}"] for r in rows]
+    both = [r for r in rows if np.isfinite(r["s_linear"]) and np.isfinite(r["s_nonlinear"])]
+    if not both:
+        raise ValueError("no grasp where both models reach the force without resting on the base")
+    # 4. each model with its own single E on the grasps where both reach the force
+    meas = np.array([r["measured"] for r in both])
+    curves = [ckpt.rows[f"nl/{r['grasp']}"] for r in both]
 
     def s_nl_at(c: float) -> np.ndarray:  # E = E_lin * c
         return np.array([curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in curves])
@@ -138,7 +157,7 @@ def run(config: dict) -> dict:
 
     lo = F / config["force_stop"] * 1.0001  # the curves reach force_stop: E down to this fraction
     c_nl = brentq(misfit, lo, 100.0) if misfit(lo) < 0 < misfit(100.0) else float("nan")
-    s_l_pick = np.array([r["s_linear"] for r in rows])
+    s_l_pick = np.array([r["s_linear"] for r in both])
     c_l = float(np.exp(np.median(np.log(meas / s_l_pick))))
     compare = {}
     for model, s in (("linear", s_l_pick * c_l), ("nonlinear", s_nl_at(c_nl) if np.isfinite(c_nl) else None)):
@@ -150,7 +169,7 @@ def run(config: dict) -> dict:
             "median_abs_log_ratio": float(np.median(np.abs(np.log(s / meas)))),
             "spearman": float(spearmanr(s, meas).statistic) if len(meas) > 2 else None,
         }
-    ratios = np.array([r["ratio_nl_lin"] for r in rows])
+    ratios = np.array([r["ratio_nl_lin"] for r in both])
     summary = {
         "object": name,
         "E_linear_calibrated_Pa": E_lin,
@@ -167,14 +186,16 @@ def run(config: dict) -> dict:
         },
         "calibrated_on_these_grasps": compare,
         "wall": {"mesh": config["mesh"], "dofs": int(wall.basis.N), "top": "lip" if geo.lip else "other"},
-        "figures": [_figure(out, rows, curves, F)],
+        "figures": [_figure(out, rows, [ckpt.rows[f"nl/{r['grasp']}"] for r in rows], F)],
     }
     summary["headline"] = [
         f"{name}: at the linear model's calibrated E ({E_lin / 1e9:.2f} GPa) the nonlinear wall's "
         f"stiffness at {F:g} N is {np.median(ratios):.2f}x the linear one "
         f"(range {ratios.min():.2f}-{ratios.max():.2f}) over "
-        f"{len(rows)} grasps, closings {min(r['closing_linear_mm'] for r in rows):.1f}-"
-        f"{max(r['closing_linear_mm'] for r in rows):.1f} mm"
+        f"{len(both)} grasps, closings {min(r['closing_linear_mm'] for r in both):.1f}-"
+        f"{max(r['closing_linear_mm'] for r in both):.1f} mm; "
+        f"{sum(r['rests_on_base']['nonlinear'] for r in rows)} of {len(rows)} rest on the base (nonlinear), "
+        f"{sum(r['rests_on_base']['linear'] for r in rows)} (linear)"
     ] + [
         f"{m} (own E {v['E_effective_Pa'] / 1e9:.2f} GPa): median |log(s/s_measured)| "
         f"{v['median_abs_log_ratio']:.2f} on these grasps"
@@ -194,7 +215,8 @@ def _figure(out: Path, rows: list[dict], curves: list[dict], F: float) -> str:
     for r, cv in zip(rows, curves, strict=True):
         c = np.asarray(cv["closing"]) * 1e3
         (line,) = ax.plot(c, np.mean(cv["jaw_forces"], axis=1), label=f"z = {r['z_m'] * 1e3:.0f} mm")
-        ax.plot(c, r["s_linear"] * c * 1e-3, ls="--", color=line.get_color(), lw=0.8)
+        if np.isfinite(r["s_linear"]):
+            ax.plot(c, r["s_linear"] * c * 1e-3, ls="--", color=line.get_color(), lw=0.8)
         ax.plot(F / r["measured"] * 1e3, F, "o", color=line.get_color(), mfc="none")
     ax.axhline(F, color="0.6", lw=0.6)
     ax.set_xlabel("jaw closing Δ [mm]")

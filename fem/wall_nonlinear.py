@@ -96,21 +96,20 @@ def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None 
     re = np.einsum("eqkJ,eqkJ,eq->ek", g, P[:, :, comp, :], w)
     r = np.zeros(basis.N)
     np.add.at(r, dofs.ravel(), re.ravel())
-    # A_iJmL = δ_im S_JL + λ F_iJ F_mL + μ (F_iL F_mJ + δ_JL (F Fᵀ)_im)   (dP_iJ / dF_mL)
+    # A_iJmL = δ_im S_JL + λ F_iJ F_mL + μ (F_iL F_mJ + δ_JL (F Fᵀ)_im)   (dP_iJ / dF_mL),
+    # one (J, L) block per component pair (i, m), times the weights
     FFt = F @ np.swapaxes(F, -1, -2)
-    A = (
-        np.einsum("im,eqJL->eqiJmL", eye, S)
-        + lam * np.einsum("eqiJ,eqmL->eqiJmL", F, F)
-        + mu * np.einsum("eqiL,eqmJ->eqiJmL", F, F)
-        + mu * np.einsum("JL,eqim->eqiJmL", eye, FFt)
-    )
-    A *= w[..., None, None, None, None]
+    Sw, Fw = S * w[..., None, None], F * w[..., None, None]
     n_e, n_q, n_k = g.shape[0], g.shape[1], g.shape[2]
     Ke = np.zeros((n_e, n_k, n_k))
     for i, ki in enumerate(c["by_comp"]):
         gi = g[:, :, ki, :]  # (e, q, a, J)
         for m, km in enumerate(c["by_comp"]):
-            T = np.einsum("eqaJ,eqJL->eqaL", gi, A[:, :, i, :, m, :])
+            A = lam * Fw[..., i, :, None] * F[..., m, None, :] + mu * Fw[..., m, :, None] * F[..., i, None, :]
+            A += (mu * FFt[..., i, m] * w)[..., None, None] * eye
+            if i == m:
+                A += Sw
+            T = gi @ A  # (e, q, a, L)
             # Σ_q Σ_L T_qaL g_qbL as a batched product over elements
             blk = np.matmul(
                 T.transpose(0, 2, 1, 3).reshape(n_e, ki.size, n_q * 3),

@@ -16,18 +16,21 @@ less work.  With every contact rigid, ``W = ε Σ f`` and ``q_work`` ranks grasp
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .. import config
-from .gws import check_contacts
+from .gws import check_contacts, check_wrench
 from .resistance import CutStore, min_grasp_force
+from .resistance.api import _check as _check_question
+from .resistance.program import assemble
+from .resistance.solvers import solve_min_lp
 from .stiffness_map import check_stiffness
 
 log = logging.getLogger(__name__)
 
-__all__ = ["MinimalWork", "minimal_work", "q_force", "q_work", "work"]
+__all__ = ["MinimalWork", "minimal_work", "minimal_work_poses", "q_force", "q_work", "work"]
 
 
 def _eps(eps) -> float:
@@ -196,12 +199,87 @@ def minimal_work(
     * Stiffness is per contact: a jaw made of many contacts (REACH elements) would
       count each element's force in its own ``f (f / s + ε)``; pass one contact per
       jaw (the thesis: the 6DLS of the jaw's REACH profile).
+    * Several poses of one grasp (a task's, or both tasks'): :func:`minimal_work_poses`
+      gives the same numbers at about half the cost of a call per pose.
     """
+    (res,) = _minimal_work_many(contacts, [w_ext], mu, stiffness, eps, representation, cuts)
+    return res
+
+
+def minimal_work_poses(
+    contacts,
+    wrenches,
+    mu: float,
+    stiffness,
+    *,
+    eps: float | None = None,
+    representation: str = "outer",
+    cuts: CutStore | None = None,
+) -> list[MinimalWork]:
+    """:func:`minimal_work` at each of k disturbances — a task's poses
+    (:func:`~.tasks.task_wrenches`), or several tasks' stacked — on one grasp.
+
+    wrenches : (k, 6) float — disturbance wrenches [N, N·m], object frame.
+    Other arguments as :func:`minimal_work`.
+
+    Returns ``[minimal_work(contacts, w, mu, stiffness, ...) for w in wrenches]``, value
+    for value (the same HiGHS model and options per wrench), but cheaper: under
+    "outer" / "inner" the program is assembled once for all wrenches (it depends on the
+    disturbance only through its right-hand side) and a wrench that repeats — the
+    0° pose that lifting and lift-and-rotate share — is solved once (its result is
+    a copy).  Under "model" each wrench is :func:`minimal_work` itself.
+    """
+    W = np.asarray(wrenches, dtype=float)
+    if W.ndim != 2 or W.shape[1] != 6:
+        raise ValueError(
+            f"wrenches must be (k, 6) disturbance wrenches, one per pose (task_wrenches gives them); "
+            f"got shape {W.shape}"
+        )
+    return _minimal_work_many(contacts, list(W), mu, stiffness, eps, representation, cuts)
+
+
+def _minimal_work_many(contacts, wrenches, mu, stiffness, eps, representation, cuts) -> list[MinimalWork]:
+    """:func:`minimal_work` for each of ``wrenches`` (a list of (6,)): the checks in
+    :func:`minimal_work`'s order, then the minimal forces of Eq. 4.4 — one LP, which
+    :class:`_MinForceLP` solves for every wrench from one assembly, under a polyhedral
+    representation; :func:`~.resistance.min_grasp_force` (``objective="sum"``) per
+    wrench under "model" (cutting planes may refine a shared cut store between calls,
+    so nothing is reused there)."""
     e = _eps(eps)
     contacts = check_contacts(contacts)
     s = _check_stiffness(stiffness, len(contacts)).copy()
-    mf = min_grasp_force(contacts, w_ext, mu, objective="sum", representation=representation, cuts=cuts)
-    if not mf.feasible:
+    out: list[MinimalWork] = []
+    seen: dict[bytes, MinimalWork] = {}
+    lp: _MinForceLP | None = None
+    for w_in in wrenches:
+        if representation != "model":
+            if lp is None:  # min_grasp_force's checks and warnings, before anything is solved
+                contacts, w, mu = _check_question(contacts, w_in, mu, representation)
+                lp = _MinForceLP.build(contacts, mu, representation, cuts)
+            else:  # the same contacts, μ and representation: only the wrench is new
+                w = check_wrench(w_in)
+        if lp is None:
+            mf = min_grasp_force(
+                contacts, w_in, mu, objective="sum", representation=representation, cuts=cuts
+            )
+            f = mf.forces if mf.feasible else None
+            out.append(_result(f, s.copy(), e, mf.solver, representation, mf.fallbacks, mf.converged))
+            continue
+        key = w.tobytes()
+        if key in seen:  # the same disturbance: the same answer (arrays copied)
+            m = seen[key]
+            out.append(
+                replace(m, forces=m.forces.copy(), stiffness=s.copy(), displacements=m.displacements.copy())
+            )
+            continue
+        out.append(_result(lp.forces(contacts, w), s.copy(), e, "highs", representation, (), True))
+        seen[key] = out[-1]
+    return out
+
+
+def _result(forces, s, e, solver, representation, fallbacks, converged) -> MinimalWork:
+    """The :class:`MinimalWork` of the minimal forces (None: not resisted)."""
+    if forces is None:
         log.debug("minimal work: w_ext is not resisted; W = inf")
         nan = np.full(len(s), np.nan)
         return MinimalWork(
@@ -212,24 +290,52 @@ def minimal_work(
             float("inf"),
             e,
             False,
-            mf.solver,
-            mf.representation,
-            mf.fallbacks,
-            mf.converged,
+            solver,
+            representation,
+            fallbacks,
+            converged,
         )
     # the solver may return forces a rounding below 0
-    f = np.maximum(np.asarray(mf.forces, dtype=float), 0.0)
+    f = np.maximum(np.asarray(forces, dtype=float), 0.0)
     d = displacements(f, s, e)
     return MinimalWork(
-        float(f.sum()),
-        f,
-        s,
-        d,
-        float(f @ d),
-        e,
-        True,
-        mf.solver,
-        mf.representation,
-        mf.fallbacks,
-        mf.converged,
+        float(f.sum()), f, s, d, float(f @ d), e, True, solver, representation, fallbacks, converged
     )
+
+
+@dataclass
+class _MinForceLP:
+    """The minimal-force LP of :func:`~.resistance.min_grasp_force` (``objective="sum"``,
+    a polyhedral representation) for one grasp and μ, solved for any disturbance.
+
+    The program is assembled once per grasp — it depends on the disturbance only through
+    ``prog.w = w D`` (``D`` the capacity scaling, read off a program assembled for
+    ``w = 1``) — and each distinct disturbance is solved by the same
+    :func:`~.resistance.solvers.solve_min_lp` call ``min_grasp_force`` makes, so the
+    forces are its forces bit for bit (tests/test_work_poses.py).  Most of the remaining
+    cost is ``linprog``'s own (input checks and conversions, ~2/3 of ~4 ms per solve on
+    this 2-core VM; ``benchmarks/bench_minimal_work.py``); calling HiGHS below it would
+    mean SciPy's private modules, which we do not use."""
+
+    prog: object
+    cost: np.ndarray
+    tol: float
+
+    @classmethod
+    def build(cls, contacts, mu, representation, cuts) -> _MinForceLP:
+        prog = assemble(contacts, np.ones(6), mu, representation, cuts, minforce="sum")
+        if prog.soc or "cuts" in prog.kinds:  # pragma: no cover - not one LP ("model" only)
+            raise ValueError(f"the {representation!r} program of these contacts is not one LP")
+        return cls(prog, prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol)
+
+    def solve(self, w: np.ndarray) -> tuple[np.ndarray | None, str]:
+        """``solve_min_lp(prog, cost, tol)`` with the program's disturbance ``w`` (6,)."""
+        w_scaled = w * self.prog.w  # = assemble(..., w, ...).w (assembled here at w = 1)
+        return solve_min_lp(replace(self.prog, w=w_scaled), self.cost, self.tol)
+
+    def forces(self, contacts, w: np.ndarray) -> np.ndarray | None:
+        """(N,) minimal normal forces against ``w`` (min_grasp_force's), None if unresisted."""
+        y, status = self.solve(w)
+        if y is None and status != "infeasible":
+            raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
+        return None if y is None else self.prog.contact_solution(contacts, y)[1]

@@ -1,0 +1,88 @@
+"""minimal_work_poses and minimal_work's LP path (benchmarks/bench_minimal_work.py) give
+exactly the numbers of min_grasp_force (objective="sum") through scipy's linprog — the
+path minimal_work took before — on every pose, resisted or not, shared or not."""
+
+import numpy as np
+import pytest
+
+from workbench.grasp import contact_sets, gravity_wrench, min_grasp_force, minimal_work, point_contact
+from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
+from workbench.grasp.tasks import TASKS, task_wrenches
+from workbench.grasp.work import displacements, minimal_work_poses
+
+
+def _reference(contacts, w, mu, s, eps=None, representation="outer"):
+    """(f_sum, forces, W) as minimal_work computed them: min_grasp_force, then Eq. 4.5."""
+    mf = min_grasp_force(contacts, w, mu, objective="sum", representation=representation)
+    if not mf.feasible:
+        return np.inf, None, np.inf
+    f = np.maximum(mf.forces, 0.0)
+    return float(f.sum()), f, float(f @ displacements(f, s, eps))
+
+
+def _same(res, ref) -> bool:
+    f_sum, f, W = ref
+    if f is None:
+        return not res.resisted and res.f_sum == np.inf and res.W == np.inf and np.isnan(res.forces).all()
+    return res.resisted and res.f_sum == f_sum and res.W == W and np.array_equal(res.forces, f)
+
+
+@pytest.fixture(scope="module")
+def jaws():
+    profiles = elliptic_cylinder_grasp(force=10.0)
+    return {
+        "6dls": [contact_sets(p, "6dls", M=60)[0] for p in profiles],
+        "point": [
+            point_contact([0.03, 0, 0], [1, 0, 0], 10.0),
+            point_contact([-0.03, 0, 0], [-1, 0, 0], 10.0),
+        ],
+    }
+
+
+@pytest.mark.parametrize("model", ["6dls", "point"])
+@pytest.mark.parametrize("representation", ["outer", "inner"])
+def test_every_pose_is_bitwise_the_linprog_answer(jaws, model, representation):
+    rng = np.random.default_rng(7)
+    contacts = jaws[model]
+    # lever disturbances (some out of reach) and the two tasks' gravity poses
+    W = np.vstack(
+        [lever_disturbances(rng, 12) * rng.uniform(0.05, 3.0, (12, 1))]
+        + [task_wrenches(t, 0.4, [0.0, 0.0, 0.01], [1.0, 0.0, 0.0]) for t in TASKS]
+    )
+    s = np.array([600.0, np.inf])
+    for mu in (0.3, 0.7):
+        refs = [_reference(contacts, w, mu, s, 1e-4, representation) for w in W]
+        assert any(r[1] is None for r in refs) or model == "6dls"
+        poses = minimal_work_poses(contacts, W, mu, s, eps=1e-4, representation=representation)
+        for w, res, ref in zip(W, poses, refs, strict=True):
+            assert _same(res, ref)
+            assert _same(minimal_work(contacts, w, mu, s, eps=1e-4, representation=representation), ref)
+            assert res.solver == "highs" and res.converged and res.fallbacks == ()
+
+
+def test_a_repeated_pose_is_solved_once_and_copied(jaws):
+    # lifting and lift-and-rotate share the 0 deg pose
+    W = np.vstack([task_wrenches(t, 0.3, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]) for t in TASKS])
+    assert np.array_equal(W[0], W[1])
+    a, b, *_ = minimal_work_poses(jaws["6dls"], W, 0.5, [500.0, 800.0])
+    assert a.W == b.W and np.array_equal(a.forces, b.forces)
+    assert a.forces is not b.forces and a.stiffness is not b.stiffness
+
+
+def test_model_representation_is_minimal_work_per_pose(jaws):
+    W = np.vstack([gravity_wrench(0.2, [0.0, 0.0, 0.0]), gravity_wrench(0.3, [0.0, 0.0, 0.01])])
+    s = [500.0, 800.0]
+    got = minimal_work_poses(jaws["6dls"], W, 0.5, s, representation="model")
+    for w, res in zip(W, got, strict=True):
+        one = minimal_work(jaws["6dls"], w, 0.5, s, representation="model")
+        assert res.W == one.W and res.solver == one.solver == "clarabel"
+
+
+def test_minimal_work_poses_rejects_bad_input(jaws):
+    with pytest.raises(ValueError, match=r"\(k, 6\)"):
+        minimal_work_poses(jaws["6dls"], np.zeros(6), 0.5, [500.0, 500.0])
+    with pytest.raises(ValueError, match="w_ext must be finite"):
+        minimal_work_poses(jaws["6dls"], np.full((2, 6), np.nan), 0.5, [500.0, 500.0])
+    with pytest.raises(ValueError, match="representation"):
+        minimal_work_poses(jaws["6dls"], np.zeros((1, 6)), 0.5, [500.0, 500.0], representation="exact")
+    assert minimal_work_poses(jaws["6dls"], np.zeros((0, 6)), 0.5, [500.0, 500.0]) == []
