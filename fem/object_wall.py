@@ -36,7 +36,7 @@ from workbench.units import closed_mesh
 
 from .material import Material
 from .mesh_wall import RadialSurface, _ray_hits, radial_surface
-from .wall import PET, Wall, build_wall
+from .wall import PET, Wall, build_wall, turned_surface
 
 log = logging.getLogger(__name__)
 
@@ -137,11 +137,12 @@ class WallGeometry:
             return np.full(z.shape, self.thickness)
         return np.where(z >= self.lip.z0, self.lip.width, self.thickness)
 
-    def build(self, material: Material = PET, *, n_theta: int = 48) -> Wall:
+    def build(self, material: Material = PET, *, n_theta: int = 48, turn: float = 0.0) -> Wall:
         """The wall assembled and factorised (:func:`fem.wall.build_wall`), ``n_theta``
-        elements around and ``n_z`` along."""
+        elements around and ``n_z`` along; ``turn`` [rad]: built turned by ``-turn`` about
+        z (:func:`fem.wall.turned_surface`: a grasp axis at ``turn`` becomes +x)."""
         return build_wall(
-            self.outer,
+            turned_surface(self.outer, turn) if turn else self.outer,
             material,
             thickness=self.thickness_at,
             n_theta=n_theta,

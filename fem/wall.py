@@ -234,6 +234,24 @@ def circle_surface(radius: float):
     return surface
 
 
+def turned_surface(surface, angle: float):
+    """The outer-surface callable ``(θ, z) -> (points, normals)`` of ``surface`` turned by
+    ``-angle`` [rad] about the z axis: a direction at ``angle`` in the plane becomes +x."""
+    R = turn_matrix(angle)
+
+    def turned(theta, z):
+        p, n = surface(theta, z)
+        return p @ R.T, n @ R.T
+
+    return turned
+
+
+def turn_matrix(angle: float) -> np.ndarray:
+    """(3, 3) rotation by ``-angle`` [rad] about z (takes the direction at ``angle`` to +x)."""
+    c, s = np.cos(-angle), np.sin(-angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
 def ring_wall(radius: float, thickness: float, material: Material = PET, n_theta: int = 64) -> Wall:
     """A plane-strain slab (one element, ``thickness`` long) of a tube with mid-surface
     ``radius`` — the thin ring of Roark's formulas."""

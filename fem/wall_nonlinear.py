@@ -16,7 +16,7 @@ times) and takes ~40 s per tangent; this takes ~1 s.  ``tests/`` checks it again
 scikit-fem ``BilinearForm`` / ``LinearForm`` of the same equations.
 
 The jaws are rigid frictionless planes normal to the grasp axis, which must be the
-mesh's x axis (build the wall in that frame: :func:`rotated_outer`); a footprint
+mesh's x axis (build the wall in that frame: :func:`grasp_frame_wall`); a footprint
 node in contact has its x displacement prescribed (Dirichlet), one released when
 its reaction turns tensile, one added when it passes a jaw.  Both jaws travel the
 same distance from their first touch (displacement control, so snap-through is
@@ -34,22 +34,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from .sparse_factor import factor_spd
-from .wall import Wall
+from .wall import Wall, turn_matrix
 
 log = logging.getLogger(__name__)
-
-
-def rotated_outer(outer: Any, angle: float):
-    """The outer-surface callable ``(θ, z) -> (points, normals)`` of a wall turned by
-    ``-angle`` [rad] about the z axis: a grasp axis at ``angle`` becomes the x axis."""
-    c, s = np.cos(-angle), np.sin(-angle)
-    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-    def surface(theta, z):
-        p, n = outer(theta, z)
-        return p @ R.T, n @ R.T
-
-    return surface
 
 
 def _gradients(basis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -133,7 +120,7 @@ def squeeze_nonlinear(
 ) -> dict:
     """Close two rigid jaws along x through ``centre`` (3,) [m] on a nonlinear wall.
 
-    wall : built in the grasp frame (x = grasp axis; :func:`rotated_outer`);
+    wall : built in the grasp frame (x = grasp axis; :func:`grasp_frame_wall`);
     jaw : (width, length) [m]; the closing grows by ``step`` [m] (both jaws together)
     until the mean jaw force exceeds ``force`` [N] or the closing reaches
     ``max_closing`` [m].  Returns the load curve ``closing`` (k,) [m] and ``jaw_forces``
@@ -261,20 +248,8 @@ def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_th
     midpoint (3,) in that frame, as :func:`squeeze_nonlinear` takes them."""
     ax = np.asarray(b, float) - np.asarray(a, float)
     ang = float(np.arctan2(ax[1], ax[0]))
-    c, s = np.cos(-ang), np.sin(-ang)
-    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    from .wall import build_wall
-
-    wall = build_wall(
-        rotated_outer(geo.outer, ang),
-        material,
-        thickness=geo.thickness_at,
-        n_theta=n_theta,
-        n_z=geo.n_z,
-        z_range=geo.z_range,
-        clamp_top=geo.clamp_top,
-    )
-    return wall, R @ ((np.asarray(a, float) + np.asarray(b, float)) / 2)
+    wall = geo.build(material, n_theta=n_theta, turn=ang)
+    return wall, turn_matrix(ang) @ ((np.asarray(a, float) + np.asarray(b, float)) / 2)
 
 
-__all__ = ["curve_stiffness", "grasp_frame_wall", "rotated_outer", "squeeze_nonlinear", "svk_tangent"]
+__all__ = ["curve_stiffness", "grasp_frame_wall", "squeeze_nonlinear", "svk_tangent"]
