@@ -44,12 +44,25 @@ DEFAULT_CONFIG = {
     "thickness": 0.5e-3,
     "mesh": [16, 8],  # hexes around, along (coarse: both models share it; the lip adds rows)
     "n_grasps": 3,  # nonlinear load curves at this many grasps, spread over the heights
+    "grasps": None,  # or these grasp indices of the map (replaces n_grasps)
     "force": 10.0,  # N per jaw (thesis)
     "force_stop": 13.0,  # load curves run to this mean jaw force [N] (room to calibrate E)
     "step_mm": 1.5,  # closing increment of the load stepping
     "max_closing_mm": 40.0,
 }
 QUICK_CONFIG = {"n_grasps": 1, "mesh": [12, 6], "force": 3.0, "force_stop": 3.3, "step_mm": 2.0}
+
+
+def check_config(config: dict) -> None:
+    """What the defaults' types cannot tell: ``grasps`` is None or distinct grasp indices."""
+    g = config["grasps"]
+    if g is not None and (
+        not isinstance(g, list)
+        or not g
+        or not all(isinstance(k, int) and not isinstance(k, bool) and k >= 0 for k in g)
+        or len(set(g)) != len(g)
+    ):
+        raise ValueError(f"grasps must be null or a list of distinct grasp indices >= 0; got {g!r}")
 
 
 def run(config: dict) -> dict:
@@ -83,8 +96,17 @@ def run(config: dict) -> dict:
     # 2. nonlinear at E_lin at grasps spread over the heights
     z = 0.5 * (L[:n, 2] + L[n:, 2])
     cand = np.flatnonzero(ok)
-    at = np.linspace(0, cand.size - 1, config["n_grasps"]) if config["n_grasps"] > 1 else [cand.size // 2]
-    pick = cand[np.argsort(z[cand])][np.round(at).astype(int)]  # base to lip (one: mid-height)
+    if config["grasps"] is None:
+        at = np.linspace(0, cand.size - 1, config["n_grasps"]) if config["n_grasps"] > 1 else [cand.size // 2]
+        pick = cand[np.argsort(z[cand])][np.round(at).astype(int)]  # base to lip (one: mid-height)
+    else:
+        pick = np.asarray(config["grasps"], int)
+        bad = [int(k) for k in pick if not (0 <= k < n and ok[k])]
+        if bad:
+            raise ValueError(
+                f"grasps {bad} of {name} are not grasps 0..{n - 1} that both the map and the linear "
+                f"wall resolve (rigid or failed); choose among {cand.tolist()}"
+            )
     mat = Material(E_lin, config["nu"])
     for k in tqdm([int(k) for k in pick if f"nl/{k}" not in ckpt], desc="nonlinear wall", unit="grasp"):
         w, centre = grasp_frame_wall(geo, mat, L[k], L[k + n], n_theta=nt)
@@ -125,6 +147,8 @@ def run(config: dict) -> dict:
                 "grasp": int(k),
                 "z_m": float(z[k]),
                 "measured": float(measured[k]),
+                # log(measured / linear) of the linear wall calibrated on all grasps (step 1)
+                "linear_residual_log": float(np.log(measured[k] / (s_lin_pet[k] * scale))),
                 "s_linear": float(s_l),
                 "s_nonlinear": s_nl,
                 "rests_on_base": {"linear": bool(lin_k["on_clamp"]), "nonlinear": bool(nl_clamp)},

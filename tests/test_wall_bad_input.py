@@ -379,3 +379,15 @@ def test_minimal_work_broken_data_dir(capsys, tmp_path):
 )
 def test_minimal_work_wrong_format_map(capsys, tmp_path, smap, words):
     _has(_minimal_work_error(capsys, tmp_path, _data_dir(tmp_path, smap)), *words)
+
+
+# ---------------------------------------------------------------- wall-nonlinear's grasps
+
+
+@pytest.mark.parametrize("grasps", ["[]", "[3,3]", "[-1]", "[1.5]", '["a"]', "7"])
+def test_wall_nonlinear_refuses_careless_grasps(capsys, tmp_path, grasps):
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "wall-nonlinear", "--out", str(tmp_path), "--set", f"grasps={grasps}"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "grasps" in err and ("distinct grasp indices" in err or "list" in err), err

@@ -1,6 +1,7 @@
 """minimal_work_poses and minimal_work's LP path (benchmarks/bench_minimal_work.py) give
-exactly the numbers of min_grasp_force (objective="sum") through scipy's linprog — the
-path minimal_work took before — on every pose, resisted or not, shared or not."""
+exactly the numbers of min_grasp_force (objective="sum") on every pose, resisted or not,
+shared or not, in any order of the poses; and that LP (one highspy model, solved cold
+per disturbance) has the optimum scipy's linprog finds for the same rows."""
 
 import numpy as np
 import pytest
@@ -41,7 +42,7 @@ def jaws():
 
 @pytest.mark.parametrize("model", ["6dls", "point"])
 @pytest.mark.parametrize("representation", ["outer", "inner"])
-def test_every_pose_is_bitwise_the_linprog_answer(jaws, model, representation):
+def test_every_pose_is_bitwise_the_min_grasp_force_answer(jaws, model, representation):
     rng = np.random.default_rng(7)
     contacts = jaws[model]
     # lever disturbances (some out of reach) and the two tasks' gravity poses
@@ -58,6 +59,49 @@ def test_every_pose_is_bitwise_the_linprog_answer(jaws, model, representation):
             assert _same(res, ref)
             assert _same(minimal_work(contacts, w, mu, s, eps=1e-4, representation=representation), ref)
             assert res.solver == "highs" and res.converged and res.fallbacks == ()
+        # cold solves: the answer does not depend on the poses solved before it
+        backwards = minimal_work_poses(contacts, W[::-1], mu, s, eps=1e-4, representation=representation)
+        for res, ref in zip(backwards[::-1], refs, strict=True):
+            assert _same(res, ref)
+
+
+def test_min_lp_optimum_is_linprogs(jaws):
+    """The highspy model against an independent construction of the same LP through
+    scipy.optimize.linprog (dual simplex): the same feasibility and Σf to 1e-9 relative."""
+    import scipy.sparse as sp
+    from scipy.optimize import linprog
+
+    from workbench import config
+    from workbench.grasp.resistance.program import assemble
+    from workbench.grasp.resistance.solvers import _slack_form, solve_min_lp
+
+    rng = np.random.default_rng(11)
+    W = np.vstack(
+        [lever_disturbances(rng, 12) * rng.uniform(0.05, 3.0, (12, 1))]
+        + [task_wrenches(t, 0.4, [0.0, 0.0, 0.01], [1.0, 0.0, 0.0]) for t in TASKS]
+    )
+    answers = []
+    for model in ("6dls", "point"):
+        for w in W:
+            prog = assemble(jaws[model], w, 0.5, "outer", None, minforce="sum")
+            cost, tol = prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol
+            y, status = solve_min_lp(prog, cost, tol)
+            A_eq, b_eq, G, h, bounds = _slack_form(prog)
+            band = np.r_[np.zeros(prog.n), np.ones(12)][None]
+            ref = linprog(
+                np.r_[cost, np.zeros(12)],
+                A_ub=sp.csr_matrix(np.vstack([G, band])),
+                b_ub=np.r_[h, tol],
+                A_eq=sp.csr_matrix(A_eq),
+                b_eq=b_eq,
+                bounds=bounds,
+                method="highs-ds",
+            )
+            assert (y is not None) == (ref.status == 0), (status, ref.message)
+            answers.append(y is not None)
+            if y is not None:
+                assert cost @ y == pytest.approx(ref.fun, rel=1e-9, abs=1e-12)
+    assert any(answers) and not all(answers)  # both answers occur
 
 
 def test_a_repeated_pose_is_solved_once_and_copied(jaws):

@@ -279,6 +279,11 @@ class Defaults:
     qp_auto_large: int = 48
     # Tried (and recorded in the result) when the chosen QP solver returns nothing.
     qp_fallback_solver: str = "clarabel"
+    # HiGHS presolve on the minimal-force LPs (grasp/resistance/solvers.MinLP): off.
+    # They are small and dense (2 jaws x 200 directions: 407 rows, 26 columns) and
+    # presolve cost 0.6 of 1.5 ms per solve without shrinking them
+    # (benchmarks/bench_minimal_work.py); the optimum is the same.
+    lp_presolve: bool = False
     # Directions of the 6DLS/6DFC linearisation (Eq. 3.19-3.24) when a caller
     # asks for representation="inner" or "outer".
     linearization_M: int = 200

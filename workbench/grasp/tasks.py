@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .robust import gravity_wrench
+from .robust import G_ACC, gravity_wrench
 
 #: task -> rotation angles [deg] about the grasp axis of its poses
 TASKS = {"vertical_lifting": (0.0,), "lift_and_rotate": (0.0, 45.0, 90.0)}
@@ -30,11 +30,12 @@ def task_wrenches(task: str, mass: float, com, axis) -> np.ndarray:
     if a.shape != (3,) or not np.isfinite(a).all() or np.linalg.norm(a) == 0:
         raise ValueError(f"axis must be a non-zero (3,) direction; got {axis!r}")
     a = a / np.linalg.norm(a)
-    down = np.array([0.0, 0.0, -1.0])
     # object turned by +θ about the axis in the world: world gravity seen in the object frame
-    return np.array(
-        [gravity_wrench(mass, com, Rotation.from_rotvec(-np.radians(t) * a).apply(down)) for t in TASKS[task]]
-    )
+    angles = np.radians(np.asarray(TASKS[task]))
+    down = Rotation.from_rotvec(-angles[:, None] * a).apply([0.0, 0.0, -1.0])  # (k, 3)
+    gravity_wrench(mass, com, down[0])  # its checks of mass and com, once
+    f = mass * G_ACC * down / np.linalg.norm(down, axis=1, keepdims=True)
+    return np.concatenate([f, np.cross(np.asarray(com, float), f)], axis=1)
 
 
 __all__ = ["TASKS", "task_wrenches"]

@@ -25,7 +25,7 @@ from .gws import check_contacts, check_wrench
 from .resistance import CutStore, min_grasp_force
 from .resistance.api import _check as _check_question
 from .resistance.program import assemble
-from .resistance.solvers import solve_min_lp
+from .resistance.solvers import MinLP
 from .stiffness_map import check_stiffness
 
 log = logging.getLogger(__name__)
@@ -310,28 +310,23 @@ class _MinForceLP:
 
     The program is assembled once per grasp — it depends on the disturbance only through
     ``prog.w = w D`` (``D`` the capacity scaling, read off a program assembled for
-    ``w = 1``) — and each distinct disturbance is solved by the same
-    :func:`~.resistance.solvers.solve_min_lp` call ``min_grasp_force`` makes, so the
-    forces are its forces bit for bit (tests/test_work_poses.py).  Most of the remaining
-    cost is ``linprog``'s own (input checks and conversions, ~2/3 of ~4 ms per solve on
-    this 2-core VM; ``benchmarks/bench_minimal_work.py``); calling HiGHS below it would
-    mean SciPy's private modules, which we do not use."""
+    ``w = 1``) — and held as one :class:`~.resistance.solvers.MinLP`, the HiGHS model
+    ``min_grasp_force`` builds per call.  Each solve starts cold, so the forces are its
+    forces bit for bit, whatever the order of the poses (tests/test_work_poses.py)."""
 
     prog: object
-    cost: np.ndarray
-    tol: float
+    lp: MinLP
 
     @classmethod
     def build(cls, contacts, mu, representation, cuts) -> _MinForceLP:
         prog = assemble(contacts, np.ones(6), mu, representation, cuts, minforce="sum")
         if prog.soc or "cuts" in prog.kinds:  # pragma: no cover - not one LP ("model" only)
             raise ValueError(f"the {representation!r} program of these contacts is not one LP")
-        return cls(prog, prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol)
+        return cls(prog, MinLP(prog, prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol))
 
     def solve(self, w: np.ndarray) -> tuple[np.ndarray | None, str]:
-        """``solve_min_lp(prog, cost, tol)`` with the program's disturbance ``w`` (6,)."""
-        w_scaled = w * self.prog.w  # = assemble(..., w, ...).w (assembled here at w = 1)
-        return solve_min_lp(replace(self.prog, w=w_scaled), self.cost, self.tol)
+        """``solve_min_lp`` of the program at the disturbance ``w`` (6,)."""
+        return self.lp.solve(w * self.prog.w)  # = assemble(..., w, ...).w (assembled at w = 1)
 
     def forces(self, contacts, w: np.ndarray) -> np.ndarray | None:
         """(N,) minimal normal forces against ``w`` (min_grasp_force's), None if unresisted."""

@@ -125,28 +125,87 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     return res.x[: prog.n], float(res.fun)
 
 
-def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.ndarray | None, str]:
+class MinLP:
     """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` (slacks ``t⁺, t⁻``; the same band
-    :func:`resists` accepts) and the polyhedral rows (HiGHS): (y, status) with status
-    "optimal", "infeasible" or HiGHS's message."""
-    A_eq, b_eq, G, h, bounds = _slack_form(prog)
-    band = np.r_[np.zeros(prog.n), np.ones(12)][None]  # Σ t <= tol
-    A_ub = band if G is None else np.vstack([G, band])
-    b_ub = np.array([tol]) if h is None else np.r_[h, tol]
-    res = linprog(
-        np.r_[cost, np.zeros(12)],
-        A_ub=sp.csr_matrix(A_ub),
-        b_ub=b_ub,
-        A_eq=sp.csr_matrix(A_eq),
-        b_eq=b_eq,
-        bounds=bounds,
-        method="highs",
-    )
-    if res.status == 0:
-        return res.x[: prog.n], "optimal"
-    if res.status == 2:
-        return None, "infeasible"
-    return None, str(res.message)
+    :func:`resists` accepts) and the polyhedral rows of ``prog``, as one HiGHS model
+    (``highspy``) that is solved for any disturbance ``w``.
+
+    The disturbance enters only the bounds of the 6 balance rows, so a grasp's poses
+    change those bounds and nothing else.  Every :meth:`solve` starts cold (the basis of
+    the previous solve is dropped), so its answer depends on ``(prog, cost, tol, w)``
+    alone — not on which poses were solved before: :func:`solve_min_lp` (one solve) and
+    many solves of one model give the same ``y`` bit for bit.  Presolve follows
+    ``config.DEFAULTS.lp_presolve``, read when the model is built.
+    """
+
+    def __init__(self, prog: Program, cost: np.ndarray, tol: float = 0.0) -> None:
+        import highspy
+
+        A_eq, b_eq, G, h, _ = _slack_form(prog)
+        band = np.zeros((1, prog.n + 12))
+        band[0, prog.n :] = 1.0  # Σ t <= tol
+        A_ub = band if G is None else np.vstack([G, band])
+        b_ub = np.array([tol]) if h is None else np.append(h, tol)
+        inf = highspy.kHighsInf
+        At = np.vstack([A_eq, A_ub]).T  # column-wise storage of the rows = row-wise of At
+        n_col, n_row = At.shape
+        col, row = np.nonzero(At)
+        start = np.zeros(n_col + 1, dtype=np.int32)
+        np.cumsum(np.bincount(col, minlength=n_col), out=start[1:])
+        zeros12 = np.zeros(12)
+        model = (
+            n_col,
+            n_row,
+            len(row),
+            int(highspy.MatrixFormat.kColwise),
+            int(highspy.ObjSense.kMinimize),
+            0.0,  # objective offset
+            np.concatenate([cost, zeros12]),
+            np.concatenate([np.where(np.isfinite(prog.lb), prog.lb, -inf), zeros12]),
+            np.concatenate([np.where(np.isfinite(prog.ub), prog.ub, inf), np.full(12, inf)]),
+            np.concatenate([b_eq, np.full(len(b_ub), -inf)]),
+            np.concatenate([b_eq, b_ub]),
+            start,
+            row.astype(np.int32),
+            At[col, row],
+            np.zeros(n_col, dtype=np.int32),  # integrality: every column continuous (0)
+        )
+        # highspy._Highs (in highspy.__all__) is the HiGHS object without the Python
+        # callback layer of highspy.Highs, whose constructor prints HiGHS's banner to
+        # stdout before output can be switched off (HiGHS issues 1702, 2749)
+        self._h = highspy._Highs()
+        self._h.setOptionValue("output_flag", False)
+        self._h.setOptionValue("presolve", "on" if config.DEFAULTS.lp_presolve else "off")
+        # kWarning: HiGHS dropped matrix entries below its small_matrix_value (1e-9),
+        # round-off zeros of the assembled rows, as linprog's HiGHS does
+        status = self._h.passModel(*model)
+        if status == highspy.HighsStatus.kError:  # pragma: no cover - a malformed program is a bug
+            raise RuntimeError(f"HiGHS refused the minimal-force LP: {status}")
+        self._n = prog.n
+        self._rows = np.arange(6, dtype=np.int32)  # the balance rows A6 y − t⁺ + t⁻ = −w
+        self._statuses = highspy.HighsModelStatus
+
+    def solve(self, w: np.ndarray) -> tuple[np.ndarray | None, str]:
+        """(y, status) against the (scaled) disturbance ``w`` (6,): status "optimal",
+        "infeasible" or HiGHS's model status."""
+        h = self._h
+        h.clearSolver()  # cold: no basis carried over from another disturbance
+        b = -np.asarray(w, dtype=float)
+        h.changeRowsBounds(6, self._rows, b, b)
+        h.run()
+        status = h.getModelStatus()
+        if status == self._statuses.kOptimal:
+            return np.array(h.getSolution().col_value[: self._n]), "optimal"
+        if status == self._statuses.kInfeasible:
+            return None, "infeasible"
+        return None, h.modelStatusToString(status)
+
+
+def solve_min_lp(prog: Program, cost: np.ndarray, tol: float = 0.0) -> tuple[np.ndarray | None, str]:
+    """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` and the polyhedral rows (HiGHS):
+    (y, status) with status "optimal", "infeasible" or HiGHS's message — one
+    :meth:`MinLP.solve` at ``prog.w``."""
+    return MinLP(prog, cost, tol).solve(prog.w)
 
 
 def _conic_data(prog: Program, band: float | None):
