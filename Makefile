@@ -23,6 +23,11 @@ reproduce: $(STAMP)
 	$(BIN)/workbench run sensitivity
 	$(BIN)/workbench run sensitivity --set half_angle=1.0 --out results/sensitivity-wrapped
 	$(BIN)/workbench run wall-nonlinear
+	# the grasps where the linear wall misses most and least (issue 13's validation)
+	$(BIN)/workbench run wall-nonlinear --set object=mustard --set 'grasps=[15,23,11,28,26,6]' \
+		--set step_mm=0.75 --out results/wall-nonlinear-mustard
+	$(BIN)/workbench run wall-nonlinear --set object=shampoo --set 'grasps=[24,5,16,17,29,33]' \
+		--set step_mm=0.25 --out results/wall-nonlinear-shampoo
 	$(BIN)/workbench run minimal-work
 	$(BIN)/python benchmarks/bench_wrench.py
 	$(BIN)/python benchmarks/bench_limit_surface.py

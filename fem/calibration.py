@@ -11,6 +11,12 @@ With 30–50 grasps per object a single random half gives a noisy score, so
 one factor per group (e.g. the lower and upper half of the heights) — the
 measurement that tells whether a stiffness varying over the object (thickness, a
 stiffer shoulder) is what one factor misses.
+
+:func:`missing_physics` gives the measurements that tell which physics the calibrated
+linear wall lacks where it falls short: a bound on any compliance in series with the
+wall (pads, fingers) from the stiffest measured grasp, the residual against the closing
+the model predicts relative to the object's width (large deflection), and the scores
+away from the clamped edges of the model (its boundary conditions).
 """
 
 from __future__ import annotations
@@ -96,4 +102,96 @@ def split_scores(
     return out
 
 
-__all__ = ["calibrate", "held_out", "split_scores"]
+def missing_physics(
+    model: np.ndarray,
+    measured: np.ndarray,
+    *,
+    width: np.ndarray,
+    clamp_distance: np.ndarray,
+    force: float = 10.0,
+    near: float = 0.015,
+    rigid: float = 1e9,
+    n_splits: int = 200,
+    seed: int = 0,
+) -> dict:
+    """Measurements of what a one-factor calibration of ``model`` leaves unexplained.
+
+    model, measured : (n,) stiffness per grasp [N/m] (``>= rigid`` or non-finite: rigid
+        or failed; such grasps are left out of the scores).
+    width : (n,) the object's width along each grasp axis [m] (distance between its
+        two contact points).
+    clamp_distance : (n,) height of each grasp from the nearest clamped edge of the
+        model's wall [m] (``np.inf`` where nothing is clamped).
+    force : jaw force of the measurements [N] (closing = force / stiffness).
+    near : grasps closer than this to a clamp [m] are "near" (the clamp's reach).
+
+    Returns a dict:
+
+    * ``series_compliance_bound_m_per_N`` = 1 / (largest finite measured stiffness):
+      a compliance ``c`` in series (pads, fingers) would make every measurement
+      ``1 / (1/s + c) < 1/c``, so ``c`` is at most this; ``series_effect_at_median``
+      is the most it could lower the median calibrated model value, ``1 − 1/(1 + s c)``.
+    * ``closing_fraction``: ``log(measured / (k · model))`` (``k`` the all-grasp factor)
+      against the closing the calibrated model predicts divided by the width — Spearman,
+      and per bin the median residual and the median / largest measured closing ÷ width.
+      Residuals that rise with it while the measured closings level off are a
+      large-deflection response a small-strain linear model cannot give.
+    * ``away_from_clamps``: :func:`split_scores` on the grasps at least ``near`` from a
+      clamp, and the measured stiffness of the grasps the model calls rigid there.
+    """
+    model, measured = np.asarray(model, float), np.asarray(measured, float)
+    width, clamp_distance = np.asarray(width, float), np.asarray(clamp_distance, float)
+    if not (model.shape == measured.shape == width.shape == clamp_distance.shape) or model.ndim != 1:
+        raise ValueError(
+            "model, measured, width and clamp_distance must be (n,) arrays of one length; got "
+            f"{model.shape}, {measured.shape}, {width.shape}, {clamp_distance.shape}"
+        )
+    if not (np.isfinite(width).all() and (width > 0).all()):
+        raise ValueError("width must be finite and > 0 [m] (the distance between a grasp's two points)")
+    ok = np.isfinite(model) & (model < rigid) & np.isfinite(measured) & (measured < rigid)
+    if ok.sum() < 4:
+        raise ValueError(f"need at least 4 grasps that neither side calls rigid; got {int(ok.sum())}")
+    k = float(np.exp(np.median(np.log(measured[ok] / model[ok]))))
+    res, frac, meas_frac = (np.full(model.size, np.nan) for _ in range(3))  # rigid grasps: NaN
+    res[ok] = np.log(measured[ok] / (k * model[ok]))
+    frac[ok] = force / (k * model[ok]) / width[ok]
+    meas_frac[ok] = force / measured[ok] / width[ok]
+    bound = 1.0 / float(measured[ok].max())
+    s_med = k * float(np.median(model[ok]))
+    bins = []
+    for lo, hi in ((0.0, 0.2), (0.2, 0.4), (0.4, 0.6), (0.6, np.inf)):
+        m = ok & (frac >= lo) & (frac < hi)
+        if m.any():
+            bins.append(
+                {
+                    "predicted_closing_over_width": [lo, None if np.isinf(hi) else hi],
+                    "n": int(m.sum()),
+                    "median_residual": float(np.median(res[m])),
+                    "measured_closing_over_width_median": float(np.median(meas_frac[m])),
+                    "measured_closing_over_width_max": float(np.max(meas_frac[m])),
+                }
+            )
+    far = ok & (clamp_distance >= near)
+    rigid_near = (clamp_distance < near) & ~(np.isfinite(model) & (model < rigid))
+    return {
+        "calibration_factor": k,
+        "series_compliance_bound_m_per_N": bound,
+        "series_effect_at_median": 1.0 - 1.0 / (1.0 + s_med * bound),
+        "closing_fraction": {
+            "spearman_residual": float(spearmanr(res[ok], frac[ok]).statistic),
+            "bins": bins,
+            "measured_closing_over_width_max": float(meas_frac[ok].max()),
+        },
+        "away_from_clamps": {
+            "near_m": near,
+            "n": int(far.sum()),
+            "n_all": int(ok.sum()),
+            "scores": split_scores(model[far], measured[far], n_splits=n_splits, seed=seed)
+            if far.sum() >= 4
+            else None,
+            "model_rigid_near_clamps_measured": [float(x) for x in measured[rigid_near]],
+        },
+    }
+
+
+__all__ = ["calibrate", "held_out", "missing_physics", "split_scores"]

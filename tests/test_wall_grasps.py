@@ -97,3 +97,49 @@ def test_one_factor_calibration_against_a_direct_computation():
     assert spread["median_abs_log_ratio"]["median"] <= spread["median_abs_log_ratio"]["p90"]
     with pytest.raises(ValueError, match="finite and > 0"):
         calibrate(np.r_[model[:-1], np.inf], measured, train)
+
+
+def test_missing_physics_measurements_on_constructed_maps():
+    """fem.calibration.missing_physics on maps built with one known defect each: a series
+    spring, a closing that levels off at 0.45 of the width, a model too stiff near a clamp."""
+    from fem.calibration import missing_physics
+
+    rng = np.random.default_rng(5)
+    n, F = 40, 10.0
+    model = np.exp(rng.uniform(np.log(300.0), np.log(3e4), n))
+    width = rng.uniform(0.03, 0.08, n)
+    far = np.full(n, np.inf)
+    # (1) a 2e-5 m/N spring in series with a wall 3x the model: s = 1 / (1/(3 s_m) + c)
+    c = 2e-5
+    measured = 1.0 / (1.0 / (3.0 * model) + c)
+    mp = missing_physics(model, measured, width=width, clamp_distance=far, force=F)
+    assert mp["series_compliance_bound_m_per_N"] == pytest.approx(1.0 / measured.max(), rel=1e-12)
+    assert mp["series_compliance_bound_m_per_N"] > c  # the bound holds
+    k = mp["calibration_factor"]
+    s_med = k * np.median(model)
+    assert mp["series_effect_at_median"] == pytest.approx(1 - 1 / (1 + s_med / measured.max()), rel=1e-12)
+    # (2) the measured closing levels off at 0.45 x width: residuals rise with the predicted closing
+    closing = np.minimum(F / (0.5 * model), 0.45 * width)
+    measured = F / closing
+    mp = missing_physics(model, measured, width=width, clamp_distance=far, force=F)
+    cf = mp["closing_fraction"]
+    assert cf["measured_closing_over_width_max"] == pytest.approx(0.45, rel=1e-12)
+    assert cf["spearman_residual"] > 0.5
+    top = [b for b in cf["bins"] if b["predicted_closing_over_width"][1] is None]
+    assert not top or top[0]["measured_closing_over_width_max"] <= 0.45 + 1e-12
+    assert mp["away_from_clamps"]["scores"] is not None
+    # (3) a model 4x too stiff within 10 mm of a clamp, exact elsewhere; two grasps it calls rigid
+    d = rng.uniform(0.0, 0.08, n)
+    d[:2] = 0.002
+    measured = 2.0 * model * np.where(d < 0.01, 0.25, 1.0)
+    model_r = model.copy()
+    model_r[:2] = np.inf
+    mp = missing_physics(model_r, measured, width=width, clamp_distance=d, force=F, near=0.01)
+    away = mp["away_from_clamps"]
+    assert away["n"] == int(np.sum(d >= 0.01)) and away["n_all"] == n - 2
+    assert away["scores"]["median_abs_log_ratio"]["p90"] < 1e-12  # exact away from the clamp
+    assert away["model_rigid_near_clamps_measured"] == pytest.approx(measured[:2].tolist())
+    with pytest.raises(ValueError, match="width must be finite and > 0"):
+        missing_physics(model, measured, width=np.zeros(n), clamp_distance=far)
+    with pytest.raises(ValueError, match="one length"):
+        missing_physics(model, measured[:-1], width=width, clamp_distance=far)

@@ -182,7 +182,6 @@ class MinLP:
         if status == highspy.HighsStatus.kError:  # pragma: no cover - a malformed program is a bug
             raise RuntimeError(f"HiGHS refused the minimal-force LP: {status}")
         self._n = prog.n
-        self._rows = np.arange(6, dtype=np.int32)  # the balance rows A6 y − t⁺ + t⁻ = −w
         self._statuses = highspy.HighsModelStatus
 
     def solve(self, w: np.ndarray) -> tuple[np.ndarray | None, str]:
@@ -190,8 +189,8 @@ class MinLP:
         "infeasible" or HiGHS's model status."""
         h = self._h
         h.clearSolver()  # cold: no basis carried over from another disturbance
-        b = -np.asarray(w, dtype=float)
-        h.changeRowsBounds(6, self._rows, b, b)
+        for i, b in enumerate((-np.asarray(w, dtype=float)).tolist()):  # the balance rows
+            h.changeRowBounds(i, b, b)  # (one row per call: in every highspy >= 1.7)
         h.run()
         status = h.getModelStatus()
         if status == self._statuses.kOptimal:
