@@ -158,8 +158,19 @@ class MeshObstacle:
             else np.flatnonzero(mesh.face_normals @ self.facing > 0)
         )
         self._faces = keep
-        self._tree = cKDTree(mesh.triangles_center[keep])
+        centers = mesh.triangles_center[keep]
+        self._tree = cKDTree(centers)
         self._edge = float(mesh.edges_unique_length.mean())
+        # centroid-to-corner distance: a face whose closest point lies within d of x has its
+        # centroid within d + this of x, which certifies the nearest-centroid candidates.
+        # Faces far above the median (a cylinder's full-height sides, a cap's spokes) are
+        # searched in a tree of their own, so they do not widen every other point's search.
+        reach = np.linalg.norm(mesh.triangles[keep] - centers[:, None, :], axis=2).max(axis=1)
+        big = reach > 2.0 * np.median(reach)
+        self._reach = float(reach[~big].max()) if (~big).any() else 0.0
+        self._big = keep[big]
+        self._big_reach = float(reach[big].max()) if big.any() else 0.0
+        self._big_tree = cKDTree(centers[big]) if big.any() else None
 
     #: candidate triangles (nearest centroids) searched exactly per query point
     CANDIDATES = 24
@@ -171,21 +182,53 @@ class MeshObstacle:
         in a frame centered at the query point and scaled by the mean edge
         length: trimesh's routine uses absolute tolerances and, with mm-sized
         triangles in metres, returned distances 5x too large (measured on a
-        20k-face sphere of radius 20 mm; O(1) triangles fix it).
+        20k-face sphere of radius 20 mm; O(1) triangles fix it).  The candidates
+        are certified: where a face outside them could still be closer (its
+        centroid within the found distance plus the largest centroid-to-corner
+        distance — long or sliver faces, e.g. a cylinder's full-height sides), every
+        face whose centroid lies in that ball is searched as well.
         """
-        from trimesh.triangles import closest_point
-
+        x = np.asarray(x, dtype=float)
         k = min(self.CANDIDATES, len(self._faces))
-        _, cand = self._tree.query(x, k=k)
+        r_cand, cand = self._tree.query(x, k=k)
         cand = self._faces[cand.reshape(len(x), k)]
-        L = self._edge
-        local = (self.mesh.triangles[cand] - x[:, None, None, :]) / L  # (N, k, 3, 3)
-        pts = closest_point(local.reshape(-1, 3, 3), np.zeros((len(x) * k, 3))).reshape(len(x), k, 3) * L
-        dist = np.linalg.norm(pts, axis=2)
-        pts = pts + x[:, None, :]
+        pts, dist = self._point_triangle(np.repeat(x, k, axis=0), cand.ravel())
+        pts, dist = pts.reshape(len(x), k, 3), dist.reshape(len(x), k)
         j = dist.argmin(axis=1)
         rows = np.arange(len(x))
-        return pts[rows, j], dist[rows, j], cand[rows, j]
+        best_p, best_d, best_t = pts[rows, j], dist[rows, j], cand[rows, j]
+        if k < len(self._faces):
+            searches = [(self._tree, self._faces, self._reach, np.asarray(r_cand).reshape(len(x), k)[:, -1])]
+            if self._big_tree is not None:  # r = 0: always searched (few faces)
+                searches.append((self._big_tree, self._big, self._big_reach, np.zeros(len(x))))
+            for tree, faces, reach, r_k in searches:
+                radius = best_d + reach
+                unsure = np.flatnonzero(r_k < radius)
+                if unsure.size == 0:
+                    continue
+                balls = tree.query_ball_point(x[unsure], radius[unsure])
+                owner = np.repeat(unsure, [len(b) for b in balls])
+                if owner.size == 0:
+                    continue
+                tri = faces[np.concatenate([np.asarray(b, dtype=np.int64) for b in balls])]
+                p2, d2 = self._point_triangle(x[owner], tri)
+                order = np.lexsort((d2, owner))  # per query point, nearest first
+                first = order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
+                i = owner[first]
+                closer = d2[first] < best_d[i]
+                i, first = i[closer], first[closer]
+                best_p[i], best_d[i], best_t[i] = p2[first], d2[first], tri[first]
+        return best_p, best_d, best_t
+
+    def _point_triangle(self, x: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Closest points (m, 3) on triangles ``tri`` (m,) to points ``x`` (m, 3), and the
+        distances, in the query-centred, edge-scaled frame (see :meth:`closest`)."""
+        from trimesh.triangles import closest_point
+
+        L = self._edge
+        local = (self.mesh.triangles[tri] - x[:, None, :]) / L
+        pts = closest_point(local, np.zeros((len(x), 3))) * L
+        return pts + x, np.linalg.norm(pts, axis=1)
 
     def transformed(self, transform: np.ndarray, facing=None) -> MeshObstacle:
         """Copy moved by a 4×4 homogeneous transform (metres), optionally one-sided."""

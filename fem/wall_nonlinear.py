@@ -228,17 +228,49 @@ def curve_stiffness(
     Venant–Kirchhoff displacements depend on f / E only (ν fixed), so that curve is
     ``e_scale × f`` at the same closings.  (NaN, NaN) when the curve stops below ``force``.
     """
+    (work,), (d_at,) = curve_work(closing, jaw_forces, [force], e_scale=e_scale)
+    return float(force / d_at), float(work)
+
+
+def curve_work(
+    closing: np.ndarray,
+    jaw_forces: np.ndarray,
+    forces,
+    *,
+    e_scale: float = 1.0,
+    rigid_beyond: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Work ``∫_0^Δ(f) f dΔ`` [J] and closing ``Δ(f)`` [m] at each of ``forces`` (m,) [N]
+    on a load curve (``closing`` (k,) [m] from 0, ``jaw_forces`` (k, 2) [N], their mean f;
+    ``e_scale`` as :func:`curve_stiffness`), linear between the curve's points (exact for
+    a linear spring: ``f² / 2s``) — the work of thesis Eq. 4.5 from the force–deflection
+    curve instead of a stiffness (§4.3.5).
+
+    A force above the curve's last point: NaN (not reached), or with ``rigid_beyond`` —
+    the curve stopped because a jaw came to rest on a clamped base (``on_clamp`` of
+    :func:`squeeze_nonlinear`) — the work and closing at the curve's end (no further
+    travel).  Forces <= 0 do no work.
+    """
     closing = np.asarray(closing, float)
     fm = e_scale * np.asarray(jaw_forces, float).mean(axis=1)
-    if closing.ndim != 1 or fm.shape != closing.shape or closing[0] != 0.0:
+    if closing.ndim != 1 or fm.shape != closing.shape or closing.size < 2 or closing[0] != 0.0:
         raise ValueError(f"need closing (k,) from 0 and jaw_forces (k, 2); got {closing.shape}, {fm.shape}")
-    if fm[-1] < force:
-        return float("nan"), float("nan")
-    k = int(np.argmax(fm >= force))
-    a = (force - fm[k - 1]) / (fm[k] - fm[k - 1])
-    d_at = closing[k - 1] + a * (closing[k] - closing[k - 1])
-    work = float(np.trapezoid(np.r_[fm[:k], force], np.r_[closing[:k], d_at]))
-    return float(force / d_at), work
+    f = np.atleast_1d(np.asarray(forces, float))
+    if np.isnan(f).any():
+        raise ValueError("forces must not be NaN (an unresisted grasp has no forces)")
+    cum = np.r_[0.0, np.cumsum(0.5 * (fm[1:] + fm[:-1]) * np.diff(closing))]  # ∫ f dΔ at each point
+    work, d_at = np.full(f.shape, np.nan), np.full(f.shape, np.nan)
+    for i, fi in enumerate(f):
+        if fi <= 0:
+            work[i], d_at[i] = 0.0, 0.0
+        elif fi <= fm[-1]:
+            k = max(int(np.argmax(fm >= fi)), 1)  # first point at or above fi
+            a = (fi - fm[k - 1]) / (fm[k] - fm[k - 1])
+            d_at[i] = closing[k - 1] + a * (closing[k] - closing[k - 1])
+            work[i] = cum[k - 1] + 0.5 * (fm[k - 1] + fi) * (d_at[i] - closing[k - 1])
+        elif rigid_beyond:
+            work[i], d_at[i] = cum[-1], closing[-1]
+    return work, d_at
 
 
 def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_theta: int = 48) -> tuple:
@@ -252,4 +284,4 @@ def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_th
     return wall, turn_matrix(ang) @ ((np.asarray(a, float) + np.asarray(b, float)) / 2)
 
 
-__all__ = ["curve_stiffness", "grasp_frame_wall", "squeeze_nonlinear", "svk_tangent"]
+__all__ = ["curve_stiffness", "curve_work", "grasp_frame_wall", "squeeze_nonlinear", "svk_tangent"]

@@ -368,6 +368,19 @@ def test_minimal_work_quick(tmp_path):
         assert 0.05e9 < v[name]["calibrated"]["E_effective_Pa"] < 2.5e9  # thinner or softer than PET
         loo = s["stiffness_interpolation"][name]
         assert loo["median_abs_log_error"] < loo["baseline_median_abs_log_error"]
+    # held-out class counts per object add up to the held-out grasps
+    held = s["class_balance"]["vertical_lifting"]["held_out"]
+    assert sum(a + b for a, b in held.values()) == s["n_test"]
+    # scope 9: the nonlinear wall's work at every shampoo candidate (quick: coarse mesh)
+    nl = s["beyond_thesis_nonlinear_work"]
+    assert nl["objects"] == ["shampoo"] and nl["n_grasps"] == s["n_grasps_per_object"]["shampoo"]
+    assert nl["n_curves"] >= 1
+    for task in ("vertical_lifting", "lift_and_rotate"):
+        t = nl["table"][task]
+        assert set(t) == {"q_work_map", "q_work_fem_linear", "q_work_fem_nonlinear", "W_nonlinear_over_linear"}
+        # the nonlinear wall is softer at these closings (wall-nonlinear: 0.63-1.05 x the linear
+        # stiffness on shampoo), so its work is at least comparable; a unit slip would be 1e3 off
+        assert 0.5 < t["W_nonlinear_over_linear"]["median"] < 5.0
 
 
 def test_wall_nonlinear_quick(tmp_path):

@@ -391,3 +391,25 @@ def test_wall_nonlinear_refuses_careless_grasps(capsys, tmp_path, grasps):
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert "grasps" in err and ("distinct grasp indices" in err or "list" in err), err
+
+
+@pytest.mark.parametrize(
+    "key, value, words",
+    [
+        ("profiles", "fem_pad", ["profiles must be one of", "'reach'", "'fem'", "fem_pad"]),
+        ("nl_work_objects", '["bottle"]', ["nl_work_objects", "bottle", "not objects of this experiment"]),
+    ],
+)
+def test_minimal_work_refuses_unknown_profile_source_or_object(capsys, tmp_path, key, value, words):
+    argv = ["run", "minimal-work", "--quick", "--out", str(tmp_path / "out"), "--set", f"{key}={value}"]
+    try:
+        main(argv)
+    except SystemExit as exc:
+        assert exc.code == 2
+        err = capsys.readouterr().err
+    except ValueError as exc:
+        err = str(exc)
+    else:
+        raise AssertionError("minimal-work accepted the careless setting")
+    _has(err, *words)
+    assert not (tmp_path / "out" / "rows.jsonl").exists()  # refused before any work

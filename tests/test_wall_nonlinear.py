@@ -9,7 +9,7 @@ from skfem.helpers import ddot, eye, grad, mul, trace, transpose
 
 from fem.material import Material
 from fem.wall import PET, _elasticity, build_wall, circle_surface, squeeze
-from fem.wall_nonlinear import curve_stiffness, squeeze_nonlinear, svk_tangent
+from fem.wall_nonlinear import curve_stiffness, curve_work, squeeze_nonlinear, svk_tangent
 
 
 def _svk(w_u, mu, lam):
@@ -91,3 +91,27 @@ def test_curve_stiffness_on_a_linear_spring():
     assert np.isnan(curve_stiffness(closing, forces, 100.0)[0])  # not reached
     with pytest.raises(ValueError, match="closing"):
         curve_stiffness(closing[1:], forces[1:], 10.0)
+
+
+def test_curve_work_against_closed_forms():
+    """∫ f dΔ on a load curve: exact for a linear spring (f² / 2s), to the trapezoid's
+    error on a stiffening f = c Δ² (c Δ³ / 3); past the curve NaN, or its end when the
+    jaw rests on a clamped base."""
+    closing = np.linspace(0.0, 4e-3, 9)
+    lin = np.column_stack([5000.0 * closing] * 2)
+    f = np.array([0.0, 1.0, 7.5, 20.0])
+    w, d = curve_work(closing, lin, f)
+    assert np.allclose(w, f**2 / (2 * 5000.0), rtol=1e-12, atol=0) and np.allclose(d, f / 5000.0)
+    assert np.allclose(w, [curve_stiffness(closing, lin, x)[1] if x > 0 else 0.0 for x in f])
+    c = 1e6  # N/m²
+    fine = np.linspace(0.0, 4e-3, 4001)
+    quad = np.column_stack([c * fine**2, c * fine**2])
+    w, d = curve_work(fine, quad, [4.0, 9.0])
+    assert np.allclose(d, np.sqrt([4.0, 9.0] / np.array(c)), rtol=1e-6)
+    assert np.allclose(w, c * d**3 / 3, rtol=1e-6)
+    (w_past,), _ = curve_work(closing, lin, [25.0])
+    assert np.isnan(w_past)  # 20 N is the curve's end
+    (w_rest,), (d_rest,) = curve_work(closing, lin, [25.0], rigid_beyond=True)
+    assert w_rest == pytest.approx(20.0**2 / (2 * 5000.0)) and d_rest == 4e-3
+    with pytest.raises(ValueError, match="NaN"):
+        curve_work(closing, lin, [np.nan])

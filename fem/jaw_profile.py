@@ -1,0 +1,177 @@
+"""FEM pad profiles of a parallel-jaw grasp on an object mesh (thesis §3.5.2, §4.3.2.1).
+
+The FEM counterpart of :func:`workbench.grasp.evaluate.jaw_profiles` (REACH, Winkler
+pressure): each jaw is the compliant pad of :mod:`fem.pad` (rigid back, bonded linear
+elastic layer, frictionless Signorini contact on its condensed face,
+:func:`fem.contact.solve_contact`) pressed against the rigid object mesh along the grasp
+axis until the pad's normal force *along the axis* equals the gripper's reading — the
+force-sensor convention of §4.1.3.2, as ``with_axis_force`` does for REACH.
+
+Jaw frame (``x_object = R x_pad + t``): pad z along the approach (into the object), pad
+y (its long side) along ``up`` made perpendicular to the approach, x = y × z — the pose
+of :func:`fem.bottle.grasp_pose` for a side grasp of a standing object.  The pad face is
+first placed to touch the mesh (smallest gap 0); the jaw then advances by the
+displacement whose axial force is the reading (Brent's method on the monotone
+force–displacement curve; every solve is milliseconds once the pad is condensed).
+
+The object is rigid here: the wall's own compliance is :mod:`fem.wall`'s business.
+The mesh is one-sided towards the jaw (``MeshObstacle(facing=...)``), so a wall solid
+with an inner surface (the cup's 0.5 mm wall) is seen from outside only.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from workbench.profile import ContactProfile
+
+from .bottle import Posed
+from .contact import solve_contact
+from .extract import extract_profile
+from .material import Material
+from .obstacles import MeshObstacle
+from .pad import CondensedPad, PadGeometry, condense_pad
+
+log = logging.getLogger(__name__)
+
+__all__ = ["fem_jaw_profile", "fem_jaw_profiles", "jaw_rotation"]
+
+
+def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """(3, 3) rotation whose columns are the pad's x, y, z axes in the object frame:
+    z = ``approach`` (unit), y = ``up`` made perpendicular to it, x = y × z.
+
+    Raises ``ValueError`` for a zero or non-finite approach, or ``up`` parallel to it.
+    """
+    a = np.asarray(approach, float)
+    u = np.asarray(up, float)
+    if a.shape != (3,) or u.shape != (3,) or not (np.isfinite(a).all() and np.isfinite(u).all()):
+        raise ValueError(f"approach and up must be finite (3,) vectors; got {approach!r}, {up!r}")
+    na = float(np.linalg.norm(a))
+    if not na > 0:
+        raise ValueError(f"approach must be a non-zero direction (into the object); got {approach!r}")
+    ez = a / na
+    ey = u - (u @ ez) * ez
+    if not np.linalg.norm(ey) > 1e-6 * max(float(np.linalg.norm(u)), 1e-300):
+        raise ValueError(
+            f"up {up!r} is parallel to the approach {approach!r}: the pad's long side is undefined — "
+            "give an up direction across the approach"
+        )
+    ey /= np.linalg.norm(ey)
+    return np.column_stack([np.cross(ey, ez), ey, ez])
+
+
+def _touching(obstacle: MeshObstacle, R: np.ndarray, point: np.ndarray, X: np.ndarray, h: float) -> Posed:
+    """The pad pose whose undeformed face ``X`` (pad frame) just touches the object."""
+    ez = R[:, 2]
+    extent = float(np.ptp(obstacle.mesh.vertices, axis=0).max())
+    t = point - ez * (h + extent)  # start outside the object, then close the gap
+    for _ in range(60):
+        d, _ = Posed(obstacle, R, t).signed_distance(X)
+        gap = float(d.min())
+        if not np.isfinite(gap):
+            break
+        t = t + ez * gap
+        if abs(gap) <= 1e-12 + 1e-9 * h:
+            return Posed(obstacle, R, t)
+    raise ValueError(
+        f"the pad at {np.round(point, 4).tolist()} approaching along {np.round(ez, 3).tolist()} does not "
+        "settle on the object (no first touch): check the point, the approach (into the object) and units"
+    )
+
+
+def fem_jaw_profile(
+    mesh,
+    point,
+    approach,
+    force: float,
+    *,
+    up=(0.0, 0.0, 1.0),
+    geometry: PadGeometry | None = None,
+    material: Material | None = None,
+    pad: CondensedPad | None = None,
+    units: str | float | None = None,
+    allow_scale: bool = False,
+    cache_dir=None,
+) -> ContactProfile:
+    """One jaw's FEM contact profile on ``mesh``, in the object frame, at the reading ``force``.
+
+    mesh : watertight trimesh (or path), metres unless ``units`` says otherwise.
+    point : (3,) [m] where the jaw meets the object (the pad face is centred on the
+        approach line through it, its first touch may be elsewhere on the face).
+    approach : (3,) direction from the jaw into the object.
+    force : the gripper's reading [N] > 0: the pad's normal force along ``approach``.
+    geometry, material : the pad (default :class:`~fem.pad.PadGeometry`, 20 × 40 × 5 mm,
+        and :class:`~fem.material.Material`, E = 1 MPa, ν = 0.45); or ``pad``, a
+        condensed pad already built (:func:`~fem.pad.condense_pad`) — reuse it across
+        grasps, its condensation (20–70 s, disk-cached) dominates the first call.
+
+    Returns a :class:`~workbench.profile.ContactProfile` whose normal force along
+    ``approach`` is ``force`` (to 1e-9 relative) and whose normals point out of the object.
+    Raises ``ValueError`` for a bad mesh, a non-positive force, a jaw that touches
+    nothing, or a force the layer cannot reach before its rigid back meets the object.
+    """
+    from scipy.optimize import brentq
+
+    from workbench.grasp.reach import with_axis_force
+    from workbench.units import closed_mesh
+
+    if (
+        isinstance(force, (bool, np.bool_))
+        or not np.isscalar(force)
+        or not (np.isfinite(force) and force > 0)
+    ):
+        raise ValueError(f"force must be the jaw's reading in newtons, finite and > 0; got {force!r}")
+    mesh = closed_mesh(mesh, "mesh passed to fem_jaw_profile", units=units, allow_scale=allow_scale)
+    p = np.asarray(point, float)
+    if p.shape != (3,) or not np.isfinite(p).all():
+        raise ValueError(f"point must be a finite (3,) position [m]; got {point!r}")
+    R = jaw_rotation(approach, up)
+    if pad is None:
+        pad = condense_pad(geometry or PadGeometry(), material or Material(), cache_dir=cache_dir)
+    h = pad.geometry.thickness
+    obstacle = MeshObstacle(mesh, allow_scale=True, facing=-R[:, 2])  # checked by closed_mesh above
+    X = np.column_stack([pad.face_xy, np.full(len(pad.face_xy), h)])
+    posed = _touching(obstacle, R, p, X, h)
+    cache: dict[float, object] = {}
+
+    def axial(delta: float) -> float:  # the pad's normal force along the approach [N]
+        if delta not in cache:
+            cache[delta] = solve_contact(pad, posed, delta)
+        sol = cache[delta]
+        return float(sol.force_vector @ np.array([0.0, 0.0, 1.0]))
+
+    hi = 0.9 * h  # the rigid back stays clear of the object
+    if axial(hi) < force:
+        raise ValueError(
+            f"the pad reaches only {axial(hi):.3g} N along the approach at {hi * 1e3:.3g} mm of its "
+            f"{h * 1e3:.3g} mm layer, below the reading {force} N: a stiffer or thicker pad, or a "
+            "smaller force"
+        )
+    delta = brentq(lambda d: axial(d) - force, 0.0, hi, xtol=1e-12 * h, rtol=1e-10)
+    prof = extract_profile(pad, cache.get(delta) or solve_contact(pad, posed, delta), posed)
+    if prof is None:  # pragma: no cover - a positive axial force has loaded nodes
+        raise ValueError(f"the pad at {np.round(p, 4).tolist()} touches nothing")
+    log.debug(
+        "fem_jaw_profile: delta %.4g mm, %d elements, %d solves", delta * 1e3, len(prof.areas), len(cache)
+    )
+    return with_axis_force(prof.transformed(R, posed.t), R[:, 2], force)
+
+
+def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfile]:
+    """Both jaws' FEM profiles of an antipodal ``grasp`` (``p1``, ``p2`` [m], ``axis`` from
+    jaw 1 into the object, as :func:`workbench.grasp.sampling.horizontal_grasps` gives):
+    jaw 1 at ``p1`` along ``axis``, jaw 2 at ``p2`` against it, each at the reading
+    ``force`` [N].  Keywords as :func:`fem_jaw_profile` (pass ``pad=`` to condense once)."""
+    from workbench.grasp.evaluate import _check_grasp
+
+    p1, p2, axis = _check_grasp(grasp)
+    if kw.get("pad") is None:
+        kw["pad"] = condense_pad(
+            kw.pop("geometry", None) or PadGeometry(),
+            kw.pop("material", None) or Material(),
+            cache_dir=kw.pop("cache_dir", None),
+        )
+    return [fem_jaw_profile(mesh, p, a, force, **kw) for p, a in ((p1, axis), (p2, -axis))]

@@ -1,0 +1,83 @@
+"""FEM pad profiles of a grasp on an object mesh (fem.jaw_profile) against analytic obstacles."""
+
+import numpy as np
+import pytest
+import trimesh
+from scipy.optimize import brentq
+
+from fem.bottle import Posed
+from fem.contact import solve_contact
+from fem.extract import extract_profile
+from fem.jaw_profile import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
+from fem.material import Material
+from fem.obstacles import Cylinder
+from fem.pad import PadGeometry, condense_pad
+
+GEOM = PadGeometry(width=0.016, length=0.024, thickness=0.004, nx=16, ny=24, nz=3)
+
+
+@pytest.fixture(scope="module")
+def pad():
+    return condense_pad(GEOM, Material(), cache_dir=False)
+
+
+def _analytic_cylinder_profile(pad, R, force):
+    """The same pad on an exact cylinder (axis z, radius R), jaw at -x approaching +x."""
+    rot = jaw_rotation([1.0, 0.0, 0.0])
+    t = np.array([-R - pad.geometry.thickness, 0.0, 0.0])  # face z = h touches x = -R
+    posed = Posed(Cylinder(axis=(0, 0, 1), radius=R), rot, t)
+    d = brentq(
+        lambda d: solve_contact(pad, posed, d).force_vector[2] - force, 0, 0.9 * GEOM.thickness, xtol=1e-15
+    )
+    return extract_profile(pad, solve_contact(pad, posed, d), posed).transformed(rot, t)
+
+
+def test_jaw_rotation_frame():
+    R = jaw_rotation([0.0, 2.0, 0.0], up=[0.0, 0.3, 1.0])
+    assert np.allclose(R @ R.T, np.eye(3), atol=1e-12) and np.linalg.det(R) == pytest.approx(1.0)
+    assert np.allclose(R[:, 2], [0, 1, 0]) and np.allclose(R[:, 1], [0, 0, 1])
+    with pytest.raises(ValueError, match="parallel"):
+        jaw_rotation([0, 0, 1.0], up=[0, 0, 2.0])
+    with pytest.raises(ValueError, match="non-zero"):
+        jaw_rotation([0, 0, 0.0])
+
+
+def test_cylinder_mesh_of_slivers_matches_the_analytic_cylinder(pad):
+    R, F = 0.03, 8.0
+    mesh = trimesh.creation.cylinder(radius=R, height=0.12, sections=256)  # 0.7 x 120 mm side faces
+    prof = fem_jaw_profile(mesh, [-R, 0, 0], [1.0, 0, 0], F, pad=pad)
+    ref = _analytic_cylinder_profile(pad, R, F)
+    assert prof.normal_wrench[0] == pytest.approx(F, rel=1e-9)  # the reading, along the approach
+    # facets (sag 2e-3 mm) against the exact surface: force and centre of pressure agree
+    assert prof.F == pytest.approx(ref.F, rel=2e-3)
+    assert np.abs(prof.pressure_center - ref.pressure_center).max() <= 5e-5
+    assert prof.areas.sum() == pytest.approx(ref.areas.sum(), rel=0.05)
+    # the pad pushes the object: normals outward (towards the jaw, -x)
+    assert (prof.normals[:, 0] < 0).all()
+
+
+def test_flat_face_profile_is_centred_and_uniform(pad):
+    box = trimesh.creation.box(extents=[0.06, 0.05, 0.1])
+    p1, p2 = np.array([-0.03, 0.004, 0.01]), np.array([0.03, 0.004, 0.01])
+    jaws = fem_jaw_profiles(box, {"p1": p1, "p2": p2, "axis": [1.0, 0, 0]}, 5.0, pad=pad)
+    for prof, point, sign in zip(jaws, (p1, p2), (1, -1), strict=True):
+        assert prof.F == pytest.approx(5.0, rel=1e-9)  # parallel normals: Σ p a is the axial force
+        assert np.allclose(prof.normal_wrench[:3], [5.0 * sign, 0, 0], atol=1e-9)
+        assert np.abs(prof.pressure_center - point).max() <= 1e-9  # symmetric pad on a flat face
+        assert np.allclose(prof.normals, [-sign, 0, 0], atol=1e-12)
+
+
+def test_bad_input(pad):
+    cyl = trimesh.creation.cylinder(radius=0.03, height=0.12, sections=64)
+    with pytest.raises(ValueError, match="force"):
+        fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], 0.0, pad=pad)
+    with pytest.raises(ValueError, match="force"):
+        fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], float("nan"), pad=pad)
+    with pytest.raises(ValueError, match="millimetres"):
+        fem_jaw_profile(cyl.copy().apply_scale(1000), [-30, 0, 0], [1.0, 0, 0], 5.0, pad=pad)
+    with pytest.raises(ValueError, match="point"):
+        fem_jaw_profile(cyl, [-0.03, 0], [1.0, 0, 0], 5.0, pad=pad)
+    with pytest.raises(ValueError, match="reaches only"):  # a 4 mm layer cannot take 1 kN
+        fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], 1000.0, pad=pad)
+    with pytest.raises(ValueError, match="dict"):
+        fem_jaw_profiles(cyl, [[-0.03, 0, 0], [0.03, 0, 0]], 5.0, pad=pad)
