@@ -433,7 +433,7 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
     for i in tqdm(todo, desc="nonlinear work", unit="grasp"):
         name, k, g, _, scale = grasps_all[i]
         r, key = rows[i], f"nlw/{tag}/{name}/{k}"
-        if not np.isfinite(r["s_fem"]) or not np.isfinite(need(r)):  # rigid, or never resisted
+        if not np.isfinite(_num(r["s_fem"])) or not np.isfinite(need(r)):  # rigid, or never resisted
             ckpt.add(key, {"curve": None})
             continue
         if name not in geos:
@@ -473,7 +473,7 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
             poses = [np.asarray(p, float) for p in r[t]["forces"]]
             if any(np.isnan(p).any() for p in poses):
                 continue  # a pose not resisted: inf, as the linear W
-            if not np.isfinite(r["s_fem"]):
+            if not np.isfinite(_num(r["s_fem"])):
                 W_nl[t][j] = 0.0  # rigid: no wall work, as f² / 2s with s = inf
             elif c["curve"] is not None:
                 cv = c["curve"]

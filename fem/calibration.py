@@ -68,8 +68,11 @@ def held_out(
 ) -> dict:
     """Scores on the grasps not in ``train``: ``spearman`` and ``median_abs_log_ratio``."""
     model, measured = _check(model, measured)
-    pred = model * calibrate(model, measured, train, groups)
-    test = np.setdiff1d(np.arange(model.size), train)
+    return _scores(model * calibrate(model, measured, train, groups), measured, train)
+
+
+def _scores(pred: np.ndarray, measured: np.ndarray, train: np.ndarray) -> dict:
+    test = np.setdiff1d(np.arange(measured.size), train)
     return {
         "spearman": float(spearmanr(pred[test], measured[test]).statistic),
         "median_abs_log_ratio": float(np.median(np.abs(np.log(pred[test] / measured[test])))),
@@ -87,10 +90,35 @@ def split_scores(
     """:func:`held_out` over ``n_splits`` random halves: median, 10th and 90th percentile of
     each score."""
     model, measured = _check(model, measured)
+    return split_scores_of(
+        lambda train: model * calibrate(model, measured, train, groups),
+        measured,
+        n_splits=n_splits,
+        seed=seed,
+    )
+
+
+def split_scores_of(predict, measured: np.ndarray, *, n_splits: int = 200, seed: int = 0) -> dict:
+    """:func:`split_scores` of a model calibrated by any fit: ``predict(train)`` returns the
+    (n,) stiffness [N/m] of the model calibrated on the grasps ``train`` (k,) — e.g. a
+    nonlinear wall, whose stiffness at a force is not proportional to E.  The same random
+    halves as :func:`split_scores` for the same ``seed``.  A half whose calibrated model
+    predicts a non-finite stiffness (e.g. a load curve that stops below the force at that
+    E) is left out of the statistics and counted in ``n_failed``."""
+    measured = np.asarray(measured, float)
     rng = np.random.default_rng(seed)
-    n = model.size
-    rows = [held_out(model, measured, rng.permutation(n)[: n // 2], groups) for _ in range(n_splits)]
-    out = {}
+    n = measured.size
+    rows, failed = [], 0
+    for _ in range(n_splits):
+        train = rng.permutation(n)[: n // 2]
+        pred = np.asarray(predict(train), float)
+        if not np.isfinite(pred).all():
+            failed += 1
+            continue
+        rows.append(_scores(pred, measured, train))
+    out: dict = {"n_failed": failed}
+    if not rows:
+        raise ValueError(f"the model predicted a non-finite stiffness on all {n_splits} halves")
     for key in ("spearman", "median_abs_log_ratio"):
         v = np.array([r[key] for r in rows])
         out[key] = {

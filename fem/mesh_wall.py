@@ -130,7 +130,7 @@ def radial_surface(
     Raises ``ValueError`` for an open mesh, a mesh in millimetres, or a section that is
     not star-shaped about the axis (rays with more than two hits, or none).
     """
-    mesh = closed_mesh(mesh, "the object mesh", units=units)
+    mesh = closed_mesh(mesh, "the object mesh", units=units, override=None)
     if not (isinstance(n_theta, int) and n_theta >= 16):
         raise ValueError(f"n_theta must be an integer >= 16; got {n_theta!r}")
     lo, hi = mesh.bounds

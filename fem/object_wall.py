@@ -192,12 +192,25 @@ def wall_geometry(
     thickness <= 0, an unknown ``top`` or ``top="lip"`` on an object without one.
     """
     check_wall_options(thickness, top)
-    mesh = closed_mesh(mesh, "the object mesh", units=units)
+    mesh = closed_mesh(mesh, "the object mesh", units=units, override=None)
     surface = radial_surface(mesh)
     closed = is_closed_top(mesh, surface)
     lip = find_lip(mesh, surface) if top == "lip" or (top == "auto" and not closed) else None
     if top == "lip" and lip is None:
         raise ValueError("top='lip' but the mesh has no lip above its side wall; use top='auto'")
+    # a shell: the wall is thin next to the section (0.5 given for 0.5 mm reads as 0.5 m)
+    r_min = float(
+        np.min(
+            surface.radius(
+                np.linspace(0, 2 * np.pi, 72, endpoint=False), np.full(72, np.mean(surface.z_range))
+            )
+        )
+    )
+    if thickness > 0.2 * r_min:
+        raise ValueError(
+            f"thickness {thickness!r} m is more than a fifth of the section's smallest radius "
+            f"({r_min:.3g} m): a thin-walled object's wall is given in metres, e.g. 0.5e-3 for 0.5 mm"
+        )
     lo, hi = surface.z_range
     clamp_top = top == "clamped" or (top == "auto" and closed)
     if lip is not None:

@@ -202,6 +202,12 @@ def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:
     if differ.any():
         k = int(np.argmax(differ))
         raise ValueError(f"{want}; got {S[k]:g} and {S[k + n]:g} for points {k} and {k + n}")
+    from workbench.grasp.stiffness_map import check_stiffness
+
+    try:  # > 0, and not in N/mm (the same check as every stiffness input)
+        check_stiffness(S[:n], n, "grasp", fix="one value per grasp")
+    except ValueError as exc:
+        raise ValueError(f"{path}: 'stiffness_map': {exc}") from None
     return L, S[:n]
 
 

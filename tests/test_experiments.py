@@ -377,7 +377,12 @@ def test_minimal_work_quick(tmp_path):
     assert nl["n_curves"] >= 1
     for task in ("vertical_lifting", "lift_and_rotate"):
         t = nl["table"][task]
-        assert set(t) == {"q_work_map", "q_work_fem_linear", "q_work_fem_nonlinear", "W_nonlinear_over_linear"}
+        assert set(t) == {
+            "q_work_map",
+            "q_work_fem_linear",
+            "q_work_fem_nonlinear",
+            "W_nonlinear_over_linear",
+        }
         # the nonlinear wall is softer at these closings (wall-nonlinear: 0.63-1.05 x the linear
         # stiffness on shampoo), so its work is at least comparable; a unit slip would be 1e3 off
         assert 0.5 < t["W_nonlinear_over_linear"]["median"] < 5.0

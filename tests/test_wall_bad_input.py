@@ -413,3 +413,64 @@ def test_minimal_work_refuses_unknown_profile_source_or_object(capsys, tmp_path,
         raise AssertionError("minimal-work accepted the careless setting")
     _has(err, *words)
     assert not (tmp_path / "out" / "rows.jsonl").exists()  # refused before any work
+
+
+# ---------------------------------------------------------------- new-user trial (issue 13)
+
+
+def test_thickness_in_millimetres_is_refused(capsys, tmp_path, files):
+    """0.5 meant as 0.5 mm: a 0.5 m wall on a 40 mm cup was built and called rigid."""
+    with pytest.raises(ValueError, match="more than a fifth of the section's smallest radius") as exc:
+        wall_geometry(_cup(), thickness=0.5)
+    _has(str(exc.value), "thickness 0.5 m", "e.g. 0.5e-3 for 0.5 mm")
+    err = _cli_error(capsys, tmp_path, files, "object=cup.obj", "locations=good.json", "thickness=0.5")
+    _has(err, "more than a fifth", "0.5e-3")
+    assert "Traceback" not in err
+
+
+def test_run_time_value_errors_are_one_clean_line(capsys, tmp_path, files):
+    """A location 2 mm off the wall is found after the mesh is read (ray casting): the CLI
+    prints the message and exits 2 instead of a traceback."""
+    with pytest.raises(SystemExit) as exc:
+        main(
+            [
+                "run",
+                "wall-stiffness",
+                "--out",
+                str(tmp_path / "o"),
+                "--set",
+                f"object={files / 'cup.obj'}",
+                "--set",
+                f"locations={files / 'out_2mm.json'}",
+            ]
+        )
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    _has(err, "workbench run wall-stiffness: error:", "mm off the object's surface", "-v shows the traceback")
+
+
+def test_stiffness_in_n_per_mm_is_refused():
+    from workbench.grasp.stiffness_map import StiffnessMap
+    from workbench.grasp.work import work
+
+    with pytest.raises(ValueError, match="N/mm") as exc:
+        work([3.0, 5.0], [0.4, 20.0], 1e-4)  # 400 and 20 000 N/m written in N/mm
+    _has(str(exc.value), "0.4", "multiply it by 1e3")
+    assert work([3.0, 5.0], [400.0, 20000.0], 1e-4) == pytest.approx(
+        3 * (3 / 400 + 1e-4) + 5 * (5 / 2e4 + 1e-4)
+    )
+    P = np.array([[0.03, 0, 0], [0, 0.03, 0], [-0.03, 0, 0], [0, -0.03, 0.01]])
+    with pytest.raises(ValueError, match="N/mm"):
+        StiffnessMap(P, np.array([0.4, 0.5, 0.6, 0.7]))
+
+
+def test_unit_messages_name_only_fixes_the_caller_has():
+    from workbench.grasp.stiffness_map import StiffnessMap
+
+    P = np.array([[30.0, 0, 0], [0, 30.0, 0], [-30.0, 0, 0], [0, -30.0, 10.0]])  # mm
+    with pytest.raises(ValueError, match="millimetres") as exc:
+        StiffnessMap(P, np.full(4, 500.0))
+    assert "allow_scale" not in str(exc.value)
+    with pytest.raises(ValueError, match="millimetres") as exc:
+        wall_geometry(_cup().apply_scale(1000.0))
+    assert "allow_scale" not in str(exc.value) and "units='mm'" in str(exc.value)

@@ -82,7 +82,7 @@ def test_work_of_two_opposing_point_contacts_matches_the_closed_form(representat
 
 def test_work_by_hand_and_rigid_contacts():
     f = np.array([3.0, 5.0, 0.0])
-    s = np.array([100.0, np.inf, 7.0])
+    s = np.array([100.0, np.inf, 700.0])  # the third carries no force
     assert work(f, s, 0.002) == pytest.approx(3 * (3 / 100 + 0.002) + 5 * 0.002)
     np.testing.assert_allclose(displacements(f, s, 0.002), [0.032, 0.002, 0.002])
     assert work(f, s, 0.0) == pytest.approx(0.09)  # ε = 0: a rigid contact does no work

@@ -350,7 +350,12 @@ def main(argv: list[str] | None = None) -> int:
         raise
     module = importlib.import_module(EXPERIMENTS[args.experiment])
     t0 = time.perf_counter()
-    summary = module.run(config)
+    try:
+        summary = module.run(config)
+    except ValueError as exc:  # careless input found during the run: one clean line, exit 2
+        if args.verbose:
+            raise
+        parser.exit(2, f"workbench run {args.experiment}: error: {exc}\n(-v shows the traceback)\n")
     print(f"{args.experiment}: wrote {config['out']}/summary.json in {time.perf_counter() - t0:.1f} s")
     for line in summary.get("headline", []):
         print(f"  {line}")

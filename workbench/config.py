@@ -219,6 +219,9 @@ class Tolerances:
     # 0.05 mm at 10 N), so 1e10 sits 4.7 decades above any measurement and below
     # the maps' rigid marker.
     rigid_stiffness_threshold: float = 1e10
+    # Below this [N/m] a stiffness is taken for a unit slip (N/mm read as N/m): at 10 N
+    # the jaw would close 1 m.  The softest measured grasp is ~140 N/m (a mustard wall).
+    min_plausible_stiffness: float = 10.0
 
 
 TOL = Tolerances()

@@ -56,6 +56,7 @@ def check_extent(
     allow_scale: bool = False,
     check_lower: bool = True,
     fix: str = "pass units={units!r} (or scale it by {factor:g}, e.g. mesh.apply_scale({factor:g}))",
+    override: str | None = "allow_scale=True",
 ) -> float:
     """Return ``extent_m`` [m] if it is a plausible object size, else raise ``ValueError``.
 
@@ -68,6 +69,8 @@ def check_extent(
         legitimately be far smaller than the objects they lie on).
     fix : the remedy named in the message, a format string: ``{units}`` is the
         likely unit, ``{factor}`` the length factor to apply, ``{area_factor}`` its square.
+    override : how the caller accepts an unusual size, named in the message; None where
+        it cannot (the message then names only the fix).
 
     The limits ``TOL.max_object_extent_m`` / ``TOL.min_object_extent_m`` are read
     at call time, so a changed ``workbench.config.TOL`` applies at once.  A size
@@ -81,6 +84,7 @@ def check_extent(
     if allow_scale:
         return extent
     lo, hi, slack = tol.min_object_extent_m, tol.max_object_extent_m, tol.extent_limit_rtol
+    escape = "" if override is None else f", or {override} if the size is intended"
     factor = 1.0 if units is None else length_factor(units)
     declared = "metres" if units is None else _UNIT_NAMES.get(str(units), f"units of {factor:g} m")
     raw = extent / factor  # the size in the caller's own numbers
@@ -94,7 +98,7 @@ def check_extent(
             likely = f"it is probably in {_UNIT_NAMES[u]}: {remedy}"
         raise ValueError(
             f"{what} spans {extent:.4g} m (read as {declared}), more than "
-            f"TOL.max_object_extent_m = {hi:g} m; {likely}, or allow_scale=True if the size is intended"
+            f"TOL.max_object_extent_m = {hi:g} m; {likely}{escape}"
         )
     if check_lower and 0 < extent < lo * (1 - slack):
         u = _likely_unit(raw, factor, larger=True)
@@ -104,7 +108,7 @@ def check_extent(
             likely = f"it is probably in {_UNIT_NAMES[u]}: pass units={u!r} instead of units={units!r}"
         raise ValueError(
             f"{what} spans {extent:.4g} m (read as {declared}), less than "
-            f"TOL.min_object_extent_m = {lo:g} m; {likely}, or allow_scale=True if the size is intended"
+            f"TOL.min_object_extent_m = {lo:g} m; {likely}{escape}"
         )
     return extent
 
@@ -116,6 +120,7 @@ def mesh_in_metres(
     units: str | float | None = None,
     allow_scale: bool = False,
     fix: str | None = None,
+    override: str | None = "allow_scale=True",
 ) -> Any:
     """``mesh`` (a ``trimesh.Trimesh``) in metres, after :func:`check_extent` on the
     longest side of its axis-aligned bounding box (``fix``: its remedy text, when the
@@ -127,7 +132,9 @@ def mesh_in_metres(
     factor = 1.0 if units is None else length_factor(units)
     extents = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
     opts = {} if fix is None else {"fix": fix}
-    check_extent(float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, **opts)
+    check_extent(
+        float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, override=override, **opts
+    )
     if factor == 1.0:
         return mesh
     scaled = mesh.copy()
@@ -142,6 +149,7 @@ def closed_mesh(
     units: str | float | None = None,
     allow_scale: bool = False,
     fix: str | None = None,
+    override: str | None = "allow_scale=True",
 ) -> Any:
     """A watertight ``trimesh.Trimesh`` in metres, or a ``ValueError`` that says which
     and how to fix it — the one gate of every mesh input (``what`` names the caller's
@@ -163,4 +171,4 @@ def closed_mesh(
             f"{what} is not watertight: it must be closed (inside and outside defined) but has "
             f"{got} — repair it first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
         )
-    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix)
+    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)

@@ -13,7 +13,8 @@ the stiffness anywhere:
   (``scipy.interpolate.RBFInterpolator``, smoothing 0): exact at the measured
   points, C² between them (the 3D analogue of a natural cubic spline), and without
   a shape parameter, so the field does not change when all lengths are scaled
-  (metres or millimetres give the same map, CONVENTIONS.md) — Gaussian or
+  (a scaled copy of the object gives the same field; the points themselves must
+  be in metres, CONVENTIONS.md) — Gaussian or
   multiquadric kernels would need a width tuned per object.  Among the scale-free
   kernels it predicted held-out grasps best on the measured maps (leave-one-out
   median ``|log(s_pred / s)|`` cup / mustard / shampoo: cubic 0.063 / 0.095 / 0.077,
@@ -62,6 +63,14 @@ def check_stiffness(values, n: int, where: str, *, fix: str, rigid: str = "np.in
         k = int(np.argmax(bad))
         raise ValueError(
             f"stiffness must be > 0 [N/m] ({rigid} for a rigid {where}); got {s[k]} at {where} {k}"
+        )
+    lo = config.TOL.min_plausible_stiffness
+    if (s < lo).any():
+        k = int(np.argmax(s < lo))
+        raise ValueError(
+            f"stiffness {s[k]:g} at {where} {k} is below {lo:g} N/m (a jaw would close more than "
+            f"{10 / lo:g} m at 10 N): stiffness is in N/m — a value in N/mm is 1000x smaller; "
+            "multiply it by 1e3 (config.TOL.min_plausible_stiffness sets the limit)"
         )
     return s
 
@@ -129,7 +138,12 @@ class StiffnessMap:
             fix="a (m, 1) column: pass .ravel(), or use StiffnessMap.from_measured",
             rigid=f"+inf or >= {thr:g}",
         )
-        check_extent(float(np.ptp(P, axis=0).max()), "stiffness map points", fix="scale them by {factor:g}")
+        check_extent(
+            float(np.ptp(P, axis=0).max()),
+            "stiffness map points",
+            fix="scale them by {factor:g}",
+            override=None,
+        )
         if self.grasp is None:
             g = np.arange(len(P))
         else:
