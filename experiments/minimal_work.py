@@ -374,7 +374,8 @@ def run(config: dict) -> dict:
             "the jaw closing at that force from the calibrated wall FEM (fem.object_wall, one effective E "
             "per "
             "object) is at most closing_limit_mm. No limit surface, map interpolation or linearisation is "
-            "shared with the metrics."
+            "shared with the metrics; but the closing test (f/s) and W = f (f/s + eps) grow with the same "
+            "ratio, so part of q_work's lead over q_force is built into this truth."
         ),
         "stiffness_validation": validation,
         "series_compliance": series,

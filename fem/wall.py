@@ -334,6 +334,13 @@ def squeeze(
     ``converged`` says both jaw forces are the target and no footprint node passes
     through a jaw at the end (else a warning is logged); ``compliance_solves`` counts
     the sparse solves.
+
+    Discretisation: the footprint is the nodes inside the jaw face, so ``stiffness`` steps
+    when a jaw edge crosses a row of nodes.  Measured on a tube (R 30 mm, 0.5 mm PET,
+    clamped at both ends, 96 mm tall, ``n_theta`` 48) at mirror-image heights 0.0301 /
+    0.0299 m: 23 580 / 26 446 N/m (12 %) at ``n_z`` 24, 24 416 / 25 728 (5 %) at 48,
+    24 938 / 25 588 (2.6 %) at 96 — an error of the order of the row spacing over the
+    jaw length, not a solver tolerance.
     """
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be a positive jaw force [N]; got {force}")

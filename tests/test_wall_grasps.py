@@ -143,3 +143,30 @@ def test_missing_physics_measurements_on_constructed_maps():
         missing_physics(model, measured, width=np.zeros(n), clamp_distance=far)
     with pytest.raises(ValueError, match="one length"):
         missing_physics(model, measured[:-1], width=width, clamp_distance=far)
+
+
+def test_split_scores_of_any_calibrated_model():
+    """split_scores_of with the one-factor fit is split_scores (same halves); a fit that
+    predicts NaN on some halves is left out and counted; a model calibrated by a power law
+    (s = c * m**2, as no factor can fit) is scored by its own fit."""
+    from fem.calibration import calibrate, split_scores, split_scores_of
+
+    rng = np.random.default_rng(3)
+    model = rng.uniform(300, 3000, 30)
+    measured = 0.2 * model * np.exp(rng.normal(0, 0.1, 30))
+    a = split_scores(model, measured, n_splits=40)
+    b = split_scores_of(lambda tr: model * calibrate(model, measured, tr), measured, n_splits=40)
+    assert a == b and b["n_failed"] == 0 and b["n_splits"] == 40
+    calls = iter(range(10**6))
+    flaky = split_scores_of(
+        lambda tr: model * (np.nan if next(calls) % 4 == 0 else 0.2), measured, n_splits=40
+    )
+    assert flaky["n_failed"] == 10
+    sq = 1e-4 * model**2
+
+    def power_fit(tr):  # exponent 1/2 and a factor, fitted on the training half
+        k, logc = np.polyfit(np.log(sq[tr]), np.log(measured[tr]), 1)
+        return np.exp(logc) * sq**k
+
+    fit = split_scores_of(power_fit, measured, n_splits=40)
+    assert fit["median_abs_log_ratio"]["median"] < 0.12  # the noise is 0.1 in log
