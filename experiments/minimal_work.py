@@ -282,11 +282,14 @@ def run(config: dict) -> dict:
     todo = [x for x in grasps_all if f"grasp/{x[0]}/{x[1]}" not in ckpt]
     for name, k, g, smap, scale in tqdm(todo, desc="minimal work", unit="grasp"):
         seed = config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k
-        ckpt.add(
-            f"grasp/{name}/{k}",
-            _grasp_row(name, k, g, meshes[name], smap, scale, wall_of, jaws_of, config, seed),
-        )
+        row = _grasp_row(name, k, g, meshes[name], smap, scale, wall_of, jaws_of, config, seed)
+        ckpt.add(f"grasp/{name}/{k}", row)
     rows = [ckpt.rows[f"grasp/{x[0]}/{x[1]}"] for x in grasps_all]
+    skipped = [
+        {"object": r["object"], "grasp": r["grasp"], "reason": r["skipped"]} for r in rows if "skipped" in r
+    ]
+    keep = [i for i, r in enumerate(rows) if "skipped" not in r]
+    grasps_all, rows = [grasps_all[i] for i in keep], [rows[i] for i in keep]
     t_nl = time.perf_counter()
     nl_objects = [n for n in config["nl_work_objects"] if n in config["objects"]]
     if len(nl_objects) < len(config["nl_work_objects"]):
@@ -361,6 +364,7 @@ def run(config: dict) -> dict:
         "beyond_thesis_q_work_fem": {t: table[t]["q_work_fem"] for t in TASKS},
         "beyond_thesis_nonlinear_work": nonlinear,
         "n_grasps": len(rows),
+        "skipped_grasps": skipped,  # candidates without a profile (profiles="fem" only)
         "n_grasps_per_object": {n: int((objs == n).sum()) for n in config["objects"]},
         "n_test": int((~split).sum()),
         "class_balance": class_balance,
@@ -558,7 +562,13 @@ def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: in
 
     t0 = time.perf_counter()
     F0, mu = config["grasp_force"], config["mu"]
-    profiles = jaws_of(mesh, g)
+    try:
+        profiles = jaws_of(mesh, g)
+    except ValueError as e:  # no FEM pad profile: the object reaches the jaw's rigid back first
+        if config["profiles"] == "reach":
+            raise
+        log.warning("%s grasp %d skipped: %s", name, k, e)
+        return {"object": name, "grasp": k, "skipped": str(e)}
     contacts = [contact_sets(p, "6dls", M=config["M"], seed=config["seed"])[0] for p in profiles]
     s_map = smap(np.array([g["p1"], g["p2"]]))
     geo, wall = wall_of(name)

@@ -143,12 +143,24 @@ def fem_jaw_profile(
         sol = cache[delta]
         return float(sol.force_vector @ np.array([0.0, 0.0, 1.0]))
 
-    hi = 0.9 * h  # the rigid back stays clear of the object
-    if axial(hi) < force:
+    hi = 0.9 * h  # the rigid back stays clear of the object ...
+    try:
+        f_hi = axial(hi)
+    except ValueError:  # ... unless the object reaches it earlier (a rim, a shoulder beside the pad)
+        lo_ok, hi_bad = 0.0, hi
+        for _ in range(30):
+            mid = 0.5 * (lo_ok + hi_bad)
+            try:
+                axial(mid)
+                lo_ok = mid
+            except ValueError:
+                hi_bad = mid
+        hi, f_hi = lo_ok, axial(lo_ok) if lo_ok > 0 else 0.0
+    if f_hi < force:
         raise ValueError(
-            f"the pad reaches only {axial(hi):.3g} N along the approach at {hi * 1e3:.3g} mm of its "
-            f"{h * 1e3:.3g} mm layer, below the reading {force} N: a stiffer or thicker pad, or a "
-            "smaller force"
+            f"the pad reaches only {f_hi:.3g} N along the approach at {hi * 1e3:.3g} mm of its "
+            f"{h * 1e3:.3g} mm layer (then the object meets the jaw's rigid back or the layer is spent), "
+            f"below the reading {force} N: a stiffer or thicker pad, another grasp, or a smaller force"
         )
     delta = brentq(lambda d: axial(d) - force, 0.0, hi, xtol=1e-12 * h, rtol=1e-10)
     prof = extract_profile(pad, cache.get(delta) or solve_contact(pad, posed, delta), posed)
