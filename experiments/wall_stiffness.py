@@ -266,7 +266,15 @@ def _object_inputs(config: dict) -> tuple:
 
 def check_config(config: dict) -> None:
     """With ``object=``, refuse careless inputs before any work (:func:`_object_inputs`);
-    ``workbench run`` turns the ``ValueError`` into its error message."""
+    ``workbench run`` turns the ``ValueError`` into its error message.  Force, E and jaw
+    size are checked in every mode (force=0 used to fail only after the wall was built)."""
+    for key, unit in (("force", "N per jaw, e.g. 10.0"), ("E", "Pa, e.g. 2.5e9 for PET")):
+        v = config[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (np.isfinite(v) and v > 0):
+            raise ValueError(f"{key} must be finite and > 0 [{unit}]; got {v!r}")
+    jaw = np.asarray(config["jaw"], dtype=float)
+    if jaw.shape != (2,) or not (np.isfinite(jaw).all() and (jaw > 0).all()):
+        raise ValueError(f"jaw must be [width, length] > 0 [m], e.g. [0.02, 0.04]; got {config['jaw']!r}")
     if config["object"]:
         _object_inputs(config)
 

@@ -474,3 +474,16 @@ def test_unit_messages_name_only_fixes_the_caller_has():
     with pytest.raises(ValueError, match="millimetres") as exc:
         wall_geometry(_cup().apply_scale(1000.0))
     assert "allow_scale" not in str(exc.value) and "units='mm'" in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    "key, value, word",
+    [("force", "0", "> 0"), ("force", "-10", "negative"), ("E", "0", "> 0"), ("jaw", "[0.02, 0]", "> 0")],
+)
+def test_wall_stiffness_refuses_a_zero_force_e_or_jaw_before_any_work(capsys, tmp_path, key, value, word):
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "wall-stiffness", "--out", str(tmp_path / "o"), "--set", f"{key}={value}"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    _has(err, key, word, value.split(",")[0].strip("["))
+    assert not (tmp_path / "o").exists()
