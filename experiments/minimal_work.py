@@ -290,6 +290,8 @@ def run(config: dict) -> dict:
     ]
     keep = [i for i, r in enumerate(rows) if "skipped" not in r]
     grasps_all, rows = [grasps_all[i] for i in keep], [rows[i] for i in keep]
+    # the training half of Table 4.6 (W_max, f_max), shared by the nonlinear-work comparison
+    split = np.random.default_rng(config["seed"] + 1).random(len(rows)) < config["train_fraction"]
     t_nl = time.perf_counter()
     nl_objects = [n for n in config["nl_work_objects"] if n in config["objects"]]
     if len(nl_objects) < len(config["nl_work_objects"]):
@@ -297,12 +299,13 @@ def run(config: dict) -> dict:
             "nonlinear work: %s not among objects, skipped",
             sorted(set(config["nl_work_objects"]) - set(nl_objects)),
         )
-    nonlinear = _nonlinear_work(ckpt, grasps_all, rows, meshes, config, nl_objects) if nl_objects else None
+    nonlinear = (
+        _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, nl_objects) if nl_objects else None
+    )
     t_nl = time.perf_counter() - t_nl
 
     # 6. Table 4.6: W_max and f_max on a training half, balanced accuracy on the rest
     objs = np.array([r["object"] for r in rows])
-    split = np.random.default_rng(config["seed"] + 1).random(len(rows)) < config["train_fraction"]
     table, normalisers, class_balance = {}, {}, {}
     for task in TASKS:
         truth = np.array([r[task]["truth"] for r in rows])
@@ -411,12 +414,13 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) -> dict:
+def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list[str]) -> dict:
     """Scope 9 (§4.3.5): per candidate grasp of ``objects``, the nonlinear wall's
     load curve up to the largest jaw force of any pose, ``W_nl = max over poses Σ_i ∫ f dΔ``
     at the jaws' minimal forces (:func:`fem.wall_nonlinear.curve_work`), and Table 4.6's
     balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
-    (``f² / 2s``), on the same grasps with the same split.  Rows checkpointed."""
+    (``f² / 2s``), on the same grasps with the same ``split`` (n,) bool (True: training).
+    Rows checkpointed."""
     import hashlib
     import json
 
@@ -430,16 +434,18 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
     sel = [i for i, x in enumerate(grasps_all) if x[0] in objects]
     geos: dict = {}
 
+    def key(i: int) -> str:  # the checkpoint key of candidate i's load curve
+        return f"nlw/{tag}/{grasps_all[i][0]}/{grasps_all[i][1]}"
+
     def need(r) -> float:  # the largest jaw force over both tasks' poses [N]
         f = np.array([x for t in TASKS for pose in r[t]["forces"] for x in pose], float)
         return float(np.nanmax(f)) if np.isfinite(f).any() else float("nan")
 
-    todo = [i for i in sel if f"nlw/{tag}/{grasps_all[i][0]}/{grasps_all[i][1]}" not in ckpt]
-    for i in tqdm(todo, desc="nonlinear work", unit="grasp"):
+    for i in tqdm([i for i in sel if key(i) not in ckpt], desc="nonlinear work", unit="grasp"):
         name, k, g, _, scale = grasps_all[i]
-        r, key = rows[i], f"nlw/{tag}/{name}/{k}"
+        r = rows[i]
         if not np.isfinite(_num(r["s_fem"])) or not np.isfinite(need(r)):  # rigid, or never resisted
-            ckpt.add(key, {"curve": None})
+            ckpt.add(key(i), {"curve": None})
             continue
         if name not in geos:
             geos[name] = wall_geometry(meshes[name], thickness=config["thickness"], n_z=config["nl_mesh"][1])
@@ -457,10 +463,10 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
             )
         except ValueError as e:  # e.g. no wall under a jaw: recorded, not hidden
             log.warning("nonlinear work %s grasp %d: %s", name, k, e)
-            ckpt.add(key, {"curve": None, "error": str(e)})
+            ckpt.add(key(i), {"curve": None, "error": str(e)})
             continue
         ckpt.add(
-            key,
+            key(i),
             {
                 "curve": {"closing": res["closing"].tolist(), "jaw_forces": res["jaw_forces"].tolist()},
                 "on_clamp": res["on_clamp"],
@@ -471,8 +477,7 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
     W_lin = {t: np.full(len(sel), np.inf) for t in TASKS}
     W_map = {t: np.array([_num(rows[i][t]["W"]) for i in sel]) for t in TASKS}
     for j, i in enumerate(sel):
-        name, k = grasps_all[i][:2]
-        r, c = rows[i], ckpt.rows[f"nlw/{tag}/{name}/{k}"]
+        r, c = rows[i], ckpt.rows[key(i)]
         for t in TASKS:
             W_lin[t][j] = _num(r[t]["W_fem"])
             poses = [np.asarray(p, float) for p in r[t]["forces"]]
@@ -489,7 +494,6 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
                 sums = np.array([x.sum() for x in w])
                 # a force past the curve's end (max closing): predicted to fail, like unresisted
                 W_nl[t][j] = np.inf if np.isnan(sums).any() else float(sums.max())
-    split = np.random.default_rng(config["seed"] + 1).random(len(rows)) < config["train_fraction"]
     split, objs = split[sel], np.array([grasps_all[i][0] for i in sel])
     table = {}
     for t in TASKS:
@@ -514,11 +518,7 @@ def _nonlinear_work(ckpt, grasps_all, rows, meshes, config, objects: list[str]) 
             "median": float(np.median(W_nl[t][fin] / W_lin[t][fin])) if fin.any() else None,
             "n": int(fin.sum()),
         }
-    secs = [
-        c["seconds"]
-        for i in sel
-        if (c := ckpt.rows[f"nlw/{tag}/{grasps_all[i][0]}/{grasps_all[i][1]}"]).get("seconds") is not None
-    ]
+    secs = [ckpt.rows[key(i)]["seconds"] for i in sel if "seconds" in ckpt.rows[key(i)]]
     return {
         "objects": objects,
         "skipped_not_in_objects": sorted(set(config["nl_work_objects"]) - set(objects)),

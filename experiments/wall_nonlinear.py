@@ -177,9 +177,11 @@ def run(config: dict) -> dict:
     def s_nl_at(c: float) -> np.ndarray:  # E = E_lin * c
         return np.array([curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in curves])
 
-    def misfit(c: float) -> float:
-        s = s_nl_at(c)
-        return float(np.median(np.log(s / meas))) if np.isfinite(s).all() else -np.inf
+    def misfit(c: float, idx=slice(None)) -> float:  # median log ratio over grasps idx at E_lin * c
+        s = np.array(
+            [curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in np.asarray(curves)[idx]]
+        )
+        return float(np.median(np.log(s / meas[idx]))) if np.isfinite(s).all() else -np.inf
 
     lo = F / config["force_stop"] * 1.0001  # the curves reach force_stop: E down to this fraction
     c_nl = brentq(misfit, lo, 100.0) if misfit(lo) < 0 < misfit(100.0) else float("nan")
@@ -201,15 +203,9 @@ def run(config: dict) -> dict:
     if len(both) >= 6:
 
         def nl_predict(train) -> np.ndarray:
-            def mis(c: float) -> float:
-                s = np.array(
-                    [curve_stiffness(curves[i]["closing"], curves[i]["jaw_forces"], F, c)[0] for i in train]
-                )
-                return float(np.median(np.log(s / meas[train]))) if np.isfinite(s).all() else -np.inf
-
-            if not mis(lo) < 0 < mis(100.0):
+            if not misfit(lo, train) < 0 < misfit(100.0, train):
                 return np.full(len(meas), np.nan)
-            return s_nl_at(brentq(mis, lo, 100.0))
+            return s_nl_at(brentq(misfit, lo, 100.0, args=(train,)))
 
         held = {"n_grasps": len(both), "linear": split_scores(s_l_pick, meas)}
         held["nonlinear"] = split_scores_of(nl_predict, meas) if np.isfinite(c_nl) else None

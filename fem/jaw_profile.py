@@ -53,14 +53,15 @@ def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
     if not na > 0:
         raise ValueError(f"approach must be a non-zero direction (into the object); got {approach!r}")
     ez = a / na
-    ey = u - (u @ ez) * ez
-    if not np.linalg.norm(ey) > 1e-6 * max(float(np.linalg.norm(u)), 1e-300):
+    if not np.linalg.norm(u - (u @ ez) * ez) > 1e-6 * max(float(np.linalg.norm(u)), 1e-300):
         raise ValueError(
             f"up {up!r} is parallel to the approach {approach!r}: the pad's long side is undefined — "
             "give an up direction across the approach"
         )
-    ey /= np.linalg.norm(ey)
-    return np.column_stack([np.cross(ey, ez), ey, ez])
+    from workbench.grasp.reach import jaw_frame
+
+    ez, ex, ey = jaw_frame(ez, u)  # REACH's jaw axes: approach, width, length
+    return np.column_stack([ex, ey, ez])
 
 
 def _touching(obstacle: MeshObstacle, R: np.ndarray, point: np.ndarray, X: np.ndarray, h: float) -> Posed:
