@@ -322,6 +322,8 @@ def run_object(config: dict) -> dict:
         "stiffness_n_per_m": s.tolist(),
         "rigid": [bool(r["rigid"]) for r in rows],
         "failed": [bool(r["failed"]) for r in rows],
+        "non_antipodal": [bool(r.get("non_antipodal", False)) for r in rows],
+        "axis_normal_deg": [r.get("axis_normal_deg") for r in rows],
         "reasons": [r["reason"] for r in rows],
         "closing_mm": (np.array([r["delta"] for r in rows], dtype=float) * 1e3).tolist(),
         "wall": {
@@ -353,7 +355,8 @@ def run_object(config: dict) -> dict:
             }
     summary["headline"] = [
         f"{Path(config['object']).stem}: {n} grasps, {sum(summary['rigid'])} rigid, "
-        f"{sum(summary['failed'])} failed; stiffness {np.nanmin(s):.0f}..{np.nanmax(s):.3g} N/m",
+        f"{sum(summary['failed'])} failed, {sum(summary['non_antipodal'])} not antipodal; "
+        f"stiffness {np.nanmin(s):.0f}..{np.nanmax(s):.3g} N/m",
     ]
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 

@@ -16,13 +16,20 @@ flagged with its reason:
   below ``rigid_closing`` (what the gripper cannot resolve) —
   reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10 (the computed value
   is kept as ``fem_stiffness``);
-* ``failed``: the squeeze raised (e.g. no wall under a jaw) or the grasp axis is
-  not horizontal (the squeeze's jaws are vertical) —
+* ``failed``: the squeeze raised (e.g. no wall under a jaw), the grasp axis is
+  not horizontal (the squeeze's jaws are vertical), or it points out of the wall at a
+  jaw point (more than 90° from the outward normal: the jaw would press from inside) —
   ``NaN`` with the reason.
+
+A grasp is squeezed but flagged ``non_antipodal`` (and logged) when its axis is more
+than ``config.TOL.antipodal_max_deg`` from the surface normal at either jaw point —
+a pair of points that is not a parallel-jaw grasp (e.g. two points on one side); each
+row carries that angle as ``axis_normal_deg``.
 """
 
 from __future__ import annotations
 
+import logging
 import time
 from typing import Any
 
@@ -30,6 +37,8 @@ import numpy as np
 
 from .mesh_wall import RadialSurface
 from .wall import Wall, squeeze
+
+log = logging.getLogger(__name__)
 
 #: stiffness reported for a rigid location [N/m] (the measured maps use 8e10)
 RIGID_STIFFNESS = 8.0e10
@@ -101,6 +110,26 @@ def grasp_pairs(
     return L[:n], L[n:]
 
 
+def axis_normal_angles(surface: RadialSurface, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(n,) larger angle [deg] between the grasp axis and the wall's outward normal at
+    the two jaw points: the axis ``b − a`` against ``−n(a)`` and against ``n(b)``.
+
+    a, b : (n, 3) first and second jaw points [m] (:func:`grasp_pairs`).  0° is an
+    ideal antipodal pair; > 90° means the axis leaves the object at a jaw point.  The
+    normal is the radial surface's at the point's (θ, z) (outside the side wall's
+    heights its spline's extrapolation: a rough value)."""
+    a, b = np.atleast_2d(np.asarray(a, float)), np.atleast_2d(np.asarray(b, float))
+    axis = b - a
+    norm = np.linalg.norm(axis, axis=1, keepdims=True)
+    axis = np.divide(axis, norm, out=np.zeros_like(axis), where=norm > 0)
+    out = []
+    for p, sign in ((a, -1.0), (b, 1.0)):
+        th, z, _ = surface.parameters(p)
+        _, n = surface(th, z)
+        out.append(np.degrees(np.arccos(np.clip(sign * np.einsum("ij,ij->i", n, axis), -1.0, 1.0))))
+    return np.maximum(*out)
+
+
 def stiffness_at(
     wall: Wall,
     surface: RadialSurface,
@@ -113,7 +142,8 @@ def stiffness_at(
     z_range: tuple[float, float] | None = None,
 ) -> list[dict]:
     """One dict per grasp of ``locations`` (2n, 3): ``stiffness`` [N/m], ``delta`` [m],
-    ``rigid`` and ``failed`` flags (module docstring), ``reason``, ``fem_stiffness``
+    ``rigid``, ``failed`` and ``non_antipodal`` flags and ``axis_normal_deg`` (module
+    docstring), ``reason``, ``fem_stiffness``
     (the squeeze's value, also for a grasp flagged rigid by its closing), ``seconds``.
 
     wall : the wall built on ``surface`` (:func:`fem.wall.build_wall`); force : jaw
@@ -124,24 +154,46 @@ def stiffness_at(
     """
     if not (np.isfinite(rigid_closing) and rigid_closing >= 0):
         raise ValueError(f"rigid_closing must be a closing >= 0 [m]; got {rigid_closing}")
+    from workbench.config import TOL
+
     p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
     lo, hi = surface.z_range if z_range is None else z_range
+    angles = axis_normal_angles(surface, p1, p2)
+    limit = TOL.antipodal_max_deg  # read at call time
     out = []
-    for a, b in zip(p1, p2, strict=True):
+    for k, (a, b) in enumerate(zip(p1, p2, strict=True)):
+        ang = float(angles[k])
         row = {
             "stiffness": np.nan,
             "fem_stiffness": np.nan,
             "delta": np.nan,
             "rigid": False,
             "failed": False,
+            "non_antipodal": bool(ang > limit),
+            "axis_normal_deg": ang,
             "reason": None,
         }
         t0 = time.perf_counter()
         axis = b - a
+        if row["non_antipodal"]:
+            log.warning(
+                "grasp %d is not antipodal: its axis is %.0f° from the surface normal at a jaw point "
+                "(at most %g°, config.TOL.antipodal_max_deg) — check that points i and i + n are the "
+                "two jaws of one grasp",
+                k,
+                ang,
+                limit,
+            )
         if not all(lo <= p[2] <= hi for p in (a, b)):
             row.update(stiffness=RIGID_STIFFNESS, delta=0.0, rigid=True, reason="outside the side wall")
         elif abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3°: squeeze's jaws are vertical
             row.update(failed=True, reason="grasp axis not horizontal (the wall squeeze assumes it is)")
+        elif ang > 90.0:
+            row.update(
+                failed=True,
+                reason=f"the grasp axis leaves the wall at a jaw point ({ang:.0f}° from its outward "
+                "normal): a jaw would press from inside; points i and i + n must face each other",
+            )
         else:
             try:
                 res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
@@ -211,4 +263,4 @@ def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:
     return L, S[:n]
 
 
-__all__ = ["RIGID_STIFFNESS", "grasp_pairs", "read_locations", "stiffness_at"]
+__all__ = ["RIGID_STIFFNESS", "axis_normal_angles", "grasp_pairs", "read_locations", "stiffness_at"]

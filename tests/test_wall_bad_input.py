@@ -200,7 +200,7 @@ CLI_CASES = {
     ),
     "thickness -1e-3": (
         ["object=cup.obj", "locations=good.json", "thickness=-1e-3"],
-        ["thickness", "-0.001 is negative", "values >= 0", "--set thickness=0.0005"],
+        ["thickness", "-0.001 is negative", "takes no negative values", "--set thickness=0.0005"],
     ),
     "thickness not a number": (
         ["object=cup.obj", "locations=good.json", "thickness=thin"],

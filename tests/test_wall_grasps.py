@@ -48,6 +48,26 @@ def test_rigid_and_failed_grasps_are_flagged_not_fatal(tube):
     assert not rows[2]["failed"]
 
 
+def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
+    """On a circle, a chord between points φ apart makes (180° − φ)/2 with both normals:
+    φ = 180° is antipodal (0°), φ = 100° gives 40° (kept), φ = 60° gives 60° (> 45°: flagged,
+    still squeezed, and logged)."""
+    from fem.wall_grasps import axis_normal_angles
+
+    surf, wall = tube
+    r, z = 0.03, 0.05
+    phis = np.radians([180.0, 100.0, 60.0])
+    a = np.tile([r, 0.0, z], (3, 1))
+    b = np.column_stack([r * np.cos(phis), r * np.sin(phis), np.full(3, z)])
+    np.testing.assert_allclose(axis_normal_angles(surf, a, b), [0.0, 40.0, 60.0], atol=0.5)
+    with caplog.at_level("WARNING", logger="fem.wall_grasps"):
+        rows = stiffness_at(wall, surf, np.vstack([a, b]))
+    assert [row["non_antipodal"] for row in rows] == [False, False, True]
+    assert rows[2]["axis_normal_deg"] == pytest.approx(60.0, abs=0.5)
+    assert not rows[2]["failed"] and np.isfinite(rows[2]["stiffness"])
+    assert "grasp 2 is not antipodal" in caplog.text and "grasp 1 " not in caplog.text
+
+
 @pytest.mark.parametrize(
     "locs, match",
     [

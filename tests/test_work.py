@@ -180,10 +180,17 @@ def test_stiffness_map_exact_rigid_and_clamped():
     soft = s[~np.isinf(s)]
     lo, hi = S[~top].min(), S[~top].max()
     assert soft.min() >= lo * (1 - 1e-12) and soft.max() <= hi * (1 + 1e-12)
-    # far from the data the spline's trend would leave the range: the clamp holds it
-    far = smap(np.array([[0.0, 0.0, -0.5], [0.3, 0.3, 0.01]]))
-    assert np.all((far >= lo * (1 - 1e-12)) & (far <= hi * (1 + 1e-12)))
-    assert smap([0.0, 0.0, 0.2]).shape == (1,) and np.isinf(smap([0.0, 0.0, 0.2])[0])
+    # outside the measured points' hull the spline's trend would leave the range: the clamp
+    # holds it; farther from every point than the points span (0.08 m) is refused
+    span = float(np.ptp(P, axis=0).max())
+    out = smap(np.array([[0.0, 0.0, -0.05], [0.07, 0.07, 0.01]]))
+    assert np.all((out >= lo * (1 - 1e-12)) & (out <= hi * (1 + 1e-12)))
+    for q in ([0.0, 0.0, -0.5], [0.3, 0.3, 0.01], [0.0, 0.0, 80.0]):  # the last: a height in mm
+        dist = float(np.linalg.norm(P - q, axis=1).min())
+        assert dist > span
+        with pytest.raises(ValueError, match=rf"{dist:.3g} m from the nearest measured point.*metres"):
+            smap(np.array([[0.0, 0.0, 0.05], q]))
+    assert smap([0.0, 0.0, 0.15]).shape == (1,) and np.isinf(smap([0.0, 0.0, 0.15])[0])
 
 
 def test_stiffness_map_is_scale_free_and_reads_the_threshold():

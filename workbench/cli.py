@@ -191,11 +191,14 @@ def _check_range(key: str, value: Any, default: Any) -> Any:
     noise levels; offsets with negative defaults are free); a ``*_range`` key is
     ``[lo, hi]`` with ``lo <= hi``.  Maps (e.g. approach angles) are not judged."""
     if _number(default) and default >= 0 and _number(value) and value < 0:
-        raise _Mismatch(f"{value!r} is negative (the default is not: this key takes values >= 0)")
+        raise _Mismatch(
+            f"{value!r} is negative; the default is not, and this key takes no negative values "
+            "(the experiment may refuse 0 as well, e.g. a thickness)"
+        )
     if isinstance(default, (list, tuple)) and default and all(_number(d) and d >= 0 for d in default):
         bad = [v for v in value if _number(v) and v < 0]
         if bad:
-            raise _Mismatch(f"elements {bad} are negative (this key takes values >= 0)")
+            raise _Mismatch(f"elements {bad} are negative; this key takes no negative values")
     if key.endswith("_range") and isinstance(default, (list, tuple)) and len(default) == 2:
         if len(value) != 2 or not value[0] <= value[1]:
             raise _Mismatch(f"{value!r} is not a range [lo, hi] with lo <= hi")

@@ -222,6 +222,15 @@ class Tolerances:
     # Below this [N/m] a stiffness is taken for a unit slip (N/mm read as N/m): at 10 N
     # the jaw would close 1 m.  The softest measured grasp is ~140 N/m (a mustard wall).
     min_plausible_stiffness: float = 10.0
+    # A grasp location pair whose axis is more than this [deg] from the surface normal at
+    # either point is flagged non-antipodal (the flat jaw meets the wall on an edge).  The
+    # measured maps' grasps reach 37° (tapered cups and bottles on a faceted mesh);
+    # beyond 90° the jaw would press the wall from inside, and the grasp fails.
+    antipodal_max_deg: float = 45.0
+
+    # Heaviest object mass [kg] a gravity wrench accepts: beyond any gripper's payload, so a
+    # larger number is taken for grams (a filled 0.27 kg bottle given as 270).
+    max_plausible_mass_kg: float = 100.0
 
 
 TOL = Tolerances()

@@ -177,16 +177,16 @@ def evaluate_grasp(
     if w_ext is None:
         if mass is None or com is None:
             raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")
-        w = gravity_wrench(mass, com)
-        if mesh is not None:
+        if mesh is not None:  # before gravity_wrench's generic check: the object's box says more
             lo, hi = np.asarray(mesh.bounds, float)
             ext = float((hi - lo).max())
             c = np.asarray(com, float)
-            if ((c < lo - ext) | (c > hi + ext)).any():
+            if c.shape == (3,) and ((c < lo - ext) | (c > hi + ext)).any():
                 raise ValueError(
                     f"com {c.tolist()} lies far outside the object's bounding box "
                     f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
                 )
+        w = gravity_wrench(mass, com)
     else:
         if mass is not None or com is not None:
             raise ValueError("give the task either as w_ext or as mass and com, not both")

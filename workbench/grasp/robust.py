@@ -47,13 +47,30 @@ class Perturbation:
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
 
-    mass : kg, > 0; com : (3,) centre of mass [m]; down : (3,) gravity direction.
+    mass : kg, > 0 and at most ``config.TOL.max_plausible_mass_kg`` (a larger value is
+    taken for grams); com : (3,) centre of mass [m], within ``TOL.max_object_extent_m`` of
+    the origin (farther is taken for millimetres); down : (3,) gravity direction.
     """
+    from workbench import config
+
+    tol = config.TOL  # read at call time
     if isinstance(mass, (bool, np.bool_)) or not np.isscalar(mass) or not (np.isfinite(mass) and mass > 0):
         raise ValueError(f"mass must be a finite number > 0 [kg]; got {mass!r}")
+    if mass > tol.max_plausible_mass_kg:
+        raise ValueError(
+            f"mass must be in kg; got {mass!r}, above {tol.max_plausible_mass_kg:g} kg "
+            f"(config.TOL.max_plausible_mass_kg) — a mass in grams? pass {mass / 1e3:g}"
+        )
     c = np.asarray(com, float)
     if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"com must be a finite (3,) point [m]; got shape {c.shape}: {c.tolist()}")
+    if np.linalg.norm(c) > tol.max_object_extent_m:
+        raise ValueError(
+            f"com must be in metres, in the object's frame; got {c.tolist()}, "
+            f"{np.linalg.norm(c):.3g} m from the origin, beyond the largest object "
+            f"(config.TOL.max_object_extent_m = {tol.max_object_extent_m:g} m) — in millimetres? "
+            f"pass {(c / 1e3).tolist()}"
+        )
     d = np.asarray(down, float)
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(f"down must be a non-zero (3,) direction; got {d.tolist()}")

@@ -243,7 +243,9 @@ class StiffnessMap:
 
     def __call__(self, points) -> np.ndarray:
         """(k,) stiffness [N/m] at (k, 3) points [m] (a single (3,) point gives (1,));
-        ``np.inf`` where the nearest measured point is rigid."""
+        ``np.inf`` where the nearest measured point is rigid.  A point farther from every
+        measured point than the points' largest extent raises ``ValueError`` (it is off
+        the object: another frame or unit), instead of the clamped extrapolation."""
         Q = np.asarray(points, dtype=float)
         if Q.ndim == 1:
             Q = Q[None]
@@ -252,7 +254,18 @@ class StiffnessMap:
         out = np.full(len(Q), np.inf)
         if len(Q) == 0:
             return out
-        _, idx = self._tree.query(Q)
+        dist, idx = self._tree.query(Q)
+        # a point farther from every measured point than the measured points span is not on
+        # this object (another frame or unit): refuse it rather than return a clamped value
+        span = float(np.ptp(self.points, axis=0).max())
+        far = dist > span if span > 0 else np.zeros(len(Q), dtype=bool)  # one point: no scale
+        if far.any():
+            k = int(np.argmax(dist))
+            raise ValueError(
+                f"point {k} {Q[k].tolist()} is {dist[k]:.3g} m from the nearest measured point, "
+                f"farther than the measured points span ({span:.3g} m): it is not on this object — "
+                "give points in the map's frame and in metres"
+            )
         soft = ~self.rigid[idx]
         if soft.any():
             lo, hi = self._log_range

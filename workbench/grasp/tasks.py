@@ -21,8 +21,9 @@ TASKS = {"vertical_lifting": (0.0,), "lift_and_rotate": (0.0, 45.0, 90.0)}
 def task_wrenches(task: str, mass: float, com, axis) -> np.ndarray:
     """(k, 6) gravity wrenches in the object frame, about its origin, one per pose of ``task``.
 
-    mass : kg; com : (3,) centre of mass [m]; axis : (3,) the grasp axis (rotation axis
-    of "lift_and_rotate"; need not be unit).
+    mass : kg; com : (3,) centre of mass [m] (both checked as in
+    :func:`~.robust.gravity_wrench`: grams and millimetres are refused); axis : (3,) the
+    grasp axis (rotation axis of "lift_and_rotate"; need not be unit).
     """
     if task not in TASKS:
         raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
