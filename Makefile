@@ -34,6 +34,7 @@ reproduce: $(STAMP)
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py
 	$(BIN)/python benchmarks/bench_minimal_work.py
+	$(BIN)/python benchmarks/bench_sweep.py
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q
@@ -52,6 +53,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py
 	$(BIN)/python benchmarks/bench_minimal_work.py
+	$(BIN)/python benchmarks/bench_sweep.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

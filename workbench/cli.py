@@ -1,5 +1,6 @@
 """``workbench`` console script: ``workbench run <experiment> [--quick] [--out DIR]
-[--seed N] [--set key=value ...]`` and ``workbench list``.
+[--seed N] [--set key=value ...]``, ``workbench sweep <experiment> --grid KEY=JSON_LIST ...``
+(:mod:`workbench.sweep`) and ``workbench list``.
 
 ``--set`` values are JSON (a bare word is a string) and are checked against the
 type of the experiment's default before anything runs: ``workbench run NAME
@@ -309,8 +310,151 @@ def _add_run_options(p: argparse.ArgumentParser, *, suppress: bool) -> None:
     p.add_argument("-v", "--verbose", action="store_true", default=d(False))
 
 
+_SWEEP_EPILOG = """\
+examples:
+  workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7]
+  workbench sweep fem-fitting --quick --grid 'fine_level=[1,2]' --zip 'seed=[0,1]' --workers 2
+  workbench sweep ls-fitting --quick --grid 'surfaces=[["S1"],["S3"]]' --scheduler tcp://10.0.0.5:8786
+  workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7] --plot mu precision
+
+Every point's config is checked before any work.  Results: DIR/table.parquet (one row per
+point), DIR/points/<key>/ (each run's outputs), DIR/sweep.json; a killed sweep resumes on
+re-run.  workbench run NAME --help lists NAME's keys."""
+
+
+def _add_sweep_parser(sub: Any, fmt: Any) -> None:
+    sw = sub.add_parser(
+        "sweep",
+        help="run an experiment over a grid of settings on Dask, one Parquet table per sweep",
+        description="Run EXPERIMENT at every point of a grid of config values, as Dask tasks "
+        "(a local cluster of one single-threaded worker per core by default).",
+        epilog=_SWEEP_EPILOG,
+        formatter_class=fmt,
+    )
+    sw.add_argument(
+        "experiment",
+        choices=list(EXPERIMENTS),
+        metavar="experiment",
+        help="one of: " + ", ".join(EXPERIMENTS),
+    )
+    sw.add_argument(
+        "--grid",
+        action="append",
+        default=[],
+        metavar="KEY=JSON_LIST",
+        help="a key and its values, e.g. mu=[0.3,0.5]; several --grid form the Cartesian product",
+    )
+    sw.add_argument(
+        "--zip",
+        action="append",
+        default=[],
+        metavar="KEY=JSON_LIST",
+        help="lists paired element by element (all of one length), one more axis of the product",
+    )
+    sw.add_argument("--quick", action="store_true", help="start every point from the quick configuration")
+    sw.add_argument(
+        "--set",
+        dest="sets",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a fixed config value for every point",
+    )
+    sw.add_argument(
+        "--seed", type=int, default=None, help="seed of every point (or sweep it with --grid seed=[...])"
+    )
+    sw.add_argument(
+        "--out",
+        default=None,
+        help="sweep directory (default results/sweeps/<experiment>-<hash of the sweep>)",
+    )
+    where = sw.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers", type=int, default=None, help="local cluster: worker processes (default one per core)"
+    )
+    where.add_argument(
+        "--scheduler", default=None, metavar="ADDRESS", help="an existing Dask cluster, e.g. tcp://host:8786"
+    )
+    sw.add_argument(
+        "--threads", type=int, default=1, help="threads per worker and Numba threads per task (default 1)"
+    )
+    sw.add_argument("--retry-failed", action="store_true", help="run points recorded as failed again")
+    sw.add_argument(
+        "--plot",
+        nargs=2,
+        action="append",
+        default=[],
+        metavar=("KEY", "METRIC"),
+        help="write DIR/plot_KEY_METRIC.png: a table column against a varied key (repeatable)",
+    )
+    sw.add_argument("-v", "--verbose", action="store_true")
+
+
+def _parse_lists(items: list[str], flag: str) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise SystemExit(f"{flag} expects KEY=JSON_LIST, e.g. mu=[0.3,0.5]; got {item!r}")
+        key, text = (x.strip() for x in item.split("=", 1))
+        try:
+            values = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise SystemExit(
+                f'{flag} {key}={text}: not a JSON list ({exc}); e.g. {key}=[0.3,0.5] or {key}=\'["a","b"]\''
+            ) from None
+        if key in out:
+            raise SystemExit(f"{flag} {key} is given twice; give one list per key")
+        out[key] = values
+    return out
+
+
+def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    from .sweep import SweepError, plot_sweep, run_sweep
+
+    if not args.verbose:  # distributed sets INFO on import and logs every worker's start and stop
+        import distributed  # noqa: F401
+
+        logging.getLogger("distributed").setLevel(logging.WARNING)
+
+    def fail(exc: BaseException) -> None:
+        msg = exc.code if isinstance(exc, SystemExit) else str(exc)
+        if not isinstance(msg, str):
+            raise exc
+        parser.exit(2, f"workbench sweep {args.experiment}: error: {msg}\n")
+
+    try:
+        grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
+        summary = run_sweep(
+            args.experiment,
+            grid,
+            zipped,
+            quick=args.quick,
+            sets=_parse_sets(args.sets),
+            seed=args.seed,
+            out=args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            threads=args.threads,
+            retry_failed=args.retry_failed,
+        )
+    except (SweepError, SystemExit) as exc:
+        fail(exc)
+    print(
+        f"sweep {args.experiment}: {summary['n_points']} points ({summary['n_ok']} ok, "
+        f"{summary['n_failed']} failed; {summary['n_resumed']} resumed, {summary['n_submitted']} run) "
+        f"in {summary['seconds']:.1f} s"
+    )
+    print(f"  table: {summary['table']}")
+    for key, metric in args.plot:
+        try:
+            print(f"  figure: {plot_sweep(summary['table'], key, metric)}")
+        except SweepError as exc:
+            fail(exc)
+    return 0 if summary["n_failed"] == 0 else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``workbench`` argument parser (``list`` and ``run NAME`` with per-experiment help)."""
+    """The ``workbench`` argument parser (``list``, ``run NAME`` with per-experiment help, ``sweep``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(prog="workbench", description=__doc__, formatter_class=fmt)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_CommandParser)
@@ -329,6 +473,7 @@ def build_parser() -> argparse.ArgumentParser:
         p = names.add_parser(name, formatter_class=fmt)
         p.experiment = name
         _add_run_options(p, suppress=True)
+    _add_sweep_parser(sub, fmt)
     return parser
 
 
@@ -344,6 +489,8 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
     )
+    if args.command == "sweep":
+        return _sweep(parser, args)
     sets = args.sets + getattr(args, "sets_after", [])
     try:
         config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(sets))

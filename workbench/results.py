@@ -19,7 +19,19 @@ from typing import Any
 
 import numpy as np
 
-PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "meshio", "trimesh", "pyvista", "matplotlib", "cvxpy")
+PACKAGES = (
+    "numpy",
+    "scipy",
+    "numba",
+    "scikit-fem",
+    "meshio",
+    "trimesh",
+    "pyvista",
+    "matplotlib",
+    "cvxpy",
+    "distributed",
+    "pyarrow",
+)
 
 
 def current_umask() -> int:
@@ -124,6 +136,33 @@ def versions() -> dict[str, str]:
     except metadata.PackageNotFoundError:
         out["workbench"] = "source"
     return out
+
+
+def code_revision() -> str:
+    """The code's revision: ``git describe --always --dirty --abbrev=12`` of the checkout
+    the package runs from (``…-dirty`` with uncommitted changes), or, outside a git
+    checkout, ``src-`` and a hash of the package's Python sources."""
+    import hashlib
+    import subprocess
+
+    root = Path(__file__).resolve().parents[1]
+    try:
+        res = subprocess.run(
+            ["git", "-C", str(root), "describe", "--always", "--dirty", "--abbrev=12"],
+            capture_output=True,
+            text=True,
+            timeout=10,
+        )
+        if res.returncode == 0 and res.stdout.strip():
+            return res.stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        pass
+    h = hashlib.sha256()
+    for pkg in ("workbench", "fem", "experiments"):
+        for f in sorted((root / pkg).rglob("*.py")):
+            h.update(f.relative_to(root).as_posix().encode())
+            h.update(f.read_bytes())
+    return "src-" + h.hexdigest()[:12]
 
 
 def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_time_s: float) -> dict:

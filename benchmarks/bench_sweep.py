@@ -1,0 +1,128 @@
+"""Sweeps on Dask (issue 14): per-task overhead of the local cluster and the speed-up of two
+workers over one on this machine, written to ``results/benchmarks/sweep.json``.
+
+* **Overhead per task**: ``n`` no-op tasks through ``client.submit`` and ``as_completed``
+  on a warm local cluster of one single-threaded worker (the driver's loop of
+  :func:`workbench.sweep.run_sweep` without the experiment), the median of several batches
+  divided by ``n``.
+* **Speed-up**: one sweep of ``points`` equal points of a small ``discretization --quick``
+  run, on a local cluster of 1 and then of 2 worker processes (one thread each, Numba's
+  threads capped at 1), each a fresh sweep directory; wall time of ``run_sweep`` including
+  the cluster's start, and without it (the sum of the points' own run times over the wall
+  time of the task loop).
+
+The speed-up of ``fem-fitting --quick`` itself — its rows as Dask tasks inside one run —
+needs the experiment's rows distributed (issue 14 scope 2) and is not measured here yet.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from bench_wrench import machine_roofline  # the sibling benchmark's FMA roofline
+
+from workbench.results import code_revision, versions, write_json
+from workbench.sweep import run_sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+SETS = {"n_elements": [25, 50, 100], "timing_twists": 2, "timing_repeats": 1}
+
+
+def _noop(i: int) -> int:
+    return i
+
+
+def task_overhead(n: int, batches: int) -> dict:
+    from distributed import Client, LocalCluster, as_completed
+
+    with (
+        LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster,
+        Client(cluster) as c,
+    ):
+        c.submit(_noop, -1).result()  # warm-up
+        per_task = []
+        for b in range(batches):
+            t0 = time.perf_counter()
+            futs = [c.submit(_noop, i, key=f"noop-{b}-{i}", pure=False) for i in range(n)]
+            for f in as_completed(futs):
+                f.result()
+            per_task.append((time.perf_counter() - t0) / n)
+    return {
+        "tasks_per_batch": n,
+        "batches": batches,
+        "median_ms": 1e3 * statistics.median(per_task),
+        "all_ms": [1e3 * x for x in per_task],
+        "goal_ms": 5.0,
+    }
+
+
+def speedup(points: int) -> dict:
+    out = {}
+    for workers in (1, 2):
+        with tempfile.TemporaryDirectory() as tmp:
+            t0 = time.perf_counter()
+            s = run_sweep(
+                "discretization",
+                {"mu": [0.5 + 0.1 * i for i in range(points)]},
+                quick=True,
+                sets=SETS,
+                out=Path(tmp) / "sw",
+                workers=workers,
+                progress=False,
+            )
+            wall = time.perf_counter() - t0
+            import pandas as pd
+
+            df = pd.read_parquet(Path(tmp) / "sw" / "table.parquet")
+        assert s["n_ok"] == points, s
+        out[workers] = {"wall_s": wall, "sum_point_s": float(df["seconds"].sum()), "n_ok": s["n_ok"]}
+    out["speedup_wall"] = out[1]["wall_s"] / out[2]["wall_s"]
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--out", default=str(ROOT / "results" / "benchmarks" / "sweep.json"))
+    args = parser.parse_args()
+    t0 = time.perf_counter()
+    load_before = os.getloadavg()
+    over = task_overhead(200 if args.quick else 500, 3 if args.quick else 5)
+    sp = speedup(4 if args.quick else 8)
+    load_after = os.getloadavg()
+    out = {
+        "benchmark": "workbench sweep on a local Dask cluster (issue 14)",
+        "task_overhead": over,
+        "sweep_speedup_2_over_1_workers": sp,
+        "sweep_points": f"discretization --quick with {SETS}, mu varied",
+        "not_yet": "fem-fitting --quick with its rows as Dask tasks (issue 14 scope 2)",
+        "machine": {
+            **machine_roofline(quick=True),
+            "cpu_count": os.cpu_count(),
+            "loadavg_1_5_15_before": load_before,
+            "loadavg_1_5_15_after": load_after,
+        },
+        "code_revision": code_revision(),
+        "versions": versions(),
+        "wall_time_s": time.perf_counter() - t0,
+    }
+    write_json(Path(args.out), out)
+    print(f"wrote {args.out}")
+    print(f"  overhead per task: {over['median_ms']:.3f} ms (goal <= 5 ms)")
+    print(
+        f"  sweep of {sp[1]['n_ok']} points: 1 worker {sp[1]['wall_s']:.1f} s, "
+        f"2 workers {sp[2]['wall_s']:.1f} s -> {sp['speedup_wall']:.2f}x"
+    )
+    print(
+        f"  FMA {out['machine']['fma_gflops_measured']:.1f} GFLOP/s, "
+        f"load {load_before[0]:.2f} -> {load_after[0]:.2f}"
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,371 @@
+"""workbench sweep: grid expansion, checks before any work, failed points recorded, resume
+with every point exactly once (driver killed), a worker killed mid-task, a separate-process
+scheduler, and the Parquet table read back."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from workbench import cli
+from workbench.sweep import SweepError, expand_grid, flatten_scalars, point_key, run_sweep
+
+BIN = Path(sys.executable).parent
+#: a discretization run of ~3 s: two meshes, few timing twists
+TINY = ["--quick", "--set", "n_elements=[25,50]", "--set", "timing_twists=2", "--set", "timing_repeats=1"]
+TINY_SETS = {"n_elements": [25, 50], "timing_twists": 2, "timing_repeats": 1}
+
+
+def test_expand_grid_is_the_product_with_zipped_lists_as_one_axis():
+    pts = expand_grid({"a": [1, 2], "b": ["x", "y", "z"]}, {"c": [10, 20], "d": [0.1, 0.2]})
+    assert len(pts) == 2 * 3 * 2
+    assert pts[0] == {"a": 1, "b": "x", "c": 10, "d": 0.1}
+    assert pts[1] == {"a": 1, "b": "x", "c": 20, "d": 0.2}  # zipped: paired, never crossed
+    assert {(p["c"], p["d"]) for p in pts} == {(10, 0.1), (20, 0.2)}
+    assert pts[-1] == {"a": 2, "b": "z", "c": 20, "d": 0.2}
+    assert expand_grid({}, {"c": [1, 2]}) == [{"c": 1}, {"c": 2}]
+    assert point_key({"mu": 0.3}) != point_key({"mu": 0.5}) and point_key({"mu": 0.3}) == point_key(
+        {"mu": 0.3}
+    )
+    assert point_key({"s": ["S1", "S3"]}).startswith("s=S1,S3-")
+
+
+@pytest.mark.parametrize(
+    "grid, zipped, match",
+    [
+        ({}, {}, "at least one --grid"),
+        ({"a": []}, {}, r"a=\[\]: the list is empty"),
+        ({"a": 0.3}, {}, "expected a JSON list"),
+        ({"a": [1]}, {"a": [2]}, "in both --grid and --zip"),
+        ({}, {"a": [1, 2], "b": [1]}, "one length"),
+    ],
+)
+def test_bad_grids_are_refused(grid, zipped, match):
+    with pytest.raises(SweepError, match=match):
+        expand_grid(grid, zipped)
+
+
+def test_flatten_scalars_keeps_numbers_by_path_and_drops_lists_and_metadata():
+    s = {
+        "experiment": "x",
+        "config": {"a": 1},
+        "versions": {},
+        "headline": ["h"],
+        "n": 3,
+        "t": {"lift": {"q": 0.5, "All": 0.7}},
+        "arr": [1, 2],
+        "none": None,
+        "flag": False,
+    }
+    assert flatten_scalars(s) == {"n": 3, "t.lift.q": 0.5, "t.lift.All": 0.7, "flag": False}
+
+
+@pytest.mark.parametrize(
+    "args, match",
+    [
+        (["--grid", "nope=[1,2]"], "unknown config keys for discretization: ['nope']"),
+        (["--grid", 'mu=[0.5,"high"]'], "mu expects float"),
+        (["--grid", "mu=[]"], "the list is empty"),
+        (["--grid", "mu=0.5"], "expected a JSON list"),
+        (["--grid", "mu=[0.5,-1]"], "is negative"),
+        (["--grid", "mu"], "expects KEY=JSON_LIST"),
+        (["--grid", "mu=[0.5", "--quick"], "not a JSON list"),
+        (["--grid", "mu=[0.5]", "--workers", "0"], "workers must be a positive integer"),
+    ],
+)
+def test_cli_refuses_bad_sweeps_before_any_work(tmp_path, capsys, args, match):
+    out = tmp_path / "sw"
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["sweep", "discretization", "--out", str(out), *args])
+    assert exc.value.code == 2
+    assert match in capsys.readouterr().err
+    assert not out.exists()  # nothing was started
+
+
+def test_sweep_help_documents_every_option(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["sweep", "--help"])
+    text = capsys.readouterr().out
+    for opt in (
+        "--grid",
+        "--zip",
+        "--quick",
+        "--set",
+        "--seed",
+        "--out",
+        "--workers",
+        "--scheduler",
+        "--threads",
+        "--retry-failed",
+        "--plot",
+        "table.parquet",
+        "resumes",
+    ):
+        assert opt in text, opt
+
+
+@pytest.fixture
+def toy(monkeypatch):
+    monkeypatch.setitem(cli.EXPERIMENTS, "toy", "sweep_toy")
+    from distributed import Client
+
+    with Client(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as client:
+        yield client
+
+
+def test_failed_point_is_recorded_and_the_rest_complete_and_a_rerun_submits_nothing(tmp_path, toy):
+    out = tmp_path / "sw"
+    seen = []
+    s = run_sweep(
+        "toy",
+        {},
+        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
+        sets={"fail_above": 10.0},
+        out=out,
+        client=toy,
+        progress=False,
+        on_point=lambda k, r: seen.append(k),
+    )
+    assert (s["n_points"], s["n_ok"], s["n_failed"], s["n_submitted"], s["n_resumed"]) == (3, 2, 1, 3, 0)
+    df = pd.read_parquet(out / "table.parquet")
+    assert len(df) == 3 and df["point"].is_unique and sorted(seen) == sorted(df["point"])
+    for col in (
+        "point",
+        "x",
+        "tag",
+        "status",
+        "error",
+        "seconds",
+        "seed",
+        "git_revision",
+        "version.numpy",
+        "y",
+        "nested.z",
+        "nested.ok",
+        "nested.name",
+        "wall_time_s",
+    ):
+        assert col in df.columns, col
+    assert "values" not in df.columns and "headline" not in df.columns
+    ok = df[df.status == "ok"].sort_values("x")
+    assert ok["y"].tolist() == [1.0, 4.0] and ok["nested.z"].tolist() == [2.0, 3.0]
+    assert ok["tag"].tolist() == ["p", "q"]
+    bad = df[df.status == "failed"].iloc[0]
+    assert bad["x"] == 30.0 and "ValueError: x = 30.0 is above fail_above = 10.0" in bad["error"]
+    assert pd.isna(bad["y"])
+    assert (out / "points" / ok["point"].iloc[0] / "summary.json").exists()
+    # a re-run submits nothing; retry_failed runs the failed point again (and it fails again)
+    again = run_sweep(
+        "toy",
+        {},
+        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
+        sets={"fail_above": 10.0},
+        out=out,
+        client=toy,
+        progress=False,
+    )
+    assert (again["n_submitted"], again["n_resumed"]) == (0, 3)
+    retry = run_sweep(
+        "toy",
+        {},
+        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
+        sets={"fail_above": 10.0},
+        out=out,
+        client=toy,
+        progress=False,
+        retry_failed=True,
+    )
+    assert (retry["n_submitted"], retry["n_failed"]) == (1, 1)
+    # a grid grown by one value runs only the new point; a changed fixed setting reruns all
+    grown = run_sweep(
+        "toy",
+        {"x": [1.0, 2.0, 30.0, 3.0]},
+        sets={"fail_above": 10.0},
+        out=tmp_path / "g",
+        client=toy,
+        progress=False,
+    )
+    grown2 = run_sweep(
+        "toy",
+        {"x": [1.0, 2.0, 30.0, 3.0, 4.0]},
+        sets={"fail_above": 10.0},
+        out=tmp_path / "g",
+        client=toy,
+        progress=False,
+    )
+    assert (grown["n_submitted"], grown2["n_submitted"], grown2["n_resumed"]) == (4, 1, 4)
+    changed = run_sweep(
+        "toy",
+        {"x": [1.0, 2.0, 30.0, 3.0, 4.0]},
+        sets={"fail_above": 100.0},
+        out=tmp_path / "g",
+        client=toy,
+        progress=False,
+    )
+    assert (changed["n_submitted"], changed["n_failed"]) == (5, 0)
+    assert len(pd.read_parquet(tmp_path / "g" / "table.parquet")) == 5
+
+
+def test_list_values_are_json_columns_and_the_plot_is_written(tmp_path, toy):
+    from workbench.sweep import plot_sweep
+
+    out = tmp_path / "sw"
+    run_sweep("toy", {"x": [1.0, 2.0, 3.0], "shape": [[1, 2], [3]]}, out=out, client=toy, progress=False)
+    df = pd.read_parquet(out / "table.parquet")
+    assert sorted(set(df["shape"])) == ["[1, 2]", "[3]"] and len(df) == 6
+    fig = plot_sweep(out / "table.parquet", "x", "y")
+    assert fig.name == "plot_x_y.png" and fig.stat().st_size > 5_000
+    with pytest.raises(SweepError, match="'nope' is not a column"):
+        plot_sweep(out / "table.parquet", "x", "nope")
+
+
+def _rows(path: Path) -> list[str]:
+    return [json.loads(line)["key"] for line in path.read_text().splitlines() if line.strip()]
+
+
+def test_killed_driver_resumes_with_every_point_exactly_once(tmp_path):
+    out = tmp_path / "sw"
+    cmd = [
+        str(BIN / "workbench"),
+        "sweep",
+        "discretization",
+        *TINY,
+        "--grid",
+        "mu=[0.5,1.0,1.5,2.0]",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+    ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ckpt = out / "points.jsonl"
+    t0 = time.time()
+    while time.time() - t0 < 240 and not (ckpt.exists() and _rows(ckpt)):
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    n_before = len(_rows(ckpt))
+    assert 1 <= n_before < 4
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert f"{n_before} resumed, {4 - n_before} run" in res.stdout
+    keys = _rows(ckpt)
+    assert len(keys) == 4 and len(set(keys)) == 4
+    df = pd.read_parquet(out / "table.parquet")
+    assert sorted(df["mu"]) == [0.5, 1.0, 1.5, 2.0] and (df["status"] == "ok").all()
+    again = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert "4 resumed, 0 run" in again.stdout
+
+
+def test_a_worker_killed_mid_task_is_retried_and_the_sweep_completes(tmp_path):
+    from distributed import Client, LocalCluster
+
+    with (
+        LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster,
+        Client(cluster) as c,
+    ):
+        pids = c.run(os.getpid)
+        killed = []
+
+        def kill_one_busy_worker():
+            t0 = time.time()
+            while time.time() - t0 < 120:
+                busy = [w for w, tasks in c.processing().items() if tasks]
+                if busy:
+                    time.sleep(1.0)  # mid-task
+                    os.kill(pids[busy[0]], signal.SIGKILL)
+                    killed.append(busy[0])
+                    return
+                time.sleep(0.05)
+
+        th = threading.Thread(target=kill_one_busy_worker)
+        th.start()
+        s = run_sweep(
+            "discretization",
+            {"mu": [0.5, 1.0, 1.5]},
+            quick=True,
+            sets=TINY_SETS,
+            out=tmp_path / "sw",
+            client=c,
+            progress=False,
+        )
+        th.join()
+    assert killed
+    assert (s["n_points"], s["n_ok"], s["n_failed"]) == (3, 3, 0)
+    assert len(pd.read_parquet(tmp_path / "sw" / "table.parquet")) == 3
+
+
+def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
+    sched_file = tmp_path / "scheduler.json"
+    env = {**os.environ, "NUMBA_NUM_THREADS": "1", "TQDM_DISABLE": "1"}
+    procs = [
+        subprocess.Popen(
+            [
+                str(BIN / "dask"),
+                "scheduler",
+                "--scheduler-file",
+                str(sched_file),
+                "--no-dashboard",
+                "--port",
+                "0",
+            ],
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
+    try:
+        t0 = time.time()
+        while not sched_file.exists() and time.time() - t0 < 60:
+            time.sleep(0.2)
+        address = json.loads(sched_file.read_text())["address"]
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [str(BIN / "dask"), "worker", address, "--nthreads", "1", "--no-dashboard"],
+                    env=env,
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
+        from distributed import Client
+
+        with Client(address) as c:
+            c.wait_for_workers(2, timeout=60)
+            assert len(set(c.run(os.getpid).values()) - {os.getpid()}) == 2  # two processes, not this one
+        out = tmp_path / "sw"
+        res = subprocess.run(
+            [
+                str(BIN / "workbench"),
+                "sweep",
+                "discretization",
+                *TINY,
+                "--grid",
+                "mu=[0.5,1.0]",
+                "--scheduler",
+                address,
+                "--out",
+                str(out),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        assert res.returncode == 0, res.stderr[-2000:]
+        assert "2 points (2 ok, 0 failed; 0 resumed, 2 run)" in res.stdout
+        df = pd.read_parquet(out / "table.parquet")
+        assert sorted(df["mu"]) == [0.5, 1.0] and df["error_rate.S1.25"].notna().all()
+    finally:
+        for p in procs:
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=30)

@@ -1,0 +1,466 @@
+"""Parameter sweeps on Dask: every point of a grid of settings is one run of an experiment.
+
+``workbench sweep <experiment> --grid KEY=JSON_LIST ... [--zip KEY=JSON_LIST ...]`` runs the
+Cartesian product of the ``--grid`` lists (the ``--zip`` lists are paired element by element
+and form one more axis of the product).  Every point's config is built and checked like
+``workbench run``'s — defaults, ``--quick``, ``--set``, then the point's values — before any
+work, so an unknown key, a wrong type or an empty list stops the sweep at once.
+
+The points run as Dask tasks (``dask.distributed``): on a local cluster of one worker
+process per core with one thread each by default, or on an existing cluster given by its
+scheduler address.  Each task sets Numba's thread count to its worker's threads, so workers
+do not oversubscribe the cores.  The driver is the only writer of the sweep's checkpoint
+(``DIR/points.jsonl``, one line per finished point, fsynced) and of its table
+(``DIR/table.parquet``, rewritten atomically after every point); each point's experiment
+writes its own outputs under ``DIR/points/<key>/``.  A killed driver resumes on re-run with
+every point exactly once and nothing recomputed; a task that raises is recorded as
+``failed`` with its traceback and the sweep goes on (``retry_failed=True`` runs such points
+again); a worker lost mid-task is rescheduled by Dask.
+
+The table has one row per point: ``point`` (its key), every varied key (JSON text for a
+list or object value), ``status``, ``error``, ``seconds``, ``seed``, ``git_revision``,
+``version.<package>`` and every scalar number or flag of the experiment's summary as a
+column named by its path (``table_4_6.vertical_lifting.q_work.All``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import logging
+import re
+import time
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from .results import Checkpoint, _jsonable, atomic_write_bytes, code_revision, versions
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "SweepError",
+    "expand_grid",
+    "flatten_scalars",
+    "plot_sweep",
+    "point_key",
+    "read_table",
+    "run_point",
+    "run_sweep",
+    "sweep_dir",
+]
+
+#: summary keys that are run metadata, not results: kept out of the table's metric columns
+_META = {"experiment", "config", "versions", "seed", "headline"}
+
+
+class SweepError(ValueError):
+    """A sweep's grid or settings are not usable (raised before any work)."""
+
+
+def expand_grid(grid: dict[str, list], zipped: dict[str, list] | None = None) -> list[dict[str, Any]]:
+    """The points of a sweep: the Cartesian product of ``grid``'s lists, with the ``zipped``
+    lists (all of one length, paired element by element) as one more axis.
+
+    grid, zipped : key -> non-empty list of values.  Returns a list of {key: value} dicts in
+    the product's order (the first key varies slowest).  Raises ``SweepError`` for an empty
+    list, a value that is not a list, a key in both, or zipped lists of different lengths.
+    """
+    zipped = zipped or {}
+    if not grid and not zipped:
+        raise SweepError("a sweep needs at least one --grid KEY=JSON_LIST or --zip KEY=JSON_LIST")
+    both = sorted(set(grid) & set(zipped))
+    if both:
+        raise SweepError(f"keys {both} are in both --grid and --zip: give each key once")
+    for kind, lists in (("--grid", grid), ("--zip", zipped)):
+        for key, values in lists.items():
+            if not isinstance(values, list):
+                raise SweepError(
+                    f"{kind} {key}=...: expected a JSON list of values, e.g. {key}=[0.3, 0.5]; "
+                    f"got {json.dumps(values, default=repr)}"
+                )
+            if not values:
+                raise SweepError(f"{kind} {key}=[]: the list is empty; give at least one value")
+    axes: list[list[dict[str, Any]]] = [[{k: v} for v in vals] for k, vals in grid.items()]
+    if zipped:
+        lengths = {k: len(v) for k, v in zipped.items()}
+        if len(set(lengths.values())) > 1:
+            raise SweepError(f"--zip lists must have one length (they are paired); got lengths {lengths}")
+        n = next(iter(lengths.values()))
+        axes.append([{k: zipped[k][i] for k in zipped} for i in range(n)])
+    return [
+        dict(itertools.chain.from_iterable(d.items() for d in combo)) for combo in itertools.product(*axes)
+    ]
+
+
+def _digest(obj: Any, n: int = 8) -> str:
+    return hashlib.sha256(json.dumps(_jsonable(obj), sort_keys=True).encode()).hexdigest()[:n]
+
+
+def point_key(values: dict[str, Any]) -> str:
+    """A file-name-safe key of a point: its values (shortened) and a hash of all of them,
+    e.g. ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal values give equal keys."""
+    text = "_".join(f"{k}={json.dumps(v, sort_keys=True, separators=(',', ':'))}" for k, v in values.items())
+    text = re.sub(r"[^A-Za-z0-9=._,+-]+", "", text)[:60]
+    return f"{text}-{_digest(values)}"
+
+
+def sweep_dir(
+    experiment: str,
+    grid: dict,
+    zipped: dict | None = None,
+    *,
+    quick: bool = False,
+    sets: dict | None = None,
+    seed: int | None = None,
+) -> Path:
+    """Default output directory ``results/sweeps/<experiment>-<hash of the sweep>``."""
+    return (
+        Path("results")
+        / "sweeps"
+        / (f"{experiment}-{_digest([grid, zipped or {}, quick, sets or {}, seed])}")
+    )
+
+
+def flatten_scalars(summary: dict, prefix: str = "") -> dict[str, float | int | bool | str]:
+    """Every scalar (number, flag or string) of a nested summary dict, keyed by its dotted
+    path; lists and the run metadata (``config``, ``versions``, ``headline``) are left out."""
+    out: dict[str, Any] = {}
+    for key, value in summary.items():
+        if not prefix and key in _META:
+            continue
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            out.update(flatten_scalars(value, f"{name}."))
+        elif isinstance(value, (bool, int, float, str)) or value is None:
+            if value is not None:
+                out[name] = value
+    return out
+
+
+def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
+    """Run one point (in a Dask worker): ``{"status", "summary", "seconds", "error"}``.
+
+    An exception is caught and returned as ``status="failed"`` with its traceback, so one
+    bad point never stops a sweep; ``threads`` caps Numba's threads in this process."""
+    import importlib
+
+    from .cli import EXPERIMENTS
+
+    try:
+        import numba
+
+        numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
+    except Exception as exc:  # a worker without Numba threads still runs, serially
+        log.warning("could not set Numba's threads: %s", exc)
+    t0 = time.perf_counter()
+    try:
+        summary = importlib.import_module(EXPERIMENTS[experiment]).run(dict(config))
+        return {
+            "status": "ok",
+            "summary": _jsonable(summary),
+            "seconds": time.perf_counter() - t0,
+            "error": None,
+        }
+    except Exception:
+        return {
+            "status": "failed",
+            "summary": None,
+            "seconds": time.perf_counter() - t0,
+            "error": traceback.format_exc(),
+        }
+
+
+def _point_configs(
+    experiment: str, points: list[dict], out: Path, quick: bool, sets: dict, seed: int | None
+) -> dict[str, tuple[dict, dict]]:
+    """key -> (point values, full config), every config checked before any work."""
+    from .cli import build_config
+
+    configs: dict[str, tuple[dict, dict]] = {}
+    for values in points:
+        key = point_key(values)
+        if key in configs:
+            raise SweepError(f"the grid repeats a point: {values} (drop the duplicate value)")
+        try:
+            cfg = build_config(experiment, quick, str(out / "points" / key), seed, {**sets, **values})
+        except SystemExit as exc:
+            raise SweepError(f"point {values}: {exc.code}") from None
+        configs[key] = (values, cfg)
+    return configs
+
+
+def _table_rows(rows: list[dict], varied: list[str]) -> list[dict]:
+    table = []
+    for r in rows:
+        row: dict[str, Any] = {"point": r["key"]}
+        for k in varied:
+            v = r["values"].get(k)
+            row[k] = v if isinstance(v, (bool, int, float, str)) or v is None else json.dumps(v)
+        row.update(
+            status=r["status"],
+            error=r["error"],
+            seconds=r["seconds"],
+            seed=r["seed"],
+            git_revision=r["git_revision"],
+        )
+        row.update({f"version.{k}": v for k, v in r["versions"].items()})
+        row.update(r["metrics"])
+        table.append(row)
+    return table
+
+
+def write_table(path: Path, rows: list[dict], varied: list[str]) -> Path:
+    """Write the sweep's rows as one Parquet table, atomically (module docstring)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table_rows = _table_rows(rows, varied)
+    columns: dict[str, list] = {}
+    for i, row in enumerate(table_rows):
+        for k in row:
+            columns.setdefault(k, [None] * i)
+        for k, col in columns.items():
+            col.append(row.get(k))
+    arrays = {}
+    for k, col in columns.items():
+        kinds = {type(v) for v in col if v is not None}
+        if kinds <= {int, float} and float in kinds:
+            col = [None if v is None else float(v) for v in col]  # ints and floats: one float column
+        elif len(kinds) > 1:
+            col = [None if v is None else json.dumps(v) for v in col]  # mixed kinds: JSON text
+        arrays[k] = pa.array(col)
+    sink = pa.BufferOutputStream()
+    pq.write_table(pa.table(arrays), sink)
+    return atomic_write_bytes(Path(path), sink.getvalue().to_pybytes())
+
+
+def read_table(path: Path) -> Any:
+    """The sweep table as a ``pandas.DataFrame``."""
+    import pandas as pd
+
+    return pd.read_parquet(path)
+
+
+def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[Any, Any]:
+    """(client, cluster or None): a local cluster of ``workers`` processes with ``threads``
+    threads each (default one per core), or a client of the scheduler at ``scheduler``."""
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler), None
+    import os
+
+    n = workers or os.cpu_count() or 1
+    # Numba's and OpenMP's threads per worker (spinning OpenMP threads of one worker starve
+    # the others), and no progress bars of the points' own runs (the driver shows one)
+    env = {"NUMBA_NUM_THREADS": str(threads), "OMP_NUM_THREADS": str(threads), "TQDM_DISABLE": "1"}
+    cluster = LocalCluster(
+        n_workers=n,
+        threads_per_worker=threads,
+        processes=True,
+        dashboard_address=None,
+        env=env,
+    )
+    return Client(cluster), cluster
+
+
+def run_sweep(
+    experiment: str,
+    grid: dict[str, list],
+    zipped: dict[str, list] | None = None,
+    *,
+    quick: bool = False,
+    sets: dict[str, Any] | None = None,
+    seed: int | None = None,
+    out: str | Path | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    client: Any = None,
+    threads: int = 1,
+    retries: int = 2,
+    retry_failed: bool = False,
+    progress: bool = True,
+    on_point: Callable[[str, dict], None] | None = None,
+) -> dict:
+    """Run ``experiment`` at every point of the grid (module docstring); returns the
+    sweep's summary (``n_points``, ``n_ok``, ``n_failed``, ``n_resumed``, ``n_submitted``,
+    ``table``, ``seconds``), also written to ``DIR/sweep.json``.
+
+    grid, zipped : key -> JSON list (:func:`expand_grid`); sets : fixed ``--set`` values
+    (text or values); quick, seed : as ``workbench run``; out : the sweep's directory
+    (default :func:`sweep_dir`); workers : local cluster size (default one per core),
+    or scheduler : an existing cluster's address (``tcp://host:port``), or client : a
+    ``distributed.Client`` to use as is; threads : threads per worker (and Numba threads per
+    task); retries : Dask's retries of a task whose worker died; retry_failed : run points
+    recorded as failed again; on_point : called as ``on_point(key, row)`` by the driver after
+    each finished point (a hook for tests and progress).
+    """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise SweepError(f"workers must be a positive integer; got {workers!r}")
+    if not isinstance(threads, int) or threads < 1:
+        raise SweepError(f"threads must be a positive integer; got {threads!r}")
+    if sum(x is not None for x in (workers, scheduler, client)) > 1:
+        raise SweepError("give at most one of workers, scheduler and client")
+    sets = dict(sets or {})
+    points = expand_grid(grid, zipped)
+    out = Path(out) if out else sweep_dir(experiment, grid, zipped, quick=quick, sets=sets, seed=seed)
+    configs = _point_configs(experiment, points, out, quick, sets, seed)  # checks every point first
+    varied = list(points[0])
+    t_start = time.perf_counter()
+    # one checkpoint per directory; a row counts as done only while its own config (less its
+    # output path) is unchanged, so adding values to a grid re-runs nothing already written
+    digests = {k: _digest({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()}
+    ckpt = Checkpoint(out / "points.jsonl", {"experiment": experiment, "sweep_format": 1})
+    done = {
+        k
+        for k, r in ckpt.rows.items()
+        if k in configs and r.get("config_digest") == digests[k] and (r["status"] == "ok" or not retry_failed)
+    }
+    n_resumed = len(done)
+    todo = [k for k in configs if k not in done]
+    revision, vers = code_revision(), versions()
+    fresh: set[str] = set()
+    out.mkdir(parents=True, exist_ok=True)
+
+    def record(key: str, res: dict) -> None:
+        values, cfg = configs[key]
+        row = {
+            "config_digest": digests[key],
+            "values": values,
+            "status": res["status"],
+            "error": res["error"],
+            "seconds": res["seconds"],
+            "seed": cfg.get("seed"),
+            "git_revision": revision,
+            "versions": vers,
+            "metrics": flatten_scalars(res["summary"]) if res["summary"] else {},
+        }
+        if res["status"] != "ok":
+            log.warning("sweep point %s failed: %s", key, (res["error"] or "").strip().splitlines()[-1:])
+        ckpt.add(key, row)
+        fresh.add(key)
+        write_table(out / "table.parquet", [ckpt.rows[k] for k in configs if k in done or k in fresh], varied)
+        if on_point is not None:
+            on_point(key, ckpt.rows[key])
+
+    if todo:
+        from distributed import as_completed
+
+        own = None
+        if client is None:
+            client, own = _client(workers, scheduler, threads)
+        try:
+            futures = {
+                client.submit(
+                    run_point,
+                    experiment,
+                    configs[k][1],
+                    threads,
+                    key=f"sweep-{k}",
+                    pure=False,
+                    retries=retries,
+                ): k
+                for k in todo
+            }
+            bar = None
+            if progress:
+                from tqdm import tqdm
+
+                bar = tqdm(total=len(todo), desc=f"sweep {experiment}", unit="point")
+            for fut in as_completed(futures):
+                key = futures[fut]
+                try:
+                    res = fut.result()
+                except Exception:  # the task could not run at all (e.g. its workers kept dying)
+                    res = {
+                        "status": "failed",
+                        "summary": None,
+                        "seconds": float("nan"),
+                        "error": traceback.format_exc(),
+                    }
+                record(key, res)
+                if bar is not None:
+                    bar.update()
+            if bar is not None:
+                bar.close()
+        finally:
+            if own is not None or scheduler:
+                client.close()
+            if own is not None:
+                own.close()
+    rows = [ckpt.rows[k] for k in configs]
+    if not todo and not (out / "table.parquet").exists():
+        write_table(out / "table.parquet", rows, varied)
+    revisions = sorted({r["git_revision"] for r in rows})
+    if len(revisions) > 1:
+        log.warning("sweep %s: its rows come from %d code revisions %s", out, len(revisions), revisions)
+    summary = {
+        "experiment": experiment,
+        "grid": grid,
+        "zip": zipped or {},
+        "quick": quick,
+        "sets": {k: str(v) for k, v in sets.items()},
+        "n_points": len(configs),
+        "n_ok": sum(r["status"] == "ok" for r in rows),
+        "n_failed": sum(r["status"] != "ok" for r in rows),
+        "n_resumed": n_resumed,
+        "n_submitted": len(todo),
+        "table": str(out / "table.parquet"),
+        "git_revision": revision,
+        "row_revisions": revisions,
+        "seconds": time.perf_counter() - t_start,
+    }
+    atomic_write_bytes(out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode())
+    return summary
+
+
+def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None = None) -> Path:
+    """Figure of ``metric`` against ``key`` from a sweep table (one line per combination of
+    the other varied keys); written next to the table as ``plot_<key>_<metric>.png``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .results import save_figure
+
+    df = read_table(table)
+    for name in (key, metric):
+        if name not in df.columns:
+            raise SweepError(f"{name!r} is not a column of {table}; columns: {sorted(df.columns)}")
+    ok = df[df["status"] == "ok"]
+    fixed = {"point", "status", "error", "seconds", "seed", "git_revision", key, metric}
+    others = [
+        c
+        for c in df.columns
+        if c not in fixed and not c.startswith("version.") and "." not in c and c in _varied(df)
+    ]
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    groups = ok.groupby(others) if others else [((), ok)]
+    for label, g in groups:
+        g = g.sort_values(key)
+        name = (
+            ", ".join(
+                f"{o}={v}"
+                for o, v in zip(others, label if isinstance(label, tuple) else (label,), strict=True)
+            )
+            or None
+        )
+        ax.plot(g[key], g[metric], "o-", label=name)
+    ax.set_xlabel(key)
+    ax.set_ylabel(metric)
+    if others:
+        ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", f"plot_{key}_{metric}")
+    path = Path(out) if out else Path(table).parent / f"{safe}.png"
+    return save_figure(fig, path)
+
+
+def _varied(df: Any) -> list[str]:
+    """The table's varied-key columns: those before ``status``."""
+    cols = list(df.columns)
+    return cols[1 : cols.index("status")]
