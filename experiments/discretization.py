@@ -26,6 +26,7 @@ from workbench import (
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
+from workbench.wrench import check_mu
 
 NAME = "discretization"
 
@@ -39,6 +40,13 @@ DEFAULT_CONFIG = {
     "timing_repeats": 5,
 }
 QUICK_CONFIG = {"n_elements": [25, 100, 300, 1000], "timing_twists": 10, "timing_repeats": 3}
+
+
+def check_config(config: dict) -> None:
+    """μ > 0 before any work: the error rate is relative to w_max, which is 0 without friction."""
+    check_mu(config["mu"], what="relative error rate of w_max")
+    if not config["n_elements"] or min(config["n_elements"]) < 1:
+        raise ValueError(f"n_elements must be mesh sizes >= 1, e.g. [25, 100]; got {config['n_elements']!r}")
 
 
 def error_rate(w_mesh: np.ndarray, w_true: np.ndarray) -> float:

@@ -147,7 +147,9 @@ def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     n = len(L) // 2
     for i in tqdm([i for i in range(n) if f"fem/{name}/{i}" not in ckpt], desc=f"FEM {name}", unit="grasp"):
         geo, wall = wall_of(name)
-        (row,) = stiffness_at(wall, geo.surface, L[[i, i + n]], z_range=geo.z_range, jaw=tuple(config["jaw"]))
+        (row,) = stiffness_at(
+            wall, geo.surface, L[[i, i + n]], z_range=geo.z_range, jaw=tuple(config["jaw"]), grasp_ids=[i]
+        )
         ckpt.add(f"fem/{name}/{i}", row)
     return [ckpt.rows[f"fem/{name}/{i}"] for i in range(n)]
 

@@ -272,9 +272,21 @@ def check_config(config: dict) -> None:
         v = config[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (np.isfinite(v) and v > 0):
             raise ValueError(f"{key} must be finite and > 0 [{unit}]; got {v!r}")
+    from workbench.config import TOL
+
     jaw = np.asarray(config["jaw"], dtype=float)
     if jaw.shape != (2,) or not (np.isfinite(jaw).all() and (jaw > 0).all()):
         raise ValueError(f"jaw must be [width, length] > 0 [m], e.g. [0.02, 0.04]; got {config['jaw']!r}")
+    if (jaw > TOL.max_object_extent_m).any():
+        raise ValueError(
+            f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}, larger than "
+            f"any object ({TOL.max_object_extent_m:g} m) — in millimetres? pass {(jaw / 1e3).tolist()}"
+        )
+    if config["locations"] and not config["object"]:
+        raise ValueError(
+            f"locations={config['locations']} needs object=PATH.obj (the mesh the locations lie on); "
+            "without object= the experiment runs the bottle-family maps and would ignore the locations"
+        )
     if config["object"]:
         _object_inputs(config)
 
@@ -308,12 +320,23 @@ def run_object(config: dict) -> dict:
                 force=config["force"],
                 jaw=tuple(config["jaw"]),
                 rigid_closing=config["rigid_closing_mm"] * 1e-3,
+                grasp_ids=[i],
             )
             ckpt.add(str(i), {"grasp": i, **row})
     rows = [ckpt.rows[str(i)] for i in range(n)]
     s = np.array([r["stiffness"] for r in rows], dtype=float)
-    cols = ["grasp", "stiffness", "fem_stiffness", "delta", "rigid", "failed", "reason", "seconds"]
-    write_csv(out / "stiffness.csv", cols, [[r[c] for c in cols] for r in rows])
+    cols = [
+        "grasp",
+        "stiffness",
+        "fem_stiffness",
+        "delta",
+        "rigid",
+        "failed",
+        "non_antipodal",
+        "axis_normal_deg",
+    ]
+    cols += ["reason", "seconds"]
+    write_csv(out / "stiffness.csv", cols, [[r.get(c) for c in cols] for r in rows])
     secs = np.array([r["seconds"] for r in rows if r["fem_stiffness"] is not None])
     summary = {
         "object": str(config["object"]),
@@ -345,7 +368,13 @@ def run_object(config: dict) -> dict:
     }
     if measured is not None:
         ok = ~np.array(summary["rigid"]) & ~np.array(summary["failed"]) & (measured < 1e9)
-        if ok.sum() >= 3:
+        if ok.sum() < 3:
+            summary["vs_measured_uncalibrated"] = {
+                "n": int(ok.sum()),
+                "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
+                "(or failed): no comparison",
+            }
+        else:
             ratio = np.log(s[ok] / measured[ok])
             summary["vs_measured_uncalibrated"] = {
                 "n": int(ok.sum()),
@@ -353,10 +382,15 @@ def run_object(config: dict) -> dict:
                 "median_log_ratio": float(np.median(ratio)),
                 "median_abs_log_ratio": float(np.median(np.abs(ratio))),
             }
+    soft = s[~np.array(summary["rigid"]) & ~np.array(summary["failed"])]
     summary["headline"] = [
         f"{Path(config['object']).stem}: {n} grasps, {sum(summary['rigid'])} rigid, "
         f"{sum(summary['failed'])} failed, {sum(summary['non_antipodal'])} not antipodal; "
-        f"stiffness {np.nanmin(s):.0f}..{np.nanmax(s):.3g} N/m",
+        + (
+            f"stiffness {soft.min():.0f}..{soft.max():.3g} N/m where not rigid"
+            if soft.size
+            else "none deflects"
+        ),
     ]
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 

@@ -165,6 +165,13 @@ def check_wall_options(thickness: Any, top: Any) -> None:
             f"thickness must be a positive wall thickness [m]; got {thickness!r} — give the wall's "
             "thickness in metres, e.g. 0.5e-3 for a 0.5 mm PET wall"
         )
+    from workbench.config import TOL
+
+    if thickness < TOL.min_wall_thickness_m:  # read at call time
+        raise ValueError(
+            f"thickness must be a wall thickness in metres of at least {TOL.min_wall_thickness_m:g} m "
+            f"(config.TOL.min_wall_thickness_m); got {thickness!r} — e.g. 0.5e-3 for a 0.5 mm PET wall"
+        )
     if top not in TOPS:
         raise ValueError(
             f"top must be one of {TOPS} (the wall's top edge; module fem.object_wall); got {top!r}"

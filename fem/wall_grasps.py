@@ -121,7 +121,7 @@ def axis_normal_angles(surface: RadialSurface, a: np.ndarray, b: np.ndarray) -> 
     a, b = np.atleast_2d(np.asarray(a, float)), np.atleast_2d(np.asarray(b, float))
     axis = b - a
     norm = np.linalg.norm(axis, axis=1, keepdims=True)
-    axis = np.divide(axis, norm, out=np.zeros_like(axis), where=norm > 0)
+    axis = np.divide(axis, norm, out=np.zeros_like(axis), where=norm > 0)  # coincident points: 90°
     out = []
     for p, sign in ((a, -1.0), (b, 1.0)):
         th, z, _ = surface.parameters(p)
@@ -140,6 +140,7 @@ def stiffness_at(
     max_offset: float = 1e-3,
     rigid_closing: float = 0.0,
     z_range: tuple[float, float] | None = None,
+    grasp_ids: Any = None,
 ) -> list[dict]:
     """One dict per grasp of ``locations`` (2n, 3): ``stiffness`` [N/m], ``delta`` [m],
     ``rigid``, ``failed`` and ``non_antipodal`` flags and ``axis_normal_deg`` (module
@@ -150,7 +151,9 @@ def stiffness_at(
     force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
     rigid_closing : closings [m] below this are reported rigid (0: never);
     z_range : heights [m] of the modelled wall (default the side wall's,
-    ``surface.z_range``; :class:`fem.object_wall.WallGeometry` adds the lip).
+    ``surface.z_range``; :class:`fem.object_wall.WallGeometry` adds the lip);
+    grasp_ids : (n,) the grasps' numbers in the caller's list, used in log messages
+    (default 0 … n − 1).
     """
     if not (np.isfinite(rigid_closing) and rigid_closing >= 0):
         raise ValueError(f"rigid_closing must be a closing >= 0 [m]; got {rigid_closing}")
@@ -160,6 +163,9 @@ def stiffness_at(
     lo, hi = surface.z_range if z_range is None else z_range
     angles = axis_normal_angles(surface, p1, p2)
     limit = TOL.antipodal_max_deg  # read at call time
+    ids = np.arange(len(p1)) if grasp_ids is None else np.asarray(grasp_ids)
+    if ids.shape != (len(p1),):
+        raise ValueError(f"grasp_ids must hold one number per grasp ({len(p1)}); got shape {ids.shape}")
     out = []
     for k, (a, b) in enumerate(zip(p1, p2, strict=True)):
         ang = float(angles[k])
@@ -175,16 +181,24 @@ def stiffness_at(
         }
         t0 = time.perf_counter()
         axis = b - a
+        coincide = np.linalg.norm(axis) < 1e-6  # < 1 µm apart: no grasp axis
+        if coincide:
+            row.update(non_antipodal=False, axis_normal_deg=float("nan"))
         if row["non_antipodal"]:
             log.warning(
                 "grasp %d is not antipodal: its axis is %.0f° from the surface normal at a jaw point "
                 "(at most %g°, config.TOL.antipodal_max_deg) — check that points i and i + n are the "
                 "two jaws of one grasp",
-                k,
+                int(ids[k]),
                 ang,
                 limit,
             )
-        if not all(lo <= p[2] <= hi for p in (a, b)):
+        if coincide:
+            row.update(
+                failed=True,
+                reason="the two jaw points coincide (no grasp axis); points i and i + n must be the two jaws",
+            )
+        elif not all(lo <= p[2] <= hi for p in (a, b)):
             row.update(stiffness=RIGID_STIFFNESS, delta=0.0, rigid=True, reason="outside the side wall")
         elif abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3°: squeeze's jaws are vertical
             row.update(failed=True, reason="grasp axis not horizontal (the wall squeeze assumes it is)")

@@ -76,7 +76,9 @@ def test_flatten_scalars_keeps_numbers_by_path_and_drops_lists_and_metadata():
         (["--grid", 'mu=[0.5,"high"]'], "mu expects float"),
         (["--grid", "mu=[]"], "the list is empty"),
         (["--grid", "mu=0.5"], "expected a JSON list"),
-        (["--grid", "mu=[0.5,-1]"], "is negative"),
+        (["--grid", "mu=[0.5,-1]"], "grid value mu=-1: mu expects float"),
+        (["--grid", "mu=[0,0.5]"], "mu = 0 has no friction wrench"),  # the experiment's own check
+        (["--grid", "mu=[0.5]", "--set", "mu=0.7"], "['mu'] are given both as --set and in the grid"),
         (["--grid", "mu"], "expects KEY=JSON_LIST"),
         (["--grid", "mu=[0.5", "--quick"], "not a JSON list"),
         (["--grid", "mu=[0.5]", "--workers", "0"], "workers must be a positive integer"),

@@ -33,6 +33,10 @@ def test_rotation_about_the_grasp_axis_turns_gravity_in_the_object_frame():
         task_wrenches("vertical_lifting", 270.0, [0, 0, 0.08], [1, 0, 0])
     with pytest.raises(ValueError, match=r"com must be in metres.*80 m from the origin.*millimetres"):
         task_wrenches("vertical_lifting", 0.27, [0, 0, 80.0], [1, 0, 0])
+    with pytest.raises(ValueError, match=r"mass must be in kg; got 50.0.*pass 0.05"):  # a 50 g cup
+        task_wrenches("vertical_lifting", 50.0, [0, 0, 0.05], [1, 0, 0])
+    with pytest.raises(ValueError, match="mass must be a finite number > 0"):
+        task_wrenches("vertical_lifting", "0.5", [0, 0, 0.05], [1, 0, 0])
 
 
 def test_horizontal_grasps_on_a_cylinder():

@@ -202,6 +202,18 @@ CLI_CASES = {
         ["object=cup.obj", "locations=good.json", "thickness=-1e-3"],
         ["thickness", "-0.001 is negative", "takes no negative values", "--set thickness=0.0005"],
     ),
+    "thickness 1e-9 (a slip of units)": (
+        ["object=cup.obj", "locations=good.json", "thickness=1e-9"],
+        ["thickness must be a wall thickness in metres of at least 1e-05 m", "got 1e-09", "e.g. 0.5e-3"],
+    ),
+    "jaw in millimetres": (
+        ["object=cup.obj", "locations=good.json", "jaw=[20,40]"],
+        ["jaw must be [width, length] in metres", "got [20.0, 40.0]", "millimetres? pass [0.02, 0.04]"],
+    ),
+    "locations without object": (
+        ["locations=good.json"],
+        ["good.json needs object=PATH.obj", "would ignore the locations"],
+    ),
     "thickness not a number": (
         ["object=cup.obj", "locations=good.json", "thickness=thin"],
         ["thickness expects float", "'thin' is not a number", "--set thickness=0.0005"],

@@ -66,6 +66,13 @@ def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
     assert rows[2]["axis_normal_deg"] == pytest.approx(60.0, abs=0.5)
     assert not rows[2]["failed"] and np.isfinite(rows[2]["stiffness"])
     assert "grasp 2 is not antipodal" in caplog.text and "grasp 1 " not in caplog.text
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="fem.wall_grasps"):  # the caller's grasp numbers
+        stiffness_at(wall, surf, np.vstack([a[2:], b[2:]]), grasp_ids=[17])
+    assert "grasp 17 is not antipodal" in caplog.text
+    # two coincident jaw points: no axis, a failure that says so (not "no wall under a jaw")
+    (row,) = stiffness_at(wall, surf, np.vstack([a[:1], a[:1]]))
+    assert row["failed"] and "coincide" in row["reason"] and not row["non_antipodal"]
 
 
 @pytest.mark.parametrize(

@@ -188,7 +188,11 @@ def test_stiffness_map_exact_rigid_and_clamped():
     for q in ([0.0, 0.0, -0.5], [0.3, 0.3, 0.01], [0.0, 0.0, 80.0]):  # the last: a height in mm
         dist = float(np.linalg.norm(P - q, axis=1).min())
         assert dist > span
-        with pytest.raises(ValueError, match=rf"{dist:.3g} m from the nearest measured point.*metres"):
+        with pytest.raises(
+            ValueError,
+            match=rf"{dist:.3g} m from the nearest measured point, farther than the measured points. "
+            r"extent.*metres",
+        ):
             smap(np.array([[0.0, 0.0, 0.05], q]))
     assert smap([0.0, 0.0, 0.15]).shape == (1,) and np.isinf(smap([0.0, 0.0, 0.15])[0])
 

@@ -228,9 +228,14 @@ class Tolerances:
     # beyond 90° the jaw would press the wall from inside, and the grasp fails.
     antipodal_max_deg: float = 45.0
 
-    # Heaviest object mass [kg] a gravity wrench accepts: beyond any gripper's payload, so a
-    # larger number is taken for grams (a filled 0.27 kg bottle given as 270).
-    max_plausible_mass_kg: float = 100.0
+    # Heaviest object mass [kg] a gravity wrench accepts: above a parallel-jaw gripper's
+    # payload (a few kg; 10 N per jaw at mu 0.5 holds 1 kg), so a larger number is taken for
+    # grams — a filled 0.27 kg bottle given as 270, a 50 g cup as 50.  Raise it for heavy parts.
+    max_plausible_mass_kg: float = 20.0
+
+    # Thinnest wall [m] a thin-wall model accepts (10 µm, a thin film): a thinner one is a
+    # unit slip (a 0.5 mm wall given as 0.5e-6) and makes the stiffness matrix singular.
+    min_wall_thickness_m: float = 1e-5
 
 
 TOL = Tolerances()

@@ -179,6 +179,9 @@ def _point_configs(
     """key -> (point values, full config), every config checked before any work."""
     from .cli import build_config
 
+    both = sorted(set(sets) & set(points[0]))
+    if both:
+        raise SweepError(f"{both} are given both as --set and in the grid: give each key in one of them")
     configs: dict[str, tuple[dict, dict]] = {}
     for values in points:
         key = point_key(values)
@@ -187,7 +190,13 @@ def _point_configs(
         try:
             cfg = build_config(experiment, quick, str(out / "points" / key), seed, {**sets, **values})
         except SystemExit as exc:
-            raise SweepError(f"point {values}: {exc.code}") from None
+            msg = str(exc.code)
+            for k in values:  # the value came from the grid, not from --set: say so
+                if msg.startswith(f"--set {k}="):
+                    msg = f"grid value {msg[len('--set ') :]}".replace(
+                        "— give e.g. --set", "— each value in the list must look like the default, e.g. --set"
+                    )
+            raise SweepError(f"point {values}: {msg}") from None
         configs[key] = (values, cfg)
     return configs
 
@@ -402,7 +411,7 @@ def run_sweep(
         "grid": grid,
         "zip": zipped or {},
         "quick": quick,
-        "sets": {k: str(v) for k, v in sets.items()},
+        "sets": {k: _cli_value(v) for k, v in sets.items()},
         "n_points": len(configs),
         "n_ok": sum(r["status"] == "ok" for r in rows),
         "n_failed": sum(r["status"] != "ok" for r in rows),
@@ -415,6 +424,13 @@ def run_sweep(
     }
     atomic_write_bytes(out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode())
     return summary
+
+
+def _cli_value(v: Any) -> Any:
+    """A ``--set`` value as the JSON value it stands for (a bare word is a string)."""
+    from .cli import _CliText, _parse_value
+
+    return _parse_value(str(v)) if isinstance(v, _CliText) else v
 
 
 def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None = None) -> Path:

@@ -54,12 +54,17 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     from workbench import config
 
     tol = config.TOL  # read at call time
-    if isinstance(mass, (bool, np.bool_)) or not np.isscalar(mass) or not (np.isfinite(mass) and mass > 0):
+    if (
+        isinstance(mass, (bool, np.bool_))
+        or not isinstance(mass, (int, float, np.integer, np.floating))
+        or not (np.isfinite(mass) and mass > 0)
+    ):
         raise ValueError(f"mass must be a finite number > 0 [kg]; got {mass!r}")
     if mass > tol.max_plausible_mass_kg:
         raise ValueError(
             f"mass must be in kg; got {mass!r}, above {tol.max_plausible_mass_kg:g} kg "
-            f"(config.TOL.max_plausible_mass_kg) — a mass in grams? pass {mass / 1e3:g}"
+            f"(config.TOL.max_plausible_mass_kg) — a mass in grams? pass {mass / 1e3:g} (or raise the "
+            "limit for a heavy part)"
         )
     c = np.asarray(com, float)
     if c.shape != (3,) or not np.isfinite(c).all():
@@ -69,7 +74,7 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
             f"com must be in metres, in the object's frame; got {c.tolist()}, "
             f"{np.linalg.norm(c):.3g} m from the origin, beyond the largest object "
             f"(config.TOL.max_object_extent_m = {tol.max_object_extent_m:g} m) — in millimetres? "
-            f"pass {(c / 1e3).tolist()}"
+            f"pass {np.round(c / 1e3, 12).tolist()}"
         )
     d = np.asarray(down, float)
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:

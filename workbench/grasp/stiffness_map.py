@@ -245,12 +245,17 @@ class StiffnessMap:
         """(k,) stiffness [N/m] at (k, 3) points [m] (a single (3,) point gives (1,));
         ``np.inf`` where the nearest measured point is rigid.  A point farther from every
         measured point than the points' largest extent raises ``ValueError`` (it is off
-        the object: another frame or unit), instead of the clamped extrapolation."""
+        the object: another frame or unit), instead of the clamped extrapolation.  That
+        check is coarse — it catches a wrong frame or unit, not a point a few centimetres
+        off the surface, which gets the clamped value of its neighbourhood."""
         Q = np.asarray(points, dtype=float)
         if Q.ndim == 1:
             Q = Q[None]
-        if Q.ndim != 2 or Q.shape[1] != 3 or not np.isfinite(Q).all():
+        if Q.ndim != 2 or Q.shape[1] != 3:
             raise ValueError(f"points must be finite (k, 3) [m]; got shape {Q.shape}")
+        if not np.isfinite(Q).all():
+            k = int(np.argmax(~np.isfinite(Q).all(axis=1)))
+            raise ValueError(f"points must be finite (k, 3) [m]; point {k} is {Q[k].tolist()}")
         out = np.full(len(Q), np.inf)
         if len(Q) == 0:
             return out
@@ -263,7 +268,7 @@ class StiffnessMap:
             k = int(np.argmax(dist))
             raise ValueError(
                 f"point {k} {Q[k].tolist()} is {dist[k]:.3g} m from the nearest measured point, "
-                f"farther than the measured points span ({span:.3g} m): it is not on this object — "
+                f"farther than the measured points' extent ({span:.3g} m): it is not on this object — "
                 "give points in the map's frame and in metres"
             )
         soft = ~self.rigid[idx]
