@@ -42,7 +42,7 @@ from __future__ import annotations
 import json
 import logging
 import time
-from functools import partial
+from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
@@ -60,6 +60,7 @@ from workbench.limit_surface.author_objective import fit_author_objective
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.wrench import check_mu
 
@@ -98,12 +99,18 @@ DEFAULT_CONFIG = {
     "reference_delta_mm": 2.0,
     "validation_summary": "results/fem-validation/summary.json",
     "render_examples": 4,
+    # where the profiles run (workbench.parallel.row_client): 0 = a local Dask cluster of one
+    # worker per core when there are many profiles, 1 = serially here, N = N local workers;
+    # scheduler = an existing cluster's address.  Neither changes a number of the results.
+    "workers": 0,
+    "scheduler": "",
 }
 
 
 def check_config(config: dict) -> None:
     """Refuse settings the defaults cannot judge before any work (workbench.cli.build_config)."""
     check_protocol_config(config)
+    check_workers(config["workers"], config["scheduler"])
     check_mu(config["mu"], what="limit surface")
     Material(config["E"], config["nu"])  # their own range checks (E > 0, -1 < ν < 0.5)
     geom = PadGeometry(**config["pad"])
@@ -249,6 +256,100 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
     return row
 
 
+@lru_cache(maxsize=2)
+def _family(n_objects: int, n_asymmetric: int, seed: int) -> tuple[list[BottleParams], list[Bottle]]:
+    """The bottle family, built once per process (driver and each worker)."""
+    params = bottle_family(n_objects, n_asymmetric, seed)
+    return params, [Bottle(p) for p in params]
+
+
+@lru_cache(maxsize=2)
+def _pad(pad: tuple, E: float, nu: float):
+    """The condensed pad from its content-hash disk cache in the user cache directory
+    (``fem.pad.pad_cache_dir``: shared by every run, sweep point and worker on a machine; the
+    driver builds it first), kept per process: a worker loads it once for all its tasks."""
+    return condense_pad(PadGeometry(**dict(pad)), Material(E, nu))
+
+
+def _pad_of(config: dict):
+    return _pad(tuple(sorted(config["pad"].items())), config["E"], config["nu"])
+
+
+def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
+    """The rows of one grasp (bottle ``i``, height fraction, approach): its jaw displacements
+    ``todo`` (indices into ``deltas_mm``), each warm-started from the one before when that
+    one was solved here too.  Runs in the driver or in a Dask worker; returns (key, row)."""
+    j, i, hf, name, ang, todo = job
+    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+    pad = _pad_of(config)
+    b = bottles[i]
+    pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
+    every = config["ablation_every"]
+    out, prev, last = [], None, None
+    for k in todo:
+        dmm = config["deltas_mm"][k]
+        t0 = time.perf_counter()
+        sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev if last == k - 1 else None)
+        t1 = time.perf_counter()
+        prof = extract_profile(pad, sol, pose)
+        t2 = time.perf_counter()
+        prev, last = sol, k
+        row = {
+            "object": i,
+            "asymmetric": params[i].asymmetric,
+            "height_frac": hf,
+            "approach": name,
+            "delta_mm": dmm,
+            "solve_ms": (t1 - t0) * 1e3,
+            "extract_ms": (t2 - t1) * 1e3,
+            "profile_ms": (t2 - t0) * 1e3,
+            "force_N": sol.force,
+            "lcp_iterations": sol.iterations,
+            "max_penetration_m": sol.max_penetration,
+            "empty": prof is None,
+        }
+        if prof is not None:
+            row.update(
+                n_elements=len(prof),
+                area_mm2=float(prof.areas.sum() * 1e6),
+                peak_pressure_kPa=float(prof.pressures.max() / 1e3),
+                **_fit_row(
+                    prof,
+                    config,
+                    config["seed"] + 1000 * j + k,
+                    to_object=(pose.R, pose.t),
+                    ablate=bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0,
+                ),
+            )
+        out.append((_profile_key(i, hf, name, dmm), row))
+    return out
+
+
+def _examples(
+    jobs: list[tuple], params: list[BottleParams], bottles: list[Bottle], pad, config: dict
+) -> dict:
+    """The profiles rendered as examples: the first grasp, then asymmetric bottles' grasps, at the
+    third jaw displacement (solved again here: cheap, and present after a resume too)."""
+    chosen: dict = {}
+    if len(config["deltas_mm"]) < 3:
+        return chosen
+    for _j, i, hf, name, ang in jobs:
+        if len(chosen) >= config["render_examples"]:
+            break
+        if (i, name) in chosen or not (params[i].asymmetric or not chosen):
+            continue
+        b = bottles[i]
+        pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
+        prev = None
+        for d in config["deltas_mm"][:3]:
+            prev = solve_contact(pad, pose, d * 1e-3, warm=prev)
+        prof = extract_profile(pad, prev, pose)
+        if prof is not None:
+            dmm = config["deltas_mm"][2]
+            chosen[(i, name)] = (prof, f"bottle {i} {name}, jaw displacement {dmm:g} mm")
+    return chosen
+
+
 def _ablation_summary(rows: list[dict]) -> dict | None:
     """Per variant and model: the variant's mean Eq. (3.18) error beside the
     thesis-code row's on the same profiles (paired), and their ratio."""
@@ -311,80 +412,57 @@ def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     out.mkdir(parents=True, exist_ok=True)
-    params = bottle_family(config["n_objects"], config["n_asymmetric"], config["seed"])
-    bottles = [Bottle(p) for p in params]
+    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
     geom = PadGeometry(**config["pad"])
-    mat = Material(config["E"], config["nu"])
     t0 = time.perf_counter()
-    pad = condense_pad(geom, mat, cache_dir=out / "cache")
+    pad = _pad_of(config)  # built here once (or loaded from its disk cache) before any worker needs it
     precompute_s = time.perf_counter() - t0
     precompute_built_s = pad.seconds  # the build time, also when loaded from the disk cache
     h = geom.thickness
 
-    ckpt_config = {k: v for k, v in config.items() if k not in ("out", "quick", "render_examples")}
+    ckpt_config = {
+        k: v
+        for k, v in config.items()
+        if k not in ("out", "quick", "render_examples", "workers", "scheduler")
+    }
     ckpt_config["row_version"] = ROW_VERSION
     ckpt = Checkpoint(out / "rows.jsonl", ckpt_config)
     n_resumed = len(ckpt.rows)
     jobs = [
-        (i, hf, name, ang)
-        for i in range(len(bottles))
-        for hf in config["heights"]
-        for name, ang in config["approaches"].items()
+        (j, i, hf, name, ang)
+        for j, (i, hf, (name, ang)) in enumerate(
+            (i, hf, item)
+            for i in range(len(bottles))
+            for hf in config["heights"]
+            for item in config["approaches"].items()
+        )
     ]
     n_total = len(jobs) * len(config["deltas_mm"])
-    examples, markers = {}, {}
-    every = config["ablation_every"]
-    bar = tqdm(total=n_total, desc="fem-fitting", unit="profile")
-    for j, (i, hf, name, ang) in enumerate(jobs):
+    markers = {}
+    todo_jobs = []
+    for j, i, hf, name, ang in jobs:
         b = bottles[i]
         pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, h)
         markers.setdefault(i, []).append(pose.to_object(np.array([[0.0, 0.0, h]]))[0])
-        prev = None
-        for k, dmm in enumerate(config["deltas_mm"]):
-            key = _profile_key(i, hf, name, dmm)
-            if key in ckpt:
-                bar.update()
-                prev = None
-                continue
-            t0 = time.perf_counter()
-            sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev)
-            t1 = time.perf_counter()
-            prof = extract_profile(pad, sol, pose)
-            t2 = time.perf_counter()
-            prev = sol
-            row = {
-                "object": i,
-                "asymmetric": params[i].asymmetric,
-                "height_frac": hf,
-                "approach": name,
-                "delta_mm": dmm,
-                "solve_ms": (t1 - t0) * 1e3,
-                "extract_ms": (t2 - t1) * 1e3,
-                "profile_ms": (t2 - t0) * 1e3,
-                "force_N": sol.force,
-                "lcp_iterations": sol.iterations,
-                "max_penetration_m": sol.max_penetration,
-                "empty": prof is None,
-            }
-            if prof is not None:
-                row.update(
-                    n_elements=len(prof),
-                    area_mm2=float(prof.areas.sum() * 1e6),
-                    peak_pressure_kPa=float(prof.pressures.max() / 1e3),
-                    **_fit_row(
-                        prof,
-                        config,
-                        config["seed"] + 1000 * j + k,
-                        to_object=(pose.R, pose.t),
-                        ablate=bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0,
-                    ),
-                )
-                if (i, name) not in examples and len(examples) < config["render_examples"] and k == 2:
-                    if params[i].asymmetric or not any(not params[e[0]].asymmetric for e in examples):
-                        examples[(i, name)] = (prof, f"bottle {i} {name}, jaw displacement {dmm:g} mm")
+        todo = [k for k, d in enumerate(config["deltas_mm"]) if _profile_key(i, hf, name, d) not in ckpt]
+        if todo:
+            todo_jobs.append((j, i, hf, name, ang, todo))
+    n_todo = sum(len(job[-1]) for job in todo_jobs)
+    bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
+
+    def keep(job, rows) -> None:  # the driver alone writes the checkpoint
+        for key, row in rows:
             ckpt.add(key, row)
-            bar.update()
+
+    t_rows = time.perf_counter()
+    with row_client(n_todo, config["workers"], config["scheduler"]) as client:
+        map_rows(partial(_job_rows, config=config), todo_jobs, keep, client=client, progress=bar)
+        rows_where = (
+            "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+        )
+    rows_s = time.perf_counter() - t_rows
     bar.close()
+    examples = _examples(jobs, params, bottles, pad, config)
 
     rows = [r for r in ckpt.rows.values() if not r["empty"]]
     if not rows:
@@ -494,6 +572,9 @@ def run(config: dict) -> dict:
         # rows taken from the checkpoint of an earlier (killed or finished) run; wall_time_s
         # then covers only the rest, row_compute_s is the sweep's own time over all rows
         "n_resumed": n_resumed,
+        # where this run's rows ran and their wall time (with the cluster's start)
+        "rows_ran_on": rows_where,
+        "rows_wall_s": rows_s,
         "row_compute_s": float(
             sum(
                 r["profile_ms"] / 1e3

@@ -313,5 +313,10 @@ class Defaults:
     # rigid deflected less than that.
     work_eps: float = 5e-5
 
+    # Rows of one experiment from which it runs them on a local Dask cluster (one worker per
+    # core) when its ``workers`` setting is 0 (auto): below it a cluster's start (~3 s with
+    # the workers' imports) outweighs what a second core saves.
+    cluster_min_rows: int = 24
+
 
 DEFAULTS = Defaults()

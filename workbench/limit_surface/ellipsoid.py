@@ -182,7 +182,7 @@ def fit_ellipsoid(
     w_max: Any = None,
     solver: str = "CLARABEL",
     alpha: float | None = None,
-    warm_start: bool = True,
+    warm_start: bool = False,
 ) -> EllipsoidLS:
     """Fit an ellipsoidal 6DLS to raw frictional wrenches (K, 6).
 
@@ -192,6 +192,9 @@ def fit_ellipsoid(
         ``solver``; module docstring).
     alpha : log-det weight of Eq. (3.12) for "sdp"; default
         ``TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
+    warm_start : let cvxpy reuse the previous "sdp" fit of the same size in this process;
+        off by default so a fit does not depend on what the process fitted before (as
+        :func:`~.quartic.fit_quartic`, where it was measured to change the result).
     The result's ``info`` names the method, solver, fallback (or None) and time.
     """
     t0 = time.perf_counter()

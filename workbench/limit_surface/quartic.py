@@ -221,7 +221,7 @@ def fit_quartic(
     w_max: Any = None,
     solver: str = "CLARABEL",
     fallback_solver: str | None = "SCS",
-    warm_start: bool = True,
+    warm_start: bool = False,
 ) -> QuarticLS:
     """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. (3.17).
 
@@ -245,8 +245,12 @@ def fit_quartic(
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
         unknowns); recorded in ``info["fallback"]``.  ``None`` disables it.
-    warm_start : let first-order solvers (SCS) start from the previous fit of
-        the same problem size (interior-point Clarabel ignores it).
+    warm_start : let cvxpy reuse the previous fit of the same problem size in this
+        process (SCS starts from it).  Off by default: with it, a fit depends on what the
+        process fitted before — measured on a bottle contact (fem-fitting, K = 130),
+        Clarabel failed (SCS fallback, held-out error 0.00819) after one earlier grasp's
+        fits and succeeded (0.00823) in a fresh process — so a row's numbers would
+        depend on the order rows ran in, serially or on Dask workers.
     Either way the coefficients are made provably convex by :func:`certify`.
     Raises ``ValueError`` with fewer wrenches than coefficients and
     ``RuntimeError`` if every solver fails.
