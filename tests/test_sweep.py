@@ -127,16 +127,21 @@ def toy(monkeypatch):
 def test_failed_point_is_recorded_and_the_rest_complete_and_a_rerun_submits_nothing(tmp_path, toy):
     out = tmp_path / "sw"
     seen = []
-    s = run_sweep(
-        "toy",
-        {},
-        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
-        sets={"fail_above": 10.0},
-        out=out,
-        client=toy,
-        progress=False,
-        on_point=lambda k, r: seen.append(k),
-    )
+    paired = {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]}
+
+    def sweep(grid=None, zipped=None, fail_above=10.0, where=out, **kw):
+        return run_sweep(
+            "toy",
+            grid or {},
+            zipped,
+            sets={"fail_above": fail_above},
+            out=where,
+            client=toy,
+            progress=False,
+            **kw,
+        )
+
+    s = sweep(zipped=paired, on_point=lambda k, r: seen.append(k))
     assert (s["n_points"], s["n_ok"], s["n_failed"], s["n_submitted"], s["n_resumed"]) == (3, 2, 1, 3, 0)
     df = pd.read_parquet(out / "table.parquet")
     assert len(df) == 3 and df["point"].is_unique and sorted(seen) == sorted(df["point"])
@@ -166,53 +171,15 @@ def test_failed_point_is_recorded_and_the_rest_complete_and_a_rerun_submits_noth
     assert pd.isna(bad["y"])
     assert (out / "points" / ok["point"].iloc[0] / "summary.json").exists()
     # a re-run submits nothing; retry_failed runs the failed point again (and it fails again)
-    again = run_sweep(
-        "toy",
-        {},
-        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
-        sets={"fail_above": 10.0},
-        out=out,
-        client=toy,
-        progress=False,
-    )
+    again = sweep(zipped=paired)
     assert (again["n_submitted"], again["n_resumed"]) == (0, 3)
-    retry = run_sweep(
-        "toy",
-        {},
-        {"x": [1.0, 2.0, 30.0], "tag": ["p", "q", "r"]},
-        sets={"fail_above": 10.0},
-        out=out,
-        client=toy,
-        progress=False,
-        retry_failed=True,
-    )
+    retry = sweep(zipped=paired, retry_failed=True)
     assert (retry["n_submitted"], retry["n_failed"]) == (1, 1)
     # a grid grown by one value runs only the new point; a changed fixed setting reruns all
-    grown = run_sweep(
-        "toy",
-        {"x": [1.0, 2.0, 30.0, 3.0]},
-        sets={"fail_above": 10.0},
-        out=tmp_path / "g",
-        client=toy,
-        progress=False,
-    )
-    grown2 = run_sweep(
-        "toy",
-        {"x": [1.0, 2.0, 30.0, 3.0, 4.0]},
-        sets={"fail_above": 10.0},
-        out=tmp_path / "g",
-        client=toy,
-        progress=False,
-    )
+    grown = sweep({"x": [1.0, 2.0, 30.0, 3.0]}, where=tmp_path / "g")
+    grown2 = sweep({"x": [1.0, 2.0, 30.0, 3.0, 4.0]}, where=tmp_path / "g")
     assert (grown["n_submitted"], grown2["n_submitted"], grown2["n_resumed"]) == (4, 1, 4)
-    changed = run_sweep(
-        "toy",
-        {"x": [1.0, 2.0, 30.0, 3.0, 4.0]},
-        sets={"fail_above": 100.0},
-        out=tmp_path / "g",
-        client=toy,
-        progress=False,
-    )
+    changed = sweep({"x": [1.0, 2.0, 30.0, 3.0, 4.0]}, fail_above=100.0, where=tmp_path / "g")
     assert (changed["n_submitted"], changed["n_failed"]) == (5, 0)
     assert len(pd.read_parquet(tmp_path / "g" / "table.parquet")) == 5
 
