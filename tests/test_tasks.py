@@ -54,3 +54,19 @@ def test_horizontal_grasps_on_a_cylinder():
         horizontal_grasps(m, [0.2], 4, 0.3)
     with pytest.raises(ValueError, match="n_angles"):
         horizontal_grasps(m, [0.0], 0, 0.3)
+
+
+def test_task_wrenches_match_scipy_rotations_on_random_axes():
+    """Rodrigues' formula in task_wrenches against scipy's Rotation (an independent path)."""
+    from scipy.spatial.transform import Rotation
+
+    from workbench.grasp.tasks import TASKS
+
+    rng = np.random.default_rng(0)
+    for _ in range(100):
+        a, com, m = rng.normal(size=3), 0.05 * rng.normal(size=3), rng.uniform(0.1, 2.0)
+        for task, degs in TASKS.items():
+            turn = Rotation.from_rotvec(-np.radians(np.array(degs))[:, None] * a / np.linalg.norm(a))
+            f = m * G_ACC * turn.apply([0.0, 0.0, -1.0])
+            ref = np.concatenate([f, np.cross(com, f)], axis=1)
+            np.testing.assert_allclose(task_wrenches(task, m, com, a), ref, rtol=1e-12, atol=1e-12)

@@ -44,6 +44,19 @@ class Perturbation:
                 raise ValueError(f"{name} must be a finite standard deviation >= 0; got {v!r}")
 
 
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a × b`` of (..., 3) arrays by components: ``np.cross``'s axis handling costs ~80 µs
+    a call, a sizeable part of the minimal-work metric's 5 ms per grasp."""
+    return np.stack(
+        [
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ],
+        axis=-1,
+    )
+
+
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
 
@@ -80,7 +93,7 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(f"down must be a non-zero (3,) direction; got {d.tolist()}")
     f = mass * G_ACC * d / np.linalg.norm(d)
-    return np.concatenate([f, np.cross(c, f)])
+    return np.concatenate([f, cross3(c, f)])
 
 
 def rotation_from_vector(v: np.ndarray) -> np.ndarray:

@@ -117,6 +117,7 @@ class StiffnessMap:
     _rbf: RBFInterpolator | None = field(init=False, repr=False, compare=False)
     _log_range: tuple[float, float] = field(init=False, repr=False, compare=False)
     _kernel: str | None = field(init=False, repr=False, compare=False)
+    _span: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         thr = config.TOL.rigid_stiffness_threshold if self.rigid_threshold is None else self.rigid_threshold
@@ -170,6 +171,7 @@ class StiffnessMap:
         object.__setattr__(self, "grasp", _readonly(g))
         object.__setattr__(self, "rigid_threshold", float(thr))
         object.__setattr__(self, "_tree", cKDTree(self.points))
+        object.__setattr__(self, "_span", float(np.ptp(self.points, axis=0).max()))  # the far check's scale
         soft = S < thr
         keep = np.zeros(len(P), dtype=bool)
         keep[first] = True
@@ -262,7 +264,7 @@ class StiffnessMap:
         dist, idx = self._tree.query(Q)
         # a point farther from every measured point than the measured points span is not on
         # this object (another frame or unit): refuse it rather than return a clamped value
-        span = float(np.ptp(self.points, axis=0).max())
+        span = self._span
         far = dist > span if span > 0 else np.zeros(len(Q), dtype=bool)  # one point: no scale
         if far.any():
             k = int(np.argmax(dist))
