@@ -78,7 +78,10 @@ DEFAULT_CONFIG = {
     "seed": 0,
     "n_objects": 24,
     "n_asymmetric": 8,
-    "heights": [0.3, 0.4, 0.5, 0.6, 0.7],  # grasp heights as fractions of the bottle height
+    # grasp heights as fractions of the bottle height: the thesis's 2,932 contacts are 24 objects
+    # x 2 approaches x 3 displacements x ~20 heights "spread vertically" (§3.5.2); 21 heights
+    # from 0.25 to 0.75 give 3,024
+    "heights": [round(0.25 + 0.025 * i, 3) for i in range(21)],
     "approaches": {"major": 0.0, "minor": float(np.pi / 2)},  # angle from the section's major axis
     "deltas_mm": [1.0, 2.0, 3.0],  # jaw displacement after first touch (§3.5.2: 1-3 mm)
     "pad": {"width": 0.02, "length": 0.04, "thickness": 0.005, "nx": 20, "ny": 40, "nz": 5},
