@@ -43,6 +43,7 @@ import json
 import logging
 import time
 from functools import lru_cache, partial
+from itertools import product
 from pathlib import Path
 
 import numpy as np
@@ -431,15 +432,8 @@ def run(config: dict) -> dict:
     ckpt_config["row_version"] = ROW_VERSION
     ckpt = Checkpoint(out / "rows.jsonl", ckpt_config)
     n_resumed = len(ckpt.rows)
-    jobs = [
-        (j, i, hf, name, ang)
-        for j, (i, hf, (name, ang)) in enumerate(
-            (i, hf, item)
-            for i in range(len(bottles))
-            for hf in config["heights"]
-            for item in config["approaches"].items()
-        )
-    ]
+    grasps = product(range(len(bottles)), config["heights"], config["approaches"].items())
+    jobs = [(j, i, hf, name, ang) for j, (i, hf, (name, ang)) in enumerate(grasps)]
     n_total = len(jobs) * len(config["deltas_mm"])
     markers = {}
     todo_jobs = []

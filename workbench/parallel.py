@@ -25,7 +25,7 @@ from . import config
 
 log = logging.getLogger(__name__)
 
-__all__ = ["check_workers", "in_dask_worker", "map_rows", "row_client"]
+__all__ = ["check_workers", "in_dask_worker", "local_cluster", "map_rows", "row_client"]
 
 
 def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
@@ -88,7 +88,7 @@ def row_client(n_rows: int, workers: int = 0, scheduler: str = "", threads: int 
     if n_rows == 0 or in_dask_worker():  # nothing to run, or already a task: no cluster
         yield None
         return
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if scheduler:
         with Client(scheduler) as client:
@@ -99,12 +99,22 @@ def row_client(n_rows: int, workers: int = 0, scheduler: str = "", threads: int 
     if n == 1 or (workers == 0 and n_rows < config.DEFAULTS.cluster_min_rows):
         yield None
         return
-    env = {"NUMBA_NUM_THREADS": str(threads), "OMP_NUM_THREADS": str(threads), "TQDM_DISABLE": "1"}
     logging.getLogger("distributed").setLevel(max(logging.WARNING, logging.getLogger().level))
-    with LocalCluster(n_workers=n, threads_per_worker=threads, dashboard_address=None, env=env) as cluster:
-        with Client(cluster) as client:
-            log.info("rows on a local Dask cluster of %d workers", n)
-            yield client
+    with local_cluster(n, threads) as cluster, Client(cluster) as client:
+        log.info("rows on a local Dask cluster of %d workers", n)
+        yield client
+
+
+def local_cluster(n_workers: int, threads: int = 1) -> Any:
+    """A ``distributed.LocalCluster`` of ``n_workers`` processes with ``threads`` threads each,
+    their Numba and OpenMP threads capped to ``threads`` (spinning OpenMP threads of one worker
+    starve the others) and their progress bars off (the driver shows one)."""
+    from distributed import LocalCluster
+
+    env = {"NUMBA_NUM_THREADS": str(threads), "OMP_NUM_THREADS": str(threads), "TQDM_DISABLE": "1"}
+    return LocalCluster(
+        n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env
+    )
 
 
 def map_rows(

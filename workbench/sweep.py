@@ -255,24 +255,17 @@ def read_table(path: Path) -> Any:
 
 def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[Any, Any]:
     """(client, cluster or None): a local cluster of ``workers`` processes with ``threads``
-    threads each (default one per core), or a client of the scheduler at ``scheduler``."""
-    from distributed import Client, LocalCluster
+    threads each (default one per core; :func:`workbench.parallel.local_cluster`), or a
+    client of the scheduler at ``scheduler``."""
+    import os
+
+    from distributed import Client
+
+    from .parallel import local_cluster
 
     if scheduler:
         return Client(scheduler), None
-    import os
-
-    n = workers or os.cpu_count() or 1
-    # Numba's and OpenMP's threads per worker (spinning OpenMP threads of one worker starve
-    # the others), and no progress bars of the points' own runs (the driver shows one)
-    env = {"NUMBA_NUM_THREADS": str(threads), "OMP_NUM_THREADS": str(threads), "TQDM_DISABLE": "1"}
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=threads,
-        processes=True,
-        dashboard_address=None,
-        env=env,
-    )
+    cluster = local_cluster(workers or os.cpu_count() or 1, threads)
     return Client(cluster), cluster
 
 
