@@ -162,10 +162,7 @@ def test_the_suggested_value_is_shell_quoted():
     hint = str(exc.value.code).split("give e.g. ")[1]
     argv = shlex.split(hint)
     assert argv[0] == "--set" and len(argv) == 2
-    assert build_config("fem-fitting", True, None, None, _parse_sets([argv[1]]))["heights"] == [
-        0.3,
-        0.4,
-        0.5,
-        0.6,
-        0.7,
-    ]
+    from experiments.fem_fitting import DEFAULT_CONFIG
+
+    suggested = build_config("fem-fitting", True, None, None, _parse_sets([argv[1]]))["heights"]
+    assert suggested == DEFAULT_CONFIG["heights"] and len(suggested) == 21  # the default, pasted back
