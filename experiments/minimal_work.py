@@ -41,7 +41,7 @@ import numpy as np
 from scipy.stats import spearmanr
 from tqdm import tqdm
 
-from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.results import Checkpoint, content_hash, save_figure, write_csv, write_summary
 
 NAME = "minimal-work"
 ROOT = Path(__file__).resolve().parents[1]
@@ -423,16 +423,13 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list
     balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
     (``f² / 2s``), on the same grasps with the same ``split`` (n,) bool (True: training).
     Rows checkpointed."""
-    import hashlib
-    import json
-
     from fem.material import Material
     from fem.object_wall import wall_geometry
     from fem.wall_nonlinear import curve_work, grasp_frame_wall, squeeze_nonlinear
     from workbench.grasp.threshold import balanced_accuracy, fit_normaliser
 
     nl = {k: config[k] for k in NL_KEYS if k != "nl_work_objects"}
-    tag = hashlib.sha256(json.dumps(nl, sort_keys=True).encode()).hexdigest()[:8]
+    tag = content_hash(nl, 8)
     sel = [i for i, x in enumerate(grasps_all) if x[0] in objects]
     geos: dict = {}
 

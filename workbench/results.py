@@ -138,6 +138,14 @@ def versions() -> dict[str, str]:
     return out
 
 
+def content_hash(obj: Any, n: int = 16) -> str:
+    """The first ``n`` hex digits of the SHA-256 of ``obj`` as sorted JSON (NumPy types
+    converted): one key per content, for checkpoints, sweep points and caches."""
+    import hashlib
+
+    return hashlib.sha256(json.dumps(_jsonable(obj), sort_keys=True).encode()).hexdigest()[:n]
+
+
 def code_revision() -> str:
     """The code's revision: ``git describe --always --dirty --abbrev=12`` of the checkout
     the package runs from (``…-dirty`` with uncommitted changes), or, outside a git
@@ -188,12 +196,9 @@ class Checkpoint:
     """
 
     def __init__(self, path: Path, config: dict) -> None:
-        import hashlib
 
         self.path = Path(path)
-        self.config_hash = hashlib.sha256(json.dumps(_jsonable(config), sort_keys=True).encode()).hexdigest()[
-            :16
-        ]
+        self.config_hash = content_hash(config)
         self.rows: dict[str, dict] = {}
         if self.path.exists():
             for line in self.path.read_text().splitlines():

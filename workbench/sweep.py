@@ -25,7 +25,6 @@ column named by its path (``table_4_6.vertical_lifting.q_work.All``).
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
 import logging
@@ -36,7 +35,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .results import Checkpoint, _jsonable, atomic_write_bytes, code_revision, versions
+from .results import Checkpoint, _jsonable, atomic_write_bytes, code_revision, content_hash, versions
 
 log = logging.getLogger(__name__)
 
@@ -95,16 +94,12 @@ def expand_grid(grid: dict[str, list], zipped: dict[str, list] | None = None) ->
     ]
 
 
-def _digest(obj: Any, n: int = 8) -> str:
-    return hashlib.sha256(json.dumps(_jsonable(obj), sort_keys=True).encode()).hexdigest()[:n]
-
-
 def point_key(values: dict[str, Any]) -> str:
     """A file-name-safe key of a point: its values (shortened) and a hash of all of them,
     e.g. ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal values give equal keys."""
     text = "_".join(f"{k}={json.dumps(v, sort_keys=True, separators=(',', ':'))}" for k, v in values.items())
     text = re.sub(r"[^A-Za-z0-9=._,+-]+", "", text)[:60]
-    return f"{text}-{_digest(values)}"
+    return f"{text}-{content_hash(values, 8)}"
 
 
 def sweep_dir(
@@ -120,7 +115,7 @@ def sweep_dir(
     return (
         Path("results")
         / "sweeps"
-        / (f"{experiment}-{_digest([grid, zipped or {}, quick, sets or {}, seed])}")
+        / (f"{experiment}-{content_hash([grid, zipped or {}, quick, sets or {}, seed], 8)}")
     )
 
 
@@ -314,7 +309,9 @@ def run_sweep(
     t_start = time.perf_counter()
     # one checkpoint per directory; a row counts as done only while its own config (less its
     # output path) is unchanged, so adding values to a grid re-runs nothing already written
-    digests = {k: _digest({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()}
+    digests = {
+        k: content_hash({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()
+    }
     ckpt = Checkpoint(out / "points.jsonl", {"experiment": experiment, "sweep_format": 1})
     done = {
         k
@@ -441,12 +438,7 @@ def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None 
         if name not in df.columns:
             raise SweepError(f"{name!r} is not a column of {table}; columns: {sorted(df.columns)}")
     ok = df[df["status"] == "ok"]
-    fixed = {"point", "status", "error", "seconds", "seed", "git_revision", key, metric}
-    others = [
-        c
-        for c in df.columns
-        if c not in fixed and not c.startswith("version.") and "." not in c and c in _varied(df)
-    ]
+    others = [c for c in _varied(df) if c not in (key, metric)]  # one line per combination of these
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     groups = ok.groupby(others) if others else [((), ok)]
     for label, g in groups:
