@@ -557,7 +557,7 @@ def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: in
     from workbench.grasp.models import contact_sets
     from workbench.grasp.robust import Perturbation, q_robust
     from workbench.grasp.tasks import task_wrenches
-    from workbench.grasp.work import minimal_work
+    from workbench.grasp.work import minimal_work_poses
 
     t0 = time.perf_counter()
     F0, mu = config["grasp_force"], config["mu"]
@@ -587,9 +587,11 @@ def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: in
         "s_map_2": float(s_map[1]),
         "s_fem": float(s_fem),
     }
-    for task in TASKS:
-        ws = task_wrenches(task, mass, com, g["axis"])
-        mw = [minimal_work(contacts, w, mu, s_map) for w in ws]
+    poses = {task: task_wrenches(task, mass, com, g["axis"]) for task in TASKS}
+    # every pose of both tasks on one LP (the 0° pose they share is solved once)
+    mw_all, k0 = minimal_work_poses(contacts, np.vstack(list(poses.values())), mu, s_map), 0
+    for task, ws in poses.items():
+        mw, k0 = mw_all[k0 : k0 + len(ws)], k0 + len(ws)
         f_sum = max(m.f_sum for m in mw)
         W = max(m.W for m in mw)
         # beyond the thesis: the work from the calibrated FEM's force-deflection line, ∫ f dΔ = f²/(2 s)

@@ -222,12 +222,14 @@ def minimal_work_poses(
     wrenches : (k, 6) float — disturbance wrenches [N, N·m], object frame.
     Other arguments as :func:`minimal_work`.
 
-    Returns ``[minimal_work(contacts, w, mu, stiffness, ...) for w in wrenches]``, value
-    for value (the same HiGHS model and options per wrench), but cheaper: under
+    Returns ``[minimal_work(contacts, w, mu, stiffness, ...) for w in wrenches]`` — the
+    first bit for bit, the others to round-off (~1e-13 N) — but cheaper: under
     "outer" / "inner" the program is assembled once for all wrenches (it depends on the
-    disturbance only through its right-hand side) and a wrench that repeats — the
-    0° pose that lifting and lift-and-rotate share — is solved once (its result is
-    a copy).  Under "model" each wrench is :func:`minimal_work` itself.
+    disturbance only through its right-hand side), each wrench after the first starts
+    the dual simplex from the previous one's optimal basis (kept only when that optimum
+    is unique, else solved cold: :class:`~.resistance.solvers.MinLP`), and a wrench
+    that repeats — the 0° pose that lifting and lift-and-rotate share — is solved once
+    (its result is a copy).  Under "model" each wrench is :func:`minimal_work` itself.
     """
     W = np.asarray(wrenches, dtype=float)
     if W.ndim != 2 or W.shape[1] != 6:
@@ -297,7 +299,7 @@ def _result(forces, s, e, solver, representation, fallbacks, converged) -> Minim
         )
     # the solver may return forces a rounding below 0
     f = np.maximum(np.asarray(forces, dtype=float), 0.0)
-    d = displacements(f, s, e)
+    d = f / s + e  # displacements(f, s, e): s and e checked by the caller, f >= 0 here
     return MinimalWork(
         float(f.sum()), f, s, d, float(f @ d), e, True, solver, representation, fallbacks, converged
     )
@@ -311,8 +313,11 @@ class _MinForceLP:
     The program is assembled once per grasp — it depends on the disturbance only through
     ``prog.w = w D`` (``D`` the capacity scaling, read off a program assembled for
     ``w = 1``) — and held as one :class:`~.resistance.solvers.MinLP`, the HiGHS model
-    ``min_grasp_force`` builds per call.  Each solve starts cold, so the forces are its
-    forces bit for bit, whatever the order of the poses (tests/test_work_poses.py)."""
+    ``min_grasp_force`` builds per call.  The first solve starts cold, so its forces are
+    ``min_grasp_force``'s bit for bit; later ones start warm from the previous optimal
+    basis and keep their forces only when the optimum is unique (else they re-solve
+    cold): the same forces to round-off, whatever the order of the poses
+    (tests/test_work_poses.py)."""
 
     prog: object
     lp: MinLP
@@ -326,11 +331,12 @@ class _MinForceLP:
 
     def solve(self, w: np.ndarray) -> tuple[np.ndarray | None, str]:
         """``solve_min_lp`` of the program at the disturbance ``w`` (6,)."""
-        return self.lp.solve(w * self.prog.w)  # = assemble(..., w, ...).w (assembled at w = 1)
+        # prog.w = assemble(..., w, ...).w / w (assembled at w = 1); warm: MinLP's notes
+        return self.lp.solve(w * self.prog.w, warm=True)
 
     def forces(self, contacts, w: np.ndarray) -> np.ndarray | None:
         """(N,) minimal normal forces against ``w`` (min_grasp_force's), None if unresisted."""
         y, status = self.solve(w)
         if y is None and status != "infeasible":
             raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
-        return None if y is None else self.prog.contact_solution(contacts, y)[1]
+        return None if y is None else self.prog.forces(y)  # = contact_solution(contacts, y)[1]

@@ -73,10 +73,14 @@ class Program:
             return None, None
         return np.vstack(M), np.concatenate(v)
 
+    def forces(self, y: np.ndarray) -> np.ndarray:
+        """(N,) normal forces at ``y``."""
+        return self.Phi @ (y * self.S)
+
     def contact_solution(self, contacts, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(N, 6) object-frame contact wrenches and (N,) forces at ``y``."""
         x = y * self.S
-        f = self.Phi @ x
+        f = self.forces(y)
         cw = [
             c.G @ (L @ x[s : s + L.shape[1]] + (fi * c.normal if k in _HALFSPACE_KINDS else 0.0))
             for c, k, s, L, fi in zip(contacts, self.kinds, self.starts, self.L, f, strict=True)
