@@ -418,3 +418,59 @@ def test_mu_zero_is_named_when_a_limit_surface_is_asked_for(rng):
         thesis_code_sample(prof, 0.0)
     # the wrenches themselves are fine at mu = 0 (all zero), only a fit is meaningless
     assert not frictional_wrenches(prof, np.eye(6), 0.0).any()
+
+
+# ------------------------------------------------- swap-invariant Gram matrix
+def test_swap_blocks_split_the_products_orthonormally():
+    from workbench.limit_surface.sos import swap_blocks
+
+    for n in (1, 3, 6):
+        T_s, T_a = swap_blocks(n)
+        assert T_s.shape == (n * (n + 1) // 2, n * n) and T_a.shape == (n * (n - 1) // 2, n * n)
+        T = np.vstack([T_s, T_a])
+        np.testing.assert_allclose(T @ T.T, np.eye(n * n), atol=1e-15)  # a complete orthonormal basis
+        swap = np.arange(n * n).reshape(n, n).T.ravel()  # x_i z_j -> x_j z_i
+        np.testing.assert_array_equal(T_s[:, swap], T_s)
+        np.testing.assert_array_equal(T_a[:, swap], -T_a)
+
+
+def test_hessian_biform_is_symmetric_in_its_arguments(rng):
+    """zᵀ∇²f(x) z = xᵀ∇²f(z) x for any quartic: the fact the reduced Gram basis rests on
+    (checked on the slow per-monomial Hessians of tests/naive.py)."""
+    expo = exponents(6, 4)
+    a = rng.standard_normal(len(expo))
+    x, z = rng.standard_normal((2, 20, 6))
+    H = [np.einsum("njkl,l->njk", naive.monomial_hessians(p, expo), a) for p in (x, z)]
+    zHz = np.einsum("nj,njk,nk->n", z, H[0], z)
+    xHx = np.einsum("nj,njk,nk->n", x, H[1], x)
+    np.testing.assert_allclose(zHz, xHx, rtol=1e-11, atol=1e-11 * np.abs(zHz).max())
+
+
+def test_reduced_gram_fit_is_the_full_gram_fit(rng):
+    """The quartic fit with the swap-invariant Gram matrix (21 × 21 and 15 × 15 blocks)
+    against Eq. 3.16 with the full 36 × 36 M, built here independently: the same
+    optimal residual (to the solver's tolerance) and the same coefficients."""
+    import cvxpy as cp
+
+    from workbench.limit_surface.sos import monomials, sos_convexity_maps
+
+    r = 6
+    expo = exponents(r, 4)
+    # points near a skewed, rotated ellipsoid: a fit the convexity constraint shapes
+    z = rng.standard_normal((300, r)) * [1.0, 0.7, 1.3, 0.5, 1.1, 0.9]
+    z /= np.linalg.norm(z, axis=1, keepdims=True) ** rng.uniform(0.8, 1.2, (300, 1))
+    Q, Rm = np.linalg.qr(monomials(z, expo))
+    c_val = Q.T @ np.ones(len(z))
+    ok, a_red, M_red, _ = quart_mod._solve(r, "CLARABEL", Rm, c_val, warm_start=False)
+    assert ok
+    V1, V2 = sos_convexity_maps(r)
+    a = cp.Variable(len(expo))
+    M = cp.Variable((r * r, r * r), PSD=True)
+    full = cp.Problem(cp.Minimize(cp.norm(Rm @ a - c_val, 2)), [V1 @ cp.vec(M, order="F") == V2 @ a])
+    full.solve(solver="CLARABEL")
+    res_red = np.linalg.norm(Rm @ a_red - c_val)
+    assert res_red == pytest.approx(full.value, rel=1e-6)
+    np.testing.assert_allclose(a_red, a.value, atol=1e-4 * np.abs(a.value).max())
+    # the reduced M certifies a_red as the full one would: PSD and V1 vec(M) = V2 a
+    assert np.linalg.eigvalsh(M_red).min() >= -1e-7 * np.abs(M_red).max()
+    assert np.abs(V1 @ M_red.ravel(order="F") - V2 @ a_red).max() <= 1e-6 * np.abs(a_red).max()

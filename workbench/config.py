@@ -297,10 +297,17 @@ class Defaults:
     # Tried (and recorded in the result) when the chosen QP solver returns nothing.
     qp_fallback_solver: str = "clarabel"
     # HiGHS presolve on the minimal-force LPs (grasp/resistance/solvers.MinLP): off.
-    # They are small and dense (2 jaws x 200 directions: 407 rows, 26 columns) and
-    # presolve cost 0.6 of 1.5 ms per solve without shrinking them
-    # (benchmarks/bench_minimal_work.py); the optimum is the same.
+    # They are small and dense (2 jaws x 200 directions: 407 rows, 26 columns; HiGHS
+    # gets the dual, 26 x 407) and presolve cost 0.6 of 1.5 ms per solve without
+    # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.
     lp_presolve: bool = False
+    # Clarabel's KKT factorisation in the SOS-convex quartic fits (limit_surface/
+    # quartic.py, through cvxpy): "faer" (supernodal) on max_threads threads, or
+    # "qdldl".  Measured on S4 (300 wrenches, 21x21 and 15x15 PSD blocks): faer on one
+    # thread 0.10 s a fit, on two 0.26 s, QDLDL 0.26 s, the same optimum to 1e-12;
+    # one thread also keeps Dask workers (one core each) from oversubscribing.
+    quartic_kkt_method: str = "faer"
+    quartic_kkt_threads: int = 1
     # Directions of the 6DLS/6DFC linearisation (Eq. 3.19-3.24) when a caller
     # asks for representation="inner" or "outer".
     linearization_M: int = 200

@@ -6,6 +6,15 @@ auxiliary ``z``, SOS-convexity asks for ``M ⪰ 0`` (n² × n²) with
 polynomials in monomials ``x^α z^β`` with ``|α| = |β| = 2``; matching their
 coefficients gives ``V1 vec(M) = V2 a`` (Eq. 3.16).  For n = 6: 126
 monomials, 441 equations, V1 441 × 1296, V2 441 × 126 — as in the thesis.
+
+The Hessian biform of a quartic is symmetric in its two arguments,
+``zᵀ∇²f(x) z = xᵀ∇²f(z) x`` (both are ``12 Σ c_jklm x_j x_k z_l z_m`` for the
+symmetric coefficient tensor ``c``), so swapping ``x`` and ``z`` maps any Gram
+matrix ``M`` to another one, and their mean is one that the swap leaves unchanged:
+block diagonal in the basis of symmetric ``(x_i z_j + x_j z_i)/√2`` and
+antisymmetric ``(x_i z_j − x_j z_i)/√2`` products (:func:`swap_blocks`).  Asking
+for ``M`` in that form loses no SOS-convex quartic and splits the 36 × 36 PSD
+cone into 21 × 21 and 15 × 15 (n = 6).
 """
 
 from __future__ import annotations
@@ -68,6 +77,33 @@ def sos_convexity_maps(n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
                 v2.append(float(coef))
     V2 = sp.csr_matrix((v2, (r2, c2)), shape=(len(row_of), len(quart)))
     return V1, V2
+
+
+@lru_cache(maxsize=16)
+def swap_blocks(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal ``T_s`` (n(n+1)/2, n²) and ``T_a`` (n(n−1)/2, n²): rows span the
+    products ``y_p = x_i z_j`` (``p = i n + j``) that the swap ``x ↔ z`` keeps
+    (symmetric) and negates (antisymmetric).  A swap-invariant Gram matrix is
+    ``M = T_sᵀ S T_s + T_aᵀ A T_a`` with ``S, A ⪰ 0`` (module notes)."""
+    sym, anti = [], []
+    r = 1.0 / np.sqrt(2.0)
+    for i in range(n):
+        for j in range(i, n):
+            v = np.zeros(n * n)
+            if i == j:
+                v[i * n + i] = 1.0
+                sym.append(v)
+                continue
+            v[i * n + j], v[j * n + i] = r, r
+            sym.append(v)
+            w = np.zeros(n * n)
+            w[i * n + j], w[j * n + i] = r, -r
+            anti.append(w)
+    T_s = np.array(sym)
+    T_a = np.array(anti).reshape(-1, n * n)
+    for T in (T_s, T_a):
+        T.flags.writeable = False
+    return T_s, T_a
 
 
 def _powers(x: np.ndarray, degree: int) -> np.ndarray:
