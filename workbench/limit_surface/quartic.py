@@ -1,10 +1,12 @@
 """SOS-convex homogeneous quartic 6D limit surface (thesis §3.3.5, Eq. 3.14-3.17).
 
 ``min_a Σ (f(x̂_k) - 1)²  s.t.  V1 vec(M) = V2 a,  M ⪰ 0`` in the PCA
-subspace of dimension r (126 coefficients and a 36×36 Gram matrix for r = 6).
-The K-term objective is compressed by QR to ``‖R a - c‖²`` so the conic
-problem depends only on r; it is built once per ``(r, solver)`` with cvxpy
-Parameters and re-solved (``BUILD_COUNT`` counts builds).  Dropped
+subspace of dimension r (126 coefficients and a 36×36 Gram matrix for r = 6,
+taken swap-invariant: 21×21 and 15×15 blocks, :mod:`.sos`).  The K-term objective
+is compressed by QR to ``‖R a - c‖²`` so the conic problem depends only on r.
+Clarabel gets it directly (its fixed rows cached per r); another solver (SCS,
+the fallback) through a cvxpy problem with Parameters, built once per r and
+re-solved (``BUILD_COUNT`` counts builds: cvxpy's compile took ~2 s a process).  Dropped
 directions enter as ``‖Cᵀx̂‖⁴ / flat⁴`` so the 6D function stays convex and
 homogeneous of degree 4.
 """
@@ -115,9 +117,7 @@ def _quartic_problem(r: int):
     a = cp.Variable(L)
     # the Gram matrix in its swap-invariant form M = T_sᵀ S T_s + T_aᵀ A T_a (sos.py's
     # notes: no SOS-convex quartic is lost); vec(Tᵀ X T) = (Tᵀ ⊗ Tᵀ) vec(X), column-major
-    blocks = [
-        (cp.Variable((len(T), len(T)), PSD=True), T) for T in swap_blocks(r) if len(T)
-    ]
+    blocks = [(cp.Variable((len(T), len(T)), PSD=True), T) for T in swap_blocks(r) if len(T)]
     lhs = sum(
         (V1 @ sp.kron(sp.csr_matrix(T.T), sp.csr_matrix(T.T))) @ cp.vec(X, order="F") for X, T in blocks
     )
@@ -189,8 +189,89 @@ def _solver_options(solver: str) -> dict:
     return {"direct_solve_method": d.quartic_kkt_method, "max_threads": d.quartic_kkt_threads}
 
 
+@lru_cache(maxsize=16)
+def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
+    """The fit's fixed rows for Clarabel (``A x + s = b``, ``s`` in the cones), without the
+    ``R`` block: ``x = [a (L), τ, svec S, svec A]`` — zero cone ``V1 vec(M) − V2 a = 0``
+    (441 rows at r = 6) with ``M = Σ Tᵀ X T`` (:func:`.sos.swap_blocks`), then the
+    second-order cone ``(τ, R a − c)`` (its rows added per fit), then the two PSD
+    triangles ``s = svec X`` (Clarabel's: the upper triangle by columns, off-diagonal
+    entries times √2).  Returns (zero-cone rows, L, n_S, n_A)."""
+    V1, V2 = sos_convexity_maps(r)
+    L = V2.shape[1]
+    cols = [-V2, sp.csc_matrix((V2.shape[0], 1))]
+    sizes = []
+    for T in swap_blocks(r):
+        n = len(T)
+        iu, ju = np.triu_indices(n)  # row i <= column j
+        order = np.lexsort((iu, ju))  # column-major: by column, then row
+        i, j = iu[order], ju[order]
+        w = np.where(i == j, 1.0, 1.0 / np.sqrt(2.0))  # svec entry -> X_ij = X_ji
+        k = np.arange(len(i))
+        unsvec = sp.csc_matrix(
+            (np.r_[w, w[i != j]], (np.r_[i + j * n, (j + i * n)[i != j]], np.r_[k, k[i != j]])),
+            shape=(n * n, len(i)),
+        )
+        cols.append(V1 @ sp.kron(sp.csr_matrix(T.T), sp.csr_matrix(T.T)) @ unsvec)
+        sizes.append(len(i))
+    zero = sp.hstack(cols).tocsc()
+    zero.eliminate_zeros()
+    return zero, L, sizes[0], sizes[1] if len(sizes) > 1 else 0
+
+
+def _unsvec(v: np.ndarray, n: int) -> np.ndarray:
+    """The symmetric (n, n) matrix of Clarabel's svec ``v`` (upper triangle by columns,
+    off-diagonals times √2)."""
+    X = np.zeros((n, n))
+    i, j = np.triu_indices(n)
+    order = np.lexsort((i, j))
+    X[i[order], j[order]] = v
+    X = X + X.T - np.diag(np.diag(X))
+    off = ~np.eye(n, dtype=bool)
+    X[off] /= np.sqrt(2.0)
+    return X
+
+
+def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
+    """Eq. 3.17 on the swap-invariant Gram blocks straight in Clarabel (no cvxpy: nothing
+    to compile per process, no reduction per fit): (ok, a, M, status)."""
+    import clarabel
+
+    zero, L, nS, nA = _clarabel_data(r)
+    n_x = L + 1 + nS + nA
+    # (τ, R a − c) = b − A x  with  A = [[0, −1, 0], [−R, 0, 0]], b = [0; −c]
+    soc = sp.bmat([[None, sp.csc_matrix(-np.ones((1, 1)))], [sp.csc_matrix(-Rm), None]])
+    soc = sp.hstack([soc, sp.csc_matrix((L + 1, nS + nA))])
+    psd = sp.hstack([sp.csc_matrix((nS + nA, L + 1)), -sp.identity(nS + nA)])
+    A = sp.vstack([zero, soc, psd]).tocsc()
+    b = np.concatenate([np.zeros(zero.shape[0]), [0.0], -c_val, np.zeros(nS + nA)])
+    cones = [clarabel.ZeroConeT(zero.shape[0]), clarabel.SecondOrderConeT(L + 1)]
+    cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
+    q = np.zeros(n_x)
+    q[L] = 1.0  # min τ
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    opts = _solver_options("CLARABEL")
+    settings.direct_solve_method = opts["direct_solve_method"]
+    settings.max_threads = opts["max_threads"]
+    sol = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, A, b, cones, settings).solve()
+    status = str(sol.status)
+    if status not in ("Solved", "AlmostSolved"):
+        return False, None, None, status
+    x = np.asarray(sol.x)
+    (T_s, T_a), k = swap_blocks(r), L + 1
+    M = T_s.T @ _unsvec(x[k : k + nS], len(T_s)) @ T_s
+    if nA:
+        M += T_a.T @ _unsvec(x[k + nS :], len(T_a)) @ T_a
+    return True, x[:L], M, "optimal" if status == "Solved" else "optimal_inaccurate"
+
+
 def _solve(r: int, solver: str, Rm: np.ndarray, c_val: np.ndarray, warm_start: bool = True):
-    """Solve the cached problem; returns (ok, a, M, status)."""
+    """Solve Eq. 3.17: Clarabel directly (:func:`_solve_clarabel`; ``warm_start`` does
+    not apply), any other cvxpy solver through the cached cvxpy problem; returns
+    (ok, a, M, status)."""
+    if solver.upper() == "CLARABEL":
+        return _solve_clarabel(r, Rm, c_val)
     import cvxpy as cp
 
     prob, a, blocks, R, c = _quartic_problem(r)
@@ -265,7 +346,8 @@ def fit_quartic(
         sqrt(L / K)`` (a fixed total weight that fades against the K value rows).
         0 fits values only.
     w_max : optional exact (6,) maxima; default the sampled maxima.
-    solver : cvxpy conic solver with SDP support ("CLARABEL" or "SCS").
+    solver : "CLARABEL" (called directly) or another cvxpy conic solver with SDP
+        support ("SCS").
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
         unknowns); recorded in ``info["fallback"]``.  ``None`` disables it.
