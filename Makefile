@@ -12,29 +12,34 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e ".[dev]"
 	touch $(STAMP)
 
-# Every experiment on embedded defaults, then the benchmarks; writes results/.
+# Every experiment on embedded defaults, then the benchmarks; writes results/.  Each step is
+# timed into results/benchmarks/reproduce.json (benchmarks/timed.py: one split per run).
+RUN_ID := $(shell date +%Y%m%dT%H%M%S)
+TIMED  = REPRODUCE_RUN=$(RUN_ID) $(BIN)/python benchmarks/timed.py
 reproduce: $(STAMP)
-	$(BIN)/workbench run parametric-surfaces
-	$(BIN)/workbench run discretization
-	$(BIN)/workbench run ls-fitting
-	$(BIN)/workbench run fem-validation
-	$(BIN)/workbench run fem-fitting
-	$(BIN)/workbench run wall-stiffness
-	$(BIN)/workbench run sensitivity
-	$(BIN)/workbench run sensitivity --set half_angle=1.0 --out results/sensitivity-wrapped
-	$(BIN)/workbench run wall-nonlinear
+	$(TIMED) parametric-surfaces -- $(BIN)/workbench run parametric-surfaces
+	$(TIMED) discretization -- $(BIN)/workbench run discretization
+	$(TIMED) ls-fitting -- $(BIN)/workbench run ls-fitting
+	$(TIMED) fem-validation -- $(BIN)/workbench run fem-validation
+	$(TIMED) fem-fitting -- $(BIN)/workbench run fem-fitting
+	$(TIMED) wall-stiffness -- $(BIN)/workbench run wall-stiffness
+	$(TIMED) sensitivity -- $(BIN)/workbench run sensitivity
+	$(TIMED) sensitivity-wrapped -- $(BIN)/workbench run sensitivity --set half_angle=1.0 \
+		--out results/sensitivity-wrapped
+	$(TIMED) wall-nonlinear -- $(BIN)/workbench run wall-nonlinear
 	# linear and nonlinear wall at every measured mustard grasp both resolve, each calibrated on random halves
-	$(BIN)/workbench run wall-nonlinear --set object=mustard --set n_grasps=1000 --set step_mm=0.75 \
-		--out results/wall-nonlinear-mustard-all
+	$(TIMED) wall-nonlinear-mustard-all -- $(BIN)/workbench run wall-nonlinear --set object=mustard \
+		--set n_grasps=1000 --set step_mm=0.75 --out results/wall-nonlinear-mustard-all
 	# Table 4.6, with the nonlinear wall's work (scope 9) on mustard and shampoo (the cup's lip
 	# rows take ~3 min a grasp); then the same with FEM pad profiles instead of REACH ones
-	$(BIN)/workbench run minimal-work --set 'nl_work_objects=["mustard","shampoo"]'
-	$(BIN)/workbench run minimal-work --set profiles=fem --out results/minimal-work-fem-pads
-	$(BIN)/python benchmarks/bench_wrench.py
-	$(BIN)/python benchmarks/bench_limit_surface.py
-	$(BIN)/python benchmarks/bench_grasp.py
-	$(BIN)/python benchmarks/bench_minimal_work.py
-	$(BIN)/python benchmarks/bench_sweep.py
+	$(TIMED) minimal-work -- $(BIN)/workbench run minimal-work --set 'nl_work_objects=["mustard","shampoo"]'
+	$(TIMED) minimal-work-fem-pads -- $(BIN)/workbench run minimal-work --set profiles=fem \
+		--out results/minimal-work-fem-pads
+	$(TIMED) bench-wrench -- $(BIN)/python benchmarks/bench_wrench.py
+	$(TIMED) bench-limit-surface -- $(BIN)/python benchmarks/bench_limit_surface.py
+	$(TIMED) bench-grasp -- $(BIN)/python benchmarks/bench_grasp.py
+	$(TIMED) bench-minimal-work -- $(BIN)/python benchmarks/bench_minimal_work.py
+	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q

@@ -1,0 +1,59 @@
+"""Time one step of ``make reproduce`` and record it in results/benchmarks/reproduce.json
+(issue 14: "the per-experiment split").
+
+    python benchmarks/timed.py LABEL -- COMMAND [ARGS...]
+
+runs COMMAND, then merges ``{LABEL: {seconds, command, exit_code}}`` into the split of the
+current ``make reproduce`` (``REPRODUCE_RUN``, set once by the Makefile; a new value starts a
+new split, so the file holds one run's steps) with their total and the machine: cores and
+the FMA roofline of benchmarks/bench_wrench.py, measured once per run (DEVELOPERS.md:
+every timing beside the machine's measured limit).  The file is rewritten atomically; the
+command's exit code is passed on, so a failing step still stops ``make``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "results" / "benchmarks" / "reproduce.json"
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) < 3 or argv[1] != "--":
+        print(__doc__, file=sys.stderr)
+        return 2
+    label, cmd = argv[0], argv[2:]
+    run_id = os.environ.get("REPRODUCE_RUN", "manual")
+    t0 = time.perf_counter()
+    code = subprocess.call(cmd)
+    seconds = time.perf_counter() - t0
+
+    from workbench.results import code_revision, write_json
+
+    data = json.loads(OUT.read_text()) if OUT.exists() else {}
+    if data.get("run") != run_id:  # a new make reproduce: a new split
+        from bench_wrench import machine_roofline  # the sibling benchmark's FMA roofline
+
+        data = {
+            "benchmark": "make reproduce, wall time per step (issue 14: <= 30 min on this 2-core machine)",
+            "run": run_id,
+            "code_revision": code_revision(),
+            "machine": {"cpu_count": os.cpu_count(), **machine_roofline(quick=True)},
+            "steps": {},
+        }
+    data["steps"][label] = {"seconds": seconds, "command": " ".join(cmd), "exit_code": code}
+    data["total_seconds"] = sum(s["seconds"] for s in data["steps"].values())
+    write_json(OUT, data)
+    total_min = data["total_seconds"] / 60
+    print(f"[timed] {label}: {seconds:.0f} s (run total {total_min:.1f} min)", file=sys.stderr)
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
