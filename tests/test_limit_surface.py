@@ -474,3 +474,15 @@ def test_reduced_gram_fit_is_the_full_gram_fit(rng):
     # the reduced M certifies a_red as the full one would: PSD and V1 vec(M) = V2 a
     assert np.linalg.eigvalsh(M_red).min() >= -1e-7 * np.abs(M_red).max()
     assert np.abs(V1 @ M_red.ravel(order="F") - V2 @ a_red).max() <= 1e-6 * np.abs(a_red).max()
+
+
+def test_a_clarabel_failure_falls_back_to_scs(s4_data, monkeypatch):
+    """Clarabel is called directly; its errors are a recorded fallback, as cvxpy's were."""
+    from dataclasses import replace
+
+    from workbench import config
+
+    monkeypatch.setattr(config, "DEFAULTS", replace(config.DEFAULTS, quartic_kkt_method="no-such-method"))
+    q = fit_quartic(s4_data[1])
+    assert q.info["solver"] == "SCS" and "CLARABEL" in q.info["fallback"]
+    assert q.fitting_error(s4_data[2]) <= 0.02  # SCS's fit is a fit

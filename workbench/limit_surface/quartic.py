@@ -203,9 +203,7 @@ def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
     sizes = []
     for T in swap_blocks(r):
         n = len(T)
-        iu, ju = np.triu_indices(n)  # row i <= column j
-        order = np.lexsort((iu, ju))  # column-major: by column, then row
-        i, j = iu[order], ju[order]
+        i, j = _svec_index(n)
         w = np.where(i == j, 1.0, 1.0 / np.sqrt(2.0))  # svec entry -> X_ij = X_ji
         k = np.arange(len(i))
         unsvec = sp.csc_matrix(
@@ -219,16 +217,21 @@ def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
     return zero, L, sizes[0], sizes[1] if len(sizes) > 1 else 0
 
 
-def _unsvec(v: np.ndarray, n: int) -> np.ndarray:
-    """The symmetric (n, n) matrix of Clarabel's svec ``v`` (upper triangle by columns,
-    off-diagonals times √2)."""
-    X = np.zeros((n, n))
+@lru_cache(maxsize=16)
+def _svec_index(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(row, column) of each entry of Clarabel's svec of an (n, n) symmetric matrix: the
+    upper triangle (row <= column) column by column."""
     i, j = np.triu_indices(n)
-    order = np.lexsort((i, j))
-    X[i[order], j[order]] = v
-    X = X + X.T - np.diag(np.diag(X))
-    off = ~np.eye(n, dtype=bool)
-    X[off] /= np.sqrt(2.0)
+    order = np.lexsort((i, j))  # by column, then row
+    return i[order], j[order]
+
+
+def _unsvec(v: np.ndarray, n: int) -> np.ndarray:
+    """The symmetric (n, n) matrix of Clarabel's svec ``v`` (off-diagonals times √2)."""
+    i, j = _svec_index(n)
+    X = np.zeros((n, n))
+    X[i, j] = np.where(i == j, v, v / np.sqrt(2.0))
+    X[j, i] = X[i, j]
     return X
 
 
@@ -254,7 +257,10 @@ def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
     opts = _solver_options("CLARABEL")
     settings.direct_solve_method = opts["direct_solve_method"]
     settings.max_threads = opts["max_threads"]
-    sol = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, A, b, cones, settings).solve()
+    try:
+        sol = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, A, b, cones, settings).solve()
+    except Exception as exc:  # noqa: BLE001 - Clarabel's errors (e.g. a failed factorisation): fall back
+        return False, None, None, f"{type(exc).__name__}: {exc}"
     status = str(sol.status)
     if status not in ("Solved", "AlmostSolved"):
         return False, None, None, status
