@@ -48,6 +48,7 @@ from workbench import (
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
@@ -78,9 +79,20 @@ DEFAULT_CONFIG = {
     "solver_comparison_K": 600,  # K at which SCS is also run (and support errors measured)
     "section_surface": "S4",  # Fig 3.10
     "section_K": 600,
+    # where the surfaces run (workbench.parallel.row_client): 0 = a local Dask cluster of one
+    # worker per core (continuous wrenches: ~2 min a surface), 1 = serially here, N = N local
+    # workers; scheduler = an existing cluster's address.  Neither changes a number but the
+    # fit timings, which are per fit on one core either way.
+    "workers": 0,
+    "scheduler": "",
 }
-#: the CLI checks settings with this before any work (workbench.cli.build_config)
-check_config = check_protocol_config
+
+
+def check_config(config: dict) -> None:
+    """The CLI checks settings with this before any work (workbench.cli.build_config)."""
+    check_protocol_config(config)
+    check_workers(config["workers"], config["scheduler"])
+
 
 QUICK_CONFIG = {"K": [200, 600], "n_heldout": 4000, "wrench_source": "mesh", "mesh_elements": 800}
 
@@ -228,77 +240,118 @@ def section_figure(config: dict, out: Path, models: dict, W: np.ndarray) -> str:
     return str(save_screenshot(plotter, out / "fig_3_10_cross_sections.png"))
 
 
+KINDS = ["ellipsoid_lsq", "ellipsoid_sdp", "quartic_values", "quartic"]
+_BUILT: dict = {}  # per process: the first fit of each kind (problem builds), done once
+
+
+def _warm(config: dict) -> dict:
+    """Seconds of each kind's first fit in this process — cvxpy's problem builds — done once
+    per process (driver or Dask worker) before any timed fit, so builds stay out of the
+    fit timings wherever a surface runs."""
+    if not _BUILT:
+        W0, wm0, xi0 = wrenches(
+            Contact(THESIS_SURFACES[config["surfaces"][0]], config), max(config["K"]), config["seed"] + 999
+        )
+        _BUILT.update({kind: _fit(kind, W0, wm0, xi0)[1] for kind in KINDS})
+    return dict(_BUILT)
+
+
+def _surface(job: tuple[int, str], config: dict) -> dict:
+    """Every fit and error of surface ``name`` (the i-th): one row of the experiment, run in
+    the driver or on a Dask worker (``workbench.parallel.map_rows``)."""
+    i, name = job
+    _warm(config)
+    kinds = KINDS
+    Kc = config["solver_comparison_K"]
+    contact = Contact(THESIS_SURFACES[name], config)
+    W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
+    res = {key: {kind: {} for kind in kinds} for key in ("err", "train_err", "rt", "radial")}
+    res.update(rows=[], solver_rows=[], convex={}, support={}, log_det={}, code=None, section=None)
+    for K in config["K"]:
+        W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
+        for kind in kinds:
+            if kind.startswith("quartic") and K < QUARTIC_COEFFS:
+                continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
+            model, dt = _fit(kind, W, wm, xi)
+            res["convex"].setdefault(kind, []).append(convexity(model))
+            e = model.fitting_error(W_test)
+            res["err"][kind][str(K)] = e
+            res["radial"][kind][str(K)] = model.fitting_error(W_test, "radial")
+            res["train_err"][kind][str(K)] = model.fitting_error(W)
+            res["rt"][kind][str(K)] = dt
+            solver = "CLARABEL" if kind != "ellipsoid_lsq" else "lstsq"
+            res["rows"].append([name, K, kind, solver, e, dt, model.info.get("fallback")])
+            if K == Kc and kind in ("ellipsoid_sdp", "quartic"):
+                res["support"][kind] = _support(model, contact, config)
+            if (
+                name == config["section_surface"]
+                and K == config["section_K"]
+                and kind in ("ellipsoid_sdp", "quartic")
+            ):
+                models = res["section"][0] if res["section"] else {}
+                models["quartic" if kind == "quartic" else "ellipsoid (SDP)"] = model
+                res["section"] = (models, W)
+        if K == Kc:
+            for kind in ("ellipsoid_sdp", "quartic"):
+                model, dt = _fit(kind, W, wm, xi, solver="SCS")
+                res["solver_rows"].append(
+                    [name, K, kind, "SCS", model.fitting_error(W_test), dt, model.info.get("fallback")]
+                )
+            for a in config["log_det_alphas"]:  # Eq. (3.12)'s penalty, α = a·K
+                model = fit_ellipsoid(W, "sdp", w_max=wm, alpha=a * K)
+                res["log_det"][f"{a:g}"] = {
+                    "heldout_error": model.fitting_error(W_test),
+                    "support_radial": _support(model, contact, config)["radial_mean"],
+                }
+    if config["thesis_code"]:
+        res["code"] = thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3, kinds)
+    return res
+
+
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
-    kinds = ["ellipsoid_lsq", "ellipsoid_sdp", "quartic_values", "quartic"]
-    err = {k: {} for k in kinds}
-    radial = {k: {} for k in kinds}
-    train_err = {k: {} for k in kinds}
-    rt = {k: {} for k in kinds}
-    solver_rows = []
-    rows = []
-    convex_min: dict[str, list[float]] = {}
-    section_models, section_W = {}, None
-    code_rows, support, log_det = {}, {"thesis-text": {}}, {}
+    kinds = KINDS
     Kc = config["solver_comparison_K"]
-    # one-time cvxpy problem builds (per subspace dimension), kept out of the fit timings
-    W0, wm0, xi0 = wrenches(
-        Contact(THESIS_SURFACES[config["surfaces"][0]], config), max(config["K"]), config["seed"] + 999
+    # one-time problem builds in this process, kept out of the fit timings (and measured)
+    build_s = _warm(config)
+    done: dict[str, dict] = {}
+    surfaces = list(enumerate(config["surfaces"]))
+    # a continuous-source surface takes ~2 min (adaptive quadrature): two already pay for a
+    # cluster's start; mesh-source (quick) surfaces take seconds
+    min_rows = 2 if config["wrench_source"] == "continuous" else None
+    with (
+        tqdm(total=len(surfaces), desc="surfaces", unit="surface") as bar,
+        row_client(len(surfaces), config["workers"], config["scheduler"], min_rows=min_rows) as client,
+    ):
+        map_rows(
+            partial(_surface, config=config),
+            surfaces,
+            lambda job, r: done.__setitem__(job[1], r),
+            client=client,
+            progress=bar,
+        )
+        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    names = config["surfaces"]
+    err, train_err, rt, radial = (
+        {kind: {n: done[n][key][kind] for n in names} for kind in kinds}
+        for key in ("err", "train_err", "rt", "radial")
     )
-    build_s = {kind: _fit(kind, W0, wm0, xi0)[1] for kind in kinds}
-    for i, name in enumerate(tqdm(config["surfaces"], desc="surfaces", unit="surface")):
-        contact = Contact(THESIS_SURFACES[name], config)
-        W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
-        for kind in kinds:
-            err[kind][name], train_err[kind][name], rt[kind][name], radial[kind][name] = {}, {}, {}, {}
-        for K in config["K"]:
-            W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
-            for kind in kinds:
-                if kind.startswith("quartic") and K < QUARTIC_COEFFS:
-                    continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
-                model, dt = _fit(kind, W, wm, xi)
-                convex_min.setdefault(kind, []).append(convexity(model))
-                e = model.fitting_error(W_test)
-                err[kind][name][str(K)] = e
-                radial[kind][name][str(K)] = model.fitting_error(W_test, "radial")
-                train_err[kind][name][str(K)] = model.fitting_error(W)
-                rt[kind][name][str(K)] = dt
-                rows.append(
-                    [
-                        name,
-                        K,
-                        kind,
-                        "CLARABEL" if kind != "ellipsoid_lsq" else "lstsq",
-                        e,
-                        dt,
-                        model.info.get("fallback"),
-                    ]
-                )
-                if K == Kc and kind in ("ellipsoid_sdp", "quartic"):
-                    support["thesis-text"].setdefault(kind, {})[name] = _support(model, contact, config)
-                if (
-                    name == config["section_surface"]
-                    and K == config["section_K"]
-                    and kind in ("ellipsoid_sdp", "quartic")
-                ):
-                    section_models["quartic" if kind == "quartic" else "ellipsoid (SDP)"] = model
-                    section_W = W
-            if K == Kc:
-                for kind in ("ellipsoid_sdp", "quartic"):
-                    model, dt = _fit(kind, W, wm, xi, solver="SCS")
-                    solver_rows.append(
-                        [name, K, kind, "SCS", model.fitting_error(W_test), dt, model.info.get("fallback")]
-                    )
-                log_det[name] = {}
-                for a in config["log_det_alphas"]:  # Eq. (3.12)'s penalty, α = a·K
-                    model = fit_ellipsoid(W, "sdp", w_max=wm, alpha=a * K)
-                    log_det[name][f"{a:g}"] = {
-                        "heldout_error": model.fitting_error(W_test),
-                        "support_radial": _support(model, contact, config)["radial_mean"],
-                    }
-        if config["thesis_code"]:
-            code_rows[name] = thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3, kinds)
+    rows = [row for n in names for row in done[n]["rows"]]
+    solver_rows = [row for n in names for row in done[n]["solver_rows"]]
+    convex_min: dict[str, list[float]] = {}
+    for n in names:
+        for kind, v in done[n]["convex"].items():
+            convex_min.setdefault(kind, []).extend(v)
+    support: dict = {"thesis-text": {}}
+    for n in names:
+        for kind, v in done[n]["support"].items():
+            support["thesis-text"].setdefault(kind, {})[n] = v
+    log_det = {n: done[n]["log_det"] for n in names if done[n]["log_det"]}
+    code_rows = {n: done[n]["code"] for n in names if done[n]["code"] is not None}
+    section_models, section_W = next(
+        (done[n]["section"] for n in names if done[n]["section"] is not None), ({}, None)
+    )
     write_csv(
         out / "fits.csv",
         ["surface", "K", "model", "solver", "heldout_error", "fit_time_s", "fallback"],
@@ -416,6 +469,7 @@ def run(config: dict) -> dict:
         "train_error": {"ellipsoid": train_err["ellipsoid_sdp"], "quartic": train_err["quartic"]},
         "fit_runtime_s": rt,
         "first_fit_incl_problem_build_s": build_s,
+        "surfaces_ran_on": ran_on,
         "convexity_min_relative_eigenvalue": {k: min(v) for k, v in convex_min.items()},
         "all_models_convex": all(
             min(v) > 0 if not k.startswith("quartic") else min(v) >= -1e-12 for k, v in convex_min.items()

@@ -84,3 +84,30 @@ def test_fem_fitting_rows_are_the_same_serially_and_on_two_worker_processes(tmp_
         assert json.dumps(numbers(serial[key]), sort_keys=True) == json.dumps(
             numbers(dist[key]), sort_keys=True
         ), key
+
+
+def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(tmp_path):
+    """ls-fitting's surface rows (quadrature or mesh wrenches, every fit and error) on two
+    worker processes give the serial run's errors bit for bit (only fit timings differ)."""
+    from experiments import ls_fitting
+
+    runs = {}
+    for workers in (1, 2):
+        cfg = {
+            **ls_fitting.DEFAULT_CONFIG,
+            **ls_fitting.QUICK_CONFIG,
+            "surfaces": ["S1", "S3"],
+            "K": [200],
+            "n_heldout": 500,
+            "thesis_code": False,
+            "support_directions": 200,
+            "solver_comparison_K": 200,
+            "section_surface": "S3",
+            "section_K": 200,
+            "workers": workers,
+            "out": str(tmp_path / f"w{workers}"),
+        }
+        runs[workers] = ls_fitting.run(cfg)
+    assert runs[1]["surfaces_ran_on"] == "serial" and runs[2]["surfaces_ran_on"] == "dask (2 workers)"
+    assert runs[1]["heldout_error"] == runs[2]["heldout_error"]
+    assert runs[1]["support_error"] == runs[2]["support_error"]

@@ -75,14 +75,17 @@ def check_workers(workers: Any, scheduler: Any) -> None:
 
 
 @contextmanager
-def row_client(n_rows: int, workers: int = 0, scheduler: str = "", threads: int = 1) -> Iterator[Any]:
+def row_client(
+    n_rows: int, workers: int = 0, scheduler: str = "", threads: int = 1, min_rows: int | None = None
+) -> Iterator[Any]:
     """The ``distributed.Client`` to run ``n_rows`` rows on, or None to run them serially.
 
     workers : 0 = a local cluster of one worker per core when ``n_rows`` reaches
-    ``config.DEFAULTS.cluster_min_rows`` and the machine has more than one core, else
-    serial; 1 = serial; N = a local cluster of N worker processes.  scheduler : an
-    existing cluster's address (overrides ``workers``).  threads : threads per local
-    worker (Numba's and OpenMP's threads are capped to it).
+    ``min_rows`` (default ``config.DEFAULTS.cluster_min_rows``, read now; an experiment
+    with a few rows of minutes each passes its own) and the machine has more than one
+    core, else serial; 1 = serial; N = a local cluster of N worker processes.
+    scheduler : an existing cluster's address (overrides ``workers``).  threads :
+    threads per local worker (Numba's and OpenMP's threads are capped to it).
     """
     check_workers(workers, scheduler)
     if n_rows == 0 or in_dask_worker():  # nothing to run, or already a task: no cluster
@@ -96,7 +99,8 @@ def row_client(n_rows: int, workers: int = 0, scheduler: str = "", threads: int 
         return
     cores = os.cpu_count() or 1
     n = workers if workers > 1 else (cores if workers == 0 and cores > 1 else 1)
-    if n == 1 or (workers == 0 and n_rows < config.DEFAULTS.cluster_min_rows):
+    least = config.DEFAULTS.cluster_min_rows if min_rows is None else min_rows
+    if n == 1 or (workers == 0 and n_rows < least):
         yield None
         return
     logging.getLogger("distributed").setLevel(max(logging.WARNING, logging.getLogger().level))
