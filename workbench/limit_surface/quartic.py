@@ -118,15 +118,22 @@ def _quartic_problem(r: int):
     # the Gram matrix in its swap-invariant form M = T_sᵀ S T_s + T_aᵀ A T_a (sos.py's
     # notes: no SOS-convex quartic is lost); vec(Tᵀ X T) = (Tᵀ ⊗ Tᵀ) vec(X), column-major
     blocks = [(cp.Variable((len(T), len(T)), PSD=True), T) for T in swap_blocks(r) if len(T)]
-    lhs = sum(
-        (V1 @ sp.kron(sp.csr_matrix(T.T), sp.csr_matrix(T.T))) @ cp.vec(X, order="F") for X, T in blocks
-    )
+    lhs = sum(rows @ cp.vec(X, order="F") for (X, _), rows in zip(blocks, _block_rows(r), strict=True))
     R = cp.Parameter((L, L))
     c = cp.Parameter(L)
     # ‖R a - c‖ has the minimiser of Σ (f - 1)² and, as one second-order cone,
     # solves ~2x faster in Clarabel than the squared form (measured on S1-S6)
     prob = cp.Problem(cp.Minimize(cp.norm(R @ a - c, 2)), [lhs == V2 @ a])
     return prob, a, blocks, R, c
+
+
+@lru_cache(maxsize=16)
+def _block_rows(r: int) -> list[sp.csr_matrix]:
+    """Per non-empty swap block T (:func:`.sos.swap_blocks`), ``V1 (Tᵀ ⊗ Tᵀ)``: the rows of
+    Eq. 3.16 in the block's column-major ``vec X`` (``vec(Tᵀ X T) = (Tᵀ ⊗ Tᵀ) vec X``),
+    shared by the cvxpy problem and Clarabel's rows."""
+    V1 = sos_convexity_maps(r)[0]
+    return [V1 @ sp.kron(sp.csr_matrix(T.T), sp.csr_matrix(T.T)) for T in swap_blocks(r) if len(T)]
 
 
 def _gram(blocks) -> np.ndarray:
@@ -197,11 +204,11 @@ def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
     second-order cone ``(τ, R a − c)`` (its rows added per fit), then the two PSD
     triangles ``s = svec X`` (Clarabel's: the upper triangle by columns, off-diagonal
     entries times √2).  Returns (zero-cone rows, L, n_S, n_A)."""
-    V1, V2 = sos_convexity_maps(r)
+    V2 = sos_convexity_maps(r)[1]
     L = V2.shape[1]
     cols = [-V2, sp.csc_matrix((V2.shape[0], 1))]
-    sizes = []
-    for T in swap_blocks(r):
+    sizes = [0, 0]
+    for b, (T, rows) in enumerate(zip([T for T in swap_blocks(r) if len(T)], _block_rows(r), strict=True)):
         n = len(T)
         i, j = _svec_index(n)
         w = np.where(i == j, 1.0, 1.0 / np.sqrt(2.0))  # svec entry -> X_ij = X_ji
@@ -210,11 +217,11 @@ def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
             (np.r_[w, w[i != j]], (np.r_[i + j * n, (j + i * n)[i != j]], np.r_[k, k[i != j]])),
             shape=(n * n, len(i)),
         )
-        cols.append(V1 @ sp.kron(sp.csr_matrix(T.T), sp.csr_matrix(T.T)) @ unsvec)
-        sizes.append(len(i))
+        cols.append(rows @ unsvec)
+        sizes[b] = len(i)
     zero = sp.hstack(cols).tocsc()
     zero.eliminate_zeros()
-    return zero, L, sizes[0], sizes[1] if len(sizes) > 1 else 0
+    return zero, L, sizes[0], sizes[1]
 
 
 @lru_cache(maxsize=16)
