@@ -301,6 +301,13 @@ class Defaults:
     # gets the dual, 26 x 407) and presolve cost 0.6 of 1.5 ms per solve without
     # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.
     lp_presolve: bool = False
+    # HiGHS's simplex scaling of that model (simplex_scale_strategy: 0 off, 2 its
+    # default equilibration).  The rows are already scaled by the capacity scaling D
+    # (gws.capacity_scaling: forces and torques to O(1)); HiGHS's own scaling on top
+    # took 55 iterations against 32 on the cup's LP (1.30 vs 0.90 ms cold, 0.72 vs
+    # 0.60 warm); forces the same to HiGHS's feasibility tolerance (6e-7 relative on
+    # 48 cup grasps, 4e-12 on the cylinder).
+    lp_scale_strategy: int = 0
     # Clarabel's KKT factorisation in the SOS-convex quartic fits (limit_surface/
     # quartic.py, through cvxpy): "faer" (supernodal) on max_threads threads, or
     # "qdldl".  Measured on S4 (300 wrenches, 21x21 and 15x15 PSD blocks): faer on one

@@ -274,7 +274,7 @@ def _minimal_work_many(contacts, wrenches, mu, stiffness, eps, representation, c
                 replace(m, forces=m.forces.copy(), stiffness=s.copy(), displacements=m.displacements.copy())
             )
             continue
-        out.append(_result(lp.forces(contacts, w), s.copy(), e, "highs", representation, (), True))
+        out.append(_result(lp.forces(w), s.copy(), e, "highs", representation, (), True))
         seen[key] = out[-1]
     return out
 
@@ -334,7 +334,7 @@ class _MinForceLP:
         # prog.w = assemble(..., w, ...).w / w (assembled at w = 1); warm: MinLP's notes
         return self.lp.solve(w * self.prog.w, warm=True)
 
-    def forces(self, contacts, w: np.ndarray) -> np.ndarray | None:
+    def forces(self, w: np.ndarray) -> np.ndarray | None:
         """(N,) minimal normal forces against ``w`` (min_grasp_force's), None if unresisted."""
         y, status = self.solve(w)
         if y is None and status != "infeasible":
