@@ -71,8 +71,9 @@ log = logging.getLogger(__name__)
 #: bump when a row's computation changes, so checkpoints of older code are not reused
 #: (3: profiles carry the solved force, fem/extract.py; 4: thesis-code protocol, support error;
 #: 5: thesis-code protocol in the object frame, protocol ablation; 6: quartic fits on the
-#: swap-invariant Gram blocks with faer, limit_surface/quartic.py)
-ROW_VERSION = 6
+#: swap-invariant Gram blocks with faer, limit_surface/quartic.py; 7: the ablation's
+#: author-objective quartic on those blocks, limit_surface/author_objective.py)
+ROW_VERSION = 7
 QUARTIC_COEFFS = len(exponents(6, 4))  # a quartic in 6D: C(9, 5) = 126
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 

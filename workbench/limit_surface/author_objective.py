@@ -39,8 +39,8 @@ import numpy as np
 from ..config import DEFAULTS
 from .ellipsoid import EllipsoidLS, _embed
 from .normalize import Subspace, check_twists, prepare
-from .quartic import QuarticLS, certify
-from .sos import exponents, monomials, sos_convexity_maps
+from .quartic import QuarticLS, _block_rows, _gram, _solver_options, certify
+from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
 
 MODELS = ("ellipsoid", "quartic")
 
@@ -123,19 +123,25 @@ def fit_author_objective(
         expo = exponents(r, 4)
         L = len(expo)
         a = cp.Variable(L)
-        M = cp.Variable((r * r, r * r), PSD=True)
-        V1, V2 = sos_convexity_maps(r)
+        # the Gram matrix in fit_quartic's swap-invariant form M = Σ Tᵀ X T (blocks 21 and
+        # 15 at r = 6 instead of one 36 x 36 cone; sos.py's notes: no SOS-convex quartic
+        # is lost, and M enters only this constraint, so the optimum is the same)
+        blocks = [(cp.Variable((len(T), len(T)), PSD=True), T) for T in swap_blocks(r) if len(T)]
+        lhs = sum(rows @ cp.vec(X, order="F") for (X, _), rows in zip(blocks, _block_rows(r), strict=True))
+        V2 = sos_convexity_maps(r)[1]
         f = monomials(y, expo) @ a
         g = cp.vstack([D @ a for D in _gradient_design(y, expo)]).T
         reg = cp.norm(a, 2)
-        cons = [V1 @ cp.vec(M, order="F") == V2 @ a]
+        cons = [lhs == V2 @ a]
     value_l1 = cp.sum(cp.abs(f - 1.0))
     twist_sum = cp.sum(cp.norm(g - cp.multiply(s[:, None], cp.Constant(n)), 2, axis=1))
     prob = cp.Problem(cp.Minimize(lam * reg + ww * value_l1 + (tw * twist_sum if tw > 0 else 0)), cons)
     try:
         with warnings.catch_warnings():  # "may be inaccurate": the status is recorded in info
             warnings.simplefilter("ignore", UserWarning)
-            prob.solve(solver=solver)
+            # the quartic with fit_quartic's Clarabel settings (KKT method, one thread); the
+            # ellipsoid's small problem solved faster with Clarabel's defaults (measured)
+            prob.solve(solver=solver, **(_solver_options(solver) if model == "quartic" else {}))
     except (cp.error.SolverError, ValueError) as exc:
         raise RuntimeError(f"author-objective {model} fit failed with {solver}: {exc}") from exc
     if prob.status not in ("optimal", "optimal_inaccurate"):
@@ -161,10 +167,11 @@ def fit_author_objective(
             info["fallback"] = f"A had eigenvalue {lam_min:.2e}; lifted to positive definite"
         info["fit_time_s"] = time.perf_counter() - t0
         return EllipsoidLS(wm, scale, sub, info, A_e=_embed(A_r, sub))
-    coeffs, delta = certify(np.asarray(a.value), np.asarray(M.value), r)
+    M = _gram(blocks)
+    coeffs, delta = certify(np.asarray(a.value), M, r)
     info.update(certificate_delta=delta, whitening=np.ones(r), normal_weight=None)
     info["fit_time_s"] = time.perf_counter() - t0
-    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=np.asarray(M.value))
+    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M)
 
 
 __all__ = ["MODELS", "fit_author_objective"]
