@@ -173,15 +173,35 @@ def test_uniqueness_check_against_a_search_for_other_optima(jaws):
     assert any(verdicts) and not all(verdicts)
 
 
-def test_min_lp_optimum_is_linprogs(jaws):
-    """The highspy model against an independent construction of the same LP through
-    scipy.optimize.linprog (dual simplex): the same feasibility and Σf to 1e-9 relative."""
+def _linprog_min_force(prog):
+    """(cost, tol, linprog result) of the minimal-force LP of ``prog``, built independently
+    of MinLP from _slack_form's rows and solved by scipy's linprog (HiGHS dual simplex)."""
     import scipy.sparse as sp
     from scipy.optimize import linprog
 
     from workbench import config
+    from workbench.grasp.resistance.solvers import _slack_form
+
+    cost, tol = prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol
+    A_eq, b_eq, G, h, bounds = _slack_form(prog)
+    band = np.r_[np.zeros(prog.n), np.ones(12)][None]
+    ref = linprog(
+        np.r_[cost, np.zeros(12)],
+        A_ub=sp.csr_matrix(np.vstack([G, band])),
+        b_ub=np.r_[h, tol],
+        A_eq=sp.csr_matrix(A_eq),
+        b_eq=b_eq,
+        bounds=bounds,
+        method="highs-ds",
+    )
+    return cost, tol, ref
+
+
+def test_min_lp_optimum_is_linprogs(jaws):
+    """The highspy model against an independent construction of the same LP through
+    scipy.optimize.linprog (dual simplex): the same feasibility and Σf to 1e-9 relative."""
     from workbench.grasp.resistance.program import assemble
-    from workbench.grasp.resistance.solvers import _slack_form, solve_min_lp
+    from workbench.grasp.resistance.solvers import solve_min_lp
 
     rng = np.random.default_rng(11)
     W = np.vstack(
@@ -192,24 +212,41 @@ def test_min_lp_optimum_is_linprogs(jaws):
     for model in ("6dls", "point"):
         for w in W:
             prog = assemble(jaws[model], w, 0.5, "outer", None, minforce="sum")
-            cost, tol = prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol
+            cost, tol, ref = _linprog_min_force(prog)
             y, status = solve_min_lp(prog, cost, tol)
-            A_eq, b_eq, G, h, bounds = _slack_form(prog)
-            band = np.r_[np.zeros(prog.n), np.ones(12)][None]
-            ref = linprog(
-                np.r_[cost, np.zeros(12)],
-                A_ub=sp.csr_matrix(np.vstack([G, band])),
-                b_ub=np.r_[h, tol],
-                A_eq=sp.csr_matrix(A_eq),
-                b_eq=b_eq,
-                bounds=bounds,
-                method="highs-ds",
-            )
             assert (y is not None) == (ref.status == 0), (status, ref.message)
             answers.append(y is not None)
             if y is not None:
                 assert cost @ y == pytest.approx(ref.fun, rel=1e-9, abs=1e-12)
     assert any(answers) and not all(answers)  # both answers occur
+
+
+def test_min_lp_meets_the_facets_for_a_light_object():
+    """A light object's gravity (50 g) against 10 N jaws on a cylinder (R = 30 mm): the LP's
+    facet rows G y <= h are the dual-feasibility conditions of the dual HiGHS solves, and
+    unscaled at HiGHS's default tolerance (1e-7) they were violated by ~1e-7 — enough to
+    move Σf by 5e-5 relative on these poses (5e-3 on the measured shampoo bottle).  The
+    facets must hold to 1e-10 and Σf be linprog's to 1e-9."""
+    import trimesh
+
+    from workbench.grasp import jaw_profiles
+    from workbench.grasp.resistance.program import assemble
+    from workbench.grasp.resistance.solvers import solve_min_lp
+    from workbench.grasp.sampling import horizontal_grasps
+
+    mesh = trimesh.creation.cylinder(radius=0.03, height=0.2, sections=96)
+    lo, hi = mesh.bounds[:, 2]
+    g = horizontal_grasps(mesh, np.linspace(lo, hi, 10)[1:-1], 6, 0.5, pad=None)[2]
+    profiles = jaw_profiles(mesh, g, 10.0, pad=(0.02, 0.04), closing=1e-3, allow_scale=True)
+    contacts = [contact_sets(p, "6dls", M=200, seed=0)[0] for p in profiles]
+    for w in task_wrenches("lift_and_rotate", 0.05, [0.002, 0.0, -0.02], g["axis"]):
+        prog = assemble(contacts, w, 0.5, "outer", None, minforce="sum")
+        cost, tol, ref = _linprog_min_force(prog)
+        y, status = solve_min_lp(prog, cost, tol)
+        assert y is not None and ref.status == 0, (status, ref.message)
+        G, h = prog.rows("ineq")
+        assert (G @ y - h).max() <= 1e-10
+        assert cost @ y == pytest.approx(ref.fun, rel=1e-9)
 
 
 def test_a_repeated_pose_is_solved_once_and_copied(jaws):

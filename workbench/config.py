@@ -302,12 +302,17 @@ class Defaults:
     # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.
     lp_presolve: bool = False
     # HiGHS's simplex scaling of that model (simplex_scale_strategy: 0 off, 2 its
-    # default equilibration).  The rows are already scaled by the capacity scaling D
-    # (gws.capacity_scaling: forces and torques to O(1)); HiGHS's own scaling on top
-    # took 55 iterations against 32 on the cup's LP (1.30 vs 0.90 ms cold, 0.72 vs
-    # 0.60 warm); forces the same to HiGHS's feasibility tolerance (6e-7 relative on
-    # 48 cup grasps, 4e-12 on the cylinder).
+    # default equilibration) and its dual feasibility tolerance.  In the dual HiGHS
+    # solves, the LP's polyhedral rows G y <= h (the C_outer facets) are the dual's
+    # dual-feasibility conditions: unscaled at HiGHS's default 1e-7 they were violated by
+    # up to 8.8e-8, which moved Σf by up to 5.1e-3 relative (on the grasps of
+    # minimal-work's three measured objects: the facets are nearly parallel to the light
+    # objects' small gravity wrench); at 1e-9 by 1.8e-13, Σf within 1.7e-10 of the
+    # equilibrated solve.  The rows are already scaled by D (gws.capacity_scaling), and
+    # unscaled at 1e-9 the three poses of a grasp solved in 2.46 ms against 2.7-3.0 ms
+    # equilibrated (median over those 102 grasps).
     lp_scale_strategy: int = 0
+    lp_dual_feasibility_tolerance: float = 1e-9
     # Clarabel's KKT factorisation in the SOS-convex quartic fits (limit_surface/
     # quartic.py, through cvxpy): "faer" (supernodal) on max_threads threads, or
     # "qdldl".  Measured on S4 (300 wrenches, 21x21 and 15x15 PSD blocks): faer on one

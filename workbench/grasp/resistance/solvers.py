@@ -147,8 +147,9 @@ class MinLP:
     inside its bounds, by more than HiGHS's primal feasibility tolerance, which pins
     ``y`` by complementary slackness: no other optimal ``y`` exists; the two then
     differ by round-off, ~1e-13), and re-solves cold otherwise (logged; counted in
-    :attr:`cold_resolves`).  Presolve and scaling follow ``config.DEFAULTS.lp_presolve``
-    and ``lp_scale_strategy``, read when the model is built.
+    :attr:`cold_resolves`).  Presolve, scaling and the dual feasibility tolerance follow
+    ``config.DEFAULTS.lp_presolve``, ``lp_scale_strategy`` and
+    ``lp_dual_feasibility_tolerance``, read when the model is built.
     """
 
     def __init__(self, prog: Program, cost: np.ndarray, tol: float = 0.0) -> None:
@@ -216,6 +217,10 @@ class MinLP:
         self._h.setOptionValue("presolve", "on" if config.DEFAULTS.lp_presolve else "off")
         self._h.setOptionValue("simplex_strategy", 4)  # primal: a cost change keeps the basis feasible
         self._h.setOptionValue("simplex_scale_strategy", int(config.DEFAULTS.lp_scale_strategy))
+        # the LP's rows G y <= h are this dual's dual-feasibility conditions (config's notes)
+        self._h.setOptionValue(
+            "dual_feasibility_tolerance", float(config.DEFAULTS.lp_dual_feasibility_tolerance)
+        )
         # kWarning: HiGHS dropped matrix entries below its small_matrix_value (1e-9),
         # round-off zeros of the assembled rows, as linprog's HiGHS does
         status = self._h.passModel(*model)
