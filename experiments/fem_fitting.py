@@ -331,6 +331,36 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
     return out
 
 
+def _reference_cases(bottles: list[Bottle], pad, config: dict) -> list[tuple[str, object]]:
+    """(label, pose) of the contacts also solved on the full mesh (condensed vs reference):
+    ``reference_cases`` bottles at mid-height, alternating ends of the family and
+    approaches, and an elliptic cylinder (the family's degenerate member: constant
+    section, no twist or lean)."""
+    h = pad.geometry.thickness
+    cases = []
+    for i in range(min(config["reference_cases"], len(bottles))):
+        b = bottles[-1 - i] if i % 2 else bottles[i]
+        name, ang = list(config["approaches"].items())[i % len(config["approaches"])]
+        cases.append(
+            (f"bottle {bottles.index(b)} {name}", grasp_pose(b, 0.5 * b.params.height, ang, pad.face_xy, h))
+        )
+    ell = Bottle(BottleParams(height=0.2, a0=0.04, aspect0=0.6, aspect1=0.6))
+    cases.append(
+        ("elliptic cylinder 40 x 24 mm, minor axis", grasp_pose(ell, 0.1, np.pi / 2, pad.face_xy, h))
+    )
+    return cases
+
+
+def _task(task: tuple, config: dict):
+    """One task of a run, in the driver or a Dask worker: ``("rows", job)`` — a grasp's
+    profile rows (:func:`_job_rows`) — or ``("reference", label, pose)`` — one
+    condensed-vs-full-mesh check (seconds each, so they run beside the rows)."""
+    if task[0] == "reference":
+        _, label, pose = task
+        return condensed_vs_full(_pad_of(config), pose, config["reference_delta_mm"] * 1e-3, label)
+    return _job_rows(task[1], config)
+
+
 def _examples(
     jobs: list[tuple], params: list[BottleParams], bottles: list[Bottle], pad, config: dict
 ) -> dict:
@@ -394,6 +424,26 @@ def _stats(values: list) -> dict:
     return {"mean": float(v.mean()), "min": float(v.min()), "max": float(v.max())}
 
 
+def _renders(examples: dict, bottles: list[Bottle], markers: dict, out: Path) -> list[str]:
+    """The example profiles with their friction arrows and the family with its grasp points
+    (offscreen pyvista); [] with a warning when rendering fails (a convenience: the tables
+    are the result)."""
+    figures = []
+    try:
+        from workbench.viz import render_friction_arrows
+
+        twists = {"torsion about the grasp axis": np.array([0, 0, 0, 0, 0, 1.0])}
+        for (i, name), (prof, title) in examples.items():
+            path = out / f"profile_bottle{i:02d}_{name}.png"
+            figures.append(str(render_friction_arrows(prof, twists, path, title=title)))
+        figures.append(
+            str(_render_family(bottles, {k: np.array(v) for k, v in markers.items()}, out / "family.png"))
+        )
+    except Exception as exc:
+        log.warning("offscreen rendering failed: %s", exc)
+    return figures
+
+
 def _render_family(bottles: list[Bottle], markers: dict, path: Path) -> Path:
     """Fig 3.11(b): the family in a grid, with the grasp points of each object."""
     from workbench.viz import _pyvista, save_screenshot
@@ -448,20 +498,31 @@ def run(config: dict) -> dict:
             todo_jobs.append((j, i, hf, name, ang, todo))
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
+    ref_cases = _reference_cases(bottles, pad, config)
+    # the full-mesh reference solves first: the longest tasks start first
+    tasks = [("reference", label, pose) for label, pose in ref_cases] + [("rows", job) for job in todo_jobs]
+    ref_of: dict[str, dict] = {}
 
-    def keep(job, rows) -> None:  # the driver alone writes the checkpoint
-        for key, row in rows:
+    def keep(task, res) -> None:  # the driver alone writes the checkpoint
+        if task[0] == "reference":
+            ref_of[task[1]] = res
+            return
+        for key, row in res:
             ckpt.add(key, row)
+        bar.update(len(res))
+
+    def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
+        return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
 
     t_rows = time.perf_counter()
     with row_client(n_todo, config["workers"], config["scheduler"]) as client:
-        map_rows(partial(_job_rows, config=config), todo_jobs, keep, client=client, progress=bar)
+        renders = map_rows(partial(_task, config=config), tasks, keep, client=client, meanwhile=meanwhile)
         rows_where = (
             "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
         )
-    rows_s = time.perf_counter() - t_rows
+    tasks_s = time.perf_counter() - t_rows
     bar.close()
-    examples = _examples(jobs, params, bottles, pad, config)
+    ref = [ref_of[label] for label, _ in ref_cases]
 
     rows = [r for r in ckpt.rows.values() if not r["empty"]]
     if not rows:
@@ -480,22 +541,6 @@ def run(config: dict) -> dict:
         sup["thesis-code"] = {m: _column(rows, f"{m}_code_support") for m in err}
     prof_ms = np.array([r["profile_ms"] for r in rows])
 
-    # condensed vs full-mesh linear on bottle contacts (the exactness check of the fast level)
-    ref_cases = []
-    for i in range(min(config["reference_cases"], len(bottles))):
-        b = bottles[-1 - i] if i % 2 else bottles[i]
-        name, ang = list(config["approaches"].items())[i % len(config["approaches"])]
-        ref_cases.append(
-            (f"bottle {bottles.index(b)} {name}", grasp_pose(b, 0.5 * b.params.height, ang, pad.face_xy, h))
-        )
-    # an elliptic cylinder (the family's degenerate member: constant section, no twist or lean)
-    ell = Bottle(BottleParams(height=0.2, a0=0.04, aspect0=0.6, aspect1=0.6))
-    ref_cases.append(
-        ("elliptic cylinder 40 x 24 mm, minor axis", grasp_pose(ell, 0.1, np.pi / 2, pad.face_xy, h))
-    )
-    ref = [
-        condensed_vs_full(pad, pose, config["reference_delta_mm"] * 1e-3, label) for label, pose in ref_cases
-    ]
     write_csv(out / "condensed_vs_full.csv", list(ref[0]), [list(r.values()) for r in ref])
 
     validation = None
@@ -547,23 +592,7 @@ def run(config: dict) -> dict:
     ax[1].legend()
     figures = [str(save_figure(fig, out / "table_3_3_histogram.png"))]
 
-    try:
-        from workbench.viz import render_friction_arrows
-
-        twists = {"torsion about the grasp axis": np.array([0, 0, 0, 0, 0, 1.0])}
-        for (i, name), (prof, title) in examples.items():
-            figures.append(
-                str(
-                    render_friction_arrows(
-                        prof, twists, out / f"profile_bottle{i:02d}_{name}.png", title=title
-                    )
-                )
-            )
-        figures.append(
-            str(_render_family(bottles, {k: np.array(v) for k, v in markers.items()}, out / "family.png"))
-        )
-    except Exception as exc:  # rendering is a convenience; the table is the result
-        log.warning("offscreen rendering failed: %s", exc)
+    figures += renders
 
     summary = {
         "n_profiles": len(rows),
@@ -571,9 +600,10 @@ def run(config: dict) -> dict:
         # rows taken from the checkpoint of an earlier (killed or finished) run; wall_time_s
         # then covers only the rest, row_compute_s is the sweep's own time over all rows
         "n_resumed": n_resumed,
-        # where this run's rows ran and their wall time (with the cluster's start)
-        "rows_ran_on": rows_where,
-        "rows_wall_s": rows_s,
+        # where this run's tasks ran — the profile rows and the full-mesh reference cases,
+        # while the driver rendered the examples — and their wall time (with the cluster's start)
+        "tasks_ran_on": rows_where,
+        "tasks_wall_s": tasks_s,
         "row_compute_s": float(
             sum(
                 r["profile_ms"] / 1e3

@@ -212,6 +212,9 @@ def test_fem_fitting_quick(tmp_path):
         assert 0.5 < abl[variant]["ellipsoid"]["ratio"] < 2.0, variant
     assert s["condensed_vs_reference"]["pressure_rel_l2"] <= 0.02
     assert s["condensed_vs_reference"]["force_rel_err"] <= 0.01
+    # reference_cases bottles and the elliptic cylinder, run as tasks beside the rows
+    cases = [c["case"] for c in s["condensed_vs_reference"]["cases"]]
+    assert len(cases) == 2 and cases[1].startswith("elliptic cylinder")
     rows = (tmp_path / "rows.jsonl").read_text().splitlines()
     assert len(rows) == s["n_profiles"]
     # a second run resumes from the checkpoint: no new rows, same table

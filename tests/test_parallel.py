@@ -29,14 +29,22 @@ def test_map_rows_serial_and_on_a_cluster_give_every_result_to_the_driver():
     from distributed import Client
 
     for client_kw in (None, {"processes": False, "n_workers": 2, "threads_per_worker": 1}):
-        got, bar = {}, _Bar()
+        got, bar, calls = {}, _Bar(), []
+
+        def meanwhile(got=got, calls=calls):  # the driver's own work while the rows run
+            calls.append(len(got))
+            return "figures"  # returned by map_rows
+
         keep = got.__setitem__
         if client_kw is None:
-            map_rows(_square, range(7), keep, progress=bar)
+            out = map_rows(_square, range(7), keep, progress=bar, meanwhile=meanwhile)
         else:
             with Client(dashboard_address=None, **client_kw) as c:
-                map_rows(_square, range(7), keep, client=c, progress=bar)
+                out = map_rows(_square, range(7), keep, client=c, progress=bar, meanwhile=meanwhile)
         assert got == {j: [j * j] for j in range(7)} and bar.n == 7
+        # run once, before any result reached the driver (those finished meanwhile come after)
+        assert out == "figures" and calls == [0]
+        assert map_rows(_square, range(2), lambda j, r: None) is None
 
 
 def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
@@ -48,13 +56,14 @@ def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
             check_workers(bad, "")
 
 
-def test_fem_fitting_rows_are_the_same_serially_and_on_two_worker_processes(tmp_path):
-    """The real row function (condensed pad from the disk cache, contact solve, fits) through
-    map_rows on two worker processes gives the serial run's numbers bit for bit: one BLAS,
-    OpenMP and Numba thread per row in both."""
+def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp_path):
+    """The real task function — profile rows (condensed pad from the disk cache, contact
+    solve, fits) and a condensed-vs-full-mesh reference case — through map_rows on two
+    worker processes gives the serial run's numbers bit for bit: one BLAS, OpenMP and Numba
+    thread per task in both."""
     from distributed import Client, LocalCluster
 
-    from experiments.fem_fitting import _job_rows, _pad_of
+    from experiments.fem_fitting import _family, _pad_of, _reference_cases, _task
     from workbench.cli import build_config
 
     sets = {
@@ -68,17 +77,29 @@ def test_fem_fitting_rows_are_the_same_serially_and_on_two_worker_processes(tmp_
         "ablation_every": 0,
     }
     cfg = build_config("fem-fitting", True, str(tmp_path), None, sets)
-    _pad_of(cfg)  # the driver builds (or loads) the pad before any worker needs it
-    jobs = [(0, 0, 0.5, "major", 0.0, [0, 1, 2]), (1, 0, 0.5, "minor", math.pi / 2, [1, 2])]
-    fn = partial(_job_rows, config=cfg)
-    serial, dist = {}, {}
-    map_rows(fn, jobs, lambda j, rows: serial.update(rows))
-    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
-        map_rows(fn, jobs, lambda j, rows: dist.update(rows), client=c)
-    assert sorted(serial) == sorted(dist) and len(serial) == 5
+    pad = _pad_of(cfg)  # the driver builds (or loads) the pad before any worker needs it
+    (label, pose), *_ = _reference_cases(_family(1, 0, 0)[1], pad, cfg)  # one full-mesh check
+    jobs = [
+        ("reference", label, pose),
+        ("rows", (0, 0, 0.5, "major", 0.0, [0, 1, 2])),
+        ("rows", (1, 0, 0.5, "minor", math.pi / 2, [1, 2])),
+    ]
+    fn = partial(_task, config=cfg)
 
-    def numbers(row):
-        return {k: v for k, v in row.items() if not (k.endswith("_ms") or k.endswith("_s"))}
+    def keep(into):
+        return lambda job, res: into.update({job[1]: res} if job[0] == "reference" else res)
+
+    serial, dist = {}, {}
+    map_rows(fn, jobs, keep(serial))
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
+        map_rows(fn, jobs, keep(dist), client=c)
+    assert sorted(serial) == sorted(dist) and len(serial) == 6
+    assert serial[label]["pressure_rel_l2"] < 0.02  # the check itself ran (test_experiments: its bound)
+
+    def numbers(row):  # without the timings (condensed_ms, full_s, speed_ratio, *_ms, *_s)
+        return {
+            k: v for k, v in row.items() if not (k.endswith("_ms") or k.endswith("_s") or k == "speed_ratio")
+        }
 
     for key in serial:
         assert json.dumps(numbers(serial[key]), sort_keys=True) == json.dumps(

@@ -129,14 +129,20 @@ def map_rows(
     client: Any = None,
     progress: Any = None,
     retries: int = 2,
-) -> None:
+    meanwhile: Callable[[], Any] | None = None,
+) -> Any:
     """Run ``fn(job)`` for every job — serially when ``client`` is None, else as Dask tasks —
     and call ``on_result(job, result)`` in this process as each finishes (completion order).
 
     fn must be importable by the workers (a module-level function or a ``functools.partial``
     of one); progress : an object with ``update(n)`` (e.g. a tqdm bar) advanced by
     ``len(result)`` when the result is a list, else by 1.  A task that raises stops the run
-    with that exception (the rows written so far stay checkpointed)."""
+    with that exception (the rows written so far stay checkpointed).
+
+    meanwhile : the driver's own work that needs none of the results (figures, examples),
+    run here while the workers compute — after the tasks are submitted, or before the
+    serial loop — so the driver's core is not idle; its return value is returned
+    (None without it).  Results that finish meanwhile are handed over after it."""
     jobs = list(jobs)
 
     def step(job: Any, res: Any) -> None:
@@ -145,15 +151,18 @@ def map_rows(
             progress.update(len(res) if isinstance(res, list) else 1)
 
     if client is None:
+        extra = meanwhile() if meanwhile is not None else None
         for job in jobs:
             step(job, _one_blas_thread(fn, job))
-        return
+        return extra
     from distributed import as_completed
 
     futures = client.map(partial(_one_blas_thread, fn), jobs, pure=False, retries=retries)
     index = {f.key: i for i, f in enumerate(futures)}
     try:
+        extra = meanwhile() if meanwhile is not None else None
         for fut in as_completed(futures):
             step(jobs[index[fut.key]], fut.result())
     finally:
         client.cancel(futures)
+    return extra
