@@ -36,7 +36,7 @@ its sign: > 0 optimistic).  ``make reproduce`` also runs a more wrapped contact
 from __future__ import annotations
 
 import time
-from functools import partial
+from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +47,7 @@ from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.models import contact_sets
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "sensitivity"
@@ -56,7 +57,9 @@ NAME = "sensitivity"
 # QP solver (DAQP above 48 variables: REACH timings)
 # 5: one meaning of resisted (issue 11); 6: one force reading per REACH jaw; 7: limit surfaces
 # trained on the "mix" sampler, the SDP ellipsoid without the log-det term (issue 12)
-ROW_VERSION = 7
+# 8: rows are tasks (issue 14): each with its own cut store and exact contacts, so its
+# numbers do not depend on which rows ran before it in the same process
+ROW_VERSION = 8
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -102,6 +105,11 @@ DEFAULT_CONFIG = {
     # margins of these models with limit surfaces trained by each sampler kind (SamplerSpec)
     "training_samplers": ["thesis", "thesis-code", "mix"],
     "training_models": ["6dls", "6dls_quartic"],
+    # where the rows run (workbench.parallel.row_client): 0 = a local Dask cluster of one
+    # worker per core when there are many rows, 1 = serially here, N = N local workers;
+    # scheduler = an existing cluster's address.  Neither changes a number but the timings.
+    "workers": 0,
+    "scheduler": "",
 }
 QUICK_CONFIG = {
     "n_elements": 150,
@@ -123,6 +131,7 @@ def check_config(config: dict) -> None:
     """Sampler kinds are checked before the ground truth is computed (the CLI calls this)."""
     for kind in config["training_samplers"]:
         SamplerSpec(kind=kind)  # raises ValueError naming the known kinds
+    check_workers(config["workers"], config["scheduler"])
 
 
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
@@ -213,23 +222,17 @@ def margin_vs_truth(s_m: np.ndarray, true_margin: np.ndarray) -> dict:
     }
 
 
-def _training_distribution(
-    config, ckpt, true_prof, cache, cuts, forces, W, truth, true_margin, nominal
-) -> dict:
+def _training_distribution(config, ckpt, truth, true_margin, nominal) -> dict:
     """Margins of ``training_models`` with limit surfaces trained by each of
-    ``training_samplers`` (checkpointed like the other margins): the capacity error
-    against the noise-free exact margin ``nominal`` (the limit surface's own error —
-    the noisy truth's margins differ from it by ~4 % median, which would hide it),
-    against the noisy truth, and recall at matched precision."""
+    ``training_samplers`` (rows ``margin/<model>@<kind>``): the capacity error against the
+    noise-free exact margin ``nominal`` (the limit surface's own error — the noisy truth's
+    margins differ from it by ~4 % median, which would hide it), against the noisy truth,
+    and recall at matched precision."""
     out = {}
     for model in config["training_models"]:
         out[model] = {}
         for kind in config["training_samplers"]:
-            key = f"margin/{model}@{kind}"
-            if key not in ckpt:
-                sets = _sets(true_prof, model, cache, config, sampler=kind)
-                ckpt.add(key, _model_margin_row(model, sets, forces, W, config, cuts))
-            s_m = np.array(ckpt.rows[key]["margins"])
+            s_m = np.array(ckpt.rows[f"margin/{model}@{kind}"]["margins"])
             pr = matched_precision(s_m, truth, config["precision_levels"])
             out[model][kind] = {
                 "vs_exact_nominal": margin_vs_truth(s_m, nominal),
@@ -239,6 +242,137 @@ def _training_distribution(
                 ),
             }
     return out
+
+
+def _inputs(config: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The disturbances W (n, 6), sensor forces (n,), and the noisy true μ and force
+    factor (n,) of every grasp — from the seed, the same in the driver and each worker."""
+    rng = np.random.default_rng(config["seed"])
+    n = config["n_disturbances"]
+    W = lever_disturbances(rng, n, config["weight_range"], config["lever_x"], config["lever_z"])
+    forces = rng.uniform(*config["force_range"], n)  # sensor readings
+    mu_true = config["mu"] * (1 + config["noise_mu"] * rng.standard_normal(n))
+    f_true = forces * (1 + config["noise_force"] * rng.standard_normal(n))
+    return W, forces, mu_true, f_true
+
+
+@lru_cache(maxsize=1)
+def _process_cache() -> LimitSurfaceCache:
+    """The limit surfaces of this process (driver or Dask worker), shared by its rows: the
+    fits are deterministic, so a row's numbers do not depend on what ran before it here."""
+    return LimitSurfaceCache()
+
+
+def _row_tasks(config: dict) -> list[tuple]:
+    """Every checkpointed row as a task, the longest (margin bisections) first."""
+    tasks: list[tuple] = [("margin", m, None) for m in config["models"]]
+    tasks += [("margin", m, k) for m in config["training_models"] for k in config["training_samplers"]]
+    tasks += [("truth", "truth"), ("truth", "truth-nominal")]
+    tasks += [
+        ("setting", series, x, m)
+        for series, key in (
+            ("k", "k_values"),
+            ("mu_offset", "mu_offsets"),
+            ("length_offset", "length_offsets"),
+        )
+        for x in config[key]
+        for m in config["models"]
+    ]
+    tasks += [("robust", n_r, sigma) for n_r in config["robust_n_r"] for sigma in config["robust_sigma_r"]]
+    return tasks
+
+
+def _key(task: tuple) -> str:
+    kind = task[0]
+    if kind == "margin":
+        return f"margin/{task[1]}" + (f"@{task[2]}" if task[2] else "")
+    if kind == "truth":
+        return f"margin/{task[1]}"
+    if kind == "setting":
+        return f"{task[1]}/{task[2]}/{task[3]}"
+    return f"robust/{task[1]}/{task[2]}"
+
+
+def _row(task: tuple, config: dict) -> dict:
+    """One row, in the driver or a Dask worker, with its own cut store (and exact contacts):
+    margins, a setting's predictions or the robust metric's.  Predictions come back as
+    ``pred`` (bool list): the driver scores them against the ground truth."""
+    W, forces, mu_true, f_true = _inputs(config)
+    cuts, cache = CutStore(), _process_cache()
+    true_prof = _profiles(config, config["k_true"], config["length"])
+    kind = task[0]
+    if kind == "margin":
+        _, model, sampler = task
+        return _model_margin_row(
+            model, _sets(true_prof, model, cache, config, sampler), forces, W, config, cuts
+        )
+    if kind == "truth":
+        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
+        if task[1] == "truth":  # the simulated truth's own margin (the noise of the truth)
+            deciders = [
+                lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]
+                for f, m in zip(f_true, mu_true, strict=True)
+            ]
+        else:  # no noise: the sensor force and nominal μ, exactly
+            deciders = [
+                lambda v, f=f: resists_exact(exact, v, config["mu"], forces=exact.F * f)[0] for f in forces
+            ]
+        return _margin_row(task[1], deciders, W, config["margin_steps"])
+    if kind == "setting":
+        _, series, x, model = task
+        k = x if series == "k" else config["k_true"]
+        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
+        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
+        t0 = time.perf_counter()
+        sets = _sets(_profiles(config, k, length), model, cache, config)
+        build_s = time.perf_counter() - t0
+        pred, ms = _predict(sets, W, forces, mu, cuts)
+        return {
+            "series": series,
+            "x": x,
+            "model": model,
+            "pred": pred.tolist(),
+            "ms_per_grasp": ms,
+            "build_s": build_s,
+        }
+    _, n_r, sigma = task  # robust metric (6DFC paper Fig 3): q_robust >= 0.5 under pose noise
+    nr = config["robust_disturbances"]
+    base = _sets(true_prof, "6dls", cache, config)
+    p = Perturbation(
+        n_samples=n_r, sigma_trans=sigma, sigma_rot=sigma / 0.03, sigma_mu=0.0, sigma_mass=0.0, sigma_com=0.0
+    )
+    t0 = time.perf_counter()
+    pred = [
+        q_robust(
+            [c.with_force(c.force * forces[i]) for c in base],
+            config["mu"],
+            1.0,  # unused: the disturbance is W[i]
+            np.zeros(3),
+            p,
+            seed=i,
+            cuts=cuts,
+            w_ext=W[i],
+        )
+        >= 0.5
+        for i in range(nr)
+    ]
+    ms = (time.perf_counter() - t0) / nr * 1e3
+    return {
+        "series": "robust",
+        "n_r": n_r,
+        "sigma_r": sigma,
+        "model": "6dls robust",
+        "pred": pred,
+        "ms_per_grasp": ms,
+    }
+
+
+def _scored(row: dict, truth: np.ndarray) -> dict:
+    """A row as checkpointed: its predictions scored against the truth (margins as they are)."""
+    if "pred" not in row:
+        return row
+    pred = np.array(row.pop("pred"), dtype=bool)
+    return {**row, **scores(pred, truth[: len(pred)])}
 
 
 def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
@@ -263,76 +397,50 @@ def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
-    rng = np.random.default_rng(config["seed"])
     n = config["n_disturbances"]
-    W = lever_disturbances(rng, n, config["weight_range"], config["lever_x"], config["lever_z"])
-    forces = rng.uniform(*config["force_range"], n)  # sensor readings
-    mu_true = config["mu"] * (1 + config["noise_mu"] * rng.standard_normal(n))
-    f_true = forces * (1 + config["noise_force"] * rng.standard_normal(n))
-    cache = LimitSurfaceCache()
-    cuts = CutStore()  # tangent planes of the quartic models, shared by every grasp
-
-    # ground truth: the true profile's 6DFW set, exactly (column generation), per-grasp noise
+    W, forces, mu_true, f_true = _inputs(config)
     true_prof = _profiles(config, config["k_true"], config["length"])
-    exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
-    t0 = time.perf_counter()
-    truth = np.array(
-        [
-            resists_exact(exact, w, m, forces=exact.F * f)[0]
-            for w, f, m in tqdm(
-                zip(W, f_true, mu_true, strict=True), total=n, desc="ground truth", unit="grasp"
-            )
-        ]
-    )
-    truth_ms = (time.perf_counter() - t0) / n * 1e3
-
     ckpt = Checkpoint(
-        out / "rows.jsonl", {"row_version": ROW_VERSION, **{k: v for k, v in config.items() if k != "out"}}
+        out / "rows.jsonl",
+        {
+            "row_version": ROW_VERSION,
+            **{k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")},
+        },
     )
     n_resumed = len(ckpt.rows)
-    jobs = (
-        [("k", k) for k in config["k_values"]]
-        + [("mu_offset", d) for d in config["mu_offsets"]]
-        + [("length_offset", d) for d in config["length_offsets"]]
-    )
-    for series, x in tqdm(jobs, desc="sensitivity", unit="setting"):
-        for model in config["models"]:
-            key = f"{series}/{x}/{model}"
-            if key in ckpt:
-                continue
-            k = x if series == "k" else config["k_true"]
-            length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
-            mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
-            t0 = time.perf_counter()
-            sets = _sets(_profiles(config, k, length), model, cache, config)
-            build_s = time.perf_counter() - t0
-            pred, ms = _predict(sets, W, forces, mu, cuts)
-            ckpt.add(
-                key,
-                {
-                    "series": series,
-                    "x": x,
-                    "model": model,
-                    **scores(pred, truth),
-                    "ms_per_grasp": ms,
-                    "build_s": build_s,
-                },
-            )
+    todo = [t for t in _row_tasks(config) if _key(t) not in ckpt]
+    got: dict = {}
 
-    # resistance margins at the true parameters (recall at matched precision)
-    for model in tqdm(config["models"], desc="margins", unit="model"):
-        key = f"margin/{model}"
-        if key in ckpt:
-            continue
-        ckpt.add(
-            key, _model_margin_row(model, _sets(true_prof, model, cache, config), forces, W, config, cuts)
+    def ground_truth() -> None:
+        # the true profile's 6DFW set, exactly (column generation), per-grasp noise; the
+        # driver's share while the workers compute the rows (rows are scored against it)
+        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
+        t0 = time.perf_counter()
+        got["truth"] = np.array(
+            [
+                resists_exact(exact, w, m, forces=exact.F * f)[0]
+                for w, f, m in tqdm(
+                    zip(W, f_true, mu_true, strict=True), total=n, desc="ground truth", unit="grasp"
+                )
+            ]
         )
-    if "margin/truth" not in ckpt:  # the simulated truth's own margin (same noise as `truth`)
-        deciders = [
-            lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]
-            for f, m in zip(f_true, mu_true, strict=True)
-        ]
-        ckpt.add("margin/truth", _margin_row("truth", deciders, W, config["margin_steps"]))
+        got["truth_ms"] = (time.perf_counter() - t0) / n * 1e3
+
+    with (
+        tqdm(total=len(todo), desc="sensitivity", unit="row") as bar,
+        row_client(len(todo), config["workers"], config["scheduler"]) as client,
+    ):
+        map_rows(
+            partial(_row, config=config),
+            todo,
+            lambda task, row: ckpt.add(_key(task), _scored(row, got["truth"])),
+            client=client,
+            progress=bar,
+            meanwhile=ground_truth,
+        )
+        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    truth, truth_ms = got["truth"], got["truth_ms"]
+
     true_margin = np.array(ckpt.rows["margin/truth"]["margins"])
     margin_error = {
         m: margin_vs_truth(np.array(ckpt.rows[f"margin/{m}"]["margins"]), true_margin)
@@ -342,15 +450,8 @@ def run(config: dict) -> dict:
         m: matched_precision(np.array(ckpt.rows[f"margin/{m}"]["margins"]), truth, config["precision_levels"])
         for m in config["models"]
     }
-    if "margin/truth-nominal" not in ckpt:  # no noise: the sensor force and nominal μ, exactly
-        deciders = [
-            lambda v, f=f: resists_exact(exact, v, config["mu"], forces=exact.F * f)[0] for f in forces
-        ]
-        ckpt.add("margin/truth-nominal", _margin_row("truth-nominal", deciders, W, config["margin_steps"]))
     nominal = np.array(ckpt.rows["margin/truth-nominal"]["margins"])
-    training = _training_distribution(
-        config, ckpt, true_prof, cache, cuts, forces, W, truth, true_margin, nominal
-    )
+    training = _training_distribution(config, ckpt, truth, true_margin, nominal)
     levels = config["precision_levels"]
 
     def recall_at(m: str, j: int) -> float:
@@ -367,52 +468,6 @@ def run(config: dict) -> dict:
         )
         for j, lv in enumerate(levels)
     }
-
-    # robust metric (6DFC paper Fig 3): q_robust >= 0.5 of the 6DLS under pose noise
-    nr = config["robust_disturbances"]
-    base = _sets(true_prof, "6dls", cache, config)
-    for n_r in config["robust_n_r"]:
-        for sigma in config["robust_sigma_r"]:
-            key = f"robust/{n_r}/{sigma}"
-            if key in ckpt:
-                continue
-            p = Perturbation(
-                n_samples=n_r,
-                sigma_trans=sigma,
-                sigma_rot=sigma / 0.03,
-                sigma_mu=0.0,
-                sigma_mass=0.0,
-                sigma_com=0.0,
-            )
-            t0 = time.perf_counter()
-            pred = np.array(
-                [
-                    q_robust(
-                        [c.with_force(c.force * forces[i]) for c in base],
-                        config["mu"],
-                        1.0,  # unused: the disturbance is W[i]
-                        np.zeros(3),
-                        p,
-                        seed=i,
-                        cuts=cuts,
-                        w_ext=W[i],
-                    )
-                    >= 0.5
-                    for i in range(nr)
-                ]
-            )
-            ms = (time.perf_counter() - t0) / nr * 1e3
-            ckpt.add(
-                key,
-                {
-                    "series": "robust",
-                    "n_r": n_r,
-                    "sigma_r": sigma,
-                    "model": "6dls robust",
-                    **scores(pred, truth[:nr]),
-                    "ms_per_grasp": ms,
-                },
-            )
 
     rows = [r for r in ckpt.rows.values() if r["series"] != "margin"]
     cols = ["series", "x", "n_r", "sigma_r", "model", "precision", "recall", "positives", "ms_per_grasp"]
@@ -477,6 +532,7 @@ def run(config: dict) -> dict:
             m: {k: matched[m][k] for k in ("threshold", "precision", "recall")} for m in config["models"]
         },
         "n_resumed": n_resumed,
+        "rows_ran_on": ran_on,
         "figures": figures,
         "headline": [
             f"truth: {truth.mean():.0%} of {n} disturbances resisted (simulated truth, exact 6DFW set)",

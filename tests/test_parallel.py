@@ -132,3 +132,49 @@ def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(t
     assert runs[1]["surfaces_ran_on"] == "serial" and runs[2]["surfaces_ran_on"] == "dask (2 workers)"
     assert runs[1]["heldout_error"] == runs[2]["heldout_error"]
     assert runs[1]["support_error"] == runs[2]["support_error"]
+
+
+def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(tmp_path):
+    """Each sensitivity row has its own cut store and exact contacts (the limit surfaces are
+    a per-process cache of deterministic fits), so its numbers do not depend on which rows
+    ran before it: forwards, backwards and on two worker processes alike."""
+    from distributed import Client, LocalCluster
+
+    from experiments.sensitivity import _key, _row, _row_tasks
+    from workbench.cli import build_config
+
+    sets = {
+        "n_disturbances": 12,
+        "models": ["planar", "6dls", "6dls_quartic"],  # the quartic's margins use cutting planes
+        "training_models": ["6dls_quartic"],
+        "training_samplers": ["thesis", "mix"],
+        "k_values": [2.0],
+        "mu_offsets": [0.2],
+        "length_offsets": [-0.3],
+        "robust_disturbances": 6,
+    }
+    cfg = build_config("sensitivity", True, str(tmp_path), None, sets)
+    tasks = _row_tasks(cfg)
+    assert {t[0] for t in tasks} == {"margin", "truth", "setting", "robust"}
+    fn = partial(_row, config=cfg)
+
+    def collect(into):
+        return lambda task, row: into.__setitem__(_key(task), row)
+
+    forwards, backwards, dist = {}, {}, {}
+    map_rows(fn, tasks, collect(forwards))
+    map_rows(fn, tasks[::-1], collect(backwards))
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
+        map_rows(fn, tasks, collect(dist), client=c)
+
+    def numbers(rows):
+        return json.dumps(
+            {
+                k: {a: b for a, b in r.items() if not a.endswith(("_ms", "_s", "_grasp"))}
+                for k, r in rows.items()
+            },
+            sort_keys=True,
+        )
+
+    assert len(forwards) == len(tasks) == 3 + 2 + 2 + 3 * 3 + 1
+    assert numbers(forwards) == numbers(backwards) == numbers(dist)
