@@ -33,6 +33,7 @@ checkpointed, so a killed run resumes.
 
 from __future__ import annotations
 
+import json
 import logging
 import time
 from pathlib import Path
@@ -136,8 +137,53 @@ def check_config(config: dict) -> None:
     unknown = sorted(set(config["nl_work_objects"]) - known)
     if unknown:
         raise ValueError(f"nl_work_objects {unknown} are not objects of this experiment ({sorted(known)})")
+    _check_values(config)
     for name in config["objects"]:
         _paths(config, name)
+
+
+def _check_values(config: dict) -> None:
+    """The numbers the run would refuse only after minutes of work (a mass in grams at the
+    first grasp, σ at the normaliser fit), refused before any."""
+    from fem.material import Material
+    from fem.object_wall import check_wall_options
+    from workbench.grasp.robust import gravity_wrench
+
+    masses = config["mass_kg"]
+    missing = [o for o in config["objects"] if not isinstance(masses, dict) or o not in masses]
+    if missing:
+        example = {o: DEFAULT_CONFIG["mass_kg"].get(o, 0.2) for o in config["objects"]}
+        raise ValueError(
+            f"mass_kg must give every object's filled mass [kg]; missing {missing} — e.g. "
+            f"--set 'mass_kg={json.dumps(example)}'"
+        )
+    for o in config["objects"]:
+        try:
+            gravity_wrench(masses[o], np.zeros(3))  # its checks: finite, > 0, not in grams
+        except ValueError as e:
+            raise ValueError(f"mass_kg[{o!r}]: {e}") from None
+    for key in ("mu", "grasp_force", "force_cap", "closing_limit_mm"):
+        v = config[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (np.isfinite(v) and v > 0):
+            raise ValueError(
+                f"{key} must be a finite number > 0; got {v!r} (default {DEFAULT_CONFIG[key]!r})"
+            )
+    sigma = config["sigma"]  # fit_normaliser's condition, checked at the end of a run
+    if (
+        isinstance(sigma, bool)
+        or not isinstance(sigma, (int, float))
+        or not (np.isfinite(sigma) and sigma < 1)
+    ):
+        raise ValueError(
+            f"sigma must be a finite quality threshold < 1 (0.5 in the thesis, §4.3.4); got {sigma!r}"
+        )
+    tf = config["train_fraction"]
+    if isinstance(tf, bool) or not isinstance(tf, (int, float)) or not 0 < tf < 1:
+        raise ValueError(
+            f"train_fraction must be in (0, 1) (the grasps the normalisers are fitted on); got {tf!r}"
+        )
+    check_wall_options(config["thickness"], "auto")
+    Material(config["E"], config["nu"])  # its own range checks
 
 
 def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
@@ -527,9 +573,10 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list
         "table": table,
         "seconds_per_curve": {"median": float(np.median(secs)), "max": float(max(secs))} if secs else None,
         "note": (
-            "W from the St. Venant-Kirchhoff wall's load curve at the linear model's calibrated E "
-            "(coarser mesh nl_mesh), against W = f^2/2s from the calibrated linear stiffness; "
-            "the same grasps, split and thresholding; simulated truth"
+            "q_work from the wall's elastic work U = Σ ∫ f dΔ (not Eq. 4.5's W = Σ f (f/s + ε), which "
+            "has no 1/2 and no load curve): U from the St. Venant-Kirchhoff wall's load curve at the "
+            "linear model's calibrated E (coarser mesh nl_mesh), against U = Σ f²/2s from the "
+            "calibrated linear stiffness; the same grasps, split and thresholding; simulated truth"
         ),
     }
 

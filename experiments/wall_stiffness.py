@@ -1,4 +1,6 @@
-"""Wall stiffness maps of thin-walled bottles (thesis §4.3.3.1, the s_i of Eq. 4.5).
+"""Wall stiffness of thin-walled objects (thesis §4.3.3.1, the s_i of Eq. 4.5): maps over
+the bottle family, or any mesh at given grasps (--set object=PATH.obj --set locations=PATH.json,
+JSON {"stiffness_locations": 2n points [m], i and i + n one grasp}; README).
 
 Issue 4 scope 5.  The thesis measured ``s_i = f_⊥ / (l_s − l_e)`` with a
 parallel-jaw gripper closing to 10 N per jaw at antipodal grasp locations; here
@@ -42,7 +44,7 @@ DEFAULT_CONFIG = {
     "bottles": [0, 5, 20],  # indices into bottle_family(seed); 16..23 are the asymmetric ones
     "E": 2.5e9,  # PET ~2-4 GPa
     "nu": 0.4,
-    "thickness": 0.5e-3,
+    "thickness": 0.5e-3,  # wall thickness [m]
     "mesh": [48, 24],  # hexes around, along the height (one triquadratic hex through the wall)
     "height_fractions": [0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8],
     "n_angles": 6,  # grasp-axis angles in [0, π) from the section's major axis

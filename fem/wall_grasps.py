@@ -217,7 +217,10 @@ def stiffness_at(
                     row.update(
                         stiffness=RIGID_STIFFNESS,
                         rigid=True,
-                        reason=f"a jaw rests on the clamped edge ({res['clamp_gap'] * 1e3:.2f} mm in)",
+                        reason=(
+                            "a jaw rests on the clamped edge after "
+                            f"{res['clamp_gap'] * 1e3:.2f} mm of travel from first touch"
+                        ),
                     )
                 elif res["delta"] < rigid_closing:
                     row.update(

@@ -410,9 +410,18 @@ def test_wall_nonlinear_refuses_careless_grasps(capsys, tmp_path, grasps):
     [
         ("profiles", "fem_pad", ["profiles must be one of", "'reach'", "'fem'", "fem_pad"]),
         ("nl_work_objects", '["bottle"]', ["nl_work_objects", "bottle", "not objects of this experiment"]),
+        # refused at the first grasp or the normaliser fit, minutes in, until the new-user trial
+        (
+            "mass_kg",
+            '{"plastic_cup": 180, "mustard": 0.27, "shampoo": 0.25}',
+            ["mass_kg['plastic_cup']", "pass 0.18"],
+        ),
+        ("mass_kg", '{"plastic_cup": 0.18}', ["mass_kg must give every object", "'mustard'", "'shampoo'"]),
+        ("sigma", "1.0", ["sigma must be", "< 1", "1.0"]),
+        ("mu", "0", ["mu must be", "> 0"]),
     ],
 )
-def test_minimal_work_refuses_unknown_profile_source_or_object(capsys, tmp_path, key, value, words):
+def test_minimal_work_refuses_careless_settings_before_any_work(capsys, tmp_path, key, value, words):
     argv = ["run", "minimal-work", "--quick", "--out", str(tmp_path / "out"), "--set", f"{key}={value}"]
     try:
         main(argv)

@@ -260,7 +260,9 @@ def config_help(name: str) -> str:
 
 
 def _first_doc_line(name: str) -> str:
-    return (importlib.import_module(EXPERIMENTS[name]).__doc__ or "").strip().splitlines()[0]
+    """The experiment module docstring's first paragraph, on one line."""
+    doc = (importlib.import_module(EXPERIMENTS[name]).__doc__ or "").strip()
+    return " ".join(doc.split("\n\n")[0].split())
 
 
 class _ExperimentParser(argparse.ArgumentParser):

@@ -7,6 +7,13 @@ with ``objective="sum"``) press the object by ``d_i = f_i / s_i + ε`` at each c
 qualities normalise by a maximum chosen from physical data:
 ``q_work = 1 − W / W_max`` (Eq. 4.6), ``q_force = 1 − Σ f / f⊥max`` (§4.3.3.2).
 
+``s_i`` is the object's stiffness as the thesis measured it (§4.3.3.1): the squeezing force
+over the closing of *both* jaws, ``s = f / Δ``, so ``d_i = f_i / s_i`` charges each contact
+the grasp's whole closing (``W ≈ 2 f² / s`` for a grasp of two equal forces) — the thesis's
+convention, kept.  Where ε ≪ f / s it scales every grasp's W alike (charging half the
+closing would halve them all), so the ranking, and ``q_work`` with ``W_max`` fitted on the
+same grasps, hardly depend on it.
+
 W is evaluated at the forces that minimise ``Σ f`` — the thesis's algorithm — not
 minimised itself: with unequal stiffness a different split of the forces could need
 less work.  With every contact rigid, ``W = ε Σ f`` and ``q_work`` ranks grasps as
@@ -141,7 +148,10 @@ class MinimalWork:
     displacements : (N,) ``d_i = f_i / s_i + ε`` [m] (NaN when unresisted).
     W : work [J]; ``inf`` when unresisted.
     eps : ε used [m].
-    resisted : whether some forces resist ``w_ext``.
+    resisted : whether some forces resist ``w_ext`` — any forces: Eq. 4.4 leaves them free,
+        so a contact's own ``force`` / ``f_max`` does not bound them (unlike
+        :func:`~.resistance.resists`, which asks about the contacts' given forces; read
+        ``forces`` against your gripper's limit).
     solver, representation, fallbacks, converged : of the
         :class:`~.resistance.MinimalForce` answer (``converged`` False: cutting planes
         ran out and ``f_sum`` is a lower bound).
@@ -192,8 +202,9 @@ def minimal_work(
     * The balance is accepted to ``config.TOL.resist_rtol`` of the capacity at the
       contacts' *given* forces (``ContactSet.force``), so give them forces of the
       order of the answer: at 1e4 times the minimal force the band is ~10 % of it.
-    * "outer" lies outside the ellipsoid, so its forces are lower bounds, loose at
-      the usual M: on the elliptic-cylinder scene (0.3 kg, μ = 0.5) Σ f was 3.2 N at
+    * "outer" lies outside a 6DLS ellipsoid, so its forces are lower bounds, loose at
+      the usual M (a point or soft-point contact is polyhedral already: its ``kind``,
+      inner or outer polygon, decides): on the elliptic-cylinder scene (0.3 kg, μ = 0.5) Σ f was 3.2 N at
       M = 100, 3.7 N at 200, 4.5 N at 1000 against 5.8 N for "model", with the two
       jaws' forces split unequally (which W then weighs by stiffness).
     * Stiffness is per contact: a jaw made of many contacts (REACH elements) would
