@@ -642,7 +642,7 @@ def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: in
         f_sum = max(m.f_sum for m in mw)
         W = max(m.W for m in mw)
         # beyond the thesis: the work from the calibrated FEM's force-deflection line, ∫ f dΔ = f²/(2 s)
-        W_fem = max(float(np.sum(m.forces**2 / (2 * s_fem))) if m.resisted else np.inf for m in mw)
+        W_fem = max(float(np.sum(m.forces**2 / (2 * s_fem))) if m.feasible else np.inf for m in mw)
         qr = min(
             q_robust(
                 contacts, mu, mass, com, Perturbation(n_samples=config["robust_samples"]), w_ext=w, seed=0

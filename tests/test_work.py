@@ -69,7 +69,7 @@ def test_work_of_two_opposing_point_contacts_matches_the_closed_form(representat
         _two_jaws(a), gravity_wrench(mass, [c, 0, 0]), mu, s, eps=eps, representation=representation
     )
     f = _closed_form_forces(mass, mu, a, c)
-    assert res.resisted and res.converged
+    assert res.feasible and res.converged
     np.testing.assert_allclose(res.forces, f, atol=_band(mu))
     assert res.f_sum == pytest.approx(f.sum(), abs=2 * _band(mu))
     W_ref = float(np.sum(f * (f / s + eps)))  # Eq. 4.5 by hand
@@ -95,7 +95,7 @@ def test_work_by_hand_and_rigid_contacts():
 def test_unresisted_grasp_has_infinite_work():
     """Point contacts cannot resist a torque about their common axis (Eq. 2.100)."""
     res = minimal_work(_two_jaws(0.03), np.array([0, 0, 0, 0.1, 0, 0]), 0.5, [500.0, 500.0])
-    assert not res.resisted
+    assert not res.feasible
     assert res.W == np.inf and res.f_sum == np.inf
     assert np.isnan(res.forces).all() and np.isnan(res.displacements).all()
     assert q_work(res.W, 1.0) == -np.inf

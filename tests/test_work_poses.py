@@ -31,12 +31,12 @@ def _same(res, ref, exact: bool = True) -> bool:
     """``res`` (a MinimalWork) is ``ref`` (from _reference): bit for bit, or to round-off."""
     f_sum, f, W = ref
     if f is None:
-        return not res.resisted and res.f_sum == np.inf and res.W == np.inf and np.isnan(res.forces).all()
+        return not res.feasible and res.f_sum == np.inf and res.W == np.inf and np.isnan(res.forces).all()
     if exact:
-        return res.resisted and res.f_sum == f_sum and res.W == W and np.array_equal(res.forces, f)
+        return res.feasible and res.f_sum == f_sum and res.W == W and np.array_equal(res.forces, f)
     scale = f_sum + 1e-300
     return (
-        res.resisted
+        res.feasible
         and abs(res.f_sum - f_sum) <= ROUNDOFF * scale
         and abs(res.W - W) <= ROUNDOFF * abs(W)
         and np.abs(res.forces - f).max() <= ROUNDOFF * scale

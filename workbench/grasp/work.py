@@ -148,10 +148,10 @@ class MinimalWork:
     displacements : (N,) ``d_i = f_i / s_i + ε`` [m] (NaN when unresisted).
     W : work [J]; ``inf`` when unresisted.
     eps : ε used [m].
-    resisted : whether some forces resist ``w_ext`` — any forces: Eq. 4.4 leaves them free,
-        so a contact's own ``force`` / ``f_max`` does not bound them (unlike
-        :func:`~.resistance.resists`, which asks about the contacts' given forces; read
-        ``forces`` against your gripper's limit).
+    feasible : whether some forces resist ``w_ext`` — any forces: Eq. 4.4 leaves them free,
+        so a contact's own ``force`` / ``f_max`` does not bound them (as
+        :attr:`~.resistance.MinimalForce.feasible`; :func:`~.resistance.resists` asks about
+        the contacts' given forces instead — read ``forces`` against your gripper's limit).
     solver, representation, fallbacks, converged : of the
         :class:`~.resistance.MinimalForce` answer (``converged`` False: cutting planes
         ran out and ``f_sum`` is a lower bound).
@@ -163,7 +163,7 @@ class MinimalWork:
     displacements: np.ndarray
     W: float
     eps: float
-    resisted: bool
+    feasible: bool
     solver: str
     representation: str
     fallbacks: tuple[str, ...] = ()
@@ -195,7 +195,7 @@ def minimal_work(
         contact's force free, ``Σ f`` minimised: Eq. 4.4 as published).
     cuts : cut store for quartic models under "model" (shared across calls).
 
-    An unresisted ``w_ext`` gives ``f_sum = W = inf`` and ``resisted=False``.
+    An unresisted ``w_ext`` gives ``f_sum = W = inf`` and ``feasible=False``.
 
     Notes
     -----
