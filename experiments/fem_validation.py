@@ -27,6 +27,7 @@ from fem.material import Material
 from fem.obstacles import Cylinder, Plane, Sphere
 from fem.pad import PadGeometry, condense_pad
 from fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import save_figure, write_csv, write_summary
 
 NAME = "fem-validation"
@@ -49,7 +50,19 @@ DEFAULT_CONFIG = {
     "thin_film_nu": 0.49999,  # K/G = 5e4: the column compressibility term 3 (a/h)² G/K stays <= 0.054
     "thin_film_cylinder_a_h": [5, 10, 15, 20, 30],  # plane strain, 0.5 x 0.25 mm hexes on h = 1 mm
     "thin_film_sphere_a_h": [10, 15, 20],  # 3D, 1 x 1 x 0.25 mm hexes (a/h = 20: 39k dofs, ~70 s)
+    # where the two neo-Hookean fidelity cases run (workbench.parallel.row_client): 0 = a
+    # local Dask cluster (full size) while this process runs the other checks, 1 = serially
+    # here, N = N local workers; scheduler = an existing cluster's address
+    "workers": 0,
+    "scheduler": "",
 }
+
+
+def check_config(config: dict) -> None:
+    """The CLI checks settings with this before any work (workbench.cli.build_config)."""
+    check_workers(config["workers"], config["scheduler"])
+
+
 QUICK_CONFIG = {
     "hertz_fine_sizes": [0.6e-3],
     "nus": [0.3, 0.499, 0.4999],
@@ -174,24 +187,36 @@ def thin_film(config: dict) -> list[dict]:
     return rows
 
 
-def fidelity_table(config: dict) -> list[dict]:
-    """(e) condensed linear (SRI, the profiles' fidelity; and full integration, the
-    reference's discretization) and full-mesh linear against the neo-Hookean
-    reference at δ/h = 2% (small-strain check) and 20/40/60%.
+FIDELITY_CASES = ("cylinder R15", "sphere R15")
+
+
+def _fidelity_setup(config: dict):
+    nx, ny, nz = config["fidelity_pad"]
+    geom = PadGeometry(0.016, 0.02, 0.005, nx, ny, nz)
+    mat = Material(1.0e6, config["fidelity_nu"])
+    h = geom.thickness
+    cases = {
+        "cylinder R15": Cylinder((0, 0, h + 0.015), (0, 1, 0), 0.015),
+        "sphere R15": Sphere((0, 0, h + 0.015), 0.015),
+    }
+    return geom, mat, cases
+
+
+def fidelity_case(name: str, config: dict) -> list[dict]:
+    """(e) one indenter of :data:`FIDELITY_CASES`: condensed linear (SRI, the profiles'
+    fidelity; and full integration, the reference's discretization) and full-mesh linear
+    against the neo-Hookean reference at δ/h = 2% (small-strain check) and 20/40/60%.
+    A task of its own (the cylinder's load stepping takes minutes): the driver runs the
+    other checks meanwhile.
 
     Pressures: linear λ / A₀ (reference tributary areas); nonlinear the Cauchy
     pressure λ / a (deformed areas); fields compared node by node on the face grid.
     """
     from fem.nonlinear import NonlinearPad
 
-    nx, ny, nz = config["fidelity_pad"]
-    geom = PadGeometry(0.016, 0.02, 0.005, nx, ny, nz)
+    geom, mat, cases = _fidelity_setup(config)
+    obs = cases[name]
     h = geom.thickness
-    mat = Material(1.0e6, config["fidelity_nu"])
-    cases = {
-        "cylinder R15": Cylinder((0, 0, h + 0.015), (0, 1, 0), 0.015),
-        "sphere R15": Sphere((0, 0, h + 0.015), 0.015),
-    }
     deltas = [f * h for f in config["fidelity_deltas"]]
     nl = NonlinearPad(geom, mat)
     pads = {
@@ -200,58 +225,57 @@ def fidelity_table(config: dict) -> list[dict]:
     }
     _, area0 = face_grid(pads["condensed SRI"].face_xy)
     rows = []
-    for name, obs in tqdm(cases.items(), desc="linear vs nonlinear", unit="case"):
-        t0 = time.perf_counter()
-        ref = nl.solve(obs, deltas)
-        t_nl = (time.perf_counter() - t0) / len(deltas)
-        for d in deltas:
-            r = ref[d]
-            a_def = nl.deformed_areas(r)
-            p_nl = np.divide(r.lam, a_def, out=np.zeros_like(r.lam), where=a_def > 0)
-            base = {
-                "case": name,
-                "delta_over_h": d / h,
-                "nl_force_N": r.force,
-                "nl_peak_kPa": p_nl.max() / 1e3,
-                "nl_area_mm2": float(a_def[r.lam > 0].sum() * 1e6),
+    t0 = time.perf_counter()
+    ref = nl.solve(obs, deltas)
+    t_nl = (time.perf_counter() - t0) / len(deltas)
+    for d in deltas:
+        r = ref[d]
+        a_def = nl.deformed_areas(r)
+        p_nl = np.divide(r.lam, a_def, out=np.zeros_like(r.lam), where=a_def > 0)
+        base = {
+            "case": name,
+            "delta_over_h": d / h,
+            "nl_force_N": r.force,
+            "nl_peak_kPa": p_nl.max() / 1e3,
+            "nl_area_mm2": float(a_def[r.lam > 0].sum() * 1e6),
+        }
+        rows.append(
+            {
+                **base,
+                "level": "nonlinear (neo-Hookean)",
+                "seconds": t_nl,
+                "force_rel_err": 0.0,
+                "peak_rel_err": 0.0,
+                "area_rel_err": 0.0,
+                "pressure_rel_l2": 0.0,
             }
+        )
+        levels = {k: partial(solve_contact, pad, obs, d) for k, pad in pads.items()}
+        if config["fidelity_full_mesh"]:
+            levels["linear full mesh"] = partial(solve_contact_full, geom, mat, obs, d)
+        for level, fn in levels.items():
+            fn()
+            t0 = time.perf_counter()
+            c = fn()
+            dt = time.perf_counter() - t0
+            p_l = nodal_pressures(pads["condensed SRI"], c.lam)  # same face nodes on every level
             rows.append(
                 {
                     **base,
-                    "level": "nonlinear (neo-Hookean)",
-                    "seconds": t_nl,
-                    "force_rel_err": 0.0,
-                    "peak_rel_err": 0.0,
-                    "area_rel_err": 0.0,
-                    "pressure_rel_l2": 0.0,
+                    "level": level,
+                    "seconds": dt,
+                    "force_rel_err": c.force / r.force - 1,
+                    "peak_rel_err": p_l.max() / p_nl.max() - 1,
+                    "area_rel_err": area0[c.lam > 0].sum() * 1e6 / base["nl_area_mm2"] - 1,
+                    "pressure_rel_l2": float(np.linalg.norm(p_l - p_nl) / np.linalg.norm(p_nl)),
                 }
             )
-            levels = {k: partial(solve_contact, pad, obs, d) for k, pad in pads.items()}
-            if config["fidelity_full_mesh"]:
-                levels["linear full mesh"] = partial(solve_contact_full, geom, mat, obs, d)
-            for level, fn in levels.items():
-                fn()
-                t0 = time.perf_counter()
-                c = fn()
-                dt = time.perf_counter() - t0
-                p_l = nodal_pressures(pads["condensed SRI"], c.lam)  # same face nodes on every level
-                rows.append(
-                    {
-                        **base,
-                        "level": level,
-                        "seconds": dt,
-                        "force_rel_err": c.force / r.force - 1,
-                        "peak_rel_err": p_l.max() / p_nl.max() - 1,
-                        "area_rel_err": area0[c.lam > 0].sum() * 1e6 / base["nl_area_mm2"] - 1,
-                        "pressure_rel_l2": float(np.linalg.norm(p_l - p_nl) / np.linalg.norm(p_nl)),
-                    }
-                )
     return rows
 
 
-def run(config: dict) -> dict:
-    t_start = time.perf_counter()
-    out = Path(config["out"])
+def _checks(config: dict, out: Path) -> dict:
+    """(a)-(d) and (b'): every check but the neo-Hookean fidelity, with their CSVs, the
+    figure and the profile renders — the driver's share while the fidelity cases run."""
     # (a) locking
     locking = []
     for nu in config["nus"]:
@@ -392,7 +416,40 @@ def run(config: dict) -> dict:
         slug = name.replace(" ", "_")
         renders.append(str(render_friction_arrows(prof, twists, out / f"profile_{slug}.png", title=name)))
 
-    fid = fidelity_table(config)
+    return {
+        "locking": locking,
+        "winkler": winkler,
+        "film": film,
+        "hz": hz,
+        "rows": rows,
+        "precompute_s": precompute_s,
+        "sweep": sweep,
+        "monotone": monotone,
+        "fig_path": fig_path,
+        "renders": renders,
+    }
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    fid_of: dict[str, list[dict]] = {}
+    # the neo-Hookean cylinder's load stepping (minutes) and sphere as tasks, the rest here
+    # meanwhile: two cases are worth a cluster at full size, not in --quick
+    min_rows = None if config.get("quick") else 2
+    with row_client(len(FIDELITY_CASES), config["workers"], config["scheduler"], min_rows=min_rows) as client:
+        done = map_rows(
+            partial(fidelity_case, config=config),
+            FIDELITY_CASES,
+            fid_of.__setitem__,
+            client=client,
+            meanwhile=partial(_checks, config, out),
+        )
+        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    locking, winkler, film, hz, rows = (done[k] for k in ("locking", "winkler", "film", "hz", "rows"))
+    precompute_s, sweep, monotone = done["precompute_s"], done["sweep"], done["monotone"]
+    fig_path, renders = done["fig_path"], done["renders"]
+    fid = [r for name in FIDELITY_CASES for r in fid_of[name]]
     write_csv(out / "linear_vs_nonlinear.csv", list(fid[0]), [list(r.values()) for r in fid])
     fidelity = {
         f"{r['case']} {round(100 * r['delta_over_h'])}%": {
@@ -446,6 +503,7 @@ def run(config: dict) -> dict:
             "rows": fid,
         },
         "figures": [str(fig_path), *renders],
+        "fidelity_ran_on": ran_on,
         "headline": [
             f"SRI u/u_exact at nu={locking[-1]['nu']}: {locking[-1]['sri_over_exact']:.4f} "
             f"(full integration {locking[-1]['full_over_exact']:.4f})",
