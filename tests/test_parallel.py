@@ -178,3 +178,27 @@ def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(
 
     assert len(forwards) == len(tasks) == 3 + 2 + 2 + 3 * 3 + 1
     assert numbers(forwards) == numbers(backwards) == numbers(dist)
+
+
+def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_processes(tmp_path):
+    """The neo-Hookean fidelity cases (tasks of fem-validation) give the serial run's rows
+    bit for bit on two worker processes (timings aside)."""
+    from distributed import Client, LocalCluster
+
+    from experiments.fem_validation import FIDELITY_CASES, fidelity_case
+    from workbench.cli import build_config
+
+    cfg = build_config("fem-validation", True, str(tmp_path), None, {"fidelity_deltas": [0.02, 0.2]})
+    fn = partial(fidelity_case, config=cfg)
+    serial, dist = {}, {}
+    map_rows(fn, FIDELITY_CASES, serial.__setitem__)
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
+        map_rows(fn, FIDELITY_CASES, dist.__setitem__, client=c)
+
+    def numbers(rows):
+        return json.dumps([{k: v for k, v in r.items() if k != "seconds"} for r in rows], sort_keys=True)
+
+    assert set(serial) == set(FIDELITY_CASES)
+    for name in FIDELITY_CASES:
+        assert len(serial[name]) == 2 * 3  # per δ: the reference and two condensed levels
+        assert numbers(serial[name]) == numbers(dist[name]), name
