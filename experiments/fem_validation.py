@@ -446,7 +446,6 @@ def run(config: dict) -> dict:
             meanwhile=partial(_checks, config, out),
         )
         ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
-        client_used = client is not None
     locking, winkler, film, hz, rows = (done[k] for k in ("locking", "winkler", "film", "hz", "rows"))
     precompute_s, sweep, monotone = done["precompute_s"], done["sweep"], done["monotone"]
     fig_path, renders = done["fig_path"], done["renders"]
@@ -507,7 +506,7 @@ def run(config: dict) -> dict:
         "fidelity_ran_on": ran_on,
         # (c)'s runtimes (median_condensed_ms, speed ratio) are taken in this process, beside
         # the fidelity cases when they ran on workers: workers=1 gives the machine's own
-        "timings_beside_workers": client_used,
+        "timings_beside_workers": ran_on != "serial",
         "headline": [
             f"SRI u/u_exact at nu={locking[-1]['nu']}: {locking[-1]['sri_over_exact']:.4f} "
             f"(full integration {locking[-1]['full_over_exact']:.4f})",

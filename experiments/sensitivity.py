@@ -299,8 +299,25 @@ def _row(task: tuple, config: dict) -> dict:
     ``pred`` (bool list): the driver scores them against the ground truth."""
     W, forces, mu_true, f_true = _inputs(config)
     cuts, cache = CutStore(), _process_cache()
-    true_prof = _profiles(config, config["k_true"], config["length"])
     kind = task[0]
+    if kind == "setting":  # its own profile; every other row is at the true one
+        _, series, x, model = task
+        k = x if series == "k" else config["k_true"]
+        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
+        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
+        t0 = time.perf_counter()
+        sets = _sets(_profiles(config, k, length), model, cache, config)
+        build_s = time.perf_counter() - t0
+        pred, ms = _predict(sets, W, forces, mu, cuts)
+        return {
+            "series": series,
+            "x": x,
+            "model": model,
+            "pred": pred.tolist(),
+            "ms_per_grasp": ms,
+            "build_s": build_s,
+        }
+    true_prof = _profiles(config, config["k_true"], config["length"])
     if kind == "margin":
         _, model, sampler = task
         return _model_margin_row(
@@ -318,23 +335,6 @@ def _row(task: tuple, config: dict) -> dict:
                 lambda v, f=f: resists_exact(exact, v, config["mu"], forces=exact.F * f)[0] for f in forces
             ]
         return _margin_row(task[1], deciders, W, config["margin_steps"])
-    if kind == "setting":
-        _, series, x, model = task
-        k = x if series == "k" else config["k_true"]
-        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
-        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
-        t0 = time.perf_counter()
-        sets = _sets(_profiles(config, k, length), model, cache, config)
-        build_s = time.perf_counter() - t0
-        pred, ms = _predict(sets, W, forces, mu, cuts)
-        return {
-            "series": series,
-            "x": x,
-            "model": model,
-            "pred": pred.tolist(),
-            "ms_per_grasp": ms,
-            "build_s": build_s,
-        }
     _, n_r, sigma = task  # robust metric (6DFC paper Fig 3): q_robust >= 0.5 under pose noise
     nr = config["robust_disturbances"]
     base = _sets(true_prof, "6dls", cache, config)

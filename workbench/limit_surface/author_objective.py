@@ -39,8 +39,8 @@ import numpy as np
 from ..config import DEFAULTS
 from .ellipsoid import EllipsoidLS, _embed
 from .normalize import Subspace, check_twists, prepare
-from .quartic import QuarticLS, _block_rows, _gram, _solver_options, certify
-from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
+from .quartic import QuarticLS, _gram, _solver_options, _sos_convexity, certify
+from .sos import exponents, monomials
 
 MODELS = ("ellipsoid", "quartic")
 
@@ -123,16 +123,14 @@ def fit_author_objective(
         expo = exponents(r, 4)
         L = len(expo)
         a = cp.Variable(L)
-        # the Gram matrix in fit_quartic's swap-invariant form M = Σ Tᵀ X T (blocks 21 and
-        # 15 at r = 6 instead of one 36 x 36 cone; sos.py's notes: no SOS-convex quartic
-        # is lost, and M enters only this constraint, so the optimum is the same)
-        blocks = [(cp.Variable((len(T), len(T)), PSD=True), T) for T in swap_blocks(r) if len(T)]
-        lhs = sum(rows @ cp.vec(X, order="F") for (X, _), rows in zip(blocks, _block_rows(r), strict=True))
-        V2 = sos_convexity_maps(r)[1]
+        # SOS-convexity as fit_quartic states it: the swap-invariant Gram blocks (21 and 15
+        # at r = 6 instead of one 36 x 36 cone; M enters only this constraint, so the
+        # optimum is the same)
+        blocks, sos_convex = _sos_convexity(r, a)
         f = monomials(y, expo) @ a
         g = cp.vstack([D @ a for D in _gradient_design(y, expo)]).T
         reg = cp.norm(a, 2)
-        cons = [lhs == V2 @ a]
+        cons = [sos_convex]
     value_l1 = cp.sum(cp.abs(f - 1.0))
     twist_sum = cp.sum(cp.norm(g - cp.multiply(s[:, None], cp.Constant(n)), 2, axis=1))
     prob = cp.Problem(cp.Minimize(lam * reg + ww * value_l1 + (tw * twist_sum if tw > 0 else 0)), cons)
