@@ -46,6 +46,7 @@ reproduce: $(STAMP)
 	$(TIMED) bench-limit-surface -- $(BIN)/python benchmarks/bench_limit_surface.py
 	$(TIMED) bench-grasp -- $(BIN)/python benchmarks/bench_grasp.py
 	$(TIMED) bench-minimal-work -- $(BIN)/python benchmarks/bench_minimal_work.py
+	$(TIMED) bench-wall-stiffness -- $(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 
 test: $(STAMP) lint
@@ -65,6 +66,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_limit_surface.py
 	$(BIN)/python benchmarks/bench_grasp.py
 	$(BIN)/python benchmarks/bench_minimal_work.py
+	$(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(BIN)/python benchmarks/bench_sweep.py
 
 clean:
