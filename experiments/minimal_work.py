@@ -28,7 +28,12 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    training half of the grasps, reported on the other half.
 
 Rows (one per candidate grasp, and one per FEM grasp of the calibration) are
-checkpointed, so a killed run resumes.
+checkpointed, so a killed run resumes.  The candidate grasps (step 3-5) and the nonlinear
+walls' load curves run as Dask tasks (:mod:`workbench.parallel`: a local cluster of one
+worker per core when there are many, ``workers`` / ``scheduler``); each worker process
+loads the meshes and maps and builds each object's wall once (:func:`_object_wall`, a
+per-process memo), and the driver renders the stiffness maps meanwhile.  The rows are the
+serial run's, bit for bit (``tests/test_parallel.py``).
 """
 
 from __future__ import annotations
@@ -36,12 +41,14 @@ from __future__ import annotations
 import json
 import logging
 import time
+from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
 from scipy.stats import spearmanr
 from tqdm import tqdm
 
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import Checkpoint, content_hash, save_figure, write_csv, write_summary
 
 NAME = "minimal-work"
@@ -97,7 +104,16 @@ DEFAULT_CONFIG = {
     "nl_mesh": [16, 8],  # hexes around, along (the wall-nonlinear experiment's mesh)
     "nl_step_mm": 0.5,  # closing increment of the load stepping
     "nl_max_closing_mm": 15.0,  # 3x the truth's closing limit: a grasp needing more fails anyway
+    # where the candidate grasps and load curves run (workbench.parallel.row_client): 0 = a
+    # local Dask cluster of one worker per core when there are many, 1 = serially here, N = N
+    # local workers; scheduler = an existing cluster's address.  Neither changes a number.
+    "workers": 0,
+    "scheduler": "",
 }
+#: settings that do not enter the checkpoint key: where rows run changes no number
+WHERE_KEYS = ("out", "workers", "scheduler")
+#: a local cluster for the load curves from this many (each takes 10-60 s; a cluster's start ~3 s)
+NL_MIN_ROWS = 8
 NL_KEYS = ("nl_work_objects", "nl_mesh", "nl_step_mm", "nl_max_closing_mm")
 QUICK_CONFIG = {
     "n_heights": 3,
@@ -138,6 +154,7 @@ def check_config(config: dict) -> None:
     if unknown:
         raise ValueError(f"nl_work_objects {unknown} are not objects of this experiment ({sorted(known)})")
     _check_values(config)
+    check_workers(config["workers"], config["scheduler"])
     for name in config["objects"]:
         _paths(config, name)
 
@@ -186,6 +203,93 @@ def _check_values(config: dict) -> None:
     Material(config["E"], config["nu"])  # its own range checks
 
 
+@lru_cache(maxsize=8)
+def _mesh(path: str):
+    """The object's mesh, read once per process (driver and each worker)."""
+    import trimesh
+
+    return trimesh.load(path, force="mesh")
+
+
+@lru_cache(maxsize=8)
+def _measured_map(path: str):
+    """The measured map's :class:`~workbench.grasp.stiffness_map.StiffnessMap`, once per process."""
+    from fem.wall_grasps import read_locations
+    from workbench.grasp.stiffness_map import StiffnessMap
+
+    L, measured = read_locations(path)
+    if measured is None:
+        raise ValueError(
+            f"{path}: minimal-work needs the measured 'stiffness_map' (one value per location) "
+            "beside 'stiffness_locations'; for locations without measurements use "
+            "`workbench run wall-stiffness --set object=... --set locations=...`"
+        )
+    return StiffnessMap.from_measured(L, np.r_[measured, measured])
+
+
+@lru_cache(maxsize=4)
+def _object_wall(path: str, E: float, nu: float, thickness: float, n_theta: int, n_z: int):
+    """The object's linear wall, assembled and factorised once per process (~10-20 s; it
+    cannot be sent to a worker: the sparse factor does not pickle)."""
+    from fem.material import Material
+    from fem.object_wall import object_wall
+
+    return object_wall(_mesh(path), Material(E, nu), thickness=thickness, n_theta=n_theta, n_z=n_z)
+
+
+def _wall_of(name: str, config: dict):
+    """(geometry, wall) of object ``name`` at the run's wall settings."""
+    nt, nz = config["mesh"]
+    path = str(_paths(config, name)[0])
+    return _object_wall(path, float(config["E"]), float(config["nu"]), float(config["thickness"]), nt, nz)
+
+
+@lru_cache(maxsize=2)
+def _fem_pad(jaw: tuple):
+    """The FEM pad (profiles="fem"), condensed once per process (its disk cache: once per machine)."""
+    from fem.material import Material
+    from fem.pad import PadGeometry, condense_pad
+
+    return condense_pad(PadGeometry(*jaw), Material())
+
+
+def _jaws_of(mesh, g: dict, config: dict) -> list:
+    """Both jaws' contact profiles at grasp ``g`` (``profiles``: REACH or the FEM pad)."""
+    if config["profiles"] == "reach":
+        from workbench.grasp.evaluate import jaw_profiles
+
+        return jaw_profiles(
+            mesh,
+            g,
+            config["grasp_force"],
+            pad=tuple(config["jaw"]),
+            closing=config["reach_closing_mm"] * 1e-3,
+            allow_scale=True,
+        )
+    from fem.jaw_profile import fem_jaw_profiles
+
+    return fem_jaw_profiles(mesh, g, config["grasp_force"], pad=_fem_pad(tuple(config["jaw"])))
+
+
+def _grasp_task(job: tuple, config: dict) -> dict:
+    """One candidate grasp's row (:func:`_grasp_row`) from ``job`` = (object, index, grasp,
+    calibration scale, seed), in the driver or a Dask worker."""
+    name, k, g, scale, seed = job
+    mesh_path, map_path = _paths(config, name)
+    return _grasp_row(
+        name,
+        k,
+        g,
+        _mesh(str(mesh_path)),
+        _measured_map(str(map_path)),
+        scale,
+        partial(_wall_of, config=config),
+        partial(_jaws_of, config=config),
+        config,
+        seed,
+    )
+
+
 def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     """FEM stiffness at the measured grasps (checkpointed)."""
     from fem.wall_grasps import stiffness_at
@@ -205,15 +309,11 @@ def _num(x) -> float:
 
 
 def run(config: dict) -> dict:
-    import trimesh
-
     from fem.calibration import missing_physics, split_scores
-    from fem.material import Material
-    from fem.object_wall import object_wall, wall_geometry
+    from fem.object_wall import wall_geometry
     from fem.wall_grasps import read_locations
-    from workbench.grasp.evaluate import jaw_profiles
     from workbench.grasp.sampling import horizontal_grasps
-    from workbench.grasp.stiffness_map import StiffnessMap, leave_one_out
+    from workbench.grasp.stiffness_map import leave_one_out
     from workbench.grasp.threshold import balanced_accuracy, fit_normaliser
 
     t_start = time.perf_counter()
@@ -221,54 +321,19 @@ def run(config: dict) -> dict:
     rng = np.random.default_rng(config["seed"])
     # the nonlinear-work settings change only their own rows (keyed by them below)
     ckpt = Checkpoint(
-        out / "rows.jsonl", {k: v for k, v in config.items() if k != "out" and k not in NL_KEYS}
+        out / "rows.jsonl",
+        {k: v for k, v in config.items() if k not in WHERE_KEYS and k not in NL_KEYS},
     )
     n_resumed = len(ckpt.rows)
-    walls: dict = {}
     meshes = {}
-    pads: list = []  # the FEM pad, condensed once (disk-cached) when profiles="fem"
-
-    def jaws_of(mesh, g):
-        if config["profiles"] == "reach":
-            return jaw_profiles(
-                mesh,
-                g,
-                config["grasp_force"],
-                pad=tuple(config["jaw"]),
-                closing=config["reach_closing_mm"] * 1e-3,
-                allow_scale=True,
-            )
-        from fem.jaw_profile import fem_jaw_profiles
-        from fem.pad import PadGeometry, condense_pad
-
-        if not pads:
-            pads.append(condense_pad(PadGeometry(*config["jaw"]), Material()))
-        return fem_jaw_profiles(mesh, g, config["grasp_force"], pad=pads[0])
-
-    def wall_of(name):
-        if name not in walls:
-            nt, nz = config["mesh"]
-            walls[name] = object_wall(
-                meshes[name],
-                Material(config["E"], config["nu"]),
-                thickness=config["thickness"],
-                n_theta=nt,
-                n_z=nz,
-            )
-        return walls[name]
+    wall_of = partial(_wall_of, config=config)
 
     validation, interp, grasps_all, fig_data = {}, {}, [], {}
     for name in config["objects"]:
         mesh_path, map_path = _paths(config, name)
-        meshes[name] = mesh = trimesh.load(mesh_path, force="mesh")
+        meshes[name] = mesh = _mesh(str(mesh_path))
+        smap = _measured_map(str(map_path))  # refuses a file without measurements
         L, measured = read_locations(map_path)
-        if measured is None:
-            raise ValueError(
-                f"{map_path}: minimal-work needs the measured 'stiffness_map' (one value per location) "
-                "beside 'stiffness_locations'; for locations without measurements use "
-                "`workbench run wall-stiffness --set object=... --set locations=...`"
-            )
-        smap = StiffnessMap.from_measured(L, np.r_[measured, measured])
         interp[name] = leave_one_out(smap)
         # 2. FEM at the measured grasps, one scalar calibrated on half, checked on the other
         fem = np.array([_num(r["stiffness"]) for r in _fem_rows(ckpt, name, L, wall_of, config)])
@@ -327,11 +392,25 @@ def run(config: dict) -> dict:
         for k, g in enumerate(cands):
             grasps_all.append((name, k, g, smap, float(np.exp(log_c))))
 
-    todo = [x for x in grasps_all if f"grasp/{x[0]}/{x[1]}" not in ckpt]
-    for name, k, g, smap, scale in tqdm(todo, desc="minimal work", unit="grasp"):
-        seed = config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k
-        row = _grasp_row(name, k, g, meshes[name], smap, scale, wall_of, jaws_of, config, seed)
-        ckpt.add(f"grasp/{name}/{k}", row)
+    todo = [
+        (name, k, g, scale, config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k)
+        for name, k, g, _, scale in grasps_all
+        if f"grasp/{name}/{k}" not in ckpt
+    ]
+    with (
+        tqdm(total=len(todo), desc="minimal work", unit="grasp") as bar,
+        row_client(len(todo), config["workers"], config["scheduler"]) as client,
+    ):
+        # the driver renders the maps while the workers compute (no row needed for them)
+        stiffness_figures = map_rows(
+            partial(_grasp_task, config=config),
+            todo,
+            lambda job, row: ckpt.add(f"grasp/{job[0]}/{job[1]}", row),
+            client=client,
+            progress=bar,
+            meanwhile=lambda: _stiffness_figures(out, meshes, fig_data),
+        )
+        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     rows = [ckpt.rows[f"grasp/{x[0]}/{x[1]}"] for x in grasps_all]
     skipped = [
         {"object": r["object"], "grasp": r["grasp"], "reason": r["skipped"]} for r in rows if "skipped" in r
@@ -348,7 +427,7 @@ def run(config: dict) -> dict:
             sorted(set(config["nl_work_objects"]) - set(nl_objects)),
         )
     nonlinear = (
-        _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, nl_objects) if nl_objects else None
+        _nonlinear_work(ckpt, grasps_all, rows, split, config, nl_objects) if nl_objects else None
     )
     t_nl = time.perf_counter() - t_nl
 
@@ -390,7 +469,7 @@ def run(config: dict) -> dict:
             for n in config["objects"]
         }
 
-    figures = _figures(out, rows, config) + _stiffness_figures(out, meshes, fig_data)
+    figures = _figures(out, rows, config) + stiffness_figures
     cols = ["object", "grasp", "z", "angle_deg", "s_map_1", "s_map_2", "s_fem"]
     write_csv(
         out / "grasps.csv",
@@ -437,6 +516,7 @@ def run(config: dict) -> dict:
         "stiffness_interpolation": interp,
         "ms_per_grasp": {"median": float(np.median(secs) * 1e3), "max": float(secs.max() * 1e3)},
         "n_resumed": n_resumed,
+        "grasps_ran_on": ran_on,
         "seconds": {  # this invocation (resumed rows cost nothing)
             "total": time.perf_counter() - t_start,
             "nonlinear_work": t_nl,
@@ -462,22 +542,19 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list[str]) -> dict:
+def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -> dict:
     """Scope 9 (§4.3.5): per candidate grasp of ``objects``, the nonlinear wall's
     load curve up to the largest jaw force of any pose, ``W_nl = max over poses Σ_i ∫ f dΔ``
     at the jaws' minimal forces (:func:`fem.wall_nonlinear.curve_work`), and Table 4.6's
     balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
     (``f² / 2s``), on the same grasps with the same ``split`` (n,) bool (True: training).
     Rows checkpointed."""
-    from fem.material import Material
-    from fem.object_wall import wall_geometry
-    from fem.wall_nonlinear import curve_work, grasp_frame_wall, squeeze_nonlinear
+    from fem.wall_nonlinear import curve_work
     from workbench.grasp.threshold import balanced_accuracy, fit_normaliser
 
     nl = {k: config[k] for k in NL_KEYS if k != "nl_work_objects"}
     tag = content_hash(nl, 8)
     sel = [i for i, x in enumerate(grasps_all) if x[0] in objects]
-    geos: dict = {}
 
     def key(i: int) -> str:  # the checkpoint key of candidate i's load curve
         return f"nlw/{tag}/{grasps_all[i][0]}/{grasps_all[i][1]}"
@@ -486,37 +563,24 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list
         f = np.array([x for t in TASKS for pose in r[t]["forces"] for x in pose], float)
         return float(np.nanmax(f)) if np.isfinite(f).any() else float("nan")
 
-    for i in tqdm([i for i in sel if key(i) not in ckpt], desc="nonlinear work", unit="grasp"):
+    jobs = []
+    for i in [i for i in sel if key(i) not in ckpt]:
         name, k, g, _, scale = grasps_all[i]
         r = rows[i]
         if not np.isfinite(_num(r["s_fem"])) or not np.isfinite(need(r)):  # rigid, or never resisted
             ckpt.add(key(i), {"curve": None})
-            continue
-        if name not in geos:
-            geos[name] = wall_geometry(meshes[name], thickness=config["thickness"], n_z=config["nl_mesh"][1])
-        mat = Material(config["E"] * scale, config["nu"])  # the linear model's calibrated E
-        t0 = time.perf_counter()
-        try:
-            wall, centre = grasp_frame_wall(geos[name], mat, g["p1"], g["p2"], n_theta=config["nl_mesh"][0])
-            res = squeeze_nonlinear(
-                wall,
-                centre,
-                force=need(r) * 1.001,
-                step=config["nl_step_mm"] * 1e-3,
-                max_closing=config["nl_max_closing_mm"] * 1e-3,
-                jaw=tuple(config["jaw"]),
-            )
-        except ValueError as e:  # e.g. no wall under a jaw: recorded, not hidden
-            log.warning("nonlinear work %s grasp %d: %s", name, k, e)
-            ckpt.add(key(i), {"curve": None, "error": str(e)})
-            continue
-        ckpt.add(
-            key(i),
-            {
-                "curve": {"closing": res["closing"].tolist(), "jaw_forces": res["jaw_forces"].tolist()},
-                "on_clamp": res["on_clamp"],
-                "seconds": time.perf_counter() - t0,
-            },
+        else:
+            jobs.append((i, name, k, g, scale, need(r) * 1.001))
+    with (
+        tqdm(total=len(jobs), desc="nonlinear work", unit="grasp") as bar,
+        row_client(len(jobs), config["workers"], config["scheduler"], min_rows=NL_MIN_ROWS) as client,
+    ):
+        map_rows(
+            partial(_load_curve, config=config),
+            jobs,
+            lambda job, res: ckpt.add(key(job[0]), res),
+            client=client,
+            progress=bar,
         )
     W_nl = {t: np.full(len(sel), np.inf) for t in TASKS}
     W_lin = {t: np.full(len(sel), np.inf) for t in TASKS}
@@ -578,6 +642,45 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, meshes, config, objects: list
             "linear model's calibrated E (coarser mesh nl_mesh), against U = Σ f²/2s from the "
             "calibrated linear stiffness; the same grasps, split and thresholding; simulated truth"
         ),
+    }
+
+
+@lru_cache(maxsize=4)
+def _wall_geometry(path: str, thickness: float, n_z: int):
+    """The object's wall geometry (ray casting), once per process."""
+    from fem.object_wall import wall_geometry
+
+    return wall_geometry(_mesh(path), thickness=thickness, n_z=n_z)
+
+
+def _load_curve(job: tuple, config: dict) -> dict:
+    """The nonlinear wall's force-closing curve at one candidate grasp, ``job`` = (index,
+    object, grasp index, grasp, calibration scale, jaw force to reach [N]); its checkpoint
+    entry (``curve`` None with the ``error`` when the squeeze refuses the grasp)."""
+    from fem.material import Material
+    from fem.wall_nonlinear import grasp_frame_wall, squeeze_nonlinear
+
+    _, name, k, g, scale, force = job
+    geo = _wall_geometry(str(_paths(config, name)[0]), float(config["thickness"]), config["nl_mesh"][1])
+    mat = Material(config["E"] * scale, config["nu"])  # the linear model's calibrated E
+    t0 = time.perf_counter()
+    try:
+        wall, centre = grasp_frame_wall(geo, mat, g["p1"], g["p2"], n_theta=config["nl_mesh"][0])
+        res = squeeze_nonlinear(
+            wall,
+            centre,
+            force=force,
+            step=config["nl_step_mm"] * 1e-3,
+            max_closing=config["nl_max_closing_mm"] * 1e-3,
+            jaw=tuple(config["jaw"]),
+        )
+    except ValueError as e:  # e.g. no wall under a jaw: recorded, not hidden
+        log.warning("nonlinear work %s grasp %d: %s", name, k, e)
+        return {"curve": None, "error": str(e)}
+    return {
+        "curve": {"closing": res["closing"].tolist(), "jaw_forces": res["jaw_forces"].tolist()},
+        "on_clamp": res["on_clamp"],
+        "seconds": time.perf_counter() - t0,
     }
 
 

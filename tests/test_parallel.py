@@ -202,3 +202,50 @@ def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_p
     for name in FIDELITY_CASES:
         assert len(serial[name]) == 2 * 3  # per δ: the reference and two condensed levels
         assert numbers(serial[name]) == numbers(dist[name]), name
+
+
+def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_worker_processes(tmp_path):
+    """minimal-work's tasks — a candidate grasp's row (metrics and simulated truth, the wall
+    built once per worker process) and a nonlinear wall's load curve — give the serial rows
+    bit for bit on two worker processes (timings aside)."""
+    from pathlib import Path
+
+    import numpy as np
+    from distributed import Client, LocalCluster
+
+    from experiments.minimal_work import _grasp_task, _load_curve, _mesh, _paths
+    from workbench.cli import build_config
+    from workbench.grasp.sampling import horizontal_grasps
+
+    small = {"objects": ["shampoo"], "mesh": [16, 8], "robust_samples": 4, "noise_samples": 2}
+    cfg = build_config("minimal-work", True, str(tmp_path), None, small)
+    if not Path(cfg["data_dir"], "meshes").is_dir():
+        pytest.skip("deformable_objects data not available (CC BY-NC, read by path)")
+    mesh = _mesh(str(_paths(cfg, "shampoo")[0]))
+    lo, hi = mesh.bounds[:, 2]
+    cands = horizontal_grasps(mesh, [lo + 0.4 * (hi - lo), lo + 0.6 * (hi - lo)], 2, cfg["mu"], pad=None)
+    assert len(cands) >= 2
+    grasps = [("shampoo", 0, cands[0], 0.5, 100)]
+    curves = [(1, "shampoo", 1, cands[1], 0.5, 2.0)]
+    tasks = ((partial(_grasp_task, config=cfg), grasps), (partial(_load_curve, config=cfg), curves))
+
+    def collect(into, tag):
+        # the grasp's number: job[1] of a grasp task (object, k, ...), job[2] of a curve (i, object, k, ...)
+        return lambda job, row: into.__setitem__((tag, job[2] if tag == "_load_curve" else job[1]), row)
+
+    serial, dist = {}, {}
+    for f, jobs in tasks:
+        map_rows(f, jobs, collect(serial, f.func.__name__))
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
+        for f, jobs in tasks:
+            map_rows(f, jobs, collect(dist, f.func.__name__), client=c)
+
+    def numbers(rows):
+        return json.dumps(
+            {str(k): {a: b for a, b in r.items() if a != "seconds"} for k, r in rows.items()}, sort_keys=True
+        )
+
+    assert len(serial) == 2
+    assert serial[("_load_curve", 1)]["curve"] is not None
+    assert np.isfinite(serial[("_grasp_task", 0)]["s_fem"])
+    assert numbers(serial) == numbers(dist)
