@@ -426,9 +426,7 @@ def run(config: dict) -> dict:
             "nonlinear work: %s not among objects, skipped",
             sorted(set(config["nl_work_objects"]) - set(nl_objects)),
         )
-    nonlinear = (
-        _nonlinear_work(ckpt, grasps_all, rows, split, config, nl_objects) if nl_objects else None
-    )
+    nonlinear = _nonlinear_work(ckpt, grasps_all, rows, split, config, nl_objects) if nl_objects else None
     t_nl = time.perf_counter() - t_nl
 
     # 6. Table 4.6: W_max and f_max on a training half, balanced accuracy on the rest

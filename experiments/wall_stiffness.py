@@ -12,7 +12,11 @@ map over the surface.  Validation first: the thin ring under diametral loads
 :func:`fem.wall.squeeze`, i.e. the contact solve itself), with mesh refinement;
 then the bottle's mesh convergence at one location.
 
-Rows are checkpointed per (bottle, height, angle) so a killed run resumes.
+Rows are checkpointed per (bottle, height, angle) so a killed run resumes.  The family's
+maps run as Dask tasks, one per (bottle, height) — each worker process builds a bottle's wall
+once (:func:`_bottle_wall`, a per-process memo) — and the mesh-convergence study as one more,
+while the driver runs the ring validation (:mod:`workbench.parallel`; ``workers`` /
+``scheduler``; the numbers are the serial run's).
 
 With ``object=PATH.obj`` (a watertight mesh in metres of a thin-walled object) and
 ``locations=PATH.json`` (``stiffness_locations``, 2n points, i and i + n one grasp —
@@ -25,6 +29,7 @@ grasp order with ``rigid`` and ``failed`` flags; when the JSON also holds a
 from __future__ import annotations
 
 import time
+from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +40,7 @@ from fem.material import Material
 from fem.object_wall import wall_geometry
 from fem.wall import build_wall, ring_pinch, ring_wall, squeeze
 from fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
+from workbench.parallel import check_workers, map_rows, row_client
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "wall-stiffness"
@@ -56,7 +62,14 @@ DEFAULT_CONFIG = {
     "locations": "",  # JSON with stiffness_locations (2n, 3) [m] for object=
     "rigid_closing_mm": 0.05,  # closings below this are rigid (smallest measured: 0.052 mm)
     "top": "auto",  # object=: top edge of the side wall: auto | lip | clamped | free (fem.object_wall)
+    # where the family's maps run (workbench.parallel.row_client): 0 = a local Dask cluster of
+    # one worker per core when there are many rows, 1 = serially here, N = N local workers;
+    # scheduler = an existing cluster's address.  Neither changes a number.
+    "workers": 0,
+    "scheduler": "",
 }
+#: settings that do not enter the checkpoint key: where rows run changes no number
+WHERE_KEYS = ("out", "workers", "scheduler")
 QUICK_CONFIG = {
     "bottles": [0],
     "mesh": [24, 12],
@@ -96,77 +109,129 @@ def _axis(bottle: Bottle, z: float, angle: float) -> tuple[np.ndarray, np.ndarra
     return np.r_[centre, z], np.array([np.cos(phi + angle), np.sin(phi + angle), 0.0])
 
 
+@lru_cache(maxsize=2)
+def _bottle_wall(seed: int, i: int, E: float, nu: float, thickness: float, nt: int, nz: int):
+    """Bottle ``i`` of the family and its wall, assembled and factorised once per process
+    (driver or worker; the sparse factor does not pickle, so it is never sent)."""
+    b = Bottle(bottle_family(seed=seed)[i])
+    wall = build_wall(
+        b.points_normals,
+        Material(E, nu),
+        thickness=thickness,
+        n_theta=nt,
+        n_z=nz,
+        z_range=(0, b.params.height),
+    )
+    return b, wall
+
+
+def _map_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
+    """The map rows of one (bottle ``i``, height fraction ``hf``) at ``angles``: [(key, row)]."""
+    i, hf, angles = job
+    nt, nz = config["mesh"]
+    b, wall = _bottle_wall(
+        config["seed"], i, float(config["E"]), float(config["nu"]), float(config["thickness"]), nt, nz
+    )
+    out = []
+    for a in angles:
+        t0 = time.perf_counter()
+        r = squeeze(wall, *_axis(b, hf * b.params.height, a), force=config["force"], jaw=tuple(config["jaw"]))
+        row = {
+            "bottle": i,
+            "height_fraction": hf,
+            "angle": a,
+            "stiffness_N_per_m": r["stiffness"],
+            "closing_mm": r["delta"] * 1e3,
+            "contact_nodes": r["contact_nodes"],
+            "contact_points": r["contact_points"].tolist(),
+            "ms": (time.perf_counter() - t0) * 1e3,
+            "build_s": wall.seconds,
+        }
+        out.append((f"{i}/{hf}/{a:.6f}", row))
+    return out
+
+
+def _convergence_task(config: dict) -> list[dict]:
+    """The first bottle's stiffness at mid-height, two axes, on each of ``convergence_meshes``."""
+    mat = Material(config["E"], config["nu"])
+    b = Bottle(bottle_family(seed=config["seed"])[config["bottles"][0]])
+    H = b.params.height
+    conv = []
+    for nt, nz in config["convergence_meshes"]:
+        wall = build_wall(
+            b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
+        )
+        for ang in (0.0, np.pi / 2):
+            r = squeeze(wall, *_axis(b, 0.5 * H, ang), force=config["force"], jaw=tuple(config["jaw"]))
+            conv.append(
+                {
+                    "mesh": f"{nt}x{nz}",
+                    "angle": ang,
+                    "stiffness_N_per_m": r["stiffness"],
+                    "build_s": wall.seconds,
+                }
+            )
+    for r in conv:
+        ref = next(c for c in conv[::-1] if c["angle"] == r["angle"])
+        r["rel_to_finest"] = r["stiffness_N_per_m"] / ref["stiffness_N_per_m"] - 1
+    return conv
+
+
+def _task(job, config: dict):
+    """A Dask task of the family run: a map job, or "convergence"."""
+    return _convergence_task(config) if job == "convergence" else _map_task(job, config)
+
+
 def run(config: dict) -> dict:
     if config["object"]:
         return run_object(config)
     t_start = time.perf_counter()
     out = Path(config["out"])
     mat = Material(config["E"], config["nu"])
-    ring = ring_rows(config)
-    write_csv(out / "ring_validation.csv", list(ring[0]), [list(r.values()) for r in ring])
-
     family = bottle_family(seed=config["seed"])
-    opts = {"force": config["force"], "jaw": tuple(config["jaw"])}
-    conv = []
-    if config["convergence_meshes"]:
-        b = Bottle(family[config["bottles"][0]])
-        H = b.params.height
-        for nt, nz in tqdm(config["convergence_meshes"], desc="mesh convergence", unit="mesh"):
-            wall = build_wall(
-                b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
-            )
-            for ang in (0.0, np.pi / 2):
-                r = squeeze(wall, *_axis(b, 0.5 * H, ang), **opts)
-                conv.append(
-                    {
-                        "mesh": f"{nt}x{nz}",
-                        "angle": ang,
-                        "stiffness_N_per_m": r["stiffness"],
-                        "build_s": wall.seconds,
-                    }
-                )
-        for r in conv:
-            ref = next(c for c in conv[::-1] if c["angle"] == r["angle"])
-            r["rel_to_finest"] = r["stiffness_N_per_m"] / ref["stiffness_N_per_m"] - 1
-        write_csv(out / "mesh_convergence.csv", list(conv[0]), [list(r.values()) for r in conv])
-
     angles = np.arange(config["n_angles"]) * np.pi / config["n_angles"]
-    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k != "out"})
-    todo = [
-        (i, hf, float(a))
-        for i in config["bottles"]
-        for hf in config["height_fractions"]
-        for a in angles
-        if f"{i}/{hf}/{a:.6f}" not in ckpt.rows
-    ]
+    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in WHERE_KEYS})
     n_resumed = len(ckpt.rows)
-    build_s = {}
-    nt, nz = config["mesh"]
-    with tqdm(total=len(todo), desc="stiffness map", unit="grasp") as bar:
-        for i in sorted({t[0] for t in todo}):
-            b = Bottle(family[i])
-            H = b.params.height
-            wall = build_wall(
-                b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
-            )
-            build_s[i] = wall.seconds
-            for _, hf, a in (t for t in todo if t[0] == i):
-                t0 = time.perf_counter()
-                r = squeeze(wall, *_axis(b, hf * H, a), **opts)
-                ckpt.add(
-                    f"{i}/{hf}/{a:.6f}",
-                    {
-                        "bottle": i,
-                        "height_fraction": hf,
-                        "angle": a,
-                        "stiffness_N_per_m": r["stiffness"],
-                        "closing_mm": r["delta"] * 1e3,
-                        "contact_nodes": r["contact_nodes"],
-                        "contact_points": r["contact_points"].tolist(),
-                        "ms": (time.perf_counter() - t0) * 1e3,
-                    },
-                )
-                bar.update()
+    jobs = []
+    for i in config["bottles"]:
+        for hf in config["height_fractions"]:
+            todo = tuple(float(a) for a in angles if f"{i}/{hf}/{a:.6f}" not in ckpt.rows)
+            if todo:
+                jobs.append((i, hf, todo))
+    n_todo = sum(len(j[2]) for j in jobs)
+    if config["convergence_meshes"]:
+        jobs.insert(0, "convergence")  # the longest task first (its finest wall)
+    got: dict = {}
+
+    def keep(job, res) -> None:  # the driver alone writes the checkpoint
+        if job == "convergence":
+            got["conv"] = res
+        else:
+            for key, row in res:
+                ckpt.add(key, row)
+
+    with (
+        tqdm(
+            total=n_todo + (len(config["convergence_meshes"]) * 2), desc="stiffness map", unit="grasp"
+        ) as bar,
+        row_client(n_todo, config["workers"], config["scheduler"]) as client,
+    ):
+        # the ring validation is the driver's share while the workers squeeze the bottles
+        ring = map_rows(
+            partial(_task, config=config),
+            jobs,
+            keep,
+            client=client,
+            progress=bar,
+            meanwhile=lambda: ring_rows(config),
+        )
+        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    write_csv(out / "ring_validation.csv", list(ring[0]), [list(r.values()) for r in ring])
+    conv = got.get("conv", [])
+    if conv:
+        write_csv(out / "mesh_convergence.csv", list(conv[0]), [list(r.values()) for r in conv])
+    build_s = {r["bottle"]: r["build_s"] for r in ckpt.rows.values() if "build_s" in r}
+
     rows = list(ckpt.rows.values())
     cols = ["bottle", "height_fraction", "angle", "stiffness_N_per_m", "closing_mm", "contact_nodes", "ms"]
     write_csv(out / "stiffness_map.csv", cols, [[r[c] for c in cols] for r in rows])
@@ -202,6 +267,7 @@ def run(config: dict) -> dict:
         "maps": maps,
         "n_grasps": len(rows),
         "n_resumed": n_resumed,
+        "rows_ran_on": ran_on,
         "wall_build_s": build_s,
         "ms_per_grasp": {"median": float(np.median(ms)), "max": float(ms.max())},
         "model": (
@@ -261,6 +327,7 @@ def _object_inputs(config: dict) -> tuple:
         mesh,
         f"object={config['object']}",
         fix="re-export it in metres (scale it by {factor:g}, e.g. trimesh's mesh.apply_scale({factor:g}))",
+        override=None,  # no allow_scale on the command line: a wall is metres-sized
     )
     L, measured = read_locations(config["locations"])
     return mesh, L, measured
@@ -284,6 +351,7 @@ def check_config(config: dict) -> None:
             f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}, larger than "
             f"any object ({TOL.max_object_extent_m:g} m) — in millimetres? pass {(jaw / 1e3).tolist()}"
         )
+    check_workers(config["workers"], config["scheduler"])
     if config["locations"] and not config["object"]:
         raise ValueError(
             f"locations={config['locations']} needs object=PATH.obj (the mesh the locations lie on); "

@@ -118,6 +118,7 @@ def radial_surface(
     n_theta: int = N_THETA,
     dz: float = DZ,
     margin: float = 2e-3,
+    remedy: str | None = None,
 ) -> RadialSurface:
     """The outer surface ``r(θ, z)`` of a watertight mesh with a vertical (z) axis.
 
@@ -127,6 +128,8 @@ def radial_surface(
         of star-shaped sections within the mesh's z extent less ``margin`` at both ends
         (a rolled rim, cap, neck or base ends it; logged) — at least half that extent.
     n_theta, dz : ray count per turn and height step of the sampling grid.
+    remedy : the fix the not-star-shaped error suggests (default: this function's own
+        ``centre`` and ``z_range``; a caller that does not pass them on says its own).
     Raises ``ValueError`` for an open mesh, a mesh in millimetres, or a section that is
     not star-shaped about the axis (rays with more than two hits, or none).
     """
@@ -177,8 +180,12 @@ def radial_surface(
         raise ValueError(
             f"the section is not star-shaped about the axis at ({c[0]:.4g}, {c[1]:.4g}) m: the ray at "
             f"z = {Z.ravel()[k]:.4g} m, θ = {np.degrees(T.ravel()[k]):.0f}° {what} ({bad.size} of "
-            f"{counts.size} rays) — pass a centre inside every section, a narrower z_range, or an "
-            "object whose horizontal sections are star-shaped (no handle)"
+            f"{counts.size} rays) — "
+            + (
+                remedy
+                or "pass a centre inside every section, a narrower z_range, or an object whose "
+                "horizontal sections are star-shaped (no handle)"
+            )
         )
     r = np.array([d[-1] for d in dists]).reshape(T.shape)
     r_in = np.array([d[0] if len(d) == 2 else np.nan for d in dists]).reshape(T.shape)

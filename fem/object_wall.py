@@ -200,7 +200,13 @@ def wall_geometry(
     """
     check_wall_options(thickness, top)
     mesh = closed_mesh(mesh, "the object mesh", units=units, override=None)
-    surface = radial_surface(mesh)
+    # the axis is the box's vertical centre line and the heights are found, not given, so the
+    # only fix a caller has is another object
+    surface = radial_surface(
+        mesh,
+        remedy="the wall is built about the vertical line through the mesh box's centre, so every "
+        "horizontal section of the side wall must be star-shaped about it: one body, no handle",
+    )
     closed = is_closed_top(mesh, surface)
     lip = find_lip(mesh, surface) if top == "lip" or (top == "auto" and not closed) else None
     if top == "lip" and lip is None:

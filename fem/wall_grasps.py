@@ -80,9 +80,18 @@ def grasp_pairs(
     beyond = np.maximum(surface.bounds[0] - L, L - surface.bounds[1]).max(axis=1)
     if (beyond > max_offset).any():
         k = int(np.argmax(beyond))
+        # in millimetres: far larger than the object, and inside its box once divided by 1000
+        mm = np.maximum(surface.bounds[0] - L / 1e3, L / 1e3 - surface.bounds[1]).max(axis=1)
+        huge = np.abs(L).max() > 100 * np.abs(surface.bounds).max()
+        hint = (
+            " — they are probably in millimetres: divide them by 1000"
+            if huge and (mm <= max_offset).all()
+            else ""
+        )
         raise ValueError(
-            f"location {k} {L[k].tolist()} lies outside the object's box {surface.bounds.tolist()} m, "
-            f"{beyond[k] * 1e3:.2f} mm beyond it (at most {max_offset * 1e3:g} mm): {fix}"
+            f"{_which(beyond > max_offset)} outside the object's box {surface.bounds.tolist()} m; the "
+            f"farthest, location {k} {L[k].tolist()}, {beyond[k] * 1e3:.2f} mm beyond it (at most "
+            f"{max_offset * 1e3:g} mm): {fix}{hint}"
         )
     _, z, off = surface.parameters(L)
     lo, hi = surface.z_range
@@ -91,8 +100,8 @@ def grasp_pairs(
     if far.any():
         k = int(np.argmax(np.where(far, np.abs(off), 0)))
         raise ValueError(
-            f"location {k} {L[k].tolist()} is {off[k] * 1e3:.2f} mm off the object's surface "
-            f"(radially, + outside; at most {max_offset * 1e3:g} mm): {fix}"
+            f"{_which(far)} off the object's surface; the farthest, location {k} {L[k].tolist()}, is "
+            f"{off[k] * 1e3:.2f} mm off it (radially, + outside; at most {max_offset * 1e3:g} mm): {fix}"
         )
     if mesh is not None and not on_wall.all():
         from trimesh.proximity import closest_point
@@ -101,13 +110,24 @@ def grasp_pairs(
         _, dist, _ = closest_point(mesh, L[idx])
         if (dist > max_offset).any():
             k = int(idx[np.argmax(dist)])
+            bad = np.zeros(len(L), dtype=bool)
+            bad[idx[dist > max_offset]] = True
             raise ValueError(
-                f"location {k} {L[k].tolist()} is {dist.max() * 1e3:.2f} mm from the object's mesh "
+                f"{_which(bad)} off the object's mesh; the farthest, location {k} {L[k].tolist()}, is "
+                f"{dist.max() * 1e3:.2f} mm from it "
                 f"(at most {max_offset * 1e3:g} mm; it lies above or below the side wall, "
                 f"z = {lo:.4g}..{hi:.4g} m): {fix}"
             )
     n = len(L) // 2
     return L[:n], L[n:]
+
+
+def _which(mask: np.ndarray, show: int = 8) -> str:
+    """The words "locations 0, 3, 5 (3 of 12) lie": every offending index (the first ``show``)."""
+    idx = np.flatnonzero(mask)
+    more = f", … ({idx.size - show} more)" if idx.size > show else ""
+    name, verb = ("location", "lies") if idx.size == 1 else ("locations", "lie")
+    return f"{name} {', '.join(map(str, idx[:show]))}{more} ({idx.size} of {mask.size}) {verb}"
 
 
 def axis_normal_angles(surface: RadialSurface, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -219,7 +239,8 @@ def stiffness_at(
                         rigid=True,
                         reason=(
                             "a jaw rests on the clamped edge after "
-                            f"{res['clamp_gap'] * 1e3:.2f} mm of travel from first touch"
+                            f"{res['clamp_gap'] * 1e3:.3g} mm of its own travel from first touch "
+                            f"(closing of both jaws {res['delta'] * 1e3:.3g} mm at the target force)"
                         ),
                     )
                 elif res["delta"] < rigid_closing:

@@ -249,3 +249,39 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     assert serial[("_load_curve", 1)]["curve"] is not None
     assert np.isfinite(serial[("_grasp_task", 0)]["s_fem"])
     assert numbers(serial) == numbers(dist)
+
+
+def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_processes(tmp_path):
+    """wall-stiffness's family tasks — a (bottle, height) row of the map, the wall built once
+    per worker process, and the mesh-convergence study — give the serial rows bit for bit on
+    two worker processes (timings aside)."""
+    from distributed import Client, LocalCluster
+
+    from experiments.wall_stiffness import _task
+    from workbench.cli import build_config
+
+    cfg = build_config(
+        "wall-stiffness", True, str(tmp_path), None, {"convergence_meshes": [[16, 8], [24, 12]]}
+    )
+    jobs = ["convergence", (0, 0.3, (0.0, 1.0)), (0, 0.7, (0.5,))]
+    fn = partial(_task, config=cfg)
+    serial, dist = {}, {}
+    map_rows(fn, jobs, lambda job, res: serial.__setitem__(str(job), res))
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
+        map_rows(fn, jobs, lambda job, res: dist.__setitem__(str(job), res), client=c)
+
+    def numbers(rows):
+        def strip(r):
+            return {k: v for k, v in r.items() if k not in ("ms", "build_s")}
+
+        return json.dumps(
+            {
+                k: [strip(r) if isinstance(r, dict) else [r[0], strip(r[1])] for r in v]
+                for k, v in rows.items()
+            },
+            sort_keys=True,
+        )
+
+    assert len(serial["convergence"]) == 4 and len(serial[str(jobs[1])]) == 2
+    assert all(0 < r[1]["stiffness_N_per_m"] < 1e6 for r in serial[str(jobs[1])])
+    assert numbers(serial) == numbers(dist)

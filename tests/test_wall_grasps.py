@@ -80,8 +80,12 @@ def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
     [
         (np.zeros((3, 3)), "2n points"),
         (np.zeros((4, 2)), r"\(2n, 3\)"),
-        (np.vstack([_pair(0.05)[:1] * [0.9, 1, 1], _pair(0.05)[1:]]), "-3.00 mm off the object's surface"),
-        (_pair(0.05) * 1000, "outside the object.s box"),  # millimetres
+        (
+            np.vstack([_pair(0.05)[:1] * [0.9, 1, 1], _pair(0.05)[1:]]),
+            "location 0 .* off the object's surface.*-3.00 mm off it",
+        ),
+        (_pair(0.05) * 1000, "locations 0, 1 .2 of 2. lie outside the object.s box.*probably in millimetres"),
+        (_pair(0.05) * [0.95, 1, 1], r"locations 0, 1 \(2 of 2\) lie off the object.s surface"),
     ],
 )
 def test_careless_locations_are_refused(tube, locs, match):
