@@ -56,7 +56,7 @@ test: $(STAMP) lint
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q tests/test_wrench_kernel.py tests/test_stress.py \
 		tests/test_profile.py tests/test_twists.py tests/test_surfaces.py tests/test_support_error.py tests/test_coarsen.py \
-		tests/test_fem_contact.py::test_normal_projection_kernels_match_numpy
+		tests/test_fem_contact.py::test_normal_projection_kernels_match_numpy tests/test_sparse_factor.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check workbench fem experiments tests benchmarks

@@ -1,12 +1,13 @@
-"""Private ``@njit`` kernels of the condensed contact solve (math only; the
-callers in ``contact.py`` own validation).  NumPy references: ``tests/naive.py``."""
+"""Private ``@njit`` kernels of the condensed contact solve and of the sparse factor's
+blocked triangular solves (math only; the callers in ``contact.py`` and
+``sparse_factor.py`` own validation).  NumPy references: ``tests/naive.py``."""
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
 
-from workbench.config import NUMBA_FLAGS_PARALLEL
+from workbench.config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
 
 
 @njit(**NUMBA_FLAGS_PARALLEL)
@@ -30,3 +31,45 @@ def _normal_block(G: np.ndarray, nodes: np.ndarray, nrm: np.ndarray, out: np.nda
         for l in range(nodes.size):
             j = nodes[l]
             out[k, l] = G[k, 3 * j] * nrm[j, 0] + G[k, 3 * j + 1] * nrm[j, 1] + G[k, 3 * j + 2] * nrm[j, 2]
+
+
+@njit(**NUMBA_FLAGS)
+def _lower_unit_rows(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, X: np.ndarray) -> None:
+    """In place ``X <- L⁻¹ X`` for a unit lower-triangular ``L`` in CSR (its stored
+    diagonal ignored) and ``X`` (n, k): row by row, each entry of L read once for all k
+    columns (SuperLU reads the factor once per column)."""
+    k = X.shape[1]
+    acc = np.empty(k)
+    for i in range(X.shape[0]):
+        for c in range(k):
+            acc[c] = X[i, c]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j < i:
+                v = data[p]
+                for c in range(k):
+                    acc[c] -= v * X[j, c]
+        for c in range(k):
+            X[i, c] = acc[c]
+
+
+@njit(**NUMBA_FLAGS)
+def _upper_rows(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, X: np.ndarray) -> None:
+    """In place ``X <- U⁻¹ X`` for an upper-triangular ``U`` in CSR with its diagonal
+    stored, ``X`` (n, k), from the last row up."""
+    k = X.shape[1]
+    acc = np.empty(k)
+    for i in range(X.shape[0] - 1, -1, -1):
+        d = 0.0
+        for c in range(k):
+            acc[c] = X[i, c]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j > i:
+                v = data[p]
+                for c in range(k):
+                    acc[c] -= v * X[j, c]
+            elif j == i:
+                d = data[p]
+        for c in range(k):
+            X[i, c] = acc[c] / d

@@ -7,35 +7,66 @@ solve.  METIS's nested dissection (``pymetis``) is the ordering made for such
 meshes: 22 M non-zeros, 1.6 s to factor and 0.01 s per solve on the same matrix,
 same residual.  The matrix is symmetric positive definite, so SuperLU keeps that
 ordering (no pivoting: ``diag_pivot_thresh = 0``, symmetric mode).
+
+SuperLU solves several right-hand sides one after another, reading the whole factor
+for each: ~11 ms a column on a wall, bound by memory bandwidth (25 GB/s of the factor
+against 33 GB/s copy, ``results/benchmarks/wall_stiffness.json``).  A wall's contact
+solve asks for dozens of columns at once, so ``factor_spd(..., blocked=True)`` also
+keeps row-major copies of L and U and solves many columns together in
+:mod:`fem._kernels` (each entry read once for all of them): 2.4× faster per column at
+48 columns (``config.DEFAULTS.blocked_solve_min_rhs``).
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+log = logging.getLogger(__name__)
+
 
 @dataclass(frozen=True)
 class SPDFactor:
-    """``K = P L U Pᵀ`` with ``perm`` the nested-dissection order; :meth:`solve` solves ``K x = b``."""
+    """``K = P L U Pᵀ`` with ``perm`` the nested-dissection order; :meth:`solve` solves ``K x = b``.
+
+    rows : None, or CSR copies ``(L, U)`` of the factor (``blocked=True`` in
+    :func:`factor_spd`) for solving many right-hand sides together."""
 
     lu: spla.SuperLU
     perm: np.ndarray  # (n,) new position -> original index
     shape: tuple[int, int]
+    rows: tuple[sp.csr_matrix, sp.csr_matrix] | None = None
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        """``K⁻¹ b`` for b (n,) or (n, k)."""
-        x = self.lu.solve(np.asarray(b, dtype=float)[self.perm])
+        """``K⁻¹ b`` for b (n,) or (n, k): with ``rows`` and at least
+        ``config.DEFAULTS.blocked_solve_min_rhs`` columns (read now) in the blocked
+        kernels, else by SuperLU (the same solution to rounding)."""
+        from workbench.config import DEFAULTS
+
+        b = np.asarray(b, dtype=float)
+        if self.rows is not None and b.ndim == 2 and b.shape[1] >= DEFAULTS.blocked_solve_min_rhs:
+            from ._kernels import _lower_unit_rows, _upper_rows
+
+            L, U = self.rows
+            x = np.ascontiguousarray(b[self.perm])
+            _lower_unit_rows(L.indptr, L.indices, L.data, x)
+            _upper_rows(U.indptr, U.indices, U.data, x)
+        else:
+            x = self.lu.solve(b[self.perm])
         out = np.empty_like(x)
         out[self.perm] = x
         return out
 
 
-def factor_spd(K: sp.spmatrix) -> SPDFactor:
-    """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order."""
+def factor_spd(K: sp.spmatrix, *, blocked: bool = False) -> SPDFactor:
+    """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
+
+    blocked : also keep CSR copies of L and U (as much memory again as the factor) for
+    solves of many right-hand sides at once (module docstring)."""
     import pymetis
 
     K = sp.csr_matrix(K)
@@ -49,7 +80,17 @@ def factor_spd(K: sp.spmatrix) -> SPDFactor:
     perm = np.asarray(perm, dtype=np.int64)
     Kp = K[perm][:, perm].tocsc()
     lu = spla.splu(Kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    return SPDFactor(lu, perm, K.shape)
+    rows = None
+    if blocked:
+        n = K.shape[0]
+        if not (np.array_equal(lu.perm_r, np.arange(n)) and np.array_equal(lu.perm_c, np.arange(n))):
+            # not expected without pivoting and with the natural column order; then SuperLU solves
+            log.warning("factor_spd: SuperLU permuted the matrix; blocked solves off")
+        else:
+            rows = (lu.L.tocsr(), lu.U.tocsr())
+            for M in rows:
+                M.sort_indices()
+    return SPDFactor(lu, perm, K.shape, rows)
 
 
 __all__ = ["SPDFactor", "factor_spd"]

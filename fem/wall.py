@@ -193,7 +193,7 @@ def build_wall(
         on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
         fixed |= on_x | on_y
     free = np.flatnonzero(~fixed)
-    lu = factor_spd(K[free][:, free])
+    lu = factor_spd(K[free][:, free], blocked=True)  # the contact solve loads dozens of nodes at once
     # outer-surface dofs: the facets whose 4 vertices are all on the outer surface
     view = basis.get_dofs(facets=_facets_within(mesh, outer))
     comp = [view.all(f"u^{c + 1}") for c in range(3)]

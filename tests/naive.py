@@ -123,3 +123,24 @@ def normal_block(G, nodes, nrm):
     """``Σ_b G[k, 3 j + b] n_jb`` over the listed nodes j (reference of _normal_block)."""
     n = G.shape[1] // 3
     return np.einsum("kjb,jb->kj", G.reshape(len(G), n, 3)[:, nodes, :], nrm[nodes])
+
+
+def lower_unit_solve(L, B):
+    """Slow reference of ``fem._kernels._lower_unit_rows``: forward substitution with a
+    dense unit lower-triangular ``L`` (n, n) (its diagonal ignored) on ``B`` (n, k)."""
+    X = np.array(B, dtype=float)
+    for i in range(len(X)):
+        for j in range(i):
+            X[i] -= L[i, j] * X[j]
+    return X
+
+
+def upper_solve(U, B):
+    """Slow reference of ``fem._kernels._upper_rows``: back substitution with a dense
+    upper-triangular ``U`` (n, n) on ``B`` (n, k)."""
+    X = np.array(B, dtype=float)
+    for i in range(len(X) - 1, -1, -1):
+        for j in range(i + 1, len(X)):
+            X[i] -= U[i, j] * X[j]
+        X[i] /= U[i, i]
+    return X

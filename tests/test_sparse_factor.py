@@ -1,0 +1,81 @@
+"""fem.sparse_factor: the nested-dissection factor and its blocked solves of many right-hand
+sides (fem._kernels) against slow references and SuperLU."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import naive
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fem._kernels import _lower_unit_rows, _upper_rows
+from fem.sparse_factor import factor_spd
+from workbench import config
+
+
+def _random_triangular(rng, n, density, lower):
+    M = sp.random(n, n, density=density, random_state=rng, format="csr")
+    M = sp.tril(M, -1) if lower else sp.triu(M, 1)
+    diag = rng.uniform(1.0, 2.0, n) if not lower else rng.uniform(5.0, 9.0, n)  # L's is ignored
+    return (M + sp.diags(diag)).tocsr()
+
+
+@pytest.mark.parametrize("k", [1, 3, 17])
+def test_triangular_row_kernels_match_the_slow_substitution(k):
+    rng = np.random.default_rng(k)
+    n = 40
+    B = rng.standard_normal((n, k))
+    L = _random_triangular(rng, n, 0.2, lower=True)
+    U = _random_triangular(rng, n, 0.2, lower=False)
+    for M in (L, U):
+        M.sort_indices()
+    X = B.copy()
+    _lower_unit_rows(L.indptr, L.indices, L.data, X)
+    np.testing.assert_allclose(X, naive.lower_unit_solve(L.toarray(), B), rtol=1e-12, atol=1e-12)
+    X = B.copy()
+    _upper_rows(U.indptr, U.indices, U.data, X)
+    np.testing.assert_allclose(X, naive.upper_solve(U.toarray(), B), rtol=1e-12, atol=1e-12)
+
+
+def _spd(n_side):
+    """A 2D Laplacian plus a diagonal shift: sparse, symmetric positive definite."""
+    T = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n_side, n_side))
+    eye = sp.identity(n_side)
+    return (sp.kron(T, eye) + sp.kron(eye, T) + 0.1 * sp.identity(n_side**2)).tocsr()
+
+
+@pytest.mark.parametrize("k", [1, 8, 40])
+def test_blocked_and_superlu_solves_agree_with_spsolve(k, monkeypatch):
+    K = _spd(15)
+    B = np.random.default_rng(0).standard_normal((K.shape[0], k))
+    ref = spla.spsolve(K.tocsc(), B).reshape(B.shape)
+    f = factor_spd(K, blocked=True)
+    assert f.rows is not None and factor_spd(K).rows is None
+    for least in (1, 10**6):  # the blocked kernels for every k, then SuperLU for every k
+        monkeypatch.setattr(
+            config, "DEFAULTS", dataclasses.replace(config.DEFAULTS, blocked_solve_min_rhs=least)
+        )
+        got = f.solve(B)
+        np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+    np.testing.assert_allclose(f.solve(B[:, 0]), ref[:, 0], rtol=1e-10)  # one vector: SuperLU
+
+
+def test_a_wall_compliance_is_the_same_by_either_solve(monkeypatch):
+    from fem.wall import build_wall, circle_surface
+
+    wall = build_wall(circle_surface(0.03), thickness=1e-3, n_theta=16, n_z=4, z_range=(0.0, 0.04))
+    assert wall.lu.rows is not None  # walls keep the row copies
+    free = np.flatnonzero((wall.free_position[wall.outer_dofs] >= 0).all(axis=1))  # off the clamped rim
+    nodes = free[::5]
+    dirs = np.tile([1.0, 0.0, 0.0], (nodes.size, 1))
+    out = {}
+    for least in (1, 10**6):
+        monkeypatch.setattr(
+            config, "DEFAULTS", dataclasses.replace(config.DEFAULTS, blocked_solve_min_rhs=least)
+        )
+        out[least] = wall.compliance(nodes, dirs)
+    assert nodes.size > 16
+    np.testing.assert_allclose(out[1], out[10**6], rtol=1e-9, atol=1e-12 * np.abs(out[1]).max())
