@@ -232,7 +232,8 @@ def run(config: dict) -> dict:
         write_csv(out / "mesh_convergence.csv", list(conv[0]), [list(r.values()) for r in conv])
     build_s = {r["bottle"]: r["build_s"] for r in ckpt.rows.values() if "build_s" in r}
 
-    rows = list(ckpt.rows.values())
+    # by bottle, height, angle (tasks finish in any order)
+    rows = sorted(ckpt.rows.values(), key=lambda r: (r["bottle"], r["height_fraction"], r["angle"]))
     cols = ["bottle", "height_fraction", "angle", "stiffness_N_per_m", "closing_mm", "contact_nodes", "ms"]
     write_csv(out / "stiffness_map.csv", cols, [[r[c] for c in cols] for r in rows])
 
