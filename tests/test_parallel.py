@@ -213,14 +213,14 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     import numpy as np
     from distributed import Client, LocalCluster
 
-    from experiments.minimal_work import _grasp_task, _load_curve, _mesh, _paths
+    from experiments.minimal_work import DEFAULT_CONFIG, _grasp_task, _load_curve, _mesh, _paths
     from workbench.cli import build_config
     from workbench.grasp.sampling import horizontal_grasps
 
+    if not Path(DEFAULT_CONFIG["data_dir"], "meshes").is_dir():  # before build_config, which checks it
+        pytest.skip("deformable_objects data not available (CC BY-NC, read by path)")
     small = {"objects": ["shampoo"], "mesh": [16, 8], "robust_samples": 4, "noise_samples": 2}
     cfg = build_config("minimal-work", True, str(tmp_path), None, small)
-    if not Path(cfg["data_dir"], "meshes").is_dir():
-        pytest.skip("deformable_objects data not available (CC BY-NC, read by path)")
     mesh = _mesh(str(_paths(cfg, "shampoo")[0]))
     lo, hi = mesh.bounds[:, 2]
     cands = horizontal_grasps(mesh, [lo + 0.4 * (hi - lo), lo + 0.6 * (hi - lo)], 2, cfg["mu"], pad=None)
