@@ -61,7 +61,7 @@ from workbench.limit_surface.author_objective import fit_author_objective
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.wrench import check_mu
 
@@ -515,11 +515,9 @@ def run(config: dict) -> dict:
         return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
 
     t_rows = time.perf_counter()
-    with row_client(n_todo, config["workers"], config["scheduler"]) as client:
-        renders = map_rows(partial(_task, config=config), tasks, keep, client=client, meanwhile=meanwhile)
-        rows_where = (
-            "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
-        )
+    renders, rows_where = run_rows(
+        partial(_task, config=config), tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile
+    )
     tasks_s = time.perf_counter() - t_rows
     bar.close()
     ref = [ref_of[label] for label, _ in ref_cases]

@@ -27,7 +27,7 @@ from fem.material import Material
 from fem.obstacles import Cylinder, Plane, Sphere
 from fem.pad import PadGeometry, condense_pad
 from fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
 
 NAME = "fem-validation"
@@ -437,15 +437,14 @@ def run(config: dict) -> dict:
     # the neo-Hookean cylinder's load stepping (minutes) and sphere as tasks, the rest here
     # meanwhile: two cases are worth a cluster at full size, not in --quick
     min_rows = None if config.get("quick") else 2
-    with row_client(len(FIDELITY_CASES), config["workers"], config["scheduler"], min_rows=min_rows) as client:
-        done = map_rows(
-            partial(fidelity_case, config=config),
-            FIDELITY_CASES,
-            fid_of.__setitem__,
-            client=client,
-            meanwhile=partial(_checks, config, out),
-        )
-        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    done, ran_on = run_rows(
+        partial(fidelity_case, config=config),
+        FIDELITY_CASES,
+        fid_of.__setitem__,
+        config,
+        min_rows=min_rows,
+        meanwhile=partial(_checks, config, out),
+    )
     locking, winkler, film, hz, rows = (done[k] for k in ("locking", "winkler", "film", "hz", "rows"))
     precompute_s, sweep, monotone = done["precompute_s"], done["sweep"], done["monotone"]
     fig_path, renders = done["fig_path"], done["renders"]

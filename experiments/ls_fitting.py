@@ -48,7 +48,7 @@ from workbench import (
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
@@ -320,18 +320,15 @@ def run(config: dict) -> dict:
     # a continuous-source surface takes ~2 min (adaptive quadrature): two already pay for a
     # cluster's start; mesh-source (quick) surfaces take seconds
     min_rows = 2 if config["wrench_source"] == "continuous" else None
-    with (
-        tqdm(total=len(surfaces), desc="surfaces", unit="surface") as bar,
-        row_client(len(surfaces), config["workers"], config["scheduler"], min_rows=min_rows) as client,
-    ):
-        map_rows(
+    with tqdm(total=len(surfaces), desc="surfaces", unit="surface") as bar:
+        _, ran_on = run_rows(
             partial(_surface, config=config),
             surfaces,
             lambda job, r: done.__setitem__(job[1], r),
-            client=client,
+            config,
+            min_rows=min_rows,
             progress=bar,
         )
-        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     names = config["surfaces"]
     err, train_err, rt, radial = (
         {kind: {n: done[n][key][kind] for n in names} for kind in kinds}

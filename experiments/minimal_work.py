@@ -48,7 +48,7 @@ import numpy as np
 from scipy.stats import spearmanr
 from tqdm import tqdm
 
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, content_hash, save_figure, write_csv, write_summary
 
 NAME = "minimal-work"
@@ -397,20 +397,16 @@ def run(config: dict) -> dict:
         for name, k, g, _, scale in grasps_all
         if f"grasp/{name}/{k}" not in ckpt
     ]
-    with (
-        tqdm(total=len(todo), desc="minimal work", unit="grasp") as bar,
-        row_client(len(todo), config["workers"], config["scheduler"]) as client,
-    ):
+    with tqdm(total=len(todo), desc="minimal work", unit="grasp") as bar:
         # the driver renders the maps while the workers compute (no row needed for them)
-        stiffness_figures = map_rows(
+        stiffness_figures, ran_on = run_rows(
             partial(_grasp_task, config=config),
             todo,
             lambda job, row: ckpt.add(f"grasp/{job[0]}/{job[1]}", row),
-            client=client,
+            config,
             progress=bar,
             meanwhile=lambda: _stiffness_figures(out, meshes, fig_data),
         )
-        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     rows = [ckpt.rows[f"grasp/{x[0]}/{x[1]}"] for x in grasps_all]
     skipped = [
         {"object": r["object"], "grasp": r["grasp"], "reason": r["skipped"]} for r in rows if "skipped" in r
@@ -569,15 +565,13 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -
             ckpt.add(key(i), {"curve": None})
         else:
             jobs.append((i, name, k, g, scale, need(r) * 1.001))
-    with (
-        tqdm(total=len(jobs), desc="nonlinear work", unit="grasp") as bar,
-        row_client(len(jobs), config["workers"], config["scheduler"], min_rows=NL_MIN_ROWS) as client,
-    ):
-        map_rows(
+    with tqdm(total=len(jobs), desc="nonlinear work", unit="grasp") as bar:
+        run_rows(
             partial(_load_curve, config=config),
             jobs,
             lambda job, res: ckpt.add(key(job[0]), res),
-            client=client,
+            config,
+            min_rows=NL_MIN_ROWS,
             progress=bar,
         )
     W_nl = {t: np.full(len(sel), np.inf) for t in TASKS}

@@ -47,7 +47,7 @@ from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.models import contact_sets
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "sensitivity"
@@ -426,19 +426,15 @@ def run(config: dict) -> dict:
         )
         got["truth_ms"] = (time.perf_counter() - t0) / n * 1e3
 
-    with (
-        tqdm(total=len(todo), desc="sensitivity", unit="row") as bar,
-        row_client(len(todo), config["workers"], config["scheduler"]) as client,
-    ):
-        map_rows(
+    with tqdm(total=len(todo), desc="sensitivity", unit="row") as bar:
+        _, ran_on = run_rows(
             partial(_row, config=config),
             todo,
             lambda task, row: ckpt.add(_key(task), _scored(row, got["truth"])),
-            client=client,
+            config,
             progress=bar,
             meanwhile=ground_truth,
         )
-        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     truth, truth_ms = got["truth"], got["truth_ms"]
 
     true_margin = np.array(ckpt.rows["margin/truth"]["margins"])

@@ -40,7 +40,7 @@ from fem.material import Material
 from fem.object_wall import wall_geometry
 from fem.wall import build_wall, ring_pinch, ring_wall, squeeze
 from fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "wall-stiffness"
@@ -210,22 +210,18 @@ def run(config: dict) -> dict:
             for key, row in res:
                 ckpt.add(key, row)
 
-    with (
-        tqdm(
-            total=n_todo + (len(config["convergence_meshes"]) * 2), desc="stiffness map", unit="grasp"
-        ) as bar,
-        row_client(n_todo, config["workers"], config["scheduler"]) as client,
-    ):
+    n_bar = n_todo + 2 * len(config["convergence_meshes"])
+    with tqdm(total=n_bar, desc="stiffness map", unit="grasp") as bar:
         # the ring validation is the driver's share while the workers squeeze the bottles
-        ring = map_rows(
+        ring, ran_on = run_rows(
             partial(_task, config=config),
             jobs,
             keep,
-            client=client,
+            config,
+            n_rows=n_todo,
             progress=bar,
             meanwhile=lambda: ring_rows(config),
         )
-        ran_on = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     write_csv(out / "ring_validation.csv", list(ring[0]), [list(r.values()) for r in ring])
     conv = got.get("conv", [])
     if conv:

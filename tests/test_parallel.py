@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from functools import partial
 
 import pytest
 
 from workbench import config
-from workbench.parallel import check_workers, map_rows, row_client
+from workbench.parallel import check_workers, map_rows, row_client, run_rows
 
 
 def _square(x: int) -> list[int]:
@@ -45,6 +46,17 @@ def test_map_rows_serial_and_on_a_cluster_give_every_result_to_the_driver():
         # run once, before any result reached the driver (those finished meanwhile come after)
         assert out == "figures" and calls == [0]
         assert map_rows(_square, range(2), lambda j, r: None) is None
+
+
+def test_run_rows_says_where_the_rows_ran_and_returns_the_drivers_share():
+    for workers, where in ((1, "serial"), (2, "dask (2 workers)")):
+        got = {}
+        cfg = {"workers": workers, "scheduler": ""}
+        extra, ran = run_rows(_square, range(5), got.__setitem__, cfg, min_rows=1, meanwhile=lambda: "figs")
+        assert (extra, ran) == ("figs", where) and got == {j: [j * j] for j in range(5)}
+    # the auto rule counts rows, not jobs: 5 jobs holding 1000 rows start a cluster
+    _, ran = run_rows(_square, range(5), lambda j, r: None, {"workers": 0, "scheduler": ""}, n_rows=1000)
+    assert ran.startswith("dask") or (os.cpu_count() or 1) == 1
 
 
 def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():

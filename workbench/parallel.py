@@ -25,7 +25,7 @@ from . import config
 
 log = logging.getLogger(__name__)
 
-__all__ = ["check_workers", "in_dask_worker", "local_cluster", "map_rows", "row_client"]
+__all__ = ["check_workers", "in_dask_worker", "local_cluster", "map_rows", "row_client", "run_rows"]
 
 
 def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
@@ -166,3 +166,26 @@ def map_rows(
     finally:
         client.cancel(futures)
     return extra
+
+
+def run_rows(
+    fn: Callable[[Any], Any],
+    jobs: Iterable[Any],
+    on_result: Callable[[Any, Any], None],
+    config: dict,
+    *,
+    n_rows: int | None = None,
+    min_rows: int | None = None,
+    progress: Any = None,
+    meanwhile: Callable[[], Any] | None = None,
+) -> tuple[Any, str]:
+    """An experiment's rows: :func:`map_rows` on the :func:`row_client` of its ``workers`` and
+    ``scheduler`` settings (``config``) for ``n_rows`` rows (default one per job; the auto rule
+    counts rows, which a job may hold several of) and ``min_rows``.  Returns ``meanwhile``'s
+    value and where the rows ran: "serial" or "dask (N workers)"."""
+    jobs = list(jobs)
+    n = len(jobs) if n_rows is None else n_rows
+    with row_client(n, config["workers"], config["scheduler"], min_rows=min_rows) as client:
+        extra = map_rows(fn, jobs, on_result, client=client, progress=progress, meanwhile=meanwhile)
+        where = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
+    return extra, where
