@@ -59,6 +59,36 @@ def test_run_rows_says_where_the_rows_ran_and_returns_the_drivers_share():
     assert ran.startswith("dask") or (os.cpu_count() or 1) == 1
 
 
+def _worker_environment() -> tuple[dict, int, list]:
+    import numba
+    from threadpoolctl import threadpool_info
+
+    keys = ("MALLOC_TRIM_THRESHOLD_", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
+    pools = [d["num_threads"] for d in threadpool_info()]
+    return {k: os.environ.get(k) for k in keys}, numba.get_num_threads(), pools
+
+
+def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_malloc_policy():
+    # Dask's default MALLOC_TRIM_THRESHOLD_ turns off glibc's dynamic mmap threshold and made
+    # the FEM solves 1.5x slower in a worker (workbench.parallel.local_cluster); the thread
+    # caps must be in place before numba and the BLAS are imported, not patched per task
+    from distributed import Client
+
+    from workbench.parallel import local_cluster
+
+    with local_cluster(2, 1) as cluster, Client(cluster) as client:
+        seen = list(client.run(_worker_environment).values())
+    assert len(seen) == 2
+    for env, numba_threads, pools in seen:
+        assert env == {
+            "MALLOC_TRIM_THRESHOLD_": None,
+            "OMP_NUM_THREADS": "1",
+            "OPENBLAS_NUM_THREADS": "1",
+            "NUMBA_NUM_THREADS": "1",
+        }
+        assert numba_threads == 1 and pools and set(pools) == {1}
+
+
 def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
     for n_rows, workers in ((config.DEFAULTS.cluster_min_rows - 1, 0), (1000, 1), (0, 2)):
         with row_client(n_rows, workers) as c:
