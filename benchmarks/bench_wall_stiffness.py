@@ -19,10 +19,10 @@ minus its grasps' seconds (interpreter start, imports, mesh reading, ray casting
 factorisation and writing: an upper bound).
 
 Beside the timings, the machine's limits: a grasp's cost is sparse triangular solves (one
-column per loaded footprint node, :meth:`fem.wall.Wall.compliance`), so on the box's wall the
+column per loaded footprint node, :meth:`workbench.fem.wall.Wall.compliance`), so on the box's wall the
 time per column of a 48-column solve by SuperLU (column by column: bound by memory bandwidth,
 against the measured copy bandwidth) and by the blocked row kernels of
-:mod:`fem.sparse_factor` (against the FMA roofline of ``bench_wrench.py``).
+:mod:`workbench.fem.sparse_factor` (against the FMA roofline of ``bench_wrench.py``).
 
 Writes results/benchmarks/wall_stiffness.json.  Run: python benchmarks/bench_wall_stiffness.py
 """
@@ -57,7 +57,7 @@ def mesh_only_locations(mesh_path: Path, heights: np.ndarray, n_angles: int) -> 
     antipodal grasps at ``heights`` (fractions of the modelled side wall) × ``n_angles``."""
     import trimesh
 
-    from fem.object_wall import wall_geometry
+    from workbench.fem.object_wall import wall_geometry
     from workbench.grasp.sampling import horizontal_grasps
 
     mesh = trimesh.load(mesh_path, force="mesh")
@@ -110,8 +110,8 @@ def solve_limit() -> dict:
 
     import trimesh
 
-    from fem.object_wall import object_wall
     from workbench import config
+    from workbench.fem.object_wall import object_wall
 
     geo, wall = object_wall(trimesh.load(DATA / "meshes" / "box.obj", force="mesh"))
     lu = wall.lu.lu

@@ -16,7 +16,6 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench import (
-    ContactProfile,
     frictional_wrenches,
     sample_twists_thesis,
     surface_w_max,
@@ -25,6 +24,7 @@ from workbench import (
 )
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import THESIS_SURFACES
+from workbench.surfaces import mesh_profile
 from workbench.timing import median_runtime
 from workbench.wrench import check_mu
 
@@ -71,7 +71,7 @@ def run(config: dict) -> dict:
         truth = surface_w_max(s, mu, rtol=config["truth_rtol"])
         rates[name], actual[name] = {}, {}
         for n in config["n_elements"]:
-            prof = ContactProfile.from_parametric(surface, n).normalized()
+            prof = mesh_profile(surface, n).normalized()
             rate = error_rate(w_max(prof, mu), truth)
             rates[name][str(n)] = rate
             actual[name][str(n)] = len(prof)
@@ -81,7 +81,7 @@ def run(config: dict) -> dict:
         t_cont[name] = _median_time(
             partial(surface_wrenches, s, xi, mu, rtol=config["timing_rtol"]), config["timing_repeats"]
         ) / len(xi)
-        prof = ContactProfile.from_parametric(surface, 1000).normalized()
+        prof = mesh_profile(surface, 1000).normalized()
         t_disc_single[name] = _median_time(
             partial(frictional_wrenches, prof, xi[0], mu), 50 * config["timing_repeats"]
         )

@@ -1,7 +1,7 @@
 """Table 3.3: ellipsoid and quartic 6DLS fitted to FEM contact profiles of a bottle family.
 
 Thesis §3.5.2.  A parallel-jaw pad (5 mm silicone on a rigid 20 × 40 mm jaw,
-long side vertical) squeezes the 24 bottles of :func:`fem.bottle.bottle_family`
+long side vertical) squeezes the 24 bottles of :func:`workbench.fem.bottle.bottle_family`
 (8 asymmetric) at ``len(heights)`` grasp heights, from two approach directions
 (along the cross-section's major and minor axis), with three jaw displacements
 after first touch.  Each contact is solved by the condensed linear pad
@@ -49,14 +49,14 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
-from fem.contact import solve_contact
-from fem.extract import extract_profile
-from fem.material import Material
-from fem.pad import PadGeometry, condense_pad
-from fem.validation import condensed_vs_full
 from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
+from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
+from workbench.fem.contact import solve_contact
+from workbench.fem.extract import extract_profile
+from workbench.fem.material import Material
+from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.fem.validation import condensed_vs_full
 from workbench.limit_surface.author_objective import fit_author_objective
 from workbench.limit_surface.sos import exponents
 from workbench.limit_surface.support_error import support_error
@@ -68,12 +68,6 @@ from workbench.wrench import check_mu
 NAME = "fem-fitting"
 log = logging.getLogger(__name__)
 
-#: bump when a row's computation changes, so checkpoints of older code are not reused
-#: (3: profiles carry the solved force, fem/extract.py; 4: thesis-code protocol, support error;
-#: 5: thesis-code protocol in the object frame, protocol ablation; 6: quartic fits on the
-#: swap-invariant Gram blocks with faer, limit_surface/quartic.py; 7: the ablation's
-#: author-objective quartic on those blocks, limit_surface/author_objective.py)
-ROW_VERSION = 7
 QUARTIC_COEFFS = len(exponents(6, 4))  # a quartic in 6D: C(9, 5) = 126
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
@@ -114,7 +108,7 @@ DEFAULT_CONFIG = {
 
 
 def check_config(config: dict) -> None:
-    """Refuse settings the defaults cannot judge before any work (workbench.cli.build_config)."""
+    """Refuse settings the defaults cannot judge, before any work (build_config calls it)."""
     check_protocol_config(config)
     check_workers(config["workers"], config["scheduler"])
     check_mu(config["mu"], what="limit surface")
@@ -272,7 +266,7 @@ def _family(n_objects: int, n_asymmetric: int, seed: int) -> tuple[list[BottlePa
 @lru_cache(maxsize=2)
 def _pad(pad: tuple, E: float, nu: float):
     """The condensed pad from its content-hash disk cache in the user cache directory
-    (``fem.pad.pad_cache_dir``: shared by every run, sweep point and worker on a machine; the
+    (``workbench.fem.pad.pad_cache_dir``: shared by every run, sweep point and worker on a machine; the
     driver builds it first), kept per process: a worker loads it once for all its tasks."""
     return condense_pad(PadGeometry(**dict(pad)), Material(E, nu))
 
@@ -481,7 +475,6 @@ def run(config: dict) -> dict:
         for k, v in config.items()
         if k not in ("out", "quick", "render_examples", "workers", "scheduler")
     }
-    ckpt_config["row_version"] = ROW_VERSION
     ckpt = Checkpoint(out / "rows.jsonl", ckpt_config)
     n_resumed = len(ckpt.rows)
     grasps = product(range(len(bottles)), config["heights"], config["approaches"].items())

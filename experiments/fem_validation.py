@@ -21,12 +21,12 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from fem.contact import solve_contact, solve_contact_full
-from fem.extract import face_grid, nodal_pressures
-from fem.material import Material
-from fem.obstacles import Cylinder, Plane, Sphere
-from fem.pad import PadGeometry, condense_pad
-from fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
+from workbench.fem.contact import solve_contact, solve_contact_full
+from workbench.fem.extract import face_grid, nodal_pressures
+from workbench.fem.material import Material
+from workbench.fem.obstacles import Cylinder, Plane, Sphere
+from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
 from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
 
@@ -59,7 +59,7 @@ DEFAULT_CONFIG = {
 
 
 def check_config(config: dict) -> None:
-    """The CLI checks settings with this before any work (workbench.cli.build_config)."""
+    """The CLI checks settings with this before any work (workbench.experiment_config.build_config)."""
     check_workers(config["workers"], config["scheduler"])
 
 
@@ -212,7 +212,7 @@ def fidelity_case(name: str, config: dict) -> list[dict]:
     Pressures: linear λ / A₀ (reference tributary areas); nonlinear the Cauchy
     pressure λ / a (deformed areas); fields compared node by node on the face grid.
     """
-    from fem.nonlinear import NonlinearPad
+    from workbench.fem.nonlinear import NonlinearPad
 
     geom, mat, cases = _fidelity_setup(config)
     obs = cases[name]
@@ -402,7 +402,7 @@ def _checks(config: dict, out: Path) -> dict:
     fig_path = save_figure(fig, out / "fem_validation.png")
     # offscreen renders of extracted profiles (Fig 3.11(d) style), pressure-colored with
     # the friction the pad exerts for a torsion and a sliding motion of the object
-    from fem.extract import extract_profile
+    from workbench.fem.extract import extract_profile
     from workbench.viz import render_friction_arrows
 
     renders = []

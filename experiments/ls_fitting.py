@@ -89,7 +89,7 @@ DEFAULT_CONFIG = {
 
 
 def check_config(config: dict) -> None:
-    """The CLI checks settings with this before any work (workbench.cli.build_config)."""
+    """The CLI checks settings with this before any work (workbench.experiment_config.build_config)."""
     check_protocol_config(config)
     check_workers(config["workers"], config["scheduler"])
 

@@ -4,14 +4,14 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
 
 1. the measured stiffness map, interpolated over the surface
    (:class:`~workbench.grasp.stiffness_map.StiffnessMap`; leave-one-grasp-out error);
-2. the wall FEM at the measured grasps (:func:`fem.object_wall.object_wall`,
-   :func:`fem.wall_grasps.stiffness_at`), calibrated by **one scalar** — an effective
+2. the wall FEM at the measured grasps (:func:`workbench.fem.object_wall.object_wall`,
+   :func:`workbench.fem.wall_grasps.stiffness_at`), calibrated by **one scalar** — an effective
    Young's modulus at fixed thickness (linear elasticity: ``s ∝ E`` exactly) — on a
    random half of the grasps and checked on the other half (Spearman, median
    ``|log(s_fem / s_measured)|``);
 3. horizontal antipodal candidate grasps (:func:`~workbench.grasp.sampling.horizontal_grasps`),
    REACH profiles of both jaws at 10 N (§4.3.2.1) — or, with ``profiles="fem"``, the FEM
-   pad pressed on the mesh to the same reading (:func:`fem.jaw_profile.fem_jaw_profiles`)
+   pad pressed on the mesh to the same reading (:func:`workbench.fem.jaw_profile.fem_jaw_profiles`)
    — and the ellipsoidal 6DLS of each;
 4. the metrics per task (vertical lifting: one pose; lifting and 90° rotation: three
    poses about the grasp axis; quality = minimum over poses): ``q_robust`` (Eq. 2.101),
@@ -80,7 +80,7 @@ DEFAULT_CONFIG = {
     "n_angles": 6,  # candidate grasp-axis angles in [0, π)
     "jaw": [0.02, 0.04],  # pad width, length [m]
     "grasp_force": 10.0,  # N per jaw: the force the profiles and q_robust use (§4.3.3.1)
-    "profiles": "reach",  # jaw contact profiles: "reach" (§4.3.2.1) or "fem" (the FEM pad, fem.jaw_profile)
+    "profiles": "reach",  # jaw profiles: "reach" (§4.3.2.1) or "fem" (the FEM pad, workbench.fem.jaw_profile)
     "reach_closing_mm": 1.0,  # REACH pad compression past first touch
     "M": 200,  # linearisation directions of C_outer (Eq. 3.28)
     "robust_samples": 30,  # N_r of q_robust
@@ -97,7 +97,7 @@ DEFAULT_CONFIG = {
     "sigma": 0.5,  # quality threshold (thesis §4.3.4)
     "train_fraction": 0.5,
     # beyond the thesis (§4.3.5): W from the geometrically nonlinear wall's force-closing
-    # curve (fem.wall_nonlinear at the calibrated E) at every candidate grasp of these
+    # curve (workbench.fem.wall_nonlinear at the calibrated E) at every candidate grasp of these
     # objects, beside W from the linear stiffness; [] skips it (measured here: mustard and
     # shampoo 10-60 s a grasp, the cup ~3 min a grasp on its lip rows)
     "nl_work_objects": [],
@@ -162,8 +162,8 @@ def check_config(config: dict) -> None:
 def _check_values(config: dict) -> None:
     """The numbers the run would refuse only after minutes of work (a mass in grams at the
     first grasp, σ at the normaliser fit), refused before any."""
-    from fem.material import Material
-    from fem.object_wall import check_wall_options
+    from workbench.fem.material import Material
+    from workbench.fem.object_wall import check_wall_options
     from workbench.grasp.robust import gravity_wrench
 
     masses = config["mass_kg"]
@@ -214,7 +214,7 @@ def _mesh(path: str):
 @lru_cache(maxsize=8)
 def _measured_map(path: str):
     """The measured map's :class:`~workbench.grasp.stiffness_map.StiffnessMap`, once per process."""
-    from fem.wall_grasps import read_locations
+    from workbench.fem.wall_grasps import read_locations
     from workbench.grasp.stiffness_map import StiffnessMap
 
     L, measured = read_locations(path)
@@ -231,8 +231,8 @@ def _measured_map(path: str):
 def _object_wall(path: str, E: float, nu: float, thickness: float, n_theta: int, n_z: int):
     """The object's linear wall, assembled and factorised once per process (~10-20 s; it
     cannot be sent to a worker: the sparse factor does not pickle)."""
-    from fem.material import Material
-    from fem.object_wall import object_wall
+    from workbench.fem.material import Material
+    from workbench.fem.object_wall import object_wall
 
     return object_wall(_mesh(path), Material(E, nu), thickness=thickness, n_theta=n_theta, n_z=n_z)
 
@@ -247,8 +247,8 @@ def _wall_of(name: str, config: dict):
 @lru_cache(maxsize=2)
 def _fem_pad(jaw: tuple):
     """The FEM pad (profiles="fem"), condensed once per process (its disk cache: once per machine)."""
-    from fem.material import Material
-    from fem.pad import PadGeometry, condense_pad
+    from workbench.fem.material import Material
+    from workbench.fem.pad import PadGeometry, condense_pad
 
     return condense_pad(PadGeometry(*jaw), Material())
 
@@ -266,7 +266,7 @@ def _jaws_of(mesh, g: dict, config: dict) -> list:
             closing=config["reach_closing_mm"] * 1e-3,
             allow_scale=True,
         )
-    from fem.jaw_profile import fem_jaw_profiles
+    from workbench.fem.jaw_profile import fem_jaw_profiles
 
     return fem_jaw_profiles(mesh, g, config["grasp_force"], pad=_fem_pad(tuple(config["jaw"])))
 
@@ -292,7 +292,7 @@ def _grasp_task(job: tuple, config: dict) -> dict:
 
 def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     """FEM stiffness at the measured grasps (checkpointed)."""
-    from fem.wall_grasps import stiffness_at
+    from workbench.fem.wall_grasps import stiffness_at
 
     n = len(L) // 2
     for i in tqdm([i for i in range(n) if f"fem/{name}/{i}" not in ckpt], desc=f"FEM {name}", unit="grasp"):
@@ -309,9 +309,9 @@ def _num(x) -> float:
 
 
 def run(config: dict) -> dict:
-    from fem.calibration import missing_physics, split_scores
-    from fem.object_wall import wall_geometry
-    from fem.wall_grasps import read_locations
+    from workbench.fem.calibration import missing_physics, split_scores
+    from workbench.fem.object_wall import wall_geometry
+    from workbench.fem.wall_grasps import read_locations
     from workbench.grasp.sampling import horizontal_grasps
     from workbench.grasp.stiffness_map import leave_one_out
     from workbench.grasp.threshold import balanced_accuracy, fit_normaliser
@@ -499,8 +499,8 @@ def run(config: dict) -> dict:
             "every pose's gravity wrench (bisection with "
             "workbench.grasp.exact.resists_exact), capped at force_cap; success iff the exact sets resist "
             "every pose in most of noise_samples draws of friction (sigma_mu) and force (sigma_force), and "
-            "the jaw closing at that force from the calibrated wall FEM (fem.object_wall, one effective E "
-            "per "
+            "the jaw closing at that force from the calibrated wall FEM (workbench.fem.object_wall, one "
+            "effective E per "
             "object) is at most closing_limit_mm. No limit surface, map interpolation or linearisation is "
             "shared with the metrics; but the closing test (f/s) and W = f (f/s + eps) grow with the same "
             "ratio, so part of q_work's lead over q_force is built into this truth."
@@ -539,11 +539,11 @@ def run(config: dict) -> dict:
 def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -> dict:
     """Scope 9 (§4.3.5): per candidate grasp of ``objects``, the nonlinear wall's
     load curve up to the largest jaw force of any pose, ``W_nl = max over poses Σ_i ∫ f dΔ``
-    at the jaws' minimal forces (:func:`fem.wall_nonlinear.curve_work`), and Table 4.6's
+    at the jaws' minimal forces (:func:`workbench.fem.wall_nonlinear.curve_work`), and Table 4.6's
     balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
     (``f² / 2s``), on the same grasps with the same ``split`` (n,) bool (True: training).
     Rows checkpointed."""
-    from fem.wall_nonlinear import curve_work
+    from workbench.fem.wall_nonlinear import curve_work
     from workbench.grasp.threshold import balanced_accuracy, fit_normaliser
 
     nl = {k: config[k] for k in NL_KEYS if k != "nl_work_objects"}
@@ -640,7 +640,7 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -
 @lru_cache(maxsize=4)
 def _wall_geometry(path: str, thickness: float, n_z: int):
     """The object's wall geometry (ray casting), once per process."""
-    from fem.object_wall import wall_geometry
+    from workbench.fem.object_wall import wall_geometry
 
     return wall_geometry(_mesh(path), thickness=thickness, n_z=n_z)
 
@@ -649,8 +649,8 @@ def _load_curve(job: tuple, config: dict) -> dict:
     """The nonlinear wall's force-closing curve at one candidate grasp, ``job`` = (index,
     object, grasp index, grasp, calibration scale, jaw force to reach [N]); its checkpoint
     entry (``curve`` None with the ``error`` when the squeeze refuses the grasp)."""
-    from fem.material import Material
-    from fem.wall_nonlinear import grasp_frame_wall, squeeze_nonlinear
+    from workbench.fem.material import Material
+    from workbench.fem.wall_nonlinear import grasp_frame_wall, squeeze_nonlinear
 
     _, name, k, g, scale, force = job
     geo = _wall_geometry(str(_paths(config, name)[0]), float(config["thickness"]), config["nl_mesh"][1])
@@ -694,7 +694,7 @@ def _validation_line(name: str, v: dict) -> str:
 
 def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: int) -> dict:
     """Metrics and simulated truth of one candidate grasp (module docstring, steps 3-5)."""
-    from fem.wall_grasps import stiffness_at
+    from workbench.fem.wall_grasps import stiffness_at
     from workbench.grasp.exact import ExactContacts
     from workbench.grasp.models import contact_sets
     from workbench.grasp.robust import Perturbation, q_robust

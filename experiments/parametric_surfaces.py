@@ -16,9 +16,9 @@ from tqdm import tqdm
 
 from workbench import project_to_plane, sample_twists_thesis, surface_moments, surface_w_max, surface_wrenches
 from workbench.config import TOL
-from workbench.profile import ContactProfile
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
+from workbench.surfaces import mesh_profile
 from workbench.twists import twists_from_plucker
 
 NAME = "parametric-surfaces"
@@ -131,7 +131,7 @@ def figures(config: dict, out: Path, rows: dict, pcas: dict) -> list[str]:
     }
     surfaces = {"example-3.2.5": example_3_2_5(), **THESIS_SURFACES}
     for name in ["example-3.2.5", *config["figure_surfaces"]]:
-        prof = ContactProfile.from_parametric(surfaces[name], config["figure_elements"])
+        prof = mesh_profile(surfaces[name], config["figure_elements"])
         written.append(str(render_friction_arrows(prof, twists, out / f"friction_{name}.png", title=name)))
     return written
 

@@ -51,15 +51,6 @@ from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
 NAME = "sensitivity"
-#: bump when a model's predictions change, so checkpointed rows are recomputed
-# 2: 3DLS-nonplanar keeps (f_t1, f_t2, τ_n), not PCA components; 3: the cut refinement
-# stops when the outer set fails and never returns an unconverged "resisted"; 4: the "auto"
-# QP solver (DAQP above 48 variables: REACH timings)
-# 5: one meaning of resisted (issue 11); 6: one force reading per REACH jaw; 7: limit surfaces
-# trained on the "mix" sampler, the SDP ellipsoid without the log-det term (issue 12)
-# 8: rows are tasks (issue 14): each with its own cut store and exact contacts, so its
-# numbers do not depend on which rows ran before it in the same process
-ROW_VERSION = 8
 
 DEFAULT_CONFIG = {
     "seed": 0,
@@ -402,10 +393,7 @@ def run(config: dict) -> dict:
     true_prof = _profiles(config, config["k_true"], config["length"])
     ckpt = Checkpoint(
         out / "rows.jsonl",
-        {
-            "row_version": ROW_VERSION,
-            **{k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")},
-        },
+        {k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")},
     )
     n_resumed = len(ckpt.rows)
     todo = [t for t in _row_tasks(config) if _key(t) not in ckpt]

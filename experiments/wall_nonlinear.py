@@ -3,15 +3,15 @@
 The measured plastic cup closes 4–23 mm at 10 N per jaw (``s`` = 437–2530 N/m) —
 up to half its radius, 10–40 wall thicknesses.  Steps:
 
-1. the linear wall (:mod:`fem.wall`, PET) at every measured grasp, calibrated by one
+1. the linear wall (:mod:`workbench.fem.wall`, PET) at every measured grasp, calibrated by one
    effective Young's modulus ``E_lin`` on all of them (``s ∝ E`` exactly);
 2. at ``n_grasps`` grasps spread over the heights, the geometrically nonlinear wall
-   (:mod:`fem.wall_nonlinear`: total Lagrangian St. Venant–Kirchhoff, load stepping,
+   (:mod:`workbench.fem.wall_nonlinear`: total Lagrangian St. Venant–Kirchhoff, load stepping,
    same mesh, clamps and jaws) at ``E_lin``, its load curve up to ``force_stop``;
 3. per grasp: ``s_nl / s_lin`` at 10 N (how far linear theory is off at the closings
    it predicts), the closing, and the work ``∫ f dΔ`` of each;
 4. each model calibrated by its own single E on these grasps (the nonlinear one through
-   the f / E scaling of :func:`fem.wall_nonlinear.curve_stiffness`): which one matches
+   the f / E scaling of :func:`workbench.fem.wall_nonlinear.curve_stiffness`): which one matches
    the measured stiffness better (median |log ratio|, Spearman).
 
 Rows are checkpointed per grasp.  The mesh is coarser than minimal-work's (the
@@ -68,12 +68,12 @@ def check_config(config: dict) -> None:
 def run(config: dict) -> dict:
     import trimesh
 
-    from fem.calibration import split_scores, split_scores_of
-    from fem.material import Material
-    from fem.object_wall import object_wall
-    from fem.wall import squeeze
-    from fem.wall_grasps import read_locations, stiffness_at
-    from fem.wall_nonlinear import curve_stiffness, grasp_frame_wall, squeeze_nonlinear
+    from workbench.fem.calibration import split_scores, split_scores_of
+    from workbench.fem.material import Material
+    from workbench.fem.object_wall import object_wall
+    from workbench.fem.wall import squeeze
+    from workbench.fem.wall_grasps import read_locations, stiffness_at
+    from workbench.fem.wall_nonlinear import curve_stiffness, grasp_frame_wall, squeeze_nonlinear
 
     t_start = time.perf_counter()
     out = Path(config["out"])

@@ -6,10 +6,10 @@ Issue 4 scope 5.  The thesis measured ``s_i = f_⊥ / (l_s − l_e)`` with a
 parallel-jaw gripper closing to 10 N per jaw at antipodal grasp locations; here
 a PET-like wall (linear elastic, 0.5 mm, clamped base, open top) of bottles
 from the thesis family is squeezed between two rigid 20 × 40 mm jaws
-(:mod:`fem.wall`) at a grid of heights × grasp-axis angles, giving a stiffness
+(:mod:`workbench.fem.wall`) at a grid of heights × grasp-axis angles, giving a stiffness
 map over the surface.  Validation first: the thin ring under diametral loads
 (Roark), perpendicular diameter (load applied) and load-line closing (through
-:func:`fem.wall.squeeze`, i.e. the contact solve itself), with mesh refinement;
+:func:`workbench.fem.wall.squeeze`, i.e. the contact solve itself), with mesh refinement;
 then the bottle's mesh convergence at one location.
 
 Rows are checkpointed per (bottle, height, angle) so a killed run resumes.  The family's
@@ -21,7 +21,7 @@ while the driver runs the ring validation (:mod:`workbench.parallel`; ``workers`
 With ``object=PATH.obj`` (a watertight mesh in metres of a thin-walled object) and
 ``locations=PATH.json`` (``stiffness_locations``, 2n points, i and i + n one grasp —
 the measured maps' format) it instead squeezes that object's wall at those grasps
-(:mod:`fem.mesh_wall`, :mod:`fem.wall_grasps`) and writes ``stiffness_n_per_m`` in
+(:mod:`workbench.fem.mesh_wall`, :mod:`workbench.fem.wall_grasps`) and writes ``stiffness_n_per_m`` in
 grasp order with ``rigid`` and ``failed`` flags; when the JSON also holds a
 ``stiffness_map`` the summary compares the two (uncalibrated).
 """
@@ -35,11 +35,11 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from fem.bottle import Bottle, bottle_family
-from fem.material import Material
-from fem.object_wall import wall_geometry
-from fem.wall import build_wall, ring_pinch, ring_wall, squeeze
-from fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
+from workbench.fem.bottle import Bottle, bottle_family
+from workbench.fem.material import Material
+from workbench.fem.object_wall import wall_geometry
+from workbench.fem.wall import build_wall, ring_pinch, ring_wall, squeeze
+from workbench.fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 
@@ -61,7 +61,7 @@ DEFAULT_CONFIG = {
     "object": "",  # a watertight mesh (metres) of a thin-walled object; "" = the bottle family
     "locations": "",  # JSON with stiffness_locations (2n, 3) [m] for object=
     "rigid_closing_mm": 0.05,  # closings below this are rigid (smallest measured: 0.052 mm)
-    "top": "auto",  # object=: top edge of the side wall: auto | lip | clamped | free (fem.object_wall)
+    "top": "auto",  # object=: top edge of the wall: auto | lip | clamped | free (workbench.fem.object_wall)
     # where the family's maps run (workbench.parallel.row_client): 0 = a local Dask cluster of
     # one worker per core when there are many rows, 1 = serially here, N = N local workers;
     # scheduler = an existing cluster's address.  Neither changes a number.
@@ -301,7 +301,7 @@ def _object_inputs(config: dict) -> tuple:
     wall's surface by :func:`run_object`, before the wall is assembled."""
     import trimesh
 
-    from fem.object_wall import check_wall_options
+    from workbench.fem.object_wall import check_wall_options
     from workbench.units import closed_mesh
 
     if not config["locations"]:
@@ -429,7 +429,8 @@ def run_object(config: dict) -> dict:
             f"linear elastic wall E = {config['E']:.3g} Pa, nu = {config['nu']}, "
             f"t = {config['thickness'] * 1e3} mm, "
             "outer surface r(theta, z) from the mesh by ray casting, clamped at the bottom of the side wall, "
-            "top edge per fem.object_wall (lip ring / clamped shoulder / free); rigid frictionless jaws; "
+            "top edge per workbench.fem.object_wall (lip ring / clamped shoulder / free); "
+            "rigid frictionless jaws; "
             "secant stiffness at the target force"
         ),
     }

@@ -2,7 +2,7 @@
 
 Each face quad with a loaded corner becomes one element.  Node i carries the
 contact force ``λ_i`` along the obstacle normal ``n_i`` the solver used
-(:class:`fem.contact.ContactSolution`: ``λ_i ≥ 0`` is the magnitude of the
+(:class:`workbench.fem.contact.ContactSolution`: ``λ_i ≥ 0`` is the magnitude of the
 nodal force along the obstacle's outward normal, *not* along the press axis;
 the pad receives ``λ_i n_i``, the object ``−λ_i n_i``).  The force is split
 among the quads around the node in proportion to their share of the node's
@@ -15,7 +15,7 @@ among the quads around the node in proportion to their share of the node's
 * the element normal is the force-weighted mean direction of its corners' solver
   normals, ``n_e ∝ Σ_corners λ_i (a_e / 4) / A_i · n_i``, so the profile's normal
   wrench force ``−Σ p_e a_e n_e`` equals the solution's force on the object
-  ``−Σ λ_i n_i`` (:attr:`fem.contact.ContactSolution.force_vector`) up to the spread
+  ``−Σ λ_i n_i`` (:attr:`workbench.fem.contact.ContactSolution.force_vector`) up to the spread
   of the normals inside an element: ``‖Δ‖ ≤ (1 − cos θ) Σ λ_i`` with θ the largest
   angle between two corner normals of a loaded quad (~(spacing / curvature radius)²;
   measured 4–7e-4 of Σ λ on the default pad against a R 20 mm sphere, 1.0–1.6e-3 on
@@ -84,9 +84,9 @@ def extract_profile(pad, sol: ContactSolution, obstacle) -> ContactProfile | Non
 
     pad : the pad the solution belongs to — anything with the face-node
         coordinates ``face_xy`` (n, 2) of ``sol``'s nodes: a
-        :class:`fem.pad.CondensedPad`, :class:`fem.nonlinear.NonlinearPad` or
-        :class:`fem.pad.PadFace`; ``fem.press(...)`` returns it as ``.pad``.
-    sol : :class:`fem.contact.ContactSolution` of any fidelity.
+        :class:`workbench.fem.pad.CondensedPad`, :class:`workbench.fem.nonlinear.NonlinearPad` or
+        :class:`workbench.fem.pad.PadFace`; ``workbench.fem.press(...)`` returns it as ``.pad``.
+    sol : :class:`workbench.fem.contact.ContactSolution` of any fidelity.
     obstacle : the obstacle the solution was computed against (``signed_distance``).
 
     Conserved exactly: ``profile.F == sol.force`` (Σ p a = Σ λ).  Conserved up to
@@ -97,7 +97,7 @@ def extract_profile(pad, sol: ContactSolution, obstacle) -> ContactProfile | Non
     if face_xy is None:
         raise ValueError(
             f"pad must have the face-node coordinates face_xy (n, 2); got {type(pad).__name__} "
-            "— pass the CondensedPad/NonlinearPad the solution came from (fem.press(...).pad)"
+            "— pass the CondensedPad/NonlinearPad the solution came from (workbench.fem.press(...).pad)"
         )
     lam = np.asarray(sol.lam, dtype=float)
     if face_xy.shape[0] != lam.size:

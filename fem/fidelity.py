@@ -5,11 +5,11 @@ solve after a cached precompute); ``"linear"``: the same frictionless Signorini
 problem on the full mesh (the exactness check of the condensed level);
 ``"nonlinear"``: neo-Hookean layer with augmented-Lagrangian contact and load
 stepping (the accuracy reference at 20-60% layer compression).  All return
-:class:`fem.contact.ContactSolution` per jaw displacement on the same face
+:class:`workbench.fem.contact.ContactSolution` per jaw displacement on the same face
 nodes, collected in a :class:`Pressed` that also holds the pad and the obstacle,
 so a profile is one call away::
 
-    from fem import press
+    from workbench.fem import press
     res = press(PadGeometry(), Material(), obstacle, [1e-3, 2e-3])
     prof = res.profile(2e-3)   # == extract_profile(res.pad, res[2e-3], res.obstacle)
 """
@@ -28,9 +28,9 @@ FIDELITIES = ("condensed", "linear", "nonlinear")
 
 class Pressed(dict):
     """``{delta [m]: ContactSolution}`` (a plain dict, increasing ``delta``) plus what
-    :func:`fem.extract.extract_profile` needs: ``pad`` (the
-    :class:`~fem.pad.CondensedPad`, :class:`~fem.nonlinear.NonlinearPad` or, for
-    ``fidelity="linear"``, the :class:`~fem.pad.PadFace`), ``obstacle`` and ``fidelity``.
+    :func:`workbench.fem.extract.extract_profile` needs: ``pad`` (the
+    :class:`~workbench.fem.pad.CondensedPad`, :class:`~workbench.fem.nonlinear.NonlinearPad` or, for
+    ``fidelity="linear"``, the :class:`~workbench.fem.pad.PadFace`), ``obstacle`` and ``fidelity``.
     """
 
     def __init__(self, solutions: dict[float, ContactSolution], pad: Any, obstacle: Any, fidelity: str):
@@ -71,9 +71,9 @@ def press(
 
     Returns a :class:`Pressed`: the dict ``{delta: ContactSolution}`` with ``.pad``
     and ``.obstacle``; ``press(...).profile(delta)`` is the contact profile
-    (:func:`fem.extract.extract_profile`), whose ``F`` equals the solved ``Σ λ``.
+    (:func:`workbench.fem.extract.extract_profile`), whose ``F`` equals the solved ``Σ λ``.
 
-    cache_dir : the condensed level's compliance cache (:func:`fem.pad.condense_pad`:
+    cache_dir : the condensed level's compliance cache (:func:`workbench.fem.pad.condense_pad`:
         ``None`` the default user cache, a path, or ``False`` for none).
     options : passed to the level's solver (e.g. ``scheme`` for the linear levels,
         ``stabilization``/``step`` for the nonlinear one).

@@ -1,20 +1,20 @@
 """FEM pad profiles of a parallel-jaw grasp on an object mesh (thesis §3.5.2, §4.3.2.1).
 
 The FEM counterpart of :func:`workbench.grasp.evaluate.jaw_profiles` (REACH, Winkler
-pressure): each jaw is the compliant pad of :mod:`fem.pad` (rigid back, bonded linear
+pressure): each jaw is the compliant pad of :mod:`workbench.fem.pad` (rigid back, bonded linear
 elastic layer, frictionless Signorini contact on its condensed face,
-:func:`fem.contact.solve_contact`) pressed against the rigid object mesh along the grasp
+:func:`workbench.fem.contact.solve_contact`) pressed against the rigid object mesh along the grasp
 axis until the pad's normal force *along the axis* equals the gripper's reading — the
 force-sensor convention of §4.1.3.2, as ``with_axis_force`` does for REACH.
 
 Jaw frame (``x_object = R x_pad + t``): pad z along the approach (into the object), pad
 y (its long side) along ``up`` made perpendicular to the approach, x = y × z — the pose
-of :func:`fem.bottle.grasp_pose` for a side grasp of a standing object.  The pad face is
+of :func:`workbench.fem.bottle.grasp_pose` for a side grasp of a standing object.  The pad face is
 first placed to touch the mesh (smallest gap 0); the jaw then advances by the
 displacement whose axial force is the reading (Brent's method on the monotone
 force–displacement curve; every solve is milliseconds once the pad is condensed).
 
-The object is rigid here: the wall's own compliance is :mod:`fem.wall`'s business.
+The object is rigid here: the wall's own compliance is :mod:`workbench.fem.wall`'s business.
 The mesh is one-sided towards the jaw (``MeshObstacle(facing=...)``), so a wall solid
 with an inner surface (the cup's 0.5 mm wall) is seen from outside only.
 """
@@ -104,9 +104,9 @@ def fem_jaw_profile(
         approach line through it, its first touch may be elsewhere on the face).
     approach : (3,) direction from the jaw into the object.
     force : the gripper's reading [N] > 0: the pad's normal force along ``approach``.
-    geometry, material : the pad (default :class:`~fem.pad.PadGeometry`, 20 × 40 × 5 mm,
-        and :class:`~fem.material.Material`, E = 1 MPa, ν = 0.45); or ``pad``, a
-        condensed pad already built (:func:`~fem.pad.condense_pad`) — reuse it across
+    geometry, material : the pad (default :class:`~workbench.fem.pad.PadGeometry`, 20 × 40 × 5 mm,
+        and :class:`~workbench.fem.material.Material`, E = 1 MPa, ν = 0.45); or ``pad``, a
+        condensed pad already built (:func:`~workbench.fem.pad.condense_pad`) — reuse it across
         grasps, its condensation (20–70 s, disk-cached) dominates the first call.
 
     Returns a :class:`~workbench.profile.ContactProfile` whose normal force along

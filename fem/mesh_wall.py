@@ -1,6 +1,6 @@
 """The outer wall of a hollow object from its triangle mesh, as a radial surface ``r(θ, z)`` (issue 13).
 
-:func:`fem.wall.build_wall` meshes a wall from any outer surface ``(θ, z) ->
+:func:`workbench.fem.wall.build_wall` meshes a wall from any outer surface ``(θ, z) ->
 (points, outward normals)``.  For a scanned or CAD object the surface is a
 triangle mesh; :func:`radial_surface` turns it into that callable by casting
 horizontal rays from a vertical axis on a (θ, z) grid and keeping the outermost
@@ -75,7 +75,7 @@ class RadialSurface:
 
     def __call__(self, theta: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (N, 3) and outward unit normals (N, 3) at θ (N,), z (N,) — the
-        ``surface`` callable of :func:`fem.wall.build_wall`."""
+        ``surface`` callable of :func:`workbench.fem.wall.build_wall`."""
         theta = np.asarray(theta, float)
         z = np.asarray(z, float)
         r = self.radius(theta, z)

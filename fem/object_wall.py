@@ -1,6 +1,6 @@
 """The wall of a hollow object from its mesh, with the edges that make it stiff (issue 13).
 
-:func:`fem.mesh_wall.radial_surface` gives the side wall, the band of heights whose
+:func:`workbench.fem.mesh_wall.radial_surface` gives the side wall, the band of heights whose
 sections are star-shaped.  What ends that band decides how stiff the wall is near
 its top, so :func:`object_wall` models it instead of leaving a free edge:
 
@@ -21,7 +21,7 @@ continues more than ``LIP_MAX_HEIGHT`` above its side wall, or a ray down the ax
 from above meets it within that of its top.
 
 The base always clamps the bottom of the side wall.  Grasps on the lip are on the
-modelled wall; grasps above it (caps, necks) are rigid (:mod:`fem.wall_grasps`).
+modelled wall; grasps above it (caps, necks) are rigid (:mod:`workbench.fem.wall_grasps`).
 """
 
 from __future__ import annotations
@@ -138,9 +138,9 @@ class WallGeometry:
         return np.where(z >= self.lip.z0, self.lip.width, self.thickness)
 
     def build(self, material: Material = PET, *, n_theta: int = 48, turn: float = 0.0) -> Wall:
-        """The wall assembled and factorised (:func:`fem.wall.build_wall`), ``n_theta``
+        """The wall assembled and factorised (:func:`workbench.fem.wall.build_wall`), ``n_theta``
         elements around and ``n_z`` along; ``turn`` [rad]: built turned by ``-turn`` about
-        z (:func:`fem.wall.turned_surface`: a grasp axis at ``turn`` becomes +x)."""
+        z (:func:`workbench.fem.wall.turned_surface`: a grasp axis at ``turn`` becomes +x)."""
         return build_wall(
             turned_surface(self.outer, turn) if turn else self.outer,
             material,
@@ -174,7 +174,7 @@ def check_wall_options(thickness: Any, top: Any) -> None:
         )
     if top not in TOPS:
         raise ValueError(
-            f"top must be one of {TOPS} (the wall's top edge; module fem.object_wall); got {top!r}"
+            f"top must be one of {TOPS} (the wall's top edge; module workbench.fem.object_wall); got {top!r}"
         )
 
 
@@ -195,7 +195,7 @@ def wall_geometry(
     top : "auto" (clamped if the object is closed above its side wall,
     :func:`is_closed_top`; an open one gets its lip if :func:`find_lip` finds one,
     else a free edge), "lip", "clamped" or "free".
-    Raises ``ValueError`` for careless meshes (:func:`fem.mesh_wall.radial_surface`), a
+    Raises ``ValueError`` for careless meshes (:func:`workbench.fem.mesh_wall.radial_surface`), a
     thickness <= 0, an unknown ``top`` or ``top="lip"`` on an object without one.
     """
     check_wall_options(thickness, top)

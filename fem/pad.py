@@ -134,7 +134,7 @@ class CondensedPad:
 @dataclass(frozen=True)
 class PadFace:
     """The contact face of a pad without its compliance: what
-    :func:`fem.extract.extract_profile` needs of a full-mesh (``fidelity="linear"``)
+    :func:`workbench.fem.extract.extract_profile` needs of a full-mesh (``fidelity="linear"``)
     solution.  face_nodes : (n,) mesh node indices on ``z = h``; face_xy : (n, 2) [m]."""
 
     geometry: PadGeometry

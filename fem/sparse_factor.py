@@ -13,7 +13,7 @@ for each: ~11 ms a column on a wall, bound by memory bandwidth (25 GB/s of the f
 against 33 GB/s copy, ``results/benchmarks/wall_stiffness.json``).  A wall's contact
 solve asks for dozens of columns at once, so ``factor_spd(..., blocked=True)`` also
 keeps row-major copies of L and U and solves many columns together in
-:mod:`fem._kernels` (each entry read once for all of them): 2.4× faster per column at
+:mod:`workbench.fem._kernels` (each entry read once for all of them): 2.4× faster per column at
 48 columns (``config.DEFAULTS.blocked_solve_min_rhs``).
 """
 

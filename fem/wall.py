@@ -10,8 +10,8 @@ these aspect ratios — clamped at its bottom rim (the base is far stiffer than
 the wall); two rigid flat jaws close symmetrically along the grasp axis with
 frictionless unilateral contact on the outer surface.  The wall's normal
 compliance at the candidate nodes is condensed by solves with one sparse LU per
-object (nested-dissection ordered, :mod:`fem.sparse_factor`), so each location
-is a small LCP (:func:`fem.contact.solve_lcp`), and the
+object (nested-dissection ordered, :mod:`workbench.fem.sparse_factor`), so each location
+is a small LCP (:func:`workbench.fem.contact.solve_lcp`), and the
 jaw closing ``Δ`` at the target force (default 10 N, as in the thesis) is found
 by a secant iteration.  ``s`` is the secant stiffness ``f / Δ`` there.
 
@@ -67,10 +67,11 @@ def wall_mesh(
     """Closed tube of hexes, one element through the wall.
 
     surface : callable ``(theta (N,), z (N,)) -> (points (N, 3), outward normals (N, 3))``
-        of the *outer* wall surface (e.g. :meth:`fem.bottle.Bottle.points_normals`);
+        of the *outer* wall surface (e.g. :meth:`workbench.fem.bottle.Bottle.points_normals`);
         the wall extends ``thickness`` [m] inwards along the normal — a number, or a
         callable ``z (N,) -> (N,)`` for a wall whose thickness varies with height
-        (e.g. a rolled lip, :meth:`fem.object_wall.WallGeometry.thickness_at`), applied at the vertices.
+        (e.g. a rolled lip, :meth:`workbench.fem.object_wall.WallGeometry.thickness_at`),
+        applied at the vertices.
     Returns ``(mesh, outer, bottom, top)``: (n_vertices,) bool masks of the outer-surface,
     the bottom-rim and the top-rim vertices.
     """
@@ -103,7 +104,7 @@ class Wall:
     basis: Basis
     material: Material
     free: np.ndarray  # (n_free,) free dof indices
-    lu: object  # sparse factor of K_ff (fem.sparse_factor.SPDFactor): .solve(b)
+    lu: object  # sparse factor of K_ff (workbench.fem.sparse_factor.SPDFactor): .solve(b)
     outer_xyz: np.ndarray  # (m, 3) outer-surface node locations
     outer_dofs: np.ndarray  # (m, 3) their x, y, z dofs
     seconds: float

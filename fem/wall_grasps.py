@@ -3,15 +3,15 @@
 The measured stiffness maps (``deformable_objects/stiffness_maps/*.json``) list
 ``2n`` contact points: point ``i`` and point ``i + n`` are the two jaws of grasp
 ``i``.  :func:`grasp_pairs` checks such a list against the object's outer surface
-(:class:`fem.mesh_wall.RadialSurface`); :func:`stiffness_at` squeezes the wall at
+(:class:`workbench.fem.mesh_wall.RadialSurface`); :func:`stiffness_at` squeezes the wall at
 each grasp (the grasp axis through both points, its midpoint as the centre,
-:func:`fem.wall.squeeze`) and reports ``s = f / Δ``.
+:func:`workbench.fem.wall.squeeze`) and reports ``s = f / Δ``.
 
 Grasps the wall model cannot squeeze are not errors of the whole run; each is
 flagged with its reason:
 
 * ``rigid``: a jaw point outside the modelled wall's heights (a cap, a neck or the
-  base, which :func:`fem.mesh_wall.radial_surface` leaves out), a jaw that would
+  base, which :func:`workbench.fem.mesh_wall.radial_surface` leaves out), a jaw that would
   travel onto a clamped edge of the wall (the base: it stops there), or a closing
   below ``rigid_closing`` (what the gripper cannot resolve) —
   reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10 (the computed value
@@ -167,11 +167,11 @@ def stiffness_at(
     docstring), ``reason``, ``fem_stiffness``
     (the squeeze's value, also for a grasp flagged rigid by its closing), ``seconds``.
 
-    wall : the wall built on ``surface`` (:func:`fem.wall.build_wall`); force : jaw
+    wall : the wall built on ``surface`` (:func:`workbench.fem.wall.build_wall`); force : jaw
     force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
     rigid_closing : closings [m] below this are reported rigid (0: never);
     z_range : heights [m] of the modelled wall (default the side wall's,
-    ``surface.z_range``; :class:`fem.object_wall.WallGeometry` adds the lip);
+    ``surface.z_range``; :class:`workbench.fem.object_wall.WallGeometry` adds the lip);
     grasp_ids : (n,) the grasps' numbers in the caller's list, used in log messages
     (default 0 … n − 1).
     """

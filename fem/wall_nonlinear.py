@@ -1,6 +1,6 @@
 """Geometrically nonlinear wall squeeze: total Lagrangian St. Venant–Kirchhoff, load stepping.
 
-The linear wall (:mod:`fem.wall`) assumes small displacements.  A disposable cup
+The linear wall (:mod:`workbench.fem.wall`) assumes small displacements.  A disposable cup
 closes ~20 mm at 8–10 N (measured map, thesis §4.3.3.1) — half its radius — so
 rotations are not small there.  Strains stay small (a 0.5 mm wall bent to a few
 centimetres' radius: ε ≈ t / 2ρ ≲ 1 %), which is the range of St. Venant–Kirchhoff:
@@ -9,7 +9,7 @@ centimetres' radius: ε ≈ t / 2ρ ≲ 1 %), which is the range of St. Venant�
     dP[δF] = δF S + F (λ tr(δE) I + 2μ δE),   δE = sym(Fᵀ δF)                   (consistent tangent)
 
 on the same triquadratic mesh, Gauss rule and clamps as the linear wall
-(:func:`fem.wall.build_wall`).  The weak form is assembled here element-wise with
+(:func:`workbench.fem.wall.build_wall`).  The weak form is assembled here element-wise with
 batched matrix products instead of scikit-fem's form language — for a 27-node hex
 with 27 Gauss points the latter evaluates the form once per (i, j) basis pair (6,561
 times) and takes ~40 s per tangent; this takes ~1 s.  ``tests/`` checks it against a
@@ -274,7 +274,7 @@ def curve_work(
 
 
 def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_theta: int = 48) -> tuple:
-    """The wall of :class:`fem.object_wall.WallGeometry` ``geo`` built in the frame of the
+    """The wall of :class:`workbench.fem.object_wall.WallGeometry` ``geo`` built in the frame of the
     grasp from jaw point ``a`` (3,) to ``b`` (3,) [m] (horizontal axis): x is the grasp
     axis, z stays vertical.  Returns ``(wall, centre)``: the built wall and the grasp's
     midpoint (3,) in that frame, as :func:`squeeze_nonlinear` takes them."""

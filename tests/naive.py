@@ -114,7 +114,7 @@ def monomial_hessians(x, expo):
 
 
 def normal_rows(C, nodes, nrm):
-    """``n_kᵀ C[k-block, :]`` per node by reshaping (reference of fem._kernels._normal_rows)."""
+    """``n_kᵀ C[k-block, :]`` per node by reshaping (reference of workbench.fem._kernels._normal_rows)."""
     n = C.shape[0] // 3
     return np.einsum("ka,kaj->kj", nrm[nodes], C.reshape(n, 3, -1)[nodes])
 
@@ -126,7 +126,7 @@ def normal_block(G, nodes, nrm):
 
 
 def lower_unit_solve(L, B):
-    """Slow reference of ``fem._kernels._lower_unit_rows``: forward substitution with a
+    """Slow reference of ``workbench.fem._kernels._lower_unit_rows``: forward substitution with a
     dense unit lower-triangular ``L`` (n, n) (its diagonal ignored) on ``B`` (n, k)."""
     X = np.array(B, dtype=float)
     for i in range(len(X)):
@@ -136,7 +136,7 @@ def lower_unit_solve(L, B):
 
 
 def upper_solve(U, B):
-    """Slow reference of ``fem._kernels._upper_rows``: back substitution with a dense
+    """Slow reference of ``workbench.fem._kernels._upper_rows``: back substitution with a dense
     upper-triangular ``U`` (n, n) on ``B`` (n, k)."""
     X = np.array(B, dtype=float)
     for i in range(len(X) - 1, -1, -1):

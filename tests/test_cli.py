@@ -7,7 +7,8 @@ import json
 
 import pytest
 
-from workbench.cli import EXPERIMENTS, _parse_sets, build_config, main
+from workbench.cli import main
+from workbench.experiment_config import EXPERIMENTS, _parse_sets, build_config
 
 
 def _error(capsys, argv):
@@ -162,7 +163,7 @@ def test_the_suggested_value_is_shell_quoted():
     hint = str(exc.value.code).split("give e.g. ")[1]
     argv = shlex.split(hint)
     assert argv[0] == "--set" and len(argv) == 2
-    from experiments.fem_fitting import DEFAULT_CONFIG
+    from workbench.experiments.fem_fitting import DEFAULT_CONFIG
 
     suggested = build_config("fem-fitting", True, None, None, _parse_sets([argv[1]]))["heights"]
     assert suggested == DEFAULT_CONFIG["heights"] and len(suggested) == 21  # the default, pasted back

@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from workbench.cli import build_config, main
+from workbench.cli import main
+from workbench.experiment_config import build_config
 
 SURFACES = [f"S{i}" for i in range(1, 7)]
 
@@ -283,7 +284,7 @@ def test_sensitivity_quick(tmp_path):
 def test_margin_of_antipodal_point_contacts_is_2_mu_F_over_mg():
     """The bisected resistance margin against the analytic one: two antipodal point
     contacts (64-gon inner cone, aligned with gravity) hold s·mg iff s <= 2μF/(mg)."""
-    from experiments.sensitivity import _margin
+    from workbench.experiments.sensitivity import _margin
     from workbench.grasp import point_contact, resists
 
     mu, F = 0.5, 10.0
@@ -303,7 +304,7 @@ def test_margin_of_antipodal_point_contacts_is_2_mu_F_over_mg():
 
 
 def test_matched_precision_on_a_hand_made_ranking():
-    from experiments.sensitivity import matched_precision
+    from workbench.experiments.sensitivity import matched_precision
 
     truth = np.array([True, True, True, False, True, False])
     margins = np.array([3.0, 2.5, 2.0, 1.8, 1.2, 0.5])
@@ -317,8 +318,8 @@ def test_matched_precision_on_a_hand_made_ranking():
 def test_fem_fitting_leaves_out_an_underdetermined_quartic():
     """The thesis-code training set can have fewer wrenches than the quartic's 126
     coefficients (121 on a bottle profile): the quartic is left out, not faked."""
-    from experiments.fem_fitting import _fits
     from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, w_max
+    from workbench.experiments.fem_fitting import _fits
 
     rng = np.random.default_rng(0)
     c = np.c_[rng.uniform(-0.01, 0.01, (80, 2)), 0.002 * rng.standard_normal(80)]
@@ -349,7 +350,7 @@ def test_fem_fitting_refuses_physical_nonsense_before_any_work(sets, match):
 
 def test_minimal_work_quick(tmp_path):
     """Issue 13: the quick run's headline numbers (skips without the CC BY-NC data folder)."""
-    from experiments.minimal_work import DEFAULT_CONFIG, THESIS_TABLE_4_6
+    from workbench.experiments.minimal_work import DEFAULT_CONFIG, THESIS_TABLE_4_6
 
     if not (Path(DEFAULT_CONFIG["data_dir"]) / "stiffness_maps" / "plastic_cup.json").exists():
         pytest.skip("deformable_objects data not present")
@@ -395,7 +396,7 @@ def test_wall_nonlinear_quick(tmp_path):
     """Issue 13 scope 1: the quick run's headline numbers — at the calibrated E and the
     closings the cup is measured at, the nonlinear wall is softer than the linear one
     (0.74x at 3 N on the quick mesh); both jaws press alike (skips without the data)."""
-    from experiments.wall_nonlinear import DEFAULT_CONFIG
+    from workbench.experiments.wall_nonlinear import DEFAULT_CONFIG
 
     if not (Path(DEFAULT_CONFIG["data_dir"]) / "stiffness_maps" / "plastic_cup.json").exists():
         pytest.skip("deformable_objects data not present")

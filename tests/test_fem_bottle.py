@@ -4,8 +4,8 @@ independent fine triangle mesh, normals against finite differences, poses."""
 import numpy as np
 import pytest
 
-from fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
-from fem.pad import PadGeometry
+from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
+from workbench.fem.pad import PadGeometry
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +48,7 @@ def test_signed_distance_is_exact(family):
 
 
 def test_distance_matches_a_fine_mesh(family):
-    from fem.obstacles import MeshObstacle
+    from workbench.fem.obstacles import MeshObstacle
 
     b = Bottle(family[-1])
     mesh = b.to_trimesh(384, 401)

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from fem.contact import solve_contact, solve_lcp
-from fem.material import Material
-from fem.obstacles import Cylinder, Plane, Sphere
-from fem.pad import PadGeometry, condense_pad
+from workbench.fem.contact import solve_contact, solve_lcp
+from workbench.fem.material import Material
+from workbench.fem.obstacles import Cylinder, Plane, Sphere
+from workbench.fem.pad import PadGeometry, condense_pad
 
 
 def test_lcp_solution_is_complementary():
@@ -53,8 +53,8 @@ def test_plane_and_no_contact(thin_pad):
 
 
 def test_extracted_profile_on_the_sphere(thin_pad):
-    from fem.extract import extract_profile
     from workbench import frictional_wrenches, w_max
+    from workbench.fem.extract import extract_profile
 
     R, delta = 0.05, 0.1e-3
     h = thin_pad.geometry.thickness
@@ -82,8 +82,8 @@ def test_extracted_profile_on_the_sphere(thin_pad):
 def test_extracted_profile_exports_to_vtu(thin_pad, tmp_path):
     import meshio
 
-    from fem.extract import extract_profile
     from workbench import ContactProfile
+    from workbench.fem.extract import extract_profile
 
     h = thin_pad.geometry.thickness
     sphere = Sphere((0, 0, h + 0.05), 0.05)
@@ -107,7 +107,7 @@ CASES = {
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_condensed_equals_full_mesh_linear_solve(case):
-    from fem.contact import solve_contact_full
+    from workbench.fem.contact import solve_contact_full
 
     geom = PadGeometry(width=0.008, length=0.01, thickness=0.002, nx=8, ny=10, nz=3)
     mat = Material(E=1.0e6, nu=0.45)
@@ -124,7 +124,7 @@ def test_condensed_equals_full_mesh_linear_solve(case):
 def test_mesh_obstacle_matches_the_analytic_sphere():
     import trimesh
 
-    from fem.obstacles import MeshObstacle
+    from workbench.fem.obstacles import MeshObstacle
 
     R = 0.02
     obs = MeshObstacle(trimesh.creation.icosphere(subdivisions=5, radius=R * 1000), units="mm")
@@ -145,7 +145,7 @@ def test_mesh_obstacle_closest_is_exact_on_long_faces():
     import trimesh
     from trimesh.triangles import closest_point
 
-    from fem.obstacles import MeshObstacle
+    from workbench.fem.obstacles import MeshObstacle
 
     R = 0.03
     mesh = trimesh.creation.cylinder(radius=R, height=0.12, sections=256)
@@ -169,8 +169,8 @@ def test_mesh_obstacle_closest_is_exact_on_long_faces():
 def test_mesh_obstacle_rejects_a_mesh_in_the_wrong_unit():
     import trimesh
 
-    from fem.obstacles import MeshObstacle
     from workbench.config import TOL
+    from workbench.fem.obstacles import MeshObstacle
 
     mm = trimesh.creation.icosphere(subdivisions=2, radius=20.0)  # a 40 mm ball written in mm
     with pytest.raises(ValueError, match=r"spans 40 m .*millimetres: pass units='mm'"):
@@ -197,8 +197,8 @@ def test_mesh_obstacle_rejects_a_mesh_in_the_wrong_unit():
 def test_pad_on_a_thesis_object_if_available(thin_pad):
     from pathlib import Path
 
-    from fem.extract import extract_profile
-    from fem.obstacles import MeshObstacle
+    from workbench.fem.extract import extract_profile
+    from workbench.fem.obstacles import MeshObstacle
 
     path = (
         Path(__file__).resolve().parents[2]
@@ -223,7 +223,7 @@ def test_pad_on_a_thesis_object_if_available(thin_pad):
 def test_normal_projection_kernels_match_numpy():
     from naive import normal_block, normal_rows
 
-    from fem._kernels import _normal_block, _normal_rows
+    from workbench.fem._kernels import _normal_block, _normal_rows
 
     rng = np.random.default_rng(4)
     n = 37
@@ -243,7 +243,7 @@ def test_lcp_active_set_variants_agree_with_nnls(fraction, monkeypatch):
     """Direct-Cholesky and factor-once (Schur) active-set steps give the NNLS optimum."""
     from scipy.optimize import nnls
 
-    import fem.contact as fc
+    import workbench.fem.contact as fc
 
     monkeypatch.setattr(fc, "SCHUR_FRACTION", fraction)
     rng = np.random.default_rng(5)

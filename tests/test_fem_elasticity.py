@@ -4,8 +4,8 @@ the classic volumetric-locking benchmark."""
 import numpy as np
 import pytest
 
-from fem.material import Material
-from fem.validation import lame_cylinder_fe
+from workbench.fem.material import Material
+from workbench.fem.validation import lame_cylinder_fe
 
 
 def lame_inner_displacement(material, p=1.0, a=1.0, b=2.0):  # independent reference

@@ -1,17 +1,17 @@
-"""FEM pad profiles of a grasp on an object mesh (fem.jaw_profile) against analytic obstacles."""
+"""FEM pad profiles of a grasp on an object mesh (workbench.fem.jaw_profile) against analytic obstacles."""
 
 import numpy as np
 import pytest
 import trimesh
 from scipy.optimize import brentq
 
-from fem.bottle import Posed
-from fem.contact import solve_contact
-from fem.extract import extract_profile
-from fem.jaw_profile import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
-from fem.material import Material
-from fem.obstacles import Cylinder
-from fem.pad import PadGeometry, condense_pad
+from workbench.fem.bottle import Posed
+from workbench.fem.contact import solve_contact
+from workbench.fem.extract import extract_profile
+from workbench.fem.jaw_profile import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
+from workbench.fem.material import Material
+from workbench.fem.obstacles import Cylinder
+from workbench.fem.pad import PadGeometry, condense_pad
 
 GEOM = PadGeometry(width=0.016, length=0.024, thickness=0.004, nx=16, ny=24, nz=3)
 

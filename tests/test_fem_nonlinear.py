@@ -6,12 +6,12 @@ import pytest
 from skfem import BilinearForm, LinearForm, asm
 from skfem.helpers import ddot, det, grad, inv, mul, transpose
 
-from fem.contact import solve_contact
-from fem.elasticity import GAUSS_1, GAUSS_2, basis, stiffness
-from fem.material import Material
-from fem.nonlinear import NonlinearPad
-from fem.obstacles import Sphere
-from fem.pad import PadGeometry, condense_pad
+from workbench.fem.contact import solve_contact
+from workbench.fem.elasticity import GAUSS_1, GAUSS_2, basis, stiffness
+from workbench.fem.material import Material
+from workbench.fem.nonlinear import NonlinearPad
+from workbench.fem.obstacles import Sphere
+from workbench.fem.pad import PadGeometry, condense_pad
 
 GEOM = PadGeometry(0.008, 0.008, 0.003, 4, 4, 2)
 MAT = Material(1.0e6, 0.45)
@@ -124,7 +124,7 @@ def test_bad_inputs():
 
 
 def test_one_interface_for_three_fidelities():
-    from fem.fidelity import press
+    from workbench.fem.fidelity import press
 
     geom = PadGeometry(0.01, 0.01, 0.003, 6, 6, 2)
     h = geom.thickness

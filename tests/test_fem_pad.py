@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from skfem import condense, solve
 
-from fem.elasticity import basis, stiffness
-from fem.material import Material
-from fem.pad import PadGeometry, condense_pad
+from workbench.fem.elasticity import basis, stiffness
+from workbench.fem.material import Material
+from workbench.fem.pad import PadGeometry, condense_pad
 
 GEOM = PadGeometry(width=0.01, length=0.016, thickness=0.004, nx=5, ny=8, nz=3)
 
@@ -59,7 +59,7 @@ def test_compliance_disk_cache(tmp_path):
 def test_default_disk_cache_location_and_file_mode(tmp_path, monkeypatch):
     import os
 
-    from fem.pad import CACHE_VERSION, pad_cache_dir
+    from workbench.fem.pad import CACHE_VERSION, pad_cache_dir
 
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
     assert pad_cache_dir() == tmp_path
@@ -75,13 +75,13 @@ def test_default_disk_cache_location_and_file_mode(tmp_path, monkeypatch):
     assert again.from_cache
     assert np.array_equal(again.compliance, first.compliance)  # bit-identical
     # the key holds the code version: another CACHE_VERSION misses the file
-    monkeypatch.setattr("fem.pad.CACHE_VERSION", CACHE_VERSION + "-next")
+    monkeypatch.setattr("workbench.fem.pad.CACHE_VERSION", CACHE_VERSION + "-next")
     assert not condense_pad(GEOM, mat).from_cache
     assert len(list(tmp_path.glob("pad-*.npz"))) == 2
 
 
 def test_cache_can_be_disabled_and_survives_a_corrupt_file(tmp_path, monkeypatch):
-    from fem.pad import pad_cache_dir
+    from workbench.fem.pad import pad_cache_dir
 
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
     mat = Material(E=1.0e6, nu=0.45)
@@ -137,7 +137,7 @@ def test_bad_geometry(kw):
 
 
 def test_graded_axes():
-    from fem.pad import graded_half_axis
+    from workbench.fem.pad import graded_half_axis
 
     ax = graded_half_axis(0.02, 0.003, 0.0002, 1.3)
     assert ax[0] == 0.0 and ax[-1] == pytest.approx(0.02)

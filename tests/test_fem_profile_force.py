@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fem import press
-from fem.contact import ContactSolution
-from fem.extract import extract_profile, face_grid
-from fem.material import Material
-from fem.obstacles import MeshObstacle, Plane, Sphere
-from fem.pad import PadFace, PadGeometry
+from workbench.fem import press
+from workbench.fem.contact import ContactSolution
+from workbench.fem.extract import extract_profile, face_grid
+from workbench.fem.material import Material
+from workbench.fem.obstacles import MeshObstacle, Plane, Sphere
+from workbench.fem.pad import PadFace, PadGeometry
 
 DELTAS_MM = [0.1, 0.25, 0.5, 1.0, 2.0, 3.0]
 MAT = Material(E=1.0e6, nu=0.45)  # as fem-fitting

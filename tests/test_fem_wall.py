@@ -1,12 +1,12 @@
-"""Thin-walled objects (fem.wall): the triquadratic shell-solid against the thin-ring
+"""Thin-walled objects (workbench.fem.wall): the triquadratic shell-solid against the thin-ring
 formulas (Roark), the mesh, and the squeeze contact."""
 
 import numpy as np
 import pytest
 
-from fem.bottle import Bottle, bottle_family
-from fem.material import Material
-from fem.wall import PET, build_wall, circle_surface, ring_pinch, ring_wall, squeeze, wall_mesh
+from workbench.fem.bottle import Bottle, bottle_family
+from workbench.fem.material import Material
+from workbench.fem.wall import PET, build_wall, circle_surface, ring_pinch, ring_wall, squeeze, wall_mesh
 
 R, T = 0.035, 0.5e-3
 
@@ -26,7 +26,7 @@ def test_wall_mesh_closes_the_tube():
     # wall volume: exact annulus up to the polygon's cos/sin factor
     from skfem import Functional
 
-    from fem.wall import GAUSS_3, Basis, ElementHex2, ElementVector
+    from workbench.fem.wall import GAUSS_3, Basis, ElementHex2, ElementVector
 
     vol = Functional(lambda w: 1.0 + 0 * w.x[0]).assemble(
         Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
@@ -150,7 +150,7 @@ def test_squeeze_bad_input(bottle_wall):
 def test_every_dof_has_its_component():
     """Interior facet and bubble dofs of the triquadratic basis included (get_dofs sees only
     boundary facets: building the table from it left them unassigned)."""
-    from fem.wall import components
+    from workbench.fem.wall import components
 
     b = _ring(16).basis
     comp = components(b)
@@ -161,12 +161,12 @@ def test_every_dof_has_its_component():
 
 
 def test_nested_dissection_factor_solves_like_superlu():
-    """fem.sparse_factor against SuperLU's default ordering on a small wall's stiffness."""
+    """workbench.fem.sparse_factor against SuperLU's default ordering on a small wall's stiffness."""
     import scipy.sparse.linalg as spla
     from skfem import asm
 
-    from fem.sparse_factor import factor_spd
-    from fem.wall import _elasticity, build_wall
+    from workbench.fem.sparse_factor import factor_spd
+    from workbench.fem.wall import _elasticity, build_wall
 
     wall = build_wall(circle_surface(0.03), thickness=1e-3, n_theta=16, n_z=4, z_range=(0.0, 0.04))
     K = asm(_elasticity, wall.basis, mu=wall.material.mu, lam=wall.material.lam).tocsr()

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from fem.mesh_wall import radial_surface
-from fem.wall import build_wall, circle_surface, squeeze
+from workbench.fem.mesh_wall import radial_surface
+from workbench.fem.wall import build_wall, circle_surface, squeeze
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "deformable_objects"
 

@@ -1,4 +1,4 @@
-"""fem.object_wall: the top edge of a hollow object's wall read off its mesh (lip, shoulder, free)."""
+"""workbench.fem.object_wall: the top edge of a hollow object's wall off its mesh (lip, shoulder, free)."""
 
 from pathlib import Path
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from fem.mesh_wall import radial_surface
-from fem.object_wall import find_lip, is_closed_top, object_wall
-from fem.wall import squeeze
+from workbench.fem.mesh_wall import radial_surface
+from workbench.fem.object_wall import find_lip, is_closed_top, object_wall
+from workbench.fem.wall import squeeze
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "deformable_objects" / "meshes"
 

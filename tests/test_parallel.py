@@ -105,8 +105,8 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
     thread per task in both."""
     from distributed import Client, LocalCluster
 
-    from experiments.fem_fitting import _family, _pad_of, _reference_cases, _task
-    from workbench.cli import build_config
+    from workbench.experiment_config import build_config
+    from workbench.experiments.fem_fitting import _family, _pad_of, _reference_cases, _task
 
     sets = {
         "n_objects": 1,
@@ -152,7 +152,7 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
 def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """ls-fitting's surface rows (quadrature or mesh wrenches, every fit and error) on two
     worker processes give the serial run's errors bit for bit (only fit timings differ)."""
-    from experiments import ls_fitting
+    from workbench.experiments import ls_fitting
 
     runs = {}
     for workers in (1, 2):
@@ -182,8 +182,8 @@ def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(
     ran before it: forwards, backwards and on two worker processes alike."""
     from distributed import Client, LocalCluster
 
-    from experiments.sensitivity import _key, _row, _row_tasks
-    from workbench.cli import build_config
+    from workbench.experiment_config import build_config
+    from workbench.experiments.sensitivity import _key, _row, _row_tasks
 
     sets = {
         "n_disturbances": 12,
@@ -227,8 +227,8 @@ def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_p
     bit for bit on two worker processes (timings aside)."""
     from distributed import Client, LocalCluster
 
-    from experiments.fem_validation import FIDELITY_CASES, fidelity_case
-    from workbench.cli import build_config
+    from workbench.experiment_config import build_config
+    from workbench.experiments.fem_validation import FIDELITY_CASES, fidelity_case
 
     cfg = build_config("fem-validation", True, str(tmp_path), None, {"fidelity_deltas": [0.02, 0.2]})
     fn = partial(fidelity_case, config=cfg)
@@ -255,8 +255,8 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     import numpy as np
     from distributed import Client, LocalCluster
 
-    from experiments.minimal_work import DEFAULT_CONFIG, _grasp_task, _load_curve, _mesh, _paths
-    from workbench.cli import build_config
+    from workbench.experiment_config import build_config
+    from workbench.experiments.minimal_work import DEFAULT_CONFIG, _grasp_task, _load_curve, _mesh, _paths
     from workbench.grasp.sampling import horizontal_grasps
 
     if not Path(DEFAULT_CONFIG["data_dir"], "meshes").is_dir():  # before build_config, which checks it
@@ -299,8 +299,8 @@ def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_proces
     two worker processes (timings aside)."""
     from distributed import Client, LocalCluster
 
-    from experiments.wall_stiffness import _task
-    from workbench.cli import build_config
+    from workbench.experiment_config import build_config
+    from workbench.experiments.wall_stiffness import _task
 
     cfg = build_config(
         "wall-stiffness", True, str(tmp_path), None, {"convergence_meshes": [[16, 8], [24, 12]]}

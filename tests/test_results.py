@@ -2,6 +2,7 @@
 
 import json
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -43,6 +44,42 @@ def test_checkpoint_resumes_without_loss_or_duplicates(tmp_path):
     assert [json.loads(line)["key"] for line in lines] == ["k1", "k2", "k3"]  # torn line dropped
     # other settings: nothing is reused
     assert results.Checkpoint(path, {"a": 2}).rows == {}
+
+
+def test_checkpoint_rows_of_other_code_are_recomputed_and_summaries_name_the_code(tmp_path, monkeypatch):
+    path = tmp_path / "rows.jsonl"
+    results.Checkpoint(path, {"a": 1}).add("k", {"x": 1})
+    assert "k" in results.Checkpoint(path, {"a": 1})
+    real = results.code_hash()
+    assert len(real) == 16 and int(real, 16) >= 0
+    monkeypatch.setattr(results, "code_hash", lambda n=16: "0" * n)  # the sources changed
+    assert results.Checkpoint(path, {"a": 1}).rows == {}
+    monkeypatch.undo()
+    full = results.write_summary(tmp_path, "toy", {"seed": 3}, {"x": 1.0}, 0.5)
+    assert full["code"]["hash"] == real and full["code"]["revision"]
+    assert json.loads((tmp_path / "summary.json").read_text())["code"] == full["code"]
+
+
+def test_code_hash_follows_the_sources(tmp_path, monkeypatch):
+    # a copy of the package with one byte changed hashes differently; the same copy, the same
+    import shutil
+    from importlib.util import find_spec
+
+    roots = {}
+    for pkg in ("workbench", "workbench.fem", "workbench.experiments"):
+        src = Path(find_spec(pkg).submodule_search_locations[0])
+        roots[pkg] = shutil.copytree(src, tmp_path / pkg, ignore=shutil.ignore_patterns("__pycache__"))
+
+    class _Spec:
+        def __init__(self, root):
+            self.submodule_search_locations = [str(root)]
+
+    monkeypatch.setattr("importlib.util.find_spec", lambda name: _Spec(roots[name]))
+    digest = results.code_hash.__wrapped__()
+    assert digest == results.code_hash()  # the copy is the running code
+    f = roots["workbench.fem"] / "pad.py"
+    f.write_text(f.read_text() + "\n")
+    assert results.code_hash.__wrapped__() != digest
 
 
 @pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])

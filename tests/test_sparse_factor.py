@@ -1,5 +1,5 @@
-"""fem.sparse_factor: the nested-dissection factor and its blocked solves of many right-hand
-sides (fem._kernels) against slow references and SuperLU."""
+"""workbench.fem.sparse_factor: the nested-dissection factor and its blocked solves of many right-hand
+sides (workbench.fem._kernels) against slow references and SuperLU."""
 
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fem._kernels import _lower_unit_rows, _upper_rows
-from fem.sparse_factor import factor_spd
 from workbench import config
+from workbench.fem._kernels import _lower_unit_rows, _upper_rows
+from workbench.fem.sparse_factor import factor_spd
 
 
 def _random_triangular(rng, n, density, lower):
@@ -64,7 +64,7 @@ def test_blocked_and_superlu_solves_agree_with_spsolve(k, monkeypatch):
 
 
 def test_a_wall_compliance_is_the_same_by_either_solve(monkeypatch):
-    from fem.wall import build_wall, circle_surface
+    from workbench.fem.wall import build_wall, circle_surface
 
     wall = build_wall(circle_surface(0.03), thickness=1e-3, n_theta=16, n_z=4, z_range=(0.0, 0.04))
     assert wall.lu.rows is not None  # walls keep the row copies

@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 import trimesh
 
-import fem.object_wall
-from fem.mesh_wall import radial_surface
-from fem.object_wall import object_wall, wall_geometry
-from fem.wall_grasps import grasp_pairs, read_locations
+import workbench.fem.object_wall
 from workbench.cli import main
+from workbench.fem.mesh_wall import radial_surface
+from workbench.fem.object_wall import object_wall, wall_geometry
+from workbench.fem.wall_grasps import grasp_pairs, read_locations
 
 R, T, H = 0.020, 0.5e-3, 0.040  # cup radius, wall, height [m]
 Z = 0.020  # grasp height, mid side wall
@@ -37,7 +37,7 @@ def _no_assembly(monkeypatch):
     def build(self, *args, **kwargs):
         raise _Assembly("the input passed validation and reached the FEM assembly")
 
-    monkeypatch.setattr(fem.object_wall.WallGeometry, "build", build)
+    monkeypatch.setattr(workbench.fem.object_wall.WallGeometry, "build", build)
 
 
 def _cup() -> trimesh.Trimesh:

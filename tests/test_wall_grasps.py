@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from fem.mesh_wall import radial_surface
-from fem.wall import build_wall, squeeze
-from fem.wall_grasps import RIGID_STIFFNESS, grasp_pairs, stiffness_at
+from workbench.fem.mesh_wall import radial_surface
+from workbench.fem.wall import build_wall, squeeze
+from workbench.fem.wall_grasps import RIGID_STIFFNESS, grasp_pairs, stiffness_at
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +52,7 @@ def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
     """On a circle, a chord between points φ apart makes (180° − φ)/2 with both normals:
     φ = 180° is antipodal (0°), φ = 100° gives 40° (kept), φ = 60° gives 60° (> 45°: flagged,
     still squeezed, and logged)."""
-    from fem.wall_grasps import axis_normal_angles
+    from workbench.fem.wall_grasps import axis_normal_angles
 
     surf, wall = tube
     r, z = 0.03, 0.05
@@ -60,14 +60,14 @@ def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
     a = np.tile([r, 0.0, z], (3, 1))
     b = np.column_stack([r * np.cos(phis), r * np.sin(phis), np.full(3, z)])
     np.testing.assert_allclose(axis_normal_angles(surf, a, b), [0.0, 40.0, 60.0], atol=0.5)
-    with caplog.at_level("WARNING", logger="fem.wall_grasps"):
+    with caplog.at_level("WARNING", logger="workbench.fem.wall_grasps"):
         rows = stiffness_at(wall, surf, np.vstack([a, b]))
     assert [row["non_antipodal"] for row in rows] == [False, False, True]
     assert rows[2]["axis_normal_deg"] == pytest.approx(60.0, abs=0.5)
     assert not rows[2]["failed"] and np.isfinite(rows[2]["stiffness"])
     assert "grasp 2 is not antipodal" in caplog.text and "grasp 1 " not in caplog.text
     caplog.clear()
-    with caplog.at_level("WARNING", logger="fem.wall_grasps"):  # the caller's grasp numbers
+    with caplog.at_level("WARNING", logger="workbench.fem.wall_grasps"):  # the caller's grasp numbers
         stiffness_at(wall, surf, np.vstack([a[2:], b[2:]]), grasp_ids=[17])
     assert "grasp 17 is not antipodal" in caplog.text
     # two coincident jaw points: no axis, a failure that says so (not "no wall under a jaw")
@@ -95,11 +95,11 @@ def test_careless_locations_are_refused(tube, locs, match):
 
 
 def test_one_factor_calibration_against_a_direct_computation():
-    """fem.calibration: the factor is the median log ratio on the training grasps (exact on
+    """workbench.fem.calibration: the factor is the median log ratio on the training grasps (exact on
     a model off by a constant), one per group, and the held-out scores are the plain ones."""
     from scipy.stats import spearmanr
 
-    from fem.calibration import calibrate, held_out, split_scores
+    from workbench.fem.calibration import calibrate, held_out, split_scores
 
     rng = np.random.default_rng(3)
     measured = np.exp(rng.normal(7.0, 0.6, 30))
@@ -131,9 +131,9 @@ def test_one_factor_calibration_against_a_direct_computation():
 
 
 def test_missing_physics_measurements_on_constructed_maps():
-    """fem.calibration.missing_physics on maps built with one known defect each: a series
+    """workbench.fem.calibration.missing_physics on maps built with one known defect each: a series
     spring, a closing that levels off at 0.45 of the width, a model too stiff near a clamp."""
-    from fem.calibration import missing_physics
+    from workbench.fem.calibration import missing_physics
 
     rng = np.random.default_rng(5)
     n, F = 40, 10.0
@@ -180,7 +180,7 @@ def test_split_scores_of_any_calibrated_model():
     """split_scores_of with the one-factor fit is split_scores (same halves); a fit that
     predicts NaN on some halves is left out and counted; a model calibrated by a power law
     (s = c * m**2, as no factor can fit) is scored by its own fit."""
-    from fem.calibration import calibrate, split_scores, split_scores_of
+    from workbench.fem.calibration import calibrate, split_scores, split_scores_of
 
     rng = np.random.default_rng(3)
     model = rng.uniform(300, 3000, 30)

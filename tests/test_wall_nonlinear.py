@@ -1,4 +1,4 @@
-"""Geometrically nonlinear wall (fem.wall_nonlinear): the hand-vectorised St. Venant–Kirchhoff
+"""Geometrically nonlinear wall (workbench.fem.wall_nonlinear): the hand-vectorised St. Venant–Kirchhoff
 assembly against scikit-fem's form language (the slow reference), its small-closing limit
 against the linear squeeze, and the load-curve reading."""
 
@@ -7,9 +7,9 @@ import pytest
 from skfem import BilinearForm, LinearForm, asm
 from skfem.helpers import ddot, eye, grad, mul, trace, transpose
 
-from fem.material import Material
-from fem.wall import PET, _elasticity, build_wall, circle_surface, squeeze
-from fem.wall_nonlinear import curve_stiffness, curve_work, squeeze_nonlinear, svk_tangent
+from workbench.fem.material import Material
+from workbench.fem.wall import PET, _elasticity, build_wall, circle_surface, squeeze
+from workbench.fem.wall_nonlinear import curve_stiffness, curve_work, squeeze_nonlinear, svk_tangent
 
 
 def _svk(w_u, mu, lam):

@@ -338,8 +338,8 @@ class Defaults:
     cluster_min_rows: int = 24
 
     # Right-hand sides from which a sparse factor with row copies of L and U
-    # (fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
-    # fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
+    # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
+    # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
     # by column.  Measured on the box's wall (41,472 dofs, 23 M entries in L + U), ms per
     # column: SuperLU 11.8 / 10.7 / 10.7 at 8 / 48 / 96 columns, the row kernels 13.7 /
     # 4.5 / 4.4; equal near 16.

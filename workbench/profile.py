@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import logging
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -29,8 +29,6 @@ from .units import check_extent, length_factor
 
 __all__ = ["ContactProfile", "length_factor", "pca_box_longest_side"]
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .surfaces import ParametricSurface
 
 log = logging.getLogger(__name__)
 
@@ -334,10 +332,14 @@ class ContactProfile:
 
     @cached_property
     def normal_wrench(self) -> np.ndarray:
-        """(6,) float: normal wrench ``w⊥`` about ``o``, Eq. (3.2)."""
-        from .wrench import normal_wrench
+        """(6,) float: normal wrench ``w⊥`` about ``o``, Eq. (3.2) (the kernel of
+        :func:`workbench.wrench.normal_wrench`, called here so that this module, which the
+        wrench module builds on, does not import it)."""
+        from . import _kernels
 
-        return normal_wrench(self)
+        out = np.empty(6)
+        _kernels._normal_wrench(*self._soa, out)
+        return out
 
     @cached_property
     def length_scale(self) -> float:
@@ -513,17 +515,6 @@ class ContactProfile:
     def from_trimesh(cls, mesh: Any, pressures: Any, **kwargs: Any) -> ContactProfile:
         """Profile from a ``trimesh.Trimesh`` (face winding gives the normals)."""
         return cls.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), pressures, **kwargs)
-
-    @classmethod
-    def from_parametric(
-        cls, surface: ParametricSurface, n_elements: int, *, pressure_scale: float = 1.0
-    ) -> ContactProfile:
-        """Triangle-mesh profile of a parametric surface with ~``n_elements``
-        triangles; the pressure is ``surface.pressure`` at each triangle's
-        parametric centroid times ``pressure_scale``."""
-        from .surfaces import mesh_profile
-
-        return mesh_profile(surface, n_elements, pressure_scale=pressure_scale)
 
     def to_meshio(self) -> Any:
         """``meshio.Mesh`` (needs vertices/faces) with cell data ``"pressure"`` (n,) [Pa],

@@ -13,6 +13,7 @@ import os
 import platform
 import tempfile
 from collections.abc import Iterable, Sequence
+from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -146,11 +147,33 @@ def content_hash(obj: Any, n: int = 16) -> str:
     return hashlib.sha256(json.dumps(_jsonable(obj), sort_keys=True).encode()).hexdigest()[:n]
 
 
+@lru_cache(maxsize=1)
+def code_hash(n: int = 16) -> str:
+    """The first ``n`` hex digits of the SHA-256 of the running package's Python sources —
+    ``workbench``, ``workbench.fem``, ``workbench.experiments``: each file's module path and
+    bytes, the same in a checkout and in an installed wheel.  Keys every checkpointed row
+    (:class:`Checkpoint`): rows computed by other code are recomputed, never reused."""
+    import hashlib
+    from importlib.util import find_spec
+
+    h = hashlib.sha256()
+    for pkg in ("workbench", "workbench.fem", "workbench.experiments"):
+        root = Path(find_spec(pkg).submodule_search_locations[0])
+        files = []
+        for f in root.rglob("*.py"):
+            rel = f.relative_to(root)
+            if pkg == "workbench" and rel.parts[0] in ("fem", "experiments"):
+                continue  # an installed wheel nests them; they are hashed as their own packages
+            files.append((f"{pkg}:{rel.as_posix()}", f))
+        for name, f in sorted(files):
+            h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:n]
+
+
 def code_revision() -> str:
     """The code's revision: ``git describe --always --dirty --abbrev=12`` of the checkout
     the package runs from (``…-dirty`` with uncommitted changes), or, outside a git
-    checkout, ``src-`` and a hash of the package's Python sources."""
-    import hashlib
+    checkout, ``src-`` and :func:`code_hash`."""
     import subprocess
 
     root = Path(__file__).resolve().parents[1]
@@ -165,21 +188,18 @@ def code_revision() -> str:
             return res.stdout.strip()
     except (OSError, subprocess.SubprocessError):
         pass
-    h = hashlib.sha256()
-    for pkg in ("workbench", "fem", "experiments"):
-        for f in sorted((root / pkg).rglob("*.py")):
-            h.update(f.relative_to(root).as_posix().encode())
-            h.update(f.read_bytes())
-    return "src-" + h.hexdigest()[:12]
+    return "src-" + code_hash(12)
 
 
 def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_time_s: float) -> dict:
-    """Add the run's metadata (config, seed, versions, wall time) and write
-    ``out/summary.json`` atomically; returns the full summary."""
+    """Add the run's metadata (config, seed, versions, the code that ran: its git revision
+    with a ``-dirty`` flag and :func:`code_hash`, wall time) and write ``out/summary.json``
+    atomically; returns the full summary."""
     full = {"experiment": experiment, **summary}
     full["config"] = config
     full["seed"] = config.get("seed")
     full["versions"] = versions()
+    full["code"] = {"revision": code_revision(), "hash": code_hash()}
     full["wall_time_s"] = wall_time_s
     write_json(Path(out) / "summary.json", full)
     return full
@@ -191,14 +211,15 @@ class Checkpoint:
     Each row carries a ``key``; a row is appended (flushed and fsynced) only
     when complete, so a killed run loses at most the row in progress and a
     torn last line is ignored on reload.  Rows are kept only if their
-    ``config_hash`` matches, so changing the sweep's settings starts afresh
-    instead of mixing results.  Resuming never duplicates a key.
+    ``config_hash`` matches — a hash of ``config`` and of the code (:func:`code_hash`) — so
+    changing the sweep's settings or the code that computes its rows starts afresh instead of
+    mixing results.  Resuming never duplicates a key.
     """
 
     def __init__(self, path: Path, config: dict) -> None:
 
         self.path = Path(path)
-        self.config_hash = content_hash(config)
+        self.config_hash = content_hash({"config": config, "code": code_hash()})
         self.rows: dict[str, dict] = {}
         if self.path.exists():
             for line in self.path.read_text().splitlines():

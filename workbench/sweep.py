@@ -142,7 +142,7 @@ def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
     bad point never stops a sweep; ``threads`` caps Numba's threads in this process."""
     import importlib
 
-    from .cli import EXPERIMENTS
+    from .experiment_config import EXPERIMENTS
 
     try:
         import numba
@@ -172,7 +172,7 @@ def _point_configs(
     experiment: str, points: list[dict], out: Path, quick: bool, sets: dict, seed: int | None
 ) -> dict[str, tuple[dict, dict]]:
     """key -> (point values, full config), every config checked before any work."""
-    from .cli import build_config
+    from .experiment_config import build_config
 
     both = sorted(set(sets) & set(points[0]))
     if both:
@@ -418,7 +418,7 @@ def run_sweep(
 
 def _cli_value(v: Any) -> Any:
     """A ``--set`` value as the JSON value it stands for (a bare word is a string)."""
-    from .cli import _CliText, _parse_value
+    from .experiment_config import _CliText, _parse_value
 
     return _parse_value(str(v)) if isinstance(v, _CliText) else v
 

@@ -1,7 +1,7 @@
 """Grasp analysis with every contact model (thesis §2.4–2.5, §4.1–4.3; 6DFC §V).
 
 contacts.py — contact models as wrench sets; models.py — every model of a profile
-by name; gws.py — grasp map, GWS, hull and LP membership, ε-metric;
+by name; gws.py — grasp map, GWS, hull, ε-metric;
 resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp force
 (Eq. 4.4); robust.py — q_robust; stiffness_map.py — measured object stiffness on the
 surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
@@ -19,10 +19,18 @@ from .contacts import (
     wrench_hull_contact,
 )
 from .evaluate import GraspEvaluation, evaluate_grasp, jaw_profiles
-from .gws import WrenchHull, build_gws, grasp_map, gws_points, resists_lp
+from .gws import WrenchHull, build_gws, grasp_map, gws_points
 from .models import MODELS, contact_sets
 from .reach import reach_profile, with_axis_force
-from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists, wrench_resistance
+from .resistance import (
+    CutStore,
+    MinimalForce,
+    Resistance,
+    min_grasp_force,
+    resists,
+    resists_lp,
+    wrench_resistance,
+)
 from .robust import Perturbation, gravity_wrench, q_robust
 from .sampling import antipodal_grasps
 from .stiffness_map import StiffnessMap, leave_one_out

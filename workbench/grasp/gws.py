@@ -21,8 +21,6 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.optimize import linprog
 from scipy.spatial import ConvexHull
 
 from .contacts import ContactSet
@@ -236,54 +234,6 @@ def scale_torque(w: np.ndarray, torque_length: float) -> np.ndarray:
     return w
 
 
-def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float | None = None):
-    """Whether ``−w_ext`` lies in the GWS of the contacts' vertices, by an LP (no hull):
-    a :class:`~workbench.grasp.resistance.Resistance` (truthy iff resisted).
-
-    ``norm="linf"`` (Minkowski sum, Eq. 4.2) is :func:`~workbench.grasp.resistance.resists`
-    with ``representation="inner"``: one weight vector per contact, its force in the
-    contact's interval (:meth:`ContactSet.force_bounds`).  ``norm="l1"`` (union,
-    Eq. 2.88): one simplex over the points of :func:`vertex_blocks`.  Both
-    minimise the L1 residual ``‖D (Σ α v + w_ext)‖₁`` (HiGHS) and decide with
-    ``tol`` (``config.TOL.resist_rtol``), like every other entry point.
-    """
-    from ..config import TOL
-    from .resistance import Resistance, resists
-
-    if norm not in NORMS:
-        raise ValueError(f"norm must be one of {NORMS}; got {norm!r}")
-    if norm == "linf":
-        return resists(contacts, w_ext, mu, representation="inner", tol=tol)
-    w = check_wrench(w_ext)
-    contacts = check_contacts(contacts)
-    check_mu(mu)
-    tol = TOL.resist_rtol if tol is None else float(tol)
-    V = np.vstack(vertex_blocks(contacts, mu))  # the union of the contacts' sets
-    D = capacity_scaling(V)
-    n = len(V)
-    A_eq = np.vstack([np.hstack([V.T * D[:, None], -np.eye(6), np.eye(6)]), np.r_[np.ones(n), np.zeros(12)]])
-    res = linprog(
-        np.r_[np.zeros(n), np.ones(12)],
-        A_eq=sp.csr_matrix(A_eq),
-        b_eq=np.r_[-w * D, 1.0],
-        bounds=(0, None),
-        method="highs",
-    )
-    if res.status != 0:
-        raise RuntimeError(f"HiGHS failed on the L1-GWS membership LP: {res.message}")
-    alpha = res.x[:n]
-    return Resistance(
-        bool(res.fun <= tol),
-        float(res.fun),
-        tol,
-        "highs",
-        "inner",
-        "l1",
-        (alpha @ V)[None],
-        np.array([np.nan]),
-    )
-
-
 __all__ = [
     "WrenchHull",
     "build_gws",
@@ -293,7 +243,6 @@ __all__ = [
     "check_wrench",
     "grasp_map",
     "gws_points",
-    "resists_lp",
     "scale_torque",
     "vertex_blocks",
 ]

@@ -4,11 +4,13 @@ program.py — the one convex program (variables, rows, cones) for every questio
 representation; solvers.py — adapters (dense QP, HiGHS LP, Clarabel SOCP);
 cuts.py — the explicit cut store of the cutting-plane refinement; result.py — the
 result types; api.py — :func:`resists` (= :func:`wrench_resistance`) and
-:func:`min_grasp_force`.
+:func:`min_grasp_force`; gws_lp.py — :func:`resists_lp`, membership by one LP over the
+contacts' vertices.
 """
 
 from .api import OBJECTIVES, min_grasp_force, resists, wrench_resistance
 from .cuts import CutStore
+from .gws_lp import resists_lp
 from .program import REPRESENTATIONS
 from .result import MinimalForce, Resistance
 
@@ -20,5 +22,6 @@ __all__ = [
     "Resistance",
     "min_grasp_force",
     "resists",
+    "resists_lp",
     "wrench_resistance",
 ]

@@ -1,0 +1,251 @@
+"""The experiments' registry and their configs: name -> module, and each run's config built
+from the experiment's defaults, its quick overrides and the user's ``--set`` values, checked
+before any work (used by the ``workbench`` command line and by :mod:`workbench.sweep`)."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import shlex
+from pathlib import Path
+from typing import Any
+
+#: experiment name -> module in the ``experiments`` package
+EXPERIMENTS = {
+    "parametric-surfaces": "workbench.experiments.parametric_surfaces",
+    "discretization": "workbench.experiments.discretization",
+    "ls-fitting": "workbench.experiments.ls_fitting",
+    "fem-validation": "workbench.experiments.fem_validation",
+    "fem-fitting": "workbench.experiments.fem_fitting",
+    "wall-stiffness": "workbench.experiments.wall_stiffness",
+    "sensitivity": "workbench.experiments.sensitivity",
+    "minimal-work": "workbench.experiments.minimal_work",
+    "wall-nonlinear": "workbench.experiments.wall_nonlinear",
+}
+
+
+class _CliText(str):
+    """The raw text of a ``--set`` value, parsed once the key's type is known."""
+
+
+def _parse_value(text: str) -> Any:
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError:
+        return text
+
+
+def _parse_sets(items: list[str]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise SystemExit(f"--set expects key=value; got {item!r}")
+        key, value = item.split("=", 1)
+        out[key.strip()] = _CliText(value)
+    return out
+
+
+# ------------------------------------------------------------------ value types
+# A schema is inferred from a default value: "bool", "int", "float", "str",
+# "any" (None defaults, or lists mixing kinds), ("list", element schema or None
+# for an empty default), ("map", value schema) for dicts whose values share one
+# type (free keys, e.g. {"major": 0.0, "minor": 1.57}), ("record", {key: schema})
+# for dicts of mixed types (fixed keys, e.g. a pad's width and nx).
+
+
+def _schema(default: Any) -> Any:
+    if default is None:
+        return "any"
+    if isinstance(default, bool):
+        return "bool"
+    if isinstance(default, int):
+        return "int"
+    if isinstance(default, float):
+        return "float"
+    if isinstance(default, str):
+        return "str"
+    if isinstance(default, (list, tuple)):
+        return ("list", _merge([_schema(v) for v in default]) if default else None)
+    if isinstance(default, dict):
+        values = {str(k): _schema(v) for k, v in default.items()}
+        kinds = set(map(repr, values.values()))
+        if not values:
+            return ("map", "any")
+        if len(kinds) == 1:
+            return ("map", next(iter(values.values())))
+        return ("record", values)
+    return "any"
+
+
+def _merge(schemas: list[Any]) -> Any:
+    """One schema for the elements of a list: int and float merge to float."""
+    kinds = {repr(s) for s in schemas}
+    if len(kinds) == 1:
+        return schemas[0]
+    if kinds == {"'int'", "'float'"}:
+        return "float"
+    return "any"
+
+
+def _describe(schema: Any) -> str:
+    if schema is None:
+        return "any JSON value"
+    if isinstance(schema, str):
+        return {"any": "any JSON value"}.get(schema, schema)
+    kind, inner = schema
+    if kind == "list":
+        return "list" if inner is None else f"list of {_describe(inner)}"
+    if kind == "map":
+        return f"object of {_describe(inner)}"
+    return "object {" + ", ".join(f"{k}: {_describe(v)}" for k, v in inner.items()) + "}"
+
+
+class _Mismatch(Exception):
+    """A value does not fit its schema; ``args[0]`` says where and why."""
+
+
+def _check(value: Any, schema: Any, where: str) -> Any:
+    """``value`` coerced to ``schema`` (int -> float); raises _Mismatch."""
+    if schema == "any" or schema is None:
+        _check_finite(value, where)
+        return value
+    if schema == "bool":
+        if isinstance(value, bool):
+            return value
+        raise _Mismatch(f"{where}{value!r} is not a bool (true or false)")
+    if schema == "int":
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        raise _Mismatch(f"{where}{value!r} is not an int")
+    if schema == "float":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if not math.isfinite(value):
+                raise _Mismatch(f"{where}{value!r} is not finite")
+            return float(value)
+        raise _Mismatch(f"{where}{value!r} is not a number")
+    if schema == "str":
+        if isinstance(value, str):
+            return str(value)
+        raise _Mismatch(f"{where}{value!r} is not a string")
+    kind, inner = schema
+    if kind == "list":
+        if not isinstance(value, (list, tuple)):
+            raise _Mismatch(f"{where}{value!r} is not a list")
+        return [_check(v, inner, f"{where}element {i}: ") for i, v in enumerate(value)]
+    if not isinstance(value, dict):
+        raise _Mismatch(f"{where}{value!r} is not an object")
+    if kind == "map":
+        return {k: _check(v, inner, f"{where}[{k!r}]: ") for k, v in value.items()}
+    extra = sorted(set(value) - set(inner))
+    if extra:
+        raise _Mismatch(f"{where}unknown key(s) {extra} (known: {sorted(inner)})")
+    return {k: _check(v, inner[k], f"{where}[{k!r}]: ") for k, v in value.items()}
+
+
+def _check_finite(value: Any, where: str) -> None:
+    if isinstance(value, float) and not math.isfinite(value):
+        raise _Mismatch(f"{where}{value!r} is not finite")
+    if isinstance(value, (list, tuple)):
+        for v in value:
+            _check_finite(v, where)
+    elif isinstance(value, dict):
+        for v in value.values():
+            _check_finite(v, where)
+
+
+def _coerce(key: str, value: Any, default: Any) -> Any:
+    """The ``--set`` value for ``key`` checked against its default's type."""
+    schema = _schema(default)
+    if isinstance(value, _CliText):
+        text = str(value)
+        parsed = _parse_value(text)
+        # a str key takes the text itself unless it is a JSON string ("S3" or "\"S3\"")
+        value = parsed if schema != "str" or isinstance(parsed, str) else text
+    else:
+        text = _dumps(value)
+    try:
+        return _check_range(key, _check(value, schema, ""), default)
+    except _Mismatch as exc:
+        shown = _dumps(default)
+        raise SystemExit(
+            f"--set {key}={text}: {key} expects {_describe(schema)} (default {shown}); "
+            f"{exc.args[0]} — give e.g. --set {shlex.quote(f'{key}={shown}')}"
+        ) from None
+
+
+def _number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _check_range(key: str, value: Any, default: Any) -> Any:
+    """Generic ranges read off the defaults (no per-key tables): a number, or a list's
+    numbers, whose default is non-negative must be non-negative (μ, counts, sizes,
+    noise levels; offsets with negative defaults are free); a ``*_range`` key is
+    ``[lo, hi]`` with ``lo <= hi``.  Maps (e.g. approach angles) are not judged."""
+    if _number(default) and default >= 0 and _number(value) and value < 0:
+        raise _Mismatch(
+            f"{value!r} is negative; the default is not, and this key takes no negative values "
+            "(the experiment may refuse 0 as well, e.g. a thickness)"
+        )
+    if isinstance(default, (list, tuple)) and default and all(_number(d) and d >= 0 for d in default):
+        bad = [v for v in value if _number(v) and v < 0]
+        if bad:
+            raise _Mismatch(f"elements {bad} are negative; this key takes no negative values")
+    if key.endswith("_range") and isinstance(default, (list, tuple)) and len(default) == 2:
+        if len(value) != 2 or not value[0] <= value[1]:
+            raise _Mismatch(f"{value!r} is not a range [lo, hi] with lo <= hi")
+    return value
+
+
+def _dumps(value: Any) -> str:
+    return json.dumps(value, default=repr)
+
+
+def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets: dict[str, Any]) -> dict:
+    """Experiment config: its defaults, then quick overrides, then CLI values.
+
+    Every ``sets`` value must fit the type of the key's default (bool, int, float
+    — an int is accepted and converted —, str, lists and dicts element by
+    element, anything for a ``None`` default) and numbers must be finite;
+    otherwise, or for an unknown key, ``SystemExit`` says which key, what it
+    expects and what it got — before any work starts.  An experiment's optional
+    ``check_config(config)`` then checks what the defaults cannot tell (a ``ValueError``
+    naming the key becomes the ``SystemExit``).
+    """
+    if name not in EXPERIMENTS:
+        raise SystemExit(f"unknown experiment {name!r}; known: {sorted(EXPERIMENTS)}")
+    module = importlib.import_module(EXPERIMENTS[name])
+    config = dict(module.DEFAULT_CONFIG)
+    if quick:
+        config.update(module.QUICK_CONFIG)
+    config["quick"] = quick
+    config["out"] = str(Path(out) if out else Path("results") / name)
+    if seed is not None:
+        config["seed"] = seed
+    unknown = set(sets) - set(config)
+    if unknown:
+        raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}; known: {sorted(config)}")
+    defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
+    config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
+    check = getattr(module, "check_config", None)  # what a key's default cannot tell (a level, a kind)
+    if check is not None:
+        try:
+            check(config)
+        except ValueError as exc:
+            raise SystemExit(f"{name}: {exc}") from None
+    return config
+
+
+def config_help(name: str) -> str:
+    """The keys of experiment ``name`` with type, default and ``--quick`` value."""
+    module = importlib.import_module(EXPERIMENTS[name])
+    quick = module.QUICK_CONFIG
+    lines = ["config keys (--set KEY=VALUE, JSON; a bare word is a string):"]
+    for key, default in module.DEFAULT_CONFIG.items():
+        line = f"  {key} ({_describe(_schema(default))}) = {_dumps(default)}"
+        if key in quick:
+            line += f"   [--quick: {_dumps(quick[key])}]"
+        lines.append(line)
+    lines.append("  quick, out: set by --quick and --out")
+    return "\n".join(lines)
