@@ -14,8 +14,9 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench import config as settings  # `config` is the run's dict here
 from workbench import project_to_plane, sample_twists_thesis, surface_moments, surface_w_max, surface_wrenches
-from workbench.config import TOL
+from workbench.limit_surface.normalize import explained_variance_ratio
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
 from workbench.surfaces import mesh_profile
@@ -79,14 +80,12 @@ def pca(surface, w_max_exact: np.ndarray, config: dict, seed: int) -> dict:
     w = surface_wrenches(s, xi, config["mu"], rtol=config["pca_rtol"])
     dt = time.perf_counter() - t0
     w_hat = w / w_max_exact
-    centered = w_hat - w_hat.mean(axis=0)
-    var = np.linalg.svd(centered, compute_uv=False) ** 2 / (len(w_hat) - 1)
-    ratio = var / var.sum()
-    n_retained = int(np.searchsorted(np.cumsum(ratio), TOL.pca_retained_variance * (1 - 1e-12)) + 1)
+    ratio = explained_variance_ratio(w_hat)
+    n_retained = int(np.searchsorted(np.cumsum(ratio), settings.TOL.pca_retained_variance * (1 - 1e-12)) + 1)
     return {
         "explained_variance_ratio": ratio,
         "n_significant": n_retained,
-        "n_above_fraction": int((ratio >= TOL.pca_significant_fraction).sum()),
+        "n_above_fraction": int((ratio >= settings.TOL.pca_significant_fraction).sum()),
         "w_max_sampled": np.abs(w).max(axis=0),
         "n_twists": len(xi),
         "seconds_per_wrench": dt / len(xi),
@@ -117,7 +116,7 @@ def figures(config: dict, out: Path, rows: dict, pcas: dict) -> list[str]:
     fig, ax = plt.subplots(figsize=(7, 3.2))
     for j, (name, res) in enumerate(pcas.items()):
         ax.bar(np.arange(1, 7) + (j - 2.5) * 0.13, res["explained_variance_ratio"], 0.13, label=name)
-    ax.axhline(TOL.pca_significant_fraction, color="k", ls="--", lw=0.8, label="1% of variance")
+    ax.axhline(settings.TOL.pca_significant_fraction, color="k", ls="--", lw=0.8, label="1% of variance")
     ax.set_yscale("log")
     ax.set_xlabel("principal component")
     ax.set_ylabel("explained variance ratio")
@@ -170,9 +169,9 @@ def run(config: dict) -> dict:
         "w_max_sampled": {s: r["w_max_sampled"] for s, r in pcas.items()},
         "pca_components": {s: r["n_significant"] for s, r in pcas.items()},
         "pca_explained_variance_ratio": {s: r["explained_variance_ratio"] for s, r in pcas.items()},
-        "pca_rule": f"smallest k retaining {TOL.pca_retained_variance:.0%} of the variance",
+        "pca_rule": f"smallest k retaining {settings.TOL.pca_retained_variance:.0%} of the variance",
         "pca_components_above_1pct": {s: r["n_above_fraction"] for s, r in pcas.items()},
-        "pca_significance_fraction": TOL.pca_significant_fraction,
+        "pca_significance_fraction": settings.TOL.pca_significant_fraction,
         "continuous_seconds_per_wrench": {s: r["seconds_per_wrench"] for s, r in pcas.items()},
         "figures": figs,
         "headline": [

@@ -44,7 +44,9 @@ from tqdm import tqdm
 
 from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
+from workbench.grasp.margin import margin_vs_truth, resistance_margin
 from workbench.grasp.models import contact_sets
+from workbench.grasp.precision import matched_precision, scores
 from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
@@ -125,17 +127,6 @@ def check_config(config: dict) -> None:
     check_workers(config["workers"], config["scheduler"])
 
 
-def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
-    tp = int((pred & truth).sum())
-    fp = int((pred & ~truth).sum())
-    fn = int((~pred & truth).sum())
-    return {
-        "precision": tp / (tp + fp) if tp + fp else float("nan"),
-        "recall": tp / (tp + fn) if tp + fn else float("nan"),
-        "positives": int(pred.sum()),
-    }
-
-
 def _profiles(config: dict, k: float, length: float) -> list:
     return elliptic_cylinder_grasp(
         config["a"], config["b"], config["half_angle"], length, k, 1.0, config["n_elements"]
@@ -156,35 +147,11 @@ def _predict(sets, W, forces, mu, cuts: CutStore) -> tuple[np.ndarray, float]:
     return np.array(out), float(np.median(times) * 1e3)
 
 
-#: margins are bisected in [1/MARGIN_SPAN, MARGIN_SPAN] (0 below, MARGIN_SPAN above)
-MARGIN_SPAN = 64.0
-
-
-def _margin(resisted, w: np.ndarray, steps: int, span: float = MARGIN_SPAN) -> float:
-    """Largest s in [1/span, span] with ``resisted(s w)`` (0 below, span above).
-
-    The resistible set is convex and contains 0 (the squeeze forces balance), so
-    resistance is monotone along the ray and a bisection on log s finds s*.
-    """
-    if resisted(span * w):
-        return span
-    if not resisted(w / span):
-        return 0.0
-    lo, hi = -np.log2(span), np.log2(span)
-    for _ in range(steps):
-        mid = 0.5 * (lo + hi)
-        if resisted(2.0**mid * w):
-            lo = mid
-        else:
-            hi = mid
-    return float(2.0**lo)
-
-
 def _margin_row(model: str, deciders, W: np.ndarray, steps: int) -> dict:
     """Checkpoint row of the margins of ``W`` (N, 6), one decider ``v -> bool`` per
     disturbance, and the time per disturbance."""
     t0 = time.perf_counter()
-    margins = [_margin(d, w, steps) for d, w in zip(deciders, W, strict=True)]
+    margins = [resistance_margin(d, w, steps) for d, w in zip(deciders, W, strict=True)]
     return {
         "series": "margin",
         "model": model,
@@ -198,19 +165,6 @@ def _model_margin_row(model: str, sets: list, forces: np.ndarray, W: np.ndarray,
     grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
     deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
     return _margin_row(model, deciders, W, config["margin_steps"])
-
-
-def margin_vs_truth(s_m: np.ndarray, true_margin: np.ndarray) -> dict:
-    """Capacity error of a model's margins (n,) against the truth's (n,), where both
-    are finite and nonzero: median |log ratio| and its sign (> 0: optimistic)."""
-    ok = (s_m > 0) & (true_margin > 0) & (s_m < MARGIN_SPAN) & (true_margin < MARGIN_SPAN)
-    lr = np.log(s_m[ok] / true_margin[ok])
-    return {
-        "n": int(ok.sum()),
-        "median_abs_log_ratio": float(np.median(np.abs(lr))) if ok.any() else float("nan"),
-        "median_log_ratio": float(np.median(lr)) if ok.any() else float("nan"),
-        "optimistic_fraction": float((lr > 0).mean()) if ok.any() else float("nan"),
-    }
 
 
 def _training_distribution(config, ckpt, truth, true_margin, nominal) -> dict:
@@ -364,25 +318,6 @@ def _scored(row: dict, truth: np.ndarray) -> dict:
         return row
     pred = np.array(row.pop("pred"), dtype=bool)
     return {**row, **scores(pred, truth[: len(pred)])}
-
-
-def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
-    """Precision-recall curve of ``margins >= t`` over every threshold t, and for each
-    precision level the best recall at precision >= level (and its t; NaN if the
-    model never reaches it).  ``t = 1`` is the model's plain prediction."""
-    ts = np.unique(margins[margins > 0])
-    curve = [(float(t), *(scores(margins >= t, truth)[k] for k in ("precision", "recall"))) for t in ts]
-    out = {
-        "threshold": [c[0] for c in curve],
-        "precision": [c[1] for c in curve],
-        "recall": [c[2] for c in curve],
-    }
-    best = []
-    for level in levels:
-        ok = [c for c in curve if c[1] >= level]
-        best.append(max(ok, key=lambda c: (c[2], -c[0])) if ok else (float("nan"),) * 3)
-    out["at_levels"] = {"level": levels, "recall": [b[2] for b in best], "threshold": [b[0] for b in best]}
-    return out
 
 
 def run(config: dict) -> dict:

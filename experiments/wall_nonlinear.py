@@ -26,10 +26,10 @@ from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
-from scipy.stats import spearmanr
 from tqdm import tqdm
 
 from workbench.results import Checkpoint, save_figure, write_summary
+from workbench.stats import rank_correlation
 
 NAME = "wall-nonlinear"
 ROOT = Path(__file__).resolve().parents[1]
@@ -195,7 +195,7 @@ def run(config: dict) -> dict:
         compare[model] = {
             "E_effective_Pa": E_lin * (c_l if model == "linear" else c_nl),
             "median_abs_log_ratio": float(np.median(np.abs(np.log(s / meas)))),
-            "spearman": float(spearmanr(s, meas).statistic) if len(meas) > 2 else None,
+            "spearman": rank_correlation(s, meas) if len(meas) > 2 else None,
         }
     # held out: each model with one E fitted on a random half of these grasps, scored on the
     # other half, over 200 halves (the linear by one factor; the nonlinear by its own E)
@@ -216,7 +216,7 @@ def run(config: dict) -> dict:
         "linear_all_grasps": {
             "n": int(ok.sum()),
             "median_abs_log_ratio": float(np.median(np.abs(np.log(s_lin_pet[ok] * scale / measured[ok])))),
-            "spearman": float(spearmanr(s_lin_pet[ok], measured[ok]).statistic),
+            "spearman": rank_correlation(s_lin_pet[ok], measured[ok]),
         },
         "grasps": rows,
         "ratio_nl_lin": {

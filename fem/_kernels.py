@@ -1,6 +1,10 @@
 """Private ``@njit`` kernels of the condensed contact solve and of the sparse factor's
 blocked triangular solves (math only; the callers in ``contact.py`` and
-``sparse_factor.py`` own validation).  NumPy references: ``tests/naive.py``."""
+``sparse_factor.py`` own validation).  NumPy references: ``tests/naive.py``.
+
+Imported as ``workbench.fem._kernels`` (the folder installs under ``workbench``); Numba's
+on-disk cache of these kernels is keyed by this file's timestamp, so an edit here also
+retires the entries compiled when the module was called ``fem._kernels``."""
 
 from __future__ import annotations
 

@@ -22,7 +22,8 @@ away from the clamped edges of the model (its boundary conditions).
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import spearmanr
+
+from workbench.stats import rank_correlation
 
 
 def _check(model: np.ndarray, measured: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -74,7 +75,7 @@ def held_out(
 def _scores(pred: np.ndarray, measured: np.ndarray, train: np.ndarray) -> dict:
     test = np.setdiff1d(np.arange(measured.size), train)
     return {
-        "spearman": float(spearmanr(pred[test], measured[test]).statistic),
+        "spearman": rank_correlation(pred[test], measured[test]),
         "median_abs_log_ratio": float(np.median(np.abs(np.log(pred[test] / measured[test])))),
     }
 
@@ -206,7 +207,7 @@ def missing_physics(
         "series_compliance_bound_m_per_N": bound,
         "series_effect_at_median": 1.0 - 1.0 / (1.0 + s_med * bound),
         "closing_fraction": {
-            "spearman_residual": float(spearmanr(res[ok], frac[ok]).statistic),
+            "spearman_residual": rank_correlation(res[ok], frac[ok]),
             "bins": bins,
             "measured_closing_over_width_max": float(meas_frac[ok].max()),
         },

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from skfem import Basis, BilinearForm, ElementHex2, ElementVector, MeshHex, asm
-from skfem.helpers import ddot, sym_grad, trace
+from skfem import Basis, ElementHex2, ElementVector, MeshHex, asm
+from skfem.models.elasticity import linear_elasticity
 
 from .contact import solve_lcp
 from .material import Material
@@ -53,12 +53,6 @@ GAUSS_3 = (
 
 #: PET-like default for plastic bottles (E ≈ 2–4 GPa, ν ≈ 0.37–0.44)
 PET = Material(2.5e9, 0.4)
-
-
-@BilinearForm
-def _elasticity(u, v, w):
-    eu, ev = sym_grad(u), sym_grad(v)
-    return 2.0 * w["mu"] * ddot(eu, ev) + w["lam"] * trace(eu) * trace(ev)
 
 
 def wall_mesh(
@@ -179,7 +173,7 @@ def build_wall(
     t0 = time.perf_counter()
     mesh, outer, bottom, top = wall_mesh(surface, thickness, n_theta, n_z, z_range)
     basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
-    K = asm(_elasticity, basis, mu=material.mu, lam=material.lam).tocsr()
+    K = asm(linear_elasticity(material.lam, material.mu), basis).tocsr()
     fixed = np.zeros(basis.N, dtype=bool)
     if clamp_bottom:
         fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True

@@ -144,3 +144,30 @@ def upper_solve(U, B):
             X[i] -= U[i, j] * X[j]
         X[i] /= U[i, i]
     return X
+
+
+def isotropic_elasticity_form():
+    """The hand-written isotropic elasticity form ``2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)`` that
+    fem/wall.py used before scikit-fem's ``linear_elasticity`` (field values ``mu``, ``lam``)."""
+    from skfem import BilinearForm
+    from skfem.helpers import ddot, sym_grad, trace
+
+    @BilinearForm
+    def form(u, v, w):
+        eu, ev = sym_grad(u), sym_grad(v)
+        return 2.0 * w["mu"] * ddot(eu, ev) + w["lam"] * trace(eu) * trace(ev)
+
+    return form
+
+
+def rodrigues(v):
+    """(K, 3, 3) rotation matrices of axis-angle vectors (K, 3) by Rodrigues' formula (what
+    grasp/robust.py computed before scipy's ``Rotation.from_rotvec``)."""
+    v = np.asarray(v, float)
+    th = np.linalg.norm(v, axis=-1, keepdims=True)
+    k = np.divide(v, th, out=np.zeros_like(v), where=th > 0)
+    K = np.zeros((*v.shape[:-1], 3, 3))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
+    K = K - np.swapaxes(K, -1, -2)
+    s, c = np.sin(th)[..., None], np.cos(th)[..., None]
+    return np.eye(3) + s * K + (1 - c) * (K @ K)

@@ -60,15 +60,15 @@ def test_nested_dict_values_are_checked():
 
 
 def test_good_values_are_coerced_to_the_default_types():
-    sets = _parse_sets(["mu=1", "deltas_mm=[1, 2.5]", "validation_summary=5", "n_objects=3", "quick=true"])
+    sets = _parse_sets(["mu=1", "deltas_mm=[1, 2.5]", "scheduler=5", "n_objects=3", "quick=true"])
     cfg = build_config("fem-fitting", False, None, None, sets)
     assert cfg["mu"] == 1.0 and isinstance(cfg["mu"], float)  # an int is accepted for a float
     assert cfg["deltas_mm"] == [1.0, 2.5] and all(isinstance(d, float) for d in cfg["deltas_mm"])
-    assert cfg["validation_summary"] == "5"  # a str key keeps the text, not the JSON number
+    assert cfg["scheduler"] == "5"  # a str key keeps the text, not the JSON number
     assert cfg["n_objects"] == 3 and cfg["quick"] is True
     # Python callers pass typed values: checked the same way
     with pytest.raises(SystemExit, match="5 is not a string"):
-        build_config("fem-fitting", False, None, None, {"validation_summary": 5})
+        build_config("fem-fitting", False, None, None, {"scheduler": 5})
 
 
 def test_unknown_keys_still_rejected():

@@ -185,7 +185,6 @@ def test_fem_fitting_quick(tmp_path):
         "ellipsoid_error_std",
         "quartic_error_mean",
         "quartic_error_std",
-        "hertz",
         "condensed_vs_reference",
         "seconds_per_profile",
     ):
@@ -279,40 +278,6 @@ def test_sensitivity_quick(tmp_path):
     # the default sampler is "mix": the plain 6dls margins are the @mix ones
     rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
     assert rows["margin/6dls"]["margins"] == rows["margin/6dls@mix"]["margins"]
-
-
-def test_margin_of_antipodal_point_contacts_is_2_mu_F_over_mg():
-    """The bisected resistance margin against the analytic one: two antipodal point
-    contacts (64-gon inner cone, aligned with gravity) hold s·mg iff s <= 2μF/(mg)."""
-    from workbench.experiments.sensitivity import _margin
-    from workbench.grasp import point_contact, resists
-
-    mu, F = 0.5, 10.0
-    sets = [
-        point_contact([0.03, 0, 0], [1, 0, 0], F, n_edges=64),
-        point_contact([-0.03, 0, 0], [-1, 0, 0], F, n_edges=64),
-    ]
-    for mg in (2.0, 5.0, 20.0):
-        w = np.array([0.0, -mg, 0, 0, 0, 0])
-        s_star = _margin(lambda v: resists(sets, v, mu), w, steps=14)
-        exact = 2 * mu * F / mg
-        # inner 64-gon: support along y is μF cos(π/64) at worst; bisection resolution 2^(12/2^14)
-        assert exact * np.cos(np.pi / 64) * (1 - 1e-3) <= s_star <= exact * (1 + 1e-6), (mg, s_star, exact)
-    assert (
-        _margin(lambda v: resists(sets, v, mu), np.array([0, 0, 0, 1.0, 0, 0]), steps=4) == 0.0
-    )  # no torsion
-
-
-def test_matched_precision_on_a_hand_made_ranking():
-    from workbench.experiments.sensitivity import matched_precision
-
-    truth = np.array([True, True, True, False, True, False])
-    margins = np.array([3.0, 2.5, 2.0, 1.8, 1.2, 0.5])
-    out = matched_precision(margins, truth, [0.8, 1.0])
-    # t = 1.2 keeps the top 5: precision 4/5, recall 1; t = 2.0: precision 1, recall 3/4
-    assert out["at_levels"]["recall"] == [1.0, 0.75]
-    assert out["at_levels"]["threshold"] == [1.2, 2.0]
-    assert np.isnan(matched_precision(np.zeros(6), truth, [0.5])["at_levels"]["recall"][0])
 
 
 def test_fem_fitting_leaves_out_an_underdetermined_quartic():

@@ -164,15 +164,31 @@ def test_nested_dissection_factor_solves_like_superlu():
     """workbench.fem.sparse_factor against SuperLU's default ordering on a small wall's stiffness."""
     import scipy.sparse.linalg as spla
     from skfem import asm
+    from skfem.models.elasticity import linear_elasticity
 
     from workbench.fem.sparse_factor import factor_spd
-    from workbench.fem.wall import _elasticity, build_wall
+    from workbench.fem.wall import build_wall
 
     wall = build_wall(circle_surface(0.03), thickness=1e-3, n_theta=16, n_z=4, z_range=(0.0, 0.04))
-    K = asm(_elasticity, wall.basis, mu=wall.material.mu, lam=wall.material.lam).tocsr()
+    K = asm(linear_elasticity(wall.material.lam, wall.material.mu), wall.basis).tocsr()
     Kff = K[wall.free][:, wall.free]
     b = np.random.default_rng(0).normal(size=(Kff.shape[0], 3))
     ref = spla.splu(Kff.tocsc()).solve(b)
     np.testing.assert_allclose(factor_spd(Kff).solve(b), ref, rtol=1e-7, atol=1e-9 * np.abs(ref).max())
     with pytest.raises(ValueError, match="square"):
         factor_spd(Kff[:, :-1])
+
+
+def test_wall_stiffness_is_the_isotropic_form_written_out():
+    # fem/wall.py assembles scikit-fem's linear_elasticity(λ, μ); the form written out term by
+    # term (tests/naive.py) gives the same matrix to round-off
+    from naive import isotropic_elasticity_form
+    from skfem import Basis, ElementHex2, ElementVector, asm
+    from skfem.models.elasticity import linear_elasticity
+
+    mesh = wall_mesh(circle_surface(0.03), 0.001, 8, 2, (0.0, 0.02))[0]
+    basis = Basis(mesh, ElementVector(ElementHex2()))
+    K = asm(linear_elasticity(PET.lam, PET.mu), basis)
+    K_ref = asm(isotropic_elasticity_form(), basis, mu=PET.mu, lam=PET.lam)
+    assert K.shape == K_ref.shape == (basis.N, basis.N) and K.nnz > 0
+    assert abs(K - K_ref).max() <= 1e-12 * abs(K_ref).max()

@@ -177,6 +177,17 @@ def test_q_robust_deterministic_and_bounded():
     assert q_robust(grasp, MU, 0.5 * m, [0, 0, 0.005], p, seed=7) >= q1
 
 
+def test_q_robust_rotations_are_rodrigues_of_the_sampled_vectors():
+    # q_robust perturbs the contacts by scipy's Rotation.from_rotvec; Rodrigues' formula
+    # written out (tests/naive.py, what it used before) gives the same matrices to round-off
+    from naive import rodrigues
+    from scipy.spatial.transform import Rotation
+
+    v = np.vstack([np.zeros(3), np.random.default_rng(3).normal(0.0, 0.2, (200, 3)), [[0, 0, np.pi - 1e-9]]])
+    R = Rotation.from_rotvec(v).as_matrix()
+    assert np.abs(R - rodrigues(v)).max() < 5e-15 and np.array_equal(R[0], np.eye(3))
+
+
 def test_six_dls_contact_vertices_lie_on_the_model():
     from workbench.limit_surface import LimitSurfaceCache
     from workbench.surface_catalog import S2

@@ -15,11 +15,9 @@ from workbench import (
     sample_twists_thesis,
 )
 from workbench.limit_surface import (
-    ContactWrenchModel,
     LimitSurfaceCache,
     ModelSpec,
     SamplerSpec,
-    friction_cone_6d,
     is_sos_convex,
 )
 from workbench.limit_surface import ellipsoid as ell_mod
@@ -207,33 +205,6 @@ def test_outer_inner_gap_shrinks_with_M(s4_data):
     gaps = [_support_ratio(model, M, dirs) for M in (50, 200, 1000)]
     assert all(g >= 1.0 for g in gaps)
     assert gaps[0] > gaps[1] > gaps[2]
-
-
-# ------------------------------------------------------------------- 6DFC
-def test_friction_cone_6d(s4_data):
-    prof = s4_data[0]
-    cwm = ContactWrenchModel(fit_ellipsoid(s4_data[1]), prof.normal_wrench / prof.F)
-    cone = friction_cone_6d(cwm, 300, f_max=10.0)
-    A, b = cone.A, cone.b
-    # only the zero wrench at f_C = 0
-    for j in range(6):
-        for sgn in (1.0, -1.0):
-            cost = np.zeros(7)
-            cost[j] = -sgn
-            res = linprog(cost, A_ub=A, b_ub=b, bounds=[(None, None)] * 6 + [(0, 0)], method="highs")
-            assert res.status == 0 and abs(res.fun) <= 1e-9
-    # feasible set scales linearly with f_C
-    rng = np.random.default_rng(7)
-    cands = cwm.inner_vertices(50, F=1.0) * rng.uniform(0.5, 1.5, (50, 1))
-    for c in cands:
-        assert cone.contains(c, 1.0) == cone.contains(3.0 * c, 3.0)
-    # f_C w⊥ + f_C (limit surface) is inside for every f_C in (0, f_max]
-    for f_c in (0.1, 1.0, 10.0):
-        for c in cwm.inner_vertices(100, F=f_c, seed=8):
-            assert cone.contains(c, f_c, tol=1e-9)
-    # a wrench beyond the limit surface is outside at that force
-    out = 2.0 * (cwm.inner_vertices(20, F=1.0, seed=9) - cwm.normal_wrench) + cwm.normal_wrench
-    assert not any(cone.contains(c, 1.0) for c in out)
 
 
 # ------------------------------------------------------------------- cache

@@ -1,6 +1,9 @@
 """Tolerances, defaults and Numba flags — the one place they live.
 
-Every field carries a comment saying why it has its value.  Kernels import
+Every field carries a comment saying why it has its value.  Library code reads
+``config.TOL.<field>`` and ``config.DEFAULTS.<field>`` when a function runs (never as a
+default argument bound at import), so :func:`override` (a block, e.g. in a test) and
+:func:`configure` (the rest of the process) change what every later call uses.  Kernels import
 ``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` from here and nowhere else, so a
 user (or CI) can switch caching or threading off in one spot, e.g.
 ``WORKBENCH_NUMBA_PARALLEL=0``.
@@ -9,7 +12,10 @@ user (or CI) can switch caching or threading off in one spot, e.g.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, fields, replace
+from typing import Any
 
 
 def _env_flag(name: str, default: bool) -> bool:
@@ -347,3 +353,38 @@ class Defaults:
 
 
 DEFAULTS = Defaults()
+
+
+def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``values`` by owner: (Tolerances fields, Defaults fields); ValueError for other names."""
+    tol = {f.name for f in fields(Tolerances)}
+    dft = {f.name for f in fields(Defaults)}
+    unknown = sorted(set(values) - tol - dft)
+    if unknown:
+        raise ValueError(
+            f"unknown tolerance/default names {unknown}; the fields of config.Tolerances and "
+            "config.Defaults are the names to use (e.g. resist_rtol, quadrature_rtol, work_eps)"
+        )
+    return {k: v for k, v in values.items() if k in tol}, {k: v for k, v in values.items() if k in dft}
+
+
+def configure(**values: Any) -> None:
+    """Set tolerances and defaults by field name for the rest of this process, e.g.
+    ``config.configure(resist_rtol=1e-8)``.  (Dask workers are other processes: set them
+    there too, e.g. with ``client.run(config.configure, ...)``.)"""
+    global TOL, DEFAULTS
+    tol, dft = _split(values)
+    TOL, DEFAULTS = replace(TOL, **tol), replace(DEFAULTS, **dft)
+
+
+@contextmanager
+def override(**values: Any) -> Iterator[None]:
+    """Tolerances and defaults changed by field name inside a ``with`` block, restored after
+    (also on an exception): ``with config.override(quadrature_rtol=1e-6): ...``."""
+    global TOL, DEFAULTS
+    before = TOL, DEFAULTS
+    configure(**values)
+    try:
+        yield
+    finally:
+        TOL, DEFAULTS = before

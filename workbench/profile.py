@@ -6,13 +6,13 @@ pointing **outward from the object** (into the jaw), element areas and one
 pressure per element.  Everything derived (pressure center, ``F``, ``p̂``,
 normal wrench, length scale) is cached on first use.
 
-Normals: a normal whose length is within ``TOL.normal_unit_atol`` of 1 is
+Normals: a normal whose length is within ``config.TOL.normal_unit_atol`` of 1 is
 renormalised silently; any other length is rejected with a ``ValueError``
 unless ``normalize_normals=True`` is passed (then every non-zero normal is
 rescaled; zero normals are always rejected).
 
 Size: the length scale ``l_s`` is computed at construction, and a profile
-longer than ``TOL.max_object_extent_m`` (2 m) is rejected as a likely unit
+longer than ``config.TOL.max_object_extent_m`` (2 m) is rejected as a likely unit
 mistake unless ``allow_scale=True`` (see :mod:`workbench.units`).
 """
 
@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .config import TOL
+from . import config
 from .units import check_extent, length_factor
 
 __all__ = ["ContactProfile", "length_factor", "pca_box_longest_side"]
@@ -38,7 +38,7 @@ def pca_box_longest_side(points: np.ndarray) -> float:
     (thesis §3.3.2, whose "smallest rectangular cuboid" the principal axes stand in for).
 
     Invariant under rigid motions, including where the principal axes are not
-    unique.  Eigenvalues of the covariance equal within ``TOL.pca_degenerate_rtol``
+    unique.  Eigenvalues of the covariance equal within ``config.TOL.pca_degenerate_rtol``
     leave the box free to turn in their eigenspace, and an SVD picks whatever
     rounding selects (under rotation a square's ``l_s`` jumped between its side
     and its diagonal, up to +41 %, a 64-gon disc's by 1e-3).  Such sets are resolved by geometry:
@@ -65,7 +65,7 @@ def pca_box_longest_side(points: np.ndarray) -> float:
     lam = s**2
     if lam.size < 2 or lam[0] == 0:
         return float(sides.max())
-    equal = np.abs(np.diff(lam)) <= TOL.pca_degenerate_rtol * lam[0]
+    equal = np.abs(np.diff(lam)) <= config.TOL.pca_degenerate_rtol * lam[0]
     if not equal.any():
         return float(sides.max())
     if equal.all() and lam.size == 3:
@@ -171,7 +171,7 @@ class ContactProfile:
     normalize_normals : bool
         Rescale non-unit normals instead of rejecting them.
     allow_scale : bool
-        Accept a profile longer than ``TOL.max_object_extent_m`` (2 m).  Without
+        Accept a profile longer than ``config.TOL.max_object_extent_m`` (2 m).  Without
         it such a profile raises ``ValueError``: it is almost surely in
         millimetres (build it with ``from_mesh(..., units="mm")``).  Only this
         upper bound is checked: real contacts can be tiny (an FEM contact at
@@ -179,7 +179,7 @@ class ContactProfile:
         element has zero extent), so no lower bound tells a unit mistake from a
         small patch.  A millimetre profile smaller than 2 mm is not caught either.
 
-    Normals: elements carrying more than ``TOL.flipped_normal_force_fraction``
+    Normals: elements carrying more than ``config.TOL.flipped_normal_force_fraction``
     of ``F`` with normals pointing away from the force-weighted mean normal
     (``n_i · n̄ < 0``) log a warning — the mark of a mesh with part of its faces
     wound the other way.  What cannot be seen here: a profile whose normals are
@@ -226,12 +226,12 @@ class ContactProfile:
                 "(from_mesh(..., drop_degenerate=True))"
             )
         median_area = float(np.median(areas))
-        tiny = areas <= TOL.degenerate_area_rtol * median_area
+        tiny = areas <= config.TOL.degenerate_area_rtol * median_area
         if tiny.any():
             i = int(np.argmax(tiny))
             raise ValueError(
                 f"areas: element {i} is degenerate (area {areas[i]:.3g} <= "
-                f"{TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
+                f"{config.TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
                 "(from_mesh(..., drop_degenerate=True))"
             )
         if (pressures < 0).any():
@@ -249,12 +249,12 @@ class ContactProfile:
         if (lengths == 0).any():
             i = int(np.argmin(lengths))
             raise ValueError(f"normals must be non-zero unit vectors; element {i} has a zero normal")
-        off = np.abs(lengths - 1.0) > TOL.normal_unit_atol
+        off = np.abs(lengths - 1.0) > config.TOL.normal_unit_atol
         if off.any() and not normalize_normals:
             i = int(np.argmax(np.abs(lengths - 1.0)))
             raise ValueError(
                 f"normals must be unit vectors; element {i} has length {lengths[i]:.6g} "
-                f"({int(off.sum())} off by > {TOL.normal_unit_atol:g}) "
+                f"({int(off.sum())} off by > {config.TOL.normal_unit_atol:g}) "
                 "— pass normalize_normals=True to rescale them"
             )
         normals = normals / lengths[:, None]
@@ -280,14 +280,14 @@ class ContactProfile:
 
     def _warn_flipped_normals(self) -> None:
         """Log a warning if normals disagreeing with the force-weighted mean normal
-        carry more than ``TOL.flipped_normal_force_fraction`` of ``F``."""
+        carry more than ``config.TOL.flipped_normal_force_fraction`` of ``F``."""
         mean = (self.forces[:, None] * self.normals).sum(axis=0)
         norm = float(np.linalg.norm(mean))
         if norm == 0:
             return
         against = self.normals @ (mean / norm) < 0
         fraction = float(self.forces[against].sum()) / self.F
-        if fraction > TOL.flipped_normal_force_fraction:
+        if fraction > config.TOL.flipped_normal_force_fraction:
             log.warning(
                 "ContactProfile: %d of %d elements, carrying %.0f%% of the force, have normals pointing "
                 "away from the force-weighted mean normal (n_i . n_mean < 0): part of the mesh is probably "
@@ -456,7 +456,7 @@ class ContactProfile:
         areas = np.linalg.norm(vec, axis=1)
         p = np.broadcast_to(np.asarray(pressures, dtype=np.float64), (f.shape[0],)).copy()
         if drop_degenerate and areas.size:
-            keep = areas > TOL.degenerate_area_rtol * np.median(areas)
+            keep = areas > config.TOL.degenerate_area_rtol * np.median(areas)
             f, vec, areas, centers, p = f[keep], vec[keep], areas[keep], centers[keep], p[keep]
         safe = np.where(areas > 0, areas, 1.0)
         normals = vec / safe[:, None]

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from . import config
+from .stats import rank_correlation
 
 log = logging.getLogger(__name__)
 
@@ -98,9 +99,8 @@ def _pyplot():
 
 def _heldout_stats(s: np.ndarray, p: np.ndarray, test: np.ndarray) -> tuple[float, float]:
     """Spearman and median |log(p / s)| of the held-out grasps (NaN if fewer than 2 / none)."""
-    from scipy.stats import spearmanr
 
-    rho = float(spearmanr(p[test], s[test]).statistic) if test.sum() >= 2 else float("nan")
+    rho = rank_correlation(p[test], s[test]) if test.sum() >= 2 else float("nan")
     mal = float(np.median(np.abs(np.log(p[test] / s[test])))) if test.any() else float("nan")
     return rho, mal
 

@@ -21,8 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _kernels
-from .config import TOL
+from . import _kernels, config
 from .profile import ContactProfile, pca_box_longest_side
 from .twists import canonical_twists
 from .wrench import check_mu, check_twists
@@ -169,7 +168,7 @@ def _adaptive(
     tol: float,
     max_passes: int,
     eta: float = 0.1,
-    max_cells: int = TOL.quadrature_max_cells,
+    max_cells: int | None = None,
 ) -> tuple[Array, Array, int]:
     """Adaptive cubature of ``n_groups`` vector integrands sharing a domain.
 
@@ -177,9 +176,11 @@ def _adaptive(
     scale : (n_groups, q) component scales; the error of a cell is
     ``max_j |fine_j - coarse_j| / scale_j`` and a group converges when its
     summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
-    and the number of integrand cells evaluated.
+    and the number of integrand cells evaluated.  max_cells : default
+    ``config.TOL.quadrature_max_cells`` (read now).
     """
-    block = TOL.quadrature_eval_block
+    block = config.TOL.quadrature_eval_block
+    max_cells = config.TOL.quadrature_max_cells if max_cells is None else max_cells
     raw_evaluate = evaluate
 
     def evaluate(c: Array, g: Array) -> Array:  # bounded temporaries
@@ -243,10 +244,16 @@ class SurfaceMoments:
     error: float  # relative error estimate
 
 
+def surface_moments(surface: ParametricSurface, rtol: float | None = None) -> SurfaceMoments:
+    """``F``, area, pressure center ``o`` and normal wrench ``w⊥`` of a surface (``rtol``:
+    default ``config.TOL.moments_rtol``, read now)."""
+    # resolved before the cache: a changed tolerance is another entry, never a stale one
+    return _surface_moments(surface, config.TOL.moments_rtol if rtol is None else rtol)
+
+
 @lru_cache(maxsize=128)
-def surface_moments(surface: ParametricSurface, rtol: float = TOL.moments_rtol) -> SurfaceMoments:
-    """``F``, area, pressure center ``o`` and normal wrench ``w⊥`` of a surface."""
-    order = TOL.quadrature_order
+def _surface_moments(surface: ParametricSurface, rtol: float) -> SurfaceMoments:
+    order = config.TOL.quadrature_order
 
     def evaluate(cells: Array, groups: Array) -> Array:
         xyz, n, da, p = _cell_points(surface, cells, order)
@@ -258,7 +265,7 @@ def surface_moments(surface: ParametricSurface, rtol: float = TOL.moments_rtol) 
     rough = evaluate(init, np.zeros(init.shape[0], int)).sum(axis=0)
     L = max(_length_scale(surface), float(np.abs(rough[2:5] / rough[0]).max()))
     scale = np.array([rough[0], rough[1]] + [rough[0] * L] * 3 + [rough[0]] * 3 + [rough[0] * L] * 3)
-    vals, err, _ = _adaptive(evaluate, init, 1, scale[None, :], rtol, TOL.quadrature_max_passes)
+    vals, err, _ = _adaptive(evaluate, init, 1, scale[None, :], rtol, config.TOL.quadrature_max_passes)
     v = vals[0]
     F = float(v[0])
     o = v[2:5] / F
@@ -272,25 +279,27 @@ def surface_wrenches(
     twists: Any,
     mu: float = 1.0,
     *,
-    rtol: float = TOL.quadrature_rtol,
+    rtol: float | None = None,
     return_error: bool = False,
 ) -> Array | tuple[Array, Array]:
     """Continuous frictional wrenches, Eq. (3.3)-(3.5), about the pressure center.
 
     twists : (K, 6) float about ``o`` (see :func:`surface_moments`).
-    rtol : target error, scaled per component by ``μF`` (forces) and
-        ``μF l_s`` (torques); the integrator aims at ``TOL.quadrature_safety *
-        rtol`` because its estimate is heuristic near slip singularities.
+    rtol : target error (default ``config.TOL.quadrature_rtol``, read now), scaled per
+        component by ``μF`` (forces) and ``μF l_s`` (torques); the integrator aims at
+        ``config.TOL.quadrature_safety * rtol`` because its estimate is heuristic near slip
+        singularities.
     Returns (K, 6) wrenches and, with ``return_error=True``, the (K,) error
     estimates (summed fine-vs-coarse differences) in the same scaled units.
     """
     xi, single = check_twists(twists)
     mu_f = check_mu(mu)
+    rtol = config.TOL.quadrature_rtol if rtol is None else rtol
     if not (np.isfinite(rtol) and rtol > 0):
         raise ValueError(f"rtol must be > 0; got {rtol}")
     mom = surface_moments(surface)
-    order = TOL.quadrature_order
-    rtol2 = TOL.tangential_velocity_rtol**2
+    order = config.TOL.quadrature_order
+    rtol2 = config.TOL.tangential_velocity_rtol**2
     q = order * order
 
     def evaluate(cells: Array, groups: Array, twists: Array) -> Array:
@@ -314,7 +323,7 @@ def surface_wrenches(
     ls = _length_scale(surface)
     scale = np.array([mom.F] * 3 + [mom.F * ls] * 3)
     init = _initial_cells(surface)
-    chunk = TOL.quadrature_twist_chunk
+    chunk = config.TOL.quadrature_twist_chunk
     vals = np.empty((xi.shape[0], 6))
     err = np.empty(xi.shape[0])
     for start in range(0, xi.shape[0], chunk):
@@ -328,8 +337,8 @@ def surface_wrenches(
             init,
             part.shape[0],
             np.tile(scale, (part.shape[0], 1)),
-            TOL.quadrature_safety * rtol,
-            TOL.quadrature_max_passes,
+            config.TOL.quadrature_safety * rtol,
+            config.TOL.quadrature_max_passes,
         )
     vals *= mu_f
     if single:
@@ -337,8 +346,9 @@ def surface_wrenches(
     return (vals, err) if return_error else vals
 
 
-def surface_w_max(surface: ParametricSurface, mu: float = 1.0, *, rtol: float = TOL.quadrature_rtol) -> Array:
-    """(6,) exact ``w_max`` of a continuous surface via the canonical twists."""
+def surface_w_max(surface: ParametricSurface, mu: float = 1.0, *, rtol: float | None = None) -> Array:
+    """(6,) exact ``w_max`` of a continuous surface via the canonical twists (``rtol``: see
+    :func:`surface_wrenches`)."""
     w = surface_wrenches(surface, canonical_twists(), mu, rtol=rtol)
     return -np.diag(w) + 0.0
 
@@ -421,7 +431,7 @@ def mesh_surface(surface: ParametricSurface, n_elements: int) -> tuple[Array, Ar
     tri = verts[faces]
     cr = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area2 = np.linalg.norm(cr, axis=1)
-    keep = area2 > TOL.degenerate_area_rtol * np.median(area2)
+    keep = area2 > config.TOL.degenerate_area_rtol * np.median(area2)
     faces, cr = faces[keep], cr[keep]
     uv = np.column_stack([U.ravel(), V.ravel()])[faces].mean(axis=1)
     _, n_surf, _, _ = surface.evaluate(uv[:, 0], uv[:, 1])

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .config import DEFAULTS, TOL
+from . import config
 
 SeedLike = int | np.random.Generator | None
 
@@ -78,7 +78,7 @@ def plucker_from_twists(twists: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray
     v, w = xi[:, :3], xi[:, 3:]
     wn = np.linalg.norm(w, axis=1)
     vn = np.linalg.norm(v, axis=1)
-    trans = wn <= TOL.translation_omega_atol * np.maximum(vn, 1.0)
+    trans = wn <= config.TOL.translation_omega_atol * np.maximum(vn, 1.0)
     if ((wn == 0) & (vn == 0)).any():
         raise ValueError("twists contains a zero row: a unit twist needs |ω| = 1 or |v| = 1")
     e = np.where(
@@ -122,11 +122,11 @@ def _length(length_scale: Any) -> float:
 def sample_twists_thesis(
     n: int,
     length_scale: Any,
-    seed: SeedLike = DEFAULTS.seed,
+    seed: SeedLike = None,
     *,
     translations: bool = True,
-    radius_factor: float = DEFAULTS.twist_radius_factor,
-    pitch_range: tuple[float, float] = DEFAULTS.pitch_range,
+    radius_factor: float | None = None,
+    pitch_range: tuple[float, float] | None = None,
 ) -> np.ndarray:
     """Motion sampling of thesis §3.3.2.
 
@@ -136,8 +136,15 @@ def sample_twists_thesis(
     translations along the same ``e`` are appended.
 
     length_scale : float [m] or ContactProfile (uses its ``length_scale`` ``l_s``).
+    seed, radius_factor, pitch_range : default ``config.DEFAULTS.seed``,
+    ``.twist_radius_factor``, ``.pitch_range`` (read now; for fresh randomness pass a
+    ``np.random.Generator``).
     Returns (n or 2n, 6) unit twists about ``o``.
     """
+    d = config.DEFAULTS
+    seed = d.seed if seed is None else seed
+    radius_factor = d.twist_radius_factor if radius_factor is None else radius_factor
+    pitch_range = d.pitch_range if pitch_range is None else pitch_range
     rng = _rng(seed)
     ls = _length(length_scale)
     e = fibonacci_sphere(n)
@@ -151,17 +158,20 @@ def sample_twists_6dfc(
     k1: int,
     k2: int,
     length_scale: Any,
-    seed: SeedLike = DEFAULTS.seed,
+    seed: SeedLike = None,
     *,
-    radius_factor: float = DEFAULTS.twist_radius_factor,
+    radius_factor: float | None = None,
 ) -> np.ndarray:
     """Motion sampling of the 6DFC paper §IV-C.1.
 
     ``k1`` pure rotations (``h = 0``) about uniformly random axes ``ω`` through
     centers uniform in a ball of radius ``radius_factor * l_s`` around ``o``,
-    then ``k2`` pure translations with uniformly random directions.
+    then ``k2`` pure translations with uniformly random directions.  seed, radius_factor:
+    default ``config.DEFAULTS.seed``, ``.twist_radius_factor`` (read now).
     Returns (k1 + k2, 6).
     """
+    seed = config.DEFAULTS.seed if seed is None else seed
+    radius_factor = config.DEFAULTS.twist_radius_factor if radius_factor is None else radius_factor
     rng = _rng(seed)
     w = _uniform_sphere(rng, k1)
     c = _uniform_ball(rng, k1, radius_factor * _length(length_scale))

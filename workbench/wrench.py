@@ -10,8 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _kernels
-from .config import TOL
+from . import _kernels, config
 from .profile import ContactProfile
 from .twists import canonical_twists
 
@@ -76,14 +75,14 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
     mu : float, friction coefficient.
     Returns (K, 6) (or (6,) for a single twist): the wrench the static jaw
     exerts on the moving object.  Elements whose tangential velocity vanishes
-    (``|v_t| <= TOL.tangential_velocity_rtol |v|``) contribute exactly zero.
+    (``|v_t| <= config.TOL.tangential_velocity_rtol |v|``) contribute exactly zero.
     """
     prof = _check_profile(profile)
     xi, single = check_twists(twists)
     mu_f = check_mu(mu)
     k = xi.shape[0]
     out = np.empty((k, 6))
-    rtol2 = TOL.tangential_velocity_rtol**2
+    rtol2 = config.TOL.tangential_velocity_rtol**2
     # a batch is K segments (one per twist) spanning all N elements
     lo = np.zeros(k, dtype=np.int64)
     hi = np.full(k, len(prof), dtype=np.int64)
@@ -121,5 +120,5 @@ def friction_directions(profile: ContactProfile, twist: Any) -> np.ndarray:
     u = v + np.cross(w, prof.centers - prof.pressure_center)
     t = u - np.einsum("ij,ij->i", u, prof.normals)[:, None] * prof.normals
     tn = np.linalg.norm(t, axis=1)
-    slip = tn > TOL.tangential_velocity_rtol * np.linalg.norm(u, axis=1)
+    slip = tn > config.TOL.tangential_velocity_rtol * np.linalg.norm(u, axis=1)
     return -np.where(slip[:, None], t / np.where(slip, tn, 1.0)[:, None], 0.0)

@@ -5,7 +5,8 @@ by name; gws.py — grasp map, GWS, hull, ε-metric;
 resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp force
 (Eq. 4.4); robust.py — q_robust; stiffness_map.py — measured object stiffness on the
 surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
-balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3).
+balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py — the
+resistance margin by bisection; precision.py — precision, recall, matched precision.
 """
 
 from .contacts import (
@@ -20,7 +21,9 @@ from .contacts import (
 )
 from .evaluate import GraspEvaluation, evaluate_grasp, jaw_profiles
 from .gws import WrenchHull, build_gws, grasp_map, gws_points
+from .margin import margin_vs_truth, resistance_margin
 from .models import MODELS, contact_sets
+from .precision import matched_precision, scores
 from .reach import reach_profile, with_axis_force
 from .resistance import (
     CutStore,
@@ -38,6 +41,10 @@ from .threshold import balanced_accuracy, fit_normaliser
 from .work import MinimalWork, minimal_work, q_force, q_work, work
 
 __all__ = [
+    "margin_vs_truth",
+    "matched_precision",
+    "resistance_margin",
+    "scores",
     "MODELS",
     "ContactSet",
     "GraspEvaluation",

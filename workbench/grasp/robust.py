@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from .gws import check_contacts, check_mu
 from .resistance import REPRESENTATIONS, CutStore, resists
@@ -96,18 +97,6 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     return np.concatenate([f, cross3(c, f)])
 
 
-def rotation_from_vector(v: np.ndarray) -> np.ndarray:
-    """(…, 3, 3) rotation matrices of axis–angle vectors (…, 3) (Rodrigues)."""
-    v = np.asarray(v, float)
-    th = np.linalg.norm(v, axis=-1, keepdims=True)
-    k = np.divide(v, th, out=np.zeros_like(v), where=th > 0)
-    K = np.zeros((*v.shape[:-1], 3, 3))
-    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
-    K = K - np.swapaxes(K, -1, -2)
-    s, c = np.sin(th)[..., None], np.cos(th)[..., None]
-    return np.eye(3) + s * K + (1 - c) * (K @ K)
-
-
 def q_robust(
     contacts,
     mu: float,
@@ -142,7 +131,7 @@ def q_robust(
     cuts = CutStore() if cuts is None else cuts
     rng = np.random.default_rng(seed)
     K = p.n_samples
-    Rs = rotation_from_vector(rng.normal(0.0, p.sigma_rot, (K, 3)))
+    Rs = Rotation.from_rotvec(rng.normal(0.0, p.sigma_rot, (K, 3))).as_matrix()
     ts = rng.normal(0.0, p.sigma_trans, (K, 3))
     mus = mu * np.clip(1 + rng.normal(0.0, p.sigma_mu, K), 0.0, None)
     ok = 0

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..pressure import power_law
 from ..profile import ContactProfile
 from ..surfaces import ParametricSurface, mesh_profile
 
@@ -28,8 +29,7 @@ def elliptic_cylinder_contact(
     r_max = b * np.sin(half_angle)
 
     def pressure(u, v, xyz):
-        s = np.clip(np.abs(xyz[..., 1]) / r_max, 0.0, 1.0)
-        return (1.0 - s**k) ** (1.0 / k) if np.isfinite(k) else np.ones_like(s)
+        return power_law(np.abs(xyz[..., 1]), r_max, k)
 
     surf = ParametricSurface(
         "elliptic cylinder contact",

@@ -2,7 +2,7 @@
 
 from .base import LimitSurfaceModel
 from .cache import LimitSurfaceCache, ModelSpec, SamplerSpec
-from .contact_wrench import ContactWrenchModel, FrictionCone6D, friction_cone_6d
+from .contact_wrench import ContactWrenchModel
 from .ellipsoid import EllipsoidLS, fit_ellipsoid
 from .linearize import Linearization, linearize, sample_directions
 from .normalize import pca_subspace, wrench_scale
@@ -11,12 +11,10 @@ from .quartic import QuarticLS, fit_quartic, is_sos_convex
 __all__ = [
     "ContactWrenchModel",
     "EllipsoidLS",
-    "FrictionCone6D",
     "LimitSurfaceCache",
     "Linearization",
     "ModelSpec",
     "SamplerSpec",
-    "friction_cone_6d",
     "linearize",
     "sample_directions",
     "LimitSurfaceModel",

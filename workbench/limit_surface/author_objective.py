@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import DEFAULTS
+from .. import config
 from .ellipsoid import EllipsoidLS, _embed
 from .normalize import Subspace, check_twists, prepare
 from .quartic import QuarticLS, _gram, _solver_options, _sos_convexity, certify
@@ -86,7 +86,7 @@ def fit_author_objective(
     (module docstring).
 
     w_max : optional exact (6,) maxima; default the sampled maxima.
-    weights : (λ, ω_w, ω_t); default ``DEFAULTS.author_fit_weights`` = (1, 10, 1).
+    weights : (λ, ω_w, ω_t); default ``config.DEFAULTS.author_fit_weights`` = (1, 10, 1).
         ω_t = 0 fits values only (still L1 and regularised).
     Returns the same model classes as :func:`fit_ellipsoid` / :func:`fit_quartic`;
     ``info["method"] == "author"``, with the solver status and the objective's terms.
@@ -97,7 +97,7 @@ def fit_author_objective(
     t0 = time.perf_counter()
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
-    lam, ww, tw = _check_weights(DEFAULTS.author_fit_weights if weights is None else weights)
+    lam, ww, tw = _check_weights(config.DEFAULTS.author_fit_weights if weights is None else weights)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     xi = check_twists(W, twists, nonzero=True)  # every term of the objective needs a direction
     if sub.dim == 6:  # fit in the normalised coordinates themselves, as the author's code

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import DEFAULTS
+from .. import config
 from ..profile import ContactProfile
 from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
@@ -47,7 +47,7 @@ class SamplerSpec:
         (the "thesis" sample and the "thesis-code" one together).
     """
 
-    kind: str | None = None  # None: DEFAULTS.ls_training_sampler, read when the spec is made
+    kind: str | None = None  # None: config.DEFAULTS.ls_training_sampler, read when the spec is made
     n: int = 300
     seed: int = 0
     radius_factor: float = 0.25
@@ -55,7 +55,7 @@ class SamplerSpec:
 
     def __post_init__(self) -> None:
         if self.kind is None:
-            object.__setattr__(self, "kind", DEFAULTS.ls_training_sampler)
+            object.__setattr__(self, "kind", config.DEFAULTS.ls_training_sampler)
         if self.kind not in SAMPLER_KINDS:
             raise ValueError(f"sampler kind must be one of {SAMPLER_KINDS}; got {self.kind!r}")
         if self.fine_level not in AUTHOR_LEVELS:
@@ -135,7 +135,7 @@ class LimitSurfaceCache:
         force: float | None = None,
     ) -> LimitSurfaceModel:
         """Limit surface of ``profile`` scaled by ``force`` (default ``profile.F``);
-        ``sampler`` default ``SamplerSpec()`` (``DEFAULTS.ls_training_sampler``)."""
+        ``sampler`` default ``SamplerSpec()`` (``config.DEFAULTS.ls_training_sampler``)."""
         check_mu(mu, what="limit surface")
         sampler = SamplerSpec() if sampler is None else sampler
         k = self.key(profile, mu, sampler, spec)

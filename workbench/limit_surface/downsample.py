@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..config import TOL
+from .. import config
 from .normalize import check_wrenches
 
 
@@ -24,7 +24,7 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
 
     wrenches : (N, 6) float (normalised, e.g. ``W / w_max``).
     steps : cells per dimension = ``floor(steps) + 1`` starts at ``min + k·(max − min)/steps``;
-        a dimension whose range is at most ``TOL.subspace_rtol`` × the largest is one cell.
+        a dimension whose range is at most ``config.TOL.subspace_rtol`` × the largest is one cell.
     """
     W = check_wrenches(wrenches)
     if not (np.isfinite(steps) and steps > 0):
@@ -34,7 +34,7 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     n_cells = int(np.floor(steps)) + 1
     # a range at rounding-noise level (a flat contact tilted by 1e-9 rad) is one cell, as an
     # exactly zero one is — the PCA subspace's notion of a dropped direction
-    flat = width <= TOL.subspace_rtol * width.max()
+    flat = width <= config.TOL.subspace_rtol * width.max()
     idx = np.where(flat, 0, np.floor((W - lo) / np.where(flat, 1.0, width))).astype(np.int64)
     idx = np.clip(idx, 0, n_cells - 1)
     key = np.ravel_multi_index(idx.T, (n_cells,) * 6)

@@ -10,7 +10,7 @@ contact is fitted in 3D, never as a singular 6D problem):
   solved as a semidefinite program via cvxpy; ``alpha > 0`` adds Eq. (3.12)'s
   ``−α log det A``.  The thesis needs that penalty to keep ``det A > 0`` when the
   wrenches span a subspace (planar contacts); here the PCA subspace already
-  does, so the default is ``α = TOL.sdp_alpha_per_wrench·K = 0``.  Measured
+  does, so the default is ``α = config.TOL.sdp_alpha_per_wrench·K = 0``.  Measured
   (``results/ls-fitting`` → ``sdp_log_det_effect``): ``α = 1e-6·K`` (our former
   default) changes Eq. (3.18) by < 1e-5, ``α >= 1e-3·K`` only raises the error;
   without it the fit *is* "lsq" whenever the least-squares matrix is positive
@@ -22,7 +22,7 @@ contact is fitted in 3D, never as a singular 6D problem):
   re-solved.
 
 The returned 6×6 ``A_e`` is always positive definite: dropped directions get a
-semi-axis ``TOL.flat_axis`` (the model is flat to that thickness).
+semi-axis ``config.TOL.flat_axis`` (the model is flat to that thickness).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import TOL
+from .. import config
 from .base import LimitSurfaceModel
 from .normalize import prepare
 
@@ -71,7 +71,7 @@ class EllipsoidLS(LimitSurfaceModel):
     def factor(self) -> np.ndarray:
         """(r, 6) ``Q`` with ``f(w) = ‖Q w‖²`` on the model's PCA subspace (raw wrenches):
         the second-order cone ``‖Q w‖ <= 1`` of the grasp programs.  The complement of
-        the subspace is left out (``A_e`` gives it a large ``TOL.flat_axis`` penalty that
+        the subspace is left out (``A_e`` gives it a large ``config.TOL.flat_axis`` penalty that
         must not enter a cone; grasp programs pin it with equality rows instead):
         ``f = yᵀ (Bᵀ A_e B) y`` with ``y = Bᵀ (w / scale)``.  Derived from immutable
         fields only (a cache, not state)."""
@@ -98,7 +98,7 @@ def _unpack(a: np.ndarray, iu: np.ndarray, ju: np.ndarray, r: int) -> np.ndarray
 def _embed(A_r: np.ndarray, sub) -> np.ndarray:
     """6×6 PD matrix: ``A_r`` on the subspace, ``1/flat²`` on its complement."""
     B, C = sub.basis, sub.complement
-    return B @ A_r @ B.T + (C @ C.T) / TOL.flat_axis**2
+    return B @ A_r @ B.T + (C @ C.T) / config.TOL.flat_axis**2
 
 
 def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
@@ -106,10 +106,10 @@ def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
     a, *_ = np.linalg.lstsq(phi, np.ones(len(y)), rcond=None)
     A = _unpack(a, iu, ju, y.shape[1])
     lam, V = np.linalg.eigh(A)
-    if lam.min() > TOL.ellipsoid_eig_floor * lam.max() > 0:
+    if lam.min() > config.TOL.ellipsoid_eig_floor * lam.max() > 0:
         return A, None
     # projection to the PD cone, then the best scalar multiple (Σ (s f - 1)² min)
-    lam = np.maximum(lam, TOL.ellipsoid_eig_floor * max(lam.max(), 1e-300))
+    lam = np.maximum(lam, config.TOL.ellipsoid_eig_floor * max(lam.max(), 1e-300))
     A = (V * lam) @ V.T
     f = np.einsum("ni,ij,nj->n", y, A, y)
     return A * (f.sum() / (f @ f)), "indefinite least-squares A projected to the PD cone"
@@ -144,7 +144,7 @@ def _sdp(
     y: np.ndarray, solver: str, alpha: float | None, warm_start: bool = True
 ) -> tuple[np.ndarray, str | None]:
     r = y.shape[1]
-    alpha_v = TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
+    alpha_v = config.TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
     if not (np.isfinite(alpha_v) and alpha_v >= 0):
         raise ValueError(f"alpha (the log-det weight of Eq. 3.12) must be finite and >= 0; got {alpha_v}")
     if alpha_v == 0:
@@ -191,7 +191,7 @@ def fit_ellipsoid(
     method : "lsq" (Eq. 3.13) or "sdp" (PSD-constrained least squares, cvxpy with
         ``solver``; module docstring).
     alpha : log-det weight of Eq. (3.12) for "sdp"; default
-        ``TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
+        ``config.TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
     warm_start : let cvxpy reuse the previous "sdp" fit of the same size in this process;
         off by default so a fit does not depend on what the process fitted before (as
         :func:`~.quartic.fit_quartic`, where it was measured to change the result).

@@ -1,7 +1,7 @@
 """Normalisation of frictional wrenches (Eq. 3.10) and the PCA subspace of
 §3.3.4.2 / 6DFC §IV-C.2.
 
-Degenerate components (``w_max,i <= TOL.degenerate_wmax_rtol * max w_max``,
+Degenerate components (``w_max,i <= config.TOL.degenerate_wmax_rtol * max w_max``,
 e.g. ``f_z`` of a planar contact in the xy-plane) are scaled by ``max w_max``
 instead of ``w_max,i`` — never divided by ~0 — and the PCA then drops them.
 """
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import TOL
+from .. import config
 
 
 def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
@@ -74,7 +74,7 @@ def wrench_scale(w_max: np.ndarray) -> np.ndarray:
     top = float(w_max.max())
     if not np.isfinite(top) or top <= 0:
         raise ValueError(f"w_max must have a positive entry; got {w_max}")
-    return np.where(w_max > TOL.degenerate_wmax_rtol * top, w_max, top)
+    return np.where(w_max > config.TOL.degenerate_wmax_rtol * top, w_max, top)
 
 
 @dataclass(frozen=True)
@@ -93,9 +93,11 @@ class Subspace:
         return self.basis.shape[1]
 
 
-def pca_subspace(w_hat: np.ndarray, rtol: float = TOL.subspace_rtol) -> Subspace:
+def pca_subspace(w_hat: np.ndarray, rtol: float | None = None) -> Subspace:
     """PCA about the origin (limit surfaces are centered at 0): keep directions
-    whose std is > ``rtol`` times the largest (§3.3.4.2)."""
+    whose std is > ``rtol`` (default ``config.TOL.subspace_rtol``, read now) times the
+    largest (§3.3.4.2)."""
+    rtol = config.TOL.subspace_rtol if rtol is None else rtol
     # second-moment (not covariance) eigenvectors: the set is symmetric about 0;
     # the 6x6 moment matrix avoids a K x K SVD factor
     lam, vec = np.linalg.eigh(w_hat.T @ w_hat / max(len(w_hat), 1))
@@ -104,6 +106,23 @@ def pca_subspace(w_hat: np.ndarray, rtol: float = TOL.subspace_rtol) -> Subspace
     vec = vec[:, order]
     r = int((std > rtol * std[0]).sum())
     return Subspace(vec[:, :r].copy(), vec[:, r:].copy(), std)
+
+
+def explained_variance_ratio(w_hat: np.ndarray, *, center: bool = True) -> np.ndarray:
+    """(6,) fractions of the variance of normalised wrenches ``w_hat`` (K, 6) along their
+    principal directions, largest first — Table 3.2's PCA (the thesis's: about the mean).
+
+    Two conventions live here on purpose: this one centers (``center=True``), as a PCA of a
+    sample does; :func:`pca_subspace` takes moments about the origin, because a limit
+    surface is centered at 0 by construction and its fit must not move it.  For a set
+    symmetric about 0 (``w`` and ``-w`` both sampled) they agree.
+    """
+    w_hat = np.asarray(w_hat, dtype=np.float64)
+    if w_hat.ndim != 2 or w_hat.shape[1] != 6 or len(w_hat) < 2 or not np.isfinite(w_hat).all():
+        raise ValueError(f"w_hat must be finite normalised wrenches (K >= 2, 6); got shape {w_hat.shape}")
+    x = w_hat - w_hat.mean(axis=0) if center else w_hat
+    var = np.linalg.svd(x, compute_uv=False) ** 2 / (len(x) - 1)
+    return var / var.sum()
 
 
 def prepare(
@@ -118,7 +137,7 @@ def prepare(
         raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
     if w_max is not None:
         reach = np.abs(W).max(axis=0)
-        over = reach > wm * (1 + TOL.given_wmax_rtol) + TOL.degenerate_wmax_rtol * wm.max()
+        over = reach > wm * (1 + config.TOL.given_wmax_rtol) + config.TOL.degenerate_wmax_rtol * wm.max()
         if over.any():
             i = int(np.argmax(np.where(over, reach / np.maximum(wm, 1e-300), 0)))
             raise ValueError(

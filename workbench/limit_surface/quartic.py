@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..config import DEFAULTS, TOL
+from .. import config
 from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
 from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
@@ -65,7 +65,7 @@ class QuarticLS(LimitSurfaceModel):
         y = x @ self.subspace.basis
         v = 0.25 * np.einsum("ij,ij->i", y, self._grad_sub(y))  # Euler: x·∇f = 4 f
         if self.subspace.complement.shape[1]:
-            v = v + (np.sum((x @ self.subspace.complement) ** 2, axis=1) / TOL.flat_axis**2) ** 2
+            v = v + (np.sum((x @ self.subspace.complement) ** 2, axis=1) / config.TOL.flat_axis**2) ** 2
         return v
 
     def _gradient_n(self, x: np.ndarray) -> np.ndarray:
@@ -73,7 +73,7 @@ class QuarticLS(LimitSurfaceModel):
         g = self._grad_sub(x @ B) @ B.T
         if C.shape[1]:
             cx = x @ C
-            g = g + (4.0 * np.sum(cx**2, axis=1, keepdims=True) / TOL.flat_axis**4) * (cx @ C.T)
+            g = g + (4.0 * np.sum(cx**2, axis=1, keepdims=True) / config.TOL.flat_axis**4) * (cx @ C.T)
         return g
 
     @cached_property
@@ -363,7 +363,7 @@ def fit_quartic(
         so the rows stay linear least squares.  It matters for K near the 126
         coefficients, where the values-only quartic overfits (held-out error
         above the ellipsoid's).
-    normal_weight : β of those rows; default ``DEFAULTS.quartic_normal_weight *
+    normal_weight : β of those rows; default ``config.DEFAULTS.quartic_normal_weight *
         sqrt(L / K)`` (a fixed total weight that fades against the K value rows).
         0 fits values only.
     w_max : optional exact (6,) maxima; default the sampled maxima.
@@ -403,9 +403,8 @@ def fit_quartic(
     beta = 0.0
     if twists is not None:
         xi = check_twists(W, twists, friction_sign=False)
-        beta = (
-            DEFAULTS.quartic_normal_weight * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
-        )
+        w0 = config.DEFAULTS.quartic_normal_weight
+        beta = w0 * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
         if not np.isfinite(beta) or beta < 0:
             raise ValueError(f"normal_weight must be finite and >= 0; got {beta}")
         if beta > 0:

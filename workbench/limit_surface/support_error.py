@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import TOL
+from .. import config
 from .base import LimitSurfaceModel
 
 log = logging.getLogger(__name__)
@@ -81,7 +81,7 @@ def support_error(
     d = uniform_normals(model, n_directions, seed)
     # plus ±e_i of the non-degenerate components: their exact points reach w_max_i exactly,
     # so a wrench set of another μ, force or normalisation than the model's shows here
-    live = np.flatnonzero(model.w_max > TOL.degenerate_wmax_rtol * model.w_max.max())
+    live = np.flatnonzero(model.w_max > config.TOL.degenerate_wmax_rtol * model.w_max.max())
     probe = np.zeros((2 * len(live), 6))
     probe[np.arange(len(live)), live] = 1.0
     probe[len(live) + np.arange(len(live)), live] = -1.0
@@ -99,13 +99,13 @@ def support_error(
         )
     W, W_probe = W_all[: len(d)], W_all[len(d) :]
     reach = np.abs(W_probe[np.arange(len(probe)), np.r_[live, live]]) / model.w_max[np.r_[live, live]]
-    if reach.max() > 1 + TOL.support_wmax_mismatch:  # legitimate for sampled maxima, so a warning
+    if reach.max() > 1 + config.TOL.support_wmax_mismatch:  # legitimate for sampled maxima, so a warning
         log.warning(
             "the contact's exact maxima exceed the model's w_max by up to %.0f %% (a model normalised "
             "by sampled maxima, or wrenches_of of a larger μ or force): the radial error includes that",
             100 * (reach.max() - 1),
         )
-    if reach.min() < 1 - TOL.support_wmax_mismatch:  # below the model's own maxima: another contact
+    if reach.min() < 1 - config.TOL.support_wmax_mismatch:  # below the model's own maxima: another contact
         raise ValueError(
             f"wrenches_of does not reproduce the model's w_max: |w_i| / w_max_i at the twists of the "
             f"canonical normals ±e_i range over [{reach.min():.3g}, {reach.max():.3g}], expected ≈ 1 — pass "

@@ -1,0 +1,75 @@
+"""workbench.config: tolerances and defaults are read when a function runs, so override() and
+configure() reach every later call — and no library module binds them at import."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from workbench import config
+from workbench.limit_surface.normalize import pca_subspace
+from workbench.twists import sample_twists_thesis
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _wrenches() -> np.ndarray:
+    # six directions with stds 1, 0.3, 0.1, 1e-3, 1e-5, 1e-8 about the origin
+    rng = np.random.default_rng(0)
+    return rng.standard_normal((4000, 6)) * np.array([1, 0.3, 0.1, 1e-3, 1e-5, 1e-8])
+
+
+def test_override_reaches_a_default_argument_and_is_undone_after_the_block():
+    w = _wrenches()
+    assert pca_subspace(w).dim == 5  # default subspace_rtol = 1e-6 keeps all but the 1e-8 axis
+    with config.override(subspace_rtol=0.05):
+        assert config.TOL.subspace_rtol == 0.05 and pca_subspace(w).dim == 3
+    assert config.TOL.subspace_rtol == 1e-6 and pca_subspace(w).dim == 5
+    with pytest.raises(RuntimeError), config.override(subspace_rtol=0.5):
+        raise RuntimeError("a failing block restores them too")
+    assert pca_subspace(w).dim == 5
+
+
+def test_override_of_a_default_changes_the_samplers_and_configure_lasts(monkeypatch):
+    a = sample_twists_thesis(20, 0.01)
+    with config.override(seed=123):
+        b = sample_twists_thesis(20, 0.01)
+    assert not np.array_equal(a, b) and np.array_equal(sample_twists_thesis(20, 0.01, 123), b)
+    monkeypatch.setattr(config, "DEFAULTS", config.DEFAULTS)  # undone after the test
+    config.configure(twist_radius_factor=0.5)
+    assert config.DEFAULTS.twist_radius_factor == 0.5
+    assert np.array_equal(sample_twists_thesis(20, 0.01), sample_twists_thesis(20, 0.01, radius_factor=0.5))
+
+
+def test_unknown_names_are_refused_with_the_names_to_use():
+    with pytest.raises(ValueError, match=r"unknown tolerance/default names \['no_such_rtol'\]"):
+        config.configure(no_such_rtol=1.0)
+    with pytest.raises(ValueError, match="unknown"), config.override(resist_rtol=1e-9, nope=2):
+        pass
+    assert config.TOL.resist_rtol != 1e-9
+
+
+def _library_files() -> list[Path]:
+    return [f for d in ("workbench", "fem", "experiments") for f in (ROOT / d).rglob("*.py")]
+
+
+def test_no_library_module_binds_a_tolerance_or_default_at_import():
+    bound = []
+    for f in _library_files():
+        tree = ast.parse(f.read_text())
+        for node in tree.body:  # module-level name imports freeze the object a test may replace
+            if isinstance(node, ast.ImportFrom) and (node.module or "").endswith("config"):
+                bound += [f"{f.name}: import {a.name}" for a in node.names if a.name in ("TOL", "DEFAULTS")]
+        for node in ast.walk(tree):  # default arguments are evaluated once, at import
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                args = node.args
+                for d in [*args.defaults, *args.kw_defaults]:
+                    if d is not None and any(
+                        isinstance(n, ast.Name) and n.id in ("TOL", "DEFAULTS") for n in ast.walk(d)
+                    ):
+                        bound.append(f"{f.name}:{node.lineno} {node.name}")
+    assert len(_library_files()) > 60
+    assert bound == []

@@ -1,0 +1,30 @@
+"""workbench.grasp.precision: precision/recall of "resisted" predictions and matched precision."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from workbench.grasp.precision import matched_precision, scores
+
+
+def test_scores_by_hand():
+    pred = np.array([True, True, False, False, True])
+    truth = np.array([True, False, True, False, True])
+    assert scores(pred, truth) == {"precision": 2 / 3, "recall": 2 / 3, "positives": 3}
+    none = scores(np.zeros(3, bool), np.zeros(3, bool))
+    assert np.isnan(none["precision"]) and np.isnan(none["recall"]) and none["positives"] == 0
+    with pytest.raises(ValueError, match="boolean"):
+        scores(np.array([1, 0]), np.array([True, False]))
+    with pytest.raises(ValueError, match="one shape"):
+        scores(np.ones(3, bool), np.ones(2, bool))
+
+
+def test_matched_precision_on_a_hand_made_ranking():
+    truth = np.array([True, True, True, False, True, False])
+    margins = np.array([3.0, 2.5, 2.0, 1.8, 1.2, 0.5])
+    out = matched_precision(margins, truth, [0.8, 1.0])
+    # t = 1.2 keeps the top 5: precision 4/5, recall 1; t = 2.0: precision 1, recall 3/4
+    assert out["at_levels"]["recall"] == [1.0, 0.75]
+    assert out["at_levels"]["threshold"] == [1.2, 2.0]
+    assert np.isnan(matched_precision(np.zeros(6), truth, [0.5])["at_levels"]["recall"][0])

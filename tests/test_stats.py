@@ -1,0 +1,30 @@
+"""workbench.stats: rank correlation that last-bit noise cannot move."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.stats import spearmanr
+
+from workbench.stats import rank_correlation, significant
+
+
+def test_near_ties_rank_as_ties_whatever_their_last_bits():
+    measured = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    pred = np.array([10.0, 20.0, 30.0, 30.0, 50.0, 60.0])
+    up, down = pred.copy(), pred.copy()
+    up[2], down[3] = np.nextafter(30.0, 40.0), np.nextafter(30.0, 40.0)  # one ulp, either order
+    assert spearmanr(up, measured).statistic != spearmanr(down, measured).statistic  # raw: moved
+    tied = rank_correlation(pred, measured)
+    assert rank_correlation(up, measured) == rank_correlation(down, measured) == tied
+    assert rank_correlation(pred, measured) == pytest.approx(spearmanr(pred, measured).statistic)
+
+
+def test_significant_digits_and_careless_input():
+    x = np.array([123456.789012345, -0.000123456789012345, 0.0, np.inf, np.nan])
+    r = significant(x, 6)
+    assert r[0] == 123457.0 and r[1] == pytest.approx(-0.000123457, rel=1e-12)
+    assert r[2] == 0.0 and r[3] == np.inf and np.isnan(r[4])
+    assert np.isnan(rank_correlation([1.0], [2.0]))
+    with pytest.raises(ValueError, match="one length"):
+        rank_correlation([1.0, 2.0, 3.0], [1.0, 2.0])

@@ -1,0 +1,63 @@
+"""The resistance margin of a grasp against a disturbance: the largest ``s`` with ``s w``
+resisted, by bisection on ``log s`` (thesis §4.1.3.2's capacity, Fig 4.4), and the error of
+one model's margins against the truth's."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+__all__ = ["MARGIN_SPAN", "margin_vs_truth", "resistance_margin"]
+
+#: margins are bisected in [1/MARGIN_SPAN, MARGIN_SPAN] (0 below, MARGIN_SPAN above)
+MARGIN_SPAN = 64.0
+
+
+def resistance_margin(
+    resisted: Callable[[np.ndarray], bool], w: np.ndarray, steps: int, span: float = MARGIN_SPAN
+) -> float:
+    """Largest ``s`` in ``[1/span, span]`` with ``resisted(s w)`` (0 below, ``span`` above).
+
+    resisted : ``(6,) -> bool``, e.g. ``partial(resists, contacts, mu=mu)``; w : (6,) the
+    disturbance; steps : bisection steps on ``log2 s`` (resolution ``2 log2(span) / 2^steps``).
+    The resistible set is convex and contains 0 (the squeeze forces balance), so resistance
+    is monotone along the ray and the bisection finds ``s*``.
+    """
+    w = np.asarray(w, dtype=float)
+    if w.shape != (6,) or not np.isfinite(w).all():
+        raise ValueError(f"w must be a finite (6,) wrench; got shape {w.shape}")
+    if not (isinstance(steps, int | np.integer) and steps >= 0):
+        raise ValueError(f"steps must be an integer >= 0 (bisection steps); got {steps!r}")
+    if not (np.isfinite(span) and span > 1):
+        raise ValueError(f"span must be > 1 (margins are bisected in [1/span, span]); got {span!r}")
+    if resisted(span * w):
+        return float(span)
+    if not resisted(w / span):
+        return 0.0
+    lo, hi = -np.log2(span), np.log2(span)
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        if resisted(2.0**mid * w):
+            lo = mid
+        else:
+            hi = mid
+    return float(2.0**lo)
+
+
+def margin_vs_truth(s_m: np.ndarray, true_margin: np.ndarray, span: float = MARGIN_SPAN) -> dict:
+    """Capacity error of a model's margins (n,) against the truth's (n,), where both are
+    finite and inside ``(0, span)``: median |log ratio|, its sign (> 0: optimistic)."""
+    s_m, true_margin = np.asarray(s_m, float), np.asarray(true_margin, float)
+    if s_m.shape != true_margin.shape:
+        raise ValueError(
+            f"margins and true margins must have one shape; got {s_m.shape}, {true_margin.shape}"
+        )
+    ok = (s_m > 0) & (true_margin > 0) & (s_m < span) & (true_margin < span)
+    lr = np.log(s_m[ok] / true_margin[ok])
+    return {
+        "n": int(ok.sum()),
+        "median_abs_log_ratio": float(np.median(np.abs(lr))) if ok.any() else float("nan"),
+        "median_log_ratio": float(np.median(lr)) if ok.any() else float("nan"),
+        "optimistic_fraction": float((lr > 0).mean()) if ok.any() else float("nan"),
+    }

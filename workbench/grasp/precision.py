@@ -1,0 +1,47 @@
+"""Precision and recall of "resisted" predictions against the truth, and the best recall a
+model's margins reach at a required precision (the sensitivity study's matched precision)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["matched_precision", "scores"]
+
+
+def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
+    """Precision, recall and the number of positives of boolean predictions (n,) against the
+    truth (n,); NaN where undefined (no positive prediction, no positive truth)."""
+    pred, truth = np.asarray(pred), np.asarray(truth)
+    if pred.shape != truth.shape or pred.dtype != bool or truth.dtype != bool:
+        raise ValueError(
+            f"pred and truth must be boolean arrays of one shape; got {pred.dtype} {pred.shape}, "
+            f"{truth.dtype} {truth.shape}"
+        )
+    tp = int((pred & truth).sum())
+    fp = int((pred & ~truth).sum())
+    fn = int((~pred & truth).sum())
+    return {
+        "precision": tp / (tp + fp) if tp + fp else float("nan"),
+        "recall": tp / (tp + fn) if tp + fn else float("nan"),
+        "positives": int(pred.sum()),
+    }
+
+
+def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
+    """Precision-recall curve of ``margins >= t`` over every threshold t, and for each
+    precision level the best recall at precision >= level (and its t; NaN if the
+    model never reaches it).  ``t = 1`` is the model's plain prediction."""
+    margins = np.asarray(margins, float)
+    ts = np.unique(margins[margins > 0])
+    curve = [(float(t), *(scores(margins >= t, truth)[k] for k in ("precision", "recall"))) for t in ts]
+    out = {
+        "threshold": [c[0] for c in curve],
+        "precision": [c[1] for c in curve],
+        "recall": [c[2] for c in curve],
+    }
+    best = []
+    for level in levels:
+        ok = [c for c in curve if c[1] >= level]
+        best.append(max(ok, key=lambda c: (c[2], -c[0])) if ok else (float("nan"),) * 3)
+    out["at_levels"] = {"level": levels, "recall": [b[2] for b in best], "threshold": [b[0] for b in best]}
+    return out
