@@ -49,8 +49,9 @@ reproduce: $(STAMP)
 	$(TIMED) bench-wall-stiffness -- $(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 
+# with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
 test: $(STAMP) lint
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q --cov --cov-report=term
 
 # The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.
 test-nojit: $(STAMP)
