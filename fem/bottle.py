@@ -132,6 +132,8 @@ class Bottle:
         A, B = self.semi_axes(z)
         q = (X - self._centre(z, 0)) * np.exp(-1j * self.params.twist * z / self.params.height)
         th = np.arctan2(q.imag / B, q.real / A)
+        # Newton on the section's angle stops at round-off of the bottle's size (its iterates converge
+        # quadratically)
         tol = 1e-13 * self.params.height
         for _ in range(self.NEWTON_ITERATIONS):
             P, P_t, P_tt, P_z, P_tz, P_zz = self._surface(th, z)
@@ -247,6 +249,7 @@ def grasp_pose(
         d, _ = Posed(bottle, R, origin).signed_distance(X)
         gap = float(d.min())
         origin = origin - out * gap
+        # the ray already touches the surface to round-off (metres: 1e-12 m)
         if abs(gap) < 1e-12:
             break
     return Posed(bottle, R, origin)

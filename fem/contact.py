@@ -105,6 +105,7 @@ def solve_lcp(
                 sla.cho_factor(A[np.ix_(active, active)], check_finite=False), -d[active], check_finite=False
             )
         w = A @ lam + d
+        # active-set update: a penetration below round-off of the problem's scale is contact, not noise
         new = (active & (lam > 0)) | (~active & (w < -1e-12 * scale))
         if np.array_equal(new, active):
             if (lam >= 0).all():
@@ -186,6 +187,8 @@ def solve_contact(
         else:
             u = np.zeros((n_nodes, 3))
         gap = d + np.einsum("ij,ij->i", nrm, u)
+        # a node penetrating by more than 1e-9 of the pad thickness joins the contact set (well above the
+        # solve's round-off)
         viol = np.setdiff1d(np.flatnonzero(gap < -1e-9 * h), have)
         if viol.size == 0:
             break
@@ -251,6 +254,7 @@ def solve_contact_full(
         lam[S] = -sol[fidx.size :]
         u_face = np.where(face_free >= 0, u[face_free], 0.0)
         gap = d + np.einsum("ij,ij->i", nrm, u_face)
+        # as above, on the full mesh: penetration beyond round-off of the thickness
         new = (active & (lam > 0)) | (~active & (gap < -1e-12 * geometry.thickness))
         if np.array_equal(new, active):
             break

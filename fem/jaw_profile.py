@@ -53,6 +53,7 @@ def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
     if not na > 0:
         raise ValueError(f"approach must be a non-zero direction (into the object); got {approach!r}")
     ez = a / na
+    # up within 1e-6 rad of the approach cannot orient the jaw (1e-300: a zero up-vector is refused too)
     if not np.linalg.norm(u - (u @ ez) * ez) > 1e-6 * max(float(np.linalg.norm(u)), 1e-300):
         raise ValueError(
             f"up {up!r} is parallel to the approach {approach!r}: the pad's long side is undefined — "
@@ -75,6 +76,7 @@ def _touching(obstacle: MeshObstacle, R: np.ndarray, point: np.ndarray, X: np.nd
         if not np.isfinite(gap):
             break
         t = t + ez * gap
+        # first touch found to 1e-9 of the pad thickness (plus 1e-12 m absolute for a tiny pad)
         if abs(gap) <= 1e-12 + 1e-9 * h:
             return Posed(obstacle, R, t)
     raise ValueError(
@@ -163,6 +165,7 @@ def fem_jaw_profile(
             f"{h * 1e3:.3g} mm layer (then the object meets the jaw's rigid back or the layer is spent), "
             f"below the reading {force} N: a stiffer or thicker pad, another grasp, or a smaller force"
         )
+    # the displacement at the force to round-off-level accuracy: the profile's force matches to 1e-9
     delta = brentq(lambda d: axial(d) - force, 0.0, hi, xtol=1e-12 * h, rtol=1e-10)
     prof = extract_profile(pad, cache.get(delta) or solve_contact(pad, posed, delta), posed)
     if prof is None:  # pragma: no cover - a positive axial force has loaded nodes

@@ -177,6 +177,7 @@ class NonlinearPad:
                 # load increment, is far too large and would make the tangent indefinite
                 geo = 0.0
                 if it > 0:
+                    # central-difference step of the gap's normal: ~cbrt(machine epsilon) x thickness
                     xa, eps = X0[act] + [0, 0, delta] + uf[act], 1e-6 * h
                     cols = [
                         obstacle.signed_distance(xa + eps * e)[1] - obstacle.signed_distance(xa - eps * e)[1]
@@ -271,6 +272,7 @@ class NonlinearPad:
         out: dict[float, ContactSolution] = {}
         for target in deltas:
             inc = min(step, target - d_cur)
+            # load steps reach the target exactly, not one round-off step short of it
             while d_cur < target - 1e-12 * h:
                 t0 = time.perf_counter()
                 delta = min(d_cur + inc, target)

@@ -97,6 +97,7 @@ def graded_half_axis(length: float, fine: float, size: float, growth: float) -> 
     """Coordinates 0 .. length: spacing ``size`` up to ``fine``, then growing by ``growth``."""
     pts = [0.0]
     step = size
+    # stop at the end of the pad, not one round-off step short of it
     while pts[-1] < length - 1e-12 * length:
         if pts[-1] >= fine - 1e-12 * length:
             step *= growth

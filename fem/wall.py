@@ -183,6 +183,7 @@ def build_wall(
         comp = components(basis)
         fixed[comp == 2] = True
         ang = np.arctan2(basis.doflocs[1], basis.doflocs[0])
+        # symmetry planes: dof angles equal to 0, ±π/2, π up to round-off of arctan2
         tol = 1e-9
         on_x = (np.abs(np.sin(ang)) < tol) & (comp == 1)  # u_y dofs at θ = 0, π
         on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
@@ -280,10 +281,12 @@ def ring_pinch(
     f = np.zeros(b.N)
     comp = components(b)
     for sgn in (1, -1):
+        # nodes on the x axis (y = 0 to round-off; coordinates in metres)
         sel = (comp == 0) & (np.abs(y) < 1e-9) & (np.sign(x) == sgn)
         # consistent load of a line force on the quadratic element's faces: Simpson weights
         # over the slab length (z = 0, slab/2, slab) and over the thickness (inner, mid, outer)
         wz = np.where(np.isclose(b.doflocs[2], slab / 2), 4.0, 1.0) / 6.0
+        # mid-surface nodes (Simpson weight 4/6): radius equal to round-off of the mesh's trigonometry
         wr = np.where(np.isclose(r, radius, rtol=1e-6), 4.0, 1.0) / 6.0
         f[sel] = -sgn * P * slab * (wz * wr)[sel]
     u = np.zeros(b.N)
@@ -416,6 +419,7 @@ def squeeze(
             lam, _, _ = solve_lcp(A, gaps[active] - travel[own])
             solves += 1
             f = np.array([lam[own == c].sum() for c in (0, 1)])
+            # both jaws' forces at the target to 1e-9: the secant update has converged
             if np.all(np.abs(f / force - 1) < 1e-9):
                 force_ok = True
                 break
@@ -428,6 +432,8 @@ def squeeze(
             J = M.T @ np.linalg.solve(A[np.ix_(S, S)], M)
             travel = np.maximum(travel + np.linalg.solve(J, force - f), 0.5 * travel)
         gap_all = gaps - travel[owner] + cols[:, active] @ lam
+        # a node penetrating beyond 1e-9 of the jaws' travel joins the contact set (above the solve's
+        # round-off)
         viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * travel.sum()), active)
         if viol.size == 0:
             converged = force_ok

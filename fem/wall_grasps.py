@@ -288,6 +288,7 @@ def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:
     n = len(L) // 2
     if S.shape != (len(L),):
         raise ValueError(f"{want}; got {S.size} values for {len(L)} locations")
+    # a map's two jaw points of one grasp carry one stiffness written twice (equal to 1e-9 after JSON)
     differ = ~np.isclose(S[:n], S[n:], rtol=1e-9)
     if differ.any():
         k = int(np.argmax(differ))

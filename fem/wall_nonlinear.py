@@ -193,6 +193,7 @@ def squeeze_nonlinear(
                 react = r[outer_x[cand]]  # internal force; the jaw pushes with -s along x
                 pos = X[cand, 0] + u[outer_x[cand]]
                 keep = act[s * react[act] < 0]  # still pressed
+                # passing the jaw by more than 1e-9 of the closing: contact, not round-off
                 new = np.union1d(keep, np.flatnonzero(s * (pos - plane) > 1e-9 * d))  # or passing the jaw
                 changed |= not np.array_equal(new, act)
                 active[j] = new

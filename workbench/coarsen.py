@@ -47,6 +47,7 @@ def coarsen_profile(profile: ContactProfile, cell: float) -> ContactProfile:
     if len(c) < 2:
         raise ValueError(f"need a profile with >= 2 elements to coarsen; got {len(c)}")
     n_bar = a @ profile.normals
+    # area-weighted normals cancelling to 1e-6 of the cell's area: no side to face (a fold), not round-off
     if np.linalg.norm(n_bar) < 1e-6 * a.sum():
         raise ValueError(
             "the profile's area-weighted normals cancel (both sides of a thin part?): there is no "
@@ -70,6 +71,7 @@ def coarsen_profile(profile: ContactProfile, cell: float) -> ContactProfile:
     normal = np.column_stack([np.bincount(cell_of, a * profile.normals[:, d], k) for d in range(3)])
     keep = force > 0
     length = np.linalg.norm(normal, axis=1)
+    # a merged cell whose normals cancel (length 1e-6 of its area) is a fold, dropped as above
     folded = keep & (length < 1e-6 * area)
     if folded.any():  # e.g. two sides of a thin wall, or a fold, in one cell
         raise ValueError(

@@ -385,6 +385,7 @@ class ContactProfile:
         """
         R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
         t = np.zeros(3) if translation is None else np.asarray(translation, dtype=np.float64)
+        # a float64 rotation is orthogonal to ~1e-15; 1e-9 admits one composed or read from text
         if R.shape != (3, 3) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9):
             raise ValueError(f"rotation must be a (3, 3) orthogonal matrix; got shape {R.shape}")
         if np.linalg.det(R) < 0:

@@ -66,6 +66,7 @@ class ParametricSurface:
         """``σ_u, σ_v`` at (u, v), analytic if given else central differences."""
         if self.sigma_u is not None and self.sigma_v is not None:
             return np.asarray(self.sigma_u(u, v), float), np.asarray(self.sigma_v(u, v), float)
+        # central-difference step: ~cube root of machine epsilon times the range (~1e-10 accuracy)
         hu = 1e-6 * (self.u_range[1] - self.u_range[0])
         hv = 1e-6 * (self.v_range[1] - self.v_range[0])
         su = (np.asarray(self.sigma(u + hu, v)) - np.asarray(self.sigma(u - hu, v))) / (2 * hu)
@@ -382,6 +383,7 @@ def _collapsed_edges(surface: ParametricSurface) -> tuple[bool, bool, bool, bool
     L = _length_scale(surface)
 
     def collapsed(edge: Array) -> bool:
+        # an edge collapsed to a point (a pole) to round-off of the surface's size L
         return bool(np.ptp(edge, axis=0).max() <= 1e-12 * L)
 
     return collapsed(P[0]), collapsed(P[-1]), collapsed(P[:, 0]), collapsed(P[:, -1])

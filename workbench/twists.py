@@ -54,6 +54,7 @@ def twists_from_plucker(e: Any, m: Any, h: Any) -> np.ndarray:
     if m.shape != e.shape:
         raise ValueError(f"m must have the shape of e {e.shape}; got {m.shape}")
     scale = np.maximum(np.linalg.norm(m, axis=1), 1.0)
+    # Plücker coordinates: e·m = 0 exactly, up to round-off of their magnitudes
     if (np.abs(np.einsum("ij,ij->i", e, m)) > 1e-9 * scale).any():
         raise ValueError("Plücker coordinates need e·m = 0 (Eq. 2.22); build m as q × e")
     return np.hstack([h[:, None] * e + m, e])

@@ -67,6 +67,7 @@ def render_friction_arrows(
     stride = max(1, len(profile) // max_arrows)
     idx = np.arange(0, len(profile), stride)
     length = 0.05 * profile.length_scale
+    # a uniform pressure (equal to round-off) gets one colour, not a noise colour map
     uniform = np.ptp(profile.pressures) <= 1e-12 * profile.pressures.max()
     for j, (label, xi) in enumerate(twists.items()):
         plotter.subplot(0, j)

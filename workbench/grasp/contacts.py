@@ -43,6 +43,7 @@ def _split_pairs(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if Z.size >= 2:
         dots = A[Z] @ A[Z].T
         sq = np.diag(dots)
+        # ± row pairs are exact negatives written by the models: equal to round-off
         pair = np.isclose(dots, -np.sqrt(np.outer(sq, sq)), rtol=1e-12, atol=0) & (sq[:, None] > 0)
         for r, c in zip(*np.nonzero(np.triu(pair, 1)), strict=True):
             if ineq[Z[r]] and ineq[Z[c]]:
@@ -154,6 +155,7 @@ class ContactSet:
         N = np.eye(6)
         if eq.any():
             _, sv, Vt = np.linalg.svd(self.A[eq])
+            # numerical rank of ± pairs built from unit rows: singular values are 1-ish or round-off
             rank = int((sv > 1e-12 * sv[0]).sum())
             N = Vt[rank:].T
         return self.A[ineq] @ N, self.b[ineq], N, np.linalg.norm(N.reshape(2, 3, -1), axis=1)

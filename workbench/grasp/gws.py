@@ -180,6 +180,7 @@ class WrenchHull:
     scale: float
 
     @classmethod
+    # rtol: singular values below 1e-9 of the largest are round-off: the points' affine hull is flatter
     def from_points(cls, points: np.ndarray, rtol: float = 1e-9) -> WrenchHull:
         pts = np.asarray(points, float)
         center = pts.mean(axis=0)
@@ -202,6 +203,7 @@ class WrenchHull:
     def dim(self) -> int:
         return self.basis.shape[1]
 
+    # tol: relative to the hull's offsets; a point on a facet tests inside whatever its last bits
     def contains(self, w: np.ndarray, tol: float = 1e-9) -> np.ndarray:
         """Eq. (2.99) for wrenches (K, 6) (or (6,)): inside the span and on the
         inner side of every facet, both to ``tol`` relative to the hull's scale."""

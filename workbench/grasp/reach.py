@@ -22,6 +22,7 @@ def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     a = np.asarray(approach, float)
     a = a / np.linalg.norm(a)
     e2 = np.asarray(up, float) - (np.asarray(up, float) @ a) * a
+    # e2 is a cross product of unit vectors: below 1e-9 they are parallel (pick another axis)
     if np.linalg.norm(e2) < 1e-9:
         raise ValueError("up must not be parallel to the approach direction")
     e2 /= np.linalg.norm(e2)

@@ -136,6 +136,7 @@ def q_robust(
     mus = mu * np.clip(1 + rng.normal(0.0, p.sigma_mu, K), 0.0, None)
     ok = 0
     if w_ext is None:
+        # a perturbed mass stays positive (a draw below -100 % is clipped, not a negative mass)
         masses = mass * np.clip(1 + rng.normal(0.0, p.sigma_mass, K), 1e-6, None)
         coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     for i in range(K):

@@ -78,6 +78,7 @@ def antipodal_grasps(
     pts, fid = trimesh.sample.sample_surface(mesh, m, seed=int(rng.integers(2**31)))
     n1 = mesh.face_normals[fid]
     axes = _cone_directions(rng, -n1, half)
+    # ray start offset off the surface: far above round-off of the mesh scale, far below any wall
     eps = 1e-6 * mesh.scale
     locs, ray_idx, tri_idx = mesh.ray.intersects_location(pts + eps * axes, axes, multiple_hits=True)
     out = []

@@ -86,6 +86,7 @@ def _spans_3d(P: np.ndarray) -> bool:
     if len(P) < 4:
         return False
     sv = np.linalg.svd(P - P.mean(axis=0), compute_uv=False)
+    # points spanning a plane only (third singular value at round-off): no volume to interpolate in
     return bool(sv[2] > 1e-9 * sv[0])
 
 
@@ -158,6 +159,7 @@ class StiffnessMap:
         uniq, first, inv = np.unique(P, axis=0, return_index=True, return_inverse=True)
         inv = inv.ravel()
         if len(uniq) < len(P):
+            # repeated locations carry the same measured value (JSON round trip: equal to 1e-9)
             same = np.isclose(S, S[first][inv], rtol=1e-9, atol=0) | (np.isinf(S) & np.isinf(S[first][inv]))
             if not same.all():
                 k = int(np.argmax(~same))
@@ -220,6 +222,7 @@ class StiffnessMap:
             )
         n = len(L) // 2
         a, b = V[:n], V[n:]
+        # the two jaws' readings of one grasp are one number written twice (to 1e-9 after JSON)
         agree = np.isclose(a, b, rtol=1e-9, atol=0) | (a == b)
         if not agree.all():
             k = int(np.argmax(~agree))

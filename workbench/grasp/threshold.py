@@ -93,6 +93,7 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     cand = np.concatenate([[v[0] / 2], (v[:-1] + v[1:]) / 2, [2 * v[-1]]])
     cand = cand[cand > 0]
     score = np.array([balanced_accuracy(x <= t, t_true) for t in cand])
+    # scores are ratios of counts: equal ones differ by round-off only
     best = np.flatnonzero(score >= score.max() - 1e-12)
     t = float(cand[best[(len(best) - 1) // 2]])
     return t / (1.0 - float(sigma))

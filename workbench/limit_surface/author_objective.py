@@ -161,6 +161,7 @@ def fit_author_objective(
         A_r = 0.5 * (A.value + A.value.T)
         lam_min = float(np.linalg.eigvalsh(A_r).min())
         if lam_min <= 0:  # a boundary optimum (a flat direction): lift it to PD, record it
+            # shift the spectrum to 1e-12 (relative) above zero: positive definite, a round-off change
             A_r = A_r + (1e-12 * float(np.abs(A_r).max()) - lam_min) * np.eye(r)
             info["fallback"] = f"A had eigenvalue {lam_min:.2e}; lifted to positive definite"
         info["fit_time_s"] = time.perf_counter() - t0

@@ -27,6 +27,7 @@ class Linearization:
     A: np.ndarray | None = None
     b: np.ndarray | None = None
 
+    # tol: relative to the largest offset; a vertex of the polytope tests inside whatever its last bits
     def contains(self, w: np.ndarray, tol: float = 1e-9) -> np.ndarray:
         """Outer: ``A w <= b + tol |b|``-membership of wrenches (N, 6)."""
         if self.A is None:

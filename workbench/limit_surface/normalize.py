@@ -56,6 +56,7 @@ def check_twists(
         )
     if friction_sign:
         power = np.einsum("ij,ij->i", W, xi)
+        # friction dissipates: w·xi <= 0 up to round-off of the products' norms
         wrong = power > 1e-9 * np.linalg.norm(W, axis=1) * np.linalg.norm(xi, axis=1)
         if wrong.any():
             raise ValueError(

@@ -173,6 +173,7 @@ def certify(a: np.ndarray, M: np.ndarray, n: int) -> tuple[np.ndarray, float]:
     resid = float(np.abs(V1 @ M.ravel(order="F") - V2 @ a).sum())
     if eps == 0.0 and resid == 0.0:
         return a, 0.0
+    # a 1e-6 relative margin (plus the coefficients' round-off): the shifted quartic is strictly SOS-convex
     delta = 0.25 * (eps + resid) * (1 + 1e-6) + 1e-15 * float(np.abs(a).max())
     return a + delta * _square_norm_squared(n), delta
 
@@ -325,6 +326,7 @@ def _normal_rows(
     Returns (A (K' r, L), b (K' r,)).
     """
     nz = np.einsum("ij,ij->i", n_z, z)
+    # a normal tangent to the ray to round-off carries no information (docstring)
     tol = 1e-9 * np.linalg.norm(n_z, axis=1) * np.linalg.norm(z, axis=1)
     keep = nz > tol
     z, n_z, nz = z[keep], n_z[keep], nz[keep]

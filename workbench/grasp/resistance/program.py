@@ -354,6 +354,7 @@ def contact_violations(
             continue
         s0, L = prog.starts[i], prog.L[i]
         f = float(prog.Phi[i] @ x)
+        # a force of 1e-12 of its bound is the solver's zero (1e-300: a zero bound stays a guard, not a NaN)
         if f <= 1e-12 * max(c.force, 1e-300):
             continue
         s = (L @ x[s0 : s0 + L.shape[1]]) / (f * mu)  # (c/f − ŵ⊥)/μ

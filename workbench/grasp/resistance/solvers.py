@@ -309,6 +309,8 @@ def _conic_data(prog: Program, band: float | None):
     return A_all, b_all, cones, [len(a) for a, _, _ in parts]
 
 
+# atol: absolute on slacks of O(1) rows (the program is scaled, program.py); a stalled iterate
+# within 1e-7 of its cones is accepted as feasible, well above the 1e-10 stopping tolerances below
 def _in_cones(slack: np.ndarray, cones: list, sizes: list[int], atol: float = 1e-7) -> bool:
     """Whether a Clarabel slack vector lies in its cones (zero, nonnegative, SOC) to ``atol``."""
     import clarabel
@@ -345,6 +347,7 @@ def solve_conic(
         q = cost
     settings = clarabel.DefaultSettings()
     settings.verbose = False
+    # tighter than resist_rtol (1e-6) by four orders: the decision reads the optimum, not the solver's noise
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
     settings.tol_feas = 1e-10
     sol = clarabel.DefaultSolver(P, q, sp.csc_matrix(A_all), b_all, cones, settings).solve()
