@@ -117,23 +117,26 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
     from distributed import LocalCluster
 
     n = str(threads)
-    # Set before each worker process starts (the nanny's pre-spawn environment), so the thread
-    # pools read them on import.  Dask's default MALLOC_TRIM_THRESHOLD_ is removed: setting it
-    # at all turns off glibc's dynamic mmap threshold, so every large temporary is mmap'ed and
-    # page-faulted afresh — measured on fem-fitting's full-mesh reference solve, 6.1 s in a
-    # plain process, 9.3-9.5 s with the variable at 64 KiB, 128 KiB or 16 MiB (10.7 s in a
-    # worker), which made two workers barely faster than one.
+    # The nanny's pre-spawn environment is set before each worker process starts, so the thread
+    # pools read it on import — but Dask sets it with os.environ.update in *this* process, where
+    # it stays: only what the driver may share goes there.  Dask's default MALLOC_TRIM_THRESHOLD_
+    # is removed: setting it at all turns off glibc's dynamic mmap threshold, so every large
+    # temporary is mmap'ed and page-faulted afresh — measured on fem-fitting's full-mesh
+    # reference solve, 6.1 s in a plain process, 9.3-9.5 s with the variable at 64 KiB, 128 KiB
+    # or 16 MiB (10.7 s in a worker), which made two workers barely faster than one.  Numba's
+    # thread count cannot go there (a driver whose Numba pool already runs on more threads
+    # raises when it re-reads NUMBA_NUM_THREADS): it is the worker's own environment, and each
+    # task caps Numba's threads anyway (_one_blas_thread).
     pre_spawn = {
         "distributed.nanny.pre-spawn-environ": {
             "MALLOC_TRIM_THRESHOLD_": None,
             **dict.fromkeys(("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"), n),
-            "NUMBA_NUM_THREADS": n,
-            "TQDM_DISABLE": "1",
         }
     }
+    env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
     with dask.config.set(pre_spawn):  # each nanny reads it when it is created, here
         return LocalCluster(
-            n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None
+            n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env
         )
 
 
