@@ -26,5 +26,8 @@ def test_significant_digits_and_careless_input():
     assert r[0] == 123457.0 and r[1] == pytest.approx(-0.000123457, rel=1e-12)
     assert r[2] == 0.0 and r[3] == np.inf and np.isnan(r[4])
     assert np.isnan(rank_correlation([1.0], [2.0]))
+    # two pairs rank like scipy's (the stiffness figures score held-out halves of two grasps)
+    assert rank_correlation([1.0, 2.0], [3.0, 5.0]) == pytest.approx(1.0)
+    assert rank_correlation([2.0, 1.0], [3.0, 5.0]) == pytest.approx(-1.0)
     with pytest.raises(ValueError, match="one length"):
         rank_correlation([1.0, 2.0, 3.0], [1.0, 2.0])

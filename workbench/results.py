@@ -147,12 +147,17 @@ def content_hash(obj: Any, n: int = 16) -> str:
     return hashlib.sha256(json.dumps(_jsonable(obj), sort_keys=True).encode()).hexdigest()[:n]
 
 
-@lru_cache(maxsize=1)
 def code_hash(n: int = 16) -> str:
     """The first ``n`` hex digits of the SHA-256 of the running package's Python sources —
     ``workbench``, ``workbench.fem``, ``workbench.experiments``: each file's module path and
     bytes, the same in a checkout and in an installed wheel.  Keys every checkpointed row
     (:class:`Checkpoint`): rows computed by other code are recomputed, never reused."""
+    return _sources_digest()[:n]
+
+
+@lru_cache(maxsize=1)
+def _sources_digest() -> str:
+    """The full hex digest of :func:`code_hash`, read once per process."""
     import hashlib
     from importlib.util import find_spec
 
@@ -167,7 +172,7 @@ def code_hash(n: int = 16) -> str:
             files.append((f"{pkg}:{rel.as_posix()}", f))
         for name, f in sorted(files):
             h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
-    return h.hexdigest()[:n]
+    return h.hexdigest()
 
 
 def code_revision() -> str:

@@ -33,7 +33,7 @@ def rank_correlation(pred: Any, measured: Any, digits: int = 12) -> float:
         raise ValueError(
             f"pred and measured must be (n,) arrays of one length; got {pred.shape}, {measured.shape}"
         )
-    if len(pred) < 3:
+    if len(pred) < 2:
         return float("nan")
     from scipy.stats import spearmanr
 
