@@ -14,20 +14,23 @@ up to half its radius, 10–40 wall thicknesses.  Steps:
    the f / E scaling of :func:`workbench.fem.wall_nonlinear.curve_stiffness`): which one matches
    the measured stiffness better (median |log ratio|, Spearman).
 
-Rows are checkpointed per grasp.  The mesh is coarser than minimal-work's (the
-nonlinear wall is solved ~10× per load step); both models share it.
+Each grasp's two load curves are one row: a Dask task (``workers`` / ``scheduler``; the
+numbers are the serial run's), checkpointed by the driver.  The mesh is coarser than
+minimal-work's (the nonlinear wall is solved ~10× per load step); both models share it.
 """
 
 from __future__ import annotations
 
 import logging
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 from tqdm import tqdm
 
+from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_summary
 from workbench.stats import rank_correlation
 
@@ -49,7 +52,15 @@ DEFAULT_CONFIG = {
     "force_stop": 13.0,  # load curves run to this mean jaw force [N] (room to calibrate E)
     "step_mm": 1.5,  # closing increment of the load stepping
     "max_closing_mm": 40.0,
+    # where the grasps' load curves run (workbench.parallel.row_client): 0 = a local Dask cluster of
+    # one worker per core from NL_MIN_ROWS grasps, 1 = serially here, N = N local workers;
+    # scheduler = an existing cluster's address.  Neither changes a number.
+    "workers": 0,
+    "scheduler": "",
 }
+WHERE_KEYS = ("out", "workers", "scheduler")
+#: a local cluster for the load curves from this many grasps (each takes 10-60 s; a cluster's start ~3 s)
+NL_MIN_ROWS = 2
 QUICK_CONFIG = {"n_grasps": 1, "mesh": [12, 6], "force": 3.0, "force_stop": 3.3, "step_mm": 2.0}
 
 
@@ -63,160 +74,51 @@ def check_config(config: dict) -> None:
         or len(set(g)) != len(g)
     ):
         raise ValueError(f"grasps must be null or a list of distinct grasp indices >= 0; got {g!r}")
+    check_workers(config["workers"], config["scheduler"])
 
 
 def run(config: dict) -> dict:
-    import trimesh
-
-    from workbench.fem.calibration import split_scores, split_scores_of
-    from workbench.fem.material import Material
-    from workbench.fem.object_wall import object_wall
-    from workbench.fem.wall import squeeze
-    from workbench.fem.wall_grasps import read_locations, stiffness_at
-    from workbench.fem.wall_nonlinear import curve_stiffness, grasp_frame_wall, squeeze_nonlinear
-
     t_start = time.perf_counter()
     out = Path(config["out"])
-    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k != "out"})
-    d = Path(config["data_dir"])
-    name = config["object"]
-    mesh = trimesh.load(d / "meshes" / f"{name}.obj", force="mesh")
-    L, measured = read_locations(d / "stiffness_maps" / f"{name}.json")
-    if measured is None:
-        raise ValueError(f"{name}: the map has no 'stiffness_map' to compare with")
-    nt, nz = config["mesh"]
-    pet = Material(config["E"], config["nu"])
-    geo, wall = object_wall(mesh, pet, thickness=config["thickness"], n_theta=nt, n_z=nz)
+    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in WHERE_KEYS})
+    name, F = config["object"], config["force"]
+    geo, wall, L, measured = _inputs(config)
     n = len(L) // 2
     # 1. linear, all grasps, one E
-    lin = stiffness_at(wall, geo.surface, L, z_range=geo.z_range)
-    s_lin_pet = np.array([r["stiffness"] for r in lin])
-    ok = np.isfinite(s_lin_pet) & (s_lin_pet < 1e9) & (measured < 1e9)
-    scale = float(np.exp(np.median(np.log(measured[ok] / s_lin_pet[ok]))))
-    E_lin = config["E"] * scale
-    # 2. nonlinear at E_lin at grasps spread over the heights
+    lin = _linear_all(wall, geo, L, measured)
+    E_lin = config["E"] * lin["scale"]
+    # 2. nonlinear (and linear on the same grasp-frame mesh) at the picked grasps, rows on Dask
     z = 0.5 * (L[:n, 2] + L[n:, 2])
-    cand = np.flatnonzero(ok)
-    if config["grasps"] is None:
-        n_pick = min(config["n_grasps"], cand.size)  # more than there are: every grasp once
-        at = np.linspace(0, cand.size - 1, n_pick) if n_pick > 1 else [cand.size // 2]
-        pick = cand[np.argsort(z[cand])][np.round(at).astype(int)]  # base to lip (one: mid-height)
-    else:
-        pick = np.asarray(config["grasps"], int)
-        bad = [int(k) for k in pick if not (0 <= k < n and ok[k])]
-        if bad:
-            raise ValueError(
-                f"grasps {bad} of {name} are not grasps 0..{n - 1} that both the map and the linear "
-                f"wall resolve (rigid or failed); choose among {cand.tolist()}"
-            )
-    mat = Material(E_lin, config["nu"])
-    for k in tqdm([int(k) for k in pick if f"nl/{k}" not in ckpt], desc="nonlinear wall", unit="grasp"):
-        w, centre = grasp_frame_wall(geo, mat, L[k], L[k + n], n_theta=nt)
-        res = squeeze_nonlinear(
-            w,
-            centre,
-            force=config["force_stop"],
-            step=config["step_mm"] * 1e-3,
-            max_closing=config["max_closing_mm"] * 1e-3,
+    pick = _pick(config, lin["ok"], z, name)
+    todo = [int(k) for k in pick if f"nl/{k}" not in ckpt]
+    with tqdm(total=len(todo), desc="nonlinear wall", unit="grasp") as bar:
+        _, ran_on = run_rows(
+            partial(_grasp_curves, geo=geo, E=E_lin, L=L, config=config),
+            todo,
+            lambda k, res: ckpt.add(f"nl/{k}", res),
+            config,
+            min_rows=NL_MIN_ROWS,
+            progress=bar,
         )
-        ckpt.add(
-            f"nl/{k}",
-            {
-                "closing": res["closing"].tolist(),
-                "jaw_forces": res["jaw_forces"].tolist(),
-                "newton_iterations": res["newton_iterations"],
-                "on_clamp": res["on_clamp"],
-                "seconds": res["seconds"],
-            },
-        )
-    rows = []
-    F = config["force"]
-    for k in pick:
-        r = ckpt.rows[f"nl/{k}"]
-        fm = np.mean(r["jaw_forces"], axis=1)
-        # rows written before the flag: the curve stopped short of force_stop and max_closing
-        nl_clamp = r.get(
-            "on_clamp", fm[-1] < config["force_stop"] and r["closing"][-1] < config["max_closing_mm"] * 1e-3
-        )
-        s_nl, w_nl = curve_stiffness(r["closing"], r["jaw_forces"], F)
-        # the linear squeeze on the same grasp-frame mesh at the same E: its closing decides
-        # whether a jaw reaches the clamped base too (closings at E_lin are ~1/scale those at PET)
-        w, centre = grasp_frame_wall(geo, mat, L[k], L[k + n], n_theta=nt)
-        lin_k = squeeze(w, centre, np.array([1.0, 0.0, 0.0]), force=F)
-        s_l = np.nan if lin_k["on_clamp"] else lin_k["stiffness"]
-        rows.append(
-            {
-                "grasp": int(k),
-                "z_m": float(z[k]),
-                "measured": float(measured[k]),
-                # log(measured / linear) of the linear wall calibrated on all grasps (step 1)
-                "linear_residual_log": float(np.log(measured[k] / (s_lin_pet[k] * scale))),
-                "s_linear": float(s_l),
-                "s_nonlinear": s_nl,
-                "rests_on_base": {"linear": bool(lin_k["on_clamp"]), "nonlinear": bool(nl_clamp)},
-                "ratio_nl_lin": s_nl / s_l,
-                "closing_linear_mm": F / s_l * 1e3,
-                "closing_nonlinear_mm": F / s_nl * 1e3,
-                "work_linear_mJ": 0.5 * F**2 / s_l * 1e3,  # ∫ f dΔ of a linear spring
-                "work_nonlinear_mJ": w_nl * 1e3,
-                "jaw_force_imbalance": float(
-                    np.abs(np.diff(np.asarray(r["jaw_forces"])[-1]))[0] / max(fm[-1], 1e-12)
-                ),
-                "load_curve_mm_N": np.column_stack([np.asarray(r["closing"]) * 1e3, fm]).round(4).tolist(),
-                "newton_iterations": r["newton_iterations"],
-                "seconds": r["seconds"],
-            }
-        )
+    # 3. per grasp: stiffness ratio, closings and work of both models
+    rows = [_grasp_row(k, ckpt.rows[f"nl/{k}"], z, measured, lin, config) for k in pick]
     both = [r for r in rows if np.isfinite(r["s_linear"]) and np.isfinite(r["s_nonlinear"])]
     if not both:
         raise ValueError("no grasp where both models reach the force without resting on the base")
-    # 4. each model with its own single E on the grasps where both reach the force
-    meas = np.array([r["measured"] for r in both])
+    # 4. each model with its own single E on these grasps, and on random halves of them
     curves = [ckpt.rows[f"nl/{r['grasp']}"] for r in both]
-
-    def s_nl_at(c: float) -> np.ndarray:  # E = E_lin * c
-        return np.array([curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in curves])
-
-    def misfit(c: float, idx=slice(None)) -> float:  # median log ratio over grasps idx at E_lin * c
-        s = np.array(
-            [curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in np.asarray(curves)[idx]]
-        )
-        return float(np.median(np.log(s / meas[idx]))) if np.isfinite(s).all() else -np.inf
-
-    lo = F / config["force_stop"] * 1.0001  # the curves reach force_stop: E down to this fraction
-    c_nl = brentq(misfit, lo, 100.0) if misfit(lo) < 0 < misfit(100.0) else float("nan")
-    s_l_pick = np.array([r["s_linear"] for r in both])
-    c_l = float(np.exp(np.median(np.log(meas / s_l_pick))))
-    compare = {}
-    for model, s in (("linear", s_l_pick * c_l), ("nonlinear", s_nl_at(c_nl) if np.isfinite(c_nl) else None)):
-        if s is None:
-            compare[model] = None
-            continue
-        compare[model] = {
-            "E_effective_Pa": E_lin * (c_l if model == "linear" else c_nl),
-            "median_abs_log_ratio": float(np.median(np.abs(np.log(s / meas)))),
-            "spearman": rank_correlation(s, meas) if len(meas) > 2 else None,
-        }
-    # held out: each model with one E fitted on a random half of these grasps, scored on the
-    # other half, over 200 halves (the linear by one factor; the nonlinear by its own E)
-    held = None
-    if len(both) >= 6:
-
-        def nl_predict(train) -> np.ndarray:
-            if not misfit(lo, train) < 0 < misfit(100.0, train):
-                return np.full(len(meas), np.nan)
-            return s_nl_at(brentq(misfit, lo, 100.0, args=(train,)))
-
-        held = {"n_grasps": len(both), "linear": split_scores(s_l_pick, meas)}
-        held["nonlinear"] = split_scores_of(nl_predict, meas) if np.isfinite(c_nl) else None
+    compare, held = _calibrate(both, curves, E_lin, config)
     ratios = np.array([r["ratio_nl_lin"] for r in both])
+    ok = lin["ok"]
     summary = {
         "object": name,
         "E_linear_calibrated_Pa": E_lin,
         "linear_all_grasps": {
             "n": int(ok.sum()),
-            "median_abs_log_ratio": float(np.median(np.abs(np.log(s_lin_pet[ok] * scale / measured[ok])))),
-            "spearman": rank_correlation(s_lin_pet[ok], measured[ok]),
+            "median_abs_log_ratio": float(
+                np.median(np.abs(np.log(lin["s_pet"][ok] * lin["scale"] / measured[ok])))
+            ),
+            "spearman": rank_correlation(lin["s_pet"][ok], measured[ok]),
         },
         "grasps": rows,
         "ratio_nl_lin": {
@@ -227,9 +129,173 @@ def run(config: dict) -> dict:
         "calibrated_on_these_grasps": compare,
         "held_out_over_halves": held,
         "wall": {"mesh": config["mesh"], "dofs": int(wall.basis.N), "top": "lip" if geo.lip else "other"},
+        "ran_on": ran_on,
         "figures": [_figure(out, rows, [ckpt.rows[f"nl/{r['grasp']}"] for r in rows], F)],
     }
-    summary["headline"] = [
+    summary["headline"] = _headline(name, E_lin, F, ratios, both, rows, compare, held)
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+def _inputs(config: dict) -> tuple:
+    """The object's wall geometry and linear wall at PET, its grasp locations ``L`` (2n, 3)
+    [m] (jaw a of grasp k at row k, jaw b at k + n) and measured stiffness (n,) [N/m]."""
+    import trimesh
+
+    from workbench.fem.material import Material
+    from workbench.fem.object_wall import object_wall
+    from workbench.fem.wall_grasps import read_locations
+
+    d, name = Path(config["data_dir"]), config["object"]
+    mesh = trimesh.load(d / "meshes" / f"{name}.obj", force="mesh")
+    L, measured = read_locations(d / "stiffness_maps" / f"{name}.json")
+    if measured is None:
+        raise ValueError(f"{name}: the map has no 'stiffness_map' to compare with")
+    nt, nz = config["mesh"]
+    pet = Material(config["E"], config["nu"])
+    geo, wall = object_wall(mesh, pet, thickness=config["thickness"], n_theta=nt, n_z=nz)
+    return geo, wall, L, measured
+
+
+def _linear_all(wall, geo, L: np.ndarray, measured: np.ndarray) -> dict:
+    """Step 1: the linear wall at PET at every grasp, ``s_pet`` (n,) [N/m]; ``ok`` (n,) where
+    both it and the map resolve the grasp (not rigid, not failed); ``scale`` = the one factor
+    on E that matches the measured stiffness in the median of log ratios (``s ∝ E``)."""
+    from workbench.fem.wall_grasps import stiffness_at
+
+    lin = stiffness_at(wall, geo.surface, L, z_range=geo.z_range)
+    s = np.array([r["stiffness"] for r in lin])
+    ok = np.isfinite(s) & (s < 1e9) & (measured < 1e9)  # 1e9 N/m: the map's and ours' "rigid"
+    return {"s_pet": s, "ok": ok, "scale": float(np.exp(np.median(np.log(measured[ok] / s[ok]))))}
+
+
+def _pick(config: dict, ok: np.ndarray, z: np.ndarray, name: str) -> np.ndarray:
+    """The grasps of step 2: ``grasps`` as given (checked), or ``n_grasps`` of the resolved
+    ones spread over the heights, base to lip (one: mid-height)."""
+    cand = np.flatnonzero(ok)
+    if config["grasps"] is None:
+        n_pick = min(config["n_grasps"], cand.size)  # more than there are: every grasp once
+        at = np.linspace(0, cand.size - 1, n_pick) if n_pick > 1 else [cand.size // 2]
+        return cand[np.argsort(z[cand])][np.round(at).astype(int)]
+    pick = np.asarray(config["grasps"], int)
+    bad = [int(k) for k in pick if not (0 <= k < ok.size and ok[k])]
+    if bad:
+        raise ValueError(
+            f"grasps {bad} of {name} are not grasps 0..{ok.size - 1} that both the map and the linear "
+            f"wall resolve (rigid or failed); choose among {cand.tolist()}"
+        )
+    return pick
+
+
+def _grasp_curves(k: int, geo, E: float, L: np.ndarray, config: dict) -> dict:
+    """One grasp's row (a Dask task): the nonlinear wall's load curve at Young's modulus ``E``
+    [Pa] up to ``force_stop``, and the linear squeeze to ``force`` on the same grasp-frame mesh
+    at the same E (its closing decides whether a jaw reaches the clamped base too)."""
+    from workbench.fem.material import Material
+    from workbench.fem.wall import squeeze
+    from workbench.fem.wall_nonlinear import grasp_frame_wall, squeeze_nonlinear
+
+    n = len(L) // 2
+    w, centre = grasp_frame_wall(geo, Material(E, config["nu"]), L[k], L[k + n], n_theta=config["mesh"][0])
+    res = squeeze_nonlinear(
+        w,
+        centre,
+        force=config["force_stop"],
+        step=config["step_mm"] * 1e-3,
+        max_closing=config["max_closing_mm"] * 1e-3,
+    )
+    lin = squeeze(w, centre, np.array([1.0, 0.0, 0.0]), force=config["force"])
+    return {
+        "closing": res["closing"].tolist(),
+        "jaw_forces": res["jaw_forces"].tolist(),
+        "newton_iterations": res["newton_iterations"],
+        "on_clamp": res["on_clamp"],
+        "seconds": res["seconds"],
+        "s_linear": float(lin["stiffness"]),
+        "on_clamp_linear": bool(lin["on_clamp"]),
+    }
+
+
+def _grasp_row(k: int, r: dict, z: np.ndarray, measured: np.ndarray, lin: dict, config: dict) -> dict:
+    """Step 3 at grasp ``k`` from its checkpointed curves ``r``."""
+    from workbench.fem.wall_nonlinear import curve_stiffness
+
+    F = config["force"]
+    fm = np.mean(r["jaw_forces"], axis=1)
+    s_nl, w_nl = curve_stiffness(r["closing"], r["jaw_forces"], F)
+    s_l = np.nan if r["on_clamp_linear"] else r["s_linear"]
+    return {
+        "grasp": int(k),
+        "z_m": float(z[k]),
+        "measured": float(measured[k]),
+        # log(measured / linear) of the linear wall calibrated on all grasps (step 1)
+        "linear_residual_log": float(np.log(measured[k] / (lin["s_pet"][k] * lin["scale"]))),
+        "s_linear": float(s_l),
+        "s_nonlinear": s_nl,
+        "rests_on_base": {"linear": r["on_clamp_linear"], "nonlinear": bool(r["on_clamp"])},
+        "ratio_nl_lin": s_nl / s_l,
+        "closing_linear_mm": F / s_l * 1e3,
+        "closing_nonlinear_mm": F / s_nl * 1e3,
+        "work_linear_mJ": 0.5 * F**2 / s_l * 1e3,  # ∫ f dΔ of a linear spring
+        "work_nonlinear_mJ": w_nl * 1e3,
+        # 1e-12 N: a curve that never left zero force has no imbalance to speak of
+        "jaw_force_imbalance": float(
+            np.abs(np.diff(np.asarray(r["jaw_forces"])[-1]))[0] / max(fm[-1], 1e-12)
+        ),
+        "load_curve_mm_N": np.column_stack([np.asarray(r["closing"]) * 1e3, fm]).round(4).tolist(),
+        "newton_iterations": r["newton_iterations"],
+        "seconds": r["seconds"],
+    }
+
+
+def _calibrate(both: list[dict], curves: list[dict], E_lin: float, config: dict) -> tuple:
+    """Step 4: each model's own single E on the grasps ``both`` (the nonlinear one through the
+    f / E scaling of its ``curves``), and the same fitted on random halves, scored on the rest."""
+    from workbench.fem.calibration import split_scores, split_scores_of
+    from workbench.fem.wall_nonlinear import curve_stiffness
+
+    F = config["force"]
+    meas = np.array([r["measured"] for r in both])
+
+    def s_nl_at(c: float, idx=slice(None)) -> np.ndarray:  # at E = E_lin * c
+        return np.array(
+            [curve_stiffness(cv["closing"], cv["jaw_forces"], F, c)[0] for cv in np.asarray(curves)[idx]]
+        )
+
+    def misfit(c: float, idx=slice(None)) -> float:  # median log ratio over grasps idx at E_lin * c
+        s = s_nl_at(c, idx)
+        return float(np.median(np.log(s / meas[idx]))) if np.isfinite(s).all() else -np.inf
+
+    # the curves reach force_stop: E down to that fraction (1e-4 above it: the curve's last point)
+    lo = F / config["force_stop"] * 1.0001
+    c_nl = brentq(misfit, lo, 100.0) if misfit(lo) < 0 < misfit(100.0) else float("nan")
+    s_l = np.array([r["s_linear"] for r in both])
+    c_l = float(np.exp(np.median(np.log(meas / s_l))))
+    compare = {}
+    for model, s in (("linear", s_l * c_l), ("nonlinear", s_nl_at(c_nl) if np.isfinite(c_nl) else None)):
+        compare[model] = (
+            None
+            if s is None
+            else {
+                "E_effective_Pa": E_lin * (c_l if model == "linear" else c_nl),
+                "median_abs_log_ratio": float(np.median(np.abs(np.log(s / meas)))),
+                "spearman": rank_correlation(s, meas) if len(meas) > 2 else None,
+            }
+        )
+    if len(both) < 6:  # halves of fewer than three grasps score nothing
+        return compare, None
+
+    def nl_predict(train) -> np.ndarray:
+        if not misfit(lo, train) < 0 < misfit(100.0, train):
+            return np.full(len(meas), np.nan)
+        return s_nl_at(brentq(misfit, lo, 100.0, args=(train,)))
+
+    held = {"n_grasps": len(both), "linear": split_scores(s_l, meas)}
+    held["nonlinear"] = split_scores_of(nl_predict, meas) if np.isfinite(c_nl) else None
+    return compare, held
+
+
+def _headline(name, E_lin, F, ratios, both, rows, compare, held) -> list[str]:
+    lines = [
         f"{name}: at the linear model's calibrated E ({E_lin / 1e9:.2f} GPa) the nonlinear wall's "
         f"stiffness at {F:g} N is {np.median(ratios):.2f}x the linear one "
         f"(range {ratios.min():.2f}-{ratios.max():.2f}) over "
@@ -243,16 +309,15 @@ def run(config: dict) -> dict:
         for m, v in compare.items()
         if v
     ]
-    if held:
-        for m in ("linear", "nonlinear"):
-            if held[m]:
-                a = held[m]["median_abs_log_ratio"]
-                summary["headline"].append(
-                    f"{m}, E fitted on random halves of the {held['n_grasps']} grasps: held-out median "
-                    f"|log ratio| {a['median']:.2f} (p10-p90 {a['p10']:.2f}-{a['p90']:.2f}), Spearman "
-                    f"{held[m]['spearman']['median']:.2f}"
-                )
-    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+    for m in ("linear", "nonlinear"):
+        if held and held[m]:
+            a = held[m]["median_abs_log_ratio"]
+            lines.append(
+                f"{m}, E fitted on random halves of the {held['n_grasps']} grasps: held-out median "
+                f"|log ratio| {a['median']:.2f} (p10-p90 {a['p10']:.2f}-{a['p90']:.2f}), Spearman "
+                f"{held[m]['spearman']['median']:.2f}"
+            )
+    return lines
 
 
 def _figure(out: Path, rows: list[dict], curves: list[dict], F: float) -> str:

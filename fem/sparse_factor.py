@@ -62,11 +62,9 @@ class SPDFactor:
         return out
 
 
-def factor_spd(K: sp.spmatrix, *, blocked: bool = False) -> SPDFactor:
-    """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
-
-    blocked : also keep CSR copies of L and U (as much memory again as the factor) for
-    solves of many right-hand sides at once (module docstring)."""
+def nested_dissection(K: sp.spmatrix) -> np.ndarray:
+    """METIS's nested-dissection order (n,) of the graph of a sparse symmetric ``K`` (n, n):
+    position -> original index, the fill-reducing order :func:`factor_spd` eliminates in."""
     import pymetis
 
     K = sp.csr_matrix(K)
@@ -77,7 +75,40 @@ def factor_spd(K: sp.spmatrix, *, blocked: bool = False) -> SPDFactor:
     graph.eliminate_zeros()
     graph.sort_indices()
     perm, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(graph.indptr, graph.indices))
-    perm = np.asarray(perm, dtype=np.int64)
+    return np.asarray(perm, dtype=np.int64)
+
+
+def restrict_order(perm: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """An elimination order of the sub-matrix ``K[keep][:, keep]`` from one ``perm`` (n,) of
+    ``K``: the kept indices in the order ``perm`` eliminates them, as positions (m,) into
+    ``keep`` (m,) sorted int.  The sub-matrix's graph is an induced subgraph, so its fill in
+    this order is contained in the fill of ``K`` in ``perm``: one ordering serves every
+    Dirichlet set of a mesh (:func:`workbench.fem.wall_nonlinear.squeeze_nonlinear` orders once
+    per grasp instead of once per Newton step)."""
+    rank = np.empty(perm.size, dtype=np.int64)
+    rank[perm] = np.arange(perm.size)
+    return np.argsort(rank[keep], kind="stable")
+
+
+def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None = None) -> SPDFactor:
+    """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
+
+    blocked : also keep CSR copies of L and U (as much memory again as the factor) for
+    solves of many right-hand sides at once (module docstring).  perm : an elimination
+    order (n,) to use instead of computing :func:`nested_dissection` (e.g. one restricted
+    from a larger matrix by :func:`restrict_order`)."""
+    K = sp.csr_matrix(K)
+    if K.shape[0] != K.shape[1]:
+        raise ValueError(f"K must be square; got {K.shape}")
+    if perm is None:
+        perm = nested_dissection(K)
+    else:
+        perm = np.asarray(perm, dtype=np.int64)
+        if perm.shape != (K.shape[0],) or not np.array_equal(np.sort(perm), np.arange(K.shape[0])):
+            raise ValueError(
+                f"perm must be a permutation of 0..{K.shape[0] - 1} (an elimination order of K); "
+                f"got shape {perm.shape}"
+            )
     Kp = K[perm][:, perm].tocsc()
     lu = spla.splu(Kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     rows = None
@@ -93,4 +124,4 @@ def factor_spd(K: sp.spmatrix, *, blocked: bool = False) -> SPDFactor:
     return SPDFactor(lu, perm, K.shape, rows)
 
 
-__all__ = ["SPDFactor", "factor_spd"]
+__all__ = ["SPDFactor", "factor_spd", "nested_dissection", "restrict_order"]

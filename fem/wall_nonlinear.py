@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .sparse_factor import factor_spd
+from .sparse_factor import factor_spd, nested_dissection, restrict_order
 from .wall import Wall, turn_matrix
 
 log = logging.getLogger(__name__)
@@ -64,8 +64,13 @@ def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None 
         c["comp"], c["g"], c["w"] = _gradients(basis)
         dofs = basis.element_dofs.T  # (e, 81)
         c["dofs"] = dofs
-        c["rows"] = np.repeat(dofs, dofs.shape[1], axis=1).ravel()
-        c["cols"] = np.tile(dofs, (1, dofs.shape[1])).ravel()
+        # the CSR pattern once: each element-matrix entry's slot in K.data (duplicates share
+        # one), so every tangent is a bincount into it instead of a COO -> CSR conversion
+        rows = np.repeat(dofs, dofs.shape[1], axis=1).ravel().astype(np.int64)
+        cols = np.tile(dofs, (1, dofs.shape[1])).ravel()
+        entry, c["slot"] = np.unique(rows * basis.N + cols, return_inverse=True)
+        c["indices"] = entry % basis.N
+        c["indptr"] = np.r_[0, np.cumsum(np.bincount(entry // basis.N, minlength=basis.N))]
         c["by_comp"] = [np.flatnonzero(c["comp"] == i) for i in range(3)]
     comp, g, w, dofs = c["comp"], c["g"], c["w"], c["dofs"]
     ue = u[dofs]  # (e, 81)
@@ -103,7 +108,8 @@ def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None 
                 g[:, :, km, :].transpose(0, 1, 3, 2).reshape(n_e, n_q * 3, km.size),
             )
             Ke[:, ki[:, None], km[None, :]] = blk
-    K = sp.csr_matrix((Ke.ravel(), (c["rows"], c["cols"])), shape=(basis.N, basis.N))
+    data = np.bincount(c["slot"], weights=Ke.ravel(), minlength=c["indices"].size)
+    K = sp.csr_matrix((data, c["indices"], c["indptr"]), shape=(basis.N, basis.N))
     return K, r
 
 
@@ -174,11 +180,16 @@ def squeeze_nonlinear(
                 bc[outer_x[cand[act]]] = True
                 target[outer_x[cand[act]]] = plane - X[cand[act], 0]
             fr = np.flatnonzero(~bc)
+            order = None
             for _ in range(max_newton):
                 K, r = svk_tangent(b, u, mu, lam, cache)
+                if "order" not in cache:  # one fill-reducing order per grasp, for every contact set
+                    cache["order"] = nested_dissection(K)
+                if order is None:
+                    order = restrict_order(cache["order"], fr)
                 du = np.zeros(b.N)
                 du[bc] = target[bc] - u[bc]
-                du[fr] = factor_spd(K[fr][:, fr]).solve(-r[fr] - K[fr][:, bc] @ du[bc])
+                du[fr] = factor_spd(K[fr][:, fr], perm=order).solve(-r[fr] - K[fr][:, bc] @ du[bc])
                 u += du
                 iters += 1
                 log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
