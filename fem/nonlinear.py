@@ -34,7 +34,6 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from skfem import Basis, ElementHex1
 
 from .contact import ContactSolution, face_gaps
@@ -42,6 +41,7 @@ from .elasticity import GAUSS_1, GAUSS_2, basis
 from .extract import face_grid, quad_vector_areas, tributary_areas
 from .material import Material
 from .pad import PadGeometry, top_face_nodes
+from .sparse_factor import factor_spd, nested_dissection
 
 log = logging.getLogger(__name__)
 
@@ -123,6 +123,10 @@ class NonlinearPad:
         fixed = np.zeros(self.b2.N, dtype=bool)
         fixed[nodal[:, np.isclose(z, 0.0)].ravel()] = True
         self.free = np.flatnonzero(~fixed)
+        # one fill-reducing order of the free tangent's graph (the element connectivity: the
+        # contact blocks stay inside each node's own 3x3 block), used by every Newton solve
+        pattern = sp.csr_matrix((np.ones(self._rows.size), (self._rows, self._cols)), shape=(self.b2.N,) * 2)
+        self._order = nested_dissection(pattern[self.free][:, self.free])
         self.face_dofs = nodal[:, self.face].T  # (n, 3) global dofs of the face nodes
         # face quads and tributary areas of the undeformed face (penalty scaling)
         self.face_xy = self.mesh.p[:2, self.face].T
@@ -190,7 +194,7 @@ class NonlinearPad:
                     (blocks.ravel(), (np.repeat(rows, 3, axis=1).ravel(), np.tile(rows, (1, 3)).ravel())),
                     shape=K.shape,
                 )
-                du = spla.spsolve(((K + Kc)[self.free][:, self.free]).tocsc(), -res)
+                du = factor_spd((K + Kc)[self.free][:, self.free], perm=self._order).solve(-res)
                 # cap the step (a fresh contact can ask for large jumps), back off while
                 # an element would invert
                 du *= min(1.0, 0.25 * hz / max(np.abs(du).max(), 1e-300))
