@@ -9,7 +9,7 @@ after first touch.  Each contact is solved by the condensed linear pad
 extracted on the bottle surface, and both 6DLS models are fitted and scored
 under two protocols (the fitters are the same; only the wrenches differ):
 
-* "thesis-text" (``ellipsoid_error_mean`` …): 600 frictional wrenches of the
+* "thesis-text" (``ellipsoid_sdp_error_mean`` …): 600 frictional wrenches of the
   sampler the thesis describes (§3.3.2), Eq. (3.18) on ``n_heldout`` held-out
   wrenches of the same sampler (and on the training ones, ``train_error``);
 * "thesis-code" (``thesis_protocol_error``): the author's code — the twist grid
@@ -19,9 +19,10 @@ under two protocols (the fitters are the same; only the wrenches differ):
 
 The error to compare across protocols is the sampler-independent one
 (``support_error``: radial distance at exact surface points of uniform normals,
-:mod:`workbench.limit_surface.support_error`).  "ellipsoid" is the
-PSD-constrained least-squares fit ("sdp"), "quartic" Eq. (3.17) on the values
-alone, as the thesis writes both.
+:mod:`workbench.limit_surface.support_error`).  The models are named as in
+:mod:`workbench.limit_surface.fit_score`: Table 3.3's "ellipsoid" is ``ellipsoid_sdp``
+(the PSD-constrained least-squares fit), its "quartic" ``quartic_values`` (Eq. 3.17 on
+the values alone), as the thesis writes both; ``ellipsoid_lsq`` is reported beside them.
 
 The author's grid is axis-aligned, so the thesis-code protocol depends on the frame
 the contact is written in; it uses the author's, the object frame (z = the bottle's
@@ -48,7 +49,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis, w_max
+from workbench import frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
 from workbench.fem.contact import solve_contact
@@ -57,8 +58,7 @@ from workbench.fem.material import Material
 from workbench.fem.pad import PadGeometry, condense_pad
 from workbench.fem.validation import condensed_vs_full
 from workbench.limit_surface.author_objective import fit_author_objective
-from workbench.limit_surface.sos import exponents
-from workbench.limit_surface.support_error import support_error
+from workbench.limit_surface.fit_score import fit_and_score, fit_model, min_wrenches
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
@@ -67,7 +67,12 @@ from workbench.wrench import check_mu
 NAME = "fem-fitting"
 log = logging.getLogger(__name__)
 
-QUARTIC_COEFFS = len(exponents(6, 4))  # a quartic in 6D: C(9, 5) = 126
+#: the fits of every profile (workbench.limit_surface.fit_score): Table 3.3's two and the
+#: unconstrained least-squares ellipsoid
+MODELS = ("ellipsoid_sdp", "ellipsoid_lsq", "quartic_values")
+#: the models of Table 3.3 and of the protocol ablation, and the thesis's name of each
+FAMILY = {"ellipsoid_sdp": "ellipsoid", "quartic_values": "quartic"}
+TABLE_MODELS = tuple(FAMILY)
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
 DEFAULT_CONFIG = {
@@ -112,6 +117,7 @@ def check_config(config: dict) -> None:
     check_mu(config["mu"], what="limit surface")
     Material(config["E"], config["nu"])  # their own range checks (E > 0, -1 < ν < 0.5)
     geom = PadGeometry(**config["pad"])
+    # a gripper pad is at most 20 cm across and 5 cm thick; sizes given in mm exceed that 1000-fold
     if max(geom.width, geom.length) > 0.2 or geom.thickness > 0.05:
         raise ValueError(
             f"pad {geom.width} x {geom.length} x {geom.thickness} m is not a gripper pad — are the "
@@ -124,9 +130,10 @@ def check_config(config: dict) -> None:
             f"deltas_mm are jaw displacements after first touch in (0, {geom.thickness * 1e3:g}) mm "
             f"(the pad's thickness); got {config['deltas_mm']}"
         )
-    if config["n_wrenches"] < QUARTIC_COEFFS or config["n_heldout"] < 1:
+    n_quartic = min_wrenches("quartic_values")
+    if config["n_wrenches"] < n_quartic or config["n_heldout"] < 1:
         raise ValueError(
-            f"n_wrenches must be >= {QUARTIC_COEFFS} (the quartic's coefficients; the thesis uses 600) and "
+            f"n_wrenches must be >= {n_quartic} (the quartic's coefficients; the thesis uses 600) and "
             f"n_heldout >= 1; got {config['n_wrenches']} and {config['n_heldout']}"
         )
     if config["code_frame"] not in ("object", "jaw"):
@@ -135,6 +142,8 @@ def check_config(config: dict) -> None:
         raise ValueError(
             f"ablation_every must be an integer >= 0 (0: no ablation); got {config['ablation_every']!r}"
         )
+    # below 0.1 mm a cell is finer than the pad's elements (1 mm) by 10x, above 100 mm larger than
+    # any contact: neither is a coarsening (and a size in m given as mm lands below 0.1)
     if not 0.1 <= config["ablation_cell_mm"] <= 100:
         raise ValueError(
             "ablation_cell_mm must be a cell size in mm in [0.1, 100] (3: the thesis's); "
@@ -155,22 +164,26 @@ def _profile_key(i: int, h: float, approach: str, delta_mm: float) -> str:
     return f"bottle{i:02d}/h{h:.3f}/{approach}/d{delta_mm:.2f}"
 
 
-def _fits(W: np.ndarray, wm: np.ndarray) -> dict:
-    """The experiment's three fits of wrenches W (K, 6) normalised by wm (6,), timed.
-    The quartic is left out (absent key) when K is below its 126 coefficients — the
-    thesis-code training set can be (the author's code regularises instead; we do
-    not fake a fit)."""
-    out = {}
-    for name, fit in (
-        ("ellipsoid", lambda: fit_ellipsoid(W, "sdp", w_max=wm)),
-        ("ellipsoid_lsq", lambda: fit_ellipsoid(W, "lsq", w_max=wm)),
-        ("quartic", lambda: fit_quartic(W, w_max=wm)),
-    ):
-        if name == "quartic" and len(W) < QUARTIC_COEFFS:
-            continue
-        t0 = time.perf_counter()
-        out[name] = (fit(), time.perf_counter() - t0)
-    return out
+def _fits(W: np.ndarray, wm: np.ndarray, config: dict, seed: int, *, test: np.ndarray, contact) -> dict:
+    """{model: FitScore} of :data:`MODELS` fitted to wrenches W (K, 6) normalised by wm (6,)
+    of the normalised profile ``contact``, scored on ``test`` (N, 6) and at the contact's exact
+    surface points.  A model is left out (absent key) when K is below its unknowns — the
+    thesis-code training set can be below the quartic's 126 (the author's code regularises
+    instead; we do not fake a fit)."""
+    wrenches_of = partial(frictional_wrenches, contact, mu=config["mu"])
+    return {
+        m: fit_and_score(
+            m,
+            W,
+            w_max=wm,
+            test=test,
+            wrenches_of=wrenches_of,
+            support_directions=config["support_directions"],
+            support_seed=seed,
+        )
+        for m in MODELS
+        if len(W) >= min_wrenches(m)
+    }
 
 
 #: the protocol ablation's variants: what each changes against the thesis-code row
@@ -183,24 +196,24 @@ ABLATION_VARIANTS = {
 
 
 def _code_errors(pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False) -> dict:
-    """Thesis-code Eq. (3.18) errors {model: error} of one variant on profile ``pc``."""
+    """Thesis-code Eq. (3.18) errors {model: error} of one variant on profile ``pc``: the
+    models of :data:`TABLE_MODELS`, or with ``author`` the author's objective in their place."""
     if coarse:
         pc = coarsen_profile(pc, config["ablation_cell_mm"] * 1e-3)
     code = thesis_code_sample(pc, config["mu"], config["fine_level"], config["downsample_steps"], sides=sides)
+    W, wm = code.train_wrenches, code.w_max
     if author:
-        fits = {
-            m: fit_author_objective(code.train_wrenches, code.train_twists, m, w_max=code.w_max)
-            for m in ("ellipsoid", "quartic")
-        }
+        fits = {m: fit_author_objective(W, code.train_twists, FAMILY[m], w_max=wm) for m in TABLE_MODELS}
     else:
-        fits = {m: model for m, (model, _) in _fits(code.train_wrenches, code.w_max).items()}
-    out = {m: fits[m].fitting_error(code.wrenches) for m in ("ellipsoid", "quartic") if m in fits}
+        fits = {m: fit_model(m, W, w_max=wm) for m in TABLE_MODELS if len(W) >= min_wrenches(m)}
+    out = {m: model.fitting_error(code.wrenches) for m, model in fits.items()}
     out["n_train"] = len(code.train)
     return out
 
 
 def _ablation(p_obj, p_jaw, config: dict) -> dict:
-    """Row keys ``abl_<variant>_<model>`` (module docstring)."""
+    """Row keys ``abl_<variant>_<model>``: the variant's Eq. (3.18) error in place of the
+    thesis-code protocol's ``<model>`` (module docstring), and ``abl_<variant>_n_train``."""
     pts = p_obj.vertices if p_obj.vertices is not None else p_obj.centers
     box_with_origin = np.ptp(np.vstack([pts, np.zeros(3)]), axis=0)
     variants = {
@@ -217,7 +230,7 @@ def _ablation(p_obj, p_jaw, config: dict) -> dict:
 
 
 def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False) -> dict:
-    """Sample, fit both models, and measure their errors on one normalised profile
+    """Sample, fit the models, and measure their errors on one normalised profile
     under both protocols.  ``to_object`` : (R, t) of the jaw frame in the object
     frame (``x_object = R x + t``), the frame of the thesis-code protocol."""
     pn = prof.normalized()
@@ -225,30 +238,26 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
     sample = partial(sample_twists_thesis, length_scale=pn, pitch_range=tuple(config["pitch_range"]))
     W = frictional_wrenches(pn, sample(config["n_wrenches"] // 2, seed=seed), mu)
     W_test = frictional_wrenches(pn, sample(config["n_heldout"] // 2, seed=seed + 10**6), mu)
-    wm = w_max(pn, mu)
-
-    def support(model, contact) -> float:  # exact wrenches of the contact the model was fitted to
-        fn = partial(frictional_wrenches, contact, mu=mu)
-        return support_error(model, fn, config["support_directions"], seed=seed).radial_mean
-
     row = {}
-    for name, (model, dt) in _fits(W, wm).items():
-        row[f"{name}_fit_s"] = dt
-        row[f"{name}_error"] = model.fitting_error(W_test)
-        row[f"{name}_train_error"] = model.fitting_error(W)
-        row[f"{name}_support"] = support(model, pn)
-        row[f"{name}_fallback"] = model.info.get("fallback")
-        row["dim"] = model.dim
+    for m, fs in _fits(W, w_max(pn, mu), config, seed, test=W_test, contact=pn).items():
+        row[f"{m}_fit_s"] = fs.fit_s
+        row[f"{m}_error"] = fs.test_error
+        row[f"{m}_train_error"] = fs.train_error
+        row[f"{m}_support"] = fs.support.radial_mean
+        row[f"{m}_fallback"] = fs.fallback
+        row["dim"] = fs.model.dim
     if config["thesis_code"]:
         p_obj = pn if to_object is None else pn.transformed(*to_object)
         pc = p_obj if config["code_frame"] == "object" else pn
         code = thesis_code_sample(pc, mu, config["fine_level"], config["downsample_steps"])
         row["code_n_train"] = len(code.train)
         row["code_n_pool"] = len(code.wrenches)
-        for name, (model, dt) in _fits(code.train_wrenches, code.w_max).items():
-            row[f"{name}_code_fit_s"] = dt
-            row[f"{name}_code_error"] = model.fitting_error(code.wrenches)
-            row[f"{name}_code_support"] = support(model, pc)
+        for m, fs in _fits(
+            code.train_wrenches, code.w_max, config, seed, test=code.wrenches, contact=pc
+        ).items():
+            row[f"{m}_code_fit_s"] = fs.fit_s
+            row[f"{m}_code_error"] = fs.test_error
+            row[f"{m}_code_support"] = fs.support.radial_mean
         if ablate:
             row.update(_ablation(p_obj, pn, config))
     return row
@@ -379,15 +388,15 @@ def _examples(
 
 
 def _ablation_summary(rows: list[dict]) -> dict | None:
-    """Per variant and model: the variant's mean Eq. (3.18) error beside the
-    thesis-code row's on the same profiles (paired), and their ratio."""
-    sub = [r for r in rows if "abl_jaw_frame_ellipsoid" in r]
+    """Per variant and model of :data:`TABLE_MODELS`: the variant's mean Eq. (3.18) error
+    beside the thesis-code row's on the same profiles (paired), and their ratio."""
+    sub = [r for r in rows if "abl_jaw_frame_ellipsoid_sdp" in r]
     if not sub:
         return None
     out = {"n_profiles": len(sub), "variants": ABLATION_VARIANTS}
     for name in ABLATION_VARIANTS:
         out[name] = {}
-        for m in ("ellipsoid", "quartic"):
+        for m in TABLE_MODELS:
             pair = [
                 (r[f"abl_{name}_{m}"], r[f"{m}_code_error"])
                 for r in sub
@@ -456,29 +465,21 @@ def _render_family(bottles: list[Bottle], markers: dict, path: Path) -> Path:
     return save_screenshot(plotter, path)
 
 
-def run(config: dict) -> dict:
-    t_start = time.perf_counter()
-    out = Path(config["out"])
-    out.mkdir(parents=True, exist_ok=True)
-    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
-    geom = PadGeometry(**config["pad"])
-    t0 = time.perf_counter()
-    pad = _pad_of(config)  # built here once (or loaded from its disk cache) before any worker needs it
-    precompute_s = time.perf_counter() - t0
-    precompute_built_s = pad.seconds  # the build time, also when loaded from the disk cache
-    h = geom.thickness
+def _checkpoint(out: Path, config: dict) -> Checkpoint:
+    """The row checkpoint of this configuration: the settings that change no row (where the
+    rows run, the output folder, the rendering) are left out of its key."""
+    skip = ("out", "quick", "render_examples", "workers", "scheduler")
+    return Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in skip})
 
-    ckpt_config = {
-        k: v
-        for k, v in config.items()
-        if k not in ("out", "quick", "render_examples", "workers", "scheduler")
-    }
-    ckpt = Checkpoint(out / "rows.jsonl", ckpt_config)
-    n_resumed = len(ckpt.rows)
+
+def _plan(bottles: list[Bottle], pad, config: dict, ckpt: Checkpoint) -> tuple[list, list, dict]:
+    """The grasps ``(j, i, height fraction, approach, angle)``, those with jaw displacements
+    not in the checkpoint (their indices appended to the tuple), and the grasp points of
+    each bottle (object frame, for the family figure)."""
+    h = pad.geometry.thickness
     grasps = product(range(len(bottles)), config["heights"], config["approaches"].items())
     jobs = [(j, i, hf, name, ang) for j, (i, hf, (name, ang)) in enumerate(grasps)]
-    n_total = len(jobs) * len(config["deltas_mm"])
-    markers = {}
+    markers: dict = {}
     todo_jobs = []
     for j, i, hf, name, ang in jobs:
         b = bottles[i]
@@ -487,14 +488,22 @@ def run(config: dict) -> dict:
         todo = [k for k, d in enumerate(config["deltas_mm"]) if _profile_key(i, hf, name, d) not in ckpt]
         if todo:
             todo_jobs.append((j, i, hf, name, ang, todo))
+    return jobs, todo_jobs, markers
+
+
+def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, config: dict, meanwhile):
+    """Run the missing profile rows and the full-mesh reference cases (first: the longest
+    tasks) with :func:`workbench.parallel.run_rows`, here or on Dask workers; the driver
+    alone writes the checkpoint, and runs ``meanwhile()`` while the tasks run.  Returns
+    (what ``meanwhile`` returned, where the tasks ran, their wall time [s], the reference
+    cases' results in ``ref_cases`` order)."""
+    n_total = len(jobs) * len(config["deltas_mm"])
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
-    ref_cases = _reference_cases(bottles, pad, config)
-    # the full-mesh reference solves first: the longest tasks start first
     tasks = [("reference", label, pose) for label, pose in ref_cases] + [("rows", job) for job in todo_jobs]
     ref_of: dict[str, dict] = {}
 
-    def keep(task, res) -> None:  # the driver alone writes the checkpoint
+    def keep(task, res) -> None:
         if task[0] == "reference":
             ref_of[task[1]] = res
             return
@@ -502,87 +511,109 @@ def run(config: dict) -> dict:
             ckpt.add(key, row)
         bar.update(len(res))
 
-    def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
-        return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
-
-    t_rows = time.perf_counter()
-    renders, rows_where = run_rows(
+    t0 = time.perf_counter()
+    renders, where = run_rows(
         partial(_task, config=config), tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile
     )
-    tasks_s = time.perf_counter() - t_rows
+    tasks_s = time.perf_counter() - t0
     bar.close()
-    ref = [ref_of[label] for label, _ in ref_cases]
+    return renders, where, tasks_s, [ref_of[label] for label, _ in ref_cases]
 
-    rows = [r for r in ckpt.rows.values() if not r["empty"]]
-    if not rows:
-        raise RuntimeError("no contact profile was produced; check the pad placement")
-    # every key of any row (the first may lack e.g. a quartic left out or the ablation's)
+
+def _write_tables(out: Path, rows: list[dict], ref: list[dict]) -> None:
+    """profiles.csv (every key of any row: the first may lack e.g. a quartic left out or
+    the ablation's) and condensed_vs_full.csv."""
     cols = [c for c in dict.fromkeys(k for r in rows for k in r) if c not in ("config_hash",)]
     write_csv(out / "profiles.csv", cols, [[r.get(c) for c in cols] for r in rows])
-
-    err = {m: np.array([r[f"{m}_error"] for r in rows]) for m in ("ellipsoid", "ellipsoid_lsq", "quartic")}
-    tr = {m: np.array([r[f"{m}_train_error"] for r in rows]) for m in ("ellipsoid", "quartic")}
-    code = config["thesis_code"]
-    # thesis-code: over the rows where the model was fitted (the quartic needs >= 126 wrenches)
-    code_err = {m: _column(rows, f"{m}_code_error") for m in err} if code else None
-    sup = {"thesis-text": {m: _column(rows, f"{m}_support") for m in err}}
-    if code:
-        sup["thesis-code"] = {m: _column(rows, f"{m}_code_support") for m in err}
-    prof_ms = np.array([r["profile_ms"] for r in rows])
-
     write_csv(out / "condensed_vs_full.csv", list(ref[0]), [list(r.values()) for r in ref])
 
+
+def _errors(rows: list[dict], config: dict) -> dict:
+    """The error columns of the rows: {"test", "train", "code" (None without the thesis-code
+    protocol), "support": {protocol: {model: (n,)}}} and the profile times "profile_ms" (n,).
+    Thesis-code columns cover the rows where the model was fitted (the quartic needs >= 126
+    wrenches)."""
+    test = {m: np.array([r[f"{m}_error"] for r in rows]) for m in MODELS}
+    code = {m: _column(rows, f"{m}_code_error") for m in MODELS} if config["thesis_code"] else None
+    support = {"thesis-text": {m: _column(rows, f"{m}_support") for m in MODELS}}
+    if code:
+        support["thesis-code"] = {m: _column(rows, f"{m}_code_support") for m in MODELS}
+    return {
+        "test": test,
+        "train": {m: np.array([r[f"{m}_train_error"] for r in rows]) for m in TABLE_MODELS},
+        "code": code,
+        "support": support,
+        "profile_ms": np.array([r["profile_ms"] for r in rows]),
+    }
+
+
+def _protocol_tables(errors: dict) -> list[tuple[str, dict]]:
+    """(protocol, {model: (n,) Eq. 3.18 errors}) of Table 3.3."""
+    return [("thesis-text", errors["test"])] + ([("thesis-code", errors["code"])] if errors["code"] else [])
+
+
+def _histogram(errors: dict, n_rows: int, out: Path) -> str:
+    """Table 3.3's error histograms under both protocols, and the profile times."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    prof_ms = errors["profile_ms"]
     fig, ax = plt.subplots(1, 2, figsize=(11, 3.8))
-    tables = [("thesis-text", err)] + ([("thesis-code", code_err)] if code else [])
-    top = max(t[m].max() for _, t in tables for m in ("ellipsoid", "quartic"))
+    tables = _protocol_tables(errors)
+    top = max(t[m].max() for _, t in tables for m in TABLE_MODELS)
     bins = np.linspace(0, top * 1.05, 50)
     for j, (proto, t) in enumerate(tables):
-        for m, color in (("ellipsoid", "C0"), ("quartic", "C1")):
+        for m, color in zip(TABLE_MODELS, ("C0", "C1"), strict=True):
             ax[0].hist(
                 t[m],
                 bins,
                 alpha=0.55 if j == 0 else 1.0,
                 color=color,
                 histtype="stepfilled" if j == 0 else "step",
-                label=f"{m} {proto} {t[m].mean():.4f} (thesis {THESIS_TABLE_3_3[m][0]})",
+                label=f"{m} {proto} {t[m].mean():.4f} (thesis {THESIS_TABLE_3_3[FAMILY[m]][0]})",
             )
     ax[0].set_xlabel("fitting error Eq. (3.18)")
     ax[0].set_ylabel("profiles")
-    ax[0].set_title(f"{len(rows)} FEM contact profiles, two protocols")
+    ax[0].set_title(f"{n_rows} FEM contact profiles, two protocols")
     ax[0].legend(fontsize=7)
     ax[1].hist(prof_ms, 40, color="gray")
     ax[1].axvline(50, color="r", lw=0.8, label="50 ms target")
     ax[1].set_xlabel("contact solve + extraction [ms]")
     ax[1].set_title(f"per profile: median {np.median(prof_ms):.1f} ms, mean {prof_ms.mean():.1f} ms")
     ax[1].legend()
-    figures = [str(save_figure(fig, out / "table_3_3_histogram.png"))]
+    return str(save_figure(fig, out / "table_3_3_histogram.png"))
 
-    figures += renders
 
-    summary = {
+def _mean_std(v: np.ndarray) -> dict:
+    return {"mean": float(v.mean()), "std": float(v.std())}
+
+
+def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dict], config: dict, run: dict):
+    """summary.json's content but the headline: Table 3.3 of the non-empty ``rows``, the
+    reference cases ``ref``, and ``run``'s bookkeeping (n_bottles, n_resumed, tasks_ran_on,
+    tasks_wall_s, the pad's pad_precompute_s, pad_precompute_cached, pad_load_s, figures)."""
+    err, code_err, prof_ms = errors["test"], errors["code"], errors["profile_ms"]
+    return {
         "n_profiles": len(rows),
-        "n_empty": sum(r["empty"] for r in ckpt.rows.values()),
+        "n_empty": sum(r["empty"] for r in all_rows),
         # rows taken from the checkpoint of an earlier (killed or finished) run; wall_time_s
         # then covers only the rest, row_compute_s is the sweep's own time over all rows
-        "n_resumed": n_resumed,
+        "n_resumed": run["n_resumed"],
         # where this run's tasks ran — the profile rows and the full-mesh reference cases,
         # while the driver rendered the examples — and their wall time (with the cluster's start)
-        "tasks_ran_on": rows_where,
-        "tasks_wall_s": tasks_s,
+        "tasks_ran_on": run["tasks_ran_on"],
+        "tasks_wall_s": run["tasks_wall_s"],
         "row_compute_s": float(
             sum(
                 r["profile_ms"] / 1e3
-                + sum(r.get(f"{m}_fit_s", 0.0) + r.get(f"{m}_code_fit_s", 0.0) for m in err)
-                for r in ckpt.rows.values()
+                + sum(r.get(f"{m}_fit_s", 0.0) + r.get(f"{m}_code_fit_s", 0.0) for m in MODELS)
+                for r in all_rows
             )
         ),
         "count": (
-            f"{len(bottles)} bottles x {len(config['heights'])} heights x {len(config['approaches'])} "
+            f"{run['n_bottles']} bottles x {len(config['heights'])} heights x {len(config['approaches'])} "
             f"approach directions x {len(config['deltas_mm'])} displacements "
             f"(thesis: {THESIS_TABLE_3_3['n_profiles']})"
         ),
@@ -590,13 +621,8 @@ def run(config: dict) -> dict:
         # the pad's own checks (Hertz, condensed vs full mesh vs neo-Hookean) are fem-validation's
         # results, not read here: experiments run in any order
         "pad_validation": "results/fem-validation (workbench run fem-validation)",
-        "ellipsoid_error_mean": float(err["ellipsoid"].mean()),
-        "ellipsoid_error_std": float(err["ellipsoid"].std()),
-        "quartic_error_mean": float(err["quartic"].mean()),
-        "quartic_error_std": float(err["quartic"].std()),
-        "ellipsoid_lsq_error_mean": float(err["ellipsoid_lsq"].mean()),
-        "ellipsoid_lsq_error_std": float(err["ellipsoid_lsq"].std()),
-        "train_error": {m: {"mean": float(v.mean()), "std": float(v.std())} for m, v in tr.items()},
+        **{f"{m}_error_{k}": v for m in MODELS for k, v in _mean_std(err[m]).items()},
+        "train_error": {m: _mean_std(v) for m, v in errors["train"].items()},
         "protocols": {
             "thesis-text": f"{config['n_wrenches']} wrenches of the thesis §3.3.2 sampler; Eq. 3.18 on "
             f"{config['n_heldout']} held-out ones (the *_error_mean/std keys)",
@@ -604,41 +630,38 @@ def run(config: dict) -> dict:
             f"wrench per grid cell ({config['downsample_steps']} widths per range), Eq. 3.18 on all; the "
             f"grid axis-aligned in the {config['code_frame']} frame",
         },
-        "protocol_ablation": _ablation_summary(rows) if code else None,
+        "protocol_ablation": _ablation_summary(rows) if code_err else None,
         "thesis_protocol_error": (
             {
-                **{
-                    m: {"mean": float(v.mean()), "std": float(v.std()), "n_profiles": len(v)}
-                    for m, v in code_err.items()
-                },
-                "quartic_underdetermined": sum(r.get("quartic_code_error") is None for r in rows),
+                **{m: {**_mean_std(v), "n_profiles": len(v)} for m, v in code_err.items()},
+                "quartic_underdetermined": sum(r.get("quartic_values_code_error") is None for r in rows),
                 "n_train": _stats([r["code_n_train"] for r in rows]),
                 "n_pool": _stats([r["code_n_pool"] for r in rows]),
             }
-            if code
+            if code_err
             else None
         ),
         "table_3_3_vs_thesis": {
             proto: {
                 m: {
-                    "mean": float(t[m].mean()),
-                    "std": float(t[m].std()),
-                    "thesis": THESIS_TABLE_3_3[m],
-                    "ratio_of_means": float(t[m].mean() / THESIS_TABLE_3_3[m][0]),
+                    **_mean_std(t[m]),
+                    "thesis": THESIS_TABLE_3_3[FAMILY[m]],
+                    "ratio_of_means": float(t[m].mean() / THESIS_TABLE_3_3[FAMILY[m]][0]),
                 }
-                for m in ("ellipsoid", "quartic")
+                for m in TABLE_MODELS
             }
-            for proto, t in tables
+            for proto, t in _protocol_tables(errors)
         },
         "support_error": {
-            proto: {m: {"mean": float(v.mean()), "std": float(v.std())} for m, v in t.items()}
-            for proto, t in sup.items()
+            proto: {m: _mean_std(v) for m, v in t.items()} for proto, t in errors["support"].items()
         },
         "support_error_note": (
             f"radial |f^(1/deg) - 1| at exact 6DFW surface points of {config['support_directions']} normals "
             "uniform on the sphere of normalised twists: independent of the training sampler"
         ),
-        "quartic_below_ellipsoid_fraction": float(np.mean(err["quartic"] < err["ellipsoid"])),
+        "quartic_values_below_ellipsoid_sdp_fraction": float(
+            np.mean(err["quartic_values"] < err["ellipsoid_sdp"])
+        ),
         "thesis_table_3_3": THESIS_TABLE_3_3,
         "condensed_vs_reference": {
             "pressure_rel_l2": max(r["pressure_rel_l2"] for r in ref),
@@ -654,19 +677,23 @@ def run(config: dict) -> dict:
             "max": float(prof_ms.max()),
             "fraction_le_50ms": float(np.mean(prof_ms <= 50)),
         },
-        "fit_seconds_mean": {m: float(np.mean([r[f"{m}_fit_s"] for r in rows])) for m in err},
-        "pad_precompute_s": precompute_built_s,
-        "pad_precompute_cached": pad.from_cache,
-        "pad_load_s": precompute_s,
+        "fit_seconds_mean": {m: float(np.mean([r[f"{m}_fit_s"] for r in rows])) for m in MODELS},
+        **{k: run[k] for k in ("pad_precompute_s", "pad_precompute_cached", "pad_load_s")},
         "dims": {str(d): int(sum(r["dim"] == d for r in rows)) for d in sorted({r["dim"] for r in rows})},
-        "figures": figures,
+        "figures": run["figures"],
     }
-    summary["headline"] = [
+
+
+def _headline(summary: dict, errors: dict, pad_load_s: float, from_cache: bool) -> list[str]:
+    prof_ms = errors["profile_ms"]
+    abl = summary["protocol_ablation"]
+    return [
         *(
-            f"Table 3.3 on {len(rows)} profiles, {proto}: quartic {v['quartic']['mean']:.4f} ± "
-            f"{v['quartic']['std']:.4f} (thesis 0.011 ± 0.006, ratio {v['quartic']['ratio_of_means']:.2f}), "
-            f"ellipsoid {v['ellipsoid']['mean']:.4f} ± {v['ellipsoid']['std']:.4f} (thesis 0.019 ± 0.005, "
-            f"ratio {v['ellipsoid']['ratio_of_means']:.2f})"
+            f"Table 3.3 on {summary['n_profiles']} profiles, {proto}: quartic_values "
+            f"{v['quartic_values']['mean']:.4f} ± {v['quartic_values']['std']:.4f} (thesis's quartic "
+            f"0.011 ± 0.006, ratio {v['quartic_values']['ratio_of_means']:.2f}), ellipsoid_sdp "
+            f"{v['ellipsoid_sdp']['mean']:.4f} ± {v['ellipsoid_sdp']['std']:.4f} (thesis's ellipsoid "
+            f"0.019 ± 0.005, ratio {v['ellipsoid_sdp']['ratio_of_means']:.2f})"
             for proto, v in summary["table_3_3_vs_thesis"].items()
         ),
         "sampler-independent radial error (mean): "
@@ -676,22 +703,64 @@ def run(config: dict) -> dict:
         ),
         *(
             [
-                f"thesis-code protocol ablation on {abl['n_profiles']} profiles, ellipsoid / quartic mean "
-                f"error ratio to the protocol's: "
+                f"thesis-code protocol ablation on {abl['n_profiles']} profiles, ellipsoid_sdp / "
+                "quartic_values mean error ratio to the protocol's: "
                 + "; ".join(
-                    f"{v} {abl[v]['ellipsoid']['ratio']:.2f} / "
-                    + (f"{abl[v]['quartic']['ratio']:.2f}" if "quartic" in abl[v] else "n/a")
+                    f"{v} {abl[v]['ellipsoid_sdp']['ratio']:.2f} / "
+                    + (f"{abl[v]['quartic_values']['ratio']:.2f}" if "quartic_values" in abl[v] else "n/a")
                     for v in ABLATION_VARIANTS
-                    if "ellipsoid" in abl[v]
+                    if "ellipsoid_sdp" in abl[v]
                 )
             ]
-            if (abl := summary["protocol_ablation"])
+            if abl
             else []
         ),
         f"contact profile: mean {prof_ms.mean():.1f} ms, median {np.median(prof_ms):.1f} ms, "
         f"p95 {np.percentile(prof_ms, 95):.1f} ms after a {summary['pad_precompute_s']:.1f} s pad precompute"
-        + (f" (loaded from the disk cache in {precompute_s:.1f} s)" if pad.from_cache else ""),
+        + (f" (loaded from the disk cache in {pad_load_s:.1f} s)" if from_cache else ""),
     ]
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    out.mkdir(parents=True, exist_ok=True)
+    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+    t0 = time.perf_counter()
+    pad = _pad_of(config)  # built here once (or loaded from its disk cache) before any worker needs it
+    pad_load_s = time.perf_counter() - t0
+
+    # the grasps not yet in the checkpoint, and the full-mesh reference cases, run as tasks
+    ckpt = _checkpoint(out, config)
+    n_resumed = len(ckpt.rows)
+    jobs, todo_jobs, markers = _plan(bottles, pad, config, ckpt)
+    ref_cases = _reference_cases(bottles, pad, config)
+
+    def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
+        return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
+
+    renders, tasks_ran_on, tasks_s, ref = _sweep(jobs, todo_jobs, ref_cases, ckpt, config, meanwhile)
+
+    # Table 3.3 over every profile, the reference cases, the figures
+    rows = [r for r in ckpt.rows.values() if not r["empty"]]
+    if not rows:
+        raise RuntimeError("no contact profile was produced; check the pad placement")
+    _write_tables(out, rows, ref)
+    errors = _errors(rows, config)
+    figures = [_histogram(errors, len(rows), out), *renders]
+
+    run_info = {
+        "n_bottles": len(bottles),
+        "n_resumed": n_resumed,
+        "tasks_ran_on": tasks_ran_on,
+        "tasks_wall_s": tasks_s,
+        "pad_precompute_s": pad.seconds,  # the build time, also when loaded from the disk cache
+        "pad_precompute_cached": pad.from_cache,
+        "pad_load_s": pad_load_s,
+        "figures": figures,
+    }
+    summary = _summary(rows, list(ckpt.rows.values()), errors, ref, config, run_info)
+    summary["headline"] = _headline(summary, errors, pad_load_s, pad.from_cache)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
