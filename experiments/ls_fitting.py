@@ -50,7 +50,7 @@ from workbench.limit_surface.support_error import support_error
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
 from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
-from workbench.surface_catalog import THESIS_SURFACES
+from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
 from workbench.twists_author import box_sides, sample_twists_author
 

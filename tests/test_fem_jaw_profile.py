@@ -1,4 +1,4 @@
-"""FEM pad profiles of a grasp on an object mesh (workbench.fem.jaw_profile) against analytic obstacles."""
+"""FEM pad profiles of a grasp on an object mesh (workbench.sources.fem_jaw) against analytic obstacles."""
 
 import numpy as np
 import pytest
@@ -8,10 +8,10 @@ from scipy.optimize import brentq
 from workbench.fem.bottle import Posed
 from workbench.fem.contact import solve_contact
 from workbench.fem.extract import extract_profile
-from workbench.fem.jaw_profile import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Cylinder
 from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.sources.fem_jaw import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
 
 GEOM = PadGeometry(width=0.016, length=0.024, thickness=0.004, nx=16, ny=24, nz=3)
 
