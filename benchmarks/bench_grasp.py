@@ -32,9 +32,10 @@ from workbench.grasp import build_gws, resists, resists_lp
 from workbench.grasp.models import contact_sets
 from workbench.grasp.resistance.program import assemble
 from workbench.grasp.resistance.solvers import solve_min_lp
-from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
+from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import versions, write_json
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 ROOT = Path(__file__).resolve().parents[1]
 MU = 0.3
@@ -82,7 +83,8 @@ def evaluate_one_call(quick: bool) -> dict:
     dataset is absent); the one-off profile and model costs are reported beside."""
     import trimesh
 
-    from workbench.grasp import MODELS, CutStore, antipodal_grasps, evaluate_grasp, jaw_profiles
+    from workbench.grasp import MODELS, CutStore, antipodal_grasps, evaluate_grasp
+    from workbench.sources.reach import jaw_profiles
 
     path = ROOT.parent / "shared/data/thesis_objects/0014_bottle-gen_bottle_100x030x030-03.obj"
     if not path.exists():

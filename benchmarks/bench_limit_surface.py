@@ -20,7 +20,7 @@ from workbench import (
     w_max,
 )
 from workbench.results import versions, write_json
-from workbench.surface_catalog import THESIS_SURFACES
+from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -47,7 +47,7 @@ from bench_wrench import machine_roofline  # the sibling benchmark's FMA rooflin
 from scipy.optimize import linprog
 
 from workbench import config
-from workbench.grasp import StiffnessMap, contact_sets, jaw_profiles
+from workbench.grasp import StiffnessMap, contact_sets
 from workbench.grasp.resistance.program import assemble
 from workbench.grasp.resistance.solvers import _slack_form
 from workbench.grasp.robust import Perturbation, q_robust
@@ -56,6 +56,7 @@ from workbench.grasp.tasks import TASKS, task_wrenches
 from workbench.grasp.work import minimal_work, minimal_work_poses, q_force, q_work, work
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.results import versions, write_json
+from workbench.sources.reach import jaw_profiles
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "deformable_objects"

@@ -23,8 +23,8 @@ from workbench import (
     w_max,
 )
 from workbench.results import save_figure, write_csv, write_summary
-from workbench.surface_catalog import THESIS_SURFACES
-from workbench.surfaces import mesh_profile
+from workbench.sources.surface_catalog import THESIS_SURFACES
+from workbench.sources.surfaces import mesh_profile
 from workbench.timing import median_runtime
 from workbench.wrench import check_mu
 

@@ -256,7 +256,7 @@ def _fem_pad(jaw: tuple):
 def _jaws_of(mesh, g: dict, config: dict) -> list:
     """Both jaws' contact profiles at grasp ``g`` (``profiles``: REACH or the FEM pad)."""
     if config["profiles"] == "reach":
-        from workbench.grasp.evaluate import jaw_profiles
+        from workbench.sources.reach import jaw_profiles
 
         return jaw_profiles(
             mesh,
@@ -266,7 +266,7 @@ def _jaws_of(mesh, g: dict, config: dict) -> list:
             closing=config["reach_closing_mm"] * 1e-3,
             allow_scale=True,
         )
-    from workbench.fem.jaw_profile import fem_jaw_profiles
+    from workbench.sources.fem_jaw import fem_jaw_profiles
 
     return fem_jaw_profiles(mesh, g, config["grasp_force"], pad=_fem_pad(tuple(config["jaw"])))
 

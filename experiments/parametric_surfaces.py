@@ -1,7 +1,7 @@
 """Example 3.2.5, Table 3.2 (S1, same rows for S2-S6), exact w_max, PCA of sampled wrenches, Fig 3.3 renders.
 
 Thesis §3.2.5 and §3.5.1.1.  Continuous surfaces are integrated adaptively
-(workbench.surfaces); ``w_max`` is the exact support function from the six
+(workbench.sources.surfaces); ``w_max`` is the exact support function from the six
 canonical twists; PCA uses normalised wrenches ``ŵ = w ⊘ w_max`` (Eq. 3.10)
 of thesis-sampled twists (§3.3.2).
 """
@@ -18,8 +18,8 @@ from workbench import config as settings  # `config` is the run's dict here
 from workbench import project_to_plane, sample_twists_thesis, surface_moments, surface_w_max, surface_wrenches
 from workbench.limit_surface.normalize import explained_variance_ratio
 from workbench.results import save_figure, write_csv, write_summary
-from workbench.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
-from workbench.surfaces import mesh_profile
+from workbench.sources.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
+from workbench.sources.surfaces import mesh_profile
 from workbench.twists import twists_from_plucker
 
 NAME = "parametric-surfaces"

@@ -47,10 +47,11 @@ from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
 from workbench.grasp.models import contact_sets
 from workbench.grasp.precision import matched_precision, scores
-from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
+from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 NAME = "sensitivity"
 

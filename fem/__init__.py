@@ -6,7 +6,8 @@ A rigid jaw with a bonded silicone layer (``pad``) presses into rigid obstacles
 (``fidelity.press``): condensed linear, full-mesh linear, neo-Hookean.
 ``extract.extract_profile`` turns a solution into a contact profile; in one line,
 ``press(geometry, material, obstacle, [delta]).profile(delta)``.  This package
-knows nothing of friction.
+knows nothing of friction or grasps and imports only the core of ``workbench``; the pad
+as a jaw's profile source on an object mesh is ``workbench.sources.fem_jaw``.
 """
 
 from .fidelity import FIDELITIES, Pressed, press

@@ -1,17 +1,19 @@
-"""FEM pad profiles of a grasp on an object mesh (workbench.fem.jaw_profile) against analytic obstacles."""
+"""FEM pad profiles of a grasp on an object mesh (workbench.sources.fem_jaw) against analytic obstacles,
+and through grasp analysis (evaluate_grasp) like REACH profiles."""
 
 import numpy as np
 import pytest
 import trimesh
 from scipy.optimize import brentq
 
+from workbench import ContactProfile
 from workbench.fem.bottle import Posed
 from workbench.fem.contact import solve_contact
 from workbench.fem.extract import extract_profile
-from workbench.fem.jaw_profile import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Cylinder
 from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.sources.fem_jaw import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
 
 GEOM = PadGeometry(width=0.016, length=0.024, thickness=0.004, nx=16, ny=24, nz=3)
 
@@ -81,3 +83,47 @@ def test_bad_input(pad):
         fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], 1000.0, pad=pad)
     with pytest.raises(ValueError, match="dict"):
         fem_jaw_profiles(cyl, [[-0.03, 0, 0], [0.03, 0, 0]], 5.0, pad=pad)
+
+
+def test_an_fem_profile_enters_grasp_analysis_through_evaluate_grasp_like_a_reach_one(pad):
+    """evaluate_grasp(profiles=...) takes the FEM pad's jaws as it takes REACH's: the verdict and
+    the minimal force are those of the same steps done by hand on those profiles, and each
+    jaw's normal force along its approach is the pad's reaction, the reading."""
+    from workbench.grasp import CutStore, contact_sets, evaluate_grasp, min_grasp_force, resists
+    from workbench.limit_surface import LimitSurfaceCache
+    from workbench.sources.jaws import with_axis_force
+
+    R, F, mu = 0.03, 6.0, 0.5
+    cyl = trimesh.creation.cylinder(radius=R, height=0.12, sections=256)
+    axis = np.array([1.0, 0.0, 0.0])
+    grasp = {"p1": np.array([-R, 0.0, 0.0]), "p2": np.array([R, 0.0, 0.0]), "axis": axis}
+    jaws = fem_jaw_profiles(cyl, grasp, F, pad=pad)
+    w = np.array([0.0, 0.0, -4.0, 0.005, 0.0, 0.0])  # a 4 N weight hung slightly off the axis
+    face = (GEOM.width, GEOM.length)
+    ev = evaluate_grasp(None, grasp, profiles=jaws, force=F, mu=mu, w_ext=w, pad=face)
+
+    cache, cuts = LimitSurfaceCache(), CutStore()
+    hand = [with_axis_force(p, a, F) for p, a in zip(jaws, (axis, -axis), strict=True)]
+    contacts = [c for p in hand for c in contact_sets(p, "6dls", cache=cache, seed=0)]
+    verdict = resists(contacts, w, mu, cuts=cuts)
+    mf = min_grasp_force(contacts, w, mu, cuts=cuts)
+    assert ev.resisted and bool(verdict)
+    assert ev.min_force.scale == pytest.approx(mf.scale, rel=1e-9)
+    assert 0.05 < ev.min_force.scale < 1.0  # 4 N held by two 6 N jaws at μ = 0.5 with room to spare
+    for prof, ref, a in zip(ev.profiles, jaws, (axis, -axis), strict=True):
+        np.testing.assert_allclose(prof.pressures, ref.pressures, rtol=1e-9)  # already at the reading
+        assert prof.normal_wrench[:3] @ a == pytest.approx(F, rel=1e-9)  # the pad's reaction
+        assert prof.F == pytest.approx(_analytic_cylinder_profile(pad, R, F).F, rel=2e-3)  # Σ λ, curved
+
+    # the same checks as for REACH profiles, whatever the source
+    with pytest.raises(ValueError, match="list of the two jaws"):
+        evaluate_grasp(None, grasp, profiles=jaws[0], force=F, mu=mu, w_ext=w, pad=face)
+    with pytest.raises(ValueError, match="pad's diagonal"):
+        evaluate_grasp(None, grasp, profiles=jaws[::-1], force=F, mu=mu, w_ext=w, pad=face)
+    flipped = ContactProfile(jaws[0].centers, -jaws[0].normals, jaws[0].areas, jaws[0].pressures)
+    with pytest.raises(ValueError, match="would pull"):
+        evaluate_grasp(None, grasp, profiles=[flipped, jaws[1]], force=F, mu=mu, w_ext=w, pad=face)
+    with pytest.raises(ValueError, match="pad must be"):
+        evaluate_grasp(None, grasp, profiles=jaws, force=F, mu=mu, w_ext=w, pad=(0.0, 0.02))
+    with pytest.raises(ValueError, match="give the object mesh"):
+        evaluate_grasp(None, grasp, force=F, mu=mu, w_ext=w)

@@ -190,8 +190,8 @@ def test_q_robust_rotations_are_rodrigues_of_the_sampled_vectors():
 
 def test_six_dls_contact_vertices_lie_on_the_model():
     from workbench.limit_surface import LimitSurfaceCache
-    from workbench.surface_catalog import S2
-    from workbench.surfaces import mesh_profile
+    from workbench.sources.surface_catalog import S2
+    from workbench.sources.surfaces import mesh_profile
 
     prof = mesh_profile(S2, 300, pressure_scale=1e4)
     model = LimitSurfaceCache().contact_model(prof, mu=1.0)
@@ -209,8 +209,8 @@ def test_six_dls_outer_qp_contains_the_inner_gws():
     """Outer half-spaces (Eq. 3.28) contain the inner vertices (Eq. 3.27): whatever the
     inner LP resists, the outer QP resists; the 6DFC (force up to F) contains the 6DLS."""
     from workbench.limit_surface import LimitSurfaceCache
-    from workbench.surface_catalog import S2
-    from workbench.surfaces import mesh_profile
+    from workbench.sources.surface_catalog import S2
+    from workbench.sources.surfaces import mesh_profile
 
     prof = mesh_profile(S2, 300, pressure_scale=1e4)
     # the other jaw: a half-turn about an axis normal to the net contact force, through a
@@ -243,8 +243,8 @@ def test_reach_clusters_keep_the_normal_wrench():
     """Merging a curved profile's elements keeps its normal wrench exactly (force and
     moment, reference: the profile's own Eq. 3.2 wrench moved to the origin); the
     scalar forces then sum to between |net force| and Σ p a (normals spread)."""
-    from workbench.surface_catalog import S3
-    from workbench.surfaces import mesh_profile
+    from workbench.sources.surface_catalog import S3
+    from workbench.sources.surfaces import mesh_profile
 
     prof = mesh_profile(S3, 400, pressure_scale=1e4)
     subs = reach_contacts(prof, max_triangles=32)
@@ -287,8 +287,8 @@ def replace_cone(c):
 
 def test_every_model_on_the_elliptic_cylinder_grasp():
     from workbench.grasp.models import MODELS, contact_sets, planar_profile
-    from workbench.grasp.scenes import elliptic_cylinder_grasp
     from workbench.limit_surface import LimitSurfaceCache
+    from workbench.sources.scenes import elliptic_cylinder_grasp
 
     profiles = elliptic_cylinder_grasp(force=25.0, n_elements=200)
     # the force-sensor convention: the grasp-axis normal force of each jaw is F
@@ -374,7 +374,7 @@ def _cone_solver_failing():
 
 def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp():
     from workbench.grasp.models import contact_sets
-    from workbench.grasp.scenes import elliptic_cylinder_grasp
+    from workbench.sources.scenes import elliptic_cylinder_grasp
 
     profiles = elliptic_cylinder_grasp(force=25.0, n_elements=200)
     sets = [c for p in profiles for c in contact_sets(p, "6dls", M=100, n_wrenches=400)]
@@ -405,7 +405,7 @@ def test_reach_profile_of_a_sphere_is_winkler():
     """Flat pad closing δ on a sphere: F = π R k δ² (Winkler, δ ≪ R), contact on the axis."""
     import trimesh
 
-    from workbench.grasp.reach import reach_profile
+    from workbench.sources.reach import reach_profile
 
     R, k, d = 0.03, 2e8, 1e-3
     s = trimesh.creation.icosphere(subdivisions=5, radius=R)
@@ -451,8 +451,9 @@ def test_grasp_pipeline_on_a_thesis_object_if_available():
     import trimesh
 
     from workbench.grasp.models import contact_sets
-    from workbench.grasp.reach import reach_profile, with_axis_force
     from workbench.grasp.sampling import antipodal_grasps
+    from workbench.sources.jaws import with_axis_force
+    from workbench.sources.reach import reach_profile
 
     path = (
         Path(__file__).resolve().parents[2]
@@ -485,7 +486,7 @@ def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model, monkey
     on the quartic) against the model's own value."""
     from workbench import mesh_profile
     from workbench.limit_surface import LimitSurfaceCache, ModelSpec
-    from workbench.surface_catalog import S4
+    from workbench.sources.surface_catalog import S4
 
     prof = mesh_profile(S4, 600)
     spec = ModelSpec(model="quartic") if model == "quartic" else ModelSpec(method="sdp")

@@ -22,8 +22,8 @@ from workbench.grasp import (
     resists,
 )
 from workbench.grasp.exact import ExactContacts, resists_exact
-from workbench.grasp.scenes import elliptic_cylinder_grasp
 from workbench.limit_surface import LimitSurfaceCache
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 MU = 0.5
 BOTTLE = (
@@ -213,7 +213,8 @@ def test_antipodal_grasps_drop_edge_contacts():
     their REACH pressure centres within the face's inner 3/4."""
     import trimesh
 
-    from workbench.grasp.reach import jaw_frame, reach_profile
+    from workbench.sources.jaws import jaw_frame
+    from workbench.sources.reach import reach_profile
 
     cyl = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=96)
     everything = antipodal_grasps(cyl, 20, 0.5, seed=3, pad=None)
@@ -238,7 +239,7 @@ def test_reach_profile_area_does_not_depend_on_the_triangulation():
     pressure on the side walls parallel to the approach."""
     import trimesh
 
-    from workbench.grasp import reach_profile
+    from workbench.sources.reach import reach_profile
 
     box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
     for level in range(4):

@@ -25,7 +25,7 @@ from workbench.limit_surface import quartic as quart_mod
 from workbench.limit_surface.quartic import _square_norm_squared
 from workbench.limit_surface.sos import exponents
 from workbench.pressure import power_law
-from workbench.surface_catalog import S4
+from workbench.sources.surface_catalog import S4
 
 
 @pytest.fixture(scope="module")

@@ -16,8 +16,8 @@ from workbench import (
     w_max,
 )
 from workbench.config import TOL
-from workbench.surface_catalog import PLANAR_NORMAL, S1, S3, THESIS_SURFACES, example_3_2_5
-from workbench.surfaces import ParametricSurface, mesh_profile
+from workbench.sources.surface_catalog import PLANAR_NORMAL, S1, S3, THESIS_SURFACES, example_3_2_5
+from workbench.sources.surfaces import ParametricSurface, mesh_profile
 
 
 def test_example_3_2_5_matches_closed_form_and_thesis():

@@ -9,8 +9,8 @@ import pytest
 import trimesh
 
 from workbench import ContactProfile, config
-from workbench.grasp.reach import reach_profile
 from workbench.grasp.sampling import antipodal_grasps
+from workbench.sources.reach import reach_profile
 from workbench.units import check_extent, length_factor
 
 R = 0.03  # a thesis-size object: 6 cm across
@@ -166,7 +166,7 @@ def test_planar_model_keeps_allow_scale():
     """Trial finding: a millimetre profile accepted with allow_scale=True was rejected
     again inside the planar model; it now gives the metre profile's verdict scaled."""
     from workbench.grasp import contact_sets
-    from workbench.grasp.scenes import elliptic_cylinder_grasp
+    from workbench.sources.scenes import elliptic_cylinder_grasp
 
     p = elliptic_cylinder_grasp(force=10.0, n_elements=100)[0]
     mm = ContactProfile(p.centers * 1e3, p.normals, p.areas * 1e6, p.pressures * 1e-6, allow_scale=True)

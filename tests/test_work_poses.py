@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from workbench.grasp import contact_sets, gravity_wrench, min_grasp_force, minimal_work, point_contact
-from workbench.grasp.scenes import elliptic_cylinder_grasp, lever_disturbances
-from workbench.grasp.tasks import TASKS, task_wrenches
+from workbench.grasp.tasks import TASKS, lever_disturbances, task_wrenches
 from workbench.grasp.work import displacements, minimal_work_poses
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 
 def _reference(contacts, w, mu, s, eps=None, representation="outer"):
@@ -229,10 +229,10 @@ def test_min_lp_meets_the_facets_for_a_light_object():
     facets must hold to 1e-10 and Σf be linprog's to 1e-9."""
     import trimesh
 
-    from workbench.grasp import jaw_profiles
     from workbench.grasp.resistance.program import assemble
     from workbench.grasp.resistance.solvers import solve_min_lp
     from workbench.grasp.sampling import horizontal_grasps
+    from workbench.sources.reach import jaw_profiles
 
     mesh = trimesh.creation.cylinder(radius=0.03, height=0.2, sections=96)
     lo, hi = mesh.bounds[:, 2]

@@ -14,7 +14,7 @@ from workbench import (
     sample_twists_thesis,
     w_max,
 )
-from workbench.surface_catalog import S3, S5
+from workbench.sources.surface_catalog import S3, S5
 
 
 def _scale(profile, mu):

@@ -1,12 +1,12 @@
 """Nonplanar frictional contact workbench (J. Xu's thesis, 6DFC ICRA 2020).
 
-Data flows one way: profile -> wrenches -> limit surface -> contact model ->
-grasp metric.  See README.md and ``workbench run --help``.
+Data flows one way: profile source (``workbench.sources``) -> profile -> wrenches ->
+limit surface -> contact model -> grasp metric.  See README.md and ``workbench run --help``.
 """
 
 from .limit_surface import fit_ellipsoid, fit_quartic
 from .profile import ContactProfile
-from .surfaces import (
+from .sources.surfaces import (
     ParametricSurface,
     mesh_profile,
     mesh_surface,

@@ -6,7 +6,9 @@ resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp forc
 (Eq. 4.4); robust.py — q_robust; stiffness_map.py — measured object stiffness on the
 surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
 balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py — the
-resistance margin by bisection; precision.py — precision, recall, matched precision.
+resistance margin by bisection; precision.py — precision, recall, matched precision;
+evaluate.py — one call from a grasp and its jaws' profiles (any source, workbench.sources)
+to the verdict.  Profiles are made in workbench.sources, not here.
 """
 
 from .contacts import (
@@ -19,12 +21,11 @@ from .contacts import (
     soft_point_contact,
     wrench_hull_contact,
 )
-from .evaluate import GraspEvaluation, evaluate_grasp, jaw_profiles
+from .evaluate import GraspEvaluation, evaluate_grasp
 from .gws import WrenchHull, build_gws, grasp_map, gws_points
 from .margin import margin_vs_truth, resistance_margin
 from .models import MODELS, contact_sets
 from .precision import matched_precision, scores
-from .reach import reach_profile, with_axis_force
 from .resistance import (
     CutStore,
     MinimalForce,
@@ -51,9 +52,6 @@ __all__ = [
     "antipodal_grasps",
     "contact_sets",
     "evaluate_grasp",
-    "jaw_profiles",
-    "reach_profile",
-    "with_axis_force",
     "CutStore",
     "MinimalForce",
     "Resistance",

@@ -343,7 +343,7 @@ def reach_contacts(
     normal force ``p a``; elements are merged (pressure-weighted, by k-means on the
     centres) down to ``max_triangles`` to bound the cost.  The elements share one force
     ``group``: a force-sensor's accuracy scales the jaw's elements together.  Any profile works — not only
-    one made by :func:`~.reach.reach_profile`, which is a *profile source* (pad ∩ mesh).
+    one made by :func:`~workbench.sources.reach.reach_profile`, which is a *profile source* (pad ∩ mesh).
 
     torsion_length : torsional friction per newton at μ = 1 of each element [m]; the
         default 0 makes every element a hard point contact (REACH's elements are points).

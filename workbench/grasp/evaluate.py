@@ -1,13 +1,17 @@
-"""One call from a mesh and an antipodal grasp to the verdict (thesis §4.1.4, §4.2).
+"""One call from a grasp and its two jaws' contact profiles to the verdict (thesis §4.1.4, §4.2).
 
 :func:`evaluate_grasp` composes the pipeline a researcher would otherwise write out:
 
-1. each jaw's contact profile from the mesh (:func:`~.reach.reach_profile`: the pad
-   pressed ``closing`` past first touch, Winkler pressure), jaw 1 at ``p1``
-   approaching along the grasp axis, jaw 2 at ``p2`` approaching against it;
-2. both profiles scaled to the force-sensor reading along the grasp axis
-   (:func:`~.reach.with_axis_force`, §4.1.3.2), after checking that each jaw
-   *pushes* the object (a profile whose normals point into the object would pull);
+1. each jaw's contact profile: given (``profiles=``, from any source in
+   :mod:`workbench.sources` — the FEM pad's :func:`~workbench.sources.fem_jaw.fem_jaw_profiles`,
+   a closed-form scene, a measured mesh with pressures), or by default made from the mesh
+   by REACH (:func:`~workbench.sources.reach.jaw_profiles`: the pad pressed ``closing`` past
+   first touch, Winkler pressure), jaw 1 at ``p1`` approaching along the grasp axis, jaw 2
+   at ``p2`` approaching against it;
+2. both profiles checked (each lies at its jaw and *pushes* the object; a profile whose
+   normals point into the object would pull) and scaled to the force-sensor reading along
+   the grasp axis (:func:`~workbench.sources.jaws.checked_jaw_profile`, §4.1.3.2) — the same
+   check and scaling whatever the source;
 3. the contact sets of the requested model only (:func:`~.models.contact_sets`:
    no quartic unless ``6dls_quartic``, no 6DFW sampling unless ``6dfw``/``3dls_nonplanar``,
    no GWS hull ever; limit surfaces through the given cache, so a repeated profile is
@@ -26,10 +30,11 @@ import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
 from ..profile import ContactProfile
+from ..sources.jaws import check_grasp, checked_jaw_profile
+from ..sources.reach import jaw_profiles
 from .contacts import ContactSet
 from .gws import check_mu, check_wrench
 from .models import MODELS, contact_sets
-from .reach import reach_profile, with_axis_force
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
 from .robust import Perturbation, gravity_wrench, q_robust
 
@@ -64,68 +69,6 @@ class GraspEvaluation:
         return bool(self.resistance)
 
 
-def _check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(p1, p2, unit axis)`` of a grasp dict, or a ValueError naming what is missing."""
-    if not isinstance(grasp, dict) or any(k not in grasp for k in ("p1", "p2", "axis")):
-        got = sorted(grasp) if isinstance(grasp, dict) else type(grasp).__name__
-        raise ValueError(
-            "grasp must be a dict with 'p1', 'p2' (contact points [m]) and 'axis' (unit vector from "
-            f"jaw 1 into the object), as antipodal_grasps returns; got {got}"
-        )
-    p1, p2, axis = (np.asarray(grasp[k], float) for k in ("p1", "p2", "axis"))
-    if p1.shape != (3,) or p2.shape != (3,) or axis.shape != (3,) or not np.linalg.norm(axis) > 0:
-        raise ValueError(f"grasp p1, p2, axis must be (3,) vectors, axis non-zero; got {p1}, {p2}, {axis}")
-    return p1, p2, axis / np.linalg.norm(axis)
-
-
-def _jaw(prof, point: np.ndarray, approach: np.ndarray, force: float, pad) -> ContactProfile:
-    """One jaw's profile checked (it lies at the jaw and pushes) and scaled to ``force``."""
-    if not isinstance(prof, ContactProfile):
-        raise ValueError(f"profiles must be ContactProfile objects, one per jaw; got {type(prof).__name__}")
-    off = float(np.linalg.norm(prof.pressure_center - point))
-    if off > float(np.hypot(*pad)):
-        raise ValueError(
-            f"the profile's pressure centre is {off:.3g} m from its jaw's contact point "
-            f"{np.round(point, 4).tolist()} (more than the pad's diagonal): a profile of another grasp, "
-            "pose or unit?"
-        )
-    # the jaw pushes the object along its approach: −Σ p a n · approach > 0
-    push = float(prof.normal_wrench[:3] @ approach)
-    if not push > 0:
-        raise ValueError(
-            f"the jaw at {np.round(point, 4).tolist()} would pull the object (net normal force "
-            f"{push:.3g} N along its approach): the profile's normals point into the object, "
-            "or the approach is reversed; normals must point out of the object (CONVENTIONS.md)"
-        )
-    return with_axis_force(prof, approach, force)
-
-
-def jaw_profiles(
-    mesh,
-    grasp: dict,
-    force: float,
-    *,
-    up=(0.0, 0.0, 1.0),
-    pad: tuple[float, float] = (0.02, 0.04),
-    closing: float = 1e-3,
-    units: str | None = None,
-    allow_scale: bool = False,
-) -> list[ContactProfile]:
-    """The two jaws' REACH profiles (:func:`~.reach.reach_profile`) of an antipodal
-    ``grasp`` (a dict of :func:`~.sampling.antipodal_grasps`: ``p1``, ``p2`` [m], ``axis``
-    from jaw 1 into the object), each scaled to the reading ``force`` [N] along the grasp
-    axis.  ``units`` is the unit of ``mesh.vertices`` only; the grasp is in metres.
-    Raises ValueError when a jaw would pull the object."""
-    p1, p2, axis = _check_grasp(grasp)
-    out = []
-    for point, approach in ((p1, axis), (p2, -axis)):
-        prof = reach_profile(
-            mesh, point, approach, up, pad=pad, closing=closing, units=units, allow_scale=allow_scale
-        )
-        out.append(_jaw(prof, point, approach, force, pad))
-    return out
-
-
 def evaluate_grasp(
     mesh,
     grasp: dict,
@@ -148,8 +91,11 @@ def evaluate_grasp(
     allow_scale: bool = False,
     seed: int = 0,
 ) -> GraspEvaluation:
-    """Evaluate an antipodal grasp of ``mesh`` (metres) under contact model ``model``.
+    """Evaluate an antipodal grasp of ``mesh`` (metres) under contact model ``model``, with
+    the jaws' REACH profiles made from the mesh or the given ``profiles`` of any source.
 
+    mesh : the object (a watertight trimesh); may be None when ``profiles`` are given
+        (then a ``com`` is not checked against the object's box).
     grasp : one dict of :func:`~.sampling.antipodal_grasps` (``p1``, ``p2`` [m], ``axis``).
     force : force-sensor reading of *each* jaw along the grasp axis [N] (§4.1.3.2); a
         profile's ``F`` (Σ p a, the sum of element normal forces) exceeds it on curved
@@ -162,9 +108,16 @@ def evaluate_grasp(
     representation : "model" (default), "outer" or "inner" (see :func:`resists`).
     cache, cuts : reuse limit surfaces / cutting planes across calls (pass the same
         objects when evaluating many grasps).
-    profiles : the two jaws' profiles, if already computed (skips the mesh step); they
-        are checked (near their jaw, pushing) and scaled to ``force`` like new ones.
-    up, pad : the jaws' length axis and face size ``(width, length)`` [m].
+    profiles : the two jaws' profiles ``[jaw at p1, jaw at p2]`` from any source in
+        :mod:`workbench.sources` (REACH computed before, the FEM pad's
+        :func:`~workbench.sources.fem_jaw.fem_jaw_profiles`, a closed-form scene); the mesh
+        step is skipped.  Each is checked as REACH's are (a ContactProfile whose pressure
+        centre lies within the pad's diagonal of its jaw point and which pushes the object
+        along its approach, :func:`~workbench.sources.jaws.checked_jaw_profile`) and scaled
+        to ``force``; a ValueError says which check failed.
+    up, pad : the jaws' length axis and face size ``(width, length)`` [m] (REACH's
+        footprint; for given profiles the bound of the check that each lies at its jaw:
+        pass the FEM pad's ``(width, length)``).
     units, allow_scale : the unit of ``mesh.vertices`` ("mm" converts a copy; the grasp
         stays in metres) and the escape from the size check (:mod:`workbench.units`).
     seed : sampler seed of the contact models.
@@ -196,15 +149,25 @@ def evaluate_grasp(
     t = {}
     t0 = time.perf_counter()
     if profiles is None:
+        if mesh is None:
+            raise ValueError(
+                "give the object mesh (the jaws' REACH profiles are made from it) or the two jaws' "
+                "profiles=[jaw at p1, jaw at p2] from any source (workbench.sources)"
+            )
         profiles = jaw_profiles(mesh, grasp, force, up=up, pad=pad, units=units, allow_scale=allow_scale)
     else:
-        p1, p2, axis = _check_grasp(grasp)
-        if isinstance(profiles, ContactProfile) or len(profiles) != 2:
+        p1, p2, axis = check_grasp(grasp)
+        if not isinstance(profiles, (list, tuple)) or len(profiles) != 2:
+            got = type(profiles).__name__ + (
+                f" of {len(profiles)}" if isinstance(profiles, (list, tuple)) else ""
+            )
             raise ValueError(
-                "profiles must be a list of the two jaws' ContactProfiles [jaw at p1, jaw at p2]"
+                "profiles must be a list of the two jaws' ContactProfiles [jaw at p1, jaw at p2]; "
+                f"got a {got}"
             )
         profiles = [
-            _jaw(p, q, a, force, pad) for p, q, a in zip(profiles, (p1, p2), (axis, -axis), strict=True)
+            checked_jaw_profile(p, q, a, force, pad)
+            for p, q, a in zip(profiles, (p1, p2), (axis, -axis), strict=True)
         ]
     t["profiles"] = (time.perf_counter() - t0) * 1e3
     t0 = time.perf_counter()

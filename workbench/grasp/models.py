@@ -17,7 +17,7 @@ one jaw contributes under model ``name``:
 ``reach``           REACH-style contact model (:func:`~.contacts.reach_contacts`): each
                     element of *any* profile a soft point contact with its own force,
                     clustered to ``reach_triangles`` (thesis §2.3.1.3); not to be confused
-                    with :func:`~.reach.reach_profile`, a profile source from meshes
+                    with :func:`~workbench.sources.reach.reach_profile`, a profile source from meshes
 ``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eq. 3.27/3.28)
 ``6dls_quartic``    ``6dls`` with the SOS-convex quartic (Eq. 3.17, fitted with the
                     twist normals); the QP refines its linearisation by cutting planes

@@ -125,13 +125,14 @@ def antipodal_grasps(
 def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float = 0.75) -> bool:
     """Whether a flat jaw ``pad = (width, length)`` [m] centred on ``p`` and closing along
     ``approach`` meets the surface of ``mesh`` only near the edge of its face: after
-    closing ``depth`` past first touch (:func:`~.reach.reach_profile`, faces refined to
+    closing ``depth`` past first touch (:func:`~workbench.sources.reach.reach_profile`, faces refined to
     1 mm under the footprint), the patch's pressure centre lies in the outer
     ``1 − rim`` of the face (or nothing faces the jaw).  The jaw then presses with its
     edge, far from the planned contact, and face-contact models do not describe what it
     transmits.  A patch that merely spans the face (a cylinder along the pad) is not
     an edge contact: its pressure centre stays inside."""
-    from .reach import jaw_frame, reach_profile
+    from ..sources.jaws import jaw_frame
+    from ..sources.reach import reach_profile
 
     a = np.asarray(approach, float) / np.linalg.norm(approach)
     up = np.asarray(up, float)

@@ -5,6 +5,9 @@
 trajectory is discretised into three poses, 0°, 45° and 90°, and in the object frame
 gravity turns the other way about that axis.  A grasp's quality for a task is its
 lowest quality over the poses (§4.3.3.3).
+
+:func:`lever_disturbances` draws the §4.1.3.1 kind of task instead: weights hung at random
+lever arms from an object grasped along x.
 """
 
 from __future__ import annotations
@@ -44,4 +47,23 @@ def task_wrenches(task: str, mass: float, com, axis) -> np.ndarray:
     return np.concatenate([f, cross3(np.asarray(com, float), f)], axis=1)
 
 
-__all__ = ["TASKS", "task_wrenches"]
+__all__ = ["TASKS", "lever_disturbances", "task_wrenches"]
+
+
+def lever_disturbances(
+    rng: np.random.Generator, n: int, weight_range=(1.0, 14.0), lever_x: float = 0.06, lever_z: float = 0.08
+) -> np.ndarray:
+    """(n, 6) disturbances of the thesis's §4.1.3.1 kind for the elliptic-cylinder grasp
+    (:func:`workbench.sources.scenes.elliptic_cylinder_grasp`, grasp axis x): weights
+    ``m g`` in ``weight_range`` [N] (along −y) hung at lever arms ``|r_x| <= lever_x``,
+    ``|r_z| <= lever_z`` [m] (``τ_x = r_z m g``, ``τ_z = −r_x m g``), plus small f_z, τ_y
+    noise; nothing along the grasp axis x, which those setups never load and a planar
+    3DLS cannot resist by construction (§4.1.3.4)."""
+    mg = rng.uniform(*weight_range, n)
+    rx = rng.uniform(-lever_x, lever_x, n)
+    rz = rng.uniform(-lever_z, lever_z, n)
+    w = np.zeros((n, 6))
+    w[:, 1] = -mg
+    w[:, 3] = rz * mg
+    w[:, 5] = -rx * mg
+    return w + rng.normal(0.0, 1.0, (n, 6)) * [0.0, 0.3, 0.3, 0.003, 0.003, 0.003]

@@ -1,4 +1,4 @@
-"""Contact scenes with closed-form geometry for grasp experiments (thesis §4.1.3).
+"""Contact profiles of grasp scenes with closed-form geometry (thesis §4.1.3).
 
 :func:`elliptic_cylinder_grasp` — a parallel-jaw grasp of an elliptic cylinder
 (axis z, grasp axis x, jaws at ±x), each contact an elliptic-cylinder patch with
@@ -14,7 +14,7 @@ import numpy as np
 
 from ..pressure import power_law
 from ..profile import ContactProfile
-from ..surfaces import ParametricSurface, mesh_profile
+from .surfaces import ParametricSurface, mesh_profile
 
 
 def elliptic_cylinder_contact(
@@ -56,21 +56,3 @@ def elliptic_cylinder_grasp(
     right = elliptic_cylinder_contact(a, b, half_angle, length, k, force, n_elements)
     left = right.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))
     return [right, left]
-
-
-def lever_disturbances(
-    rng: np.random.Generator, n: int, weight_range=(1.0, 14.0), lever_x: float = 0.06, lever_z: float = 0.08
-) -> np.ndarray:
-    """(n, 6) disturbances of the thesis's §4.1.3.1 kind for the grasp above: weights
-    ``m g`` in ``weight_range`` [N] (along −y) hung at lever arms ``|r_x| <= lever_x``,
-    ``|r_z| <= lever_z`` [m] (``τ_x = r_z m g``, ``τ_z = −r_x m g``), plus small f_z, τ_y
-    noise; nothing along the grasp axis x, which those setups never load and a planar
-    3DLS cannot resist by construction (§4.1.3.4)."""
-    mg = rng.uniform(*weight_range, n)
-    rx = rng.uniform(-lever_x, lever_x, n)
-    rz = rng.uniform(-lever_z, lever_z, n)
-    w = np.zeros((n, 6))
-    w[:, 1] = -mg
-    w[:, 3] = rz * mg
-    w[:, 5] = -rx * mg
-    return w + rng.normal(0.0, 1.0, (n, 6)) * [0.0, 0.3, 0.3, 0.003, 0.003, 0.003]

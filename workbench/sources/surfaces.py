@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from . import _kernels, config
-from .profile import ContactProfile, pca_box_longest_side
-from .twists import canonical_twists
-from .wrench import check_mu, check_twists
+from .. import _kernels, config
+from ..profile import ContactProfile, pca_box_longest_side
+from ..twists import canonical_twists
+from ..wrench import check_mu, check_twists
 
 Array = np.ndarray
 log = logging.getLogger(__name__)

@@ -8,6 +8,9 @@ Geometry by projection, no booleans: the object is refined near the jaw to
 ``max_edge``, triangles facing the jaw inside the pad footprint are binned on a
 grid over the footprint and only the front-most surface of each bin counts
 (what the pad can reach first); the jaw closes by ``closing`` from first touch.
+
+:func:`reach_profile` is one jaw's profile; :func:`jaw_profiles` both jaws' of a grasp,
+scaled to the force-sensor reading (the FEM counterpart: :mod:`workbench.sources.fem_jaw`).
 """
 
 from __future__ import annotations
@@ -15,18 +18,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..profile import ContactProfile
+from .jaws import check_grasp, checked_jaw_profile, jaw_frame
 
-
-def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Unit (approach a, width axis e1, length axis e2) with e2 the part of ``up`` ⟂ a."""
-    a = np.asarray(approach, float)
-    a = a / np.linalg.norm(a)
-    e2 = np.asarray(up, float) - (np.asarray(up, float) @ a) * a
-    # e2 is a cross product of unit vectors: below 1e-9 they are parallel (pick another axis)
-    if np.linalg.norm(e2) < 1e-9:
-        raise ValueError("up must not be parallel to the approach direction")
-    e2 /= np.linalg.norm(e2)
-    return a, np.cross(e2, a), e2
+__all__ = ["jaw_profiles", "reach_profile"]
 
 
 def reach_profile(
@@ -116,11 +110,28 @@ def reach_profile(
     return ContactProfile(cen[sel], normal[sel], area[sel], stiffness * depth[sel])
 
 
-def with_axis_force(profile: ContactProfile, axis, force: float) -> ContactProfile:
-    """The profile's pressures scaled so its normal force along ``axis`` has magnitude
-    ``force`` — a force-sensor reading along the grasp axis (thesis §4.1.3.2)."""
-    a = np.asarray(axis, float)
-    fa = abs(float(profile.normal_wrench[:3] @ (a / np.linalg.norm(a))))
-    if not fa > 0:
-        raise ValueError("the profile has no normal force along the axis")
-    return profile.with_pressures(profile.pressures * force / fa)
+def jaw_profiles(
+    mesh,
+    grasp: dict,
+    force: float,
+    *,
+    up=(0.0, 0.0, 1.0),
+    pad: tuple[float, float] = (0.02, 0.04),
+    closing: float = 1e-3,
+    units: str | None = None,
+    allow_scale: bool = False,
+) -> list[ContactProfile]:
+    """The two jaws' REACH profiles (:func:`reach_profile`) of an antipodal
+    ``grasp`` (a dict of :func:`~workbench.grasp.sampling.antipodal_grasps`: ``p1``, ``p2`` [m],
+    ``axis`` from jaw 1 into the object), each scaled to the reading ``force`` [N] along the
+    grasp axis (:func:`~.jaws.checked_jaw_profile`).  ``units`` is the unit of
+    ``mesh.vertices`` only; the grasp is in metres.  Raises ValueError when a jaw would
+    pull the object."""
+    p1, p2, axis = check_grasp(grasp)
+    out = []
+    for point, approach in ((p1, axis), (p2, -axis)):
+        prof = reach_profile(
+            mesh, point, approach, up, pad=pad, closing=closing, units=units, allow_scale=allow_scale
+        )
+        out.append(checked_jaw_profile(prof, point, approach, force, pad))
+    return out

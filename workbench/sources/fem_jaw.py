@@ -1,11 +1,16 @@
-"""FEM pad profiles of a parallel-jaw grasp on an object mesh (thesis §3.5.2, §4.3.2.1).
+"""The FEM adapter: FEM pad profiles of a parallel-jaw grasp on an object mesh (thesis §3.5.2,
+§4.3.2.1).
 
-The FEM counterpart of :func:`workbench.grasp.evaluate.jaw_profiles` (REACH, Winkler
-pressure): each jaw is the compliant pad of :mod:`workbench.fem.pad` (rigid back, bonded linear
-elastic layer, frictionless Signorini contact on its condensed face,
-:func:`workbench.fem.contact.solve_contact`) pressed against the rigid object mesh along the grasp
-axis until the pad's normal force *along the axis* equals the gripper's reading — the
-force-sensor convention of §4.1.3.2, as ``with_axis_force`` does for REACH.
+The profile source of the FEM pad, the FEM counterpart of
+:func:`workbench.sources.reach.jaw_profiles` (REACH, Winkler pressure): each jaw is the
+compliant pad of :mod:`workbench.fem.pad` (rigid back, bonded linear elastic layer,
+frictionless Signorini contact on its condensed face, :func:`workbench.fem.contact.solve_contact`)
+pressed against the rigid object mesh along the grasp axis until the pad's normal force
+*along the axis* equals the gripper's reading — the force-sensor convention of §4.1.3.2, as
+:func:`~.jaws.with_axis_force` does for REACH.  The solution becomes a profile by
+:func:`workbench.fem.extract.extract_profile` (``profile.F`` = the pad's reaction ``Σ λ``),
+moved into the object frame.  ``workbench.fem`` imports only the core of ``workbench``
+(``profile``, ``units``, ``config``, ...); the grasp conventions come in here.
 
 Jaw frame (``x_object = R x_pad + t``): pad z along the approach (into the object), pad
 y (its long side) along ``up`` made perpendicular to the approach, x = y × z — the pose
@@ -25,14 +30,16 @@ import logging
 
 import numpy as np
 
-from workbench.profile import ContactProfile
+from workbench.fem.bottle import Posed
+from workbench.fem.contact import solve_contact
+from workbench.fem.extract import extract_profile
+from workbench.fem.material import Material
+from workbench.fem.obstacles import MeshObstacle
+from workbench.fem.pad import CondensedPad, PadGeometry, condense_pad
 
-from .bottle import Posed
-from .contact import solve_contact
-from .extract import extract_profile
-from .material import Material
-from .obstacles import MeshObstacle
-from .pad import CondensedPad, PadGeometry, condense_pad
+from ..profile import ContactProfile
+from ..units import closed_mesh
+from .jaws import check_grasp, jaw_frame, with_axis_force
 
 log = logging.getLogger(__name__)
 
@@ -59,8 +66,6 @@ def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
             f"up {up!r} is parallel to the approach {approach!r}: the pad's long side is undefined — "
             "give an up direction across the approach"
         )
-    from workbench.grasp.reach import jaw_frame
-
     ez, ex, ey = jaw_frame(ez, u)  # REACH's jaw axes: approach, width, length
     return np.column_stack([ex, ey, ez])
 
@@ -117,9 +122,6 @@ def fem_jaw_profile(
     nothing, or a force the layer cannot reach before its rigid back meets the object.
     """
     from scipy.optimize import brentq
-
-    from workbench.grasp.reach import with_axis_force
-    from workbench.units import closed_mesh
 
     if (
         isinstance(force, (bool, np.bool_))
@@ -181,9 +183,7 @@ def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfi
     jaw 1 into the object, as :func:`workbench.grasp.sampling.horizontal_grasps` gives):
     jaw 1 at ``p1`` along ``axis``, jaw 2 at ``p2`` against it, each at the reading
     ``force`` [N].  Keywords as :func:`fem_jaw_profile` (pass ``pad=`` to condense once)."""
-    from workbench.grasp.evaluate import _check_grasp
-
-    p1, p2, axis = _check_grasp(grasp)
+    p1, p2, axis = check_grasp(grasp)
     if kw.get("pad") is None:
         kw["pad"] = condense_pad(
             kw.pop("geometry", None) or PadGeometry(),
