@@ -318,6 +318,8 @@ def _checks(config: dict, out: Path) -> dict:
             "R": R,
             "delta": delta,
             "a_over_h": a / h,
+            # per unit length: the strip's rows of faces (centroids equal to 1 nm, which merges the
+            # last-bit differences of one row) times the face length 12 mm / n
             "F_fe": float(sol.lam[strip].sum() / (np.unique(np.round(y[strip], 9)).size * 0.012 / n)),
             "F_limit": 4.0 / 3.0 * (M / h) * a * delta,
         }
@@ -468,7 +470,7 @@ def run(config: dict) -> dict:
         for app in shapes:
             if cal == app:
                 continue
-            for d in sorted({d for _, d in sri if d >= 0.2}):
+            for d in sorted({d for _, d in sri if d >= 0.2}):  # the large-deformation levels only
                 if (cal, d) in sri and (app, d) in sri:
                     for q in ("force", "peak"):
                         e_cal, e_app = sri[(cal, d)][f"{q}_rel_err"], sri[(app, d)][f"{q}_rel_err"]

@@ -81,6 +81,7 @@ def pca(surface, w_max_exact: np.ndarray, config: dict, seed: int) -> dict:
     dt = time.perf_counter() - t0
     w_hat = w / w_max_exact
     ratio = explained_variance_ratio(w_hat)
+    # a cumulative ratio at the retention level but for round-off (~1e-16) counts as reaching it
     n_retained = int(np.searchsorted(np.cumsum(ratio), settings.TOL.pca_retained_variance * (1 - 1e-12)) + 1)
     return {
         "explained_variance_ratio": ratio,

@@ -46,7 +46,7 @@ from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
 from workbench.grasp.models import contact_sets
-from workbench.grasp.precision import matched_precision, scores
+from workbench.grasp.precision import matched_precision, recall_at_least, scores
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
@@ -284,6 +284,7 @@ def _row(task: tuple, config: dict) -> dict:
     _, n_r, sigma = task  # robust metric (6DFC paper Fig 3): q_robust >= 0.5 under pose noise
     nr = config["robust_disturbances"]
     base = _sets(true_prof, "6dls", cache, config)
+    # pose noise only; the rotation σ is σ_r over a 3 cm lever (the contact's size: a = length = 0.03 m)
     p = Perturbation(
         n_samples=n_r, sigma_trans=sigma, sigma_rot=sigma / 0.03, sigma_mu=0.0, sigma_mass=0.0, sigma_com=0.0
     )
@@ -299,7 +300,7 @@ def _row(task: tuple, config: dict) -> dict:
             cuts=cuts,
             w_ext=W[i],
         )
-        >= 0.5
+        >= 0.5  # the 6DFC paper's success threshold on q_robust (a fraction of the samples)
         for i in range(nr)
     ]
     ms = (time.perf_counter() - t0) / nr * 1e3
@@ -325,102 +326,34 @@ def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     n = config["n_disturbances"]
-    W, forces, mu_true, f_true = _inputs(config)
-    true_prof = _profiles(config, config["k_true"], config["length"])
     ckpt = Checkpoint(
         out / "rows.jsonl",
         {k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")},
     )
     n_resumed = len(ckpt.rows)
-    todo = [t for t in _row_tasks(config) if _key(t) not in ckpt]
-    got: dict = {}
-
-    def ground_truth() -> None:
-        # the true profile's 6DFW set, exactly (column generation), per-grasp noise; the
-        # driver's share while the workers compute the rows (rows are scored against it)
-        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
-        t0 = time.perf_counter()
-        got["truth"] = np.array(
-            [
-                resists_exact(exact, w, m, forces=exact.F * f)[0]
-                for w, f, m in tqdm(
-                    zip(W, f_true, mu_true, strict=True), total=n, desc="ground truth", unit="grasp"
-                )
-            ]
-        )
-        got["truth_ms"] = (time.perf_counter() - t0) / n * 1e3
-
-    with tqdm(total=len(todo), desc="sensitivity", unit="row") as bar:
-        _, ran_on = run_rows(
-            partial(_row, config=config),
-            todo,
-            lambda task, row: ckpt.add(_key(task), _scored(row, got["truth"])),
-            config,
-            progress=bar,
-            meanwhile=ground_truth,
-        )
-    truth, truth_ms = got["truth"], got["truth_ms"]
-
+    # every row (Dask), scored against the ground truth the driver computes meanwhile
+    truth, truth_ms, ran_on = _rows_and_truth(ckpt, config)
+    # margins at the true parameters: capacity error and recall at matched precision
+    margins = {m: np.array(ckpt.rows[f"margin/{m}"]["margins"]) for m in config["models"]}
     true_margin = np.array(ckpt.rows["margin/truth"]["margins"])
-    margin_error = {
-        m: margin_vs_truth(np.array(ckpt.rows[f"margin/{m}"]["margins"]), true_margin)
-        for m in config["models"]
-    }
-    matched = {
-        m: matched_precision(np.array(ckpt.rows[f"margin/{m}"]["margins"]), truth, config["precision_levels"])
-        for m in config["models"]
-    }
+    margin_error = {m: margin_vs_truth(s_m, true_margin) for m, s_m in margins.items()}
+    matched = {m: matched_precision(s_m, truth, config["precision_levels"]) for m, s_m in margins.items()}
     nominal = np.array(ckpt.rows["margin/truth-nominal"]["margins"])
     training = _training_distribution(config, ckpt, truth, true_margin, nominal)
     levels = config["precision_levels"]
-
-    def recall_at(m: str, j: int) -> float:
-        return matched[m]["at_levels"]["recall"][j]
-
     nonplanar = [m for m in ("6dls", "6dfc") if m in matched]
     baselines = [m for m in ("planar", "point") if m in matched]
-    # a model that never reaches a level has recall 0 there (it cannot be made that precise)
-    nonplanar_ge = {
-        str(lv): all(
-            np.nan_to_num(recall_at(a, j)) >= np.nan_to_num(recall_at(b, j))
-            for a in nonplanar
-            for b in baselines
-        )
-        for j, lv in enumerate(levels)
-    }
-
+    nonplanar_ge = recall_at_least(matched, nonplanar, baselines, levels)
+    # the parameter series
     rows = [r for r in ckpt.rows.values() if r["series"] != "margin"]
     cols = ["series", "x", "n_r", "sigma_r", "model", "precision", "recall", "positives", "ms_per_grasp"]
     write_csv(out / "sensitivity.csv", cols, [[r.get(c, "") for c in cols] for r in rows])
-    series_out = {}
-    for s in ("k", "mu_offset", "length_offset"):
-        xs = config[{"k": "k_values", "mu_offset": "mu_offsets", "length_offset": "length_offsets"}[s]]
-        series_out[s] = {
-            "x": xs,
-            **{
-                m: {
-                    "precision": [ckpt.rows[f"{s}/{x}/{m}"]["precision"] for x in xs],
-                    "recall": [ckpt.rows[f"{s}/{x}/{m}"]["recall"] for x in xs],
-                }
-                for m in config["models"]
-            },
-        }
-    series_out["robust"] = [
-        {k: r[k] for k in ("n_r", "sigma_r", "precision", "recall", "ms_per_grasp")}
-        for r in rows
-        if r["series"] == "robust"
-    ]
+    series_out = _series(ckpt, rows, config)
     ms_model = {
         m: float(np.median([r["ms_per_grasp"] for r in rows if r.get("model") == m]))
         for m in config["models"]
     }
-    figures = [str(_plot(out, series_out, config)), str(_plot_pr(out, matched, config))]
-    try:
-        figures.append(str(_render(out, true_prof)))
-    except Exception as exc:  # a render is a convenience
-        import logging
-
-        logging.getLogger(__name__).warning("offscreen rendering failed: %s", exc)
+    figures = _figures(out, series_out, matched, config)
     base_row = (
         {m: ckpt.rows[f"k/{config['k_true']}/{m}"] for m in config["models"]}
         if config["k_true"] in config["k_values"]
@@ -454,37 +387,117 @@ def run(config: dict) -> dict:
         "n_resumed": n_resumed,
         "rows_ran_on": ran_on,
         "figures": figures,
-        "headline": [
-            f"truth: {truth.mean():.0%} of {n} disturbances resisted (simulated truth, exact 6DFW set)",
-            *(
-                f"{m}: recall vs k {[round(v, 2) for v in series_out['k'][m]['recall']]}, "
-                f"{ms_model[m]:.2f} ms/grasp"
-                for m in config["models"]
-            ),
-            "recall at matched precision "
-            + "; ".join(
-                f"P>={lv}: " + ", ".join(f"{m} {recall_at(m, j):.2f}" for m in config["models"])
-                for j, lv in enumerate(levels)
-            ),
-            f"6DLS/6DFC recall >= planar and point at matched precision: {nonplanar_ge}",
-            "resistance margin vs the truth's, median |log ratio| (bias): "
-            + ", ".join(
-                f"{m} {e['median_abs_log_ratio']:.3f} ({e['median_log_ratio']:+.3f})"
-                for m, e in margin_error.items()
-            ),
-            *(
-                f"training wrenches of {m}, margin vs the noise-free exact margin, median |log ratio| "
-                "(bias): "
-                + ", ".join(
-                    f"{k} {e['vs_exact_nominal']['median_abs_log_ratio']:.4f} "
-                    f"({e['vs_exact_nominal']['median_log_ratio']:+.4f})"
-                    for k, e in by.items()
-                )
-                for m, by in training.items()
-            ),
-        ],
     }
+    summary["headline"] = _headline(
+        truth, series_out, ms_model, matched, nonplanar_ge, margin_error, training, config
+    )
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, dict]:
+    """The rows not yet in ``ckpt`` run as Dask tasks (:func:`_row`) while the driver computes
+    the ground truth — the true profile's 6DFW set, exactly (column generation), with
+    per-grasp noise — that their predictions are scored against before they are checkpointed.
+    Returns (truth (n,) bool, its ms per grasp, where the rows ran)."""
+    W, _, mu_true, f_true = _inputs(config)
+    n = len(W)
+    todo = [t for t in _row_tasks(config) if _key(t) not in ckpt]
+    got: dict = {}
+
+    def ground_truth() -> None:
+        true_prof = _profiles(config, config["k_true"], config["length"])
+        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
+        t0 = time.perf_counter()
+        got["truth"] = np.array(
+            [
+                resists_exact(exact, w, m, forces=exact.F * f)[0]
+                for w, f, m in tqdm(
+                    zip(W, f_true, mu_true, strict=True), total=n, desc="ground truth", unit="grasp"
+                )
+            ]
+        )
+        got["truth_ms"] = (time.perf_counter() - t0) / n * 1e3
+
+    with tqdm(total=len(todo), desc="sensitivity", unit="row") as bar:
+        _, ran_on = run_rows(
+            partial(_row, config=config),
+            todo,
+            lambda task, row: ckpt.add(_key(task), _scored(row, got["truth"])),
+            config,
+            progress=bar,
+            meanwhile=ground_truth,
+        )
+    return got["truth"], got["truth_ms"], ran_on
+
+
+def _series(ckpt: Checkpoint, rows: list[dict], config: dict) -> dict:
+    """Precision and recall per model along each parameter series, and the robust metric's rows."""
+    series_out = {}
+    for s, key in (("k", "k_values"), ("mu_offset", "mu_offsets"), ("length_offset", "length_offsets")):
+        xs = config[key]
+        series_out[s] = {
+            "x": xs,
+            **{
+                m: {
+                    "precision": [ckpt.rows[f"{s}/{x}/{m}"]["precision"] for x in xs],
+                    "recall": [ckpt.rows[f"{s}/{x}/{m}"]["recall"] for x in xs],
+                }
+                for m in config["models"]
+            },
+        }
+    series_out["robust"] = [
+        {k: r[k] for k in ("n_r", "sigma_r", "precision", "recall", "ms_per_grasp")}
+        for r in rows
+        if r["series"] == "robust"
+    ]
+    return series_out
+
+
+def _figures(out: Path, series_out: dict, matched: dict, config: dict) -> list[str]:
+    figures = [str(_plot(out, series_out, config)), str(_plot_pr(out, matched, config))]
+    try:
+        figures.append(str(_render(out, _profiles(config, config["k_true"], config["length"]))))
+    except Exception as exc:  # a render is a convenience
+        import logging
+
+        logging.getLogger(__name__).warning("offscreen rendering failed: %s", exc)
+    return figures
+
+
+def _headline(
+    truth, series_out, ms_model, matched, nonplanar_ge, margin_error, training, config
+) -> list[str]:
+    levels = config["precision_levels"]
+    return [
+        f"truth: {truth.mean():.0%} of {len(truth)} disturbances resisted (simulated truth, exact 6DFW set)",
+        *(
+            f"{m}: recall vs k {[round(v, 2) for v in series_out['k'][m]['recall']]}, "
+            f"{ms_model[m]:.2f} ms/grasp"
+            for m in config["models"]
+        ),
+        "recall at matched precision "
+        + "; ".join(
+            f"P>={lv}: "
+            + ", ".join(f"{m} {matched[m]['at_levels']['recall'][j]:.2f}" for m in config["models"])
+            for j, lv in enumerate(levels)
+        ),
+        f"6DLS/6DFC recall >= planar and point at matched precision: {nonplanar_ge}",
+        "resistance margin vs the truth's, median |log ratio| (bias): "
+        + ", ".join(
+            f"{m} {e['median_abs_log_ratio']:.3f} ({e['median_log_ratio']:+.3f})"
+            for m, e in margin_error.items()
+        ),
+        *(
+            f"training wrenches of {m}, margin vs the noise-free exact margin, median |log ratio| "
+            "(bias): "
+            + ", ".join(
+                f"{k} {e['vs_exact_nominal']['median_abs_log_ratio']:.4f} "
+                f"({e['vs_exact_nominal']['median_log_ratio']:+.4f})"
+                for k, e in by.items()
+            )
+            for m, by in training.items()
+        ),
+    ]
 
 
 def _plot(out: Path, series: dict, config: dict) -> Path:
@@ -563,6 +576,8 @@ def _render(out: Path, profiles: list) -> Path:
 
     pv = _pyvista()
     pl = pv.Plotter(off_screen=True, window_size=(640, 480))
+    # plotting constants: the cylinder a little inside the default a = 0.03, b = 0.02 m so the
+    # patches on it stay visible, 6 cm tall; the jaw arrows 2 cm long, 6 cm out on the grasp axis
     cyl = pv.Cylinder(radius=1.0, height=0.06, direction=(0, 0, 1), resolution=64).scale(
         [0.0298, 0.0198, 1.0]
     )

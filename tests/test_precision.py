@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from workbench.grasp.precision import matched_precision, scores
+from workbench.grasp.precision import matched_precision, recall_at_least, scores
 
 
 def test_scores_by_hand():
@@ -28,3 +28,21 @@ def test_matched_precision_on_a_hand_made_ranking():
     assert out["at_levels"]["recall"] == [1.0, 0.75]
     assert out["at_levels"]["threshold"] == [1.2, 2.0]
     assert np.isnan(matched_precision(np.zeros(6), truth, [0.5])["at_levels"]["recall"][0])
+
+
+def test_recall_at_least_per_level():
+    """Every 'better' model's recall >= every 'worse' one's, per level; a level never reached
+    (NaN) counts as recall 0."""
+    truth = np.array([True, True, True, False, True, False])
+    levels = [0.6, 1.0]
+    # at t = 0.5 both keep every grasp: precision 4/6 >= 0.6 with recall 1
+    good = matched_precision(np.array([3.0, 2.5, 2.0, 1.8, 1.2, 0.5]), truth, levels)  # recall 1, 3/4
+    poor = matched_precision(np.array([0.5, 2.5, 2.0, 1.8, 1.2, 3.0]), truth, levels)  # a failure on top
+    assert good["at_levels"]["recall"] == [1.0, 0.75]
+    assert poor["at_levels"]["recall"][0] == 1.0 and np.isnan(poor["at_levels"]["recall"][1])
+    matched = {"good": good, "poor": poor}
+    assert recall_at_least(matched, ["good"], ["poor"], levels) == {"0.6": True, "1.0": True}
+    assert recall_at_least(matched, ["poor"], ["good"], levels) == {"0.6": True, "1.0": False}
+    assert recall_at_least(matched, ["poor"], ["poor"], levels) == {"0.6": True, "1.0": True}  # 0 >= 0
+    with pytest.raises(ValueError, match="precision levels"):
+        recall_at_least(matched, ["good"], ["poor"], [0.8])

@@ -201,3 +201,41 @@ def test_split_scores_of_any_calibrated_model():
 
     fit = split_scores_of(power_fit, measured, n_splits=40)
     assert fit["median_abs_log_ratio"]["median"] < 0.12  # the noise is 0.1 in log
+
+
+def test_one_factor_validation_on_a_model_off_by_a_constant():
+    """workbench.fem.calibration.one_factor_validation: rigid (>= the rigid threshold) and failed
+    (NaN) grasps left out and counted; the half drawn as one permutation of the usable grasps; a
+    model 4x too soft calibrated to c = 4 exactly (E_effective = 4 E) with a perfect held-out
+    score; the two-factor split at the median height."""
+    from workbench import config
+    from workbench.fem.calibration import one_factor_validation, split_scores
+
+    rng = np.random.default_rng(11)
+    n = 24
+    measured = np.exp(rng.normal(7.0, 0.6, n))
+    model = measured / 4.0
+    model[0] = np.nan  # the FEM failed
+    model[1] = RIGID_STIFFNESS  # the FEM calls it rigid
+    measured[2] = 8e10  # the measured map calls it rigid
+    heights = np.linspace(0.01, 0.1, n)
+    scores, train, test = one_factor_validation(
+        model, measured, np.random.default_rng(5), heights=heights, E=2e9
+    )
+    usable = np.arange(3, n)
+    np.testing.assert_array_equal(train, np.random.default_rng(5).permutation(usable)[: usable.size // 2])
+    np.testing.assert_array_equal(np.sort(np.r_[train, test]), usable)
+    assert scores["calibrated"]["scale"] == pytest.approx(4.0, rel=1e-12)
+    assert scores["calibrated"]["E_effective_Pa"] == pytest.approx(8e9, rel=1e-12)
+    assert scores["median_abs_log_ratio"] < 1e-12 and scores["spearman"] == pytest.approx(1.0)
+    assert scores["uncalibrated_median_log_ratio"] == pytest.approx(-np.log(4.0), rel=1e-12)
+    assert (scores["n_train"], scores["n_test"]) == (10, 11)
+    assert (scores["rigid_measured"], scores["rigid_fem"]) == (1, 1)
+    groups = (heights[usable] > np.median(heights[usable])).astype(int)
+    assert scores["two_factors_by_height"] == split_scores(model[usable], measured[usable], groups=groups)
+    # the rigid threshold is config's: raised above 8e10, the rigid grasps count as stiff ones
+    with config.override(rigid_stiffness_threshold=1e12):
+        s2, _, _ = one_factor_validation(model, measured, np.random.default_rng(5), heights=heights, E=2e9)
+    assert s2["n_train"] + s2["n_test"] == n - 1 and s2["rigid_measured"] == 0
+    with pytest.raises(ValueError, match="at least 4 grasps"):
+        one_factor_validation(model[:6], measured[:6], rng, heights=heights[:6], E=2e9)

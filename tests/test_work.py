@@ -299,6 +299,25 @@ def test_balanced_accuracy_by_hand():
     assert balanced_accuracy([0, 0], [0, 0]) == 1.0
 
 
+def test_held_out_accuracy_by_hand():
+    """Per object on the held-out grasps (None without any), and over all of them."""
+    from workbench.grasp.threshold import held_out_accuracy
+
+    truth = np.array([1, 0, 1, 1, 0, 1, 0], bool)
+    pred = np.array([1, 1, 0, 1, 0, 1, 1], bool)
+    train = np.array([0, 0, 0, 1, 1, 0, 0], bool)
+    groups = np.array(["a", "a", "a", "b", "b", "c", "c"])
+    got = held_out_accuracy(pred, truth, train, groups, ["a", "b", "c"])
+    # a: successes 1/2 recalled, failures 0/1; b: none held out; c: 1/1 and 0/1
+    # All: successes (0, 2, 5) 2/3, failures (1, 6) 0/2
+    assert got == {"a": 0.25, "b": None, "c": 0.5, "All": pytest.approx(1 / 3)}
+    assert list(got) == ["a", "b", "c", "All"]
+    with pytest.raises(ValueError, match="one shape"):
+        held_out_accuracy(pred, truth, train[:-1], groups, ["a"])
+    with pytest.raises(ValueError, match="no held-out grasp"):
+        held_out_accuracy(pred, truth, np.ones(7, bool), groups, ["a"])
+
+
 def test_fit_normaliser_separates_a_separable_set():
     W = np.array([0.2, 0.05, 1.5, 0.9, 0.1, np.inf, 2.0, 0.3])
     truth = W < 0.5  # low work succeeds; the unresisted grasp fails

@@ -292,7 +292,7 @@ class Defaults:
     # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree
     # with the exact LP on every case; 12 variables quadprog 0.22 ms vs DAQP
     # 0.24 ms, 224 variables (REACH) quadprog 34 ms vs DAQP 3.8 ms).
-    # REACH profiles (grasp/reach.py): surface elements whose outward normal has
+    # REACH profiles (sources/reach.py): surface elements whose outward normal has
     # less than this component against the approach (within ~6 deg of parallel to
     # it) get no Winkler pressure — their area under the pad vanishes; without it
     # a box's side walls carried up to 9 % of the jaw force sideways.

@@ -7,8 +7,9 @@ resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp forc
 surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
 balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py — the
 resistance margin by bisection; precision.py — precision, recall, matched precision;
-evaluate.py — one call from a grasp and its jaws' profiles (any source, workbench.sources)
-to the verdict.  Profiles are made in workbench.sources, not here.
+simulated_truth.py — the minimal-work study's simulated outcome (exact 6DFW sets, noise,
+wall closing); evaluate.py — one call from a grasp and its jaws' profiles (any source,
+workbench.sources) to the verdict.  Profiles are made in workbench.sources, not here.
 """
 
 from .contacts import (

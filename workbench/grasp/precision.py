@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["matched_precision", "scores"]
+__all__ = ["matched_precision", "recall_at_least", "scores"]
 
 
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
@@ -45,3 +45,24 @@ def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float
         best.append(max(ok, key=lambda c: (c[2], -c[0])) if ok else (float("nan"),) * 3)
     out["at_levels"] = {"level": levels, "recall": [b[2] for b in best], "threshold": [b[0] for b in best]}
     return out
+
+
+def recall_at_least(matched: dict, better: list[str], worse: list[str], levels: list[float]) -> dict:
+    """``{str(level): bool}``: at each precision level of :func:`matched_precision` results
+    ``matched`` ({model: result at ``levels``}), whether every model of ``better`` has at
+    least the recall of every model of ``worse``.  A model that never reaches a level (recall
+    NaN) counts 0 there: it cannot be made that precise."""
+    for m in [*better, *worse]:
+        if len(matched[m]["at_levels"]["recall"]) != len(levels):
+            raise ValueError(
+                f"{m}: {len(matched[m]['at_levels']['recall'])} recalls for {len(levels)} precision levels "
+                "— pass the levels matched_precision was given"
+            )
+
+    def recall(m: str, j: int) -> float:
+        return float(np.nan_to_num(matched[m]["at_levels"]["recall"][j]))
+
+    return {
+        str(level): all(recall(a, j) >= recall(b, j) for a in better for b in worse)
+        for j, level in enumerate(levels)
+    }

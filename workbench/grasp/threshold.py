@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["balanced_accuracy", "fit_normaliser"]
+__all__ = ["balanced_accuracy", "fit_normaliser", "held_out_accuracy"]
 
 
 def _bools(a, name: str) -> np.ndarray:
@@ -97,3 +97,29 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     best = np.flatnonzero(score >= score.max() - 1e-12)
     t = float(cand[best[(len(best) - 1) // 2]])
     return t / (1.0 - float(sigma))
+
+
+def held_out_accuracy(predicted, truth, train, groups, names) -> dict:
+    """Balanced accuracy on the held-out grasps (``~train``), per group and overall.
+
+    predicted, truth, train : (n,) bool — prediction, real success, training grasps;
+    groups : (n,) labels (e.g. object names); names : the labels to report, in order.
+
+    Returns ``{name: accuracy or None (no held-out grasp of it), ..., "All": accuracy}``.
+    """
+    p, t = _bools(predicted, "predicted"), _bools(truth, "truth")
+    held = ~_bools(train, "train")
+    g = np.asarray(groups)
+    if not (p.shape == t.shape == held.shape == g.shape):
+        raise ValueError(
+            f"predicted, truth, train and groups must have one shape (n,); got {p.shape}, {t.shape}, "
+            f"{held.shape}, {g.shape}"
+        )
+    if not held.any():
+        raise ValueError("train marks every grasp: no held-out grasp to score")
+    out: dict = {}
+    for name in names:
+        sel = held & (g == name)
+        out[name] = balanced_accuracy(p[sel], t[sel]) if sel.any() else None
+    out["All"] = balanced_accuracy(p[held], t[held])
+    return out

@@ -1,0 +1,88 @@
+"""Simulated grasp outcome for the minimal-work study (thesis §4.3; no robot data here).
+
+The gripper closes to ``safety ×`` the jaw force the *exact* 6DFW sets of the profiles
+need (:func:`required_force_scale`, capped at the gripper's force), with friction and force
+noise; the grasp succeeds iff the exact sets resist every pose's wrench in most noise samples
+and the jaw closing at that force, from a wall stiffness, stays within a limit
+(:func:`simulated_success`).  Shares no limit surface, map interpolation or linearisation with
+the quality metrics it judges.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .exact import ExactContacts, resists_exact
+
+__all__ = ["required_force_scale", "simulated_success"]
+
+#: noisy friction and force factors ``1 + N(0, σ)`` are floored here: a draw of ~10 σ below
+#: the mean would otherwise give zero or negative friction / force (non-physical, and refused
+#: by the resistance test); 0.05 keeps such a draw a near-certain failure.
+NOISE_FACTOR_FLOOR = 0.05
+
+
+def _resists(exact: ExactContacts, w: np.ndarray, mu: float, scale: float) -> bool:
+    return bool(resists_exact(exact, w, mu, forces=exact.F * scale)[0])
+
+
+def required_force_scale(
+    exact: ExactContacts, w: np.ndarray, mu: float, hi: float, iters: int = 12, span: float = 1000.0
+) -> float:
+    """Smallest scale of the profiles' forces ``exact.F`` (2,) at which the exact sets resist
+    the wrench ``w`` (6,) with friction ``mu``: bisection on the log scale in ``[hi / span, hi]``,
+    ``iters`` steps (the result is at most a factor ``span^(2^-iters)`` above the true scale,
+    0.17 % for the defaults); ``hi / span`` if resisted there, ``inf`` if not resisted at ``hi``.
+    """
+    if not (np.isfinite(hi) and hi > 0 and np.isfinite(span) and span > 1):
+        raise ValueError(f"hi must be a finite scale > 0 and span > 1; got hi={hi!r}, span={span!r}")
+    if not _resists(exact, w, mu, hi):
+        return np.inf
+    lo = hi / span
+    if _resists(exact, w, mu, lo):
+        return lo
+    for _ in range(iters):
+        mid = np.sqrt(lo * hi)
+        lo, hi = (lo, mid) if _resists(exact, w, mu, mid) else (mid, hi)
+    return hi
+
+
+def simulated_success(
+    exact: ExactContacts,
+    poses: np.ndarray,
+    mu: float,
+    reading: float,
+    *,
+    stiffness: float,
+    safety: float,
+    force_cap: float,
+    closing_limit: float,
+    noise_samples: int,
+    sigma_mu: float,
+    sigma_force: float,
+    rng: np.random.Generator,
+) -> tuple[bool, float]:
+    """(success, required jaw force [N]) of a grasp holding the wrenches ``poses`` (P, 6).
+
+    ``reading`` [N] is the jaw force the profiles were made at (their sensor reading): the
+    required force ``f_req`` is the largest over poses of :func:`required_force_scale` times
+    it (``inf`` when some pose is not resisted at ``force_cap`` [N]).  The gripper applies
+    ``f_app = min(safety f_req, force_cap)``; each of ``noise_samples`` draws scales friction
+    by ``1 + N(0, sigma_mu)`` and force by ``1 + N(0, sigma_force)`` (floored at
+    :data:`NOISE_FACTOR_FLOOR`).  Success iff more than half of the draws resist every pose
+    and the closing ``f_app / stiffness`` [m] (stiffness [N/m], ``inf``: rigid) is at most
+    ``closing_limit`` [m].  ``rng`` is drawn from only when ``f_req`` is finite.
+    """
+    if not (np.isfinite(reading) and reading > 0):
+        raise ValueError(f"reading must be the profiles' jaw force > 0 [N]; got {reading!r}")
+    F0 = reading
+    f_req = max(required_force_scale(exact, w, mu, force_cap / F0) for w in poses) * F0
+    if not np.isfinite(f_req):
+        return False, f_req
+    f_app = min(safety * f_req, force_cap)
+    ok = 0
+    for _ in range(noise_samples):
+        mu_k = mu * max(1 + rng.normal(0, sigma_mu), NOISE_FACTOR_FLOOR)
+        f_k = f_app * max(1 + rng.normal(0, sigma_force), NOISE_FACTOR_FLOOR)
+        ok += all(_resists(exact, w, mu_k, f_k / F0) for w in poses)
+    return bool(ok > noise_samples / 2 and f_app / stiffness <= closing_limit), f_req
