@@ -11,7 +11,7 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    ``|log(s_fem / s_measured)|``);
 3. horizontal antipodal candidate grasps (:func:`~workbench.grasp.sampling.horizontal_grasps`),
    REACH profiles of both jaws at 10 N (§4.3.2.1) — or, with ``profiles="fem"``, the FEM
-   pad pressed on the mesh to the same reading (:func:`workbench.fem.jaw_profile.fem_jaw_profiles`)
+   pad pressed on the mesh to the same reading (:func:`workbench.sources.fem_jaw.fem_jaw_profiles`)
    — and the ellipsoidal 6DLS of each;
 4. the metrics per task (vertical lifting: one pose; lifting and 90° rotation: three
    poses about the grasp axis; quality = minimum over poses): ``q_robust`` (Eq. 2.101),
@@ -80,7 +80,7 @@ DEFAULT_CONFIG = {
     "n_angles": 6,  # candidate grasp-axis angles in [0, π)
     "jaw": [0.02, 0.04],  # pad width, length [m]
     "grasp_force": 10.0,  # N per jaw: the force the profiles and q_robust use (§4.3.3.1)
-    "profiles": "reach",  # jaw profiles: "reach" (§4.3.2.1) or "fem" (the FEM pad, workbench.fem.jaw_profile)
+    "profiles": "reach",  # jaw profiles: "reach" (§4.3.2.1) or "fem" (the FEM pad, workbench.sources.fem_jaw)
     "reach_closing_mm": 1.0,  # REACH pad compression past first touch
     "M": 200,  # linearisation directions of C_outer (Eq. 3.28)
     "robust_samples": 30,  # N_r of q_robust

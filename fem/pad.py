@@ -4,7 +4,7 @@ The layer occupies ``[-w/2, w/2] × [-l/2, l/2] × [0, h]``; its back face ``z =
 is bonded to the jaw (all displacements fixed) and the contact face is ``z = h``.
 
 :func:`condense_pad` condenses the linear-elastic layer once onto its contact
-face: ``C = B K⁻¹ Bᵀ`` by unit-load solves with one sparse LU factorisation,
+face: ``C = B K⁻¹ Bᵀ`` by unit-load solves with one nested-dissection ordered sparse factorisation,
 all three displacement components per face node, so tangential coupling is
 kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
 cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and
@@ -30,13 +30,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse.linalg as spla
 from skfem import MeshHex
 
 from workbench.results import atomic_write_bytes
 
 from .elasticity import basis, stiffness
 from .material import Material
+from .sparse_factor import factor_spd
 
 log = logging.getLogger(__name__)
 
@@ -245,7 +245,10 @@ def condense_pad(
     free = np.flatnonzero(~fixed)
     pos = np.full(K.shape[0], -1)
     pos[free] = np.arange(free.size)
-    lu = spla.splu(K[free][:, free].tocsc())
+    # nested-dissection ordered factor (SPD, no pivoting): measured on fem-validation's Hertz
+    # block at 37,845 dofs, 38 M non-zeros in L + U and 27 s with the 243 face columns, against
+    # SuperLU's default COLAMD with pivoting, 79 M and 147 s
+    lu = factor_spd(K[free][:, free])
     face_dofs = nodal[:, face].T.ravel()  # node-major [ux, uy, uz]
     rows = pos[face_dofs]
     n = face_dofs.size
