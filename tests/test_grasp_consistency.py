@@ -328,6 +328,16 @@ def test_careless_inputs_name_the_fix():
         evaluate_grasp(box, g, mu=MU, mass=0.3, com=[0, 10.0, 0])  # COM in mm on a metre mesh
     with pytest.raises(ValueError, match="into the object"):
         evaluate_grasp(box, {**g, "axis": -g["axis"]}, mu=MU, mass=0.3, com=[0, 0, 0])
+    for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)
+        with pytest.raises(
+            ValueError, match=r"force must be the jaw's reading in newtons, finite and > 0; got"
+        ):
+            evaluate_grasp(box, g, force=force, mu=MU, mass=0.3, com=[0, 0, 0])
+    for pad in ((-0.02, 0.04), (0.02,), "0.02"):  # on the REACH path, before the footprint is cast
+        with pytest.raises(
+            ValueError, match=r"pad must be the jaw face \(width, length\) \[m\], two numbers > 0"
+        ):
+            evaluate_grasp(box, g, pad=pad, mu=MU, mass=0.3, com=[0, 0, 0])
     sets = [c for p in elliptic_cylinder_grasp(force=10.0, n_elements=100) for c in contact_sets(p, "point")]
     with pytest.raises(ValueError, match="list of ContactSet"):
         resists(sets[0], np.zeros(6), MU)

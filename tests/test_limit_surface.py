@@ -254,20 +254,29 @@ def test_bad_inputs():
         fit_ellipsoid(W, "lsq", alpha=1.0)
 
 
-def test_missing_solver_falls_back_or_raises(s4_data):
+def test_an_unknown_solver_is_refused_and_a_failing_one_falls_back_or_raises(s4_data, monkeypatch):
     train = s4_data[1]
-    # α > 0 forces the conic solve (with α = 0 a PD least-squares fit is returned directly)
-    m = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER", alpha=1e-6 * len(train))
-    assert "failed" in m.info["fallback"] and "least squares" in m.info["fallback"]
+    # an unknown name is a mistake, not a solver failure: refused before any fit (it was
+    # silently solved by the fallback), with or without the conic solve it would select
+    for call in (
+        lambda: fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER", alpha=1e-6 * len(train)),
+        lambda: fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER"),
+        lambda: fit_quartic(train, solver="NOT_A_SOLVER"),
+    ):
+        with pytest.raises(ValueError, match=r"solver must name a conic solver .*got 'NOT_A_SOLVER'"):
+            call()
+    with pytest.raises(ValueError, match=r"fallback_solver must name .*\['CLARABEL', 'SCS'.*got 'ECOS_X'"):
+        fit_quartic(train, fallback_solver="ECOS_X")
     # without α the PD least-squares A is the SDP's optimum: no conic solve, and info
     # names the solver that ran (not the one asked for)
-    direct = fit_ellipsoid(train, "sdp", solver="NOT_A_SOLVER")
+    direct = fit_ellipsoid(train, "sdp", solver="SCS")
     assert direct.info["fallback"] is None and direct.info["solver"] == "numpy.linalg.lstsq"
-    assert np.linalg.eigvalsh(m.A_e).min() > 0
-    with pytest.raises(RuntimeError, match="NOT_A_SOLVER"):
-        fit_quartic(train, solver="NOT_A_SOLVER", fallback_solver=None)
-    q = fit_quartic(train, solver="NOT_A_SOLVER")  # documented fallback to SCS
-    assert q.info["solver"] == "SCS" and "NOT_A_SOLVER" in q.info["fallback"]
+    # a solver that fails: the fallback answers (recorded), or RuntimeError without one
+    monkeypatch.setattr(quart_mod, "_solve_clarabel", lambda r, Rm, c: (False, None, None, "NumericalError"))
+    with pytest.raises(RuntimeError, match="CLARABEL: NumericalError"):
+        fit_quartic(train, fallback_solver=None)
+    q = fit_quartic(train)  # documented fallback to SCS
+    assert q.info["solver"] == "SCS" and q.info["fallback"] == "CLARABEL: NumericalError; solved with SCS"
 
 
 def test_sdp_problem_built_once_per_dimension(s4_data):
