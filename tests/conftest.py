@@ -29,3 +29,23 @@ def _workbench_cache(tmp_path_factory):
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+@pytest.fixture(scope="session")
+def s4_data():
+    """S4 (thesis Table 3.1) at 800 elements, normalised: the profile, 300 training and 2,000
+    test wrenches (tests/test_ellipsoid.py, test_quartic.py, test_base.py, test_linearize.py)."""
+    from workbench import frictional_wrenches, mesh_profile, sample_twists_thesis
+    from workbench.surface_catalog import S4
+
+    prof = mesh_profile(S4, 800).normalized()
+    train = frictional_wrenches(prof, sample_twists_thesis(300, prof, seed=1))
+    test = frictional_wrenches(prof, sample_twists_thesis(2000, prof, seed=2))
+    return prof, train, test
+
+
+@pytest.fixture(scope="session")
+def s4_quartic(s4_data):
+    from workbench import fit_quartic
+
+    return fit_quartic(s4_data[1])
