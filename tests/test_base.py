@@ -5,6 +5,7 @@ import pytest
 from workbench import fit_ellipsoid
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_radial_error_is_the_geometric_distance(s4_data, s4_quartic):
     # points at radius rho times the surface: radial error |rho - 1| for both degrees,
     # Eq. (3.18) |rho^d - 1|

@@ -11,6 +11,7 @@ from workbench.limit_surface import quartic as quart_mod
 from workbench.surface_catalog import S4
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_cache_hits_rescale_and_skip_unneeded_work(tmp_path):
     prof = mesh_profile(S4, 300).with_pressures(np.full(len(mesh_profile(S4, 300)), 2e4))
     cache = LimitSurfaceCache(tmp_path)

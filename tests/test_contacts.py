@@ -45,6 +45,7 @@ def test_soft_point_torsion_limit_is_gamma_F():
         assert bool(wrench_resistance(grasp, w, MU)) == expect
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_six_dls_contact_vertices_lie_on_the_model():
     from workbench.limit_surface import LimitSurfaceCache
     from workbench.surface_catalog import S2
@@ -62,6 +63,7 @@ def test_six_dls_contact_vertices_lie_on_the_model():
     )
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_six_dls_outer_qp_contains_the_inner_gws():
     """Outer half-spaces (Eq. 3.28) contain the inner vertices (Eq. 3.27): whatever the
     inner LP resists, the outer QP resists; the 6DFC (force up to F) contains the 6DLS."""

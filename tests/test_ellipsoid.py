@@ -36,6 +36,7 @@ def test_sdp_close_to_exact_on_exact_data(rng):
     assert np.abs(model.value(pts) - 1).max() <= 1e-4  # the -α log det term biases only slightly
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_ellipsoid_models_are_pd_and_fit_surface_wrenches(s4_data):
     _, train, test = s4_data
     for method in ("lsq", "sdp"):
@@ -72,6 +73,7 @@ def test_bad_inputs():
         fit_ellipsoid(W, "lsq", alpha=1.0)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_missing_solver_falls_back_or_raises(s4_data):
     train = s4_data[1]
     # α > 0 forces the conic solve (with α = 0 a PD least-squares fit is returned directly)
@@ -88,6 +90,7 @@ def test_missing_solver_falls_back_or_raises(s4_data):
     assert q.info["solver"] == "SCS" and "NOT_A_SOLVER" in q.info["fallback"]
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_sdp_problem_built_once_per_dimension(s4_data):
     train = s4_data[1]
     a = 1e-6 * len(train)  # with the log-det term: a conic solve every time
@@ -98,6 +101,7 @@ def test_sdp_problem_built_once_per_dimension(s4_data):
     assert ell_mod.BUILD_COUNT["sdp"] == before
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_psd_least_squares_is_least_squares_when_that_is_definite(s4_data):
     """α = 0: the constraint A ⪰ 0 is inactive at a PD least-squares optimum, so "sdp"
     returns it exactly; with α = 1e-6·K (Eq. 3.12) the conic solve lands within 1e-3."""

@@ -8,6 +8,7 @@ from scipy.optimize import linprog
 from workbench import fit_ellipsoid
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 @pytest.mark.parametrize("which", ["ellipsoid", "quartic"])
 def test_inner_vertices_lie_on_the_model_and_outer_contains_it(which, s4_data, s4_quartic):
     model = fit_ellipsoid(s4_data[1]) if which == "ellipsoid" else s4_quartic
@@ -29,6 +30,7 @@ def _support_ratio(model, M, dirs):
     return float(np.mean(ratios))
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_outer_inner_gap_shrinks_with_M(s4_data):
     model = fit_ellipsoid(s4_data[1])
     dirs = np.random.default_rng(6).standard_normal((30, 6)) * model.scale

@@ -6,6 +6,7 @@ import pytest
 from workbench.grasp import resists
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_every_model_on_the_elliptic_cylinder_grasp():
     from workbench.grasp.models import MODELS, contact_sets, planar_profile
     from workbench.grasp.scenes import elliptic_cylinder_grasp

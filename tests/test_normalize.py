@@ -60,6 +60,7 @@ def _rect(nx=30, ny=12, lx=0.03, ly=0.012):
     return c, np.full(xx.size, lx * ly / (nx * ny)), r, r.max() * 1.0001
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("shape", ["disc", "rect"])
 @pytest.mark.parametrize("k", [np.inf, 2.0])
 def test_planar_contacts_reduce_to_3d(shape, k):

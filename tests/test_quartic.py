@@ -23,6 +23,7 @@ def test_sos_convexity_certificates():
     assert not is_sos_convex(cross, 3)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_quartic_beats_ellipsoid_and_is_convex(s4_data, s4_quartic):
     _, train, test = s4_data
     q = s4_quartic
@@ -39,6 +40,7 @@ def test_quartic_beats_ellipsoid_and_is_convex(s4_data, s4_quartic):
     np.testing.assert_allclose(q.hessian_subspace(y), slow, rtol=1e-10, atol=1e-10 * np.abs(slow).max())
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_quartic_gradient_matches_finite_differences(s4_data, s4_quartic):
     q = s4_quartic
     w = s4_data[2][:4]
@@ -115,6 +117,7 @@ def test_quartic_with_normals_recovers_a_known_quartic_from_few_wrenches(rng):
     assert model.info["normal_weight"] == pytest.approx(0.5 * np.sqrt(126 / 130))
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_normals_fix_the_quartic_at_small_k(s4_data):
     """K = 200 on S4: Eq. (3.17) on values alone overfits the 126 coefficients;
     the sampling twists as normals bring the quartic below the ellipsoid."""
@@ -165,6 +168,7 @@ def test_reduced_gram_fit_is_the_full_gram_fit(rng):
     assert np.abs(V1 @ M_red.ravel(order="F") - V2 @ a_red).max() <= 1e-6 * np.abs(a_red).max()
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_a_clarabel_failure_falls_back_to_scs(s4_data, monkeypatch):
     """Clarabel is called directly; its errors are a recorded fallback, as cvxpy's were."""
     from dataclasses import replace

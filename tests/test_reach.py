@@ -27,6 +27,7 @@ def test_reach_profile_of_a_sphere_is_winkler():
         reach_profile(s, [0.5, R, 0], [0, -1, 0])
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_grasp_pipeline_on_a_thesis_object_if_available():
     """Antipodal sampling -> REACH profiles -> 6DLS -> resistance of the bottle's own weight."""
     from pathlib import Path

@@ -110,6 +110,7 @@ def _cone_solver_failing():
         api.solve_conic = real
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp():
     from workbench.grasp.models import contact_sets
     from workbench.grasp.scenes import elliptic_cylinder_grasp
@@ -139,6 +140,7 @@ def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp(
     assert 0 < socp.mean() < 1
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("model", ["ellipsoid", "quartic"])
 def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model, monkeypatch):
     """One 6DLS contact alone: ``w_ext`` is resisted iff ``f_{μF}(-w_ext - F ŵ⊥) <= 1``
