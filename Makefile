@@ -53,11 +53,11 @@ reproduce: $(STAMP)
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -q --cov --cov-report=term
 
-# The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.
+# The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.  The whole
+# suite but the tests marked jit_only (each says why); --check-kernels fails the run unless every
+# @njit function of the library ran as Python (tests/conftest.py, tests/njit_kernels.py).
 test-nojit: $(STAMP)
-	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q tests/test_wrench_kernel.py tests/test_stress.py \
-		tests/test_profile.py tests/test_twists.py tests/test_surfaces.py tests/test_support_error.py tests/test_coarsen.py \
-		tests/test_fem_contact.py::test_normal_projection_kernels_match_numpy tests/test_sparse_factor.py
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -m "not jit_only" --check-kernels
 
 lint: $(STAMP)
 	$(BIN)/ruff check workbench fem experiments tests benchmarks

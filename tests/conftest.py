@@ -29,3 +29,123 @@ def _workbench_cache(tmp_path_factory):
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+@pytest.fixture(scope="session")
+def s4_data():
+    """S4 (thesis Table 3.1) at 800 elements, normalised: the profile, 300 training and 2,000
+    test wrenches (tests/test_ellipsoid.py, test_quartic.py, test_base.py, test_linearize.py)."""
+    from workbench import frictional_wrenches, mesh_profile, sample_twists_thesis
+    from workbench.sources.surface_catalog import S4
+
+    prof = mesh_profile(S4, 800).normalized()
+    train = frictional_wrenches(prof, sample_twists_thesis(300, prof, seed=1))
+    test = frictional_wrenches(prof, sample_twists_thesis(2000, prof, seed=2))
+    return prof, train, test
+
+
+@pytest.fixture(scope="session")
+def s4_quartic(s4_data):
+    from workbench import fit_quartic
+
+    return fit_quartic(s4_data[1])
+
+
+# ------------------------------------------------------------------ the no-JIT run
+# `make test-nojit` runs the whole suite with NUMBA_DISABLE_JIT=1 except the tests marked
+# ``@pytest.mark.jit_only("why")`` (registered in pyproject.toml, --strict-markers), with
+# --check-kernels: the session then fails unless every Numba kernel of the library
+# (tests/njit_kernels.py) ran as Python in some test.  tests/test_nojit.py keeps the
+# Makefile to that rule.
+def pytest_addoption(parser):
+    parser.addoption(
+        "--check-kernels",
+        action="store_true",
+        help="with NUMBA_DISABLE_JIT=1: fail the session unless every @njit function of the library ran",
+    )
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        for mark in item.iter_markers("jit_only"):
+            reason = mark.args[0] if mark.args else mark.kwargs.get("reason")
+            if not (isinstance(reason, str) and reason.strip()):
+                raise pytest.UsageError(
+                    f"{item.nodeid}: pytest.mark.jit_only needs the reason the test cannot run with "
+                    'NUMBA_DISABLE_JIT=1, e.g. @pytest.mark.jit_only("3 min as pure Python; its kernels '
+                    'run in test_x.py")'
+                )
+
+
+class KernelReach:
+    """Records the first test in which each kernel runs (as a plain Python function, JIT off).
+
+    Each kernel is replaced, wherever a workbench module binds it, by a wrapper that notes the
+    current test and puts the kernel back everywhere at its first call: no cost afterwards."""
+
+    def __init__(self, kernels):
+        import importlib
+
+        self.first = {}  # "module.function" -> test node id
+        self.pending = {}
+        for module, name in kernels:
+            func = getattr(importlib.import_module(module), name)
+            self.pending[f"{module}.{name}"] = func
+            self._rebind(func, self._wrapper(f"{module}.{name}", func))
+
+    @staticmethod
+    def _rebind(old, new):
+        for mod_name, mod in list(sys.modules.items()):
+            if mod_name.split(".")[0] == "workbench" and mod is not None:
+                for attr, value in list(vars(mod).items()):
+                    if value is old:
+                        setattr(mod, attr, new)
+
+    def _wrapper(self, key, func):
+        import functools
+        import os
+
+        @functools.wraps(func)
+        def first_call(*args, **kwargs):
+            if key in self.pending:
+                del self.pending[key]
+                self.first[key] = os.environ.get("PYTEST_CURRENT_TEST", "?").rsplit(" ", 1)[0]
+                self._rebind(first_call, func)
+            return func(*args, **kwargs)
+
+        return first_call
+
+
+def pytest_sessionstart(session):
+    if not session.config.getoption("--check-kernels"):
+        return
+    import numba
+    from njit_kernels import njit_functions
+
+    if not numba.config.DISABLE_JIT:
+        raise pytest.UsageError("--check-kernels needs NUMBA_DISABLE_JIT=1 (the kernels as Python)")
+    session.config._kernel_reach = KernelReach(njit_functions())
+
+
+def pytest_sessionfinish(session, exitstatus):
+    reach = getattr(session.config, "_kernel_reach", None)
+    if reach is not None and reach.pending and exitstatus == pytest.ExitCode.OK:
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    reach = getattr(config, "_kernel_reach", None)
+    if reach is None:
+        return
+    tr = terminalreporter
+    tr.section("Numba kernels run as Python (--check-kernels)")
+    for key, test in sorted(reach.first.items()):
+        tr.write_line(f"{key}: first in {test}")
+    for key in sorted(reach.pending):
+        tr.write_line(
+            f"{key}: NOT RUN by any test of this session - every test reaching it was left out of "
+            "the no-JIT run (marked jit_only?): let one of them run without JIT",
+            red=True,
+        )
+    if reach.pending:
+        tr.write_line(f"--check-kernels: {len(reach.pending)} kernel(s) not run as Python: FAILED", red=True)

@@ -4,6 +4,7 @@ configure() reach every later call — and no library module binds them at impor
 from __future__ import annotations
 
 import ast
+from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
@@ -73,3 +74,48 @@ def test_no_library_module_binds_a_tolerance_or_default_at_import():
                         bound.append(f"{f.name}:{node.lineno} {node.name}")
     assert len(_library_files()) > 60
     assert bound == []
+
+
+def test_every_field_has_a_rule_and_every_default_passes_it():
+    names = [f.name for cls in (config.Tolerances, config.Defaults) for f in fields(cls)]
+    assert sorted(names) == sorted(config._RULES)
+    for cls, obj in ((config.Tolerances, config.TOL), (config.Defaults, config.DEFAULTS)):
+        for f in fields(cls):
+            assert config._check(f.name, getattr(obj, f.name)) == getattr(obj, f.name), f.name
+
+
+@pytest.mark.parametrize(
+    ("values", "message"),
+    [
+        ({"normal_unit_atol": "1e-4"}, r"normal_unit_atol must be a finite number >= 0; got '1e-4' \(str\)"),
+        ({"normal_unit_atol": -1.0}, r"normal_unit_atol must be a finite number >= 0; got -1.0"),
+        ({"resist_rtol": float("nan")}, r"resist_rtol must be a finite number > 0; got nan"),
+        ({"resist_rtol": 0.0}, r"resist_rtol must be a finite number > 0; got 0.0"),
+        ({"max_cut_rounds": 2.5}, r"max_cut_rounds must be an int >= 0; got 2.5 \(float\)"),
+        ({"quadrature_max_cells": True}, r"quadrature_max_cells must be an int >= 1; got True \(bool\)"),
+        ({"quadrature_rtol": None}, r"quadrature_rtol must be a finite number > 0; got None \(NoneType\)"),
+        ({"mu": True}, r"mu must be a finite number > 0; got True \(bool\)"),
+        ({"qp_solver": "nonesuch"}, r"qp_solver must be one of \['auto', .*'quadprog'.*\]; got 'nonesuch'"),
+        ({"qp_fallback_solver": "auto"}, r"qp_fallback_solver must be one of \['clarabel'.*got 'auto'"),
+        ({"ls_training_sampler": "grid"}, r"must be one of \['thesis', '6dfc', 'thesis-code', 'mix'\]"),
+        ({"known_force_rtol": 2.0}, r"known_force_rtol must be a finite number >= 0 and < 1; got 2.0"),
+        (
+            {"pitch_range": (1.0, -1.0)},
+            r"pitch_range must be a tuple of 2 .* with lo <= hi; got \(1.0, -1.0\)",
+        ),
+        ({"lp_presolve": 1}, r"lp_presolve must be True or False; got 1 \(int\)"),
+    ],
+)
+def test_a_value_its_field_does_not_accept_is_refused_at_set_time(values, message):
+    before = config.TOL, config.DEFAULTS
+    with pytest.raises(ValueError, match=message + r".*Pass such a value, e\.g\. its default"):
+        config.configure(**values)
+    with pytest.raises(ValueError, match=message), config.override(subspace_rtol=0.5, **values):
+        pass
+    assert (config.TOL, config.DEFAULTS) == before  # nothing half-applied
+
+
+def test_an_int_for_a_float_field_is_stored_as_that_float():
+    with config.override(resist_rtol=1, pitch_range=[-2, 2]):
+        assert config.TOL.resist_rtol == 1.0 and isinstance(config.TOL.resist_rtol, float)
+        assert config.DEFAULTS.pitch_range == (-2.0, 2.0)

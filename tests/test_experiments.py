@@ -11,6 +11,12 @@ from workbench.cli import main
 from workbench.experiment_config import build_config
 
 SURFACES = [f"S{i}" for i in range(1, 7)]
+# Left out of `make test-nojit`: as pure Python one quick run takes minutes (parametric-surfaces
+# 94 s, discretization 114 s, ls-fitting over 5 min, measured on the shared 2-core machine).
+EXPERIMENT_RUN = pytest.mark.jit_only(
+    "a whole experiment in quick mode: minutes as pure Python; every kernel it calls also runs "
+    "without JIT in the unit tests (make test-nojit checks with --check-kernels)"
+)
 
 
 @pytest.fixture(scope="module")
@@ -27,6 +33,7 @@ def discretization(tmp_path_factory):
     return out, json.loads((out / "summary.json").read_text())
 
 
+@EXPERIMENT_RUN
 def test_parametric_surfaces_example_3_2_5(parametric):
     _, s = parametric
     ex = s["example_3_2_5"]
@@ -36,6 +43,7 @@ def test_parametric_surfaces_example_3_2_5(parametric):
     np.testing.assert_allclose(ex["frictional_wrench"], [0, 0, 0, 0, 0.0018, 0], atol=5e-5)
 
 
+@EXPERIMENT_RUN
 def test_parametric_surfaces_table_3_2(parametric):
     _, s = parametric
     for model, thesis in s["table_3_2_thesis"].items():
@@ -44,6 +52,7 @@ def test_parametric_surfaces_table_3_2(parametric):
     assert all(len(v) == 6 for v in s["table_3_2"].values())
 
 
+@EXPERIMENT_RUN
 def test_parametric_surfaces_w_max_and_pca(parametric):
     out, s = parametric
     assert set(s["w_max_exact"]) == set(SURFACES) and all(len(v) == 6 for v in s["w_max_exact"].values())
@@ -59,6 +68,7 @@ def test_parametric_surfaces_w_max_and_pca(parametric):
     assert (out / "table_3_2.csv").read_text().count("\n") == 1 + 6 * 3
 
 
+@EXPERIMENT_RUN
 def test_discretization_fig_3_8(discretization):
     out, s = discretization
     assert set(s["error_rate"]) == set(SURFACES)
@@ -104,6 +114,7 @@ def ls_fitting(tmp_path_factory):
     return out, json.loads((out / "summary.json").read_text())
 
 
+@EXPERIMENT_RUN
 def test_ls_fitting_headlines(ls_fitting):
     out, s = ls_fitting
     surfaces = ["S1", "S3", "S5"]
@@ -152,6 +163,7 @@ def test_ls_fitting_headlines(ls_fitting):
         assert (out / fig).stat().st_size > 10_000
 
 
+@EXPERIMENT_RUN
 def test_fem_validation_quick(tmp_path):
     assert main(["run", "fem-validation", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -186,6 +198,7 @@ def test_fem_validation_quick(tmp_path):
         assert deep["force_rel_err"] < -0.2
 
 
+@EXPERIMENT_RUN
 def test_fem_fitting_quick(tmp_path):
     """Table 3.3 pipeline in quick mode: bottle contacts -> profiles -> both fits."""
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
@@ -236,6 +249,7 @@ def test_fem_fitting_quick(tmp_path):
     assert s["n_resumed"] == 0 and again["n_resumed"] == s["n_profiles"]
 
 
+@EXPERIMENT_RUN
 def test_wall_stiffness_quick(tmp_path):
     assert main(["run", "wall-stiffness", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -253,6 +267,7 @@ def test_wall_stiffness_quick(tmp_path):
     assert (tmp_path / "stiffness_maps.png").stat().st_size > 10_000
 
 
+@EXPERIMENT_RUN
 def test_sensitivity_quick(tmp_path):
     assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -325,6 +340,7 @@ def test_fem_fitting_refuses_physical_nonsense_before_any_work(sets, match):
         build_config("fem-fitting", True, None, None, sets)
 
 
+@EXPERIMENT_RUN
 def test_minimal_work_quick(tmp_path):
     """Issue 13: the quick run's headline numbers (skips without the CC BY-NC data folder)."""
     from workbench.experiments.minimal_work import DEFAULT_CONFIG, THESIS_TABLE_4_6
@@ -369,6 +385,7 @@ def test_minimal_work_quick(tmp_path):
         assert 0.5 < t["W_nonlinear_over_linear"]["median"] < 5.0
 
 
+@EXPERIMENT_RUN
 def test_wall_nonlinear_quick(tmp_path):
     """Issue 13 scope 1: the quick run's headline numbers — at the calibrated E and the
     closings the cup is measured at, the nonlinear wall is softer than the linear one

@@ -27,6 +27,7 @@ def thin_pad():
     return condense_pad(geom, Material(E=1.0e6, nu=0.0), cache_dir=False)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_sphere_on_thin_compressible_layer_matches_winkler(thin_pad):
     # Winkler: p = (M/h)(δ - r²/2R), a = sqrt(2Rδ), F = π R M δ² / h   (M = E at nu = 0)
     R, delta = 0.05, 0.1e-3
@@ -42,6 +43,7 @@ def test_sphere_on_thin_compressible_layer_matches_winkler(thin_pad):
     assert (sol.lam[r > 1.3 * a] == 0).all()  # no force well outside the contact radius
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_plane_and_no_contact(thin_pad):
     h = thin_pad.geometry.thickness
     far = solve_contact(thin_pad, Sphere((0, 0, h + 0.05 + 1e-3), 0.05), 0.0)
@@ -52,6 +54,7 @@ def test_plane_and_no_contact(thin_pad):
         solve_contact(thin_pad, Cylinder((0, 0, h + 0.01), (0, 1, 0), 0.01), 2 * h)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_extracted_profile_on_the_sphere(thin_pad):
     from workbench import frictional_wrenches, w_max
     from workbench.fem.extract import extract_profile
@@ -79,6 +82,7 @@ def test_extracted_profile_on_the_sphere(thin_pad):
     )
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_extracted_profile_exports_to_vtu(thin_pad, tmp_path):
     import meshio
 
@@ -194,6 +198,7 @@ def test_mesh_obstacle_rejects_a_mesh_in_the_wrong_unit():
         MeshObstacle(big)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_pad_on_a_thesis_object_if_available(thin_pad):
     from pathlib import Path
 

@@ -44,6 +44,7 @@ def test_jaw_rotation_frame():
         jaw_rotation([0, 0, 0.0])
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_cylinder_mesh_of_slivers_matches_the_analytic_cylinder(pad):
     R, F = 0.03, 8.0
     mesh = trimesh.creation.cylinder(radius=R, height=0.12, sections=256)  # 0.7 x 120 mm side faces
@@ -58,6 +59,7 @@ def test_cylinder_mesh_of_slivers_matches_the_analytic_cylinder(pad):
     assert (prof.normals[:, 0] < 0).all()
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_flat_face_profile_is_centred_and_uniform(pad):
     box = trimesh.creation.box(extents=[0.06, 0.05, 0.1])
     p1, p2 = np.array([-0.03, 0.004, 0.01]), np.array([0.03, 0.004, 0.01])
@@ -69,6 +71,7 @@ def test_flat_face_profile_is_centred_and_uniform(pad):
         assert np.allclose(prof.normals, [-sign, 0, 0], atol=1e-12)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_bad_input(pad):
     cyl = trimesh.creation.cylinder(radius=0.03, height=0.12, sections=64)
     with pytest.raises(ValueError, match="force"):

@@ -106,6 +106,7 @@ def test_cache_can_be_disabled_and_survives_a_corrupt_file(tmp_path, monkeypatch
     np.testing.assert_allclose(first.compliance, off.compliance, rtol=1e-12)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_uniform_pressure_on_a_thin_layer_matches_the_confined_modulus():
     # a thin bonded layer (h << w) under uniform normal pressure deforms like a confined column:
     # u_z = p h / M with M = (1 - nu) E / ((1 + nu)(1 - 2 nu)), away from the free edges

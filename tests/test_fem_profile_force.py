@@ -69,6 +69,7 @@ def sphere_press(pad_cache):
     return press(PadGeometry(), MAT, sphere, [d * 1e-3 for d in DELTAS_MM], cache_dir=pad_cache)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 @pytest.mark.parametrize("delta_mm", DELTAS_MM)
 def test_default_pad_on_a_sphere_profile_carries_the_solved_force(sphere_press, delta_mm):
     res = sphere_press
@@ -85,6 +86,7 @@ def test_default_pad_on_a_sphere_profile_carries_the_solved_force(sphere_press, 
     np.testing.assert_allclose(prof.pressure_center[:2], 0.0, atol=1e-9)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_press_result_is_the_solutions_plus_pad(sphere_press):
     res = sphere_press
     assert sorted(res) == [d * 1e-3 for d in DELTAS_MM]  # still the {delta: solution} dict
@@ -116,6 +118,7 @@ def bottle_press(pad_cache):
     return press(PadGeometry(), MAT, placed, [d * 1e-3 for d in DELTAS_MM], cache_dir=pad_cache)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 @pytest.mark.parametrize("delta_mm", DELTAS_MM)
 def test_default_pad_on_a_thesis_bottle_profile_carries_the_solved_force(bottle_press, delta_mm):
     d = delta_mm * 1e-3
@@ -144,6 +147,7 @@ def test_uniform_cauchy_pressure_is_reproduced_exactly():
     np.testing.assert_allclose(prof.normal_wrench, [0, 0, prof.F, 0, 0, 0], atol=1e-12 * prof.F)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_vtu_round_trip_carries_normals_and_areas(sphere_press, tmp_path):
     import meshio
 

@@ -104,6 +104,7 @@ def _square_surface(half: float):
     return surface
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_squeeze_flat_face_grows_few_nodes_to_the_full_answer():
     """A flat jaw on a flat face: the whole footprint starts in contact range, the contact
     gathers at the jaw's edges; growing the contact set from a spread start gives the

@@ -129,6 +129,9 @@ def test_convexity_is_the_eigenvalue_ratio(case):
         ({"model": "ellipsoid_lsq", "twists": np.ones((3, 6))}, "twists must have the wrenches' shape"),
         ({"model": "ellipsoid_lsq", "test": np.ones((3, 5))}, r"test must have shape \(K, 6\)"),
         ({"model": "ellipsoid_lsq", "wrenches_of": 3}, "wrenches_of must map"),
+        ({"model": "quartic_values", "solver": "NOPE"}, r"one of \['CLARABEL', 'SCS'.*got 'NOPE'"),
+        ({"model": "ellipsoid_lsq", "solver": "NOPE"}, r"solver must name a conic solver .*got 'NOPE'"),
+        ({"model": "ellipsoid_sdp", "solver": "OSQP"}, r"semidefinite support.*got 'OSQP'"),
     ],
 )
 def test_bad_input_is_refused(case, kwargs, match):
@@ -136,6 +139,34 @@ def test_bad_input_is_refused(case, kwargs, match):
     args = {"w_max": wm, **kwargs}
     with pytest.raises(ValueError, match=match):
         fit_and_score(args.pop("model"), W, **args)
+
+
+def test_a_solver_failure_falls_back_and_is_logged(case, monkeypatch, caplog):
+    from workbench.limit_surface import quartic
+
+    _, W, _, _, wm = case
+    monkeypatch.setattr(quartic, "_solve_clarabel", lambda r, Rm, c: (False, None, None, "NumericalError"))
+    with caplog.at_level("WARNING", logger="workbench.limit_surface.quartic"):
+        fs = fit_and_score("quartic_values", W, w_max=wm)
+    assert fs.fallback == "CLARABEL: NumericalError; solved with SCS" and fs.model.info["solver"] == "SCS"
+    assert [r.levelname for r in caplog.records] == ["WARNING"]
+    assert "CLARABEL: NumericalError; solved with SCS" in caplog.records[0].getMessage()
+    assert fs.train_error < 1e-3  # SCS's answer on the exact ellipsoid
+
+
+def test_an_sdp_failure_falls_back_to_least_squares_and_is_logged(case, monkeypatch, caplog):
+    import cvxpy as cp
+
+    def fail(*args, **kwargs):
+        raise cp.error.SolverError("forced")
+
+    _, W, _, _, wm = case
+    monkeypatch.setattr(cp.Problem, "solve", fail)
+    with caplog.at_level("WARNING", logger="workbench.limit_surface.ellipsoid"):
+        fs = fit_and_score("ellipsoid_sdp", W, w_max=wm, alpha=1e-3)  # alpha > 0: the SDP runs
+    assert fs.fallback.startswith("SDP with CLARABEL failed (SolverError: forced); used least squares")
+    assert len(caplog.records) == 1 and "SolverError: forced" in caplog.records[0].getMessage()
+    np.testing.assert_allclose(fs.model.A_e, fit_model("ellipsoid_lsq", W, w_max=wm).A_e, rtol=1e-12)
 
 
 def test_check_model_returns_the_name():

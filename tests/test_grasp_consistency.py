@@ -59,6 +59,7 @@ def _agree(sets, w, cuts):
     return m
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("model", [m for m in MODELS if m != "point"])
 def test_three_grasp_functions_agree_on_the_elliptic_cylinder(scene, model):
     profiles, cache = scene
@@ -84,6 +85,7 @@ def test_point_contacts_never_resist_torsion_about_the_grasp_axis(scene):
     assert q_robust(_scaled(sets, 100.0), MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w) == 0.0
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("model", ["planar", "3dls_nonplanar", "6dls", "6dfc"])
 def test_known_force_models_are_continuous_in_the_jaw_forces(model):
     """Issue 11 item 2: with jaw 2 × 1.0002 the planar 3DLS was False at every force from
@@ -108,6 +110,7 @@ def test_known_force_models_are_continuous_in_the_jaw_forces(model):
         assert not resists(sets, w, MU)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_min_grasp_force_of_the_sampled_6dfw_bounds_the_exact_one_from_above(scene):
     """Independent reference: the exact 6DFW set (column generation on the true profile's
     support function) contains the hull of any sample of its wrenches, so the sampled
@@ -165,6 +168,7 @@ def test_bad_inputs_raise_with_a_fix():
         resists(profiles, w, MU)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.skipif(not BOTTLE.exists(), reason="thesis objects not available")
 def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
     """Mesh → antipodal grasp → REACH profiles → every model: the verdict, the minimal
@@ -207,6 +211,7 @@ def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
     assert per_jaw["soft_point"] >= per_jaw["6dfw"] and per_jaw["reach"] >= per_jaw["6dfw"], per_jaw
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_antipodal_grasps_drop_edge_contacts():
     """A flat jaw tilted against a cylinder wall presses it with the pad's edge: such
     grasps are dropped (pressure centre in the outer quarter of the face); kept ones have
@@ -254,6 +259,7 @@ def test_reach_profile_area_does_not_depend_on_the_triangulation():
         assert prof.F == pytest.approx(1e6 / 0.005 * 1e-3 * prof.areas.sum(), rel=1e-9)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("model", MODELS)
 def test_frictionless_contacts_resist_only_what_normal_forces_can(model):
     """μ = 0 used to raise 'every solver failed' for the ellipsoid models: without friction
@@ -284,6 +290,7 @@ def test_point_contacts_agree_under_a_tiny_misalignment():
             assert m.scale == pytest.approx(0.9 * 9.81 / (2 * MU * 10.0), rel=1e-3)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_evaluate_grasp_applies_force_and_checks_given_profiles():
     """Given profiles are scaled to ``force`` (it was ignored), must lie at their jaws, and
     must push: flipped normals raise on the evaluation path and warn in resists."""
@@ -328,6 +335,16 @@ def test_careless_inputs_name_the_fix():
         evaluate_grasp(box, g, mu=MU, mass=0.3, com=[0, 10.0, 0])  # COM in mm on a metre mesh
     with pytest.raises(ValueError, match="into the object"):
         evaluate_grasp(box, {**g, "axis": -g["axis"]}, mu=MU, mass=0.3, com=[0, 0, 0])
+    for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)
+        with pytest.raises(
+            ValueError, match=r"force must be the jaw's reading in newtons, finite and > 0; got"
+        ):
+            evaluate_grasp(box, g, force=force, mu=MU, mass=0.3, com=[0, 0, 0])
+    for pad in ((-0.02, 0.04), (0.02,), "0.02"):  # on the REACH path, before the footprint is cast
+        with pytest.raises(
+            ValueError, match=r"pad must be the jaw face \(width, length\) \[m\], two numbers > 0"
+        ):
+            evaluate_grasp(box, g, pad=pad, mu=MU, mass=0.3, com=[0, 0, 0])
     sets = [c for p in elliptic_cylinder_grasp(force=10.0, n_elements=100) for c in contact_sets(p, "point")]
     with pytest.raises(ValueError, match="list of ContactSet"):
         resists(sets[0], np.zeros(6), MU)

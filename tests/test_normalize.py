@@ -1,12 +1,15 @@
 """workbench.limit_surface.normalize: the two PCA conventions (Table 3.2's centered one, the
-fitters' about the origin) and where they agree."""
+fitters' about the origin) and where they agree; planar contacts reduced to 3D (§3.3.4.2)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis
+from workbench.limit_surface import LimitSurfaceCache, ModelSpec, SamplerSpec
 from workbench.limit_surface.normalize import explained_variance_ratio, pca_subspace
+from workbench.pressure import power_law
 
 
 def _sample(seed: int = 0) -> np.ndarray:
@@ -37,3 +40,44 @@ def test_they_differ_on_a_shifted_set_and_only_the_centered_one_ignores_the_shif
 def test_careless_input_is_refused(bad):
     with pytest.raises(ValueError, match="w_hat"):
         explained_variance_ratio(bad)
+
+
+def _disc(n_r=14, n_t=40, R=0.01):
+    r = (np.arange(n_r) + 0.5) / n_r * R
+    t = (np.arange(n_t) + 0.5) / n_t * 2 * np.pi
+    rr, tt = np.meshgrid(r, t, indexing="ij")
+    c = np.column_stack([(rr * np.cos(tt)).ravel(), (rr * np.sin(tt)).ravel(), np.zeros(rr.size)])
+    a = (rr * (R / n_r) * (2 * np.pi / n_t)).ravel()
+    return c, a, rr.ravel(), R
+
+
+def _rect(nx=30, ny=12, lx=0.03, ly=0.012):
+    x = ((np.arange(nx) + 0.5) / nx - 0.5) * lx
+    y = ((np.arange(ny) + 0.5) / ny - 0.5) * ly
+    xx, yy = np.meshgrid(x, y, indexing="ij")
+    c = np.column_stack([xx.ravel(), yy.ravel(), np.zeros(xx.size)])
+    r = np.hypot(xx, yy).ravel()
+    return c, np.full(xx.size, lx * ly / (nx * ny)), r, r.max() * 1.0001
+
+
+@pytest.mark.jit_only("over 15 s as pure Python")
+@pytest.mark.parametrize("shape", ["disc", "rect"])
+@pytest.mark.parametrize("k", [np.inf, 2.0])
+def test_planar_contacts_reduce_to_3d(shape, k):
+    c, a, r, rmax = _disc() if shape == "disc" else _rect()
+    p = 1e5 * power_law(r, rmax, k)
+    prof = ContactProfile(c, np.tile([0, 0, 1.0], (len(c), 1)), a, p)
+    mu = 0.6
+    cache = LimitSurfaceCache()
+    held_out = frictional_wrenches(prof, sample_twists_thesis(1000, prof, seed=9), mu)
+    for spec in (ModelSpec("ellipsoid", "lsq"), ModelSpec("ellipsoid", "sdp"), ModelSpec("quartic")):
+        m = cache.get(prof, mu, sampler=SamplerSpec(n=200), spec=spec)
+        assert m.dim == 3, spec  # fitted in 3D, not 6D
+        assert m.info["fallback"] is None, m.info
+        # §2.3.5.3: f_x,max = f_y,max = μF, τ_z,max = μ Σ p a |r|
+        np.testing.assert_allclose(m.w_max[:2], mu * prof.F, rtol=1e-3)
+        r_o = np.linalg.norm(prof.centers - prof.pressure_center, axis=1)
+        np.testing.assert_allclose(m.w_max[5], mu * (prof.forces * r_o).sum(), rtol=1e-3)
+        np.testing.assert_allclose(m.w_max[2:5], 0.0, atol=1e-9 * mu * prof.F)
+        # held-out fitting error (Eq. 3.18) within the thesis's 6D bounds
+        assert m.fitting_error(held_out) <= (0.02 if spec.model == "quartic" else 0.04)

@@ -34,6 +34,7 @@ def test_lip_is_found_with_its_size():
     assert lip.z1 == pytest.approx(0.083, abs=1e-6) and 0.080 <= lip.z0 <= 0.0815
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_plain_open_edge_and_the_lip_stiffens_it():
     plain, lipped = _cup(lip=False), _cup(lip=True)
     s = radial_surface(plain)

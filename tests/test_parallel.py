@@ -104,6 +104,7 @@ def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
             check_workers(bad, "")
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """The real task function — profile rows (condensed pad from the disk cache, contact
     solve, fits) and a condensed-vs-full-mesh reference case — through map_rows on two
@@ -155,6 +156,7 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
         ), key
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """ls-fitting's surface rows (quadrature or mesh wrenches, every fit and error) on two
     worker processes give the serial run's errors bit for bit (only fit timings differ)."""
@@ -182,6 +184,7 @@ def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(t
     assert runs[1]["support_error"] == runs[2]["support_error"]
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(tmp_path):
     """Each sensitivity row has its own cut store and exact contacts (the limit surfaces are
     a per-process cache of deterministic fits), so its numbers do not depend on which rows
@@ -252,6 +255,7 @@ def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_p
         assert numbers(serial[name]) == numbers(dist[name]), name
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """minimal-work's tasks — a candidate grasp's row (metrics and simulated truth, the wall
     built once per worker process) and a nonlinear wall's load curve — give the serial rows
@@ -299,6 +303,7 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     assert numbers(serial) == numbers(dist)
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """wall-stiffness's family tasks — a (bottle, height) row of the map, the wall built once
     per worker process, and the mesh-convergence study — give the serial rows bit for bit on

@@ -46,3 +46,33 @@ def test_recall_at_least_per_level():
     assert recall_at_least(matched, ["poor"], ["poor"], levels) == {"0.6": True, "1.0": True}  # 0 >= 0
     with pytest.raises(ValueError, match="precision levels"):
         recall_at_least(matched, ["good"], ["poor"], [0.8])
+
+
+@pytest.mark.parametrize(
+    ("margins", "truth", "levels", "match"),
+    [
+        ([2.0, np.nan, 1.0], [True, True, False], [0.9], r"margins must not be NaN .*1 NaN of 3 at index 1"),
+        (
+            [2.0, 1.0],
+            [True, False],
+            0.9,
+            r"levels must be a sequence .*got 0.9 \(a single level: pass \[0.9\]\)",
+        ),
+        ([2.0, 1.0], [True, False], [90], r"levels must be precision levels in \(0, 1\] .*got 90 in \[90\]"),
+        ([2.0, 1.0], [True, False], [0.0], r"precision levels in \(0, 1\].*got 0.0"),
+        (np.ones((2, 2)), np.ones((2, 2), bool), [0.5], r"margins must be an \(n,\) array .*shape \(2, 2\)"),
+        (
+            [2.0, 1.0],
+            [1, 0],
+            [0.9],
+            r"truth must be an \(n,\) boolean array like margins \(2,\) .*; got int64 .*asarray\(truth, bool",
+        ),
+        ([2.0, 1.0, 3.0], [True, False], [0.9], r"truth must be .*got bool shape \(2,\)"),
+        (["a", "b"], [True, False], [0.9], r"margins must be an \(n,\) array of numbers"),
+    ],
+)
+def test_matched_precision_refuses_careless_input_by_its_own_argument_names(margins, truth, levels, match):
+    if isinstance(truth, list):
+        truth = np.array(truth)
+    with pytest.raises(ValueError, match=match):
+        matched_precision(margins, truth, levels)

@@ -118,6 +118,20 @@ def test_from_mesh_quads_and_units():
         ContactProfile.from_mesh(verts, tris, 1.0, units="inch")
 
 
+def test_from_mesh_refuses_pressures_that_are_not_one_per_face():
+    verts = np.array([[0, 0, 0], [1e-3, 0, 0], [1e-3, 1e-3, 0], [0, 1e-3, 0.0]])
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    two = ContactProfile.from_mesh(verts, faces, [1.0, 3.0])
+    assert two.F == pytest.approx(0.5e-6 * 1.0 + 0.5e-6 * 3.0, rel=1e-14)
+    assert ContactProfile.from_mesh(verts, faces, 2.0).F == pytest.approx(2.0 * 1e-6, rel=1e-14)
+    for bad in ([1.0, 2.0, 3.0], np.ones((2, 1)), np.ones(4)):  # 3 values, a column, per vertex
+        with pytest.raises(
+            ValueError,
+            match=r"pressures must be one value per face, shape \(2,\) for the 2 faces, or a scalar",
+        ):
+            ContactProfile.from_mesh(verts, faces, bad)
+
+
 def test_from_mesh_degenerate_triangles():
     verts, _, tris = _grid_mesh()
     bad = np.vstack([tris, [[0, 0, 1]]])

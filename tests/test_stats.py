@@ -31,3 +31,32 @@ def test_significant_digits_and_careless_input():
     assert rank_correlation([2.0, 1.0], [3.0, 5.0]) == pytest.approx(-1.0)
     with pytest.raises(ValueError, match="one length"):
         rank_correlation([1.0, 2.0, 3.0], [1.0, 2.0])
+
+
+@pytest.mark.parametrize(
+    ("pred", "measured", "match"),
+    [
+        (
+            [1.0, np.nan, 3.0, 4.0],
+            [1.0, 2.0, 3.0, 4.0],
+            r"pred must be finite to be ranked; got nan at index 1",
+        ),
+        (
+            [1.0, 2.0, 3.0, 4.0],
+            [1.0, np.inf, 3.0, -np.inf],
+            r"measured must be finite .*got inf at index 1 \(2",
+        ),
+    ],
+)
+def test_non_finite_values_are_refused_not_ranked(pred, measured, match):
+    with pytest.raises(ValueError, match=match + r".*Leave those pairs out first"):
+        rank_correlation(pred, measured)
+
+
+@pytest.mark.parametrize("digits", [0, -1, 2.5, True])
+def test_digits_must_be_a_positive_int(digits):
+    with pytest.raises(ValueError, match=rf"digits must be a positive int .*got {digits!r}"):
+        rank_correlation([1.2, 1.4, 3.0], [1.0, 2.0, 3.0], digits=digits)
+    assert rank_correlation([1.2, 1.4, 3.0], [1.0, 3.0, 2.0], digits=1) == pytest.approx(
+        spearmanr([1, 1, 3], [1, 3, 2]).statistic  # 1.2 and 1.4 tie at one digit
+    )

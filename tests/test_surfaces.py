@@ -134,17 +134,30 @@ def test_user_surface_with_numeric_derivatives_and_pressure():
     assert wm[5] == pytest.approx(0.5 * p0 * 2 * np.pi * R**3 * np.pi / 16, rel=1e-5)
 
 
-def test_rough_integrand_stops_at_the_cell_cap_with_an_honest_estimate(caplog):
-    R = 0.01
-    disc = ParametricSurface(
-        "disc-rough",
-        lambda r, t: np.stack([r * np.cos(t), r * np.sin(t), 0 * r], axis=-1),
+def _polar_disc(name, R, pressure=None, analytic=True, **kw):
+    """Flat disc of radius R in the xy-plane, σ(r, t) = (r cos t, r sin t, 0)."""
+    su = sv = None
+    if analytic:
+        su = lambda r, t: np.stack([np.cos(t), np.sin(t), 0 * r], axis=-1)  # noqa: E731
+        sv = lambda r, t: np.stack([-r * np.sin(t), r * np.cos(t), 0 * r], axis=-1)  # noqa: E731
+    return ParametricSurface(
+        name,
+        kw.pop("sigma", lambda r, t: np.stack([r * np.cos(t), r * np.sin(t), 0 * r], axis=-1)),
         (0.0, R),
         (0.0, 2 * np.pi),
-        pressure=lambda r, t, xyz: np.sqrt(np.clip(1 - (r / R) ** 2, 0, None)),
+        su,
+        sv,
+        pressure=pressure,
+        **kw,
     )
+
+
+def test_rough_integrand_stops_at_the_cell_cap_with_an_honest_estimate(caplog):
+    R = 0.01
+    disc = _polar_disc("disc-rough", R, lambda r, t, xyz: np.sqrt(np.clip(1 - (r / R) ** 2, 0, None)))
     m = surface_moments(disc, rtol=1e-14)
-    assert "cell cap" in caplog.text
+    assert "cell cap (config.TOL.quadrature_max_cells)" in caplog.text
+    assert "(surface_moments(rtol=1e-14))" in caplog.text  # names the setting to loosen
     assert m.error > 1e-14  # did not converge, and says so
     assert m.F == pytest.approx(2 / 3 * np.pi * R**2, rel=1e-6)
 
@@ -177,3 +190,53 @@ def test_discrete_converges_to_continuous():
     errs = [np.mean(np.abs(w_max(mesh_profile(S, n).normalized()) - cont) / cont) for n in (100, 400, 1600)]
     assert errs[0] > errs[1] > errs[2]
     assert errs[2] < 0.002
+
+
+def test_central_difference_derivatives_bound_the_moments_tolerance(caplog):
+    # a flat disc without sigma_u, sigma_v under the default moments_rtol (1e-12, below the
+    # ~1e-10 accuracy of central differences) ran to the cell cap (6 s) and warned "loosen
+    # rtol" though none was passed; it now integrates to CENTRAL_DIFFERENCE_RTOL at once
+    from workbench.sources.surfaces import CENTRAL_DIFFERENCE_RTOL
+
+    a, p = 0.01, 2.0e4
+    disc = _polar_disc("disc-fd", a, lambda r, t, xyz: np.full(np.shape(r), p), analytic=False)
+    assert TOL.moments_rtol < CENTRAL_DIFFERENCE_RTOL == 1e-10
+    m = surface_moments(disc)
+    assert caplog.records == []
+    assert m.F == pytest.approx(p * np.pi * a**2, rel=CENTRAL_DIFFERENCE_RTOL)  # 1.7e-11 measured
+    assert m.area == pytest.approx(np.pi * a**2, rel=CENTRAL_DIFFERENCE_RTOL)
+    assert 0 < m.error <= CENTRAL_DIFFERENCE_RTOL
+    # with analytic derivatives the default tolerance is kept and met
+    exact = surface_moments(_polar_disc("disc-analytic", a, lambda r, t, xyz: np.full(np.shape(r), p)))
+    assert exact.error <= TOL.moments_rtol and exact.F == pytest.approx(p * np.pi * a**2, rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("pressure", "match"),
+    [
+        (
+            lambda r, t, xyz: -2e4 + 0 * r,
+            r"the pressure must be finite and >= 0 \[Pa\].*got -20000 at \(u, v\)",
+        ),
+        (
+            lambda r, t, xyz: np.where(r > 0.005, np.nan, 1.0),
+            r"the pressure must be finite and >= 0 .*got nan at",
+        ),
+        (lambda r, t, xyz: 0 * r, r"the pressure is zero at every quadrature point of its 16 initial cells"),
+    ],
+)
+def test_a_pressure_that_is_negative_nan_or_zero_is_refused(pressure, match):
+    disc = _polar_disc("disc-bad-p", 0.01, pressure)
+    with pytest.raises(ValueError, match=r"surface 'disc-bad-p': " + match):
+        surface_moments(disc)
+
+
+def test_sigma_of_the_wrong_shape_is_refused_where_it_is_evaluated():
+    flat = _polar_disc("disc-xy", 0.01, sigma=lambda r, t: np.stack([r * np.cos(t), r * np.sin(t)], axis=-1))
+    with pytest.raises(
+        ValueError, match=r"surface 'disc-xy': sigma must map u, v of shape \(\d+,\) to .*got shape"
+    ):
+        surface_moments(flat)
+    rows = _polar_disc("disc-rows", 0.01, analytic=False, sigma=lambda r, t: np.stack([r, t, 0 * r]))
+    with pytest.raises(ValueError, match=r"sigma must map .*\(3, \d+\).*np.stack\(np.broadcast_arrays"):
+        mesh_profile(rows, 20)

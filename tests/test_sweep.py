@@ -201,6 +201,7 @@ def _rows(path: Path) -> list[str]:
     return [json.loads(line)["key"] for line in path.read_text().splitlines() if line.strip()]
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_killed_driver_resumes_with_every_point_exactly_once(tmp_path):
     out = tmp_path / "sw"
     cmd = [
@@ -235,6 +236,7 @@ def test_killed_driver_resumes_with_every_point_exactly_once(tmp_path):
     assert "4 resumed, 0 run" in again.stdout
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_a_worker_killed_mid_task_is_retried_and_the_sweep_completes(tmp_path):
     from distributed import Client, LocalCluster
 
@@ -273,6 +275,7 @@ def test_a_worker_killed_mid_task_is_retried_and_the_sweep_completes(tmp_path):
     assert len(pd.read_parquet(tmp_path / "sw" / "table.parquet")) == 3
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
     sched_file = tmp_path / "scheduler.json"
     env = {**os.environ, "NUMBA_NUM_THREADS": "1", "TQDM_DISABLE": "1"}

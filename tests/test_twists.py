@@ -91,3 +91,29 @@ def test_6dfc_sampler():
 
 def test_canonical():
     np.testing.assert_array_equal(canonical_twists(), np.eye(6))
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: sample_twists_thesis(2.5, 0.01), r"n must be an integer >= 1 .*got 2.5"),
+        (lambda: sample_twists_thesis("10", 0.01), r"n must be an integer >= 1 .*got '10'"),
+        (lambda: sample_twists_thesis(True, 0.01), r"n must be an integer >= 1 .*got True"),
+        (lambda: sample_twists_thesis(0, 0.01), r"n must be an integer >= 1 .*got 0"),
+        (
+            lambda: sample_twists_thesis(10, "0.01"),
+            r"length_scale must be a positive length \[m\] \(a number\)",
+        ),
+        (lambda: sample_twists_6dfc(4.0, 2, 0.01), r"k1 must be an integer >= 0 .*got 4.0"),
+        (lambda: sample_twists_6dfc(4, "2", 0.01), r"k2 must be an integer >= 0 .*got '2'"),
+    ],
+)
+def test_samplers_refuse_counts_that_are_not_integers(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_numpy_integer_counts_are_counts():
+    np.testing.assert_array_equal(
+        sample_twists_thesis(np.int64(5), 0.01, 3), sample_twists_thesis(5, 0.01, 3)
+    )

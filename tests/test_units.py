@@ -162,6 +162,7 @@ def test_flip_detection_limits(caplog):
     assert not caplog.records
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_planar_model_keeps_allow_scale():
     """Trial finding: a millimetre profile accepted with allow_scale=True was rejected
     again inside the planar model; it now gives the metre profile's verdict scaled."""

@@ -22,6 +22,7 @@ def _pair(z, r=0.03):
     return np.array([[r, 0.0, z], [-r, 0.0, z]])
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_stiffness_is_the_squeeze_at_the_midpoint(tube):
     surf, wall = tube
     a, b = _pair(0.06), _pair(0.04)
@@ -48,6 +49,7 @@ def test_rigid_and_failed_grasps_are_flagged_not_fatal(tube):
     assert not rows[2]["failed"]
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_non_antipodal_pairs_are_flagged_with_the_chord_angle(tube, caplog):
     """On a circle, a chord between points φ apart makes (180° − φ)/2 with both normals:
     φ = 180° is antipodal (0°), φ = 100° gives 40° (kept), φ = 60° gives 60° (> 45°: flagged,

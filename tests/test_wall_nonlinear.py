@@ -65,6 +65,7 @@ def test_svk_tangent_is_the_derivative_of_the_force(small_wall):
     assert np.abs((rp - rm) / 2 - K @ du).max() < 1e-6 * np.abs(K @ du).max()
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_small_closing_is_the_linear_squeeze():
     """At a closing of 1/50 of the wall thickness rotations are negligible: the nonlinear
     wall's secant stiffness is the linear squeeze's (same mesh, clamps, jaws)."""

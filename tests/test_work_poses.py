@@ -55,6 +55,7 @@ def jaws():
     }
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 @pytest.mark.parametrize("model", ["6dls", "point"])
 @pytest.mark.parametrize("representation", ["outer", "inner"])
 def test_every_pose_is_bitwise_the_min_grasp_force_answer(jaws, model, representation):
@@ -98,6 +99,7 @@ def _four_points():
     ]
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_warm_solves_keep_only_unique_optima(jaws):
     """A warm solve returns the cold answer: to round-off when it kept its basis (the
     optimum is unique), bit for bit when it re-solved cold.  On the 6DLS jaws every
@@ -125,6 +127,7 @@ def test_warm_solves_keep_only_unique_optima(jaws):
         assert kept >= 10 if not ties else kept < len(W) // 2
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_uniqueness_check_against_a_search_for_other_optima(jaws):
     """MinLP's dual-nondegeneracy test against an independent search: with Σf held at
     its optimum, linprog pushes each variable up and down; a unique optimum moves none."""
@@ -197,6 +200,7 @@ def _linprog_min_force(prog):
     return cost, tol, ref
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_min_lp_optimum_is_linprogs(jaws):
     """The highspy model against an independent construction of the same LP through
     scipy.optimize.linprog (dual simplex): the same feasibility and Σf to 1e-9 relative."""
@@ -221,6 +225,7 @@ def test_min_lp_optimum_is_linprogs(jaws):
     assert any(answers) and not all(answers)  # both answers occur
 
 
+@pytest.mark.jit_only("over 15 s as pure Python")
 def test_min_lp_meets_the_facets_for_a_light_object():
     """A light object's gravity (50 g) against 10 N jaws on a cylinder (R = 30 mm): the LP's
     facet rows G y <= h are the dual-feasibility conditions of the dual HiGHS solves, and
@@ -249,6 +254,7 @@ def test_min_lp_meets_the_facets_for_a_light_object():
         assert cost @ y == pytest.approx(ref.fun, rel=1e-9)
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_a_repeated_pose_is_solved_once_and_copied(jaws):
     # lifting and lift-and-rotate share the 0 deg pose
     W = np.vstack([task_wrenches(t, 0.3, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]) for t in TASKS])
@@ -258,6 +264,7 @@ def test_a_repeated_pose_is_solved_once_and_copied(jaws):
     assert a.forces is not b.forces and a.stiffness is not b.stiffness
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_model_representation_is_minimal_work_per_pose(jaws):
     W = np.vstack([gravity_wrench(0.2, [0.0, 0.0, 0.0]), gravity_wrench(0.3, [0.0, 0.0, 0.01])])
     s = [500.0, 800.0]
@@ -267,6 +274,7 @@ def test_model_representation_is_minimal_work_per_pose(jaws):
         assert res.W == one.W and res.solver == one.solver == "clarabel"
 
 
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_minimal_work_poses_rejects_bad_input(jaws):
     with pytest.raises(ValueError, match=r"\(k, 6\)"):
         minimal_work_poses(jaws["6dls"], np.zeros(6), 0.5, [500.0, 500.0])

@@ -7,12 +7,18 @@ default argument bound at import), so :func:`override` (a block, e.g. in a test)
 ``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` from here and nowhere else, so a
 user (or CI) can switch caching or threading off in one spot, e.g.
 ``WORKBENCH_NUMBA_PARALLEL=0``.
+
+Both check each value when it is set (``_RULES``: the field's type, finite, its range or
+choices as the field's comment implies) and raise ValueError naming the field, what it
+expects and what it got.
 """
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -246,6 +252,10 @@ class Tolerances:
 
 TOL = Tolerances()
 
+#: Kinds of training-wrench sampler (limit_surface.cache.SamplerSpec; here so that
+#: ``Defaults.ls_training_sampler`` is checked when set without importing the fitters).
+SAMPLER_KINDS = ("thesis", "6dfc", "thesis-code", "mix")
+
 
 @dataclass(frozen=True)
 class Defaults:
@@ -355,8 +365,173 @@ class Defaults:
 DEFAULTS = Defaults()
 
 
+# --- what override()/configure() accept, field by field (from each field's comment) -----
+# A rule returns the value to store (ints of a float field as float) or raises with what it
+# expected (as _Reject); _check adds the field, what it got and the fix.
+
+
+class _Reject(Exception):
+    """A value a field's rule does not accept; the message says what it expects."""
+
+
+def _real(lo: float | None = None, *, lo_open: bool = False, hi: float | None = None, hi_open: bool = False):
+    """A finite real number (an int is fine, a bool is not) in the interval given."""
+    lo_s = "" if lo is None else f"{'>' if lo_open else '>='} {lo:g}"
+    hi_s = "" if hi is None else f"{'<' if hi_open else '<='} {hi:g}"
+    expect = "a finite number" + (f" {lo_s}" if lo_s else "") + (" and" if lo_s and hi_s else "")
+    expect += f" {hi_s}" if hi_s else ""
+
+    def rule(v: Any) -> float:
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+            raise _Reject(expect)
+        if lo is not None and (v <= lo if lo_open else v < lo):
+            raise _Reject(expect)
+        if hi is not None and (v >= hi if hi_open else v > hi):
+            raise _Reject(expect)
+        return float(v)
+
+    return rule
+
+
+def _count(minimum: int):
+    """An int (not a bool) >= minimum."""
+    expect = f"an int >= {minimum}"
+
+    def rule(v: Any) -> int:
+        if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < minimum:
+            raise _Reject(expect)
+        return int(v)
+
+    return rule
+
+
+def _choice(names: Callable[[], tuple[str, ...]]):
+    """One of the strings ``names()`` (a callable: solver lists are read when checked)."""
+
+    def rule(v: Any) -> str:
+        valid = names()
+        if not isinstance(v, str) or v not in valid:
+            raise _Reject(f"one of {list(valid)}")
+        return v
+
+    return rule
+
+
+def _flag(v: Any) -> bool:
+    if not isinstance(v, bool):
+        raise _Reject("True or False")
+    return v
+
+
+def _reals(n: int, each: Callable[[Any], float], ordered: bool = False, what: str = ""):
+    """A tuple of ``n`` numbers each passing ``each`` (non-decreasing if ``ordered``)."""
+    expect = f"a tuple of {n} {what}" + (" with lo <= hi" if ordered else "")
+
+    def rule(v: Any) -> tuple[float, ...]:
+        if isinstance(v, str | bytes) or not hasattr(v, "__len__") or len(v) != n:
+            raise _Reject(expect)
+        try:
+            out = tuple(each(x) for x in v)
+        except _Reject:
+            raise _Reject(expect) from None
+        if ordered and list(out) != sorted(out):
+            raise _Reject(expect)
+        return out
+
+    return rule
+
+
+def _qp_solvers() -> tuple[str, ...]:
+    from qpsolvers import available_solvers  # the dense QP solvers grasp resistance can call
+
+    return tuple(available_solvers)
+
+
+_POS = _real(0.0, lo_open=True)  # a magnitude that must be positive (0 breaks its meaning)
+_NONNEG = _real(0.0)  # a magnitude for which 0 means "off" / "exact"
+_FRACTION = _real(0.0, hi=1.0)
+
+#: field name -> rule; every field of Tolerances and Defaults has one (tests/test_config.py).
+_RULES: dict[str, Callable[[Any], Any]] = {
+    # Tolerances
+    "tangential_velocity_rtol": _NONNEG,  # 0: only exactly zero slip sticks
+    "normal_unit_atol": _NONNEG,  # 0: no silent renormalisation
+    "degenerate_area_rtol": _NONNEG,
+    "quadrature_rtol": _POS,  # 0 can never be met: every call would run to the cell cap
+    "moments_rtol": _POS,
+    "quadrature_max_passes": _count(1),
+    "quadrature_max_cells": _count(1),
+    "quadrature_safety": _POS,
+    "quadrature_twist_chunk": _count(1),
+    "quadrature_eval_block": _count(1),
+    "quadrature_order": _count(1),
+    "pca_retained_variance": _real(0.0, lo_open=True, hi=1.0),  # a fraction of the variance kept
+    "pca_significant_fraction": _FRACTION,
+    "degenerate_wmax_rtol": _NONNEG,
+    "subspace_rtol": _NONNEG,
+    "flat_axis": _POS,  # keeps A_e positive definite
+    "sdp_alpha_per_wrench": _NONNEG,  # 0: off
+    "support_wmax_mismatch": _NONNEG,
+    "given_wmax_rtol": _NONNEG,
+    "ellipsoid_eig_floor": _POS,  # the projection must be positive definite
+    "translation_omega_atol": _NONNEG,
+    "resist_rtol": _POS,  # a solver's residual is never exactly 0
+    "known_force_rtol": _real(0.0, hi=1.0, hi_open=True),  # [F(1 - r), F] with F(1 - r) > 0
+    "group_min_net_push": _FRACTION,
+    "cut_rtol": _POS,
+    "max_cut_rounds": _count(0),  # 0: no refinement, the inner vertices decide at once
+    "max_stored_cuts": _count(1),
+    "qp_ridge": _POS,  # quadprog and DAQP need a strictly convex objective
+    "max_object_extent_m": _POS,
+    "min_object_extent_m": _NONNEG,  # 0: no lower limit
+    "extent_limit_rtol": _NONNEG,
+    "pca_degenerate_rtol": _NONNEG,
+    "flipped_normal_force_fraction": _FRACTION,
+    "rigid_stiffness_threshold": _POS,
+    "min_plausible_stiffness": _NONNEG,
+    "antipodal_max_deg": _real(0.0, hi=180.0),
+    "max_plausible_mass_kg": _POS,
+    "min_wall_thickness_m": _POS,  # a zero wall makes the stiffness matrix singular
+    # Defaults
+    "twist_radius_factor": _NONNEG,  # 0: every rotation axis through o
+    "pitch_range": _reals(2, _real(), ordered=True, what="finite numbers (lo, hi) [l_s]"),
+    "ls_training_sampler": _choice(lambda: SAMPLER_KINDS),
+    "mu": _POS,  # mu = 0 has no friction wrenches to normalise
+    "seed": _count(0),  # numpy seeds are non-negative
+    "quartic_normal_weight": _NONNEG,
+    "author_fit_weights": _reals(3, _NONNEG, what="finite numbers >= 0 (lambda, omega_w, omega_t)"),
+    "reach_min_facing": _FRACTION,  # a cosine against the approach
+    "qp_solver": _choice(lambda: ("auto", *_qp_solvers())),
+    "qp_auto_large": _count(0),
+    "qp_fallback_solver": _choice(_qp_solvers),
+    "lp_presolve": _flag,
+    "lp_scale_strategy": _count(0),  # HiGHS checks its own range [0, 5]
+    "lp_dual_feasibility_tolerance": _POS,
+    "quartic_kkt_method": _choice(lambda: ("faer", "qdldl")),
+    "quartic_kkt_threads": _count(1),
+    "linearization_M": _count(1),
+    "work_eps": _POS,  # "a small positive number" (thesis Eq. 4.5)
+    "cluster_min_rows": _count(0),
+    "blocked_solve_min_rhs": _count(0),
+}
+
+
+def _check(name: str, value: Any) -> Any:
+    """``value`` as stored for field ``name``; ValueError (expected, got, fix) when it does not fit."""
+    try:
+        return _RULES[name](value)
+    except _Reject as exc:
+        default = getattr(Tolerances, name, None)
+        default = getattr(Defaults, name) if default is None else default
+        raise ValueError(
+            f"config field {name} must be {exc}; got {value!r} ({type(value).__name__}). "
+            f"Pass such a value, e.g. its default {name}={default!r}"
+        ) from None
+
+
 def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``values`` by owner: (Tolerances fields, Defaults fields); ValueError for other names."""
+    """``values`` checked and by owner: (Tolerances fields, Defaults fields); ValueError for
+    other names and for a value its field does not accept (``_RULES``)."""
     tol = {f.name for f in fields(Tolerances)}
     dft = {f.name for f in fields(Defaults)}
     unknown = sorted(set(values) - tol - dft)
@@ -365,7 +540,8 @@ def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
             f"unknown tolerance/default names {unknown}; the fields of config.Tolerances and "
             "config.Defaults are the names to use (e.g. resist_rtol, quadrature_rtol, work_eps)"
         )
-    return {k: v for k, v in values.items() if k in tol}, {k: v for k, v in values.items() if k in dft}
+    checked = {k: _check(k, v) for k, v in values.items()}
+    return {k: v for k, v in checked.items() if k in tol}, {k: v for k, v in checked.items() if k in dft}
 
 
 def configure(**values: Any) -> None:

@@ -455,7 +455,14 @@ class ContactProfile:
             vec = 0.5 * np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
             centers = corners.mean(axis=1)
         areas = np.linalg.norm(vec, axis=1)
-        p = np.broadcast_to(np.asarray(pressures, dtype=np.float64), (f.shape[0],)).copy()
+        p = np.asarray(pressures, dtype=np.float64)
+        if p.shape not in ((), (f.shape[0],)):
+            raise ValueError(
+                f"pressures must be one value per face, shape ({f.shape[0]},) for the {f.shape[0]} faces, or "
+                f"a scalar for uniform pressure [Pa]; got shape {p.shape}. Per-vertex values: average them "
+                "over each face's corners, e.g. p_vertex[faces].mean(axis=1)"
+            )
+        p = np.broadcast_to(p, (f.shape[0],)).copy()
         if drop_degenerate and areas.size:
             keep = areas > config.TOL.degenerate_area_rtol * np.median(areas)
             f, vec, areas, centers, p = f[keep], vec[keep], areas[keep], centers[keep], p[keep]

@@ -18,6 +18,7 @@ Samplers (all seeded):
 
 from __future__ import annotations
 
+import numbers
 from typing import Any
 
 import numpy as np
@@ -112,8 +113,19 @@ def _uniform_ball(rng: np.random.Generator, n: int, radius: float) -> np.ndarray
     return _uniform_sphere(rng, n) * (radius * rng.random(n) ** (1.0 / 3.0))[:, None]
 
 
+def _count(name: str, n: Any, minimum: int) -> int:
+    """``n`` as an int >= ``minimum`` (an int, not a bool, float or string), else ValueError."""
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum} (a number of twists); got {n!r}")
+    return int(n)
+
+
 def _length(length_scale: Any) -> float:
     ls = getattr(length_scale, "length_scale", length_scale)
+    if isinstance(ls, bool) or not isinstance(ls, numbers.Real):
+        raise ValueError(
+            f"length_scale must be a positive length [m] (a number) or a ContactProfile; got {length_scale!r}"
+        )
     ls = float(ls)
     if not np.isfinite(ls) or ls <= 0:
         raise ValueError(f"length_scale must be a positive length [m] or a ContactProfile; got {ls}")
@@ -142,6 +154,7 @@ def sample_twists_thesis(
     ``np.random.Generator``).
     Returns (n or 2n, 6) unit twists about ``o``.
     """
+    n = _count("n", n, 1)
     d = config.DEFAULTS
     seed = d.seed if seed is None else seed
     radius_factor = d.twist_radius_factor if radius_factor is None else radius_factor
@@ -171,6 +184,7 @@ def sample_twists_6dfc(
     default ``config.DEFAULTS.seed``, ``.twist_radius_factor`` (read now).
     Returns (k1 + k2, 6).
     """
+    k1, k2 = _count("k1", k1, 0), _count("k2", k2, 0)
     seed = config.DEFAULTS.seed if seed is None else seed
     radius_factor = config.DEFAULTS.twist_radius_factor if radius_factor is None else radius_factor
     rng = _rng(seed)

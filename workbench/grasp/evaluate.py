@@ -30,7 +30,7 @@ import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
 from ..profile import ContactProfile
-from ..sources.jaws import check_grasp, checked_jaw_profile
+from ..sources.jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile
 from ..sources.reach import jaw_profiles
 from .contacts import ContactSet
 from .gws import check_mu, check_wrench
@@ -125,8 +125,8 @@ def evaluate_grasp(
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
     check_mu(mu)
-    if not (np.isscalar(force) and np.isfinite(force) and force > 0):
-        raise ValueError(f"force must be a positive grasp force [N]; got {force!r}")
+    check_jaw_force(force)
+    check_pad(pad)  # before the mesh step: a bad pad is not "a footprint that covers nothing"
     if w_ext is None:
         if mass is None or com is None:
             raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")

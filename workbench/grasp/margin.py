@@ -4,6 +4,7 @@ one model's margins against the truth's."""
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Callable
 
 import numpy as np
@@ -25,12 +26,17 @@ def resistance_margin(
     is monotone along the ray and the bisection finds ``s*``.
     """
     w = np.asarray(w, dtype=float)
-    if w.shape != (6,) or not np.isfinite(w).all():
-        raise ValueError(f"w must be a finite (6,) wrench; got shape {w.shape}")
-    if not (isinstance(steps, int | np.integer) and steps >= 0):
-        raise ValueError(f"steps must be an integer >= 0 (bisection steps); got {steps!r}")
-    if not (np.isfinite(span) and span > 1):
-        raise ValueError(f"span must be > 1 (margins are bisected in [1/span, span]); got {span!r}")
+    if w.shape != (6,):
+        raise ValueError(f"w must be a (6,) wrench [f; tau]; got shape {w.shape}")
+    if not np.isfinite(w).all():
+        raise ValueError(f"w must be a finite (6,) wrench; got non-finite entries: {w.tolist()}")
+    if isinstance(steps, bool) or not (isinstance(steps, int | np.integer) and steps >= 0):
+        raise ValueError(f"steps must be an integer >= 0 (bisection steps, e.g. 20); got {steps!r}")
+    if isinstance(span, bool) or not isinstance(span, numbers.Real) or not (np.isfinite(span) and span > 1):
+        raise ValueError(
+            f"span must be a number > 1 (margins are bisected in [1/span, span], default {MARGIN_SPAN}); "
+            f"got {span!r}"
+        )
     if resisted(span * w):
         return float(span)
     if not resisted(w / span):

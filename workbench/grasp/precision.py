@@ -3,6 +3,10 @@ model's margins reach at a required precision (the sensitivity study's matched p
 
 from __future__ import annotations
 
+import numbers
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
 
 __all__ = ["matched_precision", "recall_at_least", "scores"]
@@ -27,11 +31,50 @@ def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
     }
 
 
-def matched_precision(margins: np.ndarray, truth: np.ndarray, levels: list[float]) -> dict:
+def _check_matched(margins: Any, truth: Any, levels: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``margins`` (n,) float without NaN and ``truth`` (n,) bool; ValueError naming
+    :func:`matched_precision`'s arguments otherwise, and for levels outside (0, 1]."""
+    m, t = np.asarray(margins), np.asarray(truth)
+    if m.ndim != 1 or m.dtype == bool or not np.issubdtype(m.dtype, np.number):
+        raise ValueError(
+            f"margins must be an (n,) array of numbers (resistance margins s*, one per disturbance); "
+            f"got {m.dtype} shape {m.shape}"
+        )
+    m = m.astype(float)
+    if np.isnan(m).any():
+        raise ValueError(
+            f"margins must not be NaN (a NaN is neither resisted nor not); got {int(np.isnan(m).sum())} "
+            f"NaN of {m.size} at index {int(np.argmax(np.isnan(m)))} — leave those disturbances out of "
+            "margins and truth"
+        )
+    if t.shape != m.shape or t.dtype != bool:
+        raise ValueError(
+            f"truth must be an (n,) boolean array like margins {m.shape} (True: the truth resists); got "
+            f"{t.dtype} shape {t.shape} — convert 0/1 with np.asarray(truth, bool)"
+        )
+    if isinstance(levels, str) or not np.iterable(levels):
+        raise ValueError(
+            f"levels must be a sequence of precision levels in (0, 1], e.g. [0.9, 0.95]; got {levels!r} "
+            f"(a single level: pass [{levels!r}])"
+        )
+    for level in levels:
+        if isinstance(level, bool) or not isinstance(level, numbers.Real) or not 0 < level <= 1:
+            raise ValueError(
+                f"levels must be precision levels in (0, 1] (fractions, not percent: 0.9 for 90 %); got "
+                f"{level!r} in {list(levels)!r}"
+            )
+    return m, t
+
+
+def matched_precision(margins: Any, truth: Any, levels: Sequence[float]) -> dict:
     """Precision-recall curve of ``margins >= t`` over every threshold t, and for each
     precision level the best recall at precision >= level (and its t; NaN if the
-    model never reaches it).  ``t = 1`` is the model's plain prediction."""
-    margins = np.asarray(margins, float)
+    model never reaches it).  ``t = 1`` is the model's plain prediction.
+
+    margins : (n,) resistance margins (no NaN); truth : (n,) bool, whether the truth resists;
+    levels : sequence of precision levels in (0, 1].  ValueError otherwise.
+    """
+    margins, truth = _check_matched(margins, truth, levels)
     ts = np.unique(margins[margins > 0])
     curve = [(float(t), *(scores(margins >= t, truth)[k] for k in ("precision", "recall"))) for t in ts]
     out = {

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import config
+from ..config import SAMPLER_KINDS
 from ..profile import ContactProfile
 from ..results import atomic_write_bytes
 from ..twists import sample_twists_6dfc, sample_twists_thesis
@@ -32,8 +33,6 @@ from .ellipsoid import EllipsoidLS, fit_ellipsoid
 from .normalize import Subspace
 from .quartic import QuarticLS, fit_quartic
 from .thesis_code import thesis_code_sample
-
-SAMPLER_KINDS = ("thesis", "6dfc", "thesis-code", "mix")
 
 
 @dataclass(frozen=True)

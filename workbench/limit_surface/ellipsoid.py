@@ -27,6 +27,7 @@ semi-axis ``config.TOL.flat_axis`` (the model is flat to that thickness).
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
@@ -37,6 +38,9 @@ import numpy as np
 from .. import config
 from .base import LimitSurfaceModel
 from .normalize import prepare
+from .sdp_solver import check_sdp_solver
+
+log = logging.getLogger(__name__)
 
 #: incremented whenever a cvxpy ellipsoid problem is built (tests count it)
 BUILD_COUNT = {"sdp": 0}
@@ -195,7 +199,9 @@ def fit_ellipsoid(
     warm_start : let cvxpy reuse the previous "sdp" fit of the same size in this process;
         off by default so a fit does not depend on what the process fitted before (as
         :func:`~.quartic.fit_quartic`, where it was measured to change the result).
-    The result's ``info`` names the method, solver, fallback (or None) and time.
+    The result's ``info`` names the method, solver, fallback (or None; a fallback is also
+    logged as a warning) and time.  An unknown ``solver`` raises ValueError
+    (:func:`~.sdp_solver.check_sdp_solver`).
     """
     t0 = time.perf_counter()
     if method not in ("lsq", "sdp"):
@@ -205,6 +211,8 @@ def fit_ellipsoid(
             f"alpha (Eq. 3.12's log-det weight, got {alpha!r}) belongs to method='sdp'; "
             "method='lsq' has no such term — use method='sdp' or drop alpha"
         )
+    if method == "sdp":
+        check_sdp_solver(solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     n_unknown = r * (r + 1) // 2
@@ -221,6 +229,8 @@ def fit_ellipsoid(
     direct = method == "lsq" or fallback == DIRECT
     if fallback == DIRECT:
         fallback = None  # not a fallback: the exact optimum of the same problem
+    if fallback:
+        log.warning("%s ellipsoid fit (%d wrenches, dim %d): %s", method, len(W), r, fallback)
     info = {
         "model": "ellipsoid",
         "method": method,

@@ -32,6 +32,7 @@ from .base import LimitSurfaceModel
 from .ellipsoid import fit_ellipsoid
 from .normalize import check_twists, check_wrenches
 from .quartic import fit_quartic
+from .sdp_solver import check_sdp_solver
 from .sos import exponents
 from .support_error import SupportError, support_error
 
@@ -76,11 +77,13 @@ def fit_model(
 
     twists : (K, 6) twists the wrenches were computed from; ``"quartic_normals"`` needs
         them, the other models do not use them.
-    solver : conic solver of the "sdp" ellipsoid and the quartics ("CLARABEL", "SCS").
+    solver : conic solver of the "sdp" ellipsoid and the quartics ("CLARABEL", "SCS"; any of
+        :func:`~.sdp_solver.sdp_solvers`, checked for every model: ValueError otherwise).
     alpha : Eq. (3.12)'s log-det weight, ``"ellipsoid_sdp"`` only.
     cvxpy's warm start stays off: a fit does not depend on what the process fitted before.
     """
     check_model(model)
+    check_sdp_solver(solver)
     if alpha is not None and model != "ellipsoid_sdp":
         raise ValueError(f"alpha (Eq. 3.12's log-det weight) belongs to 'ellipsoid_sdp'; got model {model!r}")
     if model == "quartic_normals" and twists is None:
@@ -139,6 +142,7 @@ def fit_and_score(
         contention) — the model is the same each time.
     """
     check_model(model)
+    check_sdp_solver(solver)  # before the timed fit: another name's first check imports cvxpy
     W = check_wrenches(wrenches)
     if twists is not None:
         twists = check_twists(W, twists)

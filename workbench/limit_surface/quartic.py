@@ -13,6 +13,7 @@ homogeneous of degree 4.
 
 from __future__ import annotations
 
+import logging
 import time
 import warnings
 from dataclasses import dataclass
@@ -26,7 +27,10 @@ import scipy.sparse as sp
 from .. import config
 from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
+from .sdp_solver import check_sdp_solver
 from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
+
+log = logging.getLogger(__name__)
 
 #: incremented whenever a cvxpy quartic problem is built (tests count it)
 BUILD_COUNT = {"quartic": 0, "sos_check": 0}
@@ -373,7 +377,8 @@ def fit_quartic(
         support ("SCS").
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
-        unknowns); recorded in ``info["fallback"]``.  ``None`` disables it.
+        unknowns); recorded in ``info["fallback"]`` and logged as a warning.  ``None``
+        disables it.  Both names are checked (:func:`~.sdp_solver.check_sdp_solver`).
     warm_start : let cvxpy reuse the previous fit of the same problem size in this
         process (SCS starts from it).  Off by default: with it, a fit depends on what the
         process fitted before — measured on a bottle contact (fem-fitting, K = 130),
@@ -385,6 +390,9 @@ def fit_quartic(
     ``RuntimeError`` if every solver fails.
     """
     t0 = time.perf_counter()
+    check_sdp_solver(solver)
+    if fallback_solver is not None:
+        check_sdp_solver(fallback_solver, "fallback_solver")
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     L = exponents(r, 4).shape[0]
@@ -428,6 +436,8 @@ def fit_quartic(
             "(cvxpy.installed_solvers())? try another solver or fit_ellipsoid"
         )
     fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
+    if fallback:
+        log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
     g, delta = certify(a_val, M_val, r)  # rigorously convex in z
     coeffs = g / np.prod(s**expo, axis=1)  # f(y) = g(y / s)
     info = {

@@ -39,7 +39,7 @@ from workbench.fem.pad import CondensedPad, PadGeometry, condense_pad
 
 from ..profile import ContactProfile
 from ..units import closed_mesh
-from .jaws import check_grasp, jaw_frame, with_axis_force
+from .jaws import check_grasp, check_jaw_force, jaw_frame, with_axis_force
 
 log = logging.getLogger(__name__)
 
@@ -123,12 +123,7 @@ def fem_jaw_profile(
     """
     from scipy.optimize import brentq
 
-    if (
-        isinstance(force, (bool, np.bool_))
-        or not np.isscalar(force)
-        or not (np.isfinite(force) and force > 0)
-    ):
-        raise ValueError(f"force must be the jaw's reading in newtons, finite and > 0; got {force!r}")
+    check_jaw_force(force)
     mesh = closed_mesh(mesh, "mesh passed to fem_jaw_profile", units=units, allow_scale=allow_scale)
     p = np.asarray(point, float)
     if p.shape != (3,) or not np.isfinite(p).all():

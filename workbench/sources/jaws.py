@@ -11,11 +11,43 @@ passes before grasp analysis uses it as a jaw's contact.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 from ..profile import ContactProfile
 
-__all__ = ["check_grasp", "checked_jaw_profile", "jaw_frame", "with_axis_force"]
+__all__ = [
+    "check_grasp",
+    "check_jaw_force",
+    "check_pad",
+    "checked_jaw_profile",
+    "jaw_frame",
+    "with_axis_force",
+]
+
+
+def check_jaw_force(force) -> None:
+    """ValueError unless ``force`` (a jaw's force-sensor reading [N]) is a finite number > 0
+    (a bool is not a number here: ``force=True`` is a slip, not 1 N)."""
+    if (
+        isinstance(force, (bool, np.bool_))
+        or not isinstance(force, numbers.Real)
+        or not (np.isfinite(force) and force > 0)
+    ):
+        raise ValueError(f"force must be the jaw's reading in newtons, finite and > 0; got {force!r}")
+
+
+def check_pad(pad) -> None:
+    """ValueError unless ``pad`` is the jaw face ``(width, length)`` [m], two finite numbers > 0."""
+    try:
+        size = np.asarray(pad, dtype=float)
+    except (TypeError, ValueError):
+        size = np.full(0, np.nan)
+    if isinstance(pad, str) or size.shape != (2,) or not (np.isfinite(size).all() and (size > 0).all()):
+        raise ValueError(
+            f"pad must be the jaw face (width, length) [m], two numbers > 0, e.g. (0.02, 0.04); got {pad!r}"
+        )
 
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -67,12 +99,7 @@ def checked_jaw_profile(
     """
     if not isinstance(prof, ContactProfile):
         raise ValueError(f"profiles must be ContactProfile objects, one per jaw; got {type(prof).__name__}")
-    try:
-        size = np.asarray(pad, dtype=float)
-    except (TypeError, ValueError):
-        size = np.full(0, np.nan)
-    if size.shape != (2,) or not (np.isfinite(size).all() and (size > 0).all()):
-        raise ValueError(f"pad must be the jaw face (width, length) [m], two numbers > 0; got {pad!r}")
+    check_pad(pad)
     off = float(np.linalg.norm(prof.pressure_center - point))
     if off > float(np.hypot(*pad)):
         raise ValueError(

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..profile import ContactProfile
-from .jaws import check_grasp, checked_jaw_profile, jaw_frame
+from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 
 __all__ = ["jaw_profiles", "reach_profile"]
 
@@ -54,6 +54,7 @@ def reach_profile(
 
     from ..units import closed_mesh
 
+    check_pad(pad)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
     if not (closing > 0 and stiffness > 0 and max_edge > 0):
         raise ValueError("closing, stiffness and max_edge must be > 0")
@@ -128,6 +129,8 @@ def jaw_profiles(
     ``mesh.vertices`` only; the grasp is in metres.  Raises ValueError when a jaw would
     pull the object."""
     p1, p2, axis = check_grasp(grasp)
+    check_jaw_force(force)
+    check_pad(pad)
     out = []
     for point, approach in ((p1, axis), (p2, -axis)):
         prof = reach_profile(

@@ -29,6 +29,14 @@ from ..wrench import check_mu, check_twists
 Array = np.ndarray
 log = logging.getLogger(__name__)
 
+#: Relative accuracy of the central-difference ``σ_u, σ_v`` of a surface without analytic
+#: ones (step 1e-6 of the parameter range: rounding ~ε/1e-6 ≈ 2e-10 of ``|σ| / range``,
+#: truncation ~1e-12 of ``range² |σ‴|``; a flat disk's F and area come out 1.7e-11 low).
+#: The noise does not shrink as cells are refined, so no quadrature of such a surface can
+#: meet a tighter tolerance: its effective tolerance is ``max(rtol, CENTRAL_DIFFERENCE_RTOL)``
+#: (:func:`surface_moments`, :func:`surface_wrenches`).
+CENTRAL_DIFFERENCE_RTOL = 1e-10
+
 
 @dataclass(frozen=True, eq=False)
 class ParametricSurface:
@@ -36,9 +44,11 @@ class ParametricSurface:
 
     sigma : callable ``(u, v) -> (..., 3)`` [m], vectorized over arrays.
     sigma_u, sigma_v : optional analytic partial derivatives (else central
-        differences, ~1e-10 relative accuracy).
+        differences, ``CENTRAL_DIFFERENCE_RTOL`` ~1e-10 relative accuracy, which bounds the
+        tolerance of every integral of the surface from below).
     pressure : optional callable ``(u, v, xyz) -> (...)`` [Pa]; uniform 1 Pa if
-        None.  ``pressure_scale`` multiplies it.
+        None.  ``pressure_scale`` multiplies it.  Its values must be finite and >= 0, and
+        not zero at every quadrature point (ValueError where they are evaluated).
     flip : flip ``σ_u × σ_v`` so normals point outward from the object.
     """
 
@@ -62,15 +72,32 @@ class ParametricSurface:
             raise ValueError(f"pressure_scale must be > 0; got {self.pressure_scale}")
 
     # ---------------------------------------------------------- evaluation
+    @property
+    def analytic_derivatives(self) -> bool:
+        """Whether ``σ_u`` and ``σ_v`` are given (else central differences)."""
+        return self.sigma_u is not None and self.sigma_v is not None
+
+    def _vectors(self, fn: Callable[[Array, Array], Array], u: Array, v: Array, what: str) -> Array:
+        """``fn(u, v)`` as float (u.shape + (3,)); ValueError naming ``what`` otherwise."""
+        out = np.asarray(fn(u, v), dtype=float)
+        if out.shape != np.shape(u) + (3,):
+            raise ValueError(
+                f"surface {self.name!r}: {what} must map u, v of shape {np.shape(u)} to (x, y, z) of shape "
+                f"{np.shape(u) + (3,)} [m]; got shape {out.shape}. Stack the coordinates on the last "
+                "axis, e.g. np.stack(np.broadcast_arrays(x, y, z), axis=-1)"
+            )
+        return out
+
     def derivatives(self, u: Array, v: Array) -> tuple[Array, Array]:
         """``σ_u, σ_v`` at (u, v), analytic if given else central differences."""
-        if self.sigma_u is not None and self.sigma_v is not None:
-            return np.asarray(self.sigma_u(u, v), float), np.asarray(self.sigma_v(u, v), float)
+        if self.analytic_derivatives:
+            return self._vectors(self.sigma_u, u, v, "sigma_u"), self._vectors(self.sigma_v, u, v, "sigma_v")
         # central-difference step: ~cube root of machine epsilon times the range (~1e-10 accuracy)
         hu = 1e-6 * (self.u_range[1] - self.u_range[0])
         hv = 1e-6 * (self.v_range[1] - self.v_range[0])
-        su = (np.asarray(self.sigma(u + hu, v)) - np.asarray(self.sigma(u - hu, v))) / (2 * hu)
-        sv = (np.asarray(self.sigma(u, v + hv)) - np.asarray(self.sigma(u, v - hv))) / (2 * hv)
+        sig = self.sigma
+        su = (self._vectors(sig, u + hu, v, "sigma") - self._vectors(sig, u - hu, v, "sigma")) / (2 * hu)
+        sv = (self._vectors(sig, u, v + hv, "sigma") - self._vectors(sig, u, v - hv, "sigma")) / (2 * hv)
         return su, sv
 
     def evaluate(self, u: Array, v: Array) -> tuple[Array, Array, Array, Array]:
@@ -80,7 +107,7 @@ class ParametricSurface:
         Where ``jac = 0`` (poles, apexes) the normal is set to 0; such points
         carry zero weight.
         """
-        xyz = np.asarray(self.sigma(u, v), dtype=float)
+        xyz = self._vectors(self.sigma, u, v, "sigma")
         su, sv = self.derivatives(u, v)
         cr = np.cross(su, sv)
         jac = np.linalg.norm(cr, axis=-1)
@@ -91,6 +118,15 @@ class ParametricSurface:
             p = np.full(jac.shape, self.pressure_scale)
         else:
             p = self.pressure_scale * np.broadcast_to(np.asarray(self.pressure(u, v, xyz), float), jac.shape)
+            bad = ~(np.isfinite(p) & (p >= 0))
+            if bad.any():
+                k = int(np.argmax(bad))
+                raise ValueError(
+                    f"surface {self.name!r}: the pressure must be finite and >= 0 [Pa] (a contact only "
+                    f"pushes, CONVENTIONS.md); got {p.flat[k]:g} at (u, v) = ({np.ravel(u)[k]:g}, "
+                    f"{np.ravel(v)[k]:g}), {int(bad.sum())} of {p.size} points. Fix the pressure callable "
+                    "(e.g. clip it at 0)"
+                )
         return xyz, n, jac, p
 
     def with_pressure_scale(self, scale: float) -> ParametricSurface:
@@ -170,6 +206,7 @@ def _adaptive(
     max_passes: int,
     eta: float = 0.1,
     max_cells: int | None = None,
+    setting: str = "rtol",
 ) -> tuple[Array, Array, int]:
     """Adaptive cubature of ``n_groups`` vector integrands sharing a domain.
 
@@ -178,7 +215,8 @@ def _adaptive(
     ``max_j |fine_j - coarse_j| / scale_j`` and a group converges when its
     summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
     and the number of integrand cells evaluated.  max_cells : default
-    ``config.TOL.quadrature_max_cells`` (read now).
+    ``config.TOL.quadrature_max_cells`` (read now).  setting : where ``tol`` came from
+    (named by the warning when the cell cap stops the refinement).
     """
     block = config.TOL.quadrature_eval_block
     max_cells = config.TOL.quadrature_max_cells if max_cells is None else max_cells
@@ -210,11 +248,13 @@ def _adaptive(
         mark = open_groups[groups] & (err >= eta * worst[groups])
         if cells.shape[0] + 3 * int(mark.sum()) > max_cells:
             log.warning(
-                "adaptive quadrature stopped at the %d-cell cap with error estimate %.3g > %.3g; "
-                "the integrand is too rough for this tolerance (loosen rtol)",
+                "adaptive quadrature stopped at the %d-cell cap (config.TOL.quadrature_max_cells) with "
+                "error estimate %.3g > %.3g (%s): the integrand is too rough for this tolerance; loosen "
+                "it or raise the cap",
                 cells.shape[0],
                 float(total.max()),
                 tol,
+                setting,
             )
             break
         new_cells = _split(cells[mark])
@@ -245,15 +285,48 @@ class SurfaceMoments:
     error: float  # relative error estimate
 
 
+def _effective_tol(surface: ParametricSurface, tol: float, setting: str) -> tuple[float, str]:
+    """``max(tol, CENTRAL_DIFFERENCE_RTOL)`` for a surface without analytic derivatives (the
+    noise of its central differences does not refine away), else ``tol``; and the setting
+    named, for the quadrature's warning."""
+    if surface.analytic_derivatives or tol >= CENTRAL_DIFFERENCE_RTOL:
+        return tol, setting
+    log.debug(
+        "surface %r has central-difference derivatives (~%.0e accurate): %s raised to %.0e",
+        surface.name,
+        CENTRAL_DIFFERENCE_RTOL,
+        setting,
+        CENTRAL_DIFFERENCE_RTOL,
+    )
+    return CENTRAL_DIFFERENCE_RTOL, (
+        f"{setting}, raised to the {CENTRAL_DIFFERENCE_RTOL:.0e} accuracy of surface {surface.name!r}'s "
+        "central-difference derivatives: supply sigma_u and sigma_v for a tighter one"
+    )
+
+
+def _check_rtol(rtol: Any, default: str) -> float:
+    if isinstance(rtol, bool) or not (np.isscalar(rtol) and np.isfinite(rtol) and rtol > 0):
+        raise ValueError(f"rtol must be a finite number > 0 (or None: config.TOL.{default}); got {rtol!r}")
+    return float(rtol)
+
+
 def surface_moments(surface: ParametricSurface, rtol: float | None = None) -> SurfaceMoments:
     """``F``, area, pressure center ``o`` and normal wrench ``w⊥`` of a surface (``rtol``:
-    default ``config.TOL.moments_rtol``, read now)."""
+    default ``config.TOL.moments_rtol``, read now).  A surface without analytic ``σ_u, σ_v``
+    is integrated to ``max(rtol, CENTRAL_DIFFERENCE_RTOL)``: its central differences are no
+    more accurate (module constant).  ValueError for a pressure that is zero at every point
+    of the initial quadrature cells."""
+    if rtol is None:
+        rtol, setting = config.TOL.moments_rtol, f"config.TOL.moments_rtol = {config.TOL.moments_rtol:g}"
+    else:
+        rtol = _check_rtol(rtol, "moments_rtol")
+        setting = f"surface_moments(rtol={rtol:g})"
     # resolved before the cache: a changed tolerance is another entry, never a stale one
-    return _surface_moments(surface, config.TOL.moments_rtol if rtol is None else rtol)
+    return _surface_moments(surface, *_effective_tol(surface, rtol, setting))
 
 
 @lru_cache(maxsize=128)
-def _surface_moments(surface: ParametricSurface, rtol: float) -> SurfaceMoments:
+def _surface_moments(surface: ParametricSurface, rtol: float, setting: str) -> SurfaceMoments:
     order = config.TOL.quadrature_order
 
     def evaluate(cells: Array, groups: Array) -> Array:
@@ -264,9 +337,17 @@ def _surface_moments(surface: ParametricSurface, rtol: float) -> SurfaceMoments:
 
     init = _initial_cells(surface)
     rough = evaluate(init, np.zeros(init.shape[0], int)).sum(axis=0)
+    if not rough[0] > 0:
+        raise ValueError(
+            f"surface {surface.name!r}: the pressure is zero at every quadrature point of its "
+            f"{len(init)} initial cells ({'zero area' if not rough[1] > 0 else 'F = 0'}): no normal force, "
+            "so no pressure centre or limit surface. Give a pressure that is > 0 on part of the surface"
+        )
     L = max(_length_scale(surface), float(np.abs(rough[2:5] / rough[0]).max()))
     scale = np.array([rough[0], rough[1]] + [rough[0] * L] * 3 + [rough[0]] * 3 + [rough[0] * L] * 3)
-    vals, err, _ = _adaptive(evaluate, init, 1, scale[None, :], rtol, config.TOL.quadrature_max_passes)
+    vals, err, _ = _adaptive(
+        evaluate, init, 1, scale[None, :], rtol, config.TOL.quadrature_max_passes, setting=setting
+    )
     v = vals[0]
     F = float(v[0])
     o = v[2:5] / F
@@ -289,15 +370,21 @@ def surface_wrenches(
     rtol : target error (default ``config.TOL.quadrature_rtol``, read now), scaled per
         component by ``μF`` (forces) and ``μF l_s`` (torques); the integrator aims at
         ``config.TOL.quadrature_safety * rtol`` because its estimate is heuristic near slip
-        singularities.
+        singularities — and at no less than ``CENTRAL_DIFFERENCE_RTOL`` on a surface without
+        analytic ``σ_u, σ_v`` (:func:`surface_moments`).
     Returns (K, 6) wrenches and, with ``return_error=True``, the (K,) error
     estimates (summed fine-vs-coarse differences) in the same scaled units.
     """
     xi, single = check_twists(twists)
     mu_f = check_mu(mu)
-    rtol = config.TOL.quadrature_rtol if rtol is None else rtol
-    if not (np.isfinite(rtol) and rtol > 0):
-        raise ValueError(f"rtol must be > 0; got {rtol}")
+    if rtol is None:
+        rtol, setting = config.TOL.quadrature_rtol, "config.TOL.quadrature_rtol"
+    else:
+        rtol, setting = _check_rtol(rtol, "quadrature_rtol"), "surface_wrenches(rtol=...)"
+    safety = config.TOL.quadrature_safety
+    target, setting = _effective_tol(
+        surface, safety * rtol, f"{setting} = {rtol:g} x config.TOL.quadrature_safety = {safety:g}"
+    )
     mom = surface_moments(surface)
     order = config.TOL.quadrature_order
     rtol2 = config.TOL.tangential_velocity_rtol**2
@@ -338,8 +425,9 @@ def surface_wrenches(
             init,
             part.shape[0],
             np.tile(scale, (part.shape[0], 1)),
-            config.TOL.quadrature_safety * rtol,
+            target,
             config.TOL.quadrature_max_passes,
+            setting=setting,
         )
     vals *= mu_f
     if single:
@@ -359,7 +447,7 @@ def _grid(surface: ParametricSurface, nu: int, nv: int) -> tuple[Array, Array, A
     u = np.linspace(*surface.u_range, nu + 1)
     v = np.linspace(*surface.v_range, nv + 1)
     U, V = np.meshgrid(u, v, indexing="ij")
-    return U, V, np.asarray(surface.sigma(U.ravel(), V.ravel()), float).reshape(nu + 1, nv + 1, 3)
+    return U, V, surface._vectors(surface.sigma, U.ravel(), V.ravel(), "sigma").reshape(nu + 1, nv + 1, 3)
 
 
 @lru_cache(maxsize=256)

@@ -1,0 +1,181 @@
+"""workbench.limit_surface.quartic: the SOS-convex quartic (Eq. 3.13-3.17), its certificates,
+gradients and Hessians, twists as normals, the reduced Gram fit and the solver fallback."""
+
+import naive
+import numpy as np
+import pytest
+
+from workbench import fit_ellipsoid, fit_quartic, frictional_wrenches, sample_twists_thesis
+from workbench.limit_surface import is_sos_convex
+from workbench.limit_surface import quartic as quart_mod
+from workbench.limit_surface.quartic import _square_norm_squared
+from workbench.limit_surface.sos import exponents
+
+
+def test_sos_convexity_certificates():
+    assert is_sos_convex(_square_norm_squared(6), 6)  # (xᵀx)² is SOS-convex
+    expo = exponents(3, 4)
+    nonconvex = np.zeros(len(expo))
+    nonconvex[(expo == [4, 0, 0]).all(axis=1)] = 1.0
+    nonconvex[(expo == [0, 4, 0]).all(axis=1)] = -1.0  # x1⁴ - x2⁴
+    assert not is_sos_convex(nonconvex, 3)
+    cross = np.where((expo == [2, 2, 0]).all(axis=1), 1.0, 0.0)  # x1² x2²: not convex
+    assert not is_sos_convex(cross, 3)
+
+
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
+def test_quartic_beats_ellipsoid_and_is_convex(s4_data, s4_quartic):
+    _, train, test = s4_data
+    q = s4_quartic
+    e = fit_ellipsoid(train)
+    assert q.fitting_error(test) < e.fitting_error(test)
+    assert q.fitting_error(test) <= 0.02
+    # Hessian PSD at 10,000 random points of the subspace (the model is homogeneous:
+    # directions suffice, magnitudes only scale the Hessian)
+    assert q.min_hessian_eigenvalue(10_000, seed=3) >= -1e-12
+    assert q.info["certificate_delta"] >= 0
+    # the fast quadratic-form Hessian against the slow per-monomial reference
+    y = np.random.default_rng(4).standard_normal((50, q.dim))
+    slow = np.einsum("njkl,l->njk", naive.monomial_hessians(y, exponents(q.dim, 4)), q.A_q)
+    np.testing.assert_allclose(q.hessian_subspace(y), slow, rtol=1e-10, atol=1e-10 * np.abs(slow).max())
+
+
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
+def test_quartic_gradient_matches_finite_differences(s4_data, s4_quartic):
+    q = s4_quartic
+    w = s4_data[2][:4]
+    h = 1e-6 * q.scale
+    fd = np.array(
+        [(q.value(w + np.diag(h)[j]) - q.value(w - np.diag(h)[j])) / (2 * h[j]) for j in range(6)]
+    ).T
+    np.testing.assert_allclose(q.gradient(w), fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+
+
+def test_quartic_with_a_thin_direction_is_recovered_without_fallback(rng):
+    """A known SOS-convex quartic whose level set is 100x thinner along one axis
+    (as on near-planar FEM contacts): Clarabel solves it (whitened monomials) and
+    recovers it on held-out points."""
+    s = np.array([1.0, 0.8, 0.6, 0.3, 0.1, 0.01])
+
+    def f(w):
+        z = w / s
+        return (z**4).sum(axis=1) + ((z**2).sum(axis=1)) ** 2
+
+    def on_surface(n):
+        u = rng.standard_normal((n, 6))
+        return u * f(u)[:, None] ** -0.25
+
+    W = on_surface(400)
+    model = fit_quartic(W, w_max=np.abs(W).max(axis=0), fallback_solver=None)
+    assert model.info["fallback"] is None and model.dim == 6
+    W_test = on_surface(2000)
+    assert np.abs(model.value(W_test) - 1).max() < 1e-4
+    assert model.min_hessian_eigenvalue(2000) >= -1e-12
+
+
+def _known_quartic():
+    s = np.array([1.0, 0.8, 0.6, 0.3, 0.1, 0.05])
+
+    def f(w):
+        z = w / s
+        return (z**4).sum(axis=1) + ((z**2).sum(axis=1)) ** 2
+
+    def grad(w):
+        z = w / s
+        return (4 * z**3 + 4 * (z**2).sum(axis=1, keepdims=True) * z) / s
+
+    return f, grad
+
+
+def test_normal_rows_are_satisfied_by_the_true_quartic(rng):
+    """The gradient rows are linear in the coefficients: the true quartic's
+    coefficients (interpolated exactly from values) satisfy them to round-off."""
+    f, grad = _known_quartic()
+    expo = exponents(6, 4)
+    u = rng.standard_normal((300, 6))
+    z = u * f(u)[:, None] ** -0.25  # on f = 1
+    a_true = np.linalg.lstsq(quart_mod.monomials(z, expo), f(z), rcond=None)[0]
+    A, b = quart_mod._normal_rows(z, grad(z), expo, 1.0)
+    assert A.shape == (6 * 300, 126)
+    np.testing.assert_allclose(A @ a_true, b, atol=1e-9 * np.abs(b).max())
+    # Euler: z·∇f = 4 on the surface, so the target is the true gradient itself
+    np.testing.assert_allclose(b.reshape(6, -1).T * 4, grad(z), rtol=1e-12)
+
+
+def test_quartic_with_normals_recovers_a_known_quartic_from_few_wrenches(rng):
+    f, grad = _known_quartic()
+    u = rng.standard_normal((130, 6))  # just above the 126 coefficients
+    W = u * f(u)[:, None] ** -0.25
+    twists = -grad(W)  # friction wrench minimises w·ξ: ξ is the inward normal
+    model = fit_quartic(W, twists=twists, w_max=np.abs(W).max(axis=0), fallback_solver=None)
+    v = rng.standard_normal((2000, 6))
+    W_test = v * f(v)[:, None] ** -0.25
+    assert np.abs(model.value(W_test) - 1).max() < 1e-4
+    g = model.gradient(W)
+    cos = np.einsum("ij,ij->i", g, -twists) / np.linalg.norm(g, axis=1) / np.linalg.norm(twists, axis=1)
+    assert cos.min() > 1 - 1e-8
+    assert model.info["normal_weight"] == pytest.approx(0.5 * np.sqrt(126 / 130))
+
+
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
+def test_normals_fix_the_quartic_at_small_k(s4_data):
+    """K = 200 on S4: Eq. (3.17) on values alone overfits the 126 coefficients;
+    the sampling twists as normals bring the quartic below the ellipsoid."""
+    prof, _, test = s4_data
+    xi = sample_twists_thesis(100, prof, seed=7)
+    W = frictional_wrenches(prof, xi)
+    values = fit_quartic(W).fitting_error(test)
+    hermite = fit_quartic(W, twists=xi)
+    ellipsoid = fit_ellipsoid(W, "sdp").fitting_error(test)
+    assert hermite.fitting_error(test) < min(values, ellipsoid)
+    assert hermite.min_hessian_eigenvalue(10_000, seed=3) >= -1e-12
+    with pytest.raises(ValueError, match="not a friction twist"):
+        fit_quartic(W, twists=-xi)  # sign flipped: w·ξ > 0
+    with pytest.raises(ValueError, match="wrenches' shape"):
+        fit_quartic(W, twists=xi[:-1])
+    with pytest.raises(ValueError, match="normal_weight"):
+        fit_quartic(W, twists=xi, normal_weight=-1.0)
+    assert fit_quartic(W, twists=xi, normal_weight=0.0).fitting_error(test) == pytest.approx(values, rel=1e-6)
+
+
+def test_reduced_gram_fit_is_the_full_gram_fit(rng):
+    """The quartic fit with the swap-invariant Gram matrix (21 × 21 and 15 × 15 blocks)
+    against Eq. 3.16 with the full 36 × 36 M, built here independently: the same
+    optimal residual (to the solver's tolerance) and the same coefficients."""
+    import cvxpy as cp
+
+    from workbench.limit_surface.sos import monomials, sos_convexity_maps
+
+    r = 6
+    expo = exponents(r, 4)
+    # points near a skewed, rotated ellipsoid: a fit the convexity constraint shapes
+    z = rng.standard_normal((300, r)) * [1.0, 0.7, 1.3, 0.5, 1.1, 0.9]
+    z /= np.linalg.norm(z, axis=1, keepdims=True) ** rng.uniform(0.8, 1.2, (300, 1))
+    Q, Rm = np.linalg.qr(monomials(z, expo))
+    c_val = Q.T @ np.ones(len(z))
+    ok, a_red, M_red, _ = quart_mod._solve(r, "CLARABEL", Rm, c_val, warm_start=False)
+    assert ok
+    V1, V2 = sos_convexity_maps(r)
+    a = cp.Variable(len(expo))
+    M = cp.Variable((r * r, r * r), PSD=True)
+    full = cp.Problem(cp.Minimize(cp.norm(Rm @ a - c_val, 2)), [V1 @ cp.vec(M, order="F") == V2 @ a])
+    full.solve(solver="CLARABEL")
+    res_red = np.linalg.norm(Rm @ a_red - c_val)
+    assert res_red == pytest.approx(full.value, rel=1e-6)
+    np.testing.assert_allclose(a_red, a.value, atol=1e-4 * np.abs(a.value).max())
+    # the reduced M certifies a_red as the full one would: PSD and V1 vec(M) = V2 a
+    assert np.linalg.eigvalsh(M_red).min() >= -1e-7 * np.abs(M_red).max()
+    assert np.abs(V1 @ M_red.ravel(order="F") - V2 @ a_red).max() <= 1e-6 * np.abs(a_red).max()
+
+
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
+def test_a_clarabel_failure_falls_back_to_scs(s4_data, monkeypatch):
+    """Clarabel is called directly; its errors are a recorded fallback, as cvxpy's were."""
+    from dataclasses import replace
+
+    from workbench import config
+
+    monkeypatch.setattr(config, "DEFAULTS", replace(config.DEFAULTS, quartic_kkt_method="no-such-method"))
+    q = fit_quartic(s4_data[1])
+    assert q.info["solver"] == "SCS" and "CLARABEL" in q.info["fallback"]
+    assert q.fitting_error(s4_data[2]) <= 0.02  # SCS's fit is a fit

@@ -1,0 +1,30 @@
+"""workbench.grasp.robust: q_robust is seeded and bounded; its rotations are Rodrigues'."""
+
+import numpy as np
+from grasp_helpers import MU, F, antipodal
+
+from workbench.grasp import Perturbation, q_robust
+
+
+def test_q_robust_deterministic_and_bounded():
+    grasp = antipodal(soft=0.004, n=16)
+    none = Perturbation(n_samples=5, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
+    assert q_robust(grasp, MU, 0.9 * 2 * MU * F / 9.81, [0, 0, 0], none) == 1.0
+    assert q_robust(grasp, MU, 1.1 * 2 * MU * F / 9.81, [0, 0, 0], none) == 0.0
+    p = Perturbation(n_samples=40)
+    m = 1.0 * 2 * MU * F / 9.81  # at the limit: perturbations split the outcomes
+    q1 = q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
+    assert q1 == q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
+    assert 0.0 < q1 < 1.0
+    assert q_robust(grasp, MU, 0.5 * m, [0, 0, 0.005], p, seed=7) >= q1
+
+
+def test_q_robust_rotations_are_rodrigues_of_the_sampled_vectors():
+    # q_robust perturbs the contacts by scipy's Rotation.from_rotvec; Rodrigues' formula
+    # written out (tests/naive.py, what it used before) gives the same matrices to round-off
+    from naive import rodrigues
+    from scipy.spatial.transform import Rotation
+
+    v = np.vstack([np.zeros(3), np.random.default_rng(3).normal(0.0, 0.2, (200, 3)), [[0, 0, np.pi - 1e-9]]])
+    R = Rotation.from_rotvec(v).as_matrix()
+    assert np.abs(R - rodrigues(v)).max() < 5e-15 and np.array_equal(R[0], np.eye(3))
