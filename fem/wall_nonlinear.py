@@ -189,7 +189,8 @@ def squeeze_nonlinear(
                     order = restrict_order(cache["order"], fr)
                 du = np.zeros(b.N)
                 du[bc] = target[bc] - u[bc]
-                du[fr] = factor_spd(K[fr][:, fr], perm=order).solve(-r[fr] - K[fr][:, bc] @ du[bc])
+                Kr = K[fr]  # the free rows once, for both column blocks
+                du[fr] = factor_spd(Kr[:, fr], perm=order).solve(-r[fr] - Kr[:, bc] @ du[bc])
                 u += du
                 iters += 1
                 log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
