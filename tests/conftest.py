@@ -51,6 +51,50 @@ def s4_quartic(s4_data):
     return fit_quartic(s4_data[1])
 
 
+# ------------------------------------------------------------------ FEM pads shared by test files
+# tests/test_fem_contact.py, test_fem_extract.py, test_fem_fidelity.py, test_fem_profile_force.py
+@pytest.fixture(scope="session")
+def thin_pad():
+    from workbench.fem.material import Material
+    from workbench.fem.pad import PadGeometry, condense_pad
+
+    # h = 1 mm, 0.5 mm face spacing: a/h = 3.2 for the indentation below
+    geom = PadGeometry(width=0.012, length=0.012, thickness=0.001, nx=24, ny=24, nz=2)
+    return condense_pad(geom, Material(E=1.0e6, nu=0.0), cache_dir=False)
+
+
+@pytest.fixture(scope="session")
+def pad_cache(request, tmp_path_factory):
+    # the default 20 x 40 x 5 mm pad condenses in 20-70 s: keep it in pytest's cache
+    # (.pytest_cache, per checkout) so only the first run pays for it
+    cache = getattr(request.config, "cache", None)
+    return cache.mkdir("fem-pads") if cache is not None else tmp_path_factory.mktemp("fem-pads")
+
+
+#: jaw displacements [mm] of ``sphere_press`` (the test files that parametrize over them keep a copy)
+SPHERE_PRESS_DELTAS_MM = [0.1, 0.25, 0.5, 1.0, 2.0, 3.0]
+
+
+@pytest.fixture(scope="session")
+def sphere_press(pad_cache):
+    """The default pad (E = 1 MPa, nu = 0.45, as fem-fitting) pressed into a R 20 mm sphere by
+    ``SPHERE_PRESS_DELTAS_MM``: a ``workbench.fem.Pressed``."""
+    from workbench.fem import press
+    from workbench.fem.material import Material
+    from workbench.fem.obstacles import Sphere
+    from workbench.fem.pad import PadGeometry
+
+    h = PadGeometry().thickness
+    sphere = Sphere((0.0, 0.0, h + 0.02), 0.02)
+    return press(
+        PadGeometry(),
+        Material(E=1.0e6, nu=0.45),
+        sphere,
+        [d * 1e-3 for d in SPHERE_PRESS_DELTAS_MM],
+        cache_dir=pad_cache,
+    )
+
+
 # ------------------------------------------------------------------ the no-JIT run
 # `make test-nojit` runs the whole suite with NUMBA_DISABLE_JIT=1 except the tests marked
 # ``@pytest.mark.jit_only("why")`` (registered in pyproject.toml, --strict-markers), with

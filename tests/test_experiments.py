@@ -82,14 +82,6 @@ def test_discretization_fig_3_8(discretization):
     assert (out / "error_rate.csv").exists() and (out / "fig_3_8_error_rate.png").exists()
 
 
-def test_cli_config_layers():
-    cfg = build_config("discretization", True, None, 7, {"timing_repeats": 2})
-    assert cfg["seed"] == 7 and cfg["timing_repeats"] == 2 and cfg["quick"]
-    assert cfg["out"].endswith("results/discretization")
-    with pytest.raises(SystemExit, match="unknown config keys"):
-        build_config("discretization", False, None, None, {"nope": 1})
-
-
 @pytest.mark.parametrize(
     "name, sets, match",
     [

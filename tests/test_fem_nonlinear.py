@@ -123,34 +123,6 @@ def test_bad_inputs():
         nl.solve(Sphere((0, 0, GEOM.thickness + 0.01), 0.01), [2 * GEOM.thickness])
 
 
-def test_one_interface_for_three_fidelities():
-    from workbench.fem.fidelity import press
-
-    geom = PadGeometry(0.01, 0.01, 0.003, 6, 6, 2)
-    h = geom.thickness
-    obs = Sphere((0, 0, h + 0.008), 0.008)
-    ds = [0.005 * h, 0.01 * h]
-    res = {
-        f: press(geom, MAT, obs, ds, fidelity=f, scheme="full", cache_dir=False)
-        for f in ("condensed", "linear")
-    }
-    res["nonlinear"] = press(geom, MAT, obs, ds, fidelity="nonlinear", step=ds[0])
-    for d in ds:
-        f_c, f_l, f_n = (res[k][d].force for k in ("condensed", "linear", "nonlinear"))
-        assert abs(f_c / f_l - 1) < 1e-9  # condensation is exact
-        assert abs(f_n / f_l - 1) < 0.02  # small strain: the neo-Hookean pad is the linear one
-        for r in res.values():  # every level carries its pad: press, then extract the profile
-            prof = r.profile(d)
-            assert prof.F == pytest.approx(r[d].force, rel=1e-12)
-            assert prof.normal_wrench[2] > 0  # pushes the object away from the jaw (+z)
-    assert type(res["linear"].pad).__name__ == "PadFace"
-    assert res["nonlinear"].pad.face_xy.shape == res["condensed"].pad.face_xy.shape
-    with pytest.raises(ValueError, match="fidelity must be one of"):
-        press(geom, MAT, obs, ds, fidelity="exact")
-    with pytest.raises(ValueError, match="unknown options"):
-        press(geom, MAT, obs, ds, fidelity="linear", step=1.0)
-
-
 def test_zero_displacement_and_preloaded_start():
     """δ = 0 in the sequence: stress-free when the obstacle only touches, a real solve
     when it already overlaps the face (then equal to the small linear contact)."""

@@ -1,6 +1,7 @@
 """One meaning of "resisted" (issue 11): resists, min_grasp_force and q_robust agree on
 every contact model; known-force models tolerate jaw-force mismatch; the one-call
-evaluation reaches the same verdict; edge contacts are filtered."""
+evaluation reaches the same verdict; edge contacts are filtered.  evaluate_grasp's own
+behaviour (force scaling, profile checks, closed forms) is tested in test_evaluate.py."""
 
 import dataclasses
 from pathlib import Path
@@ -288,40 +289,6 @@ def test_point_contacts_agree_under_a_tiny_misalignment():
         assert q_robust(sets, MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w) == float(expect)
         if expect:
             assert m.scale == pytest.approx(0.9 * 9.81 / (2 * MU * 10.0), rel=1e-3)
-
-
-@pytest.mark.jit_only("over 15 s as pure Python")
-def test_evaluate_grasp_applies_force_and_checks_given_profiles():
-    """Given profiles are scaled to ``force`` (it was ignored), must lie at their jaws, and
-    must push: flipped normals raise on the evaluation path and warn in resists."""
-    import trimesh
-
-    box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
-    g = {"p1": np.array([-0.02, 0.0, 0.0]), "p2": np.array([0.02, 0.0, 0.0]), "axis": np.array([1.0, 0, 0])}
-    base = evaluate_grasp(box, g, model="6dls", force=10.0, mu=MU, mass=0.3, com=[0, 0, 0])
-    for force in (2.0, 10.0, 100.0):
-        ev = evaluate_grasp(
-            box, g, model="6dls", force=force, mu=MU, mass=0.3, com=[0, 0, 0], profiles=base.profiles
-        )
-        # the minimal reading does not depend on the reading the profiles came with, up to
-        # the residual band (config.TOL.resist_rtol of the capacity ~force (1 + μ) per jaw)
-        band = 2 * config.TOL.resist_rtol * max(force, 10.0) * (1 + MU)
-        assert force * ev.min_force.scale == pytest.approx(10.0 * base.min_force.scale, abs=band)
-        assert ev.contacts[0].force == pytest.approx(force * base.contacts[0].force / 10.0, rel=1e-9)
-    # q_robust without noise is the verdict itself, for the gravity task and a given wrench
-    for kw in ({"mass": 0.3, "com": [0, 0, 0]}, {"w_ext": gravity_wrench(0.3, [0, 0, 0])}):
-        for force in (0.9 * 10.0 * base.min_force.scale, 1.1 * 10.0 * base.min_force.scale):
-            ev = evaluate_grasp(box, g, model="6dls", force=force, mu=MU, robust=NO_NOISE, **kw)
-            assert ev.q_robust == float(ev.resisted) and ev.resisted == (force > 10.0 * base.min_force.scale)
-    flipped = [p.__class__(p.centers, -p.normals, p.areas, p.pressures) for p in base.profiles]
-    with pytest.raises(ValueError, match="pull"):
-        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=flipped)
-    far = [p.transformed(None, [0.5, 0, 0]) for p in base.profiles]
-    with pytest.raises(ValueError, match="pressure centre"):
-        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=far)
-    sets = [c for p in flipped for c in contact_sets(p, "soft_point")]
-    with pytest.warns(UserWarning, match="push away"):
-        resists(sets, gravity_wrench(0.3, [0, 0, 0]), MU)
 
 
 def test_careless_inputs_name_the_fix():

@@ -6,6 +6,7 @@ functions included, since a cycle there is a layering knot even when it imports 
 from __future__ import annotations
 
 import ast
+import inspect
 import shutil
 import subprocess
 import sys
@@ -152,3 +153,99 @@ def _site_packages() -> list[str]:
     import site
 
     return site.getsitepackages()
+
+
+# Where a module's tests live when not in tests/test_<module>.py (fem: or test_fem_<module>.py):
+# {module or package: (test file or None, why)}.
+_TESTED_ELSEWHERE = {
+    "workbench._kernels": (
+        None,
+        "the kernels run through their wrappers, which are tested against tests/naive.py; "
+        "--check-kernels (make test-nojit) fails unless each kernel ran as Python",
+    ),
+    "workbench.fem._kernels": (None, "as workbench._kernels"),
+    "workbench.grasp.resistance": (
+        "test_resistance.py",
+        "one concept (the resistance QP) split by stage, tested through its entry point and per stage",
+    ),
+    "workbench.experiments": (
+        "test_experiments.py",
+        "every experiment runs in quick mode there and its headline numbers are asserted "
+        "(scikit-fem's test_examples)",
+    ),
+}
+
+
+def _mirror_files(module: str) -> list[str]:
+    """The test files allowed to hold ``module``'s tests."""
+    for prefix, (where, _why) in _TESTED_ELSEWHERE.items():
+        if module == prefix or module.startswith(prefix + "."):
+            return [where] if where else []
+    stem = module.rsplit(".", 1)[1]
+    return [f"test_{stem}.py"] + ([f"test_fem_{stem}.py"] if module.startswith("workbench.fem.") else [])
+
+
+def _modules_used(test_file: Path) -> set[str]:
+    """The workbench modules a test file imports, a name re-exported by a package counting as its
+    defining module (``from workbench.grasp import q_robust`` uses ``workbench.grasp.robust``)."""
+    import importlib
+
+    out = set()
+    for node in ast.walk(ast.parse(test_file.read_text())):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names if a.name.startswith("workbench"))
+        elif (
+            isinstance(node, ast.ImportFrom)
+            and not node.level
+            and (node.module or "").startswith("workbench")
+        ):
+            base = importlib.import_module(node.module)
+            out.add(node.module)
+            for alias in node.names:
+                obj = getattr(base, alias.name, None)
+                name = (
+                    getattr(obj, "__name__", None)
+                    if inspect.ismodule(obj)
+                    else getattr(obj, "__module__", None)
+                )
+                if name:
+                    out.add(name)
+    return out
+
+
+def _tests_module(name: str, test_file: Path) -> bool:
+    """Whether ``test_file`` uses ``name``; a module of a package listed in _TESTED_ELSEWHERE
+    counts when the file uses the package through any of its modules (the resistance QP through
+    its entry point) or, for an experiment, names it as the CLI does (``ls-fitting``)."""
+    used = _modules_used(test_file)
+    if name in used:
+        return True
+    package = next((p for p in _TESTED_ELSEWHERE if name.startswith(p + ".")), None)
+    if package == "workbench.experiments":
+        return f'"{name.rsplit(".", 1)[1].replace("_", "-")}"' in test_file.read_text()
+    return package is not None and any(u.startswith(package + ".") for u in used)
+
+
+def test_the_tests_mirror_the_modules():
+    """Every library module has its own test file that uses it (issue 15), or is listed above with
+    the file that tests it and why."""
+    modules = {n: p for n, p in _modules().items() if p.name != "__init__.py"}
+    missing = []
+    for name in sorted(modules):
+        files = [f for f in _mirror_files(name) if (ROOT / "tests" / f).exists()]
+        if not _mirror_files(name):
+            continue
+        if not any(_tests_module(name, ROOT / "tests" / f) for f in files):
+            missing.append(f"{name} -> tests/{_mirror_files(name)[0]}")
+    assert len(modules) > 60
+    assert missing == [], "modules without a test file of their own that uses them: " + ", ".join(missing)
+
+
+def test_mirror_rule_names_the_expected_files(tmp_path):
+    assert _mirror_files("workbench.fem.pad") == ["test_pad.py", "test_fem_pad.py"]
+    assert _mirror_files("workbench.grasp.margin") == ["test_margin.py"]
+    assert _mirror_files("workbench.grasp.resistance.cuts") == ["test_resistance.py"]
+    assert _mirror_files("workbench._kernels") == []
+    probe = tmp_path / "test_probe.py"
+    probe.write_text("from workbench.grasp import q_robust\nimport workbench.fem.pad\n")
+    assert {"workbench.grasp.robust", "workbench.fem.pad"} <= _modules_used(probe)

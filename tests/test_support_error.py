@@ -1,13 +1,13 @@
 """The sampler-independent limit-surface error (issue 12): exact cases and a
-brute-force check of every step on a small contact."""
+brute-force check of every step on a small contact.  The thesis-code wrench sets are
+tested in test_thesis_code.py."""
 
 import numpy as np
 import pytest
 from naive import fw_loop, fw_vectorized, random_profile
 
-from workbench import ContactProfile, fit_ellipsoid, fit_quartic, frictional_wrenches, w_max
+from workbench import ContactProfile, fit_ellipsoid, fit_quartic, frictional_wrenches
 from workbench.limit_surface.support_error import support_error, uniform_normals
-from workbench.limit_surface.thesis_code import thesis_code_sample
 from workbench.twists import sample_twists_thesis
 
 
@@ -100,35 +100,3 @@ def test_careless_input_is_refused(ellipsoid_case):
     # the wrenches of another μ (here half): refused, not scored as a 50 % miss
     with pytest.raises(ValueError, match="w_max"):
         support_error(model, _ellipsoid_support(A_n, scale, factor=0.5), 500)
-
-
-def test_thesis_code_sample_trains_on_one_wrench_per_cell(rng):
-    c, n, a, p = random_profile(rng, 60)
-    prof = ContactProfile(c, n, a, p)
-    s = thesis_code_sample(prof, 0.5)
-    assert s.wrenches.shape == s.twists.shape == (len(s.twists), 6)
-    np.testing.assert_allclose(s.w_max, w_max(prof, 0.5))
-    np.testing.assert_allclose(s.wrenches[:50], fw_vectorized(c, n, a, p, s.twists[:50], 0.5), atol=1e-12)
-    x = s.wrenches / s.w_max
-    lo, width = x.min(0), (x.max(0) - x.min(0)) / 2.5
-    cells = {tuple(np.minimum(np.floor((row - lo) / width), 2).astype(int)) for row in x}
-    assert len(s.train) == len(cells)  # one per occupied cell
-    assert 100 < len(s.train) < 729
-
-
-def test_thesis_code_sample_depends_on_the_frame_and_takes_sides(rng):
-    """The author's grid is axis-aligned: the same contact rotated gives another wrench
-    set (why fem-fitting fixes the frame); ``sides`` replaces the profile's box."""
-    c, n, a, p = random_profile(rng, 60)
-    prof = ContactProfile(c, n, a, p)
-    base = thesis_code_sample(prof, 1.0)
-    same = thesis_code_sample(prof, 1.0, sides=np.ptp(prof.centers, axis=0))
-    np.testing.assert_array_equal(same.wrenches, base.wrenches)
-    bigger = thesis_code_sample(prof, 1.0, sides=2 * np.ptp(prof.centers, axis=0))
-    assert not np.allclose(bigger.twists, base.twists)
-    R = np.array([[0.0, 0, 1], [1, 0, 0], [0, 1, 0]])  # axes permuted: the box sides permute too
-    turned = thesis_code_sample(prof.transformed(R), 1.0)
-    # a rotated copy of the same wrench set would have the rotated norms of forces/torques
-    norms = lambda W: np.sort(np.linalg.norm(W[:, :3], axis=1))  # noqa: E731
-    assert len(turned.wrenches) == len(base.wrenches)
-    assert not np.allclose(norms(turned.wrenches), norms(base.wrenches), rtol=1e-3)

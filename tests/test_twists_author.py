@@ -1,12 +1,9 @@
-"""The author's twist grid and grid downsampling ("thesis-code" protocol, issue 12):
-documented structure and a brute-force reference of the downsampling."""
-
-import itertools
+"""The author's twist grid ("thesis-code" protocol, issue 12): its documented structure
+and bad input.  The grid downsampling is tested in test_downsample.py."""
 
 import numpy as np
 import pytest
 
-from workbench.limit_surface.downsample import grid_downsample
 from workbench.twists import plucker_from_twists
 from workbench.twists_author import AUTHOR_LEVELS, author_sphere, sample_twists_author
 
@@ -58,43 +55,7 @@ def test_levels_and_bad_input():
         sample_twists_author([0.0, 0.0, 0.0])
 
 
-def _reference_downsample(W, steps):
-    """Slow reference: loop over every grid cell like the author's code (closed cells)."""
-    lo, hi = W.min(0), W.max(0)
-    width = (hi - lo) / steps
-    starts = [np.arange(lo[j], hi[j] + 1e-15, width[j]) if width[j] > 0 else [lo[j]] for j in range(6)]
-    keep = set()
-    for cell in itertools.product(*starts):
-        inside = np.ones(len(W), dtype=bool)
-        for j, x in enumerate(cell):
-            if width[j] > 0:
-                inside &= (W[:, j] >= x) & (W[:, j] <= x + width[j])
-        idx = np.flatnonzero(inside)
-        if idx.size:
-            keep.add(int(idx[np.argmin(np.linalg.norm(W[idx] - W[idx].mean(0), axis=1))]))
-    return np.array(sorted(keep))
-
-
-def test_grid_downsample_keeps_one_wrench_per_occupied_cell(rng):
-    W = rng.standard_normal((400, 6))
-    W[:, 5] = 0.0  # a flat dimension is one cell
-    got = grid_downsample(W, 2.5)
-    np.testing.assert_array_equal(got, _reference_downsample(W, 2.5))
-    assert 50 < len(got) < 3**5  # 3 cells per non-flat dimension, many occupied
-    with pytest.raises(ValueError, match="steps"):
-        grid_downsample(W, 0)
-
-
 def test_sides_in_millimetres_are_refused():
     with pytest.raises(ValueError, match="millimetres"):
         sample_twists_author([39.0, 19.0, 4.9])
     assert len(sample_twists_author([39.0, 19.0, 4.9], allow_scale=True)) == 48_483
-
-
-def test_a_range_at_rounding_noise_is_one_cell(rng):
-    """A flat contact tilted by 1e-9 rad has components at noise level: one cell, as zero is."""
-    W = rng.standard_normal((500, 6))
-    flat, noisy = W.copy(), W.copy()
-    flat[:, 3:5] = 0.0
-    noisy[:, 3:5] = 1e-11 * rng.standard_normal((500, 2))
-    np.testing.assert_array_equal(grid_downsample(noisy), grid_downsample(flat))

@@ -474,21 +474,6 @@ def test_run_time_value_errors_are_one_clean_line(capsys, tmp_path, files):
     _has(err, "workbench run wall-stiffness: error:", "mm off it", "-v shows the traceback")
 
 
-def test_stiffness_in_n_per_mm_is_refused():
-    from workbench.grasp.stiffness_map import StiffnessMap
-    from workbench.grasp.work import work
-
-    with pytest.raises(ValueError, match="N/mm") as exc:
-        work([3.0, 5.0], [0.4, 20.0], 1e-4)  # 400 and 20 000 N/m written in N/mm
-    _has(str(exc.value), "0.4", "multiply it by 1e3")
-    assert work([3.0, 5.0], [400.0, 20000.0], 1e-4) == pytest.approx(
-        3 * (3 / 400 + 1e-4) + 5 * (5 / 2e4 + 1e-4)
-    )
-    P = np.array([[0.03, 0, 0], [0, 0.03, 0], [-0.03, 0, 0], [0, -0.03, 0.01]])
-    with pytest.raises(ValueError, match="N/mm"):
-        StiffnessMap(P, np.array([0.4, 0.5, 0.6, 0.7]))
-
-
 def test_unit_messages_name_only_fixes_the_caller_has():
     from workbench.grasp.stiffness_map import StiffnessMap
 

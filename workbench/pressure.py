@@ -16,5 +16,6 @@ def power_law(r: np.ndarray, r_max: float, k: float, p0: float = 1.0) -> np.ndar
         raise ValueError(f"k must be > 0; got {k}")
     s = np.clip(np.asarray(r, dtype=float) / r_max, 0.0, 1.0)
     if np.isinf(k):
-        return np.full_like(s, float(p0))
+        # the k -> inf limit: p0 inside, 0 from the rim on (every finite k gives 0 at s = 1)
+        return np.where(s < 1.0, float(p0), 0.0)
     return p0 * (1.0 - s**k) ** (1.0 / k)

@@ -10,6 +10,10 @@ from typing import Any
 def median_runtime(fn: Callable[[], Any], repeats: int, warmup: int = 1) -> tuple[float, Any]:
     """Median wall time [s] of ``repeats`` calls of ``fn`` after ``warmup``
     calls (JIT, caches, problem builds), and the last result."""
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"repeats must be an integer >= 1 (the median needs a run); got {repeats!r}")
+    if isinstance(warmup, bool) or not isinstance(warmup, int) or warmup < 0:
+        raise ValueError(f"warmup must be an integer >= 0; got {warmup!r}")
     result = None
     for _ in range(warmup):
         result = fn()

@@ -95,7 +95,8 @@ def check_protocol_config(config: dict) -> None:
             "downsample_steps must be >= 2 cell widths per range (the author's 2.5 gives ~3 cells per "
             f"dimension); got {config['downsample_steps']!r}"
         )
-    if not (isinstance(config["support_directions"], int) and config["support_directions"] > 0):
+    n_dir = config["support_directions"]
+    if isinstance(n_dir, bool) or not (isinstance(n_dir, int) and n_dir > 0):
         raise ValueError(
             "support_directions must be a positive number of directions; "
             f"got {config['support_directions']!r}"

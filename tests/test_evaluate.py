@@ -1,0 +1,133 @@
+"""workbench.grasp.evaluate: the one-call grasp evaluation (thesis §4.1.4, §4.2) — the
+given profiles scaled to the reading, the minimal force of two point-like jaws against its
+closed form, torsion no point pair resists, the task given either way, and bad input.
+(evaluate_grasp's agreement with the separate entry points is in test_grasp_consistency.py,
+the FEM pad's profiles through it in test_fem_jaw.py.)"""
+
+import numpy as np
+import pytest
+
+from workbench import config
+from workbench.grasp import Perturbation, contact_sets, evaluate_grasp, gravity_wrench, resists
+from workbench.sources.scenes import elliptic_cylinder_grasp
+
+MU = 0.5
+G_ACC = 9.81  # workbench.grasp.robust.G_ACC
+NO_NOISE = Perturbation(n_samples=2, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
+
+
+@pytest.mark.jit_only("over 15 s as pure Python")
+def test_evaluate_grasp_applies_force_and_checks_given_profiles():
+    """Given profiles are scaled to ``force`` (it was ignored), must lie at their jaws, and
+    must push: flipped normals raise on the evaluation path and warn in resists."""
+    import trimesh
+
+    box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
+    g = {"p1": np.array([-0.02, 0.0, 0.0]), "p2": np.array([0.02, 0.0, 0.0]), "axis": np.array([1.0, 0, 0])}
+    base = evaluate_grasp(box, g, model="6dls", force=10.0, mu=MU, mass=0.3, com=[0, 0, 0])
+    for force in (2.0, 10.0, 100.0):
+        ev = evaluate_grasp(
+            box, g, model="6dls", force=force, mu=MU, mass=0.3, com=[0, 0, 0], profiles=base.profiles
+        )
+        # the minimal reading does not depend on the reading the profiles came with, up to
+        # the residual band (config.TOL.resist_rtol of the capacity ~force (1 + μ) per jaw)
+        band = 2 * config.TOL.resist_rtol * max(force, 10.0) * (1 + MU)
+        assert force * ev.min_force.scale == pytest.approx(10.0 * base.min_force.scale, abs=band)
+        assert ev.contacts[0].force == pytest.approx(force * base.contacts[0].force / 10.0, rel=1e-9)
+    # q_robust without noise is the verdict itself, for the gravity task and a given wrench
+    for kw in ({"mass": 0.3, "com": [0, 0, 0]}, {"w_ext": gravity_wrench(0.3, [0, 0, 0])}):
+        for force in (0.9 * 10.0 * base.min_force.scale, 1.1 * 10.0 * base.min_force.scale):
+            ev = evaluate_grasp(box, g, model="6dls", force=force, mu=MU, robust=NO_NOISE, **kw)
+            assert ev.q_robust == float(ev.resisted) and ev.resisted == (force > 10.0 * base.min_force.scale)
+    flipped = [p.__class__(p.centers, -p.normals, p.areas, p.pressures) for p in base.profiles]
+    with pytest.raises(ValueError, match="pull"):
+        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=flipped)
+    far = [p.transformed(None, [0.5, 0, 0]) for p in base.profiles]
+    with pytest.raises(ValueError, match="pressure centre"):
+        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=far)
+    sets = [c for p in flipped for c in contact_sets(p, "soft_point")]
+    with pytest.warns(UserWarning, match="push away"):
+        resists(sets, gravity_wrench(0.3, [0, 0, 0]), MU)
+
+
+# --- added: closed forms on the elliptic-cylinder scene ------------------------------------
+
+GRASP = {"p1": [0.03, 0.0, 0.0], "p2": [-0.03, 0.0, 0.0], "axis": [-1.0, 0.0, 0.0]}
+
+
+@pytest.fixture(scope="module")
+def cylinder_jaws():
+    """The two jaws of the elliptic-cylinder scene, jaw 1 at +x pushing along −x."""
+    return elliptic_cylinder_grasp(force=10.0, n_elements=150)
+
+
+@pytest.mark.parametrize("model", ["point", "soft_point"])
+def test_minimal_force_of_two_opposing_jaws_holding_a_weight(cylinder_jaws, model):
+    """Both contacts at the pressure centres on the x axis, normals ±x, friction cones as
+    inscribed 8-gons with a vertex along −z (friction along gravity exactly μ f): holding
+    m g needs 2 μ f = m g, so Σ f = m g / μ.  A contact's force bound f is the profile's
+    Σ p a, larger than the axial reading |Σ p a n_x| on a curved contact, so the minimal
+    reading is (m g / 2 μ) |Σ p a n_x| / Σ p a (both sums by hand from the profiles)."""
+    mass, force = 0.3, 10.0
+    ev = evaluate_grasp(
+        None, GRASP, profiles=cylinder_jaws, model=model, force=force, mu=MU, mass=mass, com=[0, 0, 0]
+    )
+    assert ev.model == model and ev.resisted
+    np.testing.assert_allclose(ev.w_ext, [0, 0, -mass * G_ACC, 0, 0, 0], atol=1e-15)
+    for prof in ev.profiles:  # each scaled to the reading along the grasp axis
+        fa = prof.pressures * prof.areas
+        assert abs(fa @ prof.normals[:, 0]) == pytest.approx(force, rel=1e-12)
+    prof = ev.profiles[0]
+    ratio = abs((prof.pressures * prof.areas) @ prof.normals[:, 0]) / (prof.pressures * prof.areas).sum()
+    band = 2 * config.TOL.resist_rtol * prof.F * (1 + MU)  # the residual band of "resisted"
+    assert ev.min_force.feasible and ev.min_force.total == pytest.approx(mass * G_ACC / MU, abs=band)
+    assert force * ev.min_force.scale == pytest.approx(mass * G_ACC / (2 * MU) * ratio, abs=band)
+    assert set(ev.timings_ms) == {"profiles", "contact_model", "resists", "min_grasp_force"}
+    # below the minimal reading the same grasp slips, and the minimal reading stays
+    low = 0.9 * force * ev.min_force.scale
+    weak = evaluate_grasp(
+        None, GRASP, profiles=cylinder_jaws, model=model, force=low, mu=MU, mass=mass, com=[0, 0, 0]
+    )
+    assert not weak.resisted and low * weak.min_force.scale == pytest.approx(
+        force * ev.min_force.scale, abs=band
+    )
+
+
+def test_point_jaws_cannot_hold_a_weight_off_their_axis(cylinder_jaws):
+    """A centre of mass at y = 1 cm loads a torque m g y about the grasp axis x (com × m g d
+    = (−m g y, 0, 0)); two point contacts on that axis have no moment about it (Eq. 2.100)
+    at any force, while soft points resist it with torsional friction."""
+    mass, y = 0.3, 0.01
+    kw = {"profiles": cylinder_jaws, "force": 10.0, "mu": MU, "mass": mass, "com": [0, y, 0]}
+    ev = evaluate_grasp(None, GRASP, model="point", **kw)
+    np.testing.assert_allclose(ev.w_ext, [0, 0, -mass * G_ACC, -mass * G_ACC * y, 0, 0], atol=1e-15)
+    assert not ev.resisted and not ev.min_force.feasible
+    assert evaluate_grasp(None, GRASP, model="soft_point", **kw).min_force.feasible
+    # the same task as w_ext gives the same verdict; no minimal force asked: None
+    same = evaluate_grasp(
+        None, GRASP, model="point", profiles=cylinder_jaws, mu=MU, w_ext=ev.w_ext, min_force=False
+    )
+    assert not same.resisted and same.min_force is None and same.q_robust is None
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"model": "6d"}, r"model must be one of \('point', "),
+        ({"mu": -0.5}, "mu"),
+        ({"mass": None}, "give the task as w_ext"),
+        ({"w_ext": np.zeros(6)}, "either as w_ext or as mass and com, not both"),
+        ({"profiles": None}, "give the object mesh"),
+        ({"profiles": "jaws"}, "profiles must be a list of the two jaws' ContactProfiles"),
+        ({"pad": (0.02, np.nan)}, "pad must be the jaw face"),
+        ({"force": -1.0}, "force must be the jaw's reading"),
+        ({"grasp": {"p1": [0, 0, 0], "p2": [1, 0, 0], "axis": [0, 0, 0]}}, "axis non-zero"),
+    ],
+)
+def test_careless_arguments_are_refused_before_any_work(cylinder_jaws, kw, match):
+    args = {"profiles": cylinder_jaws, "mu": MU, "mass": 0.3, "com": [0, 0, 0], **kw}
+    grasp = args.pop("grasp", GRASP)
+    with pytest.raises(ValueError, match=match):
+        evaluate_grasp(None, grasp, **args)
+    with pytest.raises(ValueError, match="got a list of 1"):
+        evaluate_grasp(None, GRASP, profiles=cylinder_jaws[:1], mu=MU, mass=0.3, com=[0, 0, 0])

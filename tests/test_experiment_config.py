@@ -1,0 +1,193 @@
+"""workbench.experiment_config: each run's config from the experiment's defaults, its quick
+overrides and the user's ``--set`` values — coerced to the defaults' types, ranges read off
+the defaults, unknown keys and an experiment's own checks refused before any work — and
+``config_help``'s listing (the real experiments, and a toy one with known defaults)."""
+
+import importlib
+
+import pytest
+import sweep_toy
+
+from workbench.experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help
+
+
+@pytest.mark.parametrize(
+    "item, expect",
+    [
+        ("n_pca=12.5", "12.5 is not an int"),
+        ("n_pca=true", "True is not an int"),  # JSON true is not a count
+        ("mu=NaN", "nan is not finite"),
+        ("mu=Infinity", "inf is not finite"),
+        ("mu=fast", "'fast' is not a number"),
+        ("figure_surfaces=S1", "figure_surfaces expects list of str"),
+        ('figure_surfaces=["S1", 2]', "element 1: 2 is not a string"),
+    ],
+)
+def test_bad_values_are_rejected_before_any_work(item, expect):
+    with pytest.raises(SystemExit) as exc:
+        build_config("parametric-surfaces", False, None, None, _parse_sets([item]))
+    assert expect in str(exc.value.code)
+
+
+def test_nested_dict_values_are_checked():
+    # a dict of one value type takes free keys; a dict of mixed types is a record with fixed keys
+    cfg = build_config("fem-fitting", True, None, None, _parse_sets(['approaches={"diag": 1}']))
+    assert cfg["approaches"] == {"diag": 1.0} and isinstance(cfg["approaches"]["diag"], float)
+    with pytest.raises(SystemExit, match=r"\['nx'\]: 2.5 is not an int"):
+        build_config("fem-fitting", True, None, None, _parse_sets(['pad={"nx": 2.5}']))
+    with pytest.raises(SystemExit, match=r"unknown key\(s\) \['depth'\]"):
+        build_config("fem-fitting", True, None, None, _parse_sets(['pad={"depth": 0.01}']))
+    with pytest.raises(SystemExit, match="element 0: element 1: 'a' is not an int"):
+        build_config("wall-stiffness", False, None, None, _parse_sets(['convergence_meshes=[[32, "a"]]']))
+
+
+def test_good_values_are_coerced_to_the_default_types():
+    sets = _parse_sets(["mu=1", "deltas_mm=[1, 2.5]", "scheduler=5", "n_objects=3", "quick=true"])
+    cfg = build_config("fem-fitting", False, None, None, sets)
+    assert cfg["mu"] == 1.0 and isinstance(cfg["mu"], float)  # an int is accepted for a float
+    assert cfg["deltas_mm"] == [1.0, 2.5] and all(isinstance(d, float) for d in cfg["deltas_mm"])
+    assert cfg["scheduler"] == "5"  # a str key keeps the text, not the JSON number
+    assert cfg["n_objects"] == 3 and cfg["quick"] is True
+    # Python callers pass typed values: checked the same way
+    with pytest.raises(SystemExit, match="5 is not a string"):
+        build_config("fem-fitting", False, None, None, {"scheduler": 5})
+
+
+def test_unknown_keys_still_rejected():
+    with pytest.raises(SystemExit, match=r"unknown config keys for discretization: \['nope'\]"):
+        build_config("discretization", False, None, None, _parse_sets(["nope=1"]))
+
+
+@pytest.mark.parametrize("name", sorted(EXPERIMENTS))
+def test_quick_overrides_fit_the_default_types(name, tmp_path):
+    # --quick values go through the same check, so a QUICK_CONFIG that contradicts its
+    # DEFAULT_CONFIG type (a typo'd key, a str for a list) fails here, not mid-run
+    module = importlib.import_module(EXPERIMENTS[name])
+    sets = dict(module.QUICK_CONFIG)
+    if "data_dir" in module.DEFAULT_CONFIG:  # the CC BY-NC data may be absent: stand-in files
+        for obj in module.DEFAULT_CONFIG.get("objects", [module.DEFAULT_CONFIG.get("object")]):
+            for sub, ext in (("meshes", "obj"), ("stiffness_maps", "json")):
+                (tmp_path / sub).mkdir(exist_ok=True)
+                (tmp_path / sub / f"{obj}.{ext}").touch()
+        sets["data_dir"] = str(tmp_path)
+    cfg = build_config(name, False, None, None, sets)
+    assert {k: cfg[k] for k in module.QUICK_CONFIG} == module.QUICK_CONFIG
+
+
+@pytest.mark.parametrize(
+    "item, words",
+    [
+        ("mu=-1", ["mu", "negative", "default 0.3"]),
+        ("force_range=[1]", ["force_range", "[lo, hi]"]),
+        ("force_range=[35, 20]", ["force_range", "lo <= hi"]),
+        ("noise_mu=-0.1", ["noise_mu", "negative"]),
+        ("k_values=[2, -1]", ["k_values", "[-1.0]", "negative"]),
+    ],
+)
+def test_ranges_read_off_the_defaults_are_checked_before_any_work(item, words):
+    """Seen in a new-user trial: these started the sensitivity run and failed deep inside
+    (or, noise_mu=-0.1, ran on and wrote rows)."""
+    with pytest.raises(SystemExit) as exc:
+        build_config("sensitivity", False, None, None, _parse_sets([item]))
+    assert all(w in str(exc.value) for w in words), str(exc.value)
+
+
+def test_offsets_with_negative_defaults_stay_free():
+    cfg = build_config("sensitivity", False, None, None, _parse_sets(["mu_offsets=[-0.3, 0.3]"]))
+    assert cfg["mu_offsets"] == [-0.3, 0.3]
+
+
+def test_the_suggested_value_is_shell_quoted():
+    """The hint must work when pasted: a list with spaces and brackets is quoted."""
+    import shlex
+
+    with pytest.raises(SystemExit) as exc:
+        build_config("fem-fitting", True, None, None, _parse_sets(["heights=0.5"]))
+    hint = str(exc.value.code).split("give e.g. ")[1]
+    argv = shlex.split(hint)
+    assert argv[0] == "--set" and len(argv) == 2
+    from workbench.experiments.fem_fitting import DEFAULT_CONFIG
+
+    suggested = build_config("fem-fitting", True, None, None, _parse_sets([argv[1]]))["heights"]
+    assert suggested == DEFAULT_CONFIG["heights"] and len(suggested) == 21  # the default, pasted back
+
+
+def test_cli_config_layers():
+    cfg = build_config("discretization", True, None, 7, {"timing_repeats": 2})
+    assert cfg["seed"] == 7 and cfg["timing_repeats"] == 2 and cfg["quick"]
+    assert cfg["out"].endswith("results/discretization")
+    with pytest.raises(SystemExit, match="unknown config keys"):
+        build_config("discretization", False, None, None, {"nope": 1})
+
+
+# --- added: a toy experiment whose defaults are known here ----------------------------------
+
+
+@pytest.fixture
+def toy(monkeypatch):
+    """tests/sweep_toy.py registered as "toy": DEFAULT_CONFIG {"seed": 0, "x": 1.0,
+    "fail_above": 10.0, "sleep": 0.0, "tag": "a", "shape": [1, 2]}, QUICK_CONFIG {"sleep": 0.0}."""
+    monkeypatch.setitem(EXPERIMENTS, "toy", "sweep_toy")
+    return sweep_toy
+
+
+def test_toy_config_layers_and_coercion(toy, tmp_path):
+    cfg = build_config("toy", False, str(tmp_path), 5, _parse_sets(["x=2", "tag=S3", "shape=[3, 4]"]))
+    assert cfg == {
+        "seed": 5,
+        "x": 2.0,
+        "fail_above": 10.0,
+        "sleep": 0.0,
+        "tag": "S3",
+        "shape": [3, 4],
+        "quick": False,
+        "out": str(tmp_path),
+    }
+    assert isinstance(cfg["x"], float) and isinstance(cfg["seed"], int)
+    assert build_config("toy", True, None, None, {})["out"] == "results/toy"
+    assert build_config("toy", False, None, None, _parse_sets(['tag="7"']))["tag"] == "7"  # a JSON string
+    for item, msg in [
+        ("shape=[3, 4.5]", r"shape expects list of int \(default \[1, 2\]\); element 1: 4.5 is not an int"),
+        ("x=-1", r"x=-1: x expects float \(default 1.0\); -1.0 is negative"),  # a default >= 0: no negatives
+        ("seed=1e3", "1000.0 is not an int"),
+        ("fail_above=[1]", r"\[1\] is not a number"),
+    ]:
+        with pytest.raises(SystemExit, match=msg):
+            build_config("toy", False, None, None, _parse_sets([item]))
+    with pytest.raises(SystemExit, match=r"--set expects key=value; got 'x'"):
+        _parse_sets(["x"])
+    with pytest.raises(SystemExit, match=r"unknown experiment 'nope'; known: \["):
+        build_config("nope", False, None, None, {})
+
+
+def test_an_experiments_own_check_becomes_a_clean_exit(toy, monkeypatch):
+    def check_config(config):
+        if config["x"] > config["fail_above"]:
+            raise ValueError(f"x must be <= fail_above; got {config['x']}")
+
+    monkeypatch.setattr(toy, "check_config", check_config, raising=False)
+    assert build_config("toy", False, None, None, {"x": 3.0})["x"] == 3.0
+    with pytest.raises(SystemExit, match=r"^toy: x must be <= fail_above; got 11.0$"):
+        build_config("toy", False, None, None, {"x": 11.0})
+
+
+def test_config_help_lists_types_defaults_and_quick_values(toy):
+    assert config_help("toy").splitlines() == [
+        "config keys (--set KEY=VALUE, JSON; a bare word is a string):",
+        "  seed (int) = 0",
+        "  x (float) = 1.0",
+        "  fail_above (float) = 10.0",
+        "  sleep (float) = 0.0   [--quick: 0.0]",
+        '  tag (str) = "a"',
+        "  shape (list of int) = [1, 2]",
+        "  quick, out: set by --quick and --out",
+    ]
+
+
+@pytest.mark.parametrize("name", sorted(EXPERIMENTS))
+def test_config_help_has_one_line_per_default_key(name):
+    module = importlib.import_module(EXPERIMENTS[name])
+    lines = config_help(name).splitlines()
+    assert len(lines) == len(module.DEFAULT_CONFIG) + 2
+    for line, key in zip(lines[1:-1], module.DEFAULT_CONFIG, strict=True):
+        assert line.startswith(f"  {key} (")
