@@ -48,6 +48,7 @@ reproduce: $(STAMP)
 	$(TIMED) bench-minimal-work -- $(BIN)/python benchmarks/bench_minimal_work.py
 	$(TIMED) bench-wall-stiffness -- $(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
+	$(BIN)/workbench report
 
 # with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
 test: $(STAMP) lint

@@ -283,24 +283,28 @@ def _pad_of(config: dict):
 
 
 def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
-    """The rows of one grasp (bottle ``i``, height fraction, approach): its jaw displacements
-    ``todo`` (indices into ``deltas_mm``), each warm-started from the one before when that
-    one was solved here too.  Runs in the driver or in a Dask worker; returns (key, row)."""
+    """The rows of one grasp (bottle ``i``, height fraction, approach) at its jaw displacements
+    ``todo`` (indices into ``deltas_mm``).  Each displacement ``k`` is solved as the whole sweep
+    solves it: displacements 0..k in order, each warm-started from the one before (a few ms
+    each), so a row is the same whether its task holds one profile or the grasp's all, and
+    whether the run was resumed.  Runs in the driver or in a Dask worker; returns (key, row)."""
     j, i, hf, name, ang, todo = job
     params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
     pad = _pad_of(config)
     b = bottles[i]
     pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
     every = config["ablation_every"]
-    out, prev, last = [], None, None
-    for k in todo:
+    out, prev = [], None
+    for k in range(max(todo) + 1):
         dmm = config["deltas_mm"][k]
         t0 = time.perf_counter()
-        sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev if last == k - 1 else None)
+        sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev)
         t1 = time.perf_counter()
+        prev = sol
+        if k not in todo:
+            continue
         prof = extract_profile(pad, sol, pose)
         t2 = time.perf_counter()
-        prev, last = sol, k
         row = {
             "object": i,
             "asymmetric": params[i].asymmetric,
@@ -500,7 +504,12 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
     n_total = len(jobs) * len(config["deltas_mm"])
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
-    tasks = [("reference", label, pose) for label, pose in ref_cases] + [("rows", job) for job in todo_jobs]
+    # one task per profile (a grasp's 3 would leave 2 workers idle on a short run), the
+    # longest first: the full-mesh references, then the profiles with the protocol ablation
+    every, n_d = config["ablation_every"], len(config["deltas_mm"])
+    rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
+    rows.sort(key=lambda t: not (every and (t[1][0] * n_d + t[1][-1][0]) % every == 0))
+    tasks = [("reference", label, pose) for label, pose in ref_cases] + rows
     ref_of: dict[str, dict] = {}
 
     def keep(task, res) -> None:

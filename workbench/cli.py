@@ -1,6 +1,7 @@
 """``workbench`` console script: ``workbench run <experiment> [--quick] [--out DIR]
 [--seed N] [--set key=value ...]``, ``workbench sweep <experiment> --grid KEY=JSON_LIST ...``
-(:mod:`workbench.sweep`) and ``workbench list``.
+(:mod:`workbench.sweep`), ``workbench report [--results DIR] [--out FILE]``
+(:mod:`workbench.report`) and ``workbench list``.
 
 ``--set`` values are JSON (a bare word is a string) and are checked against the
 type of the experiment's default before anything runs: ``workbench run NAME
@@ -216,7 +217,8 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``workbench`` argument parser (``list``, ``run NAME`` with per-experiment help, ``sweep``)."""
+    """The ``workbench`` argument parser (``list``, ``run NAME`` with per-experiment help, ``sweep``,
+    ``report``)."""
     fmt = argparse.RawDescriptionHelpFormatter
     parser = argparse.ArgumentParser(prog="workbench", description=__doc__, formatter_class=fmt)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_CommandParser)
@@ -236,6 +238,23 @@ def build_parser() -> argparse.ArgumentParser:
         p.experiment = name
         _add_run_options(p, suppress=True)
     _add_sweep_parser(sub, fmt)
+    rep = sub.add_parser(
+        "report",
+        help="write results/REPORT.md: every reproduced thesis number beside ours, from the summaries",
+        description="Compare the thesis's printed numbers with ours, read from the committed summaries "
+        "(DIR/*/summary.json, DIR/benchmarks/*.json) only, and write them as Markdown. Runs nothing; "
+        "a missing key gives its row 'missing: <file>:<key path>' and a warning.",
+        formatter_class=fmt,
+    )
+    rep.add_argument(
+        "--results", default="results", metavar="DIR", help="results directory to read (default results)"
+    )
+    rep.add_argument(
+        "--out", default=None, metavar="FILE", help="Markdown file to write (default DIR/REPORT.md)"
+    )
+    rep.add_argument(
+        "-v", "--verbose", action="store_true", help="log at INFO level (warnings are always shown)"
+    )
     return parser
 
 
@@ -253,6 +272,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     if args.command == "sweep":
         return _sweep(parser, args)
+    if args.command == "report":
+        from .report import write_report
+
+        print(f"report: wrote {write_report(args.results, args.out)}")
+        return 0
     sets = args.sets + getattr(args, "sets_after", [])
     try:
         config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(sets))

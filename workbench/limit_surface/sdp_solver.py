@@ -1,22 +1,44 @@
 """The conic solvers the SDP ellipsoid (Eq. 3.11/3.12) and the SOS-convex quartic
 (Eq. 3.17) can use: cvxpy's installed solvers that take positive-semidefinite
-constraints (CLARABEL, SCS, and MOSEK/CVXOPT/… where installed)."""
+constraints (CLARABEL, SCS, and MOSEK/CVXOPT/… where installed and usable)."""
 
 from __future__ import annotations
 
+import logging
 from functools import cache
+
+log = logging.getLogger(__name__)
 
 
 @cache
 def sdp_solvers() -> tuple[str, ...]:
-    """Names (upper case) of the installed cvxpy solvers with PSD-cone support."""
+    """Names (upper case) of the installed cvxpy solvers with PSD-cone support that solve a
+    2 x 2 SDP here: an installed commercial solver without a licence (MOSEK, which drake's
+    wheel pulls in) is importable, so cvxpy lists it, but fails every solve."""
     from cvxpy.reductions.solvers.defines import INSTALLED_CONIC_SOLVERS, SOLVER_MAP_CONIC
 
     return tuple(
         name
         for name in INSTALLED_CONIC_SOLVERS
         if any("PSD" in c.__name__ for c in SOLVER_MAP_CONIC[name].SUPPORTED_CONSTRAINTS)
+        and _solves_an_sdp(name)
     )
+
+
+@cache
+def _solves_an_sdp(name: str) -> bool:
+    """Whether solver ``name`` solves min trace X, X PSD (2 x 2), X_01 = 1 (optimum 2; once per
+    process), logging why not."""
+    import cvxpy as cp
+
+    X = cp.Variable((2, 2), symmetric=True)
+    problem = cp.Problem(cp.Minimize(cp.trace(X)), [X >> 0, X[0, 1] == 1])
+    try:
+        problem.solve(solver=name)
+    except Exception as exc:  # a licence error, a broken install: not a solver to offer
+        log.warning("cvxpy lists %s but it cannot solve an SDP here (%s); not offered", name, exc)
+        return False
+    return problem.value is not None and abs(problem.value - 2.0) < 1e-3
 
 
 def check_sdp_solver(solver: object, what: str = "solver") -> str:
