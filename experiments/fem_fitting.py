@@ -751,7 +751,12 @@ def run(config: dict) -> dict:
     renders, tasks_ran_on, tasks_s, ref = _sweep(jobs, todo_jobs, ref_cases, ckpt, config, meanwhile)
 
     # Table 3.3 over every profile, the reference cases, the figures
-    rows = [r for r in ckpt.rows.values() if not r["empty"]]
+    # in grasp order, not the checkpoint's (the order the tasks finished in): the same table and
+    # the same sums to the last bit whatever the workers
+    ordered = [
+        ckpt.rows[_profile_key(i, hf, name, d)] for _, i, hf, name, _ in jobs for d in config["deltas_mm"]
+    ]
+    rows = [r for r in ordered if not r["empty"]]
     if not rows:
         raise RuntimeError("no contact profile was produced; check the pad placement")
     _write_tables(out, rows, ref)
@@ -768,7 +773,7 @@ def run(config: dict) -> dict:
         "pad_load_s": pad_load_s,
         "figures": figures,
     }
-    summary = _summary(rows, list(ckpt.rows.values()), errors, ref, config, run_info)
+    summary = _summary(rows, ordered, errors, ref, config, run_info)
     summary["headline"] = _headline(summary, errors, pad_load_s, pad.from_cache)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 

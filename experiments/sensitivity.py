@@ -445,11 +445,15 @@ def _series(ckpt: Checkpoint, rows: list[dict], config: dict) -> dict:
                 for m in config["models"]
             },
         }
-    series_out["robust"] = [
-        {k: r[k] for k in ("n_r", "sigma_r", "precision", "recall", "ms_per_grasp")}
-        for r in rows
-        if r["series"] == "robust"
-    ]
+    # in (n_r, sigma_r) order, not the checkpoint's (the order the tasks finished in)
+    series_out["robust"] = sorted(
+        (
+            {k: r[k] for k in ("n_r", "sigma_r", "precision", "recall", "ms_per_grasp")}
+            for r in rows
+            if r["series"] == "robust"
+        ),
+        key=lambda r: (r["n_r"], r["sigma_r"]),
+    )
     return series_out
 
 

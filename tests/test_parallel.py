@@ -156,8 +156,16 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
         ), key
     # a task of one profile (the driver's split) or of a resumed grasp's remaining ones solves
     # the displacements before it as the whole grasp does: the same row, bit for bit
-    for job in ((0, 0, 0.5, "major", 0.0, [2]), (1, 0, 0.5, "minor", math.pi / 2, [1])):
-        ((key, row),) = _task(("rows", job), cfg)
+    # (through map_rows: one Numba thread per task, as there — a parallel reduction on two threads
+    # sums in another order)
+    split = {}
+    map_rows(
+        fn,
+        [("rows", (0, 0, 0.5, "major", 0.0, [2])), ("rows", (1, 0, 0.5, "minor", math.pi / 2, [1]))],
+        keep(split),
+    )
+    assert len(split) == 2
+    for key, row in split.items():
         assert json.dumps(numbers(row), sort_keys=True) == json.dumps(numbers(serial[key]), sort_keys=True)
 
 

@@ -68,6 +68,13 @@ class Tolerances:
     # degenerate (sliver/collapsed triangle) and is rejected or dropped.
     degenerate_area_rtol: float = 1e-12
 
+    # Predictions (or measurements) closer than this relative gap rank as ties in
+    # workbench.stats.rank_correlation: mirror-symmetric grasps give equal predictions up to
+    # the solver's accuracy (last bits for a linear solve, ~1e-11 for the nonlinear wall's
+    # Newton curves), and Spearman would break such near-ties by that noise.  1e-9 sits two
+    # decades above it and far below any gap between distinct grasps (>= 1e-4 measured).
+    rank_tie_rtol: float = 1e-9
+
     # Default relative tolerance of the adaptive surface quadrature for
     # wrenches (error scaled by mu*F for forces and mu*F*l_s for torques).
     quadrature_rtol: float = 1e-5
@@ -457,6 +464,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "tangential_velocity_rtol": _NONNEG,  # 0: only exactly zero slip sticks
     "normal_unit_atol": _NONNEG,  # 0: no silent renormalisation
     "degenerate_area_rtol": _NONNEG,
+    "rank_tie_rtol": _real(0.0, hi=1e-3),  # 0: only exact ties; a larger gap is not noise
     "quadrature_rtol": _POS,  # 0 can never be met: every call would run to the cell cap
     "moments_rtol": _POS,
     "quadrature_max_passes": _count(1),
