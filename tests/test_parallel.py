@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import subprocess
+import sys
 from functools import partial
 
 import pytest
@@ -351,3 +353,46 @@ def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_proces
     assert len(serial["convergence"]) == 4 and len(serial[str(jobs[1])]) == 2
     assert all(0 < r[1]["stiffness_N_per_m"] < 1e6 for r in serial[str(jobs[1])])
     assert numbers(serial) == numbers(dist)
+
+
+_COMPILE_IN_A_WORKER = """
+import numba  # the driver's main module imports Numba, as the workbench CLI does
+import numpy as np
+from distributed import Client
+
+from workbench.parallel import local_cluster, map_rows
+
+
+def task(k):
+    @numba.njit(parallel=True)  # a kernel no disk cache holds: compiled in the worker
+    def total(x):
+        s = 0.0
+        for i in numba.prange(x.size):
+            s += x[i] * k
+        return s
+
+    return total(np.ones(10))
+
+
+if __name__ == "__main__":
+    got = {}
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        map_rows(task, range(4), got.__setitem__, client=client)
+    print(sorted(got.items()))
+"""
+
+
+@pytest.mark.jit_only("the failure is Numba's compiler re-reading NUMBA_NUM_THREADS; no compile without JIT")
+def test_a_kernel_compiled_inside_a_worker_runs(tmp_path):
+    """A worker started by a driver whose main module imports Numba imports it again before the
+    nanny's NUMBA_NUM_THREADS=1 is set: its pool starts with 2 threads, and compiling a kernel
+    there re-read 1 and raised "Cannot set NUMBA_NUM_THREADS ..." (in a fresh clone every
+    fem-fitting reference task, sensitivity and minimal-work failed so: their kernels were not
+    in the disk cache yet).  Now the tasks' results come back."""
+    script = tmp_path / "driver.py"
+    script.write_text(_COMPILE_IN_A_WORKER)
+    res = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path, timeout=300
+    )
+    assert res.returncode == 0, res.stderr[-3000:]
+    assert res.stdout.strip().splitlines()[-1] == str([(k, 10.0 * k) for k in range(4)])

@@ -25,7 +25,15 @@ from . import config
 
 log = logging.getLogger(__name__)
 
-__all__ = ["check_workers", "in_dask_worker", "local_cluster", "map_rows", "row_client", "run_rows"]
+__all__ = [
+    "check_workers",
+    "in_dask_worker",
+    "local_cluster",
+    "map_rows",
+    "pin_numba_threads_env",
+    "row_client",
+    "run_rows",
+]
 
 
 def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
@@ -41,6 +49,7 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
     import numba
     from threadpoolctl import threadpool_limits
 
+    pin_numba_threads_env()
     before = numba.get_num_threads()
     numba.set_num_threads(1)  # prange reductions sum in another order on more threads too
     try:
@@ -48,6 +57,22 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
             return fn(job)
     finally:
         numba.set_num_threads(before)
+
+
+def pin_numba_threads_env() -> None:
+    """Set ``NUMBA_NUM_THREADS`` in this process's environment to the pool size Numba already
+    has, so that compiling a kernel here (which re-reads the environment) cannot raise.
+
+    A Dask worker imports Numba before the nanny's ``env`` (``NUMBA_NUM_THREADS=1``, see
+    :func:`local_cluster`) is applied: its config says 2 threads on this machine, the pool starts
+    with 2, and the first kernel compiled in the worker — one not in Numba's disk cache yet, e.g.
+    in a fresh checkout — re-reads 1 and raises "Cannot set NUMBA_NUM_THREADS to a different
+    value once the threads have been launched" (measured: every fem-fitting reference task, and
+    sensitivity and minimal-work, failed so in a clean clone).  Tasks still use one thread
+    (:func:`_one_blas_thread`)."""
+    import numba
+
+    os.environ["NUMBA_NUM_THREADS"] = str(numba.config.NUMBA_NUM_THREADS)
 
 
 def in_dask_worker() -> bool:

@@ -147,6 +147,9 @@ def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
     try:
         import numba
 
+        from .parallel import pin_numba_threads_env
+
+        pin_numba_threads_env()  # a kernel compiled in this worker would raise otherwise
         numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
     except Exception as exc:  # a worker without Numba threads still runs, serially
         log.warning("could not set Numba's threads: %s", exc)
