@@ -282,6 +282,13 @@ def _pad_of(config: dict):
     return _pad(tuple(sorted(config["pad"].items())), config["E"], config["nu"])
 
 
+def _ablated(j: int, k: int, config: dict) -> bool:
+    """Whether profile ``k`` (jaw displacement index) of grasp ``j`` gets the protocol
+    ablation: every ``ablation_every``-th profile in grasp order (none when 0)."""
+    every = config["ablation_every"]
+    return bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0
+
+
 def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
     """The rows of one grasp (bottle ``i``, height fraction, approach) at its jaw displacements
     ``todo`` (indices into ``deltas_mm``).  Each displacement ``k`` is solved as the whole sweep
@@ -293,7 +300,6 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
     pad = _pad_of(config)
     b = bottles[i]
     pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
-    every = config["ablation_every"]
     out, prev = [], None
     for k in range(max(todo) + 1):
         dmm = config["deltas_mm"][k]
@@ -329,7 +335,7 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
                     config,
                     config["seed"] + 1000 * j + k,
                     to_object=(pose.R, pose.t),
-                    ablate=bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0,
+                    ablate=_ablated(j, k, config),
                 ),
             )
         out.append((_profile_key(i, hf, name, dmm), row))
@@ -506,9 +512,8 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
     # one task per profile (a grasp's 3 would leave 2 workers idle on a short run), the
     # longest first: the full-mesh references, then the profiles with the protocol ablation
-    every, n_d = config["ablation_every"], len(config["deltas_mm"])
     rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
-    rows.sort(key=lambda t: not (every and (t[1][0] * n_d + t[1][-1][0]) % every == 0))
+    rows.sort(key=lambda t: not _ablated(t[1][0], t[1][-1][0], config))
     tasks = [("reference", label, pose) for label, pose in ref_cases] + rows
     ref_of: dict[str, dict] = {}
 

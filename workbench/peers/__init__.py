@@ -71,6 +71,13 @@ def depth(name: str, value: Any, *, below: float, below_name: str) -> float:
     return x
 
 
+def sphere(R: Any, delta: Any, delta_name: str) -> tuple[float, float]:
+    """A rigid sphere's radius ``R`` [m] and its depth ``delta`` [m] into the layer (named
+    ``delta_name`` in errors), checked by :func:`length` and :func:`depth` (below ``R``)."""
+    r = length("R (sphere radius)", R)
+    return r, depth(delta_name, delta, below=r, below_name="the sphere radius R")
+
+
 def modulus(name: str, value: Any) -> float:
     """An elastic modulus [Pa] within :data:`MODULUS_RANGE_PA`."""
     x = real(name, value, "Pa")

@@ -66,9 +66,7 @@ def foundation_modulus(E: float, h: float, nu: float | None = None, kind: str = 
 
 
 def _sphere_case(R: float, delta: float) -> tuple[float, float]:
-    r = _checks.length("R (sphere radius)", R)
-    d = _checks.depth("delta (penetration)", delta, below=r, below_name="the sphere radius R")
-    return r, d
+    return _checks.sphere(R, delta, "delta (penetration)")
 
 
 def overlap_area(R: float, delta: float) -> float:

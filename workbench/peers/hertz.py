@@ -42,9 +42,7 @@ log = logging.getLogger(__name__)
 
 
 def _sphere_case(R: float, delta: float) -> tuple[float, float]:
-    r = _checks.length("R (sphere radius)", R)
-    d = _checks.depth("delta (approach)", delta, below=r, below_name="the sphere radius R")
-    return r, d
+    return _checks.sphere(R, delta, "delta (approach)")
 
 
 def effective_modulus(E: float, nu: float) -> float:
