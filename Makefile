@@ -12,12 +12,18 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e ".[dev]"
 	touch $(STAMP)
 
+# the optional peers (Drake, MuJoCo: workbench run peers compares against them), for make reproduce
+PEERS_STAMP := $(VENV)/.installed-peers
+$(PEERS_STAMP): $(STAMP)
+	$(BIN)/pip install --quiet -e ".[dev,peers]"
+	touch $(PEERS_STAMP)
+
 # Every experiment on embedded defaults, then the benchmarks; writes results/.  Each step is
 # timed into results/benchmarks/reproduce.json (benchmarks/timed.py: one split per run).
 RUN_ID := $(shell date +%Y%m%dT%H%M%S)
 OBJECTS := ../shared/data/deformable_objects
 TIMED  = REPRODUCE_RUN=$(RUN_ID) $(BIN)/python benchmarks/timed.py
-reproduce: $(STAMP)
+reproduce: $(PEERS_STAMP)
 	$(TIMED) parametric-surfaces -- $(BIN)/workbench run parametric-surfaces
 	$(TIMED) discretization -- $(BIN)/workbench run discretization
 	$(TIMED) ls-fitting -- $(BIN)/workbench run ls-fitting
@@ -42,12 +48,14 @@ reproduce: $(STAMP)
 	else \
 	  echo "wall-nonlinear, minimal-work: skipped - $(OBJECTS) (meshes/, stiffness_maps/) not found"; \
 	fi
+	$(TIMED) peers -- $(BIN)/workbench run peers
 	$(TIMED) bench-wrench -- $(BIN)/python benchmarks/bench_wrench.py
 	$(TIMED) bench-limit-surface -- $(BIN)/python benchmarks/bench_limit_surface.py
 	$(TIMED) bench-grasp -- $(BIN)/python benchmarks/bench_grasp.py
 	$(TIMED) bench-minimal-work -- $(BIN)/python benchmarks/bench_minimal_work.py
 	$(TIMED) bench-wall-stiffness -- $(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
+	$(TIMED) bench-pareto -- $(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/workbench report
 
 # with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
@@ -70,6 +78,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_minimal_work.py
 	$(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(BIN)/python benchmarks/bench_sweep.py
+	$(BIN)/python benchmarks/bench_pareto.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

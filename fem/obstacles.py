@@ -89,6 +89,99 @@ class Cylinder:
         return dist - self.radius, radial / np.where(dist > 0, dist, 1.0)[:, None]
 
 
+@dataclass(frozen=True)
+class EllipticCylinder:
+    """Infinite elliptic cylinder: axis through ``point`` along ``axis``, semi-axis ``a`` along
+    ``major`` (made orthogonal to the axis) and ``b`` along ``axis × major`` [m].
+
+    The exact signed distance to the elliptic section (Eberly, "Distance from a point to an
+    ellipse", 2013): the closest point ``x_i = e_i² y_i / (t + e_i²)`` with ``t`` the root of
+    ``Σ (e_i y_i / (t + e_i²))² = 1`` in its bracket, found by bisection to round-off (inside and
+    outside alike); the normal is the ellipse's outward normal at that point.
+    """
+
+    point: tuple = (0.0, 0.0, 0.0)
+    axis: tuple = (0.0, 1.0, 0.0)
+    major: tuple = (0.0, 0.0, 1.0)
+    a: float = 0.03
+    b: float = 0.02
+    allow_scale: bool = False  # accept semi-axes outside the plausible object sizes
+    _frame: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("a", "b"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"semi-axis {name} must be > 0 [m]; got {v}")
+        ax = _unit(self.axis)
+        u = _unit(self.major)
+        u = u - (u @ ax) * ax
+        if np.linalg.norm(u) < 1e-9:
+            raise ValueError(f"major {self.major} is parallel to axis {self.axis}: give one across it")
+        u /= np.linalg.norm(u)
+        if not self.allow_scale:
+            from workbench.units import check_extent
+
+            check_extent(
+                2.0 * max(self.a, self.b),
+                f"{type(self).__name__} of semi-axes {self.a}, {self.b} (largest diameter)",
+                fix="give the semi-axes and point in metres (20 mm = 0.02), or allow_scale=True",
+            )
+        object.__setattr__(self, "_frame", np.stack([u, np.cross(ax, u), ax]))
+
+    def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        q = (np.asarray(x, float) - np.asarray(self.point, float)) @ self._frame.T  # (N, 3): u, v, axis
+        swap = self.a < self.b  # the algorithm wants e0 >= e1
+        e0, e1 = (self.b, self.a) if swap else (self.a, self.b)
+        y = np.abs(q[:, [1, 0]] if swap else q[:, :2])
+        y0, y1 = y[:, 0], y[:, 1]
+        c0, c1 = np.empty_like(y0), np.empty_like(y1)
+        on_axis = y1 <= 0.0
+        # y1 > 0: bisection on t in [-e1² + e1 y1, -e1² + |(e0 y0, e1 y1)|]
+        g = ~on_axis
+        z0, z1 = y0[g], y1[g]
+        lo = -e1 * e1 + e1 * z1
+        hi = -e1 * e1 + np.hypot(e0 * z0, e1 * z1)
+        for _ in range(200):  # halves the bracket to round-off (< 200 halvings of a double)
+            t = 0.5 * (lo + hi)
+            f = (e0 * z0 / (t + e0 * e0)) ** 2 + (e1 * z1 / (t + e1 * e1)) ** 2 - 1.0
+            lo, hi = np.where(f > 0, t, lo), np.where(f > 0, hi, t)
+            if np.all(hi - lo <= 4 * np.finfo(float).eps * np.maximum(np.abs(lo), np.abs(hi))):
+                break
+        t = 0.5 * (lo + hi)
+        c0[g] = e0 * e0 * z0 / (t + e0 * e0)
+        c1[g] = e1 * e1 * z1 / (t + e1 * e1)
+        # y1 = 0 (on the major axis): the closest point is the vertex, or off-axis when y0 is
+        # inside the evolute's cusp
+        z0 = y0[on_axis]
+        inner = z0 < (e0 * e0 - e1 * e1) / e0
+        x0 = np.where(inner, e0 * e0 * z0 / (e0 * e0 - e1 * e1), e0)
+        c0[on_axis] = x0
+        c1[on_axis] = np.where(inner, e1 * np.sqrt(np.clip(1.0 - (x0 / e0) ** 2, 0.0, None)), 0.0)
+        inside = (y0 / e0) ** 2 + (y1 / e1) ** 2 < 1.0
+        d = np.hypot(y0 - c0, y1 - c1) * np.where(inside, -1.0, 1.0)
+        n2 = np.column_stack([c0 / (e0 * e0), c1 / (e1 * e1)])
+        n2 *= np.sign(np.where(q[:, [1, 0]] if swap else q[:, :2], q[:, [1, 0]] if swap else q[:, :2], 1.0))
+        n2 /= np.linalg.norm(n2, axis=1, keepdims=True)
+        if swap:
+            n2 = n2[:, [1, 0]]
+        n = n2 @ self._frame[:2]
+        return d, n
+
+    def to_trimesh(self, length: float, sections: int = 720):
+        """A closed triangle mesh of the cylinder, ``length`` [m] long, centred on ``point``,
+        ``sections`` facets around (for peers that need a mesh, e.g. Drake)."""
+        import trimesh
+
+        cyl = trimesh.creation.cylinder(radius=1.0, height=float(length), sections=int(sections))
+        cyl.apply_transform(np.diag([self.a, self.b, 1.0, 1.0]))
+        T = np.eye(4)
+        T[:3, :3] = self._frame.T  # local (u, v, axis) -> world
+        T[:3, 3] = np.asarray(self.point, float)
+        cyl.apply_transform(T)
+        return cyl
+
+
 class MeshObstacle:
     """A rigid watertight triangle mesh (trimesh) as an obstacle.
 

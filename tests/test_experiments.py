@@ -1,6 +1,7 @@
 """Each experiment in quick mode (scikit-fem ``test_examples`` style): the
 headline numbers against the thesis, and the summary.json key contract."""
 
+import csv
 import json
 from pathlib import Path
 
@@ -395,3 +396,57 @@ def test_wall_nonlinear_quick(tmp_path):
     assert g["jaw_force_imbalance"] < 0.02
     assert s["calibrated_on_these_grasps"]["nonlinear"]["median_abs_log_ratio"] < 1e-6  # one grasp, own E
     assert (tmp_path / "fig_force_closing.png").stat().st_size > 10_000
+
+
+@EXPERIMENT_RUN
+def test_peers_quick(tmp_path):
+    """Issue 16: every peer on the same contacts, checked against what each must give."""
+    assert main(["run", "peers", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    rows = list(csv.DictReader((tmp_path / "peers.csv").open()))
+    at = {(r["case"], r["peer"], float(r["delta_mm"])): r for r in rows}
+    P = s["peers"]
+    for peer in ("condensed", "linear", "foundation", "mujoco_hertz", "mujoco_diameter"):
+        for case in ("sphere", "cylinder"):
+            for key in (
+                "force_rel_err",
+                "area_rel_err",
+                "pressure_rel_l2",
+                "torsion_rel_err",
+                "margin_rel_err",
+            ):
+                assert key in P[peer][case]
+            assert P[peer][case]["ms_per_query"] > 0
+    # the condensed and the full-mesh linear pad solve one linear problem: equal forces and fields
+    for case in ("sphere", "cylinder"):
+        c, lin = at[(case, "condensed", 1.0)], at[(case, "linear", 1.0)]
+        assert float(c["force_N"]) == pytest.approx(float(lin["force_N"]), rel=1e-6)
+        assert float(c["pressure_rel_l2"]) == pytest.approx(float(lin["pressure_rel_l2"]), rel=1e-6)
+    # Hertz's exact torsion length 3πa/16 (6DFW of its profile, per jaw force: 1 - O(a²/R²)), and
+    # MuJoCo's cone given the same 3πa/16 by construction
+    R, d = 0.015, 1e-3
+    tl = 3 * np.pi * np.sqrt(R * d) / 16 * 1e3
+    assert float(at[("sphere", "hertz", 1.0)]["torsion_length_mm"]) == pytest.approx(tl, rel=R * d / R / R)
+    assert float(at[("sphere", "mujoco_hertz", 1.0)]["torsion_length_mm"]) == pytest.approx(tl, rel=1e-12)
+    # the Winkler foundation k = E/h against its closed form kV on the sphere (the jaw reads the
+    # net force, lower by the patch's tilt: within δ/R), and Drake's hydroelastic box, the same law
+    E, h = 1e6, 0.005
+    kV = E / h * np.pi * d * d * (3 * R - d) / 3
+    f_found = float(at[("sphere", "foundation", 1.0)]["force_N"])
+    assert kV * (1 - d / R) < f_found < kV
+    if "drake" in P:
+        f_drake = float(at[("sphere", "drake", 1.0)]["force_N"])
+        res = 0.05 * R  # quick config: resolution R/20, the force low by ~res²/(4Rδ)
+        assert f_drake == pytest.approx(f_found, rel=res * res / (4 * R * d) + 0.01)
+    # a user's MuJoCo torsion from the patch "diameter" over-states the capacity (optimistic
+    # margins), the Hertz patch radius under-states a cylinder's line contact (pessimistic)
+    assert P["mujoco_diameter"]["sphere"]["margin"]["median_log_ratio"] > 0
+    assert P["mujoco_hertz"]["cylinder"]["margin"]["median_log_ratio"] < 0
+    assert P["mujoco_hertz"]["cylinder"]["torsion_rel_err"] < -0.5
+    # where Hertz applies (issue 16: within 3 %): the layer's stiffening halves with a/H, and the
+    # half-space limit it extrapolates to is Hertz's force
+    hb = s["hertz_half_space"]
+    e20, e40 = hb["force_rel_err"]
+    assert 0 < e40 < e20 and abs(hb["extrapolated_force_rel_err"]) < 0.03
+    assert (tmp_path / "runtime_vs_error.png").stat().st_size > 10_000
+    assert set(s["vs_drake"]) == ({"sphere", "cylinder"} if "drake" in P else set())

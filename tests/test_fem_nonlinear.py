@@ -135,3 +135,26 @@ def test_zero_displacement_and_preloaded_start():
     sol = nl.solve(pre, [0.0], step=0.01 * h)[0.0]
     lin = solve_contact(condense_pad(GEOM, MAT, scheme="full", cache_dir=False), pre, 0.0)
     assert sol.force == pytest.approx(lin.force, rel=0.02)
+
+
+def test_a_vertex_touching_the_face_to_round_off_is_not_a_load():
+    """An obstacle vertex on the face, 2e-17 m 'inside' by round-off (a faceted cylinder placed to
+    touch at δ = 0), used to make the δ = 0 step fail ('Newton did not converge at delta = 0 m');
+    the solve now starts stress-free and matches the same cylinder lifted clear by 1 nm."""
+    import trimesh
+
+    from workbench.fem.obstacles import MeshObstacle
+
+    h = 0.003
+    geom = PadGeometry(0.008, 0.01, h, 4, 5, 2)
+    forces = []
+    for lift in (-2e-17, 1e-9):
+        cyl = trimesh.creation.cylinder(radius=0.01, height=0.03, sections=16)
+        turn = np.eye(4)
+        turn[:3, :3] = [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]  # axis along y, a vertex line at the bottom
+        cyl.apply_transform(turn)
+        cyl.apply_translation([0, 0, h + 0.01 + lift])
+        assert (cyl.vertices[:, 2].min() - h) * lift > 0  # really inside / outside
+        forces.append(NonlinearPad(geom, Material(1e6, 0.45)).solve(MeshObstacle(cyl), [3e-4])[3e-4].force)
+    # 1 nm less approach out of 0.3 mm: the force changes by ~1.5 x 1e-9/3e-4 (F ~ δ^1.5 or less)
+    assert forces[0] == pytest.approx(forces[1], rel=1.5 * 1e-9 / 3e-4 + 1e-9)

@@ -22,6 +22,7 @@ EXPERIMENTS = {
     "sensitivity": "workbench.experiments.sensitivity",
     "minimal-work": "workbench.experiments.minimal_work",
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
+    "peers": "workbench.experiments.peers",
 }
 
 

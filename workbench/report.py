@@ -1122,9 +1122,12 @@ def write_report(
     (default ``results_dir/REPORT.md``).  Returns the path written."""
     results_dir = Path(results_dir)
     out = Path(out) if out is not None else results_dir / "REPORT.md"
+    from .report_peers import render_peers_sections
+
     rows = evaluate(results_dir)
     prefix = os.path.relpath(results_dir.resolve(), out.resolve().parent).replace(os.sep, "/")
-    text = render_markdown(rows, link_prefix="" if prefix == "." else prefix + "/")
+    link = "" if prefix == "." else prefix + "/"
+    text = render_markdown(rows, link_prefix=link) + render_peers_sections(Summaries(results_dir), link)
     n_missing = sum(r.verdict is None for r in rows)
     if n_missing:
         log.warning("report: %d of %d rows missing their summary keys", n_missing, len(rows))

@@ -165,6 +165,7 @@ def foundation_profile(
     nx: int = 160,
     ny: int = 160,
     depth: str = "vertical",
+    edge: str = "warn",
 ) -> ContactProfile | None:
     """Winkler pad pressed into ``obstacle`` by ``delta`` [m]: a :class:`ContactProfile`, or ``None``
     when nothing touches.
@@ -185,7 +186,8 @@ def foundation_profile(
     on the object's surface, as the FEM profile is.
 
     Raises ``ValueError`` if the obstacle reaches deeper than the layer (``u >= h``) and logs a
-    warning if the patch touches the pad's border (the grid truncates it: enlarge the pad).
+    warning if the patch touches the pad's border (the grid truncates it: enlarge the pad) — unless
+    ``edge="cut"``: the pad's end is meant to cut the contact (a cylinder spanning the pad).
     """
     k = foundation_modulus(E, h, nu, kind)
     t = float(h)
@@ -196,6 +198,10 @@ def foundation_profile(
         raise ValueError(
             f"delta = {dlt!r} m is not below the layer thickness h = {t!r} m: displacements are in "
             "metres (1 mm = 1e-3)"
+        )
+    if edge not in ("warn", "cut"):
+        raise ValueError(
+            f"edge must be 'warn' or 'cut' (the pad's border cuts the contact on purpose); got {edge!r}"
         )
     w = _checks.length("width", width)
     ln = _checks.length("length", length)
@@ -233,7 +239,8 @@ def foundation_profile(
             "the jaw would hit the object — reduce delta"
         )
     i, j = np.unravel_index(inside, (cx, cy))
-    if (i == 0).any() or (i == cx - 1).any() or (j == 0).any() or (j == cy - 1).any():
+    at_edge = (i == 0).any() or (i == cx - 1).any() or (j == 0).any() or (j == cy - 1).any()
+    if at_edge and edge == "warn":
         log.warning(
             "foundation_profile: the contact reaches the pad's border (%g x %g m): the patch is truncated "
             "— enlarge width/length",

@@ -1,0 +1,147 @@
+"""The measures by which the peers' contacts are compared with a reference contact (issue 16):
+the pressure field on a common grid, the torsion length, the 6DFW set's support along the six
+axis twists, and the two-jaw grasp in which resistance margins are compared.
+
+Every function takes contacts in the pad frame of :func:`workbench.fem.press` (pad face ``z = h``,
+the jaw pushing the object along ``+z``), so one grid and one grasp serve every peer.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..profile import ContactProfile
+from ..wrench import w_max
+from . import friction, length
+from .mujoco_cone import check_coefficients, contact_basis
+
+__all__ = [
+    "PAD_TO_GRASP",
+    "cone_supports",
+    "face_grid_points",
+    "field_from_elements",
+    "field_from_nodes",
+    "jaw_force",
+    "opposed_jaws",
+    "rel_l2",
+    "supports",
+    "torsion_length",
+]
+
+#: rotation taking the pad frame to the grasp frame of :func:`workbench.grasp.tasks.lever_disturbances`
+#: (grasp axis x, object axis z): the jaw's push ``+z`` becomes ``+x`` (the jaw sits at ``-x``) and the
+#: pad's length axis ``y`` (a cylinder's axis) becomes the object axis ``z``.
+PAD_TO_GRASP = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+
+
+def _profile(p: Any) -> ContactProfile:
+    if not isinstance(p, ContactProfile):
+        raise ValueError(f"expected a ContactProfile; got {type(p).__name__}")
+    return p
+
+
+def jaw_force(profile: ContactProfile) -> float:
+    """The force [N] the jaw's sensor reads: the net normal force on the object along the pad
+    normal ``+z`` (``normal_wrench[2]``; ``<= profile.F`` on a curved contact)."""
+    return float(_profile(profile).normal_wrench[2])
+
+
+def face_grid_points(width: float, length_: float, spacing: float) -> tuple[np.ndarray, float]:
+    """Cell centres (m, 2) [m] of a regular grid of spacing ~``spacing`` [m] over the pad face
+    ``|x| <= width/2``, ``|y| <= length_/2``, and the cell area [m²]."""
+    w, ln, s = length("width", width), length("length", length_), length("spacing", spacing)
+    nx, ny = max(1, int(round(w / s))), max(1, int(round(ln / s)))
+    x = (np.arange(nx) + 0.5) * (w / nx) - w / 2
+    y = (np.arange(ny) + 0.5) * (ln / ny) - ln / 2
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    return np.column_stack([X.ravel(), Y.ravel()]), (w / nx) * (ln / ny)
+
+
+def field_from_elements(profile: ContactProfile | None, grid: np.ndarray) -> np.ndarray:
+    """A profile's pressure [Pa] at grid points (m, 2) in the pad face plane: linear
+    interpolation over the element centres projected along ``z`` (a Delaunay triangulation), zero
+    outside their convex hull (and everywhere for ``None``, no contact).  Returns (m,)."""
+    g = np.asarray(grid, dtype=np.float64)
+    if profile is None:
+        return np.zeros(len(g))
+    from scipy.interpolate import LinearNDInterpolator
+
+    prof = _profile(profile)
+    xy = prof.centers[:, :2]
+    if len(xy) < 3:
+        raise ValueError(f"a pressure field needs >= 3 elements to interpolate; got {len(xy)}")
+    f = LinearNDInterpolator(xy, prof.pressures, fill_value=0.0)
+    return np.clip(f(g), 0.0, None)
+
+
+def field_from_nodes(face_xy: np.ndarray, p_node: np.ndarray, grid: np.ndarray) -> np.ndarray:
+    """Nodal pressures (n,) on a FEM pad's regular face grid (``face_xy`` (n, 2), the
+    :class:`~workbench.fem.pad.CondensedPad`'s node order) at grid points (m, 2): bilinear, zero
+    outside the face.  Returns (m,)."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    xy = np.asarray(face_xy, dtype=np.float64)
+    p = np.asarray(p_node, dtype=np.float64)
+    if xy.ndim != 2 or xy.shape[1] != 2 or p.shape != (len(xy),):
+        raise ValueError(f"face_xy must be (n, 2) and p_node (n,); got {xy.shape} and {p.shape}")
+    xs, ys = np.unique(xy[:, 0]), np.unique(xy[:, 1])
+    if xs.size * ys.size != len(xy):
+        raise ValueError("face_xy is not a full regular grid of nodes (a graded or patched pad?)")
+    ix, iy = np.searchsorted(xs, xy[:, 0]), np.searchsorted(ys, xy[:, 1])
+    table = np.zeros((xs.size, ys.size))
+    table[ix, iy] = p
+    f = RegularGridInterpolator((xs, ys), table, bounds_error=False, fill_value=0.0)
+    return f(np.asarray(grid, dtype=np.float64))
+
+
+def rel_l2(p: np.ndarray, p_ref: np.ndarray) -> float:
+    """``‖p − p_ref‖ / ‖p_ref‖`` over one grid (a grid of equal cells: the L2 norm's ratio)."""
+    a, b = np.asarray(p, float), np.asarray(p_ref, float)
+    if a.shape != b.shape:
+        raise ValueError(f"fields must share the grid; got {a.shape} and {b.shape}")
+    nb = float(np.linalg.norm(b))
+    if nb == 0:
+        raise ValueError("the reference field is zero: no contact to compare against")
+    return float(np.linalg.norm(a - b) / nb)
+
+
+def torsion_length(profile: ContactProfile, mu: float) -> float:
+    """``τ_max / (μ f_n)`` [m]: the profile's 6DFW torsional capacity about the ``z`` axis through
+    its pressure centre (:func:`workbench.wrench.w_max`) per unit friction and unit jaw force
+    (:func:`jaw_force`) — ``3πa/16`` for a Hertz patch, ``8a/15`` for a Winkler paraboloid."""
+    m = friction("mu", mu)
+    return float(w_max(_profile(profile), m)[5] / (m * jaw_force(profile)))
+
+
+def supports(profile: ContactProfile, mu: float) -> np.ndarray:
+    """(6,) the 6DFW set's support along the six axis twists about the pressure centre (the exact
+    ``w_max``, Eq. 3.10's normaliser) per unit jaw force: [N/N] for translations, [N m/N] for
+    rotations."""
+    m = friction("mu", mu)
+    return w_max(_profile(profile), m) / jaw_force(profile)
+
+
+def cone_supports(coefficients: Any, normal: Any = (0.0, 0.0, -1.0)) -> np.ndarray:
+    """(6,) the same six supports for MuJoCo's elliptic cone (:mod:`.mujoco_cone`) of friction
+    ``coefficients`` (5,) at unit normal force, contact normal ``normal`` (3,) (outward from the
+    object; the pad's ``-z``): for axis twist ``e_i``, ``√(Σ_j μ_j² d_j²)`` with ``d = Eᵀ e_i``
+    the twist in contact coordinates (maximum dissipation on the cone's slice)."""
+    mu = check_coefficients(coefficients)
+    E = contact_basis(normal)
+    d = E.T  # row i: e_i in contact coordinates
+    return np.sqrt(((mu * d[:, 1:]) ** 2).sum(axis=1))
+
+
+def opposed_jaws(profile: ContactProfile, center: Any) -> list[ContactProfile]:
+    """The two-jaw grasp of one contact: the profile (pad frame, the jaw below the object) moved to
+    the grasp frame of :data:`PAD_TO_GRASP` with the object's centre ``center`` (3,) [m] at the
+    origin, and its mirror image turned by π about the object axis ``z`` (the jaw at ``+x``), as
+    :func:`workbench.sources.scenes.elliptic_cylinder_grasp` pairs its jaws.  Returns two profiles."""
+    c = np.asarray(center, dtype=np.float64)
+    if c.shape != (3,) or not np.isfinite(c).all():
+        raise ValueError(f"center must be a finite (3,) point [m]; got {center!r}")
+    p = _profile(profile)
+    jaw = p.transformed(PAD_TO_GRASP, -PAD_TO_GRASP @ c)
+    return [jaw, jaw.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))]

@@ -1,0 +1,184 @@
+"""The sections of ``results/REPORT.md`` that are not thesis claims (issue 16): our contact
+against the peers (``peers/summary.json``) and the runtime-versus-error trade-off of our own
+knobs (``benchmarks/pareto.json``), rendered from the committed summaries only.
+
+Pure rendering: :func:`render_peers_sections` reads through a :class:`workbench.report.Summaries`
+(passed in: this module imports nothing of the report) and returns Markdown; a missing file gives
+a line saying which and the command that writes it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+__all__ = ["METRICS", "render_peers_sections"]
+
+#: the per-peer-and-case errors of the peers summary, in table order, with their headings
+METRICS = (
+    ("force_rel_err", "force"),
+    ("area_rel_err", "area"),
+    ("pressure_rel_l2", "pressure L2"),
+    ("torsion_rel_err", "torsion"),
+    ("margin_rel_err", "margin"),
+)
+
+_PEER_NAMES = {
+    "neo-Hookean": "neo-Hookean FEM (reference)",
+    "condensed": "condensed FEM (ours)",
+    "linear": "linear full-mesh FEM (ours)",
+    "hertz": "Hertz half-space",
+    "foundation": "elastic foundation (GraspIt!)",
+    "drake": "Drake hydroelastic",
+    "mujoco_hertz": "MuJoCo cone, torsion 3πμa/16",
+    "mujoco_diameter": "MuJoCo cone, torsion μ·2a",
+}
+
+
+def _pct(x: Any) -> str:
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "—"
+    return f"{100 * x:+.1f} %"
+
+
+def _ms(x: Any) -> str:
+    return "—" if x is None else f"{x:.3g}"
+
+
+def _peers(s: Any, link_prefix: str) -> list[str]:
+    lines = ["", "## Against the peers", ""]
+    try:
+        peers = s.get("peers/summary.json", "peers")
+    except LookupError as exc:  # workbench.report.MissingKey
+        return lines + [f"missing: {exc.where} — run `workbench run peers`."]
+    ref = _opt(s, "peers/summary.json", "reference")
+    lines += [
+        "What a researcher loses using the contact model of the simulator they already have: each peer on "
+        "the same contacts (a rigid sphere, a cylinder and the thesis scene's elliptic cylinder pressed into "
+        "one silicone pad), each error the worst over the jaw displacements against "
+        f"the reference — {ref or 'the neo-Hookean pad'}; the margin error is the median |s/s_true − 1| of "
+        "the two-jaw grasp's resistance margins against lever disturbances (§4.1.3.1) at equal jaw force, "
+        "the truth being the reference's exact 6DFW sets. Regenerate: `workbench run peers`.",
+        "",
+        "| peer | case | " + " | ".join(h for _, h in METRICS) + " | ms per query |",
+        "|---|---|" + "---|" * len(METRICS) + "---|",
+    ]
+    for peer, cases in peers.items():
+        for case, m in cases.items():
+            cells = [_PEER_NAMES.get(peer, peer), case]
+            cells += [_pct(m.get(k)) for k, _ in METRICS]
+            cells.append(_ms(m.get("ms_per_query")))
+            lines.append("| " + " | ".join(cells) + " |")
+    vs = _opt(s, "peers/summary.json", "vs_drake") or {}
+    if vs:
+        lines += ["", "Condensed FEM against Drake, read on each one's runtime-vs-error sweep at one δ:", ""]
+        lines += [
+            "| case | error | Drake ms | Drake error | condensed error at Drake's ms | error ratio | "
+            "condensed ms at Drake's error | runtime ratio |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
+        for case, per in vs.items():
+            for metric, r in per.items():
+                be = " (bound)" if r["error_ratio_clamped"] else ""
+                bt = " (bound)" if r["runtime_ratio_clamped"] else ""
+                cells = [
+                    case,
+                    metric,
+                    f"{r['drake_ms']:.3g}",
+                    f"{r['drake_error']:.3g}",
+                    f"{r['condensed_error_at_drake_ms']:.3g}",
+                    f"{r['error_ratio_drake_over_condensed']:.3g}{be}",
+                    f"{r['condensed_ms_at_drake_error']:.3g}",
+                    f"{r['runtime_ratio_drake_over_condensed']:.3g}{bt}",
+                ]
+                lines.append("| " + " | ".join(cells) + " |")
+        lines += [
+            "",
+            "A ratio marked *(bound)* was read at the end of the condensed sweep: the condensed FEM was not "
+            "measured that fast (or that inaccurate), so the ratio bounds rather than estimates.",
+        ]
+    mapping = _opt(s, "peers/summary.json", "mapping") or {}
+    if mapping:
+        lines += [
+            "",
+            "Parameter mapping: " + "; ".join(f"{_PEER_NAMES.get(k, k)}: {v}" for k, v in mapping.items()),
+        ]
+    ver = _opt(s, "peers/summary.json", "peer_versions") or {}
+    if ver:
+        lines.append("Peer versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()) + ".")
+    skipped = _opt(s, "peers/summary.json", "skipped") or {}
+    if skipped:
+        lines.append("Skipped: " + "; ".join(f"{k} ({v})" for k, v in skipped.items()) + ".")
+    hb = _opt(s, "peers/summary.json", "hertz_half_space")
+    if hb:
+        per = ", ".join(
+            f"{_pct(e)} at a/H = {q:.3g}" for e, q in zip(hb["force_rel_err"], hb["a_over_H"], strict=True)
+        )
+        lines.append(
+            f"Where Hertz applies: our condensed FEM's force at δ = {hb['delta_mm']:.4g} mm on thick blocks "
+            "is "
+            f"{per} from Hertz's; the layer's first-order stiffening in a/H removed (Richardson), the "
+            f"half-space force is {_pct(hb['extrapolated_force_rel_err'])} from it."
+        )
+    hz = _opt(s, "fem-validation/summary.json", "hertz")
+    if hz:
+        lines.append(
+            "Where Hertz applies (a thick block, `workbench run fem-validation`): our FEM's contact radius "
+            f"{_pct(hz.get('a_rel_err'))} and peak pressure {_pct(hz.get('p0_rel_err'))} from Hertz's "
+            "for the computed force, on the finest mesh."
+        )
+    figs = _opt(s, "peers/summary.json", "figures") or []
+    if figs:
+        lines.append("Figure: " + ", ".join(f"[{_rel(f)}]({link_prefix}{_rel(f)})" for f in figs) + ".")
+    return lines
+
+
+def _rel(path: str) -> str:
+    """A figure path as written by an experiment, relative to the results directory."""
+    parts = str(path).replace("\\", "/").split("/")
+    return "/".join(parts[parts.index("results") + 1 :]) if "results" in parts else "/".join(parts[-2:])
+
+
+def _opt(s: Any, file: str, path: str) -> Any:
+    try:
+        return s.get(file, path)
+    except LookupError:
+        return None
+
+
+def _pareto(s: Any, link_prefix: str) -> list[str]:
+    lines = ["", "## Our knobs: runtime against error", ""]
+    try:
+        fams = s.get("benchmarks/pareto.json", "families")
+    except LookupError as exc:  # workbench.report.MissingKey
+        return lines + [f"missing: {exc.where} — run `python benchmarks/bench_pareto.py`."]
+    lines += [
+        "Each knob's settings as (runtime, error against that family's best reference); the default's "
+        "place on the front and the cheapest setting within an error budget. "
+        "Regenerate: `python benchmarks/bench_pareto.py`.",
+        "",
+        "| knob | reference | default | default error | default runtime [s] | default on the front | "
+        "cheapest within budget |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    items = fams.items() if isinstance(fams, dict) else ((f.get("name", "?"), f) for f in fams)
+    for name, f in items:
+        default = next((p for p in f.get("points", []) if p.get("is_default")), {})
+        cheapest = f.get("cheapest_within") or {}
+        budget = "; ".join(f"{k}: {v if v is not None else 'none'}" for k, v in cheapest.items()) or "—"
+        err, rt = f.get("default_error"), f.get("default_runtime_s")
+        lines.append(
+            f"| {name} | {f.get('reference', '—')} | {default.get('setting', '—')} | "
+            f"{'—' if err is None else f'{err:.3g}'} | {'—' if rt is None else f'{rt:.3g}'} | "
+            f"{f.get('default_on_front', '—')} | {budget} |"
+        )
+    fig = _opt(s, "benchmarks/pareto.json", "figure")
+    if fig:
+        lines.append("")
+        lines.append(f"Figure: [{_rel(fig)}]({link_prefix}{_rel(fig)}).")
+    return lines
+
+
+def render_peers_sections(s: Any, link_prefix: str = "") -> str:
+    """The two sections as Markdown (each starting with a blank line and a ``##`` heading)."""
+    return "\n".join(_peers(s, link_prefix) + _pareto(s, link_prefix)) + "\n"
