@@ -505,8 +505,9 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
     """Run the missing profile rows and the full-mesh reference cases (first: the longest
     tasks) with :func:`workbench.parallel.run_rows`, here or on Dask workers; the driver
     alone writes the checkpoint, and runs ``meanwhile()`` while the tasks run.  Returns
-    (what ``meanwhile`` returned, where the tasks ran, their wall time [s], the reference
-    cases' results in ``ref_cases`` order)."""
+    (what ``meanwhile`` returned, where the tasks ran, (their wall time [s], their task-stream
+    statistics: :func:`workbench.parallel.map_rows`), the reference cases' results in
+    ``ref_cases`` order)."""
     n_total = len(jobs) * len(config["deltas_mm"])
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
@@ -526,12 +527,13 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
         bar.update(len(res))
 
     t0 = time.perf_counter()
+    stream: dict = {}
     renders, where = run_rows(
-        partial(_task, config=config), tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile
+        partial(_task, config=config), tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile, stats=stream
     )
     tasks_s = time.perf_counter() - t0
     bar.close()
-    return renders, where, tasks_s, [ref_of[label] for label, _ in ref_cases]
+    return renders, where, (tasks_s, stream), [ref_of[label] for label, _ in ref_cases]
 
 
 def _write_tables(out: Path, rows: list[dict], ref: list[dict]) -> None:
@@ -619,6 +621,9 @@ def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dic
         # while the driver rendered the examples — and their wall time (with the cluster's start)
         "tasks_ran_on": run["tasks_ran_on"],
         "tasks_wall_s": run["tasks_wall_s"],
+        # the tasks' own compute seconds (busy_s) per worker from Dask's task stream, and the
+        # utilisation busy / (wall x workers): how much of tasks_wall_s the workers computed
+        "tasks_stream": run["tasks_stream"],
         "row_compute_s": float(
             sum(
                 r["profile_ms"] / 1e3
@@ -753,7 +758,9 @@ def run(config: dict) -> dict:
     def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
         return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
 
-    renders, tasks_ran_on, tasks_s, ref = _sweep(jobs, todo_jobs, ref_cases, ckpt, config, meanwhile)
+    renders, tasks_ran_on, (tasks_s, stream), ref = _sweep(
+        jobs, todo_jobs, ref_cases, ckpt, config, meanwhile
+    )
 
     # Table 3.3 over every profile, the reference cases, the figures
     # in grasp order, not the checkpoint's (the order the tasks finished in): the same table and
@@ -773,6 +780,7 @@ def run(config: dict) -> dict:
         "n_resumed": n_resumed,
         "tasks_ran_on": tasks_ran_on,
         "tasks_wall_s": tasks_s,
+        "tasks_stream": stream,
         "pad_precompute_s": pad.seconds,  # the build time, also when loaded from the disk cache
         "pad_precompute_cached": pad.from_cache,
         "pad_load_s": pad_load_s,

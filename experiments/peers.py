@@ -482,8 +482,8 @@ def run(config: dict) -> dict:
     write_csv(out / "sweep.csv", skeys, [[r.get(k) for k in skeys] for r in sweep])
     summary = {
         "peers": summary_peers,
-        "reference": f"neo-Hookean pad (NonlinearPad, stabilization {config['reference_stabilization']:g}), "
-        "same mesh; errors are worst over δ",
+        "reference": "the neo-Hookean pad (NonlinearPad, stabilization "
+        f"{config['reference_stabilization']:g}) on the same mesh",
         "sweep": sweep,
         "hertz_half_space": hertz_block,
         "vs_drake": headline_cmp,
@@ -587,19 +587,25 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
             prof,
             {"profile": prof, "area": float(prof.areas.sum()), "field": ("elements",)},
         )
-    if case != "elliptic_cylinder":
-        for f in config["drake_sweep_resolution_over_R"]:
-            drake, _ = _drake(case, obs, geom, config, f)
-            if drake is None:
-                break
-            t, prof = median_runtime(partial(drake.profile, d), rep)
-            add(
-                "drake",
-                f"R*{f:g}",
-                t,
-                prof,
-                {"profile": prof, "area": float(prof.areas.sum()), "field": ("elements",)},
-            )
+    # Drake's knob: the rigid tessellation hint (sphere, cylinder) or the facets of the mesh
+    res = config["drake_resolution_over_R"]
+    if case == "elliptic_cylinder":
+        n = config["ellipse_sections"]
+        knob = [(f"{k} facets", {**config, "ellipse_sections": k}, res) for k in (n // 4, n // 2, n)]
+    else:
+        knob = [(f"R*{f:g}", config, f) for f in config["drake_sweep_resolution_over_R"]]
+    for label, cfg, f in knob:
+        drake, _ = _drake(case, obs, geom, cfg, f)
+        if drake is None:
+            break
+        t, prof = median_runtime(partial(drake.profile, d), rep)
+        add(
+            "drake",
+            label,
+            t,
+            prof,
+            {"profile": prof, "area": float(prof.areas.sum()), "field": ("elements",)},
+        )
     return pts
 
 
@@ -644,7 +650,11 @@ def _figure(sweep: list[dict], table: list[dict], sweep_delta_mm: float, out: Pa
     metrics_ = ("force_rel_err", "pressure_rel_l2", "torsion_rel_err")
     cases = sorted({p["case"] for p in sweep})
     fig, axes = plt.subplots(
-        len(metrics_), max(1, len(cases)), figsize=(4.2 * max(1, len(cases)), 10), squeeze=False
+        len(metrics_),
+        max(1, len(cases)),
+        figsize=(4.2 * max(1, len(cases)), 10),
+        squeeze=False,
+        constrained_layout=True,
     )
     colors = {
         "condensed": "C0",
@@ -681,7 +691,11 @@ def _figure(sweep: list[dict], table: list[dict], sweep_delta_mm: float, out: Pa
             ax.set_ylabel(f"|{m}|")
             ax.set_title(f"{case}", fontsize=9)
             ax.grid(True, which="both", lw=0.3)
-    axes[0, 0].legend(fontsize=6)
+    handles = {}
+    for ax in axes.ravel():
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+    fig.legend(list(handles.values()), list(handles), loc="outside lower center", ncol=4, fontsize=7)
     fig.suptitle("Runtime vs error against the neo-Hookean pad (one δ; each knob's resolutions)")
     save_figure(fig, out / "runtime_vs_error.png")
 

@@ -196,6 +196,11 @@ def test_fem_fitting_quick(tmp_path):
     """Table 3.3 pipeline in quick mode: bottle contacts -> profiles -> both fits."""
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
+    # every task (a profile each, plus the full-mesh reference cases) is in the task stats
+    stream = s["tasks_stream"]
+    n_tasks = sum(w["tasks"] for w in stream["workers"].values())
+    assert n_tasks == s["n_profiles"] + s["n_empty"] + len(s["condensed_vs_reference"]["cases"])
+    assert 0 < stream["busy_s"] and 0 < stream["utilisation"] <= 1 + 1e-9
     for key in (
         "n_profiles",
         "ellipsoid_sdp_error_mean",

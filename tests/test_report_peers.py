@@ -24,6 +24,16 @@ PEERS = {
                 "ms_per_query": 3.25,
             }
         },
+        "foundation": {
+            "sphere": {
+                "force_rel_err": -0.55,
+                "area_rel_err": 0.2,
+                "pressure_rel_l2": 0.5,
+                "torsion_rel_err": -0.04,
+                "margin_rel_err": 0.0,
+                "ms_per_query": 5.6,
+            }
+        },
         "mujoco_hertz": {
             "sphere": {
                 "force_rel_err": None,
@@ -49,6 +59,7 @@ PEERS = {
             }
         }
     },
+    "margin_resolution": 0.00816,
     "mapping": {"drake": "E_hydro = E"},
     "hertz_half_space": {
         "delta_mm": 0.1125,
@@ -79,10 +90,12 @@ def test_sections_render_the_summaries_numbers(tmp_path):
     _write(tmp_path, "benchmarks/pareto.json", PARETO)
     text = render_peers_sections(Summaries(tmp_path), "../results/")
     row = next(line for line in text.splitlines() if line.startswith("| Drake hydroelastic | sphere"))
-    assert "-47.3 %" in row and "+6.1 %" in row and "| 3.25 |" in row
+    assert "-47.3 %" in row and "| 40.0 % |" in row and "| 6.1 % |" in row and "| 3.25 |" in row
     mj = next(line for line in text.splitlines() if line.startswith("| MuJoCo cone, torsion 3πμa/16"))
     assert mj.count("—") == 3 and "-33.0 %" in mj  # no force, area, pressure from a point contact
     assert "+7.3 % at a/H = 0.075, +3.8 % at a/H = 0.0375" in text and "is +0.2 % from it" in text
+    f = next(line for line in text.splitlines() if line.startswith("| elastic foundation"))
+    assert "| < 0.8 % |" in f  # below the margins' bisection resolution: unresolved, not zero
     assert "2.9 (bound)" in text and "0.16 (bound)" in text
     assert "[peers/runtime_vs_error.png](../results/peers/runtime_vs_error.png)" in text
     k = next(line for line in text.splitlines() if line.startswith("| twist count K"))

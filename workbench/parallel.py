@@ -16,10 +16,13 @@ from __future__ import annotations
 
 import logging
 import os
+import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from functools import partial
 from typing import Any
+
+import numpy as np
 
 from . import config
 
@@ -174,6 +177,7 @@ def map_rows(
     progress: Any = None,
     retries: int = 2,
     meanwhile: Callable[[], Any] | None = None,
+    stats: dict | None = None,
 ) -> Any:
     """Run ``fn(job)`` for every job — serially when ``client`` is None, else as Dask tasks —
     and call ``on_result(job, result)`` in this process as each finishes (completion order).
@@ -186,7 +190,11 @@ def map_rows(
     meanwhile : the driver's own work that needs none of the results (figures, examples),
     run here while the workers compute — after the tasks are submitted, or before the
     serial loop — so the driver's core is not idle; its return value is returned
-    (None without it).  Results that finish meanwhile are handed over after it."""
+    (None without it).  Results that finish meanwhile are handed over after it.
+
+    stats : a dict filled with where the time went (:func:`_stream_stats`): per task the
+    compute seconds, and on Dask each worker's busy seconds from the scheduler's task stream —
+    so a run can tell idle or starting workers from slow tasks."""
     jobs = list(jobs)
 
     def step(job: Any, res: Any) -> None:
@@ -194,22 +202,63 @@ def map_rows(
         if progress is not None:
             progress.update(len(res) if isinstance(res, list) else 1)
 
+    t0 = time.perf_counter()
     if client is None:
         extra = meanwhile() if meanwhile is not None else None
+        busy = []
         for job in jobs:
-            step(job, _one_blas_thread(fn, job))
+            t = time.perf_counter()
+            res = _one_blas_thread(fn, job)
+            busy.append(time.perf_counter() - t)
+            step(job, res)
+        if stats is not None:
+            stats.update(_stream_stats({"serial": busy}, time.perf_counter() - t0))
         return extra
-    from distributed import as_completed
+    from contextlib import nullcontext
 
-    futures = client.map(partial(_one_blas_thread, fn), jobs, pure=False, retries=retries)
-    index = {f.key: i for i, f in enumerate(futures)}
-    try:
-        extra = meanwhile() if meanwhile is not None else None
-        for fut in as_completed(futures):
-            step(jobs[index[fut.key]], fut.result())
-    finally:
-        client.cancel(futures)
+    from distributed import as_completed, get_task_stream
+
+    with get_task_stream(client) if stats is not None else nullcontext() as ts:
+        futures = client.map(partial(_one_blas_thread, fn), jobs, pure=False, retries=retries)
+        index = {f.key: i for i, f in enumerate(futures)}
+        try:
+            extra = meanwhile() if meanwhile is not None else None
+            for fut in as_completed(futures):
+                step(jobs[index[fut.key]], fut.result())
+        finally:
+            client.cancel(futures)
+    if stats is not None:
+        per: dict[str, list[float]] = {}
+        for task in ts.data:
+            for ss in task.get("startstops", ()):
+                if ss.get("action") == "compute":
+                    per.setdefault(task["worker"], []).append(ss["stop"] - ss["start"])
+        stats.update(_stream_stats(per, time.perf_counter() - t0))
     return extra
+
+
+def _stream_stats(per_worker: dict[str, list[float]], wall_s: float) -> dict:
+    """``{"wall_s", "busy_s", "utilisation", "workers": {name: {"tasks", "busy_s"}},
+    "task_s": {median, p95, max}}`` of one :func:`map_rows` call: busy = the tasks' compute
+    seconds; utilisation = busy / (wall × workers) — below 1 the workers idled or started up
+    (or the tasks shared the cores with the driver)."""
+    all_s = np.array([x for v in per_worker.values() for x in v], dtype=float)
+    busy = float(all_s.sum())
+    n = max(1, len(per_worker))
+    return {
+        "wall_s": wall_s,
+        "busy_s": busy,
+        "utilisation": busy / (wall_s * n) if wall_s > 0 else float("nan"),
+        "workers": {
+            name.rsplit(":", 1)[-1] if name != "serial" else name: {"tasks": len(v), "busy_s": float(sum(v))}
+            for name, v in per_worker.items()
+        },
+        "task_s": {
+            "median": float(np.median(all_s)) if all_s.size else 0.0,
+            "p95": float(np.percentile(all_s, 95)) if all_s.size else 0.0,
+            "max": float(all_s.max()) if all_s.size else 0.0,
+        },
+    }
 
 
 def run_rows(
@@ -222,14 +271,17 @@ def run_rows(
     min_rows: int | None = None,
     progress: Any = None,
     meanwhile: Callable[[], Any] | None = None,
+    stats: dict | None = None,
 ) -> tuple[Any, str]:
     """An experiment's rows: :func:`map_rows` on the :func:`row_client` of its ``workers`` and
     ``scheduler`` settings (``config``) for ``n_rows`` rows (default one per job; the auto rule
     counts rows, which a job may hold several of) and ``min_rows``.  Returns ``meanwhile``'s
-    value and where the rows ran: "serial" or "dask (N workers)"."""
+    value and where the rows ran: "serial" or "dask (N workers)"; ``stats`` as in :func:`map_rows`."""
     jobs = list(jobs)
     n = len(jobs) if n_rows is None else n_rows
     with row_client(n, config["workers"], config["scheduler"], min_rows=min_rows) as client:
-        extra = map_rows(fn, jobs, on_result, client=client, progress=progress, meanwhile=meanwhile)
+        extra = map_rows(
+            fn, jobs, on_result, client=client, progress=progress, meanwhile=meanwhile, stats=stats
+        )
         where = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     return extra, where

@@ -41,6 +41,16 @@ def _pct(x: Any) -> str:
     return f"{100 * x:+.1f} %"
 
 
+def _err(key: str, x: Any, margin_resolution: float | None) -> str:
+    """A signed error as ``+1.2 %``; a norm (pressure L2, the margins' median |s/s_true - 1|)
+    unsigned, and a margin error below the bisection's resolution as ``< resolution``."""
+    if x is None or key in ("force_rel_err", "area_rel_err", "torsion_rel_err"):
+        return _pct(x)
+    if key == "margin_rel_err" and margin_resolution is not None and x < margin_resolution:
+        return f"< {100 * margin_resolution:.1f} %"
+    return f"{100 * x:.1f} %"
+
+
 def _ms(x: Any) -> str:
     return "—" if x is None else f"{x:.3g}"
 
@@ -63,10 +73,11 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         "| peer | case | " + " | ".join(h for _, h in METRICS) + " | ms per query |",
         "|---|---|" + "---|" * len(METRICS) + "---|",
     ]
+    res = _opt(s, "peers/summary.json", "margin_resolution")
     for peer, cases in peers.items():
         for case, m in cases.items():
             cells = [_PEER_NAMES.get(peer, peer), case]
-            cells += [_pct(m.get(k)) for k, _ in METRICS]
+            cells += [_err(k, m.get(k), res) for k, _ in METRICS]
             cells.append(_ms(m.get("ms_per_query")))
             lines.append("| " + " | ".join(cells) + " |")
     vs = _opt(s, "peers/summary.json", "vs_drake") or {}
