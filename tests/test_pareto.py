@@ -27,8 +27,12 @@ def test_equal_runtime_and_error_interpolate_on_log_axes():
     assert r["value"] == pytest.approx(0.25, rel=1e-12) and not r["clamped"]
     r = at_equal(t, e, error_at=0.01)  # runtime = 0.01^-1/2 = 10
     assert r["value"] == pytest.approx(10.0, rel=1e-12) and not r["clamped"]
-    r = at_equal(t, e, runtime_at=100.0)
-    assert r == {"value": pytest.approx(1 / 256), "clamped": True}
+    r = at_equal(t, e, runtime_at=100.0)  # slower than measured: the error is at most the best
+    assert r == {"value": pytest.approx(1 / 256), "clamped": True, "beyond": "at most"}
+    assert at_equal(t, e, runtime_at=0.5)["beyond"] == "at least"  # faster: at least the worst error
+    assert at_equal(t, e, error_at=2.0)["beyond"] == "at most"  # sloppier than measured: at most as slow
+    assert at_equal(t, e, error_at=1e-3)["beyond"] == "at least"
+    assert at_equal(t, e, runtime_at=4.0)["beyond"] is None
 
 
 def test_careless_input_is_refused():

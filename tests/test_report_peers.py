@@ -53,9 +53,11 @@ PEERS = {
                 "condensed_error_at_drake_ms": 0.16,
                 "error_ratio_drake_over_condensed": 2.9,
                 "error_ratio_clamped": True,
+                "error_ratio_bound": ">=",
                 "condensed_ms_at_drake_error": 20.0,
                 "runtime_ratio_drake_over_condensed": 0.16,
                 "runtime_ratio_clamped": True,
+                "runtime_ratio_bound": "<=",
             }
         }
     },
@@ -92,11 +94,12 @@ def test_sections_render_the_summaries_numbers(tmp_path):
     row = next(line for line in text.splitlines() if line.startswith("| Drake hydroelastic | sphere"))
     assert "-47.3 %" in row and "| 40.0 % |" in row and "| 6.1 % |" in row and "| 3.25 |" in row
     mj = next(line for line in text.splitlines() if line.startswith("| MuJoCo cone, torsion 3πμa/16"))
-    assert mj.count("—") == 3 and "-33.0 %" in mj  # no force, area, pressure from a point contact
+    # no force, area, pressure, torque (no force) nor bias from a point contact's summary here
+    assert mj.count("—") == 5 and "-33.0 %" in mj and "| 27.0 % |" in mj
     assert "+7.3 % at a/H = 0.075, +3.8 % at a/H = 0.0375" in text and "is +0.2 % from it" in text
     f = next(line for line in text.splitlines() if line.startswith("| elastic foundation"))
     assert "| < 0.8 % |" in f  # below the margins' bisection resolution: unresolved, not zero
-    assert "2.9 (bound)" in text and "0.16 (bound)" in text
+    assert "| >=2.9 |" in text and "| <=0.16 |" in text  # the side each bound lies on
     assert "[peers/runtime_vs_error.png](../results/peers/runtime_vs_error.png)" in text
     k = next(line for line in text.splitlines() if line.startswith("| twist count K"))
     assert "K=600" in k and "0.0123" in k and "0.1: K=50; 0.001: none" in k

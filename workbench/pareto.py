@@ -59,9 +59,16 @@ def at_equal(
 
     runtime, error : (n,) the method's points; only its :func:`pareto_front` is used.
     Exactly one of ``runtime_at`` [s] / ``error_at`` must be given.  Returns
-    ``{"value": float, "clamped": bool}``: the log-log interpolated error (or runtime) on the
-    front; outside the front's range the end point's value, with ``clamped=True`` — the method
-    was not measured there, so the ratio built on it is a bound, not an estimate.
+    ``{"value": float, "clamped": bool, "beyond": str | None}``: the log-log interpolated error
+    (or runtime) on the front; outside the front's range the end point's value, with
+    ``clamped=True`` and ``beyond`` saying which way the true value lies from it:
+
+    - at a runtime beyond the slowest point, the error there is *at most* the value
+      (``beyond="at most"``); below the fastest, *at least* (``"at least"``);
+    - at an error above the least accurate point, the runtime is *at most* the value; below
+      the most accurate, *at least*.
+
+    The method was not measured there, so a ratio built on the value is that bound.
     """
     if (runtime_at is None) == (error_at is None):
         raise ValueError("give exactly one of runtime_at [s] or error_at")
@@ -75,7 +82,8 @@ def at_equal(
     if not (np.isfinite(x) and x > 0):
         raise ValueError(f"the runtime/error to read at must be finite and > 0; got {x}")
     lx = np.log(x)
-    clamped = bool(lx < xs[0] or lx > xs[-1])
-    if xs.size == 1:
-        return {"value": float(np.exp(ys[0])), "clamped": clamped or lx != xs[0]}
-    return {"value": float(np.exp(np.interp(lx, xs, ys))), "clamped": clamped}
+    # beyond the largest runtime (or error) the other quantity can only be smaller; before the
+    # smallest, only larger
+    beyond = "at most" if lx > xs[-1] else ("at least" if lx < xs[0] else None)
+    value = float(np.exp(ys[0])) if xs.size == 1 else float(np.exp(np.interp(lx, xs, ys)))
+    return {"value": value, "clamped": beyond is not None, "beyond": beyond}

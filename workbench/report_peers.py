@@ -16,11 +16,13 @@ __all__ = ["METRICS", "render_peers_sections"]
 
 #: the per-peer-and-case errors of the peers summary, in table order, with their headings
 METRICS = (
-    ("force_rel_err", "force"),
+    ("force_rel_err", "jaw force"),
     ("area_rel_err", "area"),
     ("pressure_rel_l2", "pressure L2"),
-    ("torsion_rel_err", "torsion"),
-    ("margin_rel_err", "margin"),
+    ("torsion_rel_err", "torsion length"),
+    ("torque_rel_err", "torque capacity"),
+    ("margin_bias", "margin bias"),
+    ("margin_rel_err", "margin |error|"),
 )
 
 _PEER_NAMES = {
@@ -44,11 +46,21 @@ def _pct(x: Any) -> str:
 def _err(key: str, x: Any, margin_resolution: float | None) -> str:
     """A signed error as ``+1.2 %``; a norm (pressure L2, the margins' median |s/s_true - 1|)
     unsigned, and a margin error below the bisection's resolution as ``< resolution``."""
-    if x is None or key in ("force_rel_err", "area_rel_err", "torsion_rel_err"):
+    if x is None or key in (
+        "force_rel_err",
+        "area_rel_err",
+        "torsion_rel_err",
+        "torque_rel_err",
+        "margin_bias",
+    ):
         return _pct(x)
     if key == "margin_rel_err" and margin_resolution is not None and x < margin_resolution:
         return f"< {100 * margin_resolution:.1f} %"
     return f"{100 * x:.1f} %"
+
+
+def _res(x: Any) -> str:
+    return "—" if x is None else f"{100 * x:.1f} %"
 
 
 def _ms(x: Any) -> str:
@@ -62,13 +74,21 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
     except LookupError as exc:  # workbench.report.MissingKey
         return lines + [f"missing: {exc.where} — run `workbench run peers`."]
     ref = _opt(s, "peers/summary.json", "reference")
+    res = _opt(s, "peers/summary.json", "margin_resolution")
+    dm = _opt(s, "peers/summary.json", "margin_delta_mm")
+    defs = _opt(s, "peers/summary.json", "definitions") or {}
     lines += [
         "What a researcher loses using the contact model of the simulator they already have: each peer on "
         "the same contacts (a rigid sphere, a cylinder and the thesis scene's elliptic cylinder pressed into "
-        "one silicone pad), each error the worst over the jaw displacements against "
-        f"the reference — {ref or 'the neo-Hookean pad'}; the margin error is the median |s/s_true − 1| of "
-        "the two-jaw grasp's resistance margins against lever disturbances (§4.1.3.1) at equal jaw force, "
-        "the truth being the reference's exact 6DFW sets. Regenerate: `workbench run peers`.",
+        f"one silicone pad) against the reference, {ref or 'the neo-Hookean pad'}. Signed errors are "
+        "peer/reference − 1, each the largest in magnitude over the jaw displacements; the pressure L2 and "
+        "the margin |error| are unsigned. The margins are the two-jaw grasp's resistance margins against "
+        f"lever disturbances (§4.1.3.1) at δ = {dm} mm and equal jaw force, the truth being the "
+        "reference's exact 6DFW sets; the bias is the median s/s_true − 1 (> 0: the peer promises more "
+        "than the contact holds); margins are bisected to "
+        f"{_res(res)}, so smaller differences read `< {_res(res)}`. Regenerate: `workbench run peers`.",
+        "",
+        *[f"- *{k}*: {v}" for k, v in defs.items()],
         "",
         "| peer | case | " + " | ".join(h for _, h in METRICS) + " | ms per query |",
         "|---|---|" + "---|" * len(METRICS) + "---|",
@@ -82,7 +102,13 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
             lines.append("| " + " | ".join(cells) + " |")
     vs = _opt(s, "peers/summary.json", "vs_drake") or {}
     if vs:
-        lines += ["", "Condensed FEM against Drake, read on each one's runtime-vs-error sweep at one δ:", ""]
+        ds = _opt(s, "peers/summary.json", "sweep_delta_mm")
+        lines += [
+            "",
+            f"Condensed FEM against Drake, read on each one's runtime-vs-error sweep at δ = {ds} mm "
+            "(ratios Drake / condensed: above 1 the condensed FEM is more accurate, or faster):",
+            "",
+        ]
         lines += [
             "| case | error | Drake ms | Drake error | condensed error at Drake's ms | error ratio | "
             "condensed ms at Drake's error | runtime ratio |",
@@ -90,23 +116,23 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         ]
         for case, per in vs.items():
             for metric, r in per.items():
-                be = " (bound)" if r["error_ratio_clamped"] else ""
-                bt = " (bound)" if r["runtime_ratio_clamped"] else ""
+                be = r.get("error_ratio_bound") or ""
+                bt = r.get("runtime_ratio_bound") or ""
                 cells = [
                     case,
                     metric,
                     f"{r['drake_ms']:.3g}",
                     f"{r['drake_error']:.3g}",
                     f"{r['condensed_error_at_drake_ms']:.3g}",
-                    f"{r['error_ratio_drake_over_condensed']:.3g}{be}",
+                    f"{be}{r['error_ratio_drake_over_condensed']:.3g}",
                     f"{r['condensed_ms_at_drake_error']:.3g}",
-                    f"{r['runtime_ratio_drake_over_condensed']:.3g}{bt}",
+                    f"{bt}{r['runtime_ratio_drake_over_condensed']:.3g}",
                 ]
                 lines.append("| " + " | ".join(cells) + " |")
         lines += [
             "",
-            "A ratio marked *(bound)* was read at the end of the condensed sweep: the condensed FEM was not "
-            "measured that fast (or that inaccurate), so the ratio bounds rather than estimates.",
+            "A ratio marked >= or <= was read beyond the condensed sweep's measured range (the condensed FEM "
+            "was not measured that fast, or that inaccurate): it is that bound, not an estimate.",
         ]
     mapping = _opt(s, "peers/summary.json", "mapping") or {}
     if mapping:
@@ -165,12 +191,14 @@ def _pareto(s: Any, link_prefix: str) -> list[str]:
         return lines + [f"missing: {exc.where} — run `python benchmarks/bench_pareto.py`."]
     lines += [
         "Each knob's settings as (runtime, error against that family's best reference); the default's "
-        "place on the front and the cheapest setting within an error budget. "
-        "Regenerate: `python benchmarks/bench_pareto.py`.",
+        "place on the front (if off it, the setting that beats it, with its numbers: differences of a few "
+        "per cent in runtime are within timing noise) and the cheapest setting whose error is within "
+        "each budget (0.1, 0.01, 0.001 in the family's error metric). Each family measures its own "
+        "error and runtime, stated per row. Regenerate: `python benchmarks/bench_pareto.py`.",
         "",
-        "| knob | reference | default | default error | default runtime [s] | default on the front | "
-        "cheapest within budget |",
-        "|---|---|---|---|---|---|---|",
+        "| knob | error metric | runtime metric | default | default error | default runtime [s] | "
+        "on the front | cheapest within budget |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     items = fams.items() if isinstance(fams, dict) else ((f.get("name", "?"), f) for f in fams)
     for name, f in items:
@@ -178,10 +206,19 @@ def _pareto(s: Any, link_prefix: str) -> list[str]:
         cheapest = f.get("cheapest_within") or {}
         budget = "; ".join(f"{k}: {v if v is not None else 'none'}" for k, v in cheapest.items()) or "—"
         err, rt = f.get("default_error"), f.get("default_runtime_s")
+        front = f.get("default_on_front", "—")
+        if front is False:
+            by = {p.get("setting"): p for p in f.get("points", [])}
+            beat = [by.get(b, {"setting": b}) for b in f.get("default_dominated_by") or []]
+            nan = float("nan")
+            front = "no — " + ", ".join(
+                f"{b['setting']} ({b.get('error', nan):.3g}, {b.get('runtime_s', nan):.3g} s)" for b in beat
+            )
+        metric = f"{f.get('error_metric', '—')} (reference: {f.get('reference', '—')})"
         lines.append(
-            f"| {name} | {f.get('reference', '—')} | {default.get('setting', '—')} | "
+            f"| {name} | {metric} | {f.get('runtime_metric', '—')} | {default.get('setting', '—')} | "
             f"{'—' if err is None else f'{err:.3g}'} | {'—' if rt is None else f'{rt:.3g}'} | "
-            f"{f.get('default_on_front', '—')} | {budget} |"
+            f"{'yes' if front is True else front} | {budget} |"
         )
     fig = _opt(s, "benchmarks/pareto.json", "figure")
     if fig:

@@ -4,7 +4,7 @@ For a rigid sphere of radius ``R`` at approach ``δ`` into a half-space of Young
 Poisson ratio ``ν`` (effective modulus ``E* = E / (1 - ν²)``, the rigid body adding no compliance):
 
 - normal force ``F(δ) = (4/3) E* √R δ^{3/2}``;
-- contact radius ``a = √(R δ)`` (half the geometric overlap radius ``√(2Rδ)``: the surface around
+- contact radius ``a = √(R δ)`` (``1/√2`` of the overlap radius ``√(2Rδ)``, half its area: the surface around
   the indenter sinks with it);
 - pressure ``p(r) = p0 √(1 - r²/a²)``, ``p0 = 3F / (2π a²) = (2E*/π) √(δ/R)``;
 - torsional friction capacity (full slip, pure rotation about the normal):

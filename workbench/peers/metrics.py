@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import config
 from ..profile import ContactProfile
 from ..wrench import w_max
 from . import friction, length
@@ -52,6 +53,11 @@ def face_grid_points(width: float, length_: float, spacing: float) -> tuple[np.n
     """Cell centres (m, 2) [m] of a regular grid of spacing ~``spacing`` [m] over the pad face
     ``|x| <= width/2``, ``|y| <= length_/2``, and the cell area [m²]."""
     w, ln, s = length("width", width), length("length", length_), length("spacing", spacing)
+    if s >= min(w, ln):
+        raise ValueError(
+            f"spacing {s!r} m is not below the face's sides ({w!r} x {ln!r} m): lengths are in metres "
+            "(0.2 mm = 2e-4)"
+        )
     nx, ny = max(1, int(round(w / s))), max(1, int(round(ln / s)))
     x = (np.arange(nx) + 0.5) * (w / nx) - w / 2
     y = (np.arange(ny) + 0.5) * (ln / ny) - ln / 2
@@ -69,6 +75,8 @@ def field_from_elements(profile: ContactProfile | None, grid: np.ndarray) -> np.
     from scipy.interpolate import LinearNDInterpolator
 
     prof = _profile(profile)
+    if g.ndim != 2 or g.shape[1] != 2:
+        raise ValueError(f"grid must be (m, 2) points of the pad face [m]; got shape {g.shape}")
     xy = prof.centers[:, :2]
     if len(xy) < 3:
         raise ValueError(f"a pressure field needs >= 3 elements to interpolate; got {len(xy)}")
@@ -109,8 +117,11 @@ def rel_l2(p: np.ndarray, p_ref: np.ndarray) -> float:
 
 def torsion_length(profile: ContactProfile, mu: float) -> float:
     """``τ_max / (μ f_n)`` [m]: the profile's 6DFW torsional capacity about the ``z`` axis through
-    its pressure centre (:func:`workbench.wrench.w_max`) per unit friction and unit jaw force
-    (:func:`jaw_force`) — ``3πa/16`` for a Hertz patch, ``8a/15`` for a Winkler paraboloid."""
+    its pressure centre (:func:`workbench.wrench.w_max`) per unit friction and unit *jaw* force
+    (:func:`jaw_force`, the net normal force along ``z``).  On a flat patch that is ``3πa/16`` for
+    Hertz's pressure and ``8a/15`` for a Winkler paraboloid; on a curved one the jaw force is below
+    ``F = Σ p a`` by the elements' tilt, so the length is above those by ``F / f_n = 1 + O(a²/R²)``
+    (MuJoCo's coefficient is per unit normal force too).  Times ``μ f_n``: the torque capacity."""
     m = friction("mu", mu)
     return float(w_max(_profile(profile), m)[5] / (m * jaw_force(profile)))
 
@@ -143,5 +154,11 @@ def opposed_jaws(profile: ContactProfile, center: Any) -> list[ContactProfile]:
     if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"center must be a finite (3,) point [m]; got {center!r}")
     p = _profile(profile)
+    reach = float(np.linalg.norm(p.pressure_center - c))
+    if reach > 0.5 * config.TOL.max_object_extent_m:
+        raise ValueError(
+            f"center {c.tolist()} is {reach:.3g} m from the contact: the object's centre must be in "
+            "metres like the profile (15 mm = 0.015)"
+        )
     jaw = p.transformed(PAD_TO_GRASP, -PAD_TO_GRASP @ c)
     return [jaw, jaw.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))]

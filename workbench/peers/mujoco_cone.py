@@ -218,7 +218,8 @@ def mujoco_coefficients_from_profile(
     the capacity along axis ``e`` is ``-frictional_wrenches(profile, e)·e``, twists about the
     pressure centre):
 
-    - slide: translation along ``t1``, ``t2`` (``μ`` for a flat patch, less for a curved one);
+    - slide: translation along ``t1``, ``t2`` (``μ`` for a flat patch; per unit *net* normal force
+      more for a curved one, whose tilted elements press harder than their ``z`` share);
     - torsion: rotation about ``n`` — ``τ_max / f_n``, e.g. ``3π μ a / 16`` for a Hertz patch;
     - rolling: ``rolling="zero"`` (default): 0.  Coulomb friction of a flat patch resists no
       rolling (the slip of a rotation about an in-plane axis is normal to the patch), so rolling
