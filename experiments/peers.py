@@ -370,9 +370,11 @@ def _drake(case: str, obs, geom, config: dict, resolution_over_R: float):
     if case == "elliptic_cylinder":  # Drake takes it as a mesh of ellipse_sections facets around
         obs = MeshObstacle(obs.to_trimesh(3.0 * geom.length, config["ellipse_sections"]))
     try:
-        return DrakeHydroPad(
-            obs, geom.thickness, e_hydro, width=geom.width, length=geom.length, resolution=res
-        ), ""
+        edge = "warn" if case == "sphere" else "cut"  # the cylinders span the pad: cut on purpose
+        pad = DrakeHydroPad(
+            obs, geom.thickness, e_hydro, width=geom.width, length=geom.length, resolution=res, edge=edge
+        )
+        return pad, ""
     except ImportError as exc:
         return None, f"Drake not installed ({exc}): pip install -e '.[peers]'"
 

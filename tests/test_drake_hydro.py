@@ -324,3 +324,20 @@ def test_without_drake_the_error_names_the_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "pydrake.geometry", None)
     with pytest.raises(ImportError, match="pip install"):
         DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO)
+
+
+def test_a_patch_cut_by_the_pad_sides_is_reported(pad, caplog):
+    """Drake cuts the contact at the box's sides silently: a sphere whose overlap circle
+    (radius sqrt(2 R delta) = 8.9 mm at R = 20 mm, delta = 2 mm) exceeds a 10 x 10 mm pad's
+    half-width is truncated, and the adapter says so; the same sphere on the 40 mm pad is not."""
+    import logging
+
+    sphere = Sphere((0.0, 0.0, H_LAYER + 0.02), 0.02)
+    small = DrakeHydroPad(sphere, H_LAYER, E_HYDRO, width=0.012, length=0.012, box="layer", resolution=0.002)
+    with caplog.at_level(logging.WARNING, logger="workbench.peers.drake_hydro"):
+        small.profile(2e-3)
+    assert "truncated" in caplog.text
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="workbench.peers.drake_hydro"):
+        DrakeHydroPad(sphere, H_LAYER, E_HYDRO, resolution=0.002).profile(2e-3)
+    assert "truncated" not in caplog.text

@@ -222,7 +222,9 @@ def map_rows(
         futures = client.map(partial(_one_blas_thread, fn), jobs, pure=False, retries=retries)
         index = {f.key: i for i, f in enumerate(futures)}
         try:
-            extra = meanwhile() if meanwhile is not None else None
+            # the driver is a third process beside the workers: its own share runs on one BLAS and
+            # one Numba thread too, or their pools spin on the workers' cores
+            extra = _one_blas_thread(lambda _: meanwhile(), None) if meanwhile is not None else None
             for fut in as_completed(futures):
                 step(jobs[index[fut.key]], fut.result())
         finally:

@@ -229,6 +229,9 @@ class DrakeHydroPad:
         (default ``R/80``).  A mesh is used as given, so passing one with a MeshObstacle raises
         ValueError (coarsen or refine the mesh itself).
     representation : "polygon" (default) or "triangle" contact surfaces.
+    edge : what a contact reaching the pad box's sides means — Drake cuts it there silently:
+        "warn" (log that the patch is truncated: enlarge the pad) or "cut" (on purpose, e.g. a
+        cylinder or an elongated mesh spanning the pad); default "cut" for a Cylinder, else "warn".
     cylinder_length : length [m] of Drake's cylinder standing in for the infinite one (default 4x
         the pad's larger side); at least the pad's extent along the axis, ``|a_x| width +
         |a_y| length``, so that its flat caps lie beyond the pad.  Cylinders only (ValueError
@@ -256,6 +259,7 @@ class DrakeHydroPad:
         resolution: float | None = None,
         representation: str = "polygon",
         cylinder_length: float | None = None,
+        edge: str | None = None,
     ) -> None:
         self.kind = _obstacle_kind(obstacle)
         self.obstacle = obstacle
@@ -309,6 +313,12 @@ class DrakeHydroPad:
         if representation not in ("triangle", "polygon"):
             raise ValueError(f"representation must be 'triangle' or 'polygon'; got {representation!r}")
         self.representation = representation
+        edge = ("cut" if self.kind == "cylinder" else "warn") if edge is None else edge
+        if edge not in ("warn", "cut"):
+            raise ValueError(
+                f"edge must be 'warn' or 'cut' (the pad's sides cut the contact on purpose); got {edge!r}"
+            )
+        self.edge = edge
         mesh_obj = _obj_text(obstacle) if self.kind == "mesh" else None
         g = _import_pydrake()  # after the checks: careless input is reported with or without Drake
         from pydrake.math import RigidTransform, RotationMatrix
@@ -392,6 +402,18 @@ class DrakeHydroPad:
             raise RuntimeError(f"expected one contact surface, got {len(surfaces)}")
         prof = self._convert(surfaces[0])
         self.convert_seconds.append(time.perf_counter() - t1)
+        if prof is not None and self.edge == "warn":
+            # Drake cuts the contact at the box's sides without a word: a patch reaching them is
+            # truncated (unless meant: edge="cut")
+            reach = np.abs(prof.centers[:, :2]).max(axis=0) / np.array([self.width, self.length]) * 2.0
+            if (reach > 1.0 - 1e-3).any():
+                log.warning(
+                    "DrakeHydroPad.profile(delta=%g): the contact reaches the pad's sides (%g x %g m): the "
+                    "patch is truncated — enlarge width/length",
+                    d,
+                    self.width,
+                    self.length,
+                )
         log.debug(
             "DrakeHydroPad.profile(delta=%g): %s in %.3g ms (+ %.3g ms conversion)",
             d,
