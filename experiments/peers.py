@@ -1,7 +1,8 @@
 """Peers: what a contact costs and what it gets wrong in the simulators researchers already have.
 
-Issue 16 scope 1.  The same contacts — a rigid sphere, a circular cylinder and the elliptic
+Issue 16 scope 1.  The same contacts — a rigid sphere, a circular cylinder, the elliptic
 cylinder of the thesis's grasp scene (§4.1.3, :func:`workbench.sources.scenes.elliptic_cylinder_grasp`)
+and a thesis bottle (fem-fitting's family, grasped at mid-height along its section's major axis)
 pressed by δ into one 16 × 20 × 5 mm silicone pad — from each peer:
 
 - ``hertz``: the analytic half-space (sphere only; :mod:`workbench.peers.hertz`);
@@ -57,9 +58,15 @@ DEFAULT_CONFIG = {
     "mu": 0.5,  # Coulomb friction
     "pad_mm": [16.0, 20.0, 5.0],  # width (x), length (y), thickness h [mm]
     "pad_cells": [16, 20, 5],  # hexes of the FEM pads (1 mm)
+    # "bottle" (a thesis bottle) is one more case: about 7 min on two loaded cores (its exact
+    # Newton distance makes each query ~0.1 s), so it is left out of make reproduce's default
     "cases": ["sphere", "cylinder", "elliptic_cylinder"],
     "radius_mm": 15.0,  # sphere and cylinder radius
     "ellipse_mm": [30.0, 20.0],  # elliptic cylinder semi-axes along the pad normal / across (scene's a, b)
+    # the thesis bottle (fem-fitting's family, workbench.fem.bottle.bottle_family(24, 8, seed 0)):
+    # which one, the grasp height as a fraction of its height, the approach along the section's
+    # major axis; Drake takes it as a mesh of n_theta x n_z vertices
+    "bottle": {"index": 0, "height": 0.5, "mesh": [256, 320]},
     "ellipse_sections": 720,  # facets around Drake's elliptic cylinder mesh (~0.2 mm at the contact)
     "deltas_mm": [0.25, 0.5, 1.0, 2.0],  # jaw displacements: δ/h = 5 ... 40 %
     # full 2x2x2 volumetric integration locks at nu = 0.45 (+10 % force at δ = 0.1 mm against the
@@ -101,8 +108,9 @@ QUICK_CONFIG = {
     "repeats": 2,
 }
 
-CASES = ("sphere", "cylinder", "elliptic_cylinder")
-PEERS = ("hertz", "foundation", "drake", "mujoco_hertz", "mujoco_diameter", "condensed", "linear")
+CASES = ("sphere", "cylinder", "elliptic_cylinder", "bottle")
+#: the errors reported per peer and case as the worst (largest |value|) over the jaw displacements
+ERRORS = ("force_rel_err", "area_rel_err", "pressure_rel_l2", "torsion_rel_err", "torque_rel_err")
 
 
 def _positive_list(config: dict, key: str, n: int | None = None, integer: bool = False) -> list:
@@ -146,6 +154,21 @@ def check_config(config: dict) -> None:
         raise ValueError(f"radius_mm is in millimetres (15 mm = 15); got {config['radius_mm']!r}")
     _positive(config, "grid_mm", "mm", min(w, ln))
     _positive(config, "drake_resolution_over_R", "-", 1.0)
+    bt = config["bottle"]
+    if not (
+        isinstance(bt, dict)
+        and isinstance(bt.get("index"), int)
+        and 0 <= bt["index"] < 24
+        and isinstance(bt.get("height"), (int, float))
+        and 0 < bt["height"] < 1
+        and isinstance(bt.get("mesh"), list)
+        and len(bt["mesh"]) == 2
+        and all(isinstance(v, int) and v >= 8 for v in bt["mesh"])
+    ):
+        raise ValueError(
+            "bottle must be {'index': 0-23 (of the 24 thesis bottles), 'height': fraction in (0, 1), "
+            f"'mesh': [n_theta, n_z] >= 8}}; got {bt!r}"
+        )
     for key in ("repeats", "n_disturbances", "ellipse_sections"):
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
@@ -175,9 +198,38 @@ def setup(case: str, config: dict, cells=None) -> tuple[PadGeometry, Material, o
     if case == "cylinder":
         c = np.array([0.0, 0.0, h + R])
         return geom, mat, Cylinder(tuple(c), (0.0, 1.0, 0.0), R), c, R
+    if case == "bottle":
+        return (geom, mat, *_bottle(geom, mat, config))
     a, b = (v * 1e-3 for v in config["ellipse_mm"])
     c = np.array([0.0, 0.0, h + a])
     return geom, mat, EllipticCylinder(tuple(c), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), a, b), c, b * b / a
+
+
+def _bottle(geom: PadGeometry, mat: Material, config: dict) -> tuple[object, np.ndarray, float]:
+    """The thesis bottle seen from the pad (:func:`workbench.fem.bottle.grasp_pose`: touching at
+    δ = 0, the pad's y axis up), its section centre in the pad frame [m] and the section's
+    curvature radius at the contact, B²/A at the major axis's end [m]."""
+    from workbench.fem.bottle import Bottle, bottle_family, grasp_pose
+    from workbench.fem.pad import PadFace
+
+    spec = config["bottle"]
+    bottle = Bottle(bottle_family(24, 8, config["seed"])[spec["index"]])
+    z = spec["height"] * bottle.params.height
+    pose = grasp_pose(bottle, z, 0.0, PadFace.of(geom, mat).face_xy, geom.thickness)
+    centre, A, B, _ = bottle.section(z)
+    c = pose.R.T @ (np.r_[centre, z] - pose.t)
+    return pose, c, B * B / A
+
+
+def _bottle_mesh(pose, config: dict):
+    """The posed bottle as a watertight mesh in the pad frame (for Drake)."""
+    import trimesh
+
+    from workbench.fem.obstacles import MeshObstacle
+
+    n_theta, n_z = config["bottle"]["mesh"]
+    m = pose.obstacle.to_trimesh(n_theta, n_z)
+    return MeshObstacle(trimesh.Trimesh((np.asarray(m.vertices) - pose.t) @ pose.R, m.faces, process=False))
 
 
 def hertz_half_space(block: dict, E: float) -> dict:
@@ -366,11 +418,14 @@ def _drake(case: str, obs, geom, config: dict, resolution_over_R: float):
     except ImportError as exc:  # pragma: no cover - the module itself imports without Drake
         return None, str(exc)
     e_hydro = hydroelastic_modulus(config["E"], geom.thickness, geom.width, geom.length)
-    res = None if case == "elliptic_cylinder" else resolution_over_R * config["radius_mm"] * 1e-3
+    res = None if case in ("elliptic_cylinder", "bottle") else resolution_over_R * config["radius_mm"] * 1e-3
     if case == "elliptic_cylinder":  # Drake takes it as a mesh of ellipse_sections facets around
         obs = MeshObstacle(obs.to_trimesh(3.0 * geom.length, config["ellipse_sections"]))
+    elif case == "bottle":
+        obs = _bottle_mesh(obs, config)
     try:
-        edge = "warn" if case == "sphere" else "cut"  # the cylinders span the pad: cut on purpose
+        # the cylinders and the bottle's wall span the pad: cut there on purpose
+        edge = "warn" if case == "sphere" else "cut"
         pad = DrakeHydroPad(
             obs, geom.thickness, e_hydro, width=geom.width, length=geom.length, resolution=res, edge=edge
         )
@@ -486,26 +541,12 @@ def run(config: dict) -> dict:
     for row in table:
         s = summary_peers.setdefault(row["peer"], {}).setdefault(row["case"], {"delta_mm": []})
         s["delta_mm"].append(row["delta_mm"])
-        for k in (
-            "force_rel_err",
-            "area_rel_err",
-            "pressure_rel_l2",
-            "torsion_rel_err",
-            "torque_rel_err",
-            "support_max_rel_err",
-            "ms_per_query",
-        ):
+        for k in (*ERRORS, "support_max_rel_err", "ms_per_query"):
             s.setdefault(k + "_per_delta", []).append(row.get(k))
     for peer, cases in summary_peers.items():
         for case, s in cases.items():
             s["ms_per_query"] = float(np.median(s.pop("ms_per_query_per_delta")))
-            for k in (
-                "force_rel_err",
-                "area_rel_err",
-                "pressure_rel_l2",
-                "torsion_rel_err",
-                "torque_rel_err",
-            ):
+            for k in ERRORS:
                 vals = [v for v in s[k + "_per_delta"] if v is not None]
                 s[k] = float(max(vals, key=abs)) if vals else (0.0 if peer == "neo-Hookean" else None)
             m = margins_out.get(case, {}).get(peer)
@@ -658,7 +699,13 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
         )
     # Drake's knob: the rigid tessellation hint (sphere, cylinder) or the facets of the mesh
     res = config["drake_resolution_over_R"]
-    if case == "elliptic_cylinder":
+    if case == "bottle":
+        nt, nz = config["bottle"]["mesh"]
+        knob = [
+            (f"{a}x{b} mesh", {**config, "bottle": {**config["bottle"], "mesh": [a, b]}}, res)
+            for a, b in ((nt // 2, nz // 2), (nt, nz))
+        ]
+    elif case == "elliptic_cylinder":
         n = config["ellipse_sections"]
         knob = [(f"{k} facets", {**config, "ellipse_sections": k}, res) for k in (n // 4, n // 2, n)]
     else:

@@ -455,3 +455,34 @@ def test_peers_quick(tmp_path):
     assert 0 < e40 < e20 and abs(hb["extrapolated_force_rel_err"]) < 0.03
     assert (tmp_path / "runtime_vs_error.png").stat().st_size > 10_000
     assert set(s["vs_drake"]) == ({"sphere", "cylinder"} if "drake" in P else set())
+
+
+def test_peers_bottle_case_is_placed_as_fem_fitting_places_it():
+    """The thesis bottle in the peers' pad frame: touching at δ = 0 (the face's closest node at
+    distance 0), its section centre straight above the pad at about h + A (the jaw approaches along
+    the major semi-axis A), MuJoCo's curvature radius B²/A; Drake's mesh of it lies on the analytic
+    wall to within its chord sag (2π A / n_theta)² / (8 ρ) at the contact."""
+    from workbench.experiments.peers import DEFAULT_CONFIG, _bottle_mesh, setup
+    from workbench.fem.bottle import Bottle, bottle_family
+    from workbench.fem.pad import PadFace
+
+    geom, mat, pose, c, rho = setup("bottle", DEFAULT_CONFIG)
+    bottle = Bottle(bottle_family(24, 8, 0)[0])
+    z = 0.5 * bottle.params.height
+    _, A, B, _ = bottle.section(z)
+    face = PadFace.of(geom, mat).face_xy
+    X = np.column_stack([face, np.full(len(face), geom.thickness)])
+    d, _ = pose.signed_distance(X)
+    assert abs(d.min()) < 1e-12
+    # straight above the pad, at h + A or a little more: the face touches the wall's outermost point
+    # within its 20 mm height, which a bulging wall puts beyond the section's A (0.14 % here)
+    assert c[:2] == pytest.approx([0.0, 0.0], abs=1e-9)
+    assert A <= c[2] - geom.thickness <= 1.01 * A
+    assert rho == pytest.approx(B * B / A)
+    mesh = _bottle_mesh(pose, DEFAULT_CONFIG)
+    n_theta = DEFAULT_CONFIG["bottle"]["mesh"][0]
+    sag = (2 * np.pi * A / n_theta) ** 2 / (8 * rho)
+    near = X[d < 1e-3]  # the face nodes within 1 mm of the wall
+    assert np.abs(mesh.signed_distance(near)[0] - pose.signed_distance(near)[0]).max() < 2 * sag
+    with pytest.raises(SystemExit, match="bottle must be"):
+        build_config("peers", True, None, None, {"bottle": {"index": 30, "height": 0.5, "mesh": [64, 64]}})

@@ -74,14 +74,16 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
     except LookupError as exc:  # workbench.report.MissingKey
         return lines + [f"missing: {exc.where} — run `workbench run peers`."]
     ref = _opt(s, "peers/summary.json", "reference")
+    cases = list(dict.fromkeys(c for per in peers.values() for c in per))
     res = _opt(s, "peers/summary.json", "margin_resolution")
     dm = _opt(s, "peers/summary.json", "margin_delta_mm")
     defs = _opt(s, "peers/summary.json", "definitions") or {}
     lines += [
         "What a researcher loses using the contact model of the simulator they already have: each peer on "
-        "the same contacts (a rigid sphere, a cylinder and the thesis scene's elliptic cylinder pressed into "
-        f"one silicone pad) against the reference, {ref or 'the neo-Hookean pad'}. Signed errors are "
-        "peer/reference − 1, each the largest in magnitude over the jaw displacements; the pressure L2 and "
+        f"the same contacts ({', '.join(cases)}, each pressed into one silicone pad) against the reference, "
+        f"{ref or 'the neo-Hookean pad'}. "
+        "Signed errors are peer/reference − 1, each the largest in magnitude over the jaw displacements; "
+        "the pressure L2 and "
         "the margin |error| are unsigned. The margins are the two-jaw grasp's resistance margins against "
         f"lever disturbances (§4.1.3.1) at δ = {dm} mm and equal jaw force, the truth being the "
         "reference's exact 6DFW sets; the bias is the median s/s_true − 1 (> 0: the peer promises more "
