@@ -117,3 +117,20 @@ def test_the_report_file_carries_the_sections(tmp_path):
     path = write_report(tmp_path)
     text = path.read_text()
     assert "## Against the peers" in text and "## Our knobs: runtime against error" in text
+
+
+def test_every_table_row_has_its_header_s_cells(tmp_path):
+    """A '|' inside a cell splits it: every row of each rendered table has as many cells as
+    its header (the first rendering named a column 'margin |error|')."""
+    _write(tmp_path, "peers/summary.json", PEERS)
+    _write(tmp_path, "benchmarks/pareto.json", PARETO)
+    text = render_peers_sections(Summaries(tmp_path))
+    header = None
+    for line in text.splitlines():
+        if not line.startswith("|"):
+            header = None
+            continue
+        cells = line.count("|")
+        if header is None:
+            header = cells
+        assert cells == header, line

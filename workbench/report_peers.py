@@ -22,7 +22,7 @@ METRICS = (
     ("torsion_rel_err", "torsion length"),
     ("torque_rel_err", "torque capacity"),
     ("margin_bias", "margin bias"),
-    ("margin_rel_err", "margin |error|"),
+    ("margin_rel_err", "margin abs. error"),
 )
 
 _PEER_NAMES = {
@@ -83,8 +83,8 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         f"the same contacts ({', '.join(cases)}, each pressed into one silicone pad) against the reference, "
         f"{ref or 'the neo-Hookean pad'}. "
         "Signed errors are peer/reference − 1, each the largest in magnitude over the jaw displacements; "
-        "the pressure L2 and "
-        "the margin |error| are unsigned. The margins are the two-jaw grasp's resistance margins against "
+        "the pressure L2 and the margin's absolute error are unsigned. The margins are the two-jaw "
+        "grasp's resistance margins against "
         f"lever disturbances (§4.1.3.1) at δ = {dm} mm and equal jaw force, the truth being the "
         "reference's exact 6DFW sets; the bias is the median s/s_true − 1 (> 0: the peer promises more "
         "than the contact holds); margins are bisected to "
