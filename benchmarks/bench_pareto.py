@@ -135,17 +135,7 @@ def k_family(contacts: list[Contact], model: str, cfg: dict) -> dict:
         for K in per:
             t, fitted = timed(lambda c=c, K=K: c.build(model, K), cfg["repeats"], warm=True)
             per[K].append((t, fitted.fitting_error(c.test)))
-    points = [
-        {
-            "setting": f"K={K}",
-            "K": K,
-            "runtime_s": float(np.mean([t for t, _ in v])),
-            "error": float(np.mean([e for _, e in v])),
-            "error_per_surface": [e for _, e in v],
-            "is_default": K == default_K,
-        }
-        for K, v in per.items()
-    ]
+    points = [{**_mean_point(f"K={K}", v, K == default_K), "K": K} for K, v in per.items()]
     return {
         "knob": "SamplerSpec(kind='thesis').n (K = 2n training twists, thesis §3.3.2)",
         "reference": f"exact 6DFWs, {cfg['n_heldout']} held-out twists",
@@ -159,6 +149,17 @@ def k_family(contacts: list[Contact], model: str, cfg: dict) -> dict:
     }
 
 
+def _mean_point(setting: str, runs: list[tuple[float, float]], is_default: bool) -> dict:
+    """One setting's point from its (runtime [s], error) per surface: the means, and the errors."""
+    return {
+        "setting": setting,
+        "runtime_s": float(np.mean([t for t, _ in runs])),
+        "error": float(np.mean([e for _, e in runs])),
+        "error_per_surface": [e for _, e in runs],
+        "is_default": is_default,
+    }
+
+
 def model_family(contacts: list[Contact], cfg: dict) -> dict:
     K = 2 * SamplerSpec(kind="thesis").n
     per: dict[str, list[tuple[float, float]]] = {m: [] for m in MODELS if K >= min_wrenches(m)}
@@ -169,16 +170,7 @@ def model_family(contacts: list[Contact], cfg: dict) -> dict:
             fit = partial(fit_model, m, W, w_max=c.w_max, twists=xi)
             t, fitted = timed(fit, cfg["repeats"], warm=i > 0)
             per[m].append((t, fitted.fitting_error(c.test)))
-    points = [
-        {
-            "setting": m,
-            "runtime_s": float(np.mean([t for t, _ in v])),
-            "error": float(np.mean([e for _, e in v])),
-            "error_per_surface": [e for _, e in v],
-            "is_default": m == DEFAULT_MODEL,
-        }
-        for m, v in per.items()
-    ]
+    points = [_mean_point(m, v, m == DEFAULT_MODEL) for m, v in per.items()]
     return {
         "knob": "limit-surface model (grasp.models.contact_sets: '6dls' / '6dls_quartic')",
         "reference": f"exact 6DFWs, {cfg['n_heldout']} held-out twists",

@@ -36,7 +36,7 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench.fem.contact import solve_contact, solve_contact_full
-from workbench.fem.extract import extract_profile, face_grid
+from workbench.fem.extract import extract_profile, face_grid, nodal_pressures
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Cylinder, EllipticCylinder, MeshObstacle, Sphere
 from workbench.fem.pad import PadGeometry, condense_pad
@@ -285,16 +285,13 @@ def reference_case(case: str, config: dict) -> dict:
     return {"case": case, "rows": out, "face_xy": np.asarray(nl.face_xy), "seconds": seconds}
 
 
-def _fem_row(pad_face_xy, area0, sol, prof) -> dict:
+def _fem_row(pad, area0, sol, prof) -> dict:
+    """A linear FEM peer's row: its profile, loaded tributary area and nodal pressure field."""
     return {
         "profile": prof,
         "area": float(area0[sol.lam > 0].sum()),
-        "field": ("nodes", pad_face_xy, nodal_pressures_of(pad_face_xy, area0, sol.lam)),
+        "field": ("nodes", pad.face_xy, nodal_pressures(pad, sol.lam)),
     }
-
-
-def nodal_pressures_of(face_xy, area0, lam) -> np.ndarray:
-    return np.divide(lam, area0, out=np.zeros_like(lam), where=area0 > 0)
 
 
 def _mujoco_coefficients(mu: float, rho: float, delta: float, kind: str) -> np.ndarray:
@@ -341,7 +338,7 @@ def _compare(row: dict, ref: dict, grid: np.ndarray, mu: float) -> dict:
 def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
     """``{peer: {"profile", "area", "field" | "coefficients", "seconds"}}`` at one δ (timed)."""
     rep = config["repeats"]
-    geom, obs, rho, h = ctx["geom"], ctx["obstacle"], ctx["rho"], geom_h(ctx)
+    geom, obs, rho, h = ctx["geom"], ctx["obstacle"], ctx["rho"], ctx["geom"].thickness
     rows = {}
     pad, area0 = ctx["pad"], ctx["area0"]
 
@@ -350,12 +347,12 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
         return s, extract_profile(pad, s, obs)
 
     t, (s, prof) = median_runtime(condensed, rep)
-    rows["condensed"] = {**_fem_row(pad.face_xy, area0, s, prof), "seconds": t}
+    rows["condensed"] = {**_fem_row(pad, area0, s, prof), "seconds": t}
     if ctx["full_mesh"]:
         t0 = time.perf_counter()
         s = solve_contact_full(geom, ctx["material"], obs, delta)
         prof = extract_profile(pad, s, obs)
-        rows["linear"] = {**_fem_row(pad.face_xy, area0, s, prof), "seconds": time.perf_counter() - t0}
+        rows["linear"] = {**_fem_row(pad, area0, s, prof), "seconds": time.perf_counter() - t0}
     E, nu = config["E"], config["nu"]
     w, ln = geom.width, geom.length
     if case == "sphere":
@@ -405,10 +402,6 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
         t, _ = median_runtime(partial(metrics.cone_supports, coef), rep)
         rows[f"mujoco_{kind}"] = {"profile": None, "coefficients": coef, "seconds": t}
     return rows
-
-
-def geom_h(ctx: dict) -> float:
-    return ctx["geom"].thickness
 
 
 def _drake(case: str, obs, geom, config: dict, resolution_over_R: float):
@@ -673,7 +666,7 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
             return s, extract_profile(pad, s, o2)
 
         t, (s, prof) = median_runtime(q, rep)
-        add("condensed", "x".join(map(str, cells)), t, prof, {**_fem_row(pad.face_xy, a0, s, prof)})
+        add("condensed", "x".join(map(str, cells)), t, prof, {**_fem_row(pad, a0, s, prof)})
     from workbench.peers.elastic_foundation import foundation_profile
 
     for n in config["foundation_cells"]:
