@@ -18,7 +18,9 @@ pressed by δ into one 16 × 20 × 5 mm silicone pad — from each peer:
 
 Against the neo-Hookean reference at each δ: jaw force, contact area, pressure field (relative
 L2 on a 0.2 mm grid of the pad face), torsion length ``τ_max/(μ f_n)`` (exact 6DFW), the 6DFW
-set's support along the six axis twists per unit force, and at one δ the resistance margins of
+set's support along the six axis twists per unit force, and at one δ the 6DLS fitted to each
+peer's 6DFWs scored at the reference's exact 6DFW surface
+(:func:`workbench.peers.metrics.fitted_ls_error`) and the resistance margins of
 the two-jaw grasp against lever disturbances (§4.1.3.1) with the exact 6DFW sets of the
 reference as the truth (:func:`workbench.grasp.exact.resists_exact`), at equal jaw force.  Each
 peer's cost per query (one contact at one δ) is timed; the runtime-versus-error figure sweeps the
@@ -79,6 +81,12 @@ DEFAULT_CONFIG = {
     "drake_resolution_over_R": 0.0125,  # the per-δ rows' hint (Drake's R/80 default)
     "foundation_cells": [40, 80, 160],  # Winkler grid per side; the last is used per δ
     "margin_delta_mm": 1.0,
+    # at margin_delta_mm each peer's fitted 6DLS (this model, fitted to the 6DFWs of 2 ls_twists
+    # twists of the thesis's sampling) is scored at the reference's exact 6DFW surface points of
+    # ls_directions uniform normals (workbench.peers.metrics.fitted_ls_error)
+    "ls_model": "ellipsoid_sdp",
+    "ls_twists": 100,
+    "ls_directions": 1000,
     "n_disturbances": 16,  # lever disturbances (§4.1.3.1) for the margins
     "margin_steps": 10,  # bisection steps on log2 s in [1/64, 64]
     "grid_mm": 0.2,  # pressure comparison grid spacing
@@ -103,6 +111,7 @@ QUICK_CONFIG = {
     "drake_resolution_over_R": 0.05,
     "foundation_cells": [40, 80],
     "n_disturbances": 4,
+    "ls_directions": 300,
     "margin_steps": 6,
     "grid_mm": 0.4,
     "repeats": 2,
@@ -169,7 +178,10 @@ def check_config(config: dict) -> None:
             "bottle must be {'index': 0-23 (of the 24 thesis bottles), 'height': fraction in (0, 1), "
             f"'mesh': [n_theta, n_z] >= 8}}; got {bt!r}"
         )
-    for key in ("repeats", "n_disturbances", "ellipse_sections"):
+    from workbench.limit_surface.fit_score import check_model
+
+    check_model(config["ls_model"])
+    for key in ("repeats", "n_disturbances", "ellipse_sections", "ls_twists", "ls_directions"):
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
     bad = [c for c in config["cases"] if c not in CASES]
@@ -472,7 +484,7 @@ def run(config: dict) -> dict:
     )
     grid, _ = metrics.face_grid_points(*(v * 1e-3 for v in config["pad_mm"][:2]), config["grid_mm"] * 1e-3)
     hertz_block = hertz_half_space(config["hertz_block"], config["E"])
-    table, sweep, skipped, margins_out = [], [], {}, {}
+    table, sweep, skipped, margins_out, ls_out = [], [], {}, {}, {}
     versions_peers = _peer_versions()
     for case in tqdm(config["cases"], desc="peers", unit="case"):
         geom, mat, obs, center, rho = setup(case, config)
@@ -529,6 +541,7 @@ def run(config: dict) -> dict:
                 sweep += _sweep(case, d, config, ref, grid, obs, geom, mat)
             if d == config["margin_delta_mm"] * 1e-3:
                 margins_out[case] = _case_margins(rows, r["profile"], ref, center, config, case)
+                ls_out[case] = _case_ls(rows, r["profile"], config)
     # per peer and case: errors per δ, margin at the margin δ, median cost
     summary_peers: dict = {}
     for row in table:
@@ -547,6 +560,9 @@ def run(config: dict) -> dict:
             # signed: the median s/s_true - 1 (> 0: the peer promises more than the truth holds)
             s["margin_bias"] = None if m is None else float(np.expm1(m["median_log_ratio"]))
             s["margin"] = m
+            ls = ls_out.get(case, {}).get(peer)
+            s["ls_rel_err"] = None if ls is None else ls["radial_mean"]
+            s["ls"] = ls
     headline_cmp = _headline_vs_drake(sweep)
     _figure(sweep, table, config["sweep_delta_mm"], out)
     keys = [
@@ -592,6 +608,10 @@ def run(config: dict) -> dict:
             "torque_rel_err": "torque capacity mu f_n x torsion length at this delta, peer/ref - 1",
             "margin_rel_err": "median over disturbances of |s/s_true - 1| (unsigned), equal jaw force",
             "margin_bias": "median s/s_true - 1 (> 0: optimistic)",
+            "ls_rel_err": "mean radial error of the 6DLS fitted (ls_model) to the peer's 6DFWs at equal jaw "
+            "force, at the reference's exact 6DFW surface points of uniform normals; the reference's own "
+            "value is the model's floor. MuJoCo: none - its point contact's cone slice spans 3 of the 6 "
+            "dimensions (fx, fy, tau_z; its supports are compared instead)",
             "worst over delta": "the errors per peer and case are the largest |value| over deltas_mm",
         },
         # margins are bisected on log2 s over [1/64, 64]: relative differences below this are unresolved
@@ -644,6 +664,23 @@ def _case_margins(rows: dict, ref_profile, ref: dict, center, config: dict, case
             **margin_vs_truth(s, truth),
         }
     out["truth_margins"] = truth.tolist()
+    return out
+
+
+def _case_ls(rows: dict, ref_profile, config: dict) -> dict:
+    """``{peer: fitted_ls_error(...)}`` for every peer with a contact profile, and the reference's
+    own fit (the floor) under ``"neo-Hookean"``."""
+    kw = {
+        "model": config["ls_model"],
+        "n_twists": config["ls_twists"],
+        "n_directions": config["ls_directions"],
+        "seed": config["seed"],
+    }
+    mu = config["mu"]
+    out = {"neo-Hookean": metrics.fitted_ls_error(ref_profile, ref_profile, mu, **kw).as_dict()}
+    for peer, row in rows.items():
+        if row.get("profile") is not None:
+            out[peer] = metrics.fitted_ls_error(row["profile"], ref_profile, mu, **kw).as_dict()
     return out
 
 
@@ -840,6 +877,13 @@ def _mapping(config: dict) -> dict:
 
 def _headline(peers: dict, cmp: dict, skipped: dict, hertz_block: dict, sweep_delta_mm: float) -> list[str]:
     lines = []
+    floor = {c: s.get("ls_rel_err") for c, s in peers.get("neo-Hookean", {}).items()}
+    if any(v is not None for v in floor.values()):
+        lines.append(
+            "fitted 6DLS: mean radial error at the reference's exact 6DFW surface; the reference's own "
+            "fit (the model's floor) "
+            + ", ".join(f"{c} {100 * v:.1f}%" for c, v in floor.items() if v is not None)
+        )
     for peer in ("condensed", "linear", "hertz", "foundation", "drake", "mujoco_hertz"):
         if peer not in peers:
             continue
@@ -847,9 +891,11 @@ def _headline(peers: dict, cmp: dict, skipped: dict, hertz_block: dict, sweep_de
         for case, s in peers[peer].items():
             f = s.get("force_rel_err")
             t = s.get("torsion_rel_err")
+            ls = s.get("ls_rel_err")
             parts.append(
                 f"{case}: force {'n/a' if f is None else f'{100 * f:+.0f}%'}, torsion {100 * t:+.0f}%, "
-                f"{s['ms_per_query']:.3g} ms"
+                + ("" if ls is None else f"fitted 6DLS {100 * ls:.0f}%, ")
+                + f"{s['ms_per_query']:.3g} ms"
             )
         lines.append(f"{peer} (worst over δ vs neo-Hookean) — " + "; ".join(parts))
     for case, res in cmp.items():

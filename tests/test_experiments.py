@@ -419,9 +419,16 @@ def test_peers_quick(tmp_path):
                 "pressure_rel_l2",
                 "torsion_rel_err",
                 "margin_rel_err",
+                "ls_rel_err",
             ):
                 assert key in P[peer][case]
             assert P[peer][case]["ms_per_query"] > 0
+    # a point contact's cone slice spans 3 of 6 dimensions: no fitted 6DLS; the condensed and the
+    # full-mesh pad give one profile, so one fitted 6DLS and one error
+    assert P["mujoco_hertz"]["sphere"]["ls_rel_err"] is None
+    for case in ("sphere", "cylinder"):
+        c, lin = P["condensed"][case]["ls_rel_err"], P["linear"][case]["ls_rel_err"]
+        assert c == pytest.approx(lin, rel=1e-4) and 0 < P["neo-Hookean"][case]["ls_rel_err"] < 1
     # the condensed and the full-mesh linear pad solve one linear problem: equal forces and fields
     for case in ("sphere", "cylinder"):
         c, lin = at[(case, "condensed", 1.0)], at[(case, "linear", 1.0)]

@@ -82,3 +82,52 @@ def test_opposed_jaws_balance_and_push_along_x():
     assert jaws[0].pressure_center == pytest.approx([-0.015, 0.0, 0.0], abs=1e-15)
     with pytest.raises(ValueError, match="center"):
         metrics.opposed_jaws(prof, [0.0, 0.0])
+
+
+def _shrunk(profile, s):
+    """``profile`` scaled by ``s`` about its pressure centre at the same element forces (areas s²,
+    pressures / s²): its 6DFW set is exactly ``diag(1, 1, 1, s, s, s)`` times the original's (the
+    slip of twist (v, ω) on the copy is that of (v, s ω) on the original; Eq. 3.6)."""
+    o = profile.pressure_center
+    return ContactProfile(
+        o + s * (profile.centers - o),
+        profile.normals,
+        profile.areas * s * s,
+        profile.pressures / (s * s),
+    )
+
+
+def test_fitted_ls_error_is_the_shrunk_contact_s_ellipsoid_at_the_reference_s_surface():
+    """A contact scaled by s about its centre, sampled at its own length scale, gives S times the
+    original's wrenches and S times its w_max: the same normalised data, so the same A_e, with
+    scale S w_max.  Its score is then recomputed here in NumPy at the reference's exact surface
+    points (normals d uniform in the fit's coordinates, twists -d ⊘ scale)."""
+    from workbench.wrench import frictional_wrenches, w_max
+
+    ref = hertz_profile(0.015, 0.001, 1.0e6, 0.45, center=np.array([0.0, 0.0, 0.02]))
+    s, mu = 0.8, 0.5
+    kw = {"model": "ellipsoid_lsq", "n_twists": 60, "n_directions": 400, "seed": 3}
+    own = metrics.fitted_ls_error(ref, ref, mu, **kw)
+    peer = metrics.fitted_ls_error(_shrunk(ref, s), ref, mu, **kw)
+    scale = w_max(ref, mu) * np.array([1, 1, 1, s, s, s])
+    np.testing.assert_allclose(peer.model.scale, scale, rtol=1e-12)
+    np.testing.assert_allclose(peer.model.A_e, own.model.A_e, rtol=1e-7, atol=1e-9)
+    d = np.random.default_rng(3).standard_normal((400, 6))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    x = frictional_wrenches(ref, -d / scale, mu) / scale
+    radial = np.abs(np.sqrt(np.einsum("ni,ij,nj->n", x, peer.model.A_e, x)) - 1)
+    assert peer.radial_mean == pytest.approx(radial.mean(), rel=1e-9)
+    # measured: 5.4 % (the ellipsoid's own error) and 21.7 % for the copy with 20 % shorter torque axes
+    assert peer.radial_mean > own.radial_mean + 0.1
+
+
+def test_fitted_ls_error_compares_at_equal_jaw_force_and_refuses_a_bad_model():
+    ref = hertz_profile(0.015, 0.001, 1.0e6, 0.45, center=np.array([0.0, 0.0, 0.02]))
+    a = metrics.fitted_ls_error(ref, ref, 0.5, n_twists=40, n_directions=200)
+    b = metrics.fitted_ls_error(
+        ref.with_pressures(3.0 * ref.pressures), ref, 0.5, n_twists=40, n_directions=200
+    )
+    assert b.radial_mean == pytest.approx(a.radial_mean, rel=1e-6)  # the sensor reads one force
+    assert set(a.as_dict()) == {"radial_mean", "radial_p95", "fit_s"}
+    with pytest.raises(ValueError, match="ellipsoid_sdp"):
+        metrics.fitted_ls_error(ref, ref, 0.5, model="ellipsoid")

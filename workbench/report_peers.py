@@ -23,6 +23,7 @@ METRICS = (
     ("torque_rel_err", "torque capacity"),
     ("margin_bias", "margin bias"),
     ("margin_rel_err", "margin abs. error"),
+    ("ls_rel_err", "fitted 6DLS error"),
 )
 
 _PEER_NAMES = {

@@ -1,6 +1,7 @@
 """The measures by which the peers' contacts are compared with a reference contact (issue 16):
 the pressure field on a common grid, the torsion length, the 6DFW set's support along the six
-axis twists, and the two-jaw grasp in which resistance margins are compared.
+axis twists, the 6DLS fitted to a peer's contact scored against the reference's exact 6DFW set,
+and the two-jaw grasp in which resistance margins are compared.
 
 Every function takes contacts in the pad frame of :func:`workbench.fem.press` (pad face ``z = h``,
 the jaw pushing the object along ``+z``), so one grid and one grasp serve every peer.
@@ -8,22 +9,28 @@ the jaw pushing the object along ``+z``), so one grid and one grasp serve every 
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .. import config
+from ..limit_surface.base import LimitSurfaceModel
 from ..profile import ContactProfile
-from ..wrench import w_max
+from ..twists import sample_twists_thesis
+from ..wrench import frictional_wrenches, w_max
 from . import friction, length
 from .mujoco_cone import check_coefficients, contact_basis
 
 __all__ = [
     "PAD_TO_GRASP",
+    "FittedLSError",
     "cone_supports",
     "face_grid_points",
     "field_from_elements",
     "field_from_nodes",
+    "fitted_ls_error",
     "jaw_force",
     "opposed_jaws",
     "rel_l2",
@@ -162,3 +169,60 @@ def opposed_jaws(profile: ContactProfile, center: Any) -> list[ContactProfile]:
         )
     jaw = p.transformed(PAD_TO_GRASP, -PAD_TO_GRASP @ c)
     return [jaw, jaw.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))]
+
+
+@dataclass(frozen=True)
+class FittedLSError:
+    """A 6DLS fitted to a peer's contact and its error against the reference contact."""
+
+    model: LimitSurfaceModel  # the fit (normalised by the peer's exact w_max)
+    radial_mean: float  # mean |f(x̂)^(1/deg) - 1| at the reference's exact surface points: the number to quote
+    radial_p95: float  # its 95th percentile
+    fit_s: float  # wall time of the fit [s]
+
+    def as_dict(self) -> dict:
+        """The numbers (JSON), without the model."""
+        return {"radial_mean": self.radial_mean, "radial_p95": self.radial_p95, "fit_s": self.fit_s}
+
+
+def fitted_ls_error(
+    profile: ContactProfile,
+    reference: ContactProfile,
+    mu: float,
+    *,
+    model: str = "ellipsoid_sdp",
+    n_twists: int = 100,
+    n_directions: int = 1000,
+    seed: int = 0,
+) -> FittedLSError:
+    """What a 6DLS fitted to a peer's contact gets wrong about the reference contact.
+
+    The peer's ``profile`` is scaled to the reference's jaw force (:func:`jaw_force`; the sensor
+    reads it, as in the margins), its 6DFWs at the thesis's motion sampling of its own contact
+    (§3.3.2, ``sample_twists_thesis(n_twists, profile.length_scale, seed)``: ``2 n_twists`` twists
+    with the translations) are fitted with ``model`` (:data:`workbench.limit_surface.fit_score.MODELS`)
+    normalised by its exact ``w_max`` (Eq. 3.10), as a user fitting it would, and the fit is scored
+    by the radial error at the reference's exact 6DFW surface points of ``n_directions`` normals
+    uniform in the fit's normalised coordinates
+    (:func:`workbench.limit_surface.support_error.support_error`; the radial error is the relative
+    distance along the raw wrench's ray, whatever the normalisation).  Each contact's wrenches are
+    about its own pressure centre (Eq. 3.6).  With ``profile = reference`` it is the model's own
+    error (the floor every peer sits on).
+
+    profile, reference : ContactProfile — peer and truth, pad frame.
+    """
+    from ..limit_surface.fit_score import fit_model
+    from ..limit_surface.support_error import support_error
+
+    m = friction("mu", mu)
+    ref = _profile(reference)
+    p = _profile(profile)
+    p = p.with_pressures(p.pressures * (jaw_force(ref) / jaw_force(p)))
+    xi = sample_twists_thesis(n_twists, p.length_scale, seed)
+    t0 = time.perf_counter()
+    fitted = fit_model(model, frictional_wrenches(p, xi, m), w_max=w_max(p, m))
+    fit_s = time.perf_counter() - t0
+    err = support_error(
+        fitted, lambda t: frictional_wrenches(ref, t, m), n_directions, seed=seed, same_contact=False
+    )
+    return FittedLSError(fitted, err.radial_mean, err.radial_p95, fit_s)
