@@ -59,8 +59,11 @@ reproduce: $(PEERS_STAMP)
 	$(BIN)/workbench report
 
 # with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
+# the tests spread over TEST_WORKERS processes (pytest-xdist; work stealing balances the long
+# experiment runs): 2 = this machine's cores, `make test TEST_WORKERS=auto` on a bigger one
+TEST_WORKERS ?= 2
 test: $(STAMP) lint
-	$(BIN)/python -m pytest -q --cov --cov-report=term
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist worksteal --cov --cov-report=term
 
 # The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.  The whole
 # suite but the tests marked jit_only (each says why); --check-kernels fails the run unless every

@@ -168,6 +168,8 @@ def pytest_sessionstart(session):
 
     if not numba.config.DISABLE_JIT:
         raise pytest.UsageError("--check-kernels needs NUMBA_DISABLE_JIT=1 (the kernels as Python)")
+    if session.config.getoption("numprocesses", None):  # pytest-xdist: each worker sees a share
+        raise pytest.UsageError("--check-kernels counts kernels in one process: run it without -n")
     session.config._kernel_reach = KernelReach(njit_functions())
 
 

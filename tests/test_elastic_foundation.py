@@ -182,6 +182,9 @@ def test_careless_input_raises_saying_what_and_the_fix(kwargs, match):
 def test_closed_forms_validate_too():
     with pytest.raises(ValueError, match="millimetres"):
         foundation_force(20.0, 1.0, E, H)
+    # through the layer: the profile refuses it, so does the closed form (it read 294 N)
+    with pytest.raises(ValueError, match="delta < h"):
+        foundation_force(0.015, 0.006, E, 0.005)
     with pytest.raises(ValueError, match="positive depth"):
         overlap_area(R, 0.0)
     with pytest.raises(ValueError, match="1 mm = 1e-3"):

@@ -92,6 +92,13 @@ def test_discretization_fig_3_8(discretization):
         ("fem-fitting", {"code_frame": "pad"}, "code_frame must be 'object' or 'jaw'"),
         ("fem-fitting", {"ablation_cell_mm": 0.003}, "ablation_cell_mm must be a cell size in mm"),
         ("sensitivity", {"training_samplers": ["thesis", "nope"]}, "sampler kind must be one of"),
+        # the peers' careless inputs of a new-user trial: each ran to nonsense or failed late
+        ("peers", {"margin_steps": 0}, "margin_steps must be an integer >= 1"),
+        ("peers", {"E": 1.0}, "E is in pascals"),
+        ("peers", {"hertz_block": {"R_mm": 20}}, "hertz_block must be a dict of exactly"),
+        ("peers", {"ls_twists": 0}, "ls_twists must be an integer >= 1"),
+        ("peers", {"pad_mm": [0.016, 0.02, 0.005]}, "pad_mm is in millimetres"),
+        ("peers", {"condensed_sweep_cells": []}, "condensed_sweep_cells must list at least one"),
     ],
 )
 def test_settings_a_default_cannot_judge_are_refused_before_any_work(name, sets, match):

@@ -13,6 +13,7 @@ def _write(root, rel, data):
 
 
 PEERS = {
+    "config": {"pad_mm": [16.0, 20.0, 5.0], "E": 1.0e6, "nu": 0.45, "mu": 0.5, "deltas_mm": [0.25, 1.0]},
     "peers": {
         "drake": {
             "sphere": {
@@ -22,6 +23,7 @@ PEERS = {
                 "torsion_rel_err": -0.1,
                 "margin_rel_err": 0.0609,
                 "ls_rel_err": 0.0312,
+                "ls_bias": -0.021,
                 "ms_per_query": 3.25,
             }
         },
@@ -93,10 +95,13 @@ def test_sections_render_the_summaries_numbers(tmp_path):
     _write(tmp_path, "benchmarks/pareto.json", PARETO)
     text = render_peers_sections(Summaries(tmp_path), "../results/")
     row = next(line for line in text.splitlines() if line.startswith("| Drake hydroelastic | sphere"))
-    assert "-47.3 %" in row and "| 40.0 % |" in row and "| 6.1 % |" in row and "| 3.1 % | 3.25 |" in row
+    assert (
+        "-47.3 %" in row and "| 40.0 % |" in row and "| 6.1 % |" in row and "| -2.1 % | 3.1 % | 3.25 |" in row
+    )
     mj = next(line for line in text.splitlines() if line.startswith("| MuJoCo cone, torsion 3πμa/16"))
     # no force, area, pressure, torque (no force), bias nor fitted 6DLS from a point contact
-    assert mj.count("—") == 6 and "-33.0 %" in mj and "| 27.0 % |" in mj
+    assert mj.count("—") == 7 and "-33.0 %" in mj and "| 27.0 % |" in mj
+    assert "16.0 × 20.0 × 5.0 mm, E = 1 MPa, ν = 0.45, μ = 0.5; jaw displacements δ = 0.25, 1.0 mm" in text
     assert "+7.3 % at a/H = 0.075, +3.8 % at a/H = 0.0375" in text and "is +0.2 % from it" in text
     f = next(line for line in text.splitlines() if line.startswith("| elastic foundation"))
     assert "| < 0.8 % |" in f  # below the margins' bisection resolution: unresolved, not zero

@@ -100,12 +100,3 @@ def test_careless_input_is_refused(ellipsoid_case):
     # the wrenches of another μ (here half): refused, not scored as a 50 % miss
     with pytest.raises(ValueError, match="w_max"):
         support_error(model, _ellipsoid_support(A_n, scale, factor=0.5), 500)
-
-
-def test_another_contact_on_purpose_is_scored_not_refused(ellipsoid_case):
-    """same_contact=False (a peer's fit against the true contact): the set half the model's size
-    is the 50 % radial miss it is, where the default refuses it as a mistaken μ or force."""
-    A_n, scale, W, wm = ellipsoid_case
-    model = fit_ellipsoid(W, "lsq", w_max=wm)
-    err = support_error(model, _ellipsoid_support(A_n, scale, factor=0.5), 500, same_contact=False)
-    np.testing.assert_allclose([err.radial_mean, err.radial_max], 0.5, rtol=1e-9)

@@ -23,6 +23,7 @@ METRICS = (
     ("torque_rel_err", "torque capacity"),
     ("margin_bias", "margin bias"),
     ("margin_rel_err", "margin abs. error"),
+    ("ls_bias", "fitted 6DLS bias"),
     ("ls_rel_err", "fitted 6DLS error"),
 )
 
@@ -53,6 +54,7 @@ def _err(key: str, x: Any, margin_resolution: float | None) -> str:
         "torsion_rel_err",
         "torque_rel_err",
         "margin_bias",
+        "ls_bias",
     ):
         return _pct(x)
     if key == "margin_rel_err" and margin_resolution is not None and x < margin_resolution:
@@ -79,10 +81,19 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
     res = _opt(s, "peers/summary.json", "margin_resolution")
     dm = _opt(s, "peers/summary.json", "margin_delta_mm")
     defs = _opt(s, "peers/summary.json", "definitions") or {}
+    cfg = _opt(s, "peers/summary.json", "config") or {}
+    setup = ""
+    if cfg:
+        w, ln, h = cfg.get("pad_mm", ["?"] * 3)
+        setup = (
+            f"The pad: {w} × {ln} × {h} mm, E = {cfg.get('E', 0) / 1e6:g} MPa, ν = {cfg.get('nu')}, "
+            f"μ = {cfg.get('mu')}; jaw displacements δ = {', '.join(map(str, cfg.get('deltas_mm', [])))} mm"
+            f"{' (quick run)' if cfg.get('quick') else ''}. "
+        )
     lines += [
         "What a researcher loses using the contact model of the simulator they already have: each peer on "
         f"the same contacts ({', '.join(cases)}, each pressed into one silicone pad) against the reference, "
-        f"{ref or 'the neo-Hookean pad'}. "
+        f"{ref or 'the neo-Hookean pad'}. {setup}"
         "Signed errors are peer/reference − 1, each the largest in magnitude over the jaw displacements; "
         "the pressure L2 and the margin's absolute error are unsigned. The margins are the two-jaw "
         "grasp's resistance margins against "
@@ -169,14 +180,16 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         )
     figs = _opt(s, "peers/summary.json", "figures") or []
     if figs:
-        lines.append("Figure: " + ", ".join(f"[{_rel(f)}]({link_prefix}{_rel(f)})" for f in figs) + ".")
+        rel = [_beside("peers", f) for f in figs]
+        lines.append("Figure: " + ", ".join(f"[{r}]({link_prefix}{r})" for r in rel) + ".")
     return lines
 
 
-def _rel(path: str) -> str:
-    """A figure path as written by an experiment, relative to the results directory."""
-    parts = str(path).replace("\\", "/").split("/")
-    return "/".join(parts[parts.index("results") + 1 :]) if "results" in parts else "/".join(parts[-2:])
+def _beside(folder: str, path: str) -> str:
+    """A figure written beside its summary, relative to the results directory: ``folder`` (the
+    summary's, under results/) and the file's name — whatever directory the run wrote to first
+    (``--out /tmp/x`` copied into results/ later links to results/, not to /tmp/x)."""
+    return f"{folder}/{str(path).replace(chr(92), '/').rsplit('/', 1)[-1]}"
 
 
 def _opt(s: Any, file: str, path: str) -> Any:
@@ -226,7 +239,8 @@ def _pareto(s: Any, link_prefix: str) -> list[str]:
     fig = _opt(s, "benchmarks/pareto.json", "figure")
     if fig:
         lines.append("")
-        lines.append(f"Figure: [{_rel(fig)}]({link_prefix}{_rel(fig)}).")
+        r = _beside("benchmarks", fig)
+        lines.append(f"Figure: [{r}]({link_prefix}{r}).")
     return lines
 
 

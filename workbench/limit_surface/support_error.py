@@ -69,8 +69,6 @@ def support_error(
     wrenches_of: Callable[[np.ndarray], np.ndarray],
     n_directions: int = 2000,
     seed: int = 0,
-    *,
-    same_contact: bool = True,
 ) -> SupportError:
     """Radial error of ``model`` at exact 6DFW surface points of uniform normals.
 
@@ -79,10 +77,6 @@ def support_error(
         contact, e.g. ``lambda xi: frictional_wrenches(profile, xi, mu)`` with the
         profile the model was fitted to (same normalisation, same μ).
     n_directions : directions d uniform on the model subspace's unit sphere.
-    same_contact : ``wrenches_of`` is the contact the model was fitted to, so its exact maxima
-        must match the model's ``w_max`` (a mismatch raises or warns: wrong μ, force or profile).
-        ``False`` scores the model against *another* contact on purpose (a peer's fit against the
-        true contact, :func:`workbench.peers.metrics.fitted_ls_error`): no such check.
     """
     d = uniform_normals(model, n_directions, seed)
     # plus ±e_i of the non-degenerate components: their exact points reach w_max_i exactly,
@@ -105,8 +99,6 @@ def support_error(
         )
     W, W_probe = W_all[: len(d)], W_all[len(d) :]
     reach = np.abs(W_probe[np.arange(len(probe)), np.r_[live, live]]) / model.w_max[np.r_[live, live]]
-    if not same_contact:
-        reach = np.ones(1)
     if reach.max() > 1 + config.TOL.support_wmax_mismatch:  # legitimate for sampled maxima, so a warning
         log.warning(
             "the contact's exact maxima exceed the model's w_max by up to %.0f %% (a model normalised "

@@ -78,9 +78,15 @@ def overlap_area(R: float, delta: float) -> float:
 def foundation_force(
     R: float, delta: float, E: float, h: float, nu: float | None = None, kind: str = "simple"
 ) -> float:
-    """Winkler force ``k V`` [N], ``V = π δ² (3R - δ) / 3`` the overlapped cap's volume [m³]."""
+    """Winkler force ``k V`` [N], ``V = π δ² (3R - δ) / 3`` the overlapped cap's volume [m³].
+    ``delta`` must stay within the layer (``< h``, as :func:`foundation_profile` requires)."""
     r, d = _sphere_case(R, delta)
     k = foundation_modulus(E, h, nu, kind)
+    if d >= h:
+        raise ValueError(
+            f"delta = {d!r} m reaches through the layer of h = {h!r} m: a Winkler layer holds only "
+            "depths below its thickness (delta < h)"
+        )
     return k * np.pi * d * d * (3.0 * r - d) / 3.0
 
 
