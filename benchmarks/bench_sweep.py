@@ -17,6 +17,9 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
   ``workbench run`` process as a user starts it: run in this process after the other
   measurements it measured 1.10x where fresh processes measure 1.33-1.39x (what a process
   ran before — its thread pools, its caches — changed the workers' compute; issue 14).
+* **Memory bandwidth**: one process against two at once on a 320 MB stream: the ratio two
+  workers cannot beat on bandwidth-bound work (1.14x, 1.32x and 1.80x in three runs on this VM:
+  its host shares the bandwidth, and how much varies).
 * **fem-fitting full**: read from ``results/fem-fitting/summary.json`` (``make reproduce``).
 """
 
@@ -92,6 +95,51 @@ def speedup(points: int) -> dict:
     return out
 
 
+_STREAM = """
+import time, numpy as np
+a = np.random.default_rng(0).random(40_000_000)  # 320 MB: far beyond any cache
+b = np.empty_like(a)
+np.multiply(a, 1.0, out=b)
+t = time.perf_counter()
+for _ in range(20):
+    np.multiply(a, 1.0001, out=b)
+print(time.perf_counter() - t)
+"""
+
+
+def memory_scaling(repeats: int = 3) -> dict:
+    """The machine's memory bandwidth, one process against two at once (a STREAM-like scale of
+    320 MB, one BLAS thread each): FEM solves and wrench sums over large profiles are bandwidth
+    bound, so two workers cannot beat this ratio on them however the tasks are spread."""
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    cmd = [sys.executable, "-c", _STREAM]
+
+    def one() -> float:
+        return float(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout)
+
+    def two() -> list[float]:
+        ps = [subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True) for _ in range(2)]
+        return [float(p.communicate()[0]) for p in ps]
+
+    alone = statistics.median(one() for _ in range(repeats))
+    pair = statistics.median(max(two()) for _ in range(repeats))
+    gbs = 20 * 2 * 8 * 40e6 / 1e9  # bytes read and written per run [GB]
+    return {
+        "one_process_GBps": gbs / alone,
+        "two_processes_GBps": 2 * gbs / pair,
+        "throughput_2_over_1": 2 * alone / pair,
+        "what": "20 x b = 1.0001 a over 40e6 doubles (320 MB each), one process vs two at once",
+    }
+
+
+def _children_cpu_s() -> float:
+    """User + system CPU seconds of this process's finished children (and theirs)."""
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def fem_fitting_rows(repeats: int = 3) -> dict:
     """``fem-fitting --quick`` (12 profiles in 4 grasps, 2 full-mesh reference cases) with its
     tasks serial and on 2 local workers, ``repeats`` times each (alternating), medians: the
@@ -106,8 +154,10 @@ def fem_fitting_rows(repeats: int = 3) -> dict:
             with tempfile.TemporaryDirectory() as tmp:
                 cmd = [sys.executable, "-m", "workbench.cli", "run", "fem-fitting", "--quick"]
                 t0 = time.perf_counter()
+                cpu0 = _children_cpu_s()
                 subprocess.run([*cmd, "--out", tmp, "--set", f"workers={workers}"], check=True)
                 process_s = time.perf_counter() - t0
+                cpu_s = _children_cpu_s() - cpu0  # the run's processes: driver, workers, nannies
                 s = json.loads((Path(tmp) / "summary.json").read_text())
             keep = {
                 "tasks_wall_s": "tasks_wall_s",
@@ -115,7 +165,9 @@ def fem_fitting_rows(repeats: int = 3) -> dict:
                 "ran_on": "tasks_ran_on",
                 "tasks_stream": "tasks_stream",
             }
-            runs[workers].append({**{k: s[v] for k, v in keep.items()}, "process_wall_s": process_s})
+            runs[workers].append(
+                {**{k: s[v] for k, v in keep.items()}, "process_wall_s": process_s, "process_cpu_s": cpu_s}
+            )
     out: dict = {}
     for workers, rs in runs.items():
         out[workers] = {
@@ -135,6 +187,9 @@ def fem_fitting_rows(repeats: int = 3) -> dict:
         "two_workers_task_compute_s": busy2,
         "added_compute_s": busy2 - busy1,
         "two_workers_utilisation": statistics.median(r["tasks_stream"]["utilisation"] for r in runs[2]),
+        # CPU seconds (user + sys) of every process of the run: what two worker processes cost
+        # beyond the serial run's work (their imports and first calls, the nannies, the scheduler)
+        "process_cpu_s": {w: statistics.median(r["process_cpu_s"] for r in runs[w]) for w in (1, 2)},
         "run_outside_tasks_s": {
             w: statistics.median(r["run_wall_s"] - r["tasks_wall_s"] for r in runs[w]) for w in (1, 2)
         },
@@ -181,6 +236,7 @@ def main() -> None:
     over = task_overhead(200 if args.quick else 500, 3 if args.quick else 5)
     sp = speedup(4 if args.quick else 8)
     ff = fem_fitting_rows(1 if args.quick else 3)
+    mem = memory_scaling(1 if args.quick else 3)
     full = fem_fitting_full()
     load_after = os.getloadavg()
     out = {
@@ -193,6 +249,7 @@ def main() -> None:
         "machine": {
             **machine_roofline(quick=True),
             "cpu_count": os.cpu_count(),
+            "memory_bandwidth": mem,
             "loadavg_1_5_15_before": load_before,
             "loadavg_1_5_15_after": load_after,
         },
@@ -209,12 +266,18 @@ def main() -> None:
         f"with the rest serial at most {ff['ceiling_speedup_rest_serial']:.2f}x); "
         f"its tasks {ff['speedup_tasks']:.2f}x; whole processes {ff['speedup_process']:.2f}x"
     )
+    cpu = ff["decomposition"]["process_cpu_s"]
+    print(f"  CPU of the run's processes: serial {cpu[1]:.1f} s, 2 workers {cpu[2]:.1f} s")
     if "wall_time_s" in full:
         print(
             f"  fem-fitting full: {full['n_profiles']} profiles in {full['wall_time_s']:.0f} s "
             f"({full['tasks_ran_on']}; goal {full['goal_s']:.0f} s)"
         )
     print(f"  overhead per task: {over['median_ms']:.3f} ms (goal <= 5 ms)")
+    print(
+        f"  memory bandwidth: one process {mem['one_process_GBps']:.1f} GB/s, two at once "
+        f"{mem['two_processes_GBps']:.1f} GB/s -> {mem['throughput_2_over_1']:.2f}x"
+    )
     print(
         f"  sweep of {sp[1]['n_ok']} points: 1 worker {sp[1]['wall_s']:.1f} s, "
         f"2 workers {sp[2]['wall_s']:.1f} s -> {sp['speedup_wall']:.2f}x"
