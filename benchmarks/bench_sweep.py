@@ -14,9 +14,10 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 * **fem-fitting --quick**: the whole run with its tasks (12 profiles, 2 full-mesh
   reference cases) serially and on 2 local workers (cold cluster: its start and the
   workers' imports are in the time), medians of 3 runs each, each run a fresh
-  ``workbench run`` process as a user starts it: run in this process after the other
-  measurements it measured 1.10x where fresh processes measure 1.33-1.39x (what a process
-  ran before — its thread pools, its caches — changed the workers' compute; issue 14).
+  ``workbench run`` process as a user starts it (run inside this process after the other
+  measurements it read 1.10x, fresh processes 1.24-1.39x), with the CPU seconds of all the
+  run's processes: two workers spend ~40 % more than the serial run (their imports and first
+  calls, the nannies and the scheduler, and tasks slower beside each other).
 * **Memory bandwidth**: one process against two at once on a 320 MB stream: the ratio two
   workers cannot beat on bandwidth-bound work (1.14x, 1.32x and 1.80x in three runs on this VM:
   its host shares the bandwidth, and how much varies).
