@@ -60,9 +60,9 @@ DEFAULT_CONFIG = {
     "mu": 0.5,  # Coulomb friction
     "pad_mm": [16.0, 20.0, 5.0],  # width (x), length (y), thickness h [mm]
     "pad_cells": [16, 20, 5],  # hexes of the FEM pads (1 mm)
-    # "bottle" (a thesis bottle) is one more case: about 7 min on two loaded cores (its exact
-    # Newton distance makes each query ~0.1 s), so it is left out of make reproduce's default
-    "cases": ["sphere", "cylinder", "elliptic_cylinder"],
+    # the thesis bottle costs most (its exact Newton distance makes each query ~0.1 s: about
+    # 7 min of the run on two loaded cores)
+    "cases": ["sphere", "cylinder", "elliptic_cylinder", "bottle"],
     "radius_mm": 15.0,  # sphere and cylinder radius
     "ellipse_mm": [30.0, 20.0],  # elliptic cylinder semi-axes along the pad normal / across (scene's a, b)
     # the thesis bottle (fem-fitting's family, workbench.fem.bottle.bottle_family(24, 8, seed 0)):

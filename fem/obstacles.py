@@ -20,12 +20,23 @@ def _unit(v) -> np.ndarray:
     return v / n
 
 
+def _point(name: str, p) -> None:
+    """Refuse a point that is not a finite 3-vector (a NaN would silently mean "no contact")."""
+    v = np.asarray(p, dtype=float)
+    if v.shape != (3,) or not np.isfinite(v).all():
+        raise ValueError(f"{name} must be a finite (3,) point [m]; got {p!r}")
+
+
 @dataclass(frozen=True)
 class Plane:
     """Half-space ``(x - point)·normal <= 0``; ``normal`` points out of the obstacle."""
 
     point: tuple = (0.0, 0.0, 0.0)
     normal: tuple = (0.0, 0.0, -1.0)
+
+    def __post_init__(self) -> None:
+        _point("point", self.point)
+        _unit(self.normal)
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = _unit(self.normal)
@@ -40,6 +51,7 @@ class Sphere:
     allow_scale: bool = False  # accept a radius outside the plausible object sizes
 
     def __post_init__(self) -> None:
+        _point("center", self.center)
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
         from workbench.units import check_extent
@@ -69,6 +81,7 @@ class Cylinder:
     _a: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        _point("point", self.point)
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
         from workbench.units import check_extent
@@ -109,6 +122,7 @@ class EllipticCylinder:
     _frame: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        _point("point", self.point)
         for name in ("a", "b"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):

@@ -6,7 +6,7 @@ transforms, one-sided distances and careless input."""
 import numpy as np
 import pytest
 
-from workbench.fem.obstacles import Cylinder, MeshObstacle, Plane, Sphere
+from workbench.fem.obstacles import Cylinder, EllipticCylinder, MeshObstacle, Plane, Sphere
 
 
 def test_mesh_obstacle_matches_the_analytic_sphere():
@@ -272,3 +272,18 @@ def test_elliptic_cylinder_mesh_and_careless_input():
         EllipticCylinder(axis=(0, 1, 0), major=(0, 2, 0))
     with pytest.raises(ValueError, match="metres"):
         EllipticCylinder(a=30.0, b=20.0)
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: Sphere((0.0, float("nan"), 0.02), 0.02),
+        lambda: Cylinder((0.0, 0.0, float("inf")), radius=0.02),
+        lambda: EllipticCylinder(point=(float("nan"), 0.0, 0.0)),
+        lambda: Plane(point=(0.0, 0.0)),
+    ],
+)
+def test_a_point_that_is_not_a_finite_3_vector_is_refused(make):
+    """A NaN centre made every distance NaN, read downstream as "no contact"."""
+    with pytest.raises(ValueError, match=r"finite \(3,\) point"):
+        make()
