@@ -400,13 +400,14 @@ class DrakeHydroPad:
             return None
         if len(surfaces) != 1:  # pragma: no cover - one pad, one obstacle
             raise RuntimeError(f"expected one contact surface, got {len(surfaces)}")
-        prof = self._convert(surfaces[0])
+        prof, extent = self._convert(surfaces[0])
         self.convert_seconds.append(time.perf_counter() - t1)
         if prof is not None and self.edge == "warn":
-            # Drake cuts the contact at the box's sides without a word: a patch reaching them is
-            # truncated (unless meant: edge="cut")
-            reach = np.abs(prof.centers[:, :2]).max(axis=0) / np.array([self.width, self.length]) * 2.0
-            if (reach > 1.0 - 1e-3).any():
+            # Drake cuts the contact at the box's sides without a word: a patch whose vertices reach
+            # them is truncated (unless meant: edge="cut"); the elements' centroids stay up to a
+            # third of an element inside, so they cannot tell
+            reach = extent / np.array([self.width, self.length]) * 2.0
+            if (reach > 1.0 - 1e-6).any():
                 log.warning(
                     "DrakeHydroPad.profile(delta=%g): the contact reaches the pad's sides (%g x %g m): the "
                     "patch is truncated — enlarge width/length",
@@ -423,7 +424,8 @@ class DrakeHydroPad:
         )
         return prof
 
-    def _convert(self, s: Any) -> ContactProfile | None:
+    def _convert(self, s: Any) -> tuple[ContactProfile | None, np.ndarray]:
+        """The profile of Drake's contact surface ``s`` and the (2,) largest |x|, |y| of its vertices."""
         # Drake: face normals point out of N and into M; the profile's point out of the obstacle
         sign = 1.0 if s.id_N() == self._obj_id else -1.0
         if s.is_triangle():
@@ -454,12 +456,16 @@ class DrakeHydroPad:
             )
             area = np.array([mesh.area(i) for i in range(n)])
             pressure = np.array([field.EvaluateCartesian(i, centers[i]) for i in range(n)])
+            # the vertices only to tell a cut patch (edge="warn"): a Python loop, ~1 % of a query
+            n_v = mesh.num_vertices() if self.edge == "warn" else 0
+            corners = np.array([mesh.vertex(i) for i in range(n_v)], dtype=np.float64).reshape(-1, 3)
             verts, faces = None, None
         pressure = np.clip(pressure, 0.0, None)  # round-off at the rim (field 0 on the box surface)
         keep = (area > 1e-9 * np.median(area)) & np.isfinite(pressure)
+        extent = np.abs(corners.reshape(-1, 3)[:, :2]).max(axis=0, initial=0.0)
         if not (pressure[keep] > 0).any():
-            return None
-        return ContactProfile(
+            return None, extent
+        prof = ContactProfile(
             centers[keep],
             normals[keep],
             area[keep],
@@ -467,3 +473,4 @@ class DrakeHydroPad:
             vertices=verts,
             faces=None if faces is None else faces[keep],
         )
+        return prof, extent
