@@ -175,7 +175,12 @@ def check_config(config: dict) -> None:
     for k in ("R_mm", "a_mm", "fine_mm"):
         _positive(hb, k, "mm")
     _positive(hb, "nu", "-", 0.5)
-    _positive_list(hb, "depths_mm", 2)
+    d1, d2 = _positive_list(hb, "depths_mm", 2)
+    if d2 != 2 * d1 or not hb["a_mm"] < 0.5 * hb["R_mm"] or not hb["a_mm"] < 0.2 * d1:
+        raise ValueError(
+            "hertz_block must have depths_mm = [H, 2H] (Richardson in a/H) and a contact small against "
+            f"both the sphere and the block (a_mm < R_mm / 2, a_mm < H / 5); got {hb!r}"
+        )
     _positive(config, "radius_mm", "mm (a sphere or cylinder of 1-500 mm)", 1000.0)
     if config["radius_mm"] < 1.0:
         raise ValueError(f"radius_mm is in millimetres (15 mm = 15); got {config['radius_mm']!r}")
@@ -196,9 +201,15 @@ def check_config(config: dict) -> None:
             "bottle must be {'index': 0-23 (of the 24 thesis bottles), 'height': fraction in (0, 1), "
             f"'mesh': [n_theta, n_z] >= 8}}; got {bt!r}"
         )
-    from workbench.limit_surface.fit_score import check_model
+    from workbench.limit_surface.fit_score import check_model, min_wrenches
 
     check_model(config["ls_model"])
+    need = -(-min_wrenches(config["ls_model"]) // 2)
+    if not (isinstance(config["ls_twists"], int) and config["ls_twists"] >= need):
+        raise ValueError(
+            f"ls_twists must be an integer >= {need} for ls_model {config['ls_model']!r} (2 ls_twists "
+            f"wrenches against its {min_wrenches(config['ls_model'])} unknowns); got {config['ls_twists']!r}"
+        )
     for key in (
         "repeats",
         "n_disturbances",

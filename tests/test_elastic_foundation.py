@@ -185,6 +185,8 @@ def test_closed_forms_validate_too():
     # through the layer: the profile refuses it, so does the closed form (it read 294 N)
     with pytest.raises(ValueError, match="delta < h"):
         foundation_force(0.015, 0.006, E, 0.005)
+    # the checked thickness is compared (a raw "0.005" raised a TypeError there)
+    assert foundation_force(0.015, 0.001, E, "0.005") == foundation_force(0.015, 0.001, E, 0.005)
     with pytest.raises(ValueError, match="positive depth"):
         overlap_area(R, 0.0)
     with pytest.raises(ValueError, match="1 mm = 1e-3"):

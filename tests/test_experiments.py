@@ -99,6 +99,20 @@ def test_discretization_fig_3_8(discretization):
         ("peers", {"ls_twists": 0}, "ls_twists must be an integer >= 1"),
         ("peers", {"pad_mm": [0.016, 0.02, 0.005]}, "pad_mm is in millimetres"),
         ("peers", {"condensed_sweep_cells": []}, "condensed_sweep_cells must list at least one"),
+        ("peers", {"ls_twists": 5}, "ls_twists must be an integer >= 11"),
+        (
+            "peers",
+            {
+                "hertz_block": {
+                    "R_mm": 20.0,
+                    "a_mm": 1.5,
+                    "nu": 0.3,
+                    "fine_mm": 0.45,
+                    "depths_mm": [20.0, 30.0],
+                }
+            },
+            "hertz_block must have depths_mm",
+        ),
     ],
 )
 def test_settings_a_default_cannot_judge_are_refused_before_any_work(name, sets, match):

@@ -147,13 +147,26 @@ def test_fitted_ls_error_refuses_a_flat_peer_and_a_profile_in_another_frame():
     1260, i.e. +126,000 %); flipped normals push the object the other way: refused, not negative."""
     ref = hertz_profile(0.015, 0.001, 1.0e6, 0.45, center=np.array([0.0, 0.0, 0.02]))
     flat = _disc(a=0.004, z=0.005)
-    with pytest.raises(ValueError, match="spans 3 of 6 dimensions"):
+    with pytest.raises(ValueError, match="no 6DLS of the curved contact"):
         metrics.fitted_ls_error(flat, ref, 0.5, n_twists=40)
+    # nearly flat (normals tilted by 1e-6): it read 816,571 (+8e7 %), at 1e-12 a w_max error
+    rng = np.random.default_rng(0)
+    for eps in (1e-12, 1e-6):
+        n = flat.normals + eps * rng.standard_normal(flat.normals.shape)
+        near = ContactProfile(flat.centers, n, flat.areas, flat.pressures, normalize_normals=True)
+        with pytest.raises(ValueError, match=r"almost\) no (force|torque) capacity"):
+            metrics.fitted_ls_error(near, ref, 0.5, n_twists=40)
+    with pytest.raises(ValueError, match="seed must be an integer >= 0"):
+        metrics.fitted_ls_error(ref, ref, 0.5, n_twists=40, seed=1.5)
     flip = ContactProfile(ref.centers, -ref.normals, ref.areas, ref.pressures)
-    for call in (
-        lambda: metrics.fitted_ls_error(flip, ref, 0.5),
-        lambda: metrics.torsion_length(flip, 0.5),
-        lambda: metrics.supports(flip, 0.5),
-    ):
-        with pytest.raises(ValueError, match="not > 0"):
-            call()
+    # turned by 90° about x: jaw force ~1e-16 N of 3.5 N (a sign test let it through: 5e12 m torsion)
+    Rx = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    turned = ref.transformed(Rx, np.zeros(3))
+    for bad in (flip, turned):
+        for call, args in (
+            (metrics.fitted_ls_error, (bad, ref, 0.5)),
+            (metrics.torsion_length, (bad, 0.5)),
+            (metrics.supports, (bad, 0.5)),
+        ):
+            with pytest.raises(ValueError, match="not a contact of the pad frame"):
+                call(*args)

@@ -13,7 +13,16 @@ def _write(root, rel, data):
 
 
 PEERS = {
-    "config": {"pad_mm": [16.0, 20.0, 5.0], "E": 1.0e6, "nu": 0.45, "mu": 0.5, "deltas_mm": [0.25, 1.0]},
+    "config": {
+        "pad_mm": [16.0, 20.0, 5.0],
+        "E": 1.0e6,
+        "nu": 0.45,
+        "mu": 0.5,
+        "deltas_mm": [0.25, 1.0],
+        "ls_model": "ellipsoid_sdp",
+        "ls_twists": 500,
+        "ls_directions": 2000,
+    },
     "peers": {
         "drake": {
             "sphere": {
@@ -101,7 +110,10 @@ def test_sections_render_the_summaries_numbers(tmp_path):
     mj = next(line for line in text.splitlines() if line.startswith("| MuJoCo cone, torsion 3πμa/16"))
     # no force, area, pressure, torque (no force), bias nor fitted 6DLS from a point contact
     assert mj.count("—") == 7 and "-33.0 %" in mj and "| 27.0 % |" in mj
-    assert "16.0 × 20.0 × 5.0 mm, E = 1 MPa, ν = 0.45, μ = 0.5; jaw displacements δ = 0.25, 1.0 mm" in text
+    assert (
+        "16.0 × 20.0 × 5.0 mm, E = 1 MPa, ν = 0.45, μ = 0.5; jaw displacements δ = 0.25, 1.0 mm; "
+        "the fitted 6DLS: ellipsoid_sdp on 1000 wrenches, scored at 2000 points" in text
+    )
     assert "+7.3 % at a/H = 0.075, +3.8 % at a/H = 0.0375" in text and "is +0.2 % from it" in text
     f = next(line for line in text.splitlines() if line.startswith("| elastic foundation"))
     assert "| < 0.8 % |" in f  # below the margins' bisection resolution: unresolved, not zero

@@ -88,7 +88,8 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         setup = (
             f"The pad: {w} × {ln} × {h} mm, E = {cfg.get('E', 0) / 1e6:g} MPa, ν = {cfg.get('nu')}, "
             f"μ = {cfg.get('mu')}; jaw displacements δ = {', '.join(map(str, cfg.get('deltas_mm', [])))} mm"
-            f"{' (quick run)' if cfg.get('quick') else ''}. "
+            f"{' (quick run)' if cfg.get('quick') else ''}; the fitted 6DLS: {cfg.get('ls_model')} on "
+            f"{2 * cfg.get('ls_twists', 0)} wrenches, scored at {cfg.get('ls_directions')} points. "
         )
     lines += [
         "What a researcher loses using the contact model of the simulator they already have: each peer on "

@@ -82,9 +82,10 @@ def foundation_force(
     ``delta`` must stay within the layer (``< h``, as :func:`foundation_profile` requires)."""
     r, d = _sphere_case(R, delta)
     k = foundation_modulus(E, h, nu, kind)
-    if d >= h:
+    t = _checks.length("h (layer thickness)", h)
+    if d >= t:
         raise ValueError(
-            f"delta = {d!r} m reaches through the layer of h = {h!r} m: a Winkler layer holds only "
+            f"delta = {d!r} m reaches through the layer of h = {t!r} m: a Winkler layer holds only "
             "depths below its thickness (delta < h)"
         )
     return k * np.pi * d * d * (3.0 * r - d) / 3.0

@@ -56,6 +56,11 @@ def jaw_force(profile: ContactProfile) -> float:
     return float(_profile(profile).normal_wrench[2])
 
 
+#: an axis of a peer's 6DFW set below this fraction of its group's (forces, torques) largest
+#: reference support counts as absent (fitted_ls_error)
+_THIN = 1e-3
+
+
 def _count(name: str, n: Any) -> int:
     if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n >= 1):
         raise ValueError(f"{name} must be a positive integer; got {n!r}")
@@ -67,11 +72,14 @@ def _pushing(profile: Any) -> tuple[ContactProfile, float]:
     another frame than the pad's: flipped normals, a rotated contact)."""
     p = _profile(profile)
     f = jaw_force(p)
-    if not f > 0:
+    # a contact of the pad frame pushes mostly along +z: F cos(tilt), above half of F = Σ p a even on
+    # a patch tilted 60° (a sign test let a profile turned by 90°, jaw force 3.5e-16 N, through)
+    if not f > 0.5 * p.F:
         raise ValueError(
-            f"the profile's jaw force (net normal force along the pad normal +z) is {f:.3g} N, not > 0: "
-            "it is not a contact of the pad frame (face z = h, the jaw pushing the object along +z; "
-            "normals out of the object, i.e. -z) - flipped normals or a rotated profile?"
+            f"the profile's jaw force (net normal force along the pad normal +z) is {f:.3g} N of its "
+            f"total normal force {p.F:.3g} N: it is not a contact of the pad frame (face z = h, the jaw "
+            "pushing the object along +z; normals out of the object, i.e. -z) - flipped normals or a "
+            "rotated profile?"
         )
     return p, f
 
@@ -238,18 +246,23 @@ def fitted_ls_error(
     with the reference's exact 6DFW surface at ``n_directions`` points whose normals are uniform in
     the *reference's* normalised coordinates (the same points for every peer; the sampling of
     :func:`workbench.limit_surface.support_error.support_error`).  The ratio ``g`` of the truth's
-    radius to the fit's along each ray is summarised symmetrically (:class:`FittedLSError`): a
-    set twice too small and one twice too large both read +100 %.  Each contact's wrenches are
-    about its own pressure centre (Eq. 3.6).  With ``profile = reference`` it is the model's own
-    error on the reference (a peer can land slightly below it: errors of shape and model partly
-    cancel).  Sampling matters: the fit's twists are random; at ``n_twists = 100`` the radial error
-    of a Hertz peer varied 0.38-0.94 over seeds 0-4, at 400 0.61-0.68.  Shrinking and growing a
-    set are not mirror images: a copy of a Hertz contact with torques 0.8x reads 21 %, one with
-    1.25x 9 % (the truth's surface points see a convex set's axes differently).
+    radius to the fit's along each ray is summarised symmetrically in ``g``
+    (:class:`FittedLSError`): a ray where the fit is twice too short and one where it is twice too
+    long count alike. Each contact's wrenches are about its own pressure centre (Eq. 3.6). With
+    ``profile = reference`` it is the model's own error on the reference (a peer can land slightly
+    below it: errors of shape and model partly cancel). Sampling matters: the fit's twists are
+    random; at the defaults a Hertz peer of the peers' sphere case read 43.7-47.3 % over seeds 0-4
+    (the reference's own fit 3.3-4.5 %). Peers that differ by shape are not mirror images even
+    though each ray counts symmetrically: a copy of a Hertz contact scaled about its centre by 0.5
+    reads 87 %, by 2 21 % (torques halved or doubled; the truth's surface points see a convex set's
+    axes differently), Hertz at 2δ against Hertz at δ 22 % and the reverse 87 %.
 
-    profile, reference : ContactProfile — peer and truth in the pad frame (jaw forces > 0).
-    A peer whose 6DFW set spans fewer dimensions than the reference's (a planar patch against a
-    curved truth; MuJoCo's point contact) has no 6DLS to compare: ``ValueError``.
+    profile, reference : ContactProfile — peer and truth in the pad frame (:func:`jaw_force` above
+        half the total normal force ``F``).
+    A peer without capacity along an axis the reference has (below 1e-3 of the largest reference
+    support of its group, forces or torques: a planar or nearly planar patch against a curved truth,
+    a point contact) or whose set spans fewer dimensions has no 6DLS to compare: ``ValueError``.
+    ``seed`` : int >= 0, for the twists and the truth's surface points.
     """
     from ..limit_surface.fit_score import check_model, fit_model, min_wrenches
     from ..limit_surface.normalize import prepare
@@ -263,13 +276,27 @@ def fitted_ls_error(
             f"n_twists must be an integer >= {need} for {model!r} (2 n_twists wrenches, with the "
             f"translations, against its {min_wrenches(model)} unknowns); got {n_twists!r}"
         )
+    if isinstance(seed, bool) or not (isinstance(seed, int | np.integer) and seed >= 0):
+        raise ValueError(f"seed must be an integer >= 0 (the twists and the truth's points); got {seed!r}")
     p = p.with_pressures(p.pressures * (f_ref / f_p))
+    # a peer without capacity along an axis the truth has (a flat or nearly flat patch: no rolling
+    # torque; a few elements) has no 6DLS of the truth to compare: its fit's scale there is round-off
+    wp, wr = w_max(p, m), w_max(ref, m)
+    for grp, name in ((slice(0, 3), "force"), (slice(3, 6), "torque")):
+        thin = (wp[grp] <= _THIN * wr[grp].max()) & (wr[grp] > _THIN * wr[grp].max())
+        if thin.any():
+            axes = [int(i) + grp.start for i in np.flatnonzero(thin)]
+            raise ValueError(
+                f"the peer's 6DFW set has (almost) no {name} capacity along axes {axes} where the "
+                f"reference's has (w_max {wp[axes].tolist()} vs {wr[axes].tolist()}): a flat patch or a "
+                "point contact has no 6DLS of the curved contact to compare - compare their supports "
+                "(supports, cone_supports) instead"
+            )
     xi = sample_twists_thesis(int(n_twists), p.length_scale, seed)
     t0 = time.perf_counter()
-    fitted = fit_model(model, frictional_wrenches(p, xi, m), w_max=w_max(p, m), twists=xi)
+    fitted = fit_model(model, frictional_wrenches(p, xi, m), w_max=wp, twists=xi)
     fit_s = time.perf_counter() - t0
-    wm_ref = w_max(ref, m)
-    _, _, scale, _, sub = prepare(frictional_wrenches(ref, xi, m), wm_ref)
+    _, _, scale, _, sub = prepare(frictional_wrenches(ref, xi, m), wr)
     ref_dim = sub.dim
     if fitted.dim < ref_dim:
         raise ValueError(
