@@ -422,8 +422,9 @@ def fit_quartic(
             # power w·ξ = z·(s ⊙ Bᵀ(scale ⊙ ξ)); friction minimises it, so the outward normal is -that
             A_n, b_n = _normal_rows(z, -((xi * scale) @ sub.basis) * s, expo, float(beta))
             A_fit, b_fit = np.vstack([A_fit, A_n]), np.concatenate([b_fit, b_n])
-    Q, Rm = np.linalg.qr(A_fit)
-    c_val = Q.T @ b_fit
+    # R of [A | b] holds R of A and Qᵀb in its last column: Q is never formed (~40 % of the QR's time)
+    Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
+    Rm, c_val = Rb[:L, :L], Rb[:L, L]
     failures = []
     for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
         ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
