@@ -111,3 +111,27 @@ def test_umask_fallback_without_proc_restores_the_mask(monkeypatch):
         assert os.umask(0o027) == 0o027  # restored, not left at the probe value
     finally:
         os.umask(old)
+
+
+def test_code_revision_is_dirty_for_code_changes_not_for_results(tmp_path):
+    """A run writes its own tables into results/ before its summary: that read "-dirty" (the full
+    fem-fitting summary of a clean checkout said so); only the code's paths count."""
+    import shutil
+    import subprocess
+
+    if shutil.which("git") is None:
+        pytest.skip("git not installed")
+    git = ["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t"]
+    (tmp_path / "workbench").mkdir()
+    (tmp_path / "results").mkdir()
+    (tmp_path / "workbench" / "x.py").write_text("a = 1\n")
+    (tmp_path / "results" / "r.csv").write_text("1\n")
+    subprocess.run([*git, "init", "-q"], check=True)
+    subprocess.run([*git, "add", "-A"], check=True)
+    subprocess.run([*git, "commit", "-qm", "c"], check=True)
+    clean = results.code_revision(tmp_path)
+    assert len(clean) == 12 and not clean.endswith("-dirty")
+    (tmp_path / "results" / "r.csv").write_text("2\n")
+    assert results.code_revision(tmp_path) == clean
+    (tmp_path / "workbench" / "x.py").write_text("a = 2\n")
+    assert results.code_revision(tmp_path) == clean + "-dirty"

@@ -175,22 +175,33 @@ def _sources_digest() -> str:
     return h.hexdigest()
 
 
-def code_revision() -> str:
-    """The code's revision: ``git describe --always --dirty --abbrev=12`` of the checkout
-    the package runs from (``…-dirty`` with uncommitted changes), or, outside a git
-    checkout, ``src-`` and :func:`code_hash`."""
+#: the checkout's paths whose changes make a run's code differ from its revision (results/ does
+#: not: a run writes its own tables there before its summary, which read "-dirty" for that)
+CODE_PATHS = ("workbench", "fem", "experiments", "benchmarks", "pyproject.toml")
+
+
+def code_revision(root: Path | None = None) -> str:
+    """The code's revision: ``git describe --always --abbrev=12`` of the checkout the package
+    runs from (``root``: another checkout), with ``-dirty`` when :data:`CODE_PATHS` hold
+    uncommitted changes (results/ and the tests do not count), or, outside a git checkout,
+    ``src-`` and :func:`code_hash`."""
     import subprocess
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[1] if root is None else Path(root)
     try:
+        git = ["git", "-C", str(root)]
         res = subprocess.run(
-            ["git", "-C", str(root), "describe", "--always", "--dirty", "--abbrev=12"],
-            capture_output=True,
-            text=True,
-            timeout=10,
+            [*git, "describe", "--always", "--abbrev=12"], capture_output=True, text=True, timeout=10
         )
         if res.returncode == 0 and res.stdout.strip():
-            return res.stdout.strip()
+            st = subprocess.run(
+                [*git, "status", "--porcelain", "--untracked-files=no", "--", *CODE_PATHS],
+                capture_output=True,
+                text=True,
+                timeout=10,
+            )
+            dirty = st.returncode != 0 or bool(st.stdout.strip())
+            return res.stdout.strip() + ("-dirty" if dirty else "")
     except (OSError, subprocess.SubprocessError):
         pass
     return "src-" + code_hash(12)
