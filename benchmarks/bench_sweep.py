@@ -19,8 +19,8 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
   run's processes: two workers spend ~40 % more than the serial run (their imports and first
   calls, the nannies and the scheduler, and tasks slower beside each other).
 * **Memory bandwidth**: one process against two at once on a 320 MB stream: the ratio two
-  workers cannot beat on bandwidth-bound work (1.14x, 1.32x and 1.80x in three runs on this VM:
-  its host shares the bandwidth, and how much varies).
+  workers cannot beat on bandwidth-bound work (1.14x, 1.32x, 1.80x and 1.92x in four runs on
+  this VM: its host shares the bandwidth, and how much varies).
 * **fem-fitting full**: read from ``results/fem-fitting/summary.json`` (``make reproduce``).
 """
 
