@@ -201,10 +201,9 @@ def check_config(config: dict) -> None:
             "bottle must be {'index': 0-23 (of the 24 thesis bottles), 'height': fraction in (0, 1), "
             f"'mesh': [n_theta, n_z] >= 8}}; got {bt!r}"
         )
-    from workbench.limit_surface.fit_score import check_model, min_wrenches
+    from workbench.limit_surface.fit_score import min_wrenches
 
-    check_model(config["ls_model"])
-    need = -(-min_wrenches(config["ls_model"]) // 2)
+    need = metrics.min_twists(config["ls_model"])  # checks the model's name too
     if not (isinstance(config["ls_twists"], int) and config["ls_twists"] >= need):
         raise ValueError(
             f"ls_twists must be an integer >= {need} for ls_model {config['ls_model']!r} (2 ls_twists "
@@ -376,10 +375,8 @@ def _compare(row: dict, ref: dict, grid: np.ndarray, mu: float) -> dict:
     # the torque the contact resists at this δ: μ × jaw force × torsion length (no force: None)
     f = out["force_rel_err"]
     out["torque_rel_err"] = None if f is None else (1 + f) * (1 + out["torsion_rel_err"]) - 1
-    # forces [N/N] and torques [m] each against their own group's largest (one threshold across the
-    # two units left the rolling supports out)
-    sref = ref["supports"]
-    ok = np.r_[sref[:3] > 1e-3 * sref[:3].max(), sref[3:] > 1e-3 * sref[3:].max()]
+    # forces [N/N] and torques [m] each against their own group's largest
+    ok = ref["supports"] > 1e-3 * metrics.group_max(ref["supports"])
     rel = np.where(ok, sup / np.where(ok, ref["supports"], 1.0) - 1, np.nan)
     out["support_rel_err"] = [None if not np.isfinite(v) else float(v) for v in rel]
     out["support_max_rel_err"] = float(np.nanmax(np.abs(rel)))

@@ -170,3 +170,13 @@ def test_fitted_ls_error_refuses_a_flat_peer_and_a_profile_in_another_frame():
         ):
             with pytest.raises(ValueError, match="not a contact of the pad frame"):
                 call(*args)
+
+
+def test_group_max_and_min_twists():
+    """Each axis is measured against its own unit's largest support; min_twists covers the unknowns
+    (21 of a 6D ellipsoid, 126 of a quartic) with 2 n wrenches."""
+    w = np.array([2.0, 1.0, 0.5, 1e-4, 3e-4, 2e-4])
+    np.testing.assert_array_equal(metrics.group_max(w), [2.0, 2.0, 2.0, 3e-4, 3e-4, 3e-4])
+    assert metrics.min_twists("ellipsoid_sdp") == 11 and metrics.min_twists("quartic_values") == 63
+    with pytest.raises(ValueError, match="ellipsoid_sdp"):
+        metrics.min_twists("ellipsoid")

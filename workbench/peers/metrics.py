@@ -20,7 +20,7 @@ from ..limit_surface.base import LimitSurfaceModel
 from ..profile import ContactProfile
 from ..twists import sample_twists_thesis
 from ..wrench import frictional_wrenches, w_max
-from . import friction, length
+from . import count, friction, length
 from .mujoco_cone import check_coefficients, contact_basis
 
 __all__ = [
@@ -31,7 +31,9 @@ __all__ = [
     "field_from_elements",
     "field_from_nodes",
     "fitted_ls_error",
+    "group_max",
     "jaw_force",
+    "min_twists",
     "opposed_jaws",
     "rel_l2",
     "supports",
@@ -61,10 +63,20 @@ def jaw_force(profile: ContactProfile) -> float:
 _THIN = 1e-3
 
 
-def _count(name: str, n: Any) -> int:
-    if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"{name} must be a positive integer; got {n!r}")
-    return int(n)
+def group_max(w: Any) -> np.ndarray:
+    """(6,) each axis's group largest of a (6,) support or ``w_max``: the forces' (N) for the first
+    three, the torques' (N m) for the last three — what "small along an axis" is measured against
+    (one threshold across the two units would drop the rolling torques)."""
+    v = np.asarray(w, dtype=np.float64)
+    return np.repeat([v[:3].max(), v[3:].max()], 3)
+
+
+def min_twists(model: str) -> int:
+    """The fewest twists of :func:`fitted_ls_error` for ``model``: its ``2 n_twists`` wrenches (the
+    thesis's sampling appends the translations) must reach the model's unknowns."""
+    from ..limit_surface.fit_score import check_model, min_wrenches
+
+    return -(-min_wrenches(check_model(model)) // 2)
 
 
 def _pushing(profile: Any) -> tuple[ContactProfile, float]:
@@ -209,10 +221,10 @@ class FittedLSError:
     the ratio of the truth's radius to the peer's fitted surface's along that ray."""
 
     model: LimitSurfaceModel  # the fit (normalised by the peer's exact w_max)
-    rel_err: float  # exp(mean |ln g|) - 1: the number to quote; a set 2x too small or too large reads +100 %
-    bias: (
-        float  # exp(median(-ln g)) - 1, signed: > 0 the peer's surface lies outside the truth's (optimistic)
-    )
+    # exp(mean |ln g|) - 1: the number to quote; a set uniformly 2x too small or too large reads +100 %
+    rel_err: float
+    # exp(median(-ln g)) - 1, signed: > 0 the peer's surface lies outside the truth's (optimistic)
+    bias: float
     radial_mean: float  # mean |g - 1|, support_error's radial error (penalises an under-sized set more)
     fit_s: float  # wall time of the fit [s]
 
@@ -264,13 +276,13 @@ def fitted_ls_error(
     a point contact) or whose set spans fewer dimensions has no 6DLS to compare: ``ValueError``.
     ``seed`` : int >= 0, for the twists and the truth's surface points.
     """
-    from ..limit_surface.fit_score import check_model, fit_model, min_wrenches
+    from ..limit_surface.fit_score import fit_model, min_wrenches
     from ..limit_surface.normalize import prepare
 
     m = friction("mu", mu)
     ref, f_ref = _pushing(reference)
     p, f_p = _pushing(profile)
-    need = -(-min_wrenches(check_model(model)) // 2)
+    need = min_twists(model)
     if isinstance(n_twists, bool) or not (isinstance(n_twists, int | np.integer) and n_twists >= need):
         raise ValueError(
             f"n_twists must be an integer >= {need} for {model!r} (2 n_twists wrenches, with the "
@@ -282,8 +294,9 @@ def fitted_ls_error(
     # a peer without capacity along an axis the truth has (a flat or nearly flat patch: no rolling
     # torque; a few elements) has no 6DLS of the truth to compare: its fit's scale there is round-off
     wp, wr = w_max(p, m), w_max(ref, m)
+    gm = group_max(wr)
     for grp, name in ((slice(0, 3), "force"), (slice(3, 6), "torque")):
-        thin = (wp[grp] <= _THIN * wr[grp].max()) & (wr[grp] > _THIN * wr[grp].max())
+        thin = (wp[grp] <= _THIN * gm[grp]) & (wr[grp] > _THIN * gm[grp])
         if thin.any():
             axes = [int(i) + grp.start for i in np.flatnonzero(thin)]
             raise ValueError(
@@ -306,7 +319,7 @@ def fitted_ls_error(
         )
     # the same truth points for every peer: normals uniform in the reference's normalised
     # coordinates (its subspace), twists -d ⊘ scale (maximum dissipation, support_error's map)
-    u = np.random.default_rng(seed).standard_normal((_count("n_directions", n_directions), ref_dim))
+    u = np.random.default_rng(seed).standard_normal((count("n_directions", n_directions, 1), ref_dim))
     d = u if ref_dim == 6 else u @ sub.basis.T  # 6D: B = I, as support_error (seeded points reproducible)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
     f = fitted.value(frictional_wrenches(ref, -d / scale, m))
