@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import os
+import resource
 import subprocess
 import sys
 import time
@@ -24,15 +25,23 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "benchmarks" / "reproduce.json"
 
 
+def _children_cpu_s() -> float:
+    """User + system CPU seconds of this process's finished children (and theirs, once reaped)."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def main(argv: list[str]) -> int:
     if len(argv) < 3 or argv[1] != "--":
         print(__doc__, file=sys.stderr)
         return 2
     label, cmd = argv[0], argv[2:]
     run_id = os.environ.get("REPRODUCE_RUN", "manual")
+    cpu0 = _children_cpu_s()
     t0 = time.perf_counter()
     code = subprocess.call(cmd)
     seconds = time.perf_counter() - t0
+    cpu_s = _children_cpu_s() - cpu0
 
     from workbench.results import code_revision, write_json
 
@@ -47,11 +56,23 @@ def main(argv: list[str]) -> int:
             "machine": {"cpu_count": os.cpu_count(), **machine_roofline(quick=True)},
             "steps": {},
         }
-    data["steps"][label] = {"seconds": seconds, "command": " ".join(cmd), "exit_code": code}
+    data["steps"][label] = {
+        "seconds": seconds,
+        # the step's processes (driver, Dask nannies and workers): cpu / wall is how many of the
+        # machine's cores it kept busy — below the core count, a core idled through part of it
+        "cpu_seconds": cpu_s,
+        "cores_busy": cpu_s / seconds if seconds > 0 else float("nan"),
+        "command": " ".join(cmd),
+        "exit_code": code,
+    }
     data["total_seconds"] = sum(s["seconds"] for s in data["steps"].values())
+    data["total_cpu_seconds"] = sum(s.get("cpu_seconds", 0.0) for s in data["steps"].values())
     write_json(OUT, data)
     total_min = data["total_seconds"] / 60
-    print(f"[timed] {label}: {seconds:.0f} s (run total {total_min:.1f} min)", file=sys.stderr)
+    print(
+        f"[timed] {label}: {seconds:.0f} s, {cpu_s / seconds:.2f} cores busy (run total {total_min:.1f} min)",
+        file=sys.stderr,
+    )
     return code
 
 
