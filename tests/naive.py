@@ -113,6 +113,23 @@ def monomial_hessians(x, expo):
     return out
 
 
+def monomial_gradients(x, expo):
+    """(N, n, L) gradients ``∂_j x^{d_κ} = d_j x^{d_κ - e_j}`` of every monomial, term by
+    term — the slow reference for ``QuarticLS``'s gradients and values (the kernel
+    ``limit_surface._kernels._cubic_gradients``)."""
+    n = x.shape[1]
+    out = np.empty((x.shape[0], n, expo.shape[0]))
+    for j in range(n):
+        e = expo.copy()
+        coef = e[:, j].astype(float)
+        e[:, j] = np.maximum(e[:, j] - 1, 0)
+        term = coef[None, :] * np.ones((x.shape[0], 1))
+        for i in range(n):
+            term = term * x[:, i : i + 1] ** e[None, :, i]
+        out[:, j] = term
+    return out
+
+
 def normal_rows(C, nodes, nrm):
     """``n_kᵀ C[k-block, :]`` per node by reshaping (reference of workbench.fem._kernels._normal_rows)."""
     n = C.shape[0] // 3

@@ -51,6 +51,36 @@ def test_quartic_gradient_matches_finite_differences(s4_data, s4_quartic):
     np.testing.assert_allclose(q.gradient(w), fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
 
 
+@pytest.mark.parametrize("r", [6, 3, 1])
+def test_gradients_and_values_match_the_per_monomial_reference(r, rng):
+    """The kernel behind values and gradients (one pass per block of points) against the
+    gradient of Σ a_κ y^κ term by term, and Euler's 4 f = y·∇f against the sum itself, on
+    random coefficients (any quartic: convexity plays no part) and points of every sign and
+    of magnitudes 1e-3 to 1e3; more points than a kernel block, and not a multiple of it."""
+    from workbench.limit_surface._kernels import BLOCK
+
+    expo = exponents(r, 4)
+    a = rng.standard_normal(len(expo))
+    q = quart_mod.QuarticLS(np.ones(6), np.ones(6), _subspace(r), {}, A_q=a, gram=np.eye(r * r))
+    n = 2 * BLOCK + 37
+    y = rng.standard_normal((n, r)) * 10.0 ** rng.uniform(-3, 3, (n, 1))
+    terms = naive.monomial_gradients(y, expo) * a  # (n, r, L)
+    # rounding bound of a sum: a few ulps of the sum of the terms' magnitudes
+    bound = 1e-14 * np.abs(terms).sum(axis=2)
+    np.testing.assert_array_less(np.abs(q._grad_sub(y) - terms.sum(axis=2)), bound + 1e-300)
+    values = np.prod(y[:, None, :] ** expo[None], axis=2) * a  # (n, L)
+    f = 0.25 * np.einsum("ij,ij->i", y, q._grad_sub(y))
+    np.testing.assert_array_less(np.abs(f - values.sum(axis=1)), 1e-13 * np.abs(values).sum(axis=1))
+
+
+def _subspace(r):
+    """The Subspace of the first r coordinate axes of 6D (the rest its complement)."""
+    from workbench.limit_surface.normalize import Subspace
+
+    eye = np.eye(6)
+    return Subspace(basis=eye[:, :r], complement=eye[:, r:], std=np.ones(6))
+
+
 def test_quartic_with_a_thin_direction_is_recovered_without_fallback(rng):
     """A known SOS-convex quartic whose level set is 100x thinner along one axis
     (as on near-planar FEM contacts): Clarabel solves it (whitened monomials) and

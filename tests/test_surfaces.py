@@ -152,6 +152,57 @@ def _polar_disc(name, R, pressure=None, analytic=True, **kw):
     )
 
 
+def _wrenches_evaluating_every_cell(surface, xi, mu, rtol):
+    """surface_wrenches as it was before the cell cache: every cell of every chunk and pass
+    evaluated afresh (the reference of the cache)."""
+    from workbench import _kernels, config
+    from workbench.sources import surfaces as srf
+
+    mom = surface_moments(surface)
+    order, q = config.TOL.quadrature_order, config.TOL.quadrature_order**2
+    rtol2 = config.TOL.tangential_velocity_rtol**2
+
+    def evaluate(cells, groups, twists):
+        xyz, n, da, p = srf._cell_points(surface, cells, order)
+        r = xyz - mom.pressure_center
+        out = np.empty((cells.shape[0], 6))
+        lo = np.arange(0, cells.shape[0] * q, q, dtype=np.int64)
+        cols = [np.ascontiguousarray(c) for c in (*r.T, *n.T, da * p)]
+        _kernels._fw_segments(twists, groups.astype(np.int64), lo, lo + q, *cols, 1.0, rtol2, out)
+        return out
+
+    ls = srf._length_scale(surface)
+    scale = np.array([mom.F] * 3 + [mom.F * ls] * 3)
+    chunk, target = config.TOL.quadrature_twist_chunk, config.TOL.quadrature_safety * rtol
+    vals = np.empty((len(xi), 6))
+    for start in range(0, len(xi), chunk):
+        part = xi[start : start + chunk]
+        vals[start : start + len(part)] = srf._adaptive(
+            lambda c, g, part=part: evaluate(c, g, part),
+            srf._initial_cells(surface),
+            len(part),
+            np.tile(scale, (len(part), 1)),
+            target,
+            config.TOL.quadrature_max_passes,
+        )[0]
+    return vals * mu
+
+
+@pytest.mark.parametrize("name", ["S1", "S4", "S6"])
+def test_the_cell_cache_changes_no_bit(name):
+    """Cells revisited by other twists and chunks are evaluated once (surfaces._CellGeometry):
+    the wrenches are those of evaluating every cell afresh, bit for bit — with the default
+    cache, and with a cache of 40 cells that starts afresh many times over."""
+    from workbench import config
+
+    surface = THESIS_SURFACES[name].normalized()
+    xi = sample_twists_thesis(30, surface.length_scale, seed=11)
+    reference = _wrenches_evaluating_every_cell(surface, xi, 0.7, 1e-4)
+    np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
+    with config.override(quadrature_cache_cells=40):
+        np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
+
+
 def test_rough_integrand_stops_at_the_cell_cap_with_an_honest_estimate(caplog):
     R = 0.01
     disc = _polar_disc("disc-rough", R, lambda r, t, xyz: np.sqrt(np.clip(1 - (r / R) ** 2, 0, None)))

@@ -105,6 +105,11 @@ class Tolerances:
     # Cells evaluated per integrand call (bounds temporaries to ~20 MB).
     quadrature_eval_block: int = 8192
 
+    # Quadrature cells whose Gauss points one surface_wrenches call keeps (1 KB each at
+    # order 4: ~100 MB): the twists' adaptive refinements revisit the same cells, and the
+    # surface's evaluation costs ~30x the wrench kernel (surfaces._CellGeometry).
+    quadrature_cache_cells: int = 100_000
+
     # Gauss-Legendre points per direction per quadrature cell.
     quadrature_order: int = 4
 
@@ -472,6 +477,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "quadrature_safety": _POS,
     "quadrature_twist_chunk": _count(1),
     "quadrature_eval_block": _count(1),
+    "quadrature_cache_cells": _count(0),
     "quadrature_order": _count(1),
     "pca_retained_variance": _real(0.0, lo_open=True, hi=1.0),  # a fraction of the variance kept
     "pca_significant_fraction": _FRACTION,

@@ -1,0 +1,40 @@
+"""Private ``@njit`` kernels of the limit surfaces: math only, no validation (``quartic.py``
+checks and lays out the arrays).  Flags come from ``config``."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..config import NUMBA_FLAGS_PARALLEL
+
+#: points per parallel block: long enough for the inner loops to vectorise, short enough for
+#: the block's rows to stay in L1
+BLOCK = 128
+
+
+@njit(**NUMBA_FLAGS_PARALLEL)
+def _cubic_gradients(yt, factors, G, out):
+    """``out[:, i] = Σ_q y_i^{e_q} G_q``: the gradient (r,) of a homogeneous quartic at each
+    point, points by columns yt (r, N), from its cubic monomials — ``factors`` (L3, 3): the
+    three coordinates whose product is monomial q — and the coefficient map G (L3, r)
+    (``QuarticLS._grad_map``); out (r, N).  Blocks of points along the inner loops
+    (they vectorise) instead of an (N, L3) monomial matrix streamed through memory."""
+    r, n = yt.shape
+    n_blocks = (n + BLOCK - 1) // BLOCK
+    for b in prange(n_blocks):
+        lo = b * BLOCK
+        hi = min(n, lo + BLOCK)
+        m = np.empty(hi - lo)
+        for j in range(r):
+            for k in range(lo, hi):
+                out[j, k] = 0.0
+        for q in range(factors.shape[0]):
+            f0, f1, f2 = factors[q, 0], factors[q, 1], factors[q, 2]
+            for k in range(lo, hi):
+                m[k - lo] = yt[f0, k] * yt[f1, k] * yt[f2, k]
+            for j in range(r):
+                g = G[q, j]
+                if g != 0.0:
+                    for k in range(lo, hi):
+                        out[j, k] += m[k - lo] * g
