@@ -72,6 +72,78 @@ def test_condensed_equals_full_mesh_linear_solve(case):
     assert full.max_penetration <= 1e-9 * geom.thickness
 
 
+def _full_mesh_saddle_point(geom, mat, obs, delta, plane_strain=False):
+    """The full-mesh Signorini solve by its saddle-point system ``[[K, Bᵀ], [B, 0]] [u; -λ] =
+    [0; -d_S]`` and SuperLU (the slow reference of solve_contact_full's eliminated form)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from workbench.fem.contact import face_gaps
+    from workbench.fem.elasticity import basis, stiffness
+    from workbench.fem.pad import top_face_nodes
+
+    mesh = geom.mesh()
+    face = top_face_nodes(mesh.p, geom.thickness)
+    _, d, nrm = face_gaps(geom, mesh.p[:2, face].T, obs, delta)
+    K = stiffness(mesh, mat, "sri")
+    nodal = basis(mesh).nodal_dofs
+    free = np.ones(K.shape[0], dtype=bool)
+    free[nodal[:, np.isclose(mesh.p[2], 0.0)].ravel()] = False
+    if plane_strain:
+        free[nodal[1]] = False
+    fidx = np.flatnonzero(free)
+    pos = np.full(K.shape[0], -1)
+    pos[fidx] = np.arange(fidx.size)
+    face_free = pos[nodal[:, face]].T
+    active = d < 0
+    for _ in range(30):
+        S = np.flatnonzero(active)
+        cols = face_free[S].ravel()
+        keep = cols >= 0
+        B = sp.csr_matrix(
+            (nrm[S].ravel()[keep], (np.repeat(np.arange(S.size), 3)[keep], cols[keep])),
+            shape=(S.size, fidx.size),
+        )
+        sol = spla.spsolve(
+            sp.bmat([[K[fidx][:, fidx], B.T], [B, None]], format="csc"), np.r_[np.zeros(fidx.size), -d[S]]
+        )
+        lam = np.zeros(face.size)
+        lam[S] = -sol[fidx.size :]
+        u_face = np.where(face_free >= 0, sol[: fidx.size][face_free], 0.0)
+        gap = d + np.einsum("ij,ij->i", nrm, u_face)
+        new = (active & (lam > 0)) | (~active & (gap < -1e-12 * geom.thickness))
+        if np.array_equal(new, active):
+            return lam, u_face
+        active = new
+    raise AssertionError("the reference did not converge")
+
+
+@pytest.mark.parametrize(
+    "case, plane_strain",
+    [("sphere", False), ("tilted cylinder", False), ("tilted plane", False), ("cylinder along y", True)],
+)
+def test_full_mesh_solve_equals_its_saddle_point_form(case, plane_strain):
+    """Each active node's constraint eliminates one displacement (the SPD form, factored in
+    nested-dissection order) — the same forces and face displacements as the saddle-point
+    system with the multipliers, to rounding; with plane strain too (a fixed u_y component)."""
+    from workbench.fem.contact import solve_contact_full
+    from workbench.fem.obstacles import Cylinder
+
+    geom = PadGeometry(width=0.008, length=0.01, thickness=0.002, nx=8, ny=10, nz=3)
+    mat = Material(E=1.0e6, nu=0.45)
+    if case == "cylinder along y":
+        geom = PadGeometry(width=0.008, length=0.0005, thickness=0.002, nx=16, ny=1, nz=4)
+        obs, delta = Cylinder((0, 0, 0.002 + 0.01), (0, 1, 0), 0.01), 0.1e-3
+    else:
+        make, delta = CASES[case]
+        obs = make(geom.thickness)
+    lam, u_face = _full_mesh_saddle_point(geom, mat, obs, delta, plane_strain)
+    full = solve_contact_full(geom, mat, obs, delta, plane_strain=plane_strain)
+    assert lam.sum() > 0
+    assert np.linalg.norm(full.lam - lam) <= 1e-9 * np.linalg.norm(lam)
+    assert np.abs(full.u - u_face).max() <= 1e-9 * np.abs(u_face).max()
+
+
 @pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_pad_on_a_thesis_object_if_available(thin_pad):
     from pathlib import Path
