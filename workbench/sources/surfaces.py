@@ -219,15 +219,12 @@ def _split(cells: Array) -> Array:
     """(m, 4) cells -> (4m, 4) children, children of cell i at rows 4i..4i+3."""
     u0, u1, v0, v1 = cells.T
     um, vm = 0.5 * (u0 + u1), 0.5 * (v0 + v1)
-    kids = np.stack(
-        [
-            np.column_stack([u0, um, v0, vm]),
-            np.column_stack([um, u1, v0, vm]),
-            np.column_stack([u0, um, vm, v1]),
-            np.column_stack([um, u1, vm, v1]),
-        ],
-        axis=1,
-    )
+    kids = np.empty((cells.shape[0], 4, 4))
+    # child k: u half k % 2, v half k // 2 (columns u_lo, u_hi, v_lo, v_hi)
+    for k, (ua, ub, va, vb) in enumerate(
+        ((u0, um, v0, vm), (um, u1, v0, vm), (u0, um, vm, v1), (um, u1, vm, v1))
+    ):
+        kids[:, k, 0], kids[:, k, 1], kids[:, k, 2], kids[:, k, 3] = ua, ub, va, vb
     return kids.reshape(-1, 4)
 
 
