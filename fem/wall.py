@@ -92,16 +92,36 @@ def wall_mesh(
 
 @dataclass
 class Wall:
-    """A meshed wall with its factorised stiffness (built once per object and material)."""
+    """A meshed wall with its factorised stiffness (built once per object and material).
+
+    The linear stiffness is assembled and factorised on first use of :attr:`lu` (seconds
+    per wall): the geometrically nonlinear solver (:mod:`workbench.fem.wall_nonlinear`)
+    needs only the mesh, basis and dofs, and assembles its own tangents."""
 
     mesh: MeshHex
     basis: Basis
     material: Material
     free: np.ndarray  # (n_free,) free dof indices
-    lu: object  # sparse factor of K_ff (workbench.fem.sparse_factor.SPDFactor): .solve(b)
     outer_xyz: np.ndarray  # (m, 3) outer-surface node locations
     outer_dofs: np.ndarray  # (m, 3) their x, y, z dofs
-    seconds: float
+    mesh_seconds: float  # meshing, basis and dofs [s]
+
+    @cached_property
+    def lu(self):
+        """Sparse factor of ``K_ff`` (:class:`workbench.fem.sparse_factor.SPDFactor`): ``.solve(b)``."""
+        t0 = time.perf_counter()
+        K = asm(linear_elasticity(self.material.lam, self.material.mu), self.basis).tocsr()
+        # the contact solve loads dozens of nodes at once: the blocked solves
+        lu = factor_spd(K[self.free][:, self.free], blocked=True)
+        self._stiffness_seconds = time.perf_counter() - t0
+        return lu
+
+    @property
+    def seconds(self) -> float:
+        """Build time [s]: meshing plus the stiffness's assembly and factorisation (done now
+        if not yet)."""
+        self.lu  # noqa: B018 - the factor's build is part of the wall's
+        return self.mesh_seconds + self._stiffness_seconds
 
     @cached_property
     def free_position(self) -> np.ndarray:
@@ -162,7 +182,8 @@ def build_wall(
     clamp_top: bool = False,
     plane_strain: bool = False,
 ) -> Wall:
-    """Assemble and factorise the wall (see module docstring).
+    """Mesh the wall (see module docstring); its stiffness is assembled and factorised on first
+    use (:attr:`Wall.lu`).
 
     clamp_top : also clamp the top rim (a wall closed by a stiff shoulder, neck or cap);
         default free (an open cup).
@@ -173,7 +194,6 @@ def build_wall(
     t0 = time.perf_counter()
     mesh, outer, bottom, top = wall_mesh(surface, thickness, n_theta, n_z, z_range)
     basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
-    K = asm(linear_elasticity(material.lam, material.mu), basis).tocsr()
     fixed = np.zeros(basis.N, dtype=bool)
     if clamp_bottom:
         fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True
@@ -189,13 +209,12 @@ def build_wall(
         on_y = (np.abs(np.cos(ang)) < tol) & (comp == 0)  # u_x dofs at θ = ±π/2
         fixed |= on_x | on_y
     free = np.flatnonzero(~fixed)
-    lu = factor_spd(K[free][:, free], blocked=True)  # the contact solve loads dozens of nodes at once
     # outer-surface dofs: the facets whose 4 vertices are all on the outer surface
     view = basis.get_dofs(facets=_facets_within(mesh, outer))
     comp = [view.all(f"u^{c + 1}") for c in range(3)]
     xyz = basis.doflocs[:, comp[0]].T
     assert all(np.allclose(basis.doflocs[:, c].T, xyz) for c in comp[1:])  # same node order
-    return Wall(mesh, basis, material, free, lu, xyz, np.column_stack(comp), time.perf_counter() - t0)
+    return Wall(mesh, basis, material, free, xyz, np.column_stack(comp), time.perf_counter() - t0)
 
 
 def _facets_within(mesh: MeshHex, vertices: np.ndarray) -> np.ndarray:
