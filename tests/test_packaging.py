@@ -164,6 +164,10 @@ _TESTED_ELSEWHERE = {
         "--check-kernels (make test-nojit) fails unless each kernel ran as Python",
     ),
     "workbench.fem._kernels": (None, "as workbench._kernels"),
+    "workbench.limit_surface._kernels": (
+        None,
+        "as workbench._kernels (the quartic's: tests/test_quartic.py)",
+    ),
     "workbench.grasp.resistance": (
         "test_resistance.py",
         "one concept (the resistance QP) split by stage, tested through its entry point and per stage",

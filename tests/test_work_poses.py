@@ -148,7 +148,8 @@ def test_uniqueness_check_against_a_search_for_other_optima(jaws):
         y, status = lp.solve(w * prog.w)
         assert status == "optimal"
         at_w = assemble(contacts, w, 0.5, "outer", None, minforce="sum")
-        A_eq, b_eq, G, h, bounds = _slack_form(at_w)
+        A_eq, b_eq, G, h, lb, ub = _slack_form(at_w)
+        bounds = np.column_stack([lb, ub])
         cost = np.r_[prog.Phi.sum(axis=0) * prog.S, np.zeros(12)]
         band = np.r_[np.zeros(prog.n), np.ones(12)]
         A_ub = sp.csr_matrix(np.vstack([G, cost, band]))
@@ -186,7 +187,8 @@ def _linprog_min_force(prog):
     from workbench.grasp.resistance.solvers import _slack_form
 
     cost, tol = prog.Phi.sum(axis=0) * prog.S, config.TOL.resist_rtol
-    A_eq, b_eq, G, h, bounds = _slack_form(prog)
+    A_eq, b_eq, G, h, lb, ub = _slack_form(prog)
+    bounds = np.column_stack([lb, ub])
     band = np.r_[np.zeros(prog.n), np.ones(12)][None]
     ref = linprog(
         np.r_[cost, np.zeros(12)],
