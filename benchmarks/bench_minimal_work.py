@@ -143,7 +143,8 @@ class Grasp:
             for w in ws:
                 prog = assemble(self.contacts, w, MU, "outer", None, minforce="sum")
                 cost = prog.Phi.sum(axis=0) * prog.S
-                A_eq, b_eq, G, h, bounds = _slack_form(prog)
+                A_eq, b_eq, G, h, lb, ub = _slack_form(prog)
+                bounds = np.column_stack([lb, ub])
                 band = np.r_[np.zeros(prog.n), np.ones(12)][None]
                 lp = linprog(
                     np.r_[cost, np.zeros(12)],
