@@ -41,7 +41,7 @@ from .elasticity import GAUSS_1, GAUSS_2, basis
 from .extract import face_grid, quad_vector_areas, tributary_areas
 from .material import Material
 from .pad import PadGeometry, top_face_nodes
-from .sparse_factor import factor_spd, nested_dissection
+from .sparse_factor import csr_slots, factor_spd, nested_dissection
 
 log = logging.getLogger(__name__)
 
@@ -119,10 +119,7 @@ class NonlinearPad:
         self._cols = np.broadcast_to(self._edofs.reshape(ne, 1, 24), (ne, 24, 24)).ravel()
         # the tangent's CSR pattern once: each element-matrix entry's slot in K.data (duplicates
         # share one), so every tangent is a bincount into it instead of a COO -> CSR conversion
-        n = self.b2.N
-        entry, self._slot = np.unique(self._rows.astype(np.int64) * n + self._cols, return_inverse=True)
-        self._indices = (entry % n).astype(np.int32)
-        self._indptr = np.r_[0, np.cumsum(np.bincount(entry // n, minlength=n))].astype(np.int32)
+        self._slot, self._indices, self._indptr = csr_slots(self._rows, self._cols, self.b2.N)
         z = self.mesh.p[2]
         self.face = top_face_nodes(self.mesh.p, geometry.thickness)
         nodal = self.b2.nodal_dofs

@@ -78,6 +78,15 @@ def nested_dissection(K: sp.spmatrix) -> np.ndarray:
     return np.asarray(perm, dtype=np.int64)
 
 
+def csr_slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The CSR pattern of an (n, n) matrix assembled from entries at ``rows``, ``cols`` (k,):
+    ``(slot, indices, indptr)``, entry i summing into ``data[slot[i]]`` (duplicates share a slot),
+    so each assembly with the same pattern is ``np.bincount(slot, values)`` into the fixed
+    ``indices`` / ``indptr`` instead of a COO -> CSR conversion."""
+    entry, slot = np.unique(np.asarray(rows, dtype=np.int64) * n + cols, return_inverse=True)
+    return slot, entry % n, np.r_[0, np.cumsum(np.bincount(entry // n, minlength=n))]
+
+
 def restrict_order(perm: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """An elimination order of the sub-matrix ``K[keep][:, keep]`` from one ``perm`` (n,) of
     ``K``: the kept indices in the order ``perm`` eliminates them, as positions (m,) into

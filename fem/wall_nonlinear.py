@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .sparse_factor import factor_spd, nested_dissection, restrict_order
+from .sparse_factor import csr_slots, factor_spd, nested_dissection, restrict_order
 from .wall import Wall, turn_matrix
 
 log = logging.getLogger(__name__)
@@ -68,9 +68,7 @@ def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None 
         # one), so every tangent is a bincount into it instead of a COO -> CSR conversion
         rows = np.repeat(dofs, dofs.shape[1], axis=1).ravel().astype(np.int64)
         cols = np.tile(dofs, (1, dofs.shape[1])).ravel()
-        entry, c["slot"] = np.unique(rows * basis.N + cols, return_inverse=True)
-        c["indices"] = entry % basis.N
-        c["indptr"] = np.r_[0, np.cumsum(np.bincount(entry // basis.N, minlength=basis.N))]
+        c["slot"], c["indices"], c["indptr"] = csr_slots(rows, cols, basis.N)
         c["by_comp"] = [np.flatnonzero(c["comp"] == i) for i in range(3)]
     comp, g, w, dofs = c["comp"], c["g"], c["w"], c["dofs"]
     ue = u[dofs]  # (e, 81)
