@@ -77,3 +77,213 @@ def _upper_rows(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, X: np
                 d = data[p]
         for c in range(k):
             X[i, c] = acc[c] / d
+
+
+@njit(**NUMBA_FLAGS)
+def _svk_element_loop(
+    G: np.ndarray,
+    w: np.ndarray,
+    dofs: np.ndarray,
+    u: np.ndarray,
+    mu: float,
+    lam: float,
+    slot: np.ndarray,
+    data: np.ndarray,
+    r: np.ndarray,
+    tangent: bool,
+) -> None:
+    """St. Venant–Kirchhoff internal force and tangent, element by element, added into ``r``
+    (N,) and the CSR values ``data`` (entry (a, b) of element e at ``slot[(e n_k + a) n_k + b]``).
+
+    G : (e, q, nn, 3) scalar shape-function gradients; w : (e, q) weights × det J; dofs :
+    (e, 3 nn) global dof of local dof 3 n + i (node n, component i).  Per Gauss point, with
+    ``B_ni = (F ∇N_n)_i``: ``K[(n,i),(p,m)] += w (δ_im ∇N_n·S∇N_p + λ B_ni B_pm + μ B_nm B_pi
+    + μ (F Fᵀ)_im ∇N_n·∇N_p)``, ``r[(n,i)] += w (P ∇N_n)_i`` (``wall_nonlinear`` module
+    docstring); each (n, p) pair once, the transposed block copied."""
+    n_e, n_q, nn = G.shape[0], G.shape[1], G.shape[2]
+    nk = 3 * nn
+    Ke = np.zeros((nk, nk))
+    F = np.empty((3, 3))
+    S = np.empty((3, 3))
+    P = np.empty((3, 3))
+    FF = np.empty((3, 3))
+    B = np.empty((nn, 3))
+    SG = np.empty((nn, 3))
+    Gq = np.empty((nn, 3))
+    for e in range(n_e):
+        if tangent:
+            Ke[:, :] = 0.0
+        for q in range(n_q):
+            wq = w[e, q]
+            for n in range(nn):
+                for J in range(3):
+                    Gq[n, J] = G[e, q, n, J]
+            for i in range(3):
+                for J in range(3):
+                    F[i, J] = 1.0 if i == J else 0.0
+            for n in range(nn):
+                for i in range(3):
+                    un = u[dofs[e, 3 * n + i]]
+                    for J in range(3):
+                        F[i, J] += un * Gq[n, J]
+            trE = 0.0
+            for I in range(3):
+                for J in range(3):
+                    c = -1.0 if I == J else 0.0
+                    for i in range(3):
+                        c += F[i, I] * F[i, J]
+                    S[I, J] = mu * c  # 2 mu E, E = (FᵀF - I) / 2
+                    if I == J:
+                        trE += 0.5 * c
+            for I in range(3):
+                S[I, I] += lam * trE
+            for i in range(3):
+                for J in range(3):
+                    c = 0.0
+                    for L in range(3):
+                        c += F[i, L] * S[L, J]
+                    P[i, J] = c
+            for n in range(nn):
+                for i in range(3):
+                    pg = P[i, 0] * Gq[n, 0] + P[i, 1] * Gq[n, 1] + P[i, 2] * Gq[n, 2]
+                    r[dofs[e, 3 * n + i]] += wq * pg
+            if not tangent:
+                continue
+            for i in range(3):
+                for m in range(3):
+                    FF[i, m] = wq * mu * (F[i, 0] * F[m, 0] + F[i, 1] * F[m, 1] + F[i, 2] * F[m, 2])
+            for n in range(nn):
+                for i in range(3):
+                    B[n, i] = F[i, 0] * Gq[n, 0] + F[i, 1] * Gq[n, 1] + F[i, 2] * Gq[n, 2]
+                    SG[n, i] = wq * (S[i, 0] * Gq[n, 0] + S[i, 1] * Gq[n, 1] + S[i, 2] * Gq[n, 2])
+            wl, wm = wq * lam, wq * mu
+            for n in range(nn):
+                g0, g1, g2 = Gq[n, 0], Gq[n, 1], Gq[n, 2]
+                bn0, bn1, bn2 = B[n, 0], B[n, 1], B[n, 2]
+                for p in range(n, nn):
+                    H = g0 * SG[p, 0] + g1 * SG[p, 1] + g2 * SG[p, 2]
+                    D = g0 * Gq[p, 0] + g1 * Gq[p, 1] + g2 * Gq[p, 2]
+                    bp0, bp1, bp2 = B[p, 0], B[p, 1], B[p, 2]
+                    a, b = 3 * n, 3 * p
+                    Ke[a, b] += H + wl * bn0 * bp0 + wm * bn0 * bp0 + FF[0, 0] * D
+                    Ke[a, b + 1] += wl * bn0 * bp1 + wm * bn1 * bp0 + FF[0, 1] * D
+                    Ke[a, b + 2] += wl * bn0 * bp2 + wm * bn2 * bp0 + FF[0, 2] * D
+                    Ke[a + 1, b] += wl * bn1 * bp0 + wm * bn0 * bp1 + FF[1, 0] * D
+                    Ke[a + 1, b + 1] += H + wl * bn1 * bp1 + wm * bn1 * bp1 + FF[1, 1] * D
+                    Ke[a + 1, b + 2] += wl * bn1 * bp2 + wm * bn2 * bp1 + FF[1, 2] * D
+                    Ke[a + 2, b] += wl * bn2 * bp0 + wm * bn0 * bp2 + FF[2, 0] * D
+                    Ke[a + 2, b + 1] += wl * bn2 * bp1 + wm * bn1 * bp2 + FF[2, 1] * D
+                    Ke[a + 2, b + 2] += H + wl * bn2 * bp2 + wm * bn2 * bp2 + FF[2, 2] * D
+        if not tangent:
+            continue
+        for n in range(nn):  # the lower blocks are the upper ones transposed
+            for p in range(n + 1, nn):
+                for i in range(3):
+                    for m in range(3):
+                        Ke[3 * p + m, 3 * n + i] = Ke[3 * n + i, 3 * p + m]
+        base = e * nk * nk
+        for a in range(nk):
+            for b in range(nk):
+                data[slot[base + a * nk + b]] += Ke[a, b]
+
+
+@njit(**NUMBA_FLAGS)
+def _neo_hookean_element_loop(
+    G: np.ndarray,
+    dx: np.ndarray,
+    edofs: np.ndarray,
+    u: np.ndarray,
+    mu: float,
+    kappa: float,
+    slot: np.ndarray,
+    data: np.ndarray,
+    r: np.ndarray,
+) -> float:
+    """Decoupled neo-Hookean internal force and tangent of one quadrature rule, added into ``r``
+    (N,) and the CSR values ``data`` (entry (a c, b d) of element e at ``slot[((e nn + a) 3 + c)
+    3 nn + 3 b + d]``); returns the smallest det F met (≤ 0: an element inverted, nothing valid).
+
+    G : (e, q, nn, 3) shape-function gradients; dx : (e, q) weights × det J; edofs : (e, nn, 3)
+    global dofs.  With ``h = F⁻ᵀ∇N``, ``f = F∇N``, ``s = (F − I₁/3 F⁻ᵀ)∇N`` per node and
+    ``a = J^(-2/3)`` (``fem/nonlinear.py`` module docstring, contracted with the gradients):
+    ``K[a c, b d] += dx (μa δ_cd ∇N_a·∇N_b − ⅔μa (s_ac h_bd + h_ac f_bd) + (μa I₁/3 − κ ln J)
+    h_bc h_ad + κ h_ac h_bd)``, ``r[a c] += dx (P ∇N_a)_c``."""
+    n_e, n_q, nn = G.shape[0], G.shape[1], G.shape[2]
+    nk = 3 * nn
+    F = np.empty((3, 3))
+    Fi = np.empty((3, 3))  # F⁻ᵀ
+    P = np.empty((3, 3))
+    Sd = np.empty((3, 3))
+    h = np.empty((nn, 3))
+    f = np.empty((nn, 3))
+    s = np.empty((nn, 3))
+    Ke = np.zeros((nk, nk))
+    jmin = np.inf
+    for e in range(n_e):
+        Ke[:, :] = 0.0
+        for q in range(n_q):
+            w = dx[e, q]
+            for c in range(3):
+                for l in range(3):
+                    F[c, l] = 1.0 if c == l else 0.0
+            for a in range(nn):
+                for c in range(3):
+                    ua = u[edofs[e, a, c]]
+                    for l in range(3):
+                        F[c, l] += ua * G[e, q, a, l]
+            c00 = F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1]
+            c01 = F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]
+            c02 = F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]
+            J = F[0, 0] * c00 + F[0, 1] * c01 + F[0, 2] * c02
+            jmin = min(jmin, J)
+            if J <= 0.0:
+                continue
+            # F⁻ᵀ = cofactor(F) / J
+            Fi[0, 0], Fi[0, 1], Fi[0, 2] = c00 / J, c01 / J, c02 / J
+            Fi[1, 0] = (F[0, 2] * F[2, 1] - F[0, 1] * F[2, 2]) / J
+            Fi[1, 1] = (F[0, 0] * F[2, 2] - F[0, 2] * F[2, 0]) / J
+            Fi[1, 2] = (F[0, 1] * F[2, 0] - F[0, 0] * F[2, 1]) / J
+            Fi[2, 0] = (F[0, 1] * F[1, 2] - F[0, 2] * F[1, 1]) / J
+            Fi[2, 1] = (F[0, 2] * F[1, 0] - F[0, 0] * F[1, 2]) / J
+            Fi[2, 2] = (F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]) / J
+            I1 = 0.0
+            for c in range(3):
+                for l in range(3):
+                    I1 += F[c, l] * F[c, l]
+            ma = mu * J ** (-2.0 / 3.0)
+            lnJ = np.log(J)
+            for c in range(3):
+                for l in range(3):
+                    Sd[c, l] = F[c, l] - I1 / 3.0 * Fi[c, l]
+                    P[c, l] = ma * Sd[c, l] + kappa * lnJ * Fi[c, l]
+            for a in range(nn):
+                for c in range(3):
+                    ga0, ga1, ga2 = G[e, q, a, 0], G[e, q, a, 1], G[e, q, a, 2]
+                    r[edofs[e, a, c]] += w * (P[c, 0] * ga0 + P[c, 1] * ga1 + P[c, 2] * ga2)
+                    h[a, c] = Fi[c, 0] * ga0 + Fi[c, 1] * ga1 + Fi[c, 2] * ga2
+                    f[a, c] = F[c, 0] * ga0 + F[c, 1] * ga1 + F[c, 2] * ga2
+                    s[a, c] = Sd[c, 0] * ga0 + Sd[c, 1] * ga1 + Sd[c, 2] * ga2
+            k_id = w * ma
+            k_dev = w * 2.0 / 3.0 * ma
+            k_cross = w * (ma * I1 / 3.0 - kappa * lnJ)
+            k_vol = w * kappa
+            for a in range(nn):
+                for b in range(nn):
+                    D = 0.0
+                    for l in range(3):
+                        D += G[e, q, a, l] * G[e, q, b, l]
+                    for c in range(3):
+                        for d in range(3):
+                            v = (
+                                -k_dev * (s[a, c] * h[b, d] + h[a, c] * f[b, d])
+                                + k_cross * h[b, c] * h[a, d]
+                                + k_vol * h[a, c] * h[b, d]
+                            )
+                            if c == d:
+                                v += k_id * D
+                            Ke[3 * a + c, 3 * b + d] += v
+        base = e * nk * nk
+        for i in range(nk):
+            for j in range(nk):
+                data[slot[base + i * nk + j]] += Ke[i, j]
+    return jmin

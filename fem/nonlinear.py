@@ -36,12 +36,13 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementHex1
 
+from ._kernels import _neo_hookean_element_loop
 from .contact import ContactSolution, face_gaps
 from .elasticity import GAUSS_1, GAUSS_2, basis
 from .extract import face_grid, quad_vector_areas, tributary_areas
 from .material import Material
 from .pad import PadGeometry, top_face_nodes
-from .sparse_factor import csr_slots, factor_spd, nested_dissection
+from .sparse_factor import Refactor, csr_slots, nested_dissection
 
 log = logging.getLogger(__name__)
 
@@ -52,40 +53,10 @@ class _Quadrature:
 
     def __init__(self, mesh, rule) -> None:
         sb = Basis(mesh, ElementHex1(), quadrature=rule)
-        self.G = np.stack([sb.basis[a][0].grad for a in range(8)], axis=0).transpose(2, 3, 0, 1)
-        self.dx = np.asarray(sb.dx)
+        G = np.stack([sb.basis[a][0].grad for a in range(8)], axis=0)
+        self.G = np.ascontiguousarray(G.transpose(2, 3, 0, 1))
+        self.dx = np.ascontiguousarray(sb.dx)
         self.nodes = sb.element_dofs.T
-
-
-def _stress_tangent(F: np.ndarray, mu: float, kappa: float) -> tuple[np.ndarray, np.ndarray]:
-    """First Piola stress P (…, 3, 3) and tangent A (…, 3, 3, 3, 3), ``dP_cl = A_cldm dF_dm``,
-    of the isochoric part with modulus ``mu`` plus the volumetric part with ``kappa``
-    (either may be 0: one quadrature rule can carry both parts or one of them)."""
-    Fi = np.linalg.inv(F)
-    FiT = np.swapaxes(Fi, -1, -2)
-    J = np.linalg.det(F)
-    if (J <= 0).any():
-        raise RuntimeError("an element inverted (det F <= 0); reduce the load step")
-    cross = np.einsum("...cm,...dl->...cldm", FiT, FiT)  # coefficient of F⁻ᵀ δFᵀ F⁻ᵀ
-    P = np.zeros_like(F)
-    A = np.zeros(F.shape + (3, 3))
-    if mu:
-        a = (J ** (-2.0 / 3.0))[..., None, None]
-        I1 = np.einsum("...ij,...ij->...", F, F)[..., None, None]
-        S = F - I1 / 3.0 * FiT
-        P += mu * a * S
-        eye = np.eye(3)
-        A += (mu * a[..., None, None]) * (
-            np.einsum("cd,lm->cldm", eye, eye)
-            - 2.0 / 3.0 * np.einsum("...cl,...dm->...cldm", S, FiT)
-            - 2.0 / 3.0 * np.einsum("...cl,...dm->...cldm", FiT, F)
-            + I1[..., None, None] / 3.0 * cross
-        )
-    if kappa:
-        lnJ = np.log(J)[..., None, None]
-        P += kappa * lnJ * FiT
-        A += kappa * (np.einsum("...cl,...dm->...cldm", FiT, FiT) - lnJ[..., None, None] * cross)
-    return P, A
 
 
 class NonlinearPad:
@@ -113,7 +84,7 @@ class NonlinearPad:
         if stabilization < 1:
             self._rules.append((_Quadrature(self.mesh, GAUSS_1), 0.0, (1.0 - stabilization) * m.bulk))
         # global dof of (element, local node, component)
-        self._edofs = self.b2.nodal_dofs.T[q2.nodes]  # (e, 8, 3)
+        self._edofs = np.ascontiguousarray(self.b2.nodal_dofs.T[q2.nodes], dtype=np.int64)  # (e, 8, 3)
         ne = self._edofs.shape[0]
         self._rows = np.broadcast_to(self._edofs.reshape(ne, 24, 1), (ne, 24, 24)).ravel()
         self._cols = np.broadcast_to(self._edofs.reshape(ne, 1, 24), (ne, 24, 24)).ravel()
@@ -130,6 +101,12 @@ class NonlinearPad:
         # contact blocks stay inside each node's own 3x3 block), used by every Newton solve
         pattern = sp.csr_matrix((np.ones(self._rows.size), (self._rows, self._cols)), shape=(self.b2.N,) * 2)
         self._order = nested_dissection(pattern[self.free][:, self.free])
+        # where each node's 3x3 block sits in the tangent's CSR values: the contact blocks are added
+        # there, so K + K_c keeps the pattern and one symbolic Cholesky serves every Newton step
+        at = sp.csr_matrix((np.arange(self._indices.size, dtype=float), self._indices, self._indptr))
+        nd = nodal.T  # (nodes, 3)
+        self._block_slot = np.asarray(at[np.repeat(nd, 3, axis=1).ravel(), np.tile(nd, (1, 3)).ravel()])
+        self._block_slot = self._block_slot.astype(np.int64).reshape(-1, 3, 3)
         self.face_dofs = nodal[:, self.face].T  # (n, 3) global dofs of the face nodes
         # face quads and tributary areas of the undeformed face (penalty scaling)
         self.face_xy = self.mesh.p[:2, self.face].T
@@ -137,24 +114,15 @@ class NonlinearPad:
 
     def _internal(self, u: np.ndarray) -> tuple[np.ndarray, sp.csr_matrix]:
         """Internal force vector (3N,) and tangent stiffness (3N × 3N) at displacement u,
-        by element-batched einsums/matmuls, one pass per quadrature rule."""
-        ue = u[self._edofs]  # (e, 8, 3)
+        element by element (``fem._kernels._neo_hookean_element_loop``), one pass per
+        quadrature rule; RuntimeError if an element is inverted (det F ≤ 0)."""
         r = np.zeros(u.size)
-        Ke = 0.0
+        data = np.zeros(self._indices.size)
         for q, mu, kappa in self._rules:
-            F = np.einsum("eac,eqal->eqcl", ue, q.G) + np.eye(3)
-            P, A = _stress_tangent(F, mu, kappa)
-            r += np.bincount(
-                self._edofs.ravel(), np.einsum("eq,eqcl,eqal->eac", q.dx, P, q.G).ravel(), minlength=u.size
-            )
-            # K_e[a c, b d] = Σ_q dx G_al A_cldm G_bm as batched matmuls (einsum was 4x slower)
-            Acd = (A * q.dx[..., None, None, None, None]).transpose(0, 1, 2, 4, 3, 5)  # (e,q,c,d,l,m)
-            Gq = q.G[:, :, None, None]  # (e, q, 1, 1, 8, 3)
-            Kq = Gq @ Acd @ np.swapaxes(Gq, -1, -2)  # (e, q, c, d, 8, 8)
-            Ke = Ke + Kq.sum(axis=1).transpose(0, 3, 1, 4, 2)  # (e, a, c, b, d)
-        data = np.bincount(self._slot, weights=np.asarray(Ke).ravel(), minlength=self._indices.size)
-        K = sp.csr_matrix((data, self._indices, self._indptr), shape=(u.size, u.size))
-        return r, K
+            jmin = _neo_hookean_element_loop(q.G, q.dx, self._edofs, u, mu, kappa, self._slot, data, r)
+            if not jmin > 0:
+                raise RuntimeError("an element inverted (det F <= 0); reduce the load step")
+        return r, sp.csr_matrix((data, self._indices, self._indptr), shape=(u.size, u.size))
 
     def _valid(self, u: np.ndarray) -> bool:
         ue = u[self._edofs]
@@ -180,7 +148,6 @@ class NonlinearPad:
                 np.add.at(f_c, self.face_dofs.ravel(), (lam[:, None] * nrm).ravel())
                 res = (r - f_c)[self.free]
                 act = lam > 0
-                rows = self.face_dofs[act]  # (m, 3)
                 # consistent contact tangent k n nᵀ − λ ∇n (∇n = ∇²d, the obstacle's
                 # curvature, by central differences of the normal field); the curvature
                 # term is left out on the first iteration, where λ comes from the raw
@@ -196,11 +163,10 @@ class NonlinearPad:
                     dn = np.stack(cols, axis=2) / (2 * eps)  # (m, 3, 3): dn_i/dx_j
                     geo = lam[act, None, None] * 0.5 * (dn + dn.transpose(0, 2, 1))
                 blocks = k[act, None, None] * nrm[act, :, None] * nrm[act, None, :] - geo
-                Kc = sp.csr_matrix(
-                    (blocks.ravel(), (np.repeat(rows, 3, axis=1).ravel(), np.tile(rows, (1, 3)).ravel())),
-                    shape=K.shape,
-                )
-                du = factor_spd((K + Kc)[self.free][:, self.free], perm=self._order).solve(-res)
+                K.data[self._block_slot[self.face[act]]] += blocks  # K + K_c, one node's block each
+                if opts["chol"] is None:  # the symbolic analysis once per solve
+                    opts["chol"] = Refactor(K, self.free, self._order)
+                du = opts["chol"].factor(K).solve(-res)
                 # cap the step (a fresh contact can ask for large jumps), back off while
                 # an element would invert
                 du *= min(1.0, 0.25 * hz / max(np.abs(du).max(), 1e-300))
@@ -265,6 +231,7 @@ class NonlinearPad:
             "max_newton": max_newton,
             "newton_rtol": newton_rtol,
             "gap_tol": gap_tol,
+            "chol": None,  # sparse_factor.Refactor of the tangent's free block, built on first use
         }
         k = penalty * self.material.E * self.area0 / hz  # (n,) nodal penalty stiffness [N/m]
         X0 = np.column_stack([self.face_xy, np.full(self.face.size, h)])

@@ -15,6 +15,14 @@ solve asks for dozens of columns at once, so ``factor_spd(..., blocked=True)`` a
 keeps row-major copies of L and U and solves many columns together in
 :mod:`workbench.fem._kernels` (each entry read once for all of them): 2.4× faster per column at
 48 columns (``config.DEFAULTS.blocked_solve_min_rhs``).
+
+Newton's method factors a new tangent of the same sparsity pattern at every iteration.
+:class:`Refactor` does the symbolic analysis once per pattern and Dirichlet set and then
+only the numeric Cholesky factorisation, by CHOLMOD's supernodal ``L Lᵀ`` (``cvxopt.cholmod``,
+BLAS-3 on dense blocks of the factor): 0.095 s against SuperLU's 0.70 s on a cup wall's tangent
+(21,312 free dofs, 10.8 M non-zeros in L + U, same order).  A tangent that is not positive
+definite (a wall past a limit point) is factored by SuperLU as before; each such fallback is
+logged and counted.
 """
 
 from __future__ import annotations
@@ -99,6 +107,94 @@ def restrict_order(perm: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return np.argsort(rank[keep], kind="stable")
 
 
+class Refactor:
+    """Cholesky factorisations of ``K[keep][:, keep]`` for a sequence of sparse symmetric ``K``
+    (n, n) csr sharing one pattern (a Newton loop's tangents), CHOLMOD's symbolic analysis done
+    once here in the elimination order ``order`` (m,) (positions into ``keep`` (m,) sorted int;
+    e.g. :func:`restrict_order`).  :meth:`factor` then :meth:`solve` ``K_kk x = b``; a changing
+    Dirichlet set needs no new analysis: ``factor(K, pinned)`` replaces those rows and columns by
+    the identity's, keeping the pattern.  Holds the current numeric factor: one user at a time.
+
+    ``fallbacks`` counts the matrices that were not positive definite and went to SuperLU
+    (:func:`factor_spd`, the same order; pivots on the diagonal, as before this class)."""
+
+    def __init__(self, pattern: sp.csr_matrix, keep: np.ndarray, order: np.ndarray):
+        from cvxopt import cholmod, matrix, spmatrix
+
+        n = pattern.shape[0]
+        keep = np.asarray(keep, dtype=np.int64)
+        if keep.ndim != 1 or (keep.size and (np.any(np.diff(keep) <= 0) or keep[0] < 0 or keep[-1] >= n)):
+            raise ValueError(f"keep must be sorted unique indices into 0..{n - 1}; got {keep}")
+        m = keep.size
+        self.keep, self.order, self.fallbacks = keep, np.asarray(order, dtype=np.int64), 0
+        if self.order.shape != (m,):
+            raise ValueError(
+                f"order must be an elimination order of the {m} kept indices; got {self.order.shape}"
+            )
+        csr = sp.csr_matrix(pattern)
+        if not csr.has_sorted_indices:
+            raise ValueError("pattern's column indices must be sorted within rows (K.sort_indices())")
+        loc = np.full(n, -1, dtype=np.int64)
+        loc[keep] = np.arange(m)
+        r = loc[np.repeat(np.arange(n), np.diff(csr.indptr))]
+        c = loc[csr.indices]
+        # the kept upper triangle in CSR order is the lower triangle in column-major order, CHOLMOD's
+        # storage order (K symmetric; keep sorted keeps the order): no sort needed
+        self._sel = np.flatnonzero((r >= 0) & (c >= r))
+        self._row, self._col = c[self._sel], r[self._sel]  # lower-triangle (row >= col) coordinates
+        self._diag = self._row == self._col
+        self._indptr, self._indices = csr.indptr.copy(), csr.indices.copy()
+        self._A = spmatrix(1.0, matrix(self._row), matrix(self._col), (m, m))
+        self._F = cholmod.symbolic(self._A, p=matrix(self.order), uplo="L")
+        self._lu: SPDFactor | None = None  # SuperLU's factor after a fallback
+
+    def factor(self, K: sp.csr_matrix, pinned: np.ndarray | None = None) -> Refactor:
+        """Factor ``K[keep][:, keep]`` (K (n, n) csr with the pattern given at construction), the
+        rows and columns where ``pinned`` (m,) bool is true replaced by the identity's: then
+        :meth:`solve` returns ``b`` there, and the other rows no longer see those unknowns — for
+        Dirichlet values ``x_p``, pass ``b = x_p`` on the pinned rows and ``b_f − K_fp x_p`` on
+        the others.  Returns self, for ``.factor(K).solve(b)``."""
+        from cvxopt import cholmod, matrix
+
+        if not (np.array_equal(K.indptr, self._indptr) and np.array_equal(K.indices, self._indices)):
+            raise ValueError(
+                "K's sparsity pattern differs from the one this Refactor was built for; build another"
+            )
+        v = K.data[self._sel]
+        if pinned is not None:
+            pinned = np.asarray(pinned, dtype=bool)
+            if pinned.shape != self.keep.shape:
+                raise ValueError(
+                    f"pinned must be a ({self.keep.size},) bool mask of the kept dofs; got {pinned.shape}"
+                )
+            out = pinned[self._row] | pinned[self._col]
+            v[out] = 0.0
+            v[out & self._diag] = 1.0
+        self._A.V = matrix(v)
+        try:
+            cholmod.numeric(self._A, self._F)
+            self._lu = None
+        except ArithmeticError as exc:  # not positive definite: LU with diagonal pivots
+            self.fallbacks += 1
+            log.info("Refactor: the matrix is not positive definite (CHOLMOD: %s); SuperLU instead", exc)
+            m = self.keep.size
+            low = sp.csc_matrix((v, (self._row, self._col)), shape=(m, m))
+            self._lu = factor_spd(low + sp.tril(low, -1).T, perm=self.order)
+        return self
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """``x`` (m,) or (m, k) with ``K_kk x = b`` for the matrix of the last :meth:`factor`."""
+        from cvxopt import cholmod, matrix
+
+        if self._lu is not None:
+            return self._lu.solve(b)
+        b = np.asarray(b, dtype=float)
+        X = matrix(np.asfortranarray(b if b.ndim == 2 else b[:, None]))
+        cholmod.solve(self._F, X)
+        x = np.array(X)
+        return x if b.ndim == 2 else x[:, 0]
+
+
 def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None = None) -> SPDFactor:
     """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
 
@@ -133,4 +229,4 @@ def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None
     return SPDFactor(lu, perm, K.shape, rows)
 
 
-__all__ = ["SPDFactor", "factor_spd", "nested_dissection", "restrict_order"]
+__all__ = ["Refactor", "SPDFactor", "factor_spd", "nested_dissection", "restrict_order"]

@@ -33,7 +33,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .sparse_factor import csr_slots, factor_spd, nested_dissection, restrict_order
+from ._kernels import _svk_element_loop
+from .sparse_factor import Refactor, csr_slots, nested_dissection, restrict_order
 from .wall import Wall, turn_matrix
 
 log = logging.getLogger(__name__)
@@ -51,64 +52,43 @@ def _gradients(basis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.array(comp), np.moveaxis(np.array(g), (0, 1), (2, 3)), np.asarray(basis.dx)
 
 
-def svk_tangent(basis, u: np.ndarray, mu: float, lam: float, cache: dict | None = None) -> tuple:
+def svk_tangent(
+    basis, u: np.ndarray, mu: float, lam: float, cache: dict | None = None, *, tangent: bool = True
+) -> tuple:
     """Tangent stiffness ``K`` (N, N) csr and internal force ``r`` (N,) of a St. Venant–
     Kirchhoff solid at displacement ``u`` (N,) (module docstring), total Lagrangian.
 
     basis : a scikit-fem vector basis (e.g. the wall's ``ElementVector(ElementHex2())``);
     mu, lam : Lamé parameters [Pa]; cache : a dict kept between calls on one basis
-    (shape-function gradients and the sparsity pattern).
+    (shape-function gradients and the sparsity pattern); tangent : False for ``(None, r)``,
+    the internal force alone.
     """
     c = {} if cache is None else cache
-    if "g" not in c:
-        c["comp"], c["g"], c["w"] = _gradients(basis)
+    if "G" not in c:
+        comp, g, w = _gradients(basis)
+        nn = comp.size // 3
+        interleaved = np.array_equal(comp, np.tile([0, 1, 2], nn)) and np.array_equal(
+            g[:, :, 0::3], g[:, :, 1::3]
+        )
+        if not interleaved:
+            raise ValueError("svk_tangent needs a vector basis with dofs interleaved per node (x, y, z)")
+        c["G"], c["w"] = np.ascontiguousarray(g[:, :, 0::3, :]), np.ascontiguousarray(w)
         dofs = basis.element_dofs.T  # (e, 81)
-        c["dofs"] = dofs
+        c["dofs"] = np.ascontiguousarray(dofs, dtype=np.int64)
         # the CSR pattern once: each element-matrix entry's slot in K.data (duplicates share
-        # one), so every tangent is a bincount into it instead of a COO -> CSR conversion
+        # one), so every tangent is a sum into it instead of a COO -> CSR conversion
         rows = np.repeat(dofs, dofs.shape[1], axis=1).ravel().astype(np.int64)
         cols = np.tile(dofs, (1, dofs.shape[1])).ravel()
         c["slot"], c["indices"], c["indptr"] = csr_slots(rows, cols, basis.N)
-        c["by_comp"] = [np.flatnonzero(c["comp"] == i) for i in range(3)]
-    comp, g, w, dofs = c["comp"], c["g"], c["w"], c["dofs"]
-    ue = u[dofs]  # (e, 81)
-    eye = np.eye(3)
-    # F_iJ = δ_iJ + Σ_k u_k [comp_k = i] g_kJ
-    F = np.broadcast_to(eye, (*w.shape, 3, 3)).copy()
-    for i, ks in enumerate(c["by_comp"]):
-        F[..., i, :] += np.einsum("ek,eqkJ->eqJ", ue[:, ks], g[:, :, ks, :])
-    C = np.einsum("eqiI,eqiJ->eqIJ", F, F)
-    E = 0.5 * (C - eye)
-    trE = np.trace(E, axis1=-2, axis2=-1)
-    S = lam * trE[..., None, None] * eye + 2 * mu * E
-    P = F @ S
-    # internal force r_k = Σ_q w g_kJ P_{comp_k, J}
-    re = np.einsum("eqkJ,eqkJ,eq->ek", g, P[:, :, comp, :], w)
+    u = np.asarray(u, dtype=float)
+    if u.shape != (basis.N,) or not np.isfinite(u).all():
+        raise ValueError(f"u must be ({basis.N},) finite displacements [m]; got shape {u.shape}")
     r = np.zeros(basis.N)
-    np.add.at(r, dofs.ravel(), re.ravel())
-    # A_iJmL = δ_im S_JL + λ F_iJ F_mL + μ (F_iL F_mJ + δ_JL (F Fᵀ)_im)   (dP_iJ / dF_mL),
-    # one (J, L) block per component pair (i, m), times the weights
-    FFt = F @ np.swapaxes(F, -1, -2)
-    Sw, Fw = S * w[..., None, None], F * w[..., None, None]
-    n_e, n_q, n_k = g.shape[0], g.shape[1], g.shape[2]
-    Ke = np.zeros((n_e, n_k, n_k))
-    for i, ki in enumerate(c["by_comp"]):
-        gi = g[:, :, ki, :]  # (e, q, a, J)
-        for m, km in enumerate(c["by_comp"]):
-            A = lam * Fw[..., i, :, None] * F[..., m, None, :] + mu * Fw[..., m, :, None] * F[..., i, None, :]
-            A += (mu * FFt[..., i, m] * w)[..., None, None] * eye
-            if i == m:
-                A += Sw
-            T = gi @ A  # (e, q, a, L)
-            # Σ_q Σ_L T_qaL g_qbL as a batched product over elements
-            blk = np.matmul(
-                T.transpose(0, 2, 1, 3).reshape(n_e, ki.size, n_q * 3),
-                g[:, :, km, :].transpose(0, 1, 3, 2).reshape(n_e, n_q * 3, km.size),
-            )
-            Ke[:, ki[:, None], km[None, :]] = blk
-    data = np.bincount(c["slot"], weights=Ke.ravel(), minlength=c["indices"].size)
-    K = sp.csr_matrix((data, c["indices"], c["indptr"]), shape=(basis.N, basis.N))
-    return K, r
+    data = np.zeros(c["indices"].size if tangent else 0)
+    _svk_element_loop(c["G"], c["w"], c["dofs"], u, float(mu), float(lam), c["slot"], data, r, tangent)
+    if not tangent:
+        return None, r
+    return sp.csr_matrix((data, c["indices"], c["indptr"]), shape=(basis.N, basis.N)), r
 
 
 def squeeze_nonlinear(
@@ -131,7 +111,9 @@ def squeeze_nonlinear(
     (k, 2) [N] (from 0), ``stiffness`` = force / closing at ``force`` (linear
     interpolation on the curve; NaN if not reached), ``work`` = ∫ f dΔ [J] up to it,
     Newton iterations and seconds; ``on_clamp`` when the curve stopped because a jaw
-    reached a clamped node of its footprint (the base: the grasp is rigid from there).
+    reached a clamped node of its footprint (the base: the grasp is rigid from there);
+    ``lu_fallbacks``: Newton steps whose tangent was not positive definite (factored by
+    SuperLU instead of Cholesky: :class:`workbench.fem.sparse_factor.Refactor`).
     """
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be a positive jaw force [N]; got {force}")
@@ -162,6 +144,7 @@ def squeeze_nonlinear(
     assert (comp[outer_x] == 0).all()
     u, u_prev = np.zeros(b.N), np.zeros(b.N)
     cache: dict = {}
+    unclamped, chol = np.flatnonzero(~fixed), None  # contact pins some of these dofs
     active = [np.zeros(0, dtype=int), np.zeros(0, dtype=int)]
     closing, forces, iters, on_clamp = [0.0], [np.zeros(2)], 0, False
     while closing[-1] < max_closing and np.mean(forces[-1]) < force:
@@ -178,17 +161,15 @@ def squeeze_nonlinear(
                 bc[outer_x[cand[act]]] = True
                 target[outer_x[cand[act]]] = plane - X[cand[act], 0]
             fr = np.flatnonzero(~bc)
-            order = None
             for _ in range(max_newton):
                 K, r = svk_tangent(b, u, mu, lam, cache)
-                if "order" not in cache:  # one fill-reducing order per grasp, for every contact set
-                    cache["order"] = nested_dissection(K)
-                if order is None:
-                    order = restrict_order(cache["order"], fr)
+                if chol is None:  # one order and symbolic Cholesky per grasp, for every contact set
+                    chol = Refactor(K, unclamped, restrict_order(nested_dissection(K), unclamped))
                 du = np.zeros(b.N)
                 du[bc] = target[bc] - u[bc]
-                Kr = K[fr]  # the free rows once, for both column blocks
-                du[fr] = factor_spd(Kr[:, fr], perm=order).solve(-r[fr] - Kr[:, bc] @ du[bc])
+                rhs = -r - K @ du  # du is 0 on the free dofs: -r - K_fb du_b there
+                rhs[bc] = du[bc]
+                du[unclamped] = chol.factor(K, pinned=bc[unclamped]).solve(rhs[unclamped])
                 u += du
                 iters += 1
                 log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
@@ -196,7 +177,7 @@ def squeeze_nonlinear(
                     break
             else:
                 log.warning("squeeze_nonlinear: Newton did not converge at closing %.3g mm", d * 1e3)
-            _, r = svk_tangent(b, u, mu, lam, cache)
+            _, r = svk_tangent(b, u, mu, lam, cache, tangent=False)
             changed = False
             for j, ((s, cand, _, _), plane) in enumerate(zip(sides, planes, strict=True)):
                 act = active[j]
@@ -209,7 +190,7 @@ def squeeze_nonlinear(
                 active[j] = new
             if not changed:
                 break
-        _, r = svk_tangent(b, u, mu, lam, cache)
+        _, r = svk_tangent(b, u, mu, lam, cache, tangent=False)
         f = np.array(
             [-s * r[outer_x[cand[act]]].sum() for (s, cand, _, _), act in zip(sides, active, strict=True)]
         )
@@ -225,6 +206,7 @@ def squeeze_nonlinear(
         "work": work,
         "newton_iterations": iters,
         "on_clamp": on_clamp,
+        "lu_fallbacks": 0 if chol is None else chol.fallbacks,
         "seconds": time.perf_counter() - t0,
     }
 

@@ -109,3 +109,78 @@ def test_factor_refuses_an_order_that_is_not_a_permutation(perm):
     K = sp.identity(4, format="csr") * 2.0
     with pytest.raises(ValueError, match="permutation of 0..3"):
         factor_spd(K, perm=np.array(perm))
+
+
+def _refactor_case(seed):
+    """A sparse SPD K (the 2D Laplacian with random symmetric values on its pattern), a kept set
+    (the unclamped dofs) and, inside it, a pinned set (the contact nodes of one Newton step)."""
+    rng = np.random.default_rng(seed)
+    K = _spd(14)
+    K = K + sp.diags(rng.uniform(0.0, 1.0, K.shape[0]))  # same pattern, other values
+    K.sort_indices()
+    keep = np.flatnonzero(rng.random(K.shape[0]) > 0.15)
+    pinned = rng.random(keep.size) < 0.1
+    return rng, K, keep, pinned
+
+
+def test_refactor_solves_the_kept_block_with_pinned_rows_as_dirichlet_values():
+    """The Newton step's linear system both ways: CHOLMOD on the pinned-as-identity matrix (the
+    pinned values moved to the right-hand side first, as the caller does), and the textbook
+    elimination of the pinned rows and columns solved densely."""
+    from workbench.fem.sparse_factor import Refactor, nested_dissection, restrict_order
+
+    rng, K, keep, pinned = _refactor_case(0)
+    chol = Refactor(K, keep, restrict_order(nested_dissection(K), keep))
+    Kk = K[keep][:, keep].toarray()
+    for scale in (1.0, 3.0):  # a second matrix of the same pattern: numeric factor only
+        Ks = K.copy()
+        Ks.data *= scale
+        b = rng.standard_normal(keep.size)
+        f = ~pinned
+        A = scale * Kk
+        rhs = b.copy()
+        rhs[f] -= A[np.ix_(f, pinned)] @ b[pinned]
+        x = chol.factor(Ks, pinned).solve(rhs)
+        np.testing.assert_array_equal(x[pinned], b[pinned])
+        ref = np.linalg.solve(A[np.ix_(f, f)], b[f] - A[np.ix_(f, pinned)] @ b[pinned])
+        np.testing.assert_allclose(x[f], ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+        # without pins: the kept block itself, several right-hand sides at once
+        B = rng.standard_normal((keep.size, 3))
+        np.testing.assert_allclose(chol.factor(Ks).solve(B), np.linalg.solve(A, B), rtol=1e-10, atol=1e-12)
+    assert chol.fallbacks == 0
+
+
+def test_refactor_falls_back_to_lu_on_an_indefinite_matrix_and_counts_it(caplog):
+    from workbench.fem.sparse_factor import Refactor, nested_dissection
+
+    rng, K, _, _ = _refactor_case(1)
+    keep = np.arange(K.shape[0])
+    chol = Refactor(K, keep, nested_dissection(K))
+    Kin = K.copy()
+    on_diagonal = Kin.indices == np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
+    Kin.data[on_diagonal] -= 2.5  # some negative pivots
+    assert np.linalg.eigvalsh(Kin.toarray()).min() < 0
+    b = rng.standard_normal(keep.size)
+    with caplog.at_level("INFO"):
+        x = chol.factor(Kin).solve(b)
+    assert chol.fallbacks == 1 and "not positive definite" in caplog.text
+    np.testing.assert_allclose(x, np.linalg.solve(Kin.toarray(), b), rtol=1e-8, atol=1e-10)
+    # and back to Cholesky for the next positive definite one
+    np.testing.assert_allclose(chol.factor(K).solve(b), np.linalg.solve(K.toarray(), b), rtol=1e-10)
+    assert chol.fallbacks == 1
+
+
+def test_refactor_refuses_another_pattern_and_bad_masks():
+    from workbench.fem.sparse_factor import Refactor, nested_dissection
+
+    _, K, keep, pinned = _refactor_case(2)
+    chol = Refactor(K, np.arange(K.shape[0]), nested_dissection(K))
+    other = (K + sp.random(*K.shape, density=0.01, random_state=0)).tocsr()
+    with pytest.raises(ValueError, match="pattern differs"):
+        chol.factor(other)
+    with pytest.raises(ValueError, match="pinned must be a"):
+        chol.factor(K, pinned[:5])
+    with pytest.raises(ValueError, match="keep must be sorted unique"):
+        Refactor(K, keep[::-1], np.arange(keep.size))
+    with pytest.raises(ValueError, match="order must be an elimination order"):
+        Refactor(K, keep, np.arange(keep.size - 1))
