@@ -33,12 +33,12 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from skfem import Basis, ElementHex2, ElementVector, MeshHex, asm
-from skfem.models.elasticity import linear_elasticity
+from skfem import Basis, ElementHex2, ElementVector, MeshHex
 
 from .contact import solve_lcp
 from .material import Material
 from .sparse_factor import factor_spd
+from .svk import linear_stiffness
 
 log = logging.getLogger(__name__)
 
@@ -110,7 +110,7 @@ class Wall:
     def lu(self):
         """Sparse factor of ``K_ff`` (:class:`workbench.fem.sparse_factor.SPDFactor`): ``.solve(b)``."""
         t0 = time.perf_counter()
-        K = asm(linear_elasticity(self.material.lam, self.material.mu), self.basis).tocsr()
+        K = linear_stiffness(self.basis, self.material.mu, self.material.lam)  # the element kernel
         # the contact solve loads dozens of nodes at once: the blocked solves
         lu = factor_spd(K[self.free][:, self.free], blocked=True)
         self._stiffness_seconds = time.perf_counter() - t0

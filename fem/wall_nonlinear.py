@@ -9,11 +9,14 @@ centimetres' radius: ε ≈ t / 2ρ ≲ 1 %), which is the range of St. Venant�
     dP[δF] = δF S + F (λ tr(δE) I + 2μ δE),   δE = sym(Fᵀ δF)                   (consistent tangent)
 
 on the same triquadratic mesh, Gauss rule and clamps as the linear wall
-(:func:`workbench.fem.wall.build_wall`).  The weak form is assembled here element-wise with
-batched matrix products instead of scikit-fem's form language — for a 27-node hex
-with 27 Gauss points the latter evaluates the form once per (i, j) basis pair (6,561
-times) and takes ~40 s per tangent; this takes ~1 s.  ``tests/`` checks it against a
-scikit-fem ``BilinearForm`` / ``LinearForm`` of the same equations.
+(:func:`workbench.fem.wall.build_wall`).  The weak form is assembled by
+:func:`workbench.fem.svk.svk_tangent`, a Numba element loop (node pair by node pair) instead of
+scikit-fem's form language — for a 27-node hex with 27 Gauss points the latter evaluates the form once per
+(i, j) basis pair (6,561 times) and takes ~40 s per tangent; this takes ~0.05 s on a cup wall
+(0.3 s by batched NumPy products before).  ``tests/`` checks it against a scikit-fem
+``BilinearForm`` / ``LinearForm`` of the same equations.  Newton's linear systems are
+factored by :class:`workbench.fem.sparse_factor.Refactor` (Cholesky, one symbolic analysis per
+grasp: the contact set pins dofs without changing the pattern).
 
 The jaws are rigid frictionless planes normal to the grasp axis, which must be the
 mesh's x axis (build the wall in that frame: :func:`grasp_frame_wall`); a footprint
@@ -31,64 +34,12 @@ import time
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
-from ._kernels import _svk_element_loop
-from .sparse_factor import Refactor, csr_slots, nested_dissection, restrict_order
+from .sparse_factor import Refactor, nested_dissection, restrict_order
+from .svk import svk_tangent
 from .wall import Wall, turn_matrix
 
 log = logging.getLogger(__name__)
-
-
-def _gradients(basis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per local dof k of a vector basis: its component ``comp`` (81,), the gradient of
-    its scalar shape function ``g`` (e, q, 81, 3) and the weights × det J ``w`` (e, q)."""
-    comp, g = [], []
-    for k in range(basis.Nbfun):
-        G = np.asarray(basis.basis[k][0].grad)  # (3, 3, e, q): row = component
-        c = int(np.argmax(np.abs(G).reshape(3, -1).max(axis=1)))
-        comp.append(c)
-        g.append(G[c])
-    return np.array(comp), np.moveaxis(np.array(g), (0, 1), (2, 3)), np.asarray(basis.dx)
-
-
-def svk_tangent(
-    basis, u: np.ndarray, mu: float, lam: float, cache: dict | None = None, *, tangent: bool = True
-) -> tuple:
-    """Tangent stiffness ``K`` (N, N) csr and internal force ``r`` (N,) of a St. Venant–
-    Kirchhoff solid at displacement ``u`` (N,) (module docstring), total Lagrangian.
-
-    basis : a scikit-fem vector basis (e.g. the wall's ``ElementVector(ElementHex2())``);
-    mu, lam : Lamé parameters [Pa]; cache : a dict kept between calls on one basis
-    (shape-function gradients and the sparsity pattern); tangent : False for ``(None, r)``,
-    the internal force alone.
-    """
-    c = {} if cache is None else cache
-    if "G" not in c:
-        comp, g, w = _gradients(basis)
-        nn = comp.size // 3
-        interleaved = np.array_equal(comp, np.tile([0, 1, 2], nn)) and np.array_equal(
-            g[:, :, 0::3], g[:, :, 1::3]
-        )
-        if not interleaved:
-            raise ValueError("svk_tangent needs a vector basis with dofs interleaved per node (x, y, z)")
-        c["G"], c["w"] = np.ascontiguousarray(g[:, :, 0::3, :]), np.ascontiguousarray(w)
-        dofs = basis.element_dofs.T  # (e, 81)
-        c["dofs"] = np.ascontiguousarray(dofs, dtype=np.int64)
-        # the CSR pattern once: each element-matrix entry's slot in K.data (duplicates share
-        # one), so every tangent is a sum into it instead of a COO -> CSR conversion
-        rows = np.repeat(dofs, dofs.shape[1], axis=1).ravel().astype(np.int64)
-        cols = np.tile(dofs, (1, dofs.shape[1])).ravel()
-        c["slot"], c["indices"], c["indptr"] = csr_slots(rows, cols, basis.N)
-    u = np.asarray(u, dtype=float)
-    if u.shape != (basis.N,) or not np.isfinite(u).all():
-        raise ValueError(f"u must be ({basis.N},) finite displacements [m]; got shape {u.shape}")
-    r = np.zeros(basis.N)
-    data = np.zeros(c["indices"].size if tangent else 0)
-    _svk_element_loop(c["G"], c["w"], c["dofs"], u, float(mu), float(lam), c["slot"], data, r, tangent)
-    if not tangent:
-        return None, r
-    return sp.csr_matrix((data, c["indices"], c["indptr"]), shape=(basis.N, basis.N)), r
 
 
 def squeeze_nonlinear(
