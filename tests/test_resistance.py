@@ -175,3 +175,51 @@ def test_single_6dls_contact_resists_exactly_its_own_limit_surface(model, monkey
         for ui in u:
             w_ext = -(F * cm.normal_wrench + rho * ls.value(ui) ** (-1 / ls.degree) * ui)
             assert bool(resists([contact], w_ext, mu)) == (rho < 1), (rho, ui)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_highs_lp_equals_scipy_linprog_with_its_duals(seed):
+    """The direct HiGHS call (workbench.grasp.resistance.solvers.highs_lp) against scipy's
+    linprog(method="highs") on random feasible LPs with equality, inequality and bound rows:
+    the same optimum, primal point and equality/inequality marginals (the column generation of
+    resists_exact reads the equality duals as its separating direction)."""
+    import scipy.sparse as sp
+    from scipy.optimize import linprog
+
+    from workbench.grasp.resistance.solvers import highs_lp
+
+    rng = np.random.default_rng(seed)
+    n, m_eq, m_ub = 30, 6, 8
+    A_eq = rng.standard_normal((m_eq, n))
+    A_ub = rng.standard_normal((m_ub, n))
+    x0 = rng.uniform(0.1, 1.0, n)  # strictly feasible: every row and bound holds at x0
+    b_eq, b_ub = A_eq @ x0, A_ub @ x0 + rng.uniform(0.1, 1.0, m_ub)
+    c = rng.uniform(0.5, 2.0, n)  # positive costs with x >= 0: bounded
+    ub = np.where(rng.random(n) < 0.3, 2.0, np.inf)
+    ref = linprog(
+        c,
+        A_ub=A_ub,
+        b_ub=b_ub,
+        A_eq=A_eq,
+        b_eq=b_eq,
+        bounds=list(zip([0] * n, ub, strict=True)),
+        method="highs",
+    )
+    assert ref.status == 0
+    x, duals, fun = highs_lp(
+        c,
+        sp.csc_matrix(np.vstack([A_eq, A_ub])),
+        np.r_[b_eq, np.full(m_ub, -np.inf)],
+        np.r_[b_eq, b_ub],
+        np.zeros(n),
+        ub,
+    )
+    assert fun == pytest.approx(ref.fun, rel=1e-12)
+    np.testing.assert_allclose(x, ref.x, atol=1e-9)
+    np.testing.assert_allclose(duals[:m_eq], ref.eqlin.marginals, atol=1e-9)
+    np.testing.assert_allclose(duals[m_eq:], ref.ineqlin.marginals, atol=1e-9)
+    # an infeasible LP (x >= 0 and Σ x = -1) is no answer
+    assert (
+        highs_lp(np.ones(3), sp.csc_matrix(np.ones((1, 3))), [-1.0], [-1.0], np.zeros(3), np.full(3, np.inf))
+        is None
+    )

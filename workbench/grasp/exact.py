@@ -9,7 +9,7 @@ approximation of W — a finite sample in 6D misses a lot — so the question
 ``−w_ext ∈ Σ_i G_i C_i`` is answered here by column generation:
 
 1. LP over the current columns: ``min 1ᵀ(s⁺ + s⁻)`` s.t. ``Σ α v − s⁺ + s⁻ = −w``,
-   one weight simplex per contact (HiGHS);
+   one weight simplex per contact (HiGHS: :func:`~.resistance.solvers.highs_lp`);
 2. optimum 0: member (resisted).  Otherwise the equality duals ``y`` give the LP's
    separating direction; with the exact supports ``h_i(y)``, a positive gap
    ``−w·y − Σ_i h_i(y) > 0`` certifies non-membership; else the support points
@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.optimize import linprog
 
 from ..profile import ContactProfile
 from ..twists import sample_twists_thesis
 from ..wrench import frictional_wrenches
 from .contacts import contact_map
 from .gws import check_wrench
+from .resistance.solvers import highs_lp
 
 
 class ExactContacts:
@@ -108,20 +108,20 @@ def resists_exact(
             B[i, s0 : s0 + m] = 1.0
             B[N + i, s0 : s0 + m] = -1.0
             s0 += m
-        res = linprog(
+        out = highs_lp(
             np.r_[np.zeros(n), np.ones(12)],
-            A_ub=sp.csr_matrix(B),
-            b_ub=np.r_[hi / F, -lo / F],
-            A_eq=sp.csr_matrix(A),
-            b_eq=target,
-            bounds=(0, None),
-            method="highs",
+            sp.csc_matrix(np.vstack([A, B])),
+            np.r_[target, np.full(2 * N, -np.inf)],
+            np.r_[target, hi / F, -lo / F],
+            np.zeros(n + 12),
+            np.full(n + 12, np.inf),
         )
-        if res.status != 0:
-            raise RuntimeError(f"HiGHS failed in resists_exact: {res.message}")
-        if res.fun <= tol:
+        if out is None:
+            raise RuntimeError("HiGHS failed in resists_exact (no optimal solution of the column LP)")
+        _, duals, fun = out
+        if fun <= tol:
             return True, it
-        y = np.asarray(res.eqlin.marginals[:6])
+        y = duals[:6]
         d = D * y  # raw-wrench direction of the scaled dual
         gap = target @ y
         new = []

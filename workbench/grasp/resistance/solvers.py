@@ -100,52 +100,71 @@ def _slack_form(prog: Program):
     return np.vstack(A_eq), np.concatenate(b_eq), G12, h, lb, ub
 
 
-def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
-    """``min ‖A6 y + w‖₁`` (slacks ``t⁺, t⁻``) over the polyhedral rows (HiGHS): always
-    feasible when the rows are; returns (y, residual).
+def highs_lp(
+    cost: np.ndarray,
+    M: sp.csc_matrix,
+    row_lo: np.ndarray,
+    row_hi: np.ndarray,
+    col_lo: np.ndarray,
+    col_hi: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """``min costᵀx`` s.t. ``row_lo <= M x <= row_hi``, ``col_lo <= x <= col_hi`` (±inf: no
+    bound) by HiGHS with its defaults (those of ``linprog(method="highs")``), one model passed
+    straight to ``highspy``: ``(x (n,), row duals (m,), objective)``, None unless optimal.
 
-    One HiGHS model passed straight to ``highspy`` (HiGHS's defaults, as ``linprog(method=
-    "highs")`` uses them): scipy's ``linprog`` cleaned and converted the inputs and the
-    bounds in Python for ~12 ms of a ~19 ms solve on the sensitivity experiment's 6DFW
-    margins (2,100 LPs)."""
+    cost : (n,); M : (m, n) csc; row duals as ``linprog``'s ``marginals`` (∂ objective / ∂ row
+    bound).  scipy's ``linprog`` spends ~3–12 ms per call cleaning and converting its inputs
+    in Python, more than HiGHS takes on the workbench's small LPs."""
     import highspy
 
-    A_eq, b_eq, G, h, lb, ub = _slack_form(prog)
-    rows = [A_eq] if G is None else [A_eq, G]
-    M = sp.csc_matrix(np.vstack(rows))
-    M.sort_indices()
     inf = highspy.kHighsInf
-    row_lo = np.concatenate([b_eq] + ([] if G is None else [np.full(len(G), -inf)]))
-    row_hi = np.concatenate([b_eq] + ([] if G is None else [h]))
-    n_col = prog.n + 12
-    hs = highspy._Highs()  # without highspy.Highs's banner on stdout (see MinLP)
-    hs.setOptionValue("output_flag", False)
-    status = hs.passModel(
-        n_col,
+    M = sp.csc_matrix(M)
+    M.sort_indices()
+    n = M.shape[1]
+    h = highspy._Highs()  # without highspy.Highs's banner on stdout (see MinLP)
+    h.setOptionValue("output_flag", False)
+    status = h.passModel(
+        n,
         M.shape[0],
         M.nnz,
         int(highspy.MatrixFormat.kColwise),
         int(highspy.ObjSense.kMinimize),
         0.0,
-        np.r_[np.zeros(prog.n), np.ones(12)],
-        np.where(np.isfinite(lb), lb, -inf),
-        np.where(np.isfinite(ub), ub, inf),
-        row_lo,
-        row_hi,
+        np.asarray(cost, dtype=float),
+        np.where(np.isfinite(col_lo), col_lo, -inf),
+        np.where(np.isfinite(col_hi), col_hi, inf),
+        np.where(np.isfinite(row_lo), row_lo, -inf),
+        np.where(np.isfinite(row_hi), row_hi, inf),
         M.indptr.astype(np.int32),
         M.indices.astype(np.int32),
-        M.data,
-        np.zeros(n_col, dtype=np.int32),
+        M.data.astype(float),
+        np.zeros(n, dtype=np.int32),
     )
     if status == highspy.HighsStatus.kError:  # pragma: no cover - a malformed program is a bug
-        raise RuntimeError(f"HiGHS refused the residual LP: {status}")
-    hs.run()
-    model_status = hs.getModelStatus()
+        raise RuntimeError(f"HiGHS refused the LP: {status}")
+    h.run()
+    model_status = h.getModelStatus()
     if model_status != highspy.HighsModelStatus.kOptimal:
-        log.debug("HiGHS on the residual LP: %s", hs.modelStatusToString(model_status))
+        log.debug("HiGHS: %s", h.modelStatusToString(model_status))
+        return None
+    sol = h.getSolution()
+    return np.array(sol.col_value), np.array(sol.row_dual), float(h.getInfo().objective_function_value)
+
+
+def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
+    """``min ‖A6 y + w‖₁`` (slacks ``t⁺, t⁻``) over the polyhedral rows (HiGHS, :func:`highs_lp`):
+    always feasible when the rows are; returns (y, residual)."""
+    A_eq, b_eq, G, h, lb, ub = _slack_form(prog)
+    rows = [A_eq] if G is None else [A_eq, G]
+    row_lo = np.concatenate([b_eq] + ([] if G is None else [np.full(len(G), -np.inf)]))
+    row_hi = np.concatenate([b_eq] + ([] if G is None else [h]))
+    out = highs_lp(
+        np.r_[np.zeros(prog.n), np.ones(12)], sp.csc_matrix(np.vstack(rows)), row_lo, row_hi, lb, ub
+    )
+    if out is None:
         return None, float("nan")
-    x = np.array(hs.getSolution().col_value)
-    return x[: prog.n], float(hs.getInfo().objective_function_value)
+    x, _, objective = out
+    return x[: prog.n], objective
 
 
 class MinLP:
