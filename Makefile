@@ -54,6 +54,7 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) bench-grasp -- $(BIN)/python benchmarks/bench_grasp.py
 	$(TIMED) bench-minimal-work -- $(BIN)/python benchmarks/bench_minimal_work.py
 	$(TIMED) bench-wall-stiffness -- $(BIN)/python benchmarks/bench_wall_stiffness.py
+	$(TIMED) bench-newton -- $(BIN)/python benchmarks/bench_newton.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 	$(TIMED) bench-pareto -- $(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/workbench report
