@@ -99,15 +99,18 @@ class NonlinearPad:
         self.free = np.flatnonzero(~fixed)
         # one fill-reducing order of the free tangent's graph (the element connectivity: the
         # contact blocks stay inside each node's own 3x3 block), used by every Newton solve
-        pattern = sp.csr_matrix((np.ones(self._rows.size), (self._rows, self._cols)), shape=(self.b2.N,) * 2)
-        self._order = nested_dissection(pattern[self.free][:, self.free])
-        # where each node's 3x3 block sits in the tangent's CSR values: the contact blocks are added
-        # there, so K + K_c keeps the pattern and one symbolic Cholesky serves every Newton step
-        at = sp.csr_matrix((np.arange(self._indices.size, dtype=float), self._indices, self._indptr))
-        nd = nodal.T  # (nodes, 3)
-        self._block_slot = np.asarray(at[np.repeat(nd, 3, axis=1).ravel(), np.tile(nd, (1, 3)).ravel()])
-        self._block_slot = self._block_slot.astype(np.int64).reshape(-1, 3, 3)
         self.face_dofs = nodal[:, self.face].T  # (n, 3) global dofs of the face nodes
+        shape = (self.b2.N, self.b2.N)
+        pattern = sp.csr_matrix((np.ones(self._indices.size), self._indices, self._indptr), shape=shape)
+        self._order = nested_dissection(pattern[self.free][:, self.free])
+        # where each face node's 3x3 block sits in the tangent's CSR values: the contact blocks are
+        # added there, so K + K_c keeps the pattern and one symbolic Cholesky serves every Newton step
+        at = sp.csr_matrix(
+            (np.arange(self._indices.size, dtype=float), self._indices, self._indptr), shape=shape
+        )
+        fd = self.face_dofs
+        slots = np.asarray(at[np.repeat(fd, 3, axis=1).ravel(), np.tile(fd, (1, 3)).ravel()])
+        self._face_block_slot = slots.astype(np.int64).reshape(-1, 3, 3)  # (n, 3, 3)
         # face quads and tributary areas of the undeformed face (penalty scaling)
         self.face_xy = self.mesh.p[:2, self.face].T
         self._quads, self.area0 = face_grid(self.face_xy)
@@ -163,7 +166,7 @@ class NonlinearPad:
                     dn = np.stack(cols, axis=2) / (2 * eps)  # (m, 3, 3): dn_i/dx_j
                     geo = lam[act, None, None] * 0.5 * (dn + dn.transpose(0, 2, 1))
                 blocks = k[act, None, None] * nrm[act, :, None] * nrm[act, None, :] - geo
-                K.data[self._block_slot[self.face[act]]] += blocks  # K + K_c, one node's block each
+                K.data[self._face_block_slot[act]] += blocks  # K + K_c, one node's block each
                 if opts["chol"] is None:  # the symbolic analysis once per solve
                     opts["chol"] = Refactor(K, self.free, self._order)
                 du = opts["chol"].factor(K).solve(-res)
