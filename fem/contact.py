@@ -257,7 +257,7 @@ def solve_contact_full(
     An active node i is held on the obstacle, ``n_iᵀ u_i = -d_i``: one of its free
     displacement components (the one of largest ``|n_ic|``) is eliminated by that equation
     (:func:`_eliminate_contacts`), leaving ``Tᵀ K T`` symmetric positive definite — solved by a
-    nested-dissection ordered sparse factor (:func:`.sparse_factor.factor_spd`, one ordering
+    nested-dissection ordered Cholesky factor (:func:`.sparse_factor.cholesky`, one ordering
     of the mesh for every active set) — and the contact force is the eliminated row's
     reaction, ``(K u)_ic = λ_i n_ic``.  The same solution as the saddle-point system
     ``[[K, Bᵀ], [B, 0]] [u; -λ] = [0; -d_S]`` (``tests/test_fem_contact.py`` solves both),
@@ -268,7 +268,7 @@ def solve_contact_full(
         e.g. a cylinder along y on a one-element-long slab: exact plane strain).
     """
     from .elasticity import basis, stiffness
-    from .sparse_factor import factor_spd, nested_dissection, restrict_order
+    from .sparse_factor import cholesky, nested_dissection, restrict_order
 
     mesh = geometry.mesh()
     z = mesh.p[2]
@@ -294,7 +294,7 @@ def solve_contact_full(
         S = np.flatnonzero(active)
         T, g, kept, elim, n_elim = _eliminate_contacts(face_free[S], nrm[S], d[S], fidx.size)
         A = (T.T @ Kff @ T).tocsr()
-        u = T @ factor_spd(A, perm=restrict_order(order, kept)).solve(-(T.T @ (Kff @ g))) + g
+        u = T @ cholesky(A, restrict_order(order, kept)).solve(-(T.T @ (Kff @ g))) + g
         lam = np.zeros(face.size)
         lam[S] = (Kff @ u)[elim] / n_elim  # the reaction of the eliminated row: λ_i n_ic
         u_face = np.where(face_free >= 0, u[face_free], 0.0)

@@ -12,8 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import Basis, BilinearForm, ElementHex1, ElementVector, MeshHex, asm
-from skfem.helpers import ddot, sym_grad, trace
+from skfem import Basis, ElementHex1, ElementVector, MeshHex
 
 from .material import Material
 
@@ -31,28 +30,32 @@ GAUSS_1 = (np.full((3, 1), 0.5), np.array([1.0]))
 ELEMENT = ElementVector(ElementHex1())
 
 
-@BilinearForm
-def _deviatoric(u, v, w):
-    eu, ev = sym_grad(u), sym_grad(v)
-    return 2.0 * w["mu"] * (ddot(eu, ev) - trace(eu) * trace(ev) / 3.0)
-
-
-@BilinearForm
-def _volumetric(u, v, w):
-    return w["kappa"] * trace(sym_grad(u)) * trace(sym_grad(v))
-
-
 def basis(mesh: MeshHex, quadrature=GAUSS_2) -> Basis:
     """Vector trilinear basis with an explicit quadrature rule."""
     return Basis(mesh, ELEMENT, quadrature=quadrature)
 
 
 def stiffness(mesh: MeshHex, material: Material, scheme: str = "sri") -> sp.csr_matrix:
-    """Global stiffness matrix (3 N × 3 N) of a hex mesh [N/m]."""
+    """Global stiffness matrix (3 N × 3 N) csr of a hex mesh [N/m].
+
+    SRI: ``∫ 2μ (ε:ε − tr ε tr ε / 3)`` on 2x2x2 points plus ``∫ κ tr ε tr ε`` on the centre
+    point; each is a linear-elastic form with Lamé pair (μ, −2μ/3) and (0, κ), assembled by the
+    Numba element loop of :func:`workbench.fem.svk.linear_stiffness` into one sparsity pattern
+    (the same matrix as scikit-fem's ``asm`` of the two forms to rounding, ``tests/test_fem_elasticity.py``:
+    0.6 s against 2.2 s on a 23,064-dof pad block).  ``scheme="full"``: both parts on 2x2x2
+    points, the Lamé pair (μ, λ).
+    """
+    from .svk import svk_tangent
+
     if scheme not in ("sri", "full"):
         raise ValueError(f"scheme must be 'sri' or 'full'; got {scheme!r}")
-    b2 = basis(mesh, GAUSS_2)
-    K_dev = asm(_deviatoric, b2, mu=material.mu)
-    b_vol = b2 if scheme == "full" else basis(mesh, GAUSS_1)
-    K_vol = asm(_volumetric, b_vol, kappa=material.bulk)
-    return (K_dev + K_vol).tocsr()
+    mu = material.mu
+    c2: dict = {}
+    zero = np.zeros(3 * mesh.p.shape[1])
+    if scheme == "full":
+        return svk_tangent(basis(mesh, GAUSS_2), zero, mu, material.lam, c2)[0]
+    K, _ = svk_tangent(basis(mesh, GAUSS_2), zero, mu, -2.0 * mu / 3.0, c2)
+    c1 = {k: c2[k] for k in ("slot", "indices", "indptr", "dofs")}  # same elements, same pattern
+    K_vol, _ = svk_tangent(basis(mesh, GAUSS_1), zero, 0.0, material.bulk, c1)
+    K.data += K_vol.data
+    return K

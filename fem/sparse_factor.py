@@ -195,6 +195,22 @@ class Refactor:
         return x if b.ndim == 2 else x[:, 0]
 
 
+def cholesky(K: sp.spmatrix, perm: np.ndarray | None = None) -> Refactor:
+    """One CHOLMOD Cholesky factorisation of a sparse symmetric positive definite ``K`` (n, n) in
+    the elimination order ``perm`` (n,) (default :func:`nested_dissection`): ``.solve(b)`` for
+    one or a few right-hand sides (many columns at once: :func:`factor_spd` with ``blocked``).
+    Not positive definite: SuperLU in the same order, logged and counted in ``.fallbacks``
+    (:class:`Refactor`).  Used by the full-mesh contact reference (one factor per active set):
+    0.16 s against SuperLU's 0.44 s on fem-fitting's reference pad."""
+    K = sp.csr_matrix(K)
+    if K.shape[0] != K.shape[1]:
+        raise ValueError(f"K must be square; got {K.shape}")
+    if not K.has_sorted_indices:
+        K = K.sorted_indices()  # a sorted copy: the caller's matrix is left as it was
+    perm = nested_dissection(K) if perm is None else np.asarray(perm, dtype=np.int64)
+    return Refactor(K, np.arange(K.shape[0]), perm).factor(K)
+
+
 def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None = None) -> SPDFactor:
     """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
 
@@ -229,4 +245,4 @@ def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None
     return SPDFactor(lu, perm, K.shape, rows)
 
 
-__all__ = ["Refactor", "SPDFactor", "factor_spd", "nested_dissection", "restrict_order"]
+__all__ = ["Refactor", "SPDFactor", "cholesky", "factor_spd", "nested_dissection", "restrict_order"]

@@ -39,8 +39,9 @@ def svk_tangent(
 
     basis : a scikit-fem vector basis (e.g. the wall's ``ElementVector(ElementHex2())``);
     mu, lam : Lamé parameters [Pa]; cache : a dict kept between calls on one basis
-    (shape-function gradients and the sparsity pattern); tangent : False for ``(None, r)``,
-    the internal force alone.
+    (shape-function gradients and the sparsity pattern; a new dict may be given the pattern
+    ``slot``, ``indices``, ``indptr``, ``dofs`` of another basis on the same elements);
+    tangent : False for ``(None, r)``, the internal force alone.
     """
     c = {} if cache is None else cache
     if "G" not in c:
@@ -52,6 +53,7 @@ def svk_tangent(
         if not interleaved:
             raise ValueError("svk_tangent needs a vector basis with dofs interleaved per node (x, y, z)")
         c["G"], c["w"] = np.ascontiguousarray(g[:, :, 0::3, :]), np.ascontiguousarray(w)
+    if "slot" not in c:  # a pattern given by the caller (another quadrature of the same mesh) is kept
         dofs = basis.element_dofs.T  # (e, 81)
         c["dofs"] = np.ascontiguousarray(dofs, dtype=np.int64)
         # the CSR pattern once: each element-matrix entry's slot in K.data (duplicates share

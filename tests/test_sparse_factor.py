@@ -184,3 +184,32 @@ def test_refactor_refuses_another_pattern_and_bad_masks():
         Refactor(K, keep[::-1], np.arange(keep.size))
     with pytest.raises(ValueError, match="order must be an elimination order"):
         Refactor(K, keep, np.arange(keep.size - 1))
+
+
+def test_one_shot_cholesky_solves_like_dense_in_its_own_and_a_given_order():
+    """``cholesky`` (the full-mesh contact reference's factor) against dense solves: an SPD matrix
+    with unsorted CSR indices (as ``Tᵀ K T`` comes out of a sparse product), in METIS's order
+    and in a given one; an indefinite matrix goes to SuperLU and is counted."""
+    from workbench.fem.sparse_factor import cholesky
+
+    rng, K, _, _ = _refactor_case(2)
+    shuffled = K.copy()
+    for i in range(K.shape[0]):  # reverse each row's column indices: unsorted CSR
+        lo, hi = shuffled.indptr[i], shuffled.indptr[i + 1]
+        shuffled.indices[lo:hi] = shuffled.indices[lo:hi][::-1].copy()
+        shuffled.data[lo:hi] = shuffled.data[lo:hi][::-1].copy()
+    shuffled.has_sorted_indices = False
+    b = rng.standard_normal((K.shape[0], 2))
+    ref = np.linalg.solve(K.toarray(), b)
+    for perm in (None, rng.permutation(K.shape[0])):
+        chol = cholesky(shuffled, perm)
+        np.testing.assert_allclose(chol.solve(b), ref, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(chol.solve(b[:, 0]), ref[:, 0], rtol=1e-10, atol=1e-12)
+        assert chol.fallbacks == 0
+    Kin = (K - 2.5 * sp.identity(K.shape[0])).tocsr()
+    assert np.linalg.eigvalsh(Kin.toarray()).min() < 0
+    chol = cholesky(Kin)
+    assert chol.fallbacks == 1
+    np.testing.assert_allclose(chol.solve(b), np.linalg.solve(Kin.toarray(), b), rtol=1e-8, atol=1e-10)
+    with pytest.raises(ValueError, match="square"):
+        cholesky(sp.random(4, 5, density=0.5, format="csr"))

@@ -50,16 +50,32 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
     BLAS threads and two single-threaded workers; with one thread in both they agree to
     1e-4 (the quartic's iterative solver)."""
     import numba
-    from threadpoolctl import threadpool_limits
 
     pin_numba_threads_env()
     before = numba.get_num_threads()
     numba.set_num_threads(1)  # prange reductions sum in another order on more threads too
     try:
-        with threadpool_limits(limits=1):
+        with _blas_controller().limit(limits=1):
             return fn(job)
     finally:
         numba.set_num_threads(before)
+
+
+_CONTROLLER: list = [None, -1]  # [threadpoolctl.ThreadpoolController, len(sys.modules) when made]
+
+
+def _blas_controller() -> Any:
+    """This process's ``threadpoolctl.ThreadpoolController``, made again only when modules were
+    imported since (an import is how a new BLAS or OpenMP library gets loaded).  Making one scans
+    every loaded shared library: ~3-4 ms here, which ``threadpool_limits`` paid on every task —
+    most of a row's scheduling overhead (``benchmarks/bench_sweep.py``); reusing it costs ~30 µs."""
+    import sys
+
+    from threadpoolctl import ThreadpoolController
+
+    if _CONTROLLER[0] is None or _CONTROLLER[1] != len(sys.modules):
+        _CONTROLLER[:] = [ThreadpoolController(), len(sys.modules)]
+    return _CONTROLLER[0]
 
 
 def pin_numba_threads_env() -> None:
@@ -225,8 +241,10 @@ def map_rows(
             # the driver is a third process beside the workers: its own share runs on one BLAS and
             # one Numba thread too, or their pools spin on the workers' cores
             extra = _one_blas_thread(lambda _: meanwhile(), None) if meanwhile is not None else None
-            for fut in as_completed(futures):
-                step(jobs[index[fut.key]], fut.result())
+            # results arrive with the completions (a batch per event-loop turn): a fut.result() per
+            # task crossed to the client's loop thread and back each time (~0.3 ms a row here)
+            for fut, res in as_completed(futures, with_results=True):
+                step(jobs[index[fut.key]], res)
         finally:
             client.cancel(futures)
     if stats is not None:
