@@ -4,9 +4,10 @@ The layer occupies ``[-w/2, w/2] × [-l/2, l/2] × [0, h]``; its back face ``z =
 is bonded to the jaw (all displacements fixed) and the contact face is ``z = h``.
 
 :func:`condense_pad` condenses the linear-elastic layer once onto its contact
-face: ``C = B K⁻¹ Bᵀ`` by unit-load solves with one nested-dissection ordered sparse factorisation,
-all three displacement components per face node, so tangential coupling is
-kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
+face: ``C = B K⁻¹ Bᵀ``, the inverse of the Schur complement of ``K`` onto the face dofs
+(:func:`workbench.fem.sparse_factor.schur_compliance`: one Cholesky factorisation with the
+face eliminated last), all three displacement components per face node, so tangential
+coupling is kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
 cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and
 :data:`CACHE_VERSION`.
 
@@ -36,7 +37,7 @@ from workbench.results import atomic_write_bytes
 
 from .elasticity import basis, stiffness
 from .material import Material
-from .sparse_factor import factor_spd
+from .sparse_factor import schur_compliance
 
 log = logging.getLogger(__name__)
 
@@ -201,7 +202,6 @@ def condense_pad(
     *,
     scheme: str = "sri",
     cache_dir: str | Path | bool | None = None,
-    block: int = 512,
     patch_radius: float | None = None,
 ) -> CondensedPad:
     """Face compliance of the bonded layer (see module docstring).
@@ -245,20 +245,11 @@ def condense_pad(
     free = np.flatnonzero(~fixed)
     pos = np.full(K.shape[0], -1)
     pos[free] = np.arange(free.size)
-    # nested-dissection ordered factor (SPD, no pivoting): measured on fem-validation's Hertz
-    # block at 37,845 dofs, 38 M non-zeros in L + U and 27 s with the 243 face columns, against
-    # SuperLU's default COLAMD with pivoting, 79 M and 147 s
-    lu = factor_spd(K[free][:, free])
+    # the face compliance as the inverse of the Schur complement onto the face dofs (CHOLMOD, the
+    # face eliminated last): measured on fem-validation's finest Hertz block (62,475 free dofs,
+    # 531 face dofs) 56 s by SuperLU unit-load solves, ~6 s so (sparse_factor.schur_compliance)
     face_dofs = nodal[:, face].T.ravel()  # node-major [ux, uy, uz]
-    rows = pos[face_dofs]
-    n = face_dofs.size
-    C1 = np.empty((n, n))
-    for start in range(0, n, block):
-        cols = np.arange(start, min(start + block, n))
-        rhs = np.zeros((free.size, cols.size))
-        rhs[rows[cols], np.arange(cols.size)] = 1.0
-        C1[:, cols] = lu.solve(rhs)[rows]
-    C1 = 0.5 * (C1 + C1.T)  # symmetric up to round-off
+    C1 = schur_compliance(K[free][:, free], pos[face_dofs])
     seconds = time.perf_counter() - t0
     if path is not None:
         buf = io.BytesIO()

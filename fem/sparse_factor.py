@@ -31,6 +31,7 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -110,10 +111,12 @@ def restrict_order(perm: np.ndarray, keep: np.ndarray) -> np.ndarray:
 class Refactor:
     """Cholesky factorisations of ``K[keep][:, keep]`` for a sequence of sparse symmetric ``K``
     (n, n) csr sharing one pattern (a Newton loop's tangents), CHOLMOD's symbolic analysis done
-    once here in the elimination order ``order`` (m,) (positions into ``keep`` (m,) sorted int;
-    e.g. :func:`restrict_order`).  :meth:`factor` then :meth:`solve` ``K_kk x = b``; a changing
-    Dirichlet set needs no new analysis: ``factor(K, pinned)`` replaces those rows and columns by
-    the identity's, keeping the pattern.  Holds the current numeric factor: one user at a time.
+    once here, offered the elimination order ``order`` (m,) (positions into ``keep`` (m,) sorted
+    int; e.g. :func:`restrict_order`) — CHOLMOD's default also tries AMD and METIS and keeps the
+    order that fills least (:meth:`solve` applies whichever it kept).  :meth:`factor` then
+    :meth:`solve` ``K_kk x = b``; a changing Dirichlet set needs no new analysis:
+    ``factor(K, pinned)`` replaces those rows and columns by the identity's, keeping the pattern.
+    Holds the current numeric factor: one user at a time.
 
     ``fallbacks`` counts the matrices that were not positive definite and went to SuperLU
     (:func:`factor_spd`, the same order; pivots on the diagonal, as before this class)."""
@@ -211,6 +214,61 @@ def cholesky(K: sp.spmatrix, perm: np.ndarray | None = None) -> Refactor:
     return Refactor(K, np.arange(K.shape[0]), perm).factor(K)
 
 
+def schur_compliance(K: sp.spmatrix, rows: np.ndarray) -> np.ndarray:
+    """``(K⁻¹)[rows][:, rows]`` (m, m) of a sparse symmetric positive definite ``K`` (n, n): the
+    compliance of the dofs ``rows`` (m,) with every other dof free, as the inverse of the Schur
+    complement ``S = K_rr − K_ri K_ii⁻¹ K_ir``.
+
+    The other dofs are eliminated first (METIS's nested dissection of ``K_ii``), ``rows`` last, so
+    the trailing (m, m) block of the Cholesky factor (CHOLMOD, this order kept exactly) is
+    ``S = L₂₂ L₂₂ᵀ`` and ``S⁻¹`` is two dense triangular solves — instead of m sparse solves
+    through the whole factor.  Measured on fem-validation's finest Hertz block (62,475 free
+    dofs, 531 face dofs): 22 s to factor and 34 s of solves with SuperLU, ~6 s here.  Not
+    positive definite: SuperLU's solves of the m columns instead, logged."""
+    from cvxopt import cholmod, matrix, spmatrix
+
+    K = sp.csr_matrix(K)
+    n = K.shape[0]
+    rows = np.asarray(rows, dtype=np.int64)
+    if K.shape != (n, n) or rows.ndim != 1 or np.unique(rows).size != rows.size:
+        raise ValueError(f"K must be square and rows unique indices; got K {K.shape}, rows {rows.shape}")
+    if rows.size and (rows.min() < 0 or rows.max() >= n):
+        raise ValueError(f"rows must index 0..{n - 1}; got {rows.min()}..{rows.max()}")
+    m = rows.size
+    inner = np.setdiff1d(np.arange(n), rows)
+    order = np.concatenate([inner[nested_dissection(K[inner][:, inner])], rows]) if inner.size else rows
+    low = sp.tril(K[order][:, order]).tocoo()
+    A = spmatrix(matrix(low.data), matrix(low.row.astype(np.int64)), matrix(low.col.astype(np.int64)), (n, n))
+    saved = dict(cholmod.options)
+    # the order given, exactly: the rows' block must stay last (by default CHOLMOD also tries AMD and
+    # METIS and keeps whichever fills least, then postorders the elimination tree)
+    cholmod.options.update(nmethods=1, postorder=False)
+    try:
+        F = cholmod.symbolic(A, p=matrix(np.arange(n, dtype=np.int64)), uplo="L")
+        cholmod.numeric(A, F)
+    except ArithmeticError as exc:
+        log.info("schur_compliance: K is not positive definite (CHOLMOD: %s); SuperLU solves instead", exc)
+        lu = factor_spd(K)
+        C = np.empty((m, m))
+        for start in range(0, m, 512):
+            cols = np.arange(start, min(start + 512, m))
+            rhs = np.zeros((n, cols.size))
+            rhs[rows[cols], np.arange(cols.size)] = 1.0
+            C[:, cols] = lu.solve(rhs)[rows]
+        return 0.5 * (C + C.T)
+    finally:
+        cholmod.options.clear()
+        cholmod.options.update(saved)
+    colptr, rowind, val = (np.asarray(v).ravel() for v in cholmod.getfactor(F).CCS)
+    first = n - m
+    L22 = np.zeros((m, m))
+    for j in range(first, n):  # the trailing columns: rows >= first only (lower triangle)
+        lo, hi = colptr[j], colptr[j + 1]
+        L22[rowind[lo:hi] - first, j - first] = val[lo:hi]
+    C = sla.cho_solve((L22, True), np.eye(m))
+    return 0.5 * (C + C.T)  # symmetric up to round-off
+
+
 def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None = None) -> SPDFactor:
     """Factorise a sparse symmetric positive definite ``K`` (n, n) in nested-dissection order.
 
@@ -245,4 +303,12 @@ def factor_spd(K: sp.spmatrix, *, blocked: bool = False, perm: np.ndarray | None
     return SPDFactor(lu, perm, K.shape, rows)
 
 
-__all__ = ["Refactor", "SPDFactor", "cholesky", "factor_spd", "nested_dissection", "restrict_order"]
+__all__ = [
+    "Refactor",
+    "SPDFactor",
+    "cholesky",
+    "factor_spd",
+    "nested_dissection",
+    "restrict_order",
+    "schur_compliance",
+]

@@ -213,3 +213,28 @@ def test_one_shot_cholesky_solves_like_dense_in_its_own_and_a_given_order():
     np.testing.assert_allclose(chol.solve(b), np.linalg.solve(Kin.toarray(), b), rtol=1e-8, atol=1e-10)
     with pytest.raises(ValueError, match="square"):
         cholesky(sp.random(4, 5, density=0.5, format="csr"))
+
+
+def test_schur_compliance_is_the_block_of_the_dense_inverse(caplog):
+    """``(K⁻¹)[rows][:, rows]`` by the Schur complement's Cholesky block against the dense
+    inverse: rows scattered in any order (a pad's face dofs, node-major), all rows, one row;
+    an indefinite K goes to SuperLU's unit-load solves (logged) with the same answer."""
+    from workbench.fem.sparse_factor import schur_compliance
+
+    rng, K, _, _ = _refactor_case(3)
+    Kinv = np.linalg.inv(K.toarray())
+    for rows in (rng.choice(K.shape[0], 23, replace=False), np.arange(K.shape[0])[::-1], np.array([7])):
+        C = schur_compliance(K, rows)
+        assert C.shape == (rows.size, rows.size)
+        np.testing.assert_allclose(C, Kinv[np.ix_(rows, rows)], rtol=1e-10, atol=1e-12 * np.abs(Kinv).max())
+        assert np.array_equal(C, C.T)
+    Kin = (K - 2.5 * sp.identity(K.shape[0])).tocsr()
+    rows = rng.choice(K.shape[0], 9, replace=False)
+    with caplog.at_level("INFO"):
+        C = schur_compliance(Kin, rows)
+    assert "not positive definite" in caplog.text
+    np.testing.assert_allclose(C, np.linalg.inv(Kin.toarray())[np.ix_(rows, rows)], rtol=1e-8, atol=1e-10)
+    with pytest.raises(ValueError, match="unique"):
+        schur_compliance(K, np.array([1, 1]))
+    with pytest.raises(ValueError, match="index"):
+        schur_compliance(K, np.array([0, K.shape[0]]))
