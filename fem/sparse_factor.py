@@ -204,7 +204,7 @@ def cholesky(K: sp.spmatrix, perm: np.ndarray | None = None) -> Refactor:
     one or a few right-hand sides (many columns at once: :func:`factor_spd` with ``blocked``).
     Not positive definite: SuperLU in the same order, logged and counted in ``.fallbacks``
     (:class:`Refactor`).  Used by the full-mesh contact reference (one factor per active set):
-    0.16 s against SuperLU's 0.44 s on fem-fitting's reference pad."""
+    ~0.2 s against SuperLU's 0.44 s on fem-fitting's reference pad."""
     K = sp.csr_matrix(K)
     if K.shape[0] != K.shape[1]:
         raise ValueError(f"K must be square; got {K.shape}")
@@ -222,9 +222,10 @@ def schur_compliance(K: sp.spmatrix, rows: np.ndarray) -> np.ndarray:
     The other dofs are eliminated first (METIS's nested dissection of ``K_ii``), ``rows`` last, so
     the trailing (m, m) block of the Cholesky factor (CHOLMOD, this order kept exactly) is
     ``S = L₂₂ L₂₂ᵀ`` and ``S⁻¹`` is two dense triangular solves — instead of m sparse solves
-    through the whole factor.  Measured on fem-validation's finest Hertz block (62,475 free
-    dofs, 531 face dofs): 22 s to factor and 34 s of solves with SuperLU, ~6 s here.  Not
-    positive definite: SuperLU's solves of the m columns instead, logged."""
+    through the whole factor.  Measured on fem-validation's Hertz blocks: 35,322 free dofs and
+    243 face dofs, 3.2-4.5 s here against SuperLU's 8.2 s to factor and 7.0 s of solves; 62,475 and
+    531, the whole condensation (stiffness included) 12.8 s against SuperLU's 22 s to factor and
+    34 s of solves.  Not positive definite: SuperLU's solves of the m columns instead, logged."""
     from cvxopt import cholmod, matrix, spmatrix
 
     K = sp.csr_matrix(K)

@@ -19,7 +19,7 @@ import os
 import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
-from functools import partial
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
@@ -61,9 +61,6 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
         numba.set_num_threads(before)
 
 
-_CONTROLLER: list = [None, -1]  # [threadpoolctl.ThreadpoolController, len(sys.modules) when made]
-
-
 def _blas_controller() -> Any:
     """This process's ``threadpoolctl.ThreadpoolController``, made again only when modules were
     imported since (an import is how a new BLAS or OpenMP library gets loaded).  Making one scans
@@ -71,11 +68,15 @@ def _blas_controller() -> Any:
     most of a row's scheduling overhead (``benchmarks/bench_sweep.py``); reusing it costs ~30 µs."""
     import sys
 
+    return _controller(len(sys.modules))
+
+
+@lru_cache(maxsize=1)
+def _controller(n_modules: int) -> Any:
+    """The controller made when ``n_modules`` modules were loaded (the key of its cache)."""
     from threadpoolctl import ThreadpoolController
 
-    if _CONTROLLER[0] is None or _CONTROLLER[1] != len(sys.modules):
-        _CONTROLLER[:] = [ThreadpoolController(), len(sys.modules)]
-    return _CONTROLLER[0]
+    return ThreadpoolController()
 
 
 def pin_numba_threads_env() -> None:
