@@ -11,7 +11,9 @@ from workbench.limit_surface.downsample import grid_downsample
 
 
 def _reference_downsample(W, steps):
-    """Slow reference: loop over every grid cell like the author's code (closed cells)."""
+    """Slow reference: loop over every grid cell like the author's code (closed cells); of
+    members within 1e-9 of the nearest to the mean the first is kept (a two-member cell is
+    always such a tie: both are half their gap from the mean)."""
     lo, hi = W.min(0), W.max(0)
     width = (hi - lo) / steps
     starts = [np.arange(lo[j], hi[j] + 1e-15, width[j]) if width[j] > 0 else [lo[j]] for j in range(6)]
@@ -23,7 +25,8 @@ def _reference_downsample(W, steps):
                 inside &= (W[:, j] >= x) & (W[:, j] <= x + width[j])
         idx = np.flatnonzero(inside)
         if idx.size:
-            keep.add(int(idx[np.argmin(np.linalg.norm(W[idx] - W[idx].mean(0), axis=1))]))
+            d = np.linalg.norm(W[idx] - W[idx].mean(0), axis=1)
+            keep.add(int(idx[np.flatnonzero(d <= d.min() + 1e-9)[0]]))
     return np.array(sorted(keep))
 
 
@@ -100,3 +103,64 @@ def test_one_index_per_occupied_cell_sorted(rng):
 def test_careless_input_is_refused(wrenches, steps, match):
     with pytest.raises(ValueError, match=match):
         grid_downsample(wrenches, steps)
+
+
+# --- stability in round-off ------------------------------------------------------------------
+
+
+def test_mirror_ties_keep_the_first_whatever_the_round_off():
+    """Cell [0, 0.4) holds 0.1 and 0.3, equally near their mean 0.2: the first (index 0) is
+    kept, and still is when either moves by 1e-13 — where ``argmin`` followed the noise."""
+    base = np.array([0.1, 0.3, 0.5, 1.0])
+    assert grid_downsample(_on_axis(base))[0] == 0
+    for k in (0, 1):
+        for eps in (-1e-13, 1e-13):
+            values = base.copy()
+            values[k] += eps
+            np.testing.assert_array_equal(grid_downsample(_on_axis(values)), [0, 2, 3])
+    # a third member at the mean is nearer by a real gap and kept
+    np.testing.assert_array_equal(grid_downsample(_on_axis([0.1, 0.3, 0.2 + 1e-6, 0.5, 1.0])), [2, 3, 4])
+
+
+def test_a_wrench_on_a_cell_boundary_stays_in_one_cell_under_round_off():
+    """0.4 is the boundary of [0, 0.4) and [0.4, 0.8) on the range [0, 1]: 0.4 ± 1e-15 is in
+    the upper cell both ways (alone there: kept), as 0.4 itself; in the lower cell it would
+    make {0, 0.2, 0.4} keep 0.2 (index 1) and leave [1, 3]."""
+    for v in (0.4 - 1e-15, 0.4, 0.4 + 1e-15):
+        np.testing.assert_array_equal(grid_downsample(_on_axis([0.0, 0.2, v, 1.0])), [0, 2, 3])
+
+
+def _symmetric_patch():
+    """Mirror-symmetric curved patch (15 × 21 elements on the cylinder z = x²/0.06), Hertz-like
+    pressure: many of its wrenches are mirror images, equal to the last bits."""
+    x, y = np.meshgrid(np.linspace(-0.009, 0.009, 15), np.linspace(-0.019, 0.019, 21))
+    x, y = x.ravel(), y.ravel()
+    centers = np.column_stack([x, y, x**2 / 0.06])
+    normals = np.column_stack([-x / 0.03, 0 * x, np.ones_like(x)])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    pressures = np.clip(1 - (x / 0.008) ** 2 - (y / 0.015) ** 2, 0, None) + 1e-3
+    return centers, normals, np.full(x.size, 1e-6), pressures
+
+
+@pytest.mark.jit_only(
+    "7 min as pure Python (two 48,483-twist wrench sets per profile); its kernels run without JIT "
+    "in the wrench tests"
+)
+def test_training_set_and_6dls_model_do_not_follow_round_off():
+    """The thesis-code training set of a symmetric contact is the same when its pressures
+    move by 1e-12 (relative), and the default ("mix" sampler) 6DLS contact model moves by
+    round-off, not by the percents (friction) to 2x (A) that swapped mirror twists gave."""
+    from workbench.grasp.models import contact_sets
+    from workbench.limit_surface.cache import LimitSurfaceCache
+    from workbench.limit_surface.thesis_code import thesis_code_sample
+    from workbench.profile import ContactProfile
+
+    c, n, a, p = _symmetric_patch()
+    noisy = p * (1 + 1e-12 * np.random.default_rng(3).standard_normal(p.size))
+    prof0, prof1 = ContactProfile(c, n, a, p), ContactProfile(c, n, a, noisy)
+    t0, t1 = thesis_code_sample(prof0), thesis_code_sample(prof1)
+    np.testing.assert_array_equal(t0.train, t1.train)
+    m0, m1 = (contact_sets(q, "6dls", M=100, cache=LimitSurfaceCache())[0] for q in (prof0, prof1))
+    for field in ("friction", "A", "b"):
+        v0, v1 = np.asarray(getattr(m0, field)), np.asarray(getattr(m1, field))
+        assert np.abs(v1 - v0).max() <= 1e-9 * np.abs(v0).max(), field

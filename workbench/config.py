@@ -131,6 +131,13 @@ class Tolerances:
     # §3.3.4.2 "explained variances less than a small value ε").
     subspace_rtol: float = 1e-6
 
+    # Grid downsampling of normalised wrenches (|w_i| <= 1): distances to a cell's mean
+    # (and cell coordinates, in cell widths) closer than this are ties.  Mirror-image
+    # wrenches of a symmetric contact tie to ~1e-16 and a 1e-14 pressure perturbation moves
+    # them ~1e-14; breaking such ties by round-off swapped training twists and moved 6DLS
+    # models by percents.  1e-9 is five decades above that and below any real gap.
+    downsample_tie_atol: float = 1e-9
+
     # Semi-axis (normalised units) given to dropped directions so every
     # returned A_e is positive definite: the model is "flat" to this thickness.
     flat_axis: float = 1e-6
@@ -483,6 +490,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "pca_significant_fraction": _FRACTION,
     "degenerate_wmax_rtol": _NONNEG,
     "subspace_rtol": _NONNEG,
+    "downsample_tie_atol": _NONNEG,
     "flat_axis": _POS,  # keeps A_e positive definite
     "sdp_alpha_per_wrench": _NONNEG,  # 0: off
     "support_wmax_mismatch": _NONNEG,

@@ -7,8 +7,14 @@ maximum), and each occupied cell keeps the one sample nearest to the mean of the
 samples in it.  A dense twist grid thus trains on a few hundred wrenches spread over
 the wrench set instead of thousands crowded where the grid is dense.
 
-Departure: a sample exactly on an inner cell boundary belongs to both cells in the
-code (closed intervals) and to the upper one here (measure zero for computed wrenches).
+Departures: a sample on an inner cell boundary belongs to both cells in the code (closed
+intervals) and to the upper one here, "on" meaning within ``config.TOL.downsample_tie_atol``
+cell widths, so that round-off cannot move it across; members equally near their cell's mean
+(the two of a two-member cell always; mirror images on a symmetric contact) keep the first in
+sample order, not whichever the round-off of the distances happens to favour (MATLAB's ``min``
+keeps the first of exact ties, but which ties are exact is round-off there too).  Both make
+the training set a function of the contact, not of its last bits: a profile perturbed by
+1e-14 used to swap mirror twists and move the 6DLS model by percents.
 """
 
 from __future__ import annotations
@@ -25,6 +31,8 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     wrenches : (N, 6) float (normalised, e.g. ``W / w_max``).
     steps : cells per dimension = ``floor(steps) + 1`` starts at ``min + k·(max − min)/steps``;
         a dimension whose range is at most ``config.TOL.subspace_rtol`` × the largest is one cell.
+    Each cell keeps its member nearest the members' mean, the first in sample order among
+    members within ``config.TOL.downsample_tie_atol`` of the nearest (read at call time).
     """
     W = check_wrenches(wrenches)
     if not (np.isfinite(steps) and steps > 0):
@@ -35,7 +43,8 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     # a range at rounding-noise level (a flat contact tilted by 1e-9 rad) is one cell, as an
     # exactly zero one is — the PCA subspace's notion of a dropped direction
     flat = width <= config.TOL.subspace_rtol * width.max()
-    idx = np.where(flat, 0, np.floor((W - lo) / np.where(flat, 1.0, width))).astype(np.int64)
+    tie = config.TOL.downsample_tie_atol
+    idx = np.where(flat, 0, np.floor((W - lo) / np.where(flat, 1.0, width) + tie)).astype(np.int64)
     idx = np.clip(idx, 0, n_cells - 1)
     key = np.ravel_multi_index(idx.T, (n_cells,) * 6)
     order = np.argsort(key, kind="stable")
@@ -45,8 +54,9 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     keep = []
     for s, e in zip(starts, ends, strict=True):
         members = order[s:e]
-        centre = W[members].mean(axis=0)
-        keep.append(members[np.argmin(np.linalg.norm(W[members] - centre, axis=1))])
+        # members are in sample order (stable sort): the tie rule keeps the first
+        d = np.linalg.norm(W[members] - W[members].mean(axis=0), axis=1)
+        keep.append(members[np.flatnonzero(d <= d.min() + tie)[0]])
     return np.unique(np.asarray(keep, dtype=np.int64))
 
 
