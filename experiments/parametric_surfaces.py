@@ -21,6 +21,7 @@ from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
 from workbench.sources.surfaces import mesh_profile
 from workbench.twists import twists_from_plucker
+from workbench.wrench import check_mu
 
 NAME = "parametric-surfaces"
 
@@ -45,6 +46,18 @@ THREE_D_MASK = np.array([1.0, 0.0, 1.0, 0.0, 1.0, 0.0])  # thesis ref. [4]: keep
 COMPONENTS = ["f_x", "f_y", "f_z", "tau_x", "tau_y", "tau_z"]
 
 
+def check_config(config: dict) -> None:
+    """What the defaults cannot tell, before any work (``build_config``): μ > 0 and known
+    figure surfaces."""
+    check_mu(config["mu"], what="Table 3.2's w_max")
+    check_mu(config["example_mu"], what="Example 3.2.5's wrench")
+    unknown = [s for s in config["figure_surfaces"] if s not in THESIS_SURFACES]
+    if unknown:
+        raise ValueError(
+            f"figure_surfaces {unknown} are not thesis surfaces; choose from {sorted(THESIS_SURFACES)}"
+        )
+
+
 def example(config: dict) -> dict:
     """Example 3.2.5: o, F, w⊥ and the wrench of e = [0, -1, 0], m = 0, h = 0."""
     ex = example_3_2_5()
@@ -57,6 +70,7 @@ def example(config: dict) -> dict:
         "F": mom.F,
         "normal_wrench": mom.normal_wrench,
         "frictional_wrench": w,
+        # relative: scaled by μF (forces) and μF·l_s (torques), so it does not grow with μ
         "frictional_wrench_error_estimate": err,
         "normalized_pressure": 1.0 / mom.area,
         "runtime_s": time.perf_counter() - t0,

@@ -18,7 +18,7 @@ def run(config: dict) -> dict:
     summary = {
         "y": config["x"] ** 2,
         "nested": {"z": config["x"] + 1.0, "ok": True, "name": config["tag"]},
-        "values": [1, 2, 3],  # a list: not a table column
+        "values": [1, 2, 3],  # a short list: columns values.0-2
         "headline": [f"y = {config['x'] ** 2}"],
     }
     return write_summary(Path(config["out"]), NAME, config, summary, 0.0)

@@ -42,20 +42,36 @@ def test_nested_dict_values_are_checked():
 
 
 def test_good_values_are_coerced_to_the_default_types():
-    sets = _parse_sets(["mu=1", "deltas_mm=[1, 2.5]", "scheduler=5", "n_objects=3", "quick=true"])
+    sets = _parse_sets(["mu=1", "deltas_mm=[1, 2.5]", "scheduler=5", "n_objects=3"])
     cfg = build_config("fem-fitting", False, None, None, sets)
     assert cfg["mu"] == 1.0 and isinstance(cfg["mu"], float)  # an int is accepted for a float
     assert cfg["deltas_mm"] == [1.0, 2.5] and all(isinstance(d, float) for d in cfg["deltas_mm"])
     assert cfg["scheduler"] == "5"  # a str key keeps the text, not the JSON number
-    assert cfg["n_objects"] == 3 and cfg["quick"] is True
+    assert cfg["n_objects"] == 3 and cfg["quick"] is False
     # Python callers pass typed values: checked the same way
     with pytest.raises(SystemExit, match="5 is not a string"):
         build_config("fem-fitting", False, None, None, {"scheduler": 5})
 
 
 def test_unknown_keys_still_rejected():
-    with pytest.raises(SystemExit, match=r"unknown config keys for discretization: \['nope'\]"):
+    with pytest.raises(SystemExit, match=r"unknown config keys for discretization: \['nope'\]; known"):
         build_config("discretization", False, None, None, _parse_sets(["nope=1"]))
+    # a near miss is named
+    with pytest.raises(SystemExit, match=r"\['muu'\] \(did you mean 'mu' for 'muu'\?\)"):
+        build_config("parametric-surfaces", False, None, None, _parse_sets(["muu=1"]))
+
+
+@pytest.mark.parametrize("key", ["quick", "out"])
+def test_quick_and_out_are_not_config_values(key):
+    """``--set quick=true`` used to mark a config quick without its quick values (a sweep row
+    labelled quick=False ran quick); ``out`` in a sweep's grid wrote outside the sweep."""
+    with pytest.raises(SystemExit, match=rf"\['{key}'\] are set by --quick and --out"):
+        build_config("parametric-surfaces", False, None, None, {key: "x"})
+
+
+def test_a_key_set_twice_is_refused():
+    with pytest.raises(SystemExit, match="--set mu is given twice \\(1 and 2\\); give it once"):
+        _parse_sets(["mu=1", "mu=2"])
 
 
 @pytest.mark.parametrize("name", sorted(EXPERIMENTS))
@@ -191,3 +207,23 @@ def test_config_help_has_one_line_per_default_key(name):
     assert len(lines) == len(module.DEFAULT_CONFIG) + 2
     for line, key in zip(lines[1:-1], module.DEFAULT_CONFIG, strict=True):
         assert line.startswith(f"  {key} (")
+
+
+@pytest.mark.parametrize(
+    "name, sets, match",
+    [
+        (
+            "parametric-surfaces",
+            {"figure_surfaces": ["S1", "S9"]},
+            r"figure_surfaces \['S9'\] are not thesis surfaces",
+        ),
+        ("parametric-surfaces", {"example_mu": 0.0}, "mu = 0 has no friction wrench"),
+        ("ls-fitting", {"surfaces": ["S9"]}, r"must be thesis surfaces, one of \['S1'.*got \['S9'\]"),
+        ("ls-fitting", {"section_surface": "s4"}, r"got \['s4'\]"),
+        ("ls-fitting", {"surfaces": []}, "at least one"),
+    ],
+)
+def test_surface_names_are_checked_before_any_work(name, sets, match):
+    """An unknown surface used to fail mid-run with a bare KeyError (a sweep point after 3.7 s)."""
+    with pytest.raises(SystemExit, match=match):
+        build_config(name, True, None, None, sets)

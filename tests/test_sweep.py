@@ -54,7 +54,11 @@ def test_bad_grids_are_refused(grid, zipped, match):
         expand_grid(grid, zipped)
 
 
-def test_flatten_scalars_keeps_numbers_by_path_and_drops_lists_and_metadata():
+def test_flatten_scalars_keeps_numbers_by_path_and_drops_long_lists_and_metadata():
+    """Short lists enter by index (a Table 3.2 row, w_max of a surface), long ones (per-grasp
+    arrays) and the run metadata stay out."""
+    from workbench.sweep import MAX_LIST_COLUMNS
+
     s = {
         "experiment": "x",
         "config": {"a": 1},
@@ -63,10 +67,21 @@ def test_flatten_scalars_keeps_numbers_by_path_and_drops_lists_and_metadata():
         "n": 3,
         "t": {"lift": {"q": 0.5, "All": 0.7}},
         "arr": [1, 2],
+        "rows": [{"F": 1.5}, [0.25, None]],
+        "long": list(range(MAX_LIST_COLUMNS + 1)),
         "none": None,
         "flag": False,
     }
-    assert flatten_scalars(s) == {"n": 3, "t.lift.q": 0.5, "t.lift.All": 0.7, "flag": False}
+    assert flatten_scalars(s) == {
+        "n": 3,
+        "t.lift.q": 0.5,
+        "t.lift.All": 0.7,
+        "arr.0": 1,
+        "arr.1": 2,
+        "rows.0.F": 1.5,
+        "rows.1.0": 0.25,
+        "flag": False,
+    }
 
 
 @pytest.mark.parametrize(
@@ -195,6 +210,129 @@ def test_list_values_are_json_columns_and_the_plot_is_written(tmp_path, toy):
     assert fig.name == "plot_x_y.png" and fig.stat().st_size > 5_000
     with pytest.raises(SweepError, match="'nope' is not a column"):
         plot_sweep(out / "table.parquet", "x", "nope")
+    with pytest.raises(SweepError, match="'nested.name' is not a number column"):
+        plot_sweep(out / "table.parquet", "x", "nested.name")
+    with pytest.raises(SweepError, match="'y' is not a swept key"):
+        plot_sweep(out / "table.parquet", "y", "x")
+
+
+def test_a_point_is_the_same_whatever_the_key_order_or_number_spelling(tmp_path, toy):
+    """--grid flags in another order, or 1 for 1.0, name the same points: resumed, not re-run
+    (they were run again, under a second folder each)."""
+    assert point_key({"x": 1.0, "tag": "p"}) == point_key({"tag": "p", "x": 1.0})
+    out = tmp_path / "sw"
+    first = run_sweep("toy", {"x": [1.0, 2.0], "tag": ["p", "q"]}, out=out, client=toy, progress=False)
+    again = run_sweep("toy", {"tag": ["p", "q"], "x": [1, 2]}, out=out, client=toy, progress=False)
+    assert (first["n_submitted"], again["n_submitted"], again["n_resumed"]) == (4, 0, 4)
+    assert len(list((out / "points").iterdir())) == 4
+    with pytest.raises(SweepError, match=r"the grid repeats a point: \{'x': 1\} is \{'x': 1.0\}"):
+        run_sweep("toy", {"x": [1.0, 1]}, out=tmp_path / "dup", client=toy, progress=False)
+
+
+def test_the_table_holds_the_grid_just_run_even_when_nothing_ran(tmp_path, toy):
+    out = tmp_path / "sw"
+    run_sweep("toy", {"x": [1.0, 2.0, 3.0]}, out=out, client=toy, progress=False)
+    s = run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    assert s["n_submitted"] == 0 and s["n_points"] == 2
+    assert sorted(pd.read_parquet(out / "table.parquet")["x"]) == [1.0, 2.0]
+    assert len(_rows(out / "points.jsonl")) == 3  # the third point is kept for a later grid
+
+
+def test_a_missing_plot_metric_stops_the_sweep_at_its_first_point(tmp_path, toy):
+    """Checked on the first finished point, not after the whole sweep; when points are
+    already finished, before anything is submitted."""
+    out = tmp_path / "sw"
+    seen = []
+    with pytest.raises(SweepError, match=r"'yy' is not a column .* did you mean \['y'"):
+        run_sweep(
+            "toy",
+            {"x": [1.0, 2.0, 3.0, 4.0]},
+            sets={"sleep": 0.3},
+            out=out,
+            client=toy,
+            progress=False,
+            metrics=["yy"],
+            on_point=lambda k, r: seen.append(k),
+        )
+    assert 1 <= len(seen) <= 2  # two threads: the first point, perhaps its neighbour
+    with pytest.raises(SweepError, match="'nested.name' is not a number"):
+        run_sweep(
+            "toy", {"x": [1.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["nested.name"]
+        )
+    n = len(_rows(tmp_path / "b" / "points.jsonl"))
+    with pytest.raises(SweepError, match="'nope' is not a column"):  # from the finished point
+        run_sweep("toy", {"x": [1.0, 5.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["nope"])
+    assert len(_rows(tmp_path / "b" / "points.jsonl")) == n  # x = 5 was not run
+    s = run_sweep("toy", {"x": [1.0, 5.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["y"])
+    assert s["n_submitted"] == 1
+
+
+def test_a_directory_of_another_sweep_or_a_file_is_refused_before_any_work(tmp_path, toy, monkeypatch):
+    out = tmp_path / "sw"
+    run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    before = (out / "points.jsonl").read_bytes()
+    with pytest.raises(SweepError, match="holds a sweep of toy, not discretization; give another --out"):
+        run_sweep("discretization", {"mu": [0.5]}, sets=TINY_SETS, quick=True, out=out, progress=False)
+    assert (out / "points.jsonl").read_bytes() == before
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(SweepError, match="is a file; give a directory"):
+        run_sweep("toy", {"x": [1.0]}, out=tmp_path / "afile", client=toy, progress=False)
+    with pytest.raises(SweepError, match="seed is swept by the grid and also given by --seed"):
+        run_sweep("toy", {"seed": [1, 2]}, seed=3, out=tmp_path / "s", client=toy, progress=False)
+    # a relative directory is the driver's, made absolute for the workers
+    monkeypatch.chdir(tmp_path)
+    s = run_sweep("toy", {"x": [1.0]}, out="rel", client=toy, progress=False)
+    assert Path(s["table"]) == tmp_path / "rel" / "table.parquet"
+    assert len(list((tmp_path / "rel" / "points").glob("*/summary.json"))) == 1
+    assert not (tmp_path / "s").exists()
+
+
+def test_no_scheduler_or_one_without_workers_is_an_error_before_anything_is_written(tmp_path, monkeypatch):
+    import socket
+
+    from distributed import LocalCluster
+
+    from workbench import config
+
+    monkeypatch.setitem(cli.EXPERIMENTS, "toy", "sweep_toy")
+    with socket.socket() as sock:  # a port nothing listens on
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    out = tmp_path / "sw"
+    with config.override(scheduler_wait_s=2.0):
+        t0 = time.perf_counter()
+        with pytest.raises(
+            SweepError, match=f"no Dask scheduler answered at 'tcp://127.0.0.1:{port}' within 2 s"
+        ):
+            run_sweep("toy", {"x": [1.0]}, scheduler=f"tcp://127.0.0.1:{port}", out=out, progress=False)
+        assert time.perf_counter() - t0 < 30
+        with pytest.raises(SweepError, match="no Dask scheduler answered at 'nonsense'"):
+            run_sweep("toy", {"x": [1.0]}, scheduler="nonsense", out=out, progress=False)
+        with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as empty:
+            with pytest.raises(SweepError, match="has no workers after 2 s; start some with `dask worker"):
+                run_sweep("toy", {"x": [1.0]}, scheduler=empty.scheduler_address, out=out, progress=False)
+    assert not out.exists()
+
+
+def test_cli_plot_key_is_checked_first_and_an_interrupt_says_how_to_resume(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "sw"
+    with pytest.raises(SystemExit) as exc:
+        cli.main(
+            ["sweep", "discretization", *TINY, "--grid", "mu=[0.5]", "--out", str(out), "--plot", "nu", "y"]
+        )
+    assert (
+        exc.value.code == 2
+        and "'nu' is not a swept key; plot against one of ['mu']" in capsys.readouterr().err
+    )
+    assert not out.exists()
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("workbench.sweep.run_sweep", interrupted)
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["sweep", "discretization", *TINY, "--grid", "mu=[0.5]", "--out", str(out)])
+    assert exc.value.code == 130 and "re-run the same command to resume" in capsys.readouterr().err
 
 
 def _rows(path: Path) -> list[str]:
@@ -300,10 +438,16 @@ def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
         while not sched_file.exists() and time.time() - t0 < 60:
             time.sleep(0.2)
         address = json.loads(sched_file.read_text())["address"]
+        # the workers run in another directory than the driver, as on a real cluster: the
+        # driver's relative --out must still be where the points' outputs land
+        driver_dir, worker_dir = tmp_path / "driver", tmp_path / "workers"
+        driver_dir.mkdir()
+        worker_dir.mkdir()
         for _ in range(2):
             procs.append(
                 subprocess.Popen(
                     [str(BIN / "dask"), "worker", address, "--nthreads", "1", "--no-dashboard"],
+                    cwd=worker_dir,
                     env=env,
                     stdout=subprocess.DEVNULL,
                     stderr=subprocess.DEVNULL,
@@ -314,7 +458,7 @@ def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
         with Client(address) as c:
             c.wait_for_workers(2, timeout=60)
             assert len(set(c.run(os.getpid).values()) - {os.getpid()}) == 2  # two processes, not this one
-        out = tmp_path / "sw"
+        out = driver_dir / "sw"
         res = subprocess.run(
             [
                 str(BIN / "workbench"),
@@ -326,8 +470,9 @@ def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
                 "--scheduler",
                 address,
                 "--out",
-                str(out),
+                "sw",
             ],
+            cwd=driver_dir,
             capture_output=True,
             text=True,
             timeout=600,
@@ -336,6 +481,8 @@ def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
         assert "2 points (2 ok, 0 failed; 0 resumed, 2 run)" in res.stdout
         df = pd.read_parquet(out / "table.parquet")
         assert sorted(df["mu"]) == [0.5, 1.0] and df["error_rate.S1.25"].notna().all()
+        assert all((out / "points" / k / "summary.json").is_file() for k in df["point"])
+        assert not any(worker_dir.iterdir())  # nothing written in the workers' directory
     finally:
         for p in procs:
             p.terminate()

@@ -78,7 +78,7 @@ examples:
   workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7]
   workbench sweep fem-fitting --quick --grid 'fine_level=[1,2]' --zip 'seed=[0,1]' --workers 2
   workbench sweep ls-fitting --quick --grid 'surfaces=[["S1"],["S3"]]' --scheduler tcp://10.0.0.5:8786
-  workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7] --plot mu precision
+  workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7] --plot mu truth_positive_fraction
 
 Every point's config is checked before any work.  Results: DIR/table.parquet (one row per
 point), DIR/points/<key>/ (each run's outputs), DIR/sweep.json; a killed sweep resumes on
@@ -187,6 +187,11 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
     try:
         grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
+        for key, _ in args.plot:  # checked now; the metric is checked on the first finished point
+            if key not in {**grid, **zipped}:
+                raise SweepError(
+                    f"--plot {key} ...: {key!r} is not a swept key; plot against one of {[*grid, *zipped]}"
+                )
         summary = run_sweep(
             args.experiment,
             grid,
@@ -199,9 +204,16 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             threads=args.threads,
             retry_failed=args.retry_failed,
+            metrics=[metric for _, metric in args.plot],
         )
     except (SweepError, SystemExit) as exc:
         fail(exc)
+    except KeyboardInterrupt:
+        parser.exit(
+            130,
+            f"\nworkbench sweep {args.experiment}: interrupted; every finished point is kept — "
+            "re-run the same command to resume\n",
+        )
     print(
         f"sweep {args.experiment}: {summary['n_points']} points ({summary['n_ok']} ok, "
         f"{summary['n_failed']} failed; {summary['n_resumed']} resumed, {summary['n_submitted']} run) "

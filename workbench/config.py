@@ -372,6 +372,11 @@ class Defaults:
     # the workers' imports) outweighs what a second core saves.
     cluster_min_rows: int = 24
 
+    # Seconds a sweep on an existing cluster (--scheduler) waits for the scheduler to answer
+    # and then for its first worker, before it stops with an error saying which: a scheduler
+    # with no workers would otherwise hold the sweep at 0 % without a word.
+    scheduler_wait_s: float = 30.0
+
     # Right-hand sides from which a sparse factor with row copies of L and U
     # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
     # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
@@ -534,6 +539,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "linearization_M": _count(1),
     "work_eps": _POS,  # "a small positive number" (thesis Eq. 4.5)
     "cluster_min_rows": _count(0),
+    "scheduler_wait_s": _POS,
     "blocked_solve_min_rhs": _count(0),
 }
 

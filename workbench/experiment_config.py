@@ -43,7 +43,10 @@ def _parse_sets(items: list[str]) -> dict[str, Any]:
         if "=" not in item:
             raise SystemExit(f"--set expects key=value; got {item!r}")
         key, value = item.split("=", 1)
-        out[key.strip()] = _CliText(value)
+        key = key.strip()
+        if key in out:  # the last one would win silently
+            raise SystemExit(f"--set {key} is given twice ({out[key]} and {value}); give it once")
+        out[key] = _CliText(value)
     return out
 
 
@@ -224,9 +227,18 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     config["out"] = str(Path(out) if out else Path("results") / name)
     if seed is not None:
         config["seed"] = seed
+    reserved = sorted({"quick", "out"} & set(sets))
+    if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
+        raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")
     unknown = set(sets) - set(config)
     if unknown:
-        raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}; known: {sorted(config)}")
+        import difflib
+
+        known = sorted(set(config) - {"quick", "out"})
+        hints = {k: difflib.get_close_matches(k, known, n=1) for k in sorted(unknown)}
+        close = [f"{h[0]!r} for {k!r}" for k, h in hints.items() if h]
+        hint = f" (did you mean {', '.join(close)}?)" if close else ""
+        raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}{hint}; known: {known}")
     defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
     config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
     check = getattr(module, "check_config", None)  # what a key's default cannot tell (a level, a kind)

@@ -236,18 +236,26 @@ class Checkpoint:
 
         self.path = Path(path)
         self.config_hash = content_hash({"config": config, "code": code_hash()})
-        self.rows: dict[str, dict] = {}
-        if self.path.exists():
-            for line in self.path.read_text().splitlines():
+        self.rows: dict[str, dict] = Checkpoint.peek(self.path, config)
+        # rewrite only the valid rows, so a torn line never precedes new ones
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(self.path, "".join(json.dumps(r) + "\n" for r in self.rows.values()).encode())
+
+    @staticmethod
+    def peek(path: Path, config: dict) -> dict[str, dict]:
+        """The rows a ``Checkpoint(path, config)`` would resume, read without writing
+        anything (no file or directory is created)."""
+        config_hash = content_hash({"config": config, "code": code_hash()})
+        rows: dict[str, dict] = {}
+        if Path(path).is_file():
+            for line in Path(path).read_text().splitlines():
                 try:
                     row = json.loads(line)
                 except json.JSONDecodeError:
                     continue  # a torn last line of a killed run
-                if row.get("config_hash") == self.config_hash:
-                    self.rows[row["key"]] = row
-        # rewrite only the valid rows, so a torn line never precedes new ones
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(self.path, "".join(json.dumps(r) + "\n" for r in self.rows.values()).encode())
+                if row.get("config_hash") == config_hash:
+                    rows[row["key"]] = row
+        return rows
 
     def __contains__(self, key: str) -> bool:
         return key in self.rows

@@ -95,9 +95,12 @@ def expand_grid(grid: dict[str, list], zipped: dict[str, list] | None = None) ->
 
 
 def point_key(values: dict[str, Any]) -> str:
-    """A file-name-safe key of a point: its values (shortened) and a hash of all of them,
-    e.g. ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal values give equal keys."""
-    text = "_".join(f"{k}={json.dumps(v, sort_keys=True, separators=(',', ':'))}" for k, v in values.items())
+    """A file-name-safe key of a point: its values (shortened, keys sorted) and a hash of all
+    of them, e.g. ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal values give equal keys, whatever
+    the order the keys were given in."""
+    text = "_".join(
+        f"{k}={json.dumps(v, sort_keys=True, separators=(',', ':'))}" for k, v in sorted(values.items())
+    )
     text = re.sub(r"[^A-Za-z0-9=._,+-]+", "", text)[:60]
     return f"{text}-{content_hash(values, 8)}"
 
@@ -119,19 +122,26 @@ def sweep_dir(
     )
 
 
-def flatten_scalars(summary: dict, prefix: str = "") -> dict[str, float | int | bool | str]:
+#: lists up to this long enter the table element by element (``w_max_exact.0`` ...); longer
+#: ones (per-grasp or per-profile arrays) stay in each point's summary.json only
+MAX_LIST_COLUMNS = 16
+
+
+def flatten_scalars(summary: dict | list, prefix: str = "") -> dict[str, float | int | bool | str]:
     """Every scalar (number, flag or string) of a nested summary dict, keyed by its dotted
-    path; lists and the run metadata (``config``, ``versions``, ``headline``) are left out."""
+    path; the elements of lists of at most :data:`MAX_LIST_COLUMNS` entries by their index
+    (``table_3_2.S1.6d_nonplanar.4``); longer lists and the run metadata (``config``,
+    ``versions``, ``headline``) are left out."""
     out: dict[str, Any] = {}
-    for key, value in summary.items():
+    items = summary.items() if isinstance(summary, dict) else enumerate(summary)
+    for key, value in items:
         if not prefix and key in _META:
             continue
         name = f"{prefix}{key}"
-        if isinstance(value, dict):
+        if isinstance(value, dict) or (isinstance(value, list) and 0 < len(value) <= MAX_LIST_COLUMNS):
             out.update(flatten_scalars(value, f"{name}."))
-        elif isinstance(value, (bool, int, float, str)) or value is None:
-            if value is not None:
-                out[name] = value
+        elif isinstance(value, (bool, int, float, str)):
+            out[name] = value
     return out
 
 
@@ -174,27 +184,36 @@ def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
 def _point_configs(
     experiment: str, points: list[dict], out: Path, quick: bool, sets: dict, seed: int | None
 ) -> dict[str, tuple[dict, dict]]:
-    """key -> (point values, full config), every config checked before any work."""
+    """key -> (point values, full config), every config checked before any work.  A point's
+    values are taken as its config holds them (an int given for a float key is that float),
+    so ``mu=[1, 1.0]`` repeats a point and ``mu=1`` resumes a point written as ``mu=1.0``."""
     from .experiment_config import build_config
 
     both = sorted(set(sets) & set(points[0]))
     if both:
         raise SweepError(f"{both} are given both as --set and in the grid: give each key in one of them")
+    if seed is not None and "seed" in points[0]:
+        raise SweepError("seed is swept by the grid and also given by --seed: give it in one of them")
     configs: dict[str, tuple[dict, dict]] = {}
-    for values in points:
-        key = point_key(values)
-        if key in configs:
-            raise SweepError(f"the grid repeats a point: {values} (drop the duplicate value)")
+    for given in points:
         try:
-            cfg = build_config(experiment, quick, str(out / "points" / key), seed, {**sets, **values})
+            cfg = build_config(experiment, quick, str(out / "points"), seed, {**sets, **given})
         except SystemExit as exc:
             msg = str(exc.code)
-            for k in values:  # the value came from the grid, not from --set: say so
+            for k in given:  # the value came from the grid, not from --set: say so
                 if msg.startswith(f"--set {k}="):
                     msg = f"grid value {msg[len('--set ') :]}".replace(
                         "— give e.g. --set", "— each value in the list must look like the default, e.g. --set"
                     )
-            raise SweepError(f"point {values}: {msg}") from None
+            # name the point only when one of its values is in question, not a --set one
+            raise SweepError(f"point {given}: {msg}" if any(k in msg for k in given) else msg) from None
+        values = {k: cfg[k] for k in given}
+        key = point_key(values)
+        if key in configs:
+            raise SweepError(
+                f"the grid repeats a point: {given} is {configs[key][0]} (drop the duplicate value)"
+            )
+        cfg["out"] = str(out / "points" / key)
         configs[key] = (values, cfg)
     return configs
 
@@ -254,15 +273,33 @@ def read_table(path: Path) -> Any:
 def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[Any, Any]:
     """(client, cluster or None): a local cluster of ``workers`` processes with ``threads``
     threads each (default one per core; :func:`workbench.parallel.local_cluster`), or a
-    client of the scheduler at ``scheduler``."""
+    client of the scheduler at ``scheduler`` once it has a worker — ``SweepError`` if it
+    does not answer, or has none, within ``config.DEFAULTS.scheduler_wait_s`` (read now)."""
     import os
 
     from distributed import Client
 
+    from . import config
     from .parallel import local_cluster
 
     if scheduler:
-        return Client(scheduler), None
+        wait = config.DEFAULTS.scheduler_wait_s
+        try:
+            client = Client(scheduler, timeout=wait)
+        except (OSError, ValueError, TypeError) as exc:  # refused, timed out, a malformed address
+            raise SweepError(
+                f"no Dask scheduler answered at {scheduler!r} within {wait:g} s ({type(exc).__name__}: "
+                f"{exc}); start one with `dask scheduler` and give its address, e.g. tcp://host:8786"
+            ) from None
+        try:
+            client.wait_for_workers(1, timeout=wait)
+        except TimeoutError:
+            client.close()
+            raise SweepError(
+                f"the scheduler at {scheduler!r} has no workers after {wait:g} s; start some with "
+                f"`dask worker {scheduler}` (with this package installed) and re-run"
+            ) from None
+        return client, None
     cluster = local_cluster(workers or os.cpu_count() or 1, threads)
     return Client(cluster), cluster
 
@@ -284,6 +321,7 @@ def run_sweep(
     retry_failed: bool = False,
     progress: bool = True,
     on_point: Callable[[str, dict], None] | None = None,
+    metrics: list[str] | tuple[str, ...] = (),
 ) -> dict:
     """Run ``experiment`` at every point of the grid (module docstring); returns the
     sweep's summary (``n_points``, ``n_ok``, ``n_failed``, ``n_resumed``, ``n_submitted``,
@@ -296,7 +334,15 @@ def run_sweep(
     ``distributed.Client`` to use as is; threads : threads per worker (and Numba threads per
     task); retries : Dask's retries of a task whose worker died; retry_failed : run points
     recorded as failed again; on_point : called as ``on_point(key, row)`` by the driver after
-    each finished point (a hook for tests and progress).
+    each finished point (a hook for tests and progress); metrics : table columns the caller
+    needs (e.g. to plot): checked against the first finished point, and the sweep stops
+    there with ``SweepError`` naming the columns there are if one is missing or not a number.
+
+    ``out`` is made absolute here, so the workers of an existing cluster write each point's
+    outputs where the driver looks (they must share its file system; started in another
+    directory, a relative path would land in theirs).  Nothing is written, and no cluster
+    started, before the grid, the directory and the scheduler check out.  The table holds the
+    points of this grid (``points.jsonl`` keeps every point ever finished in ``out``).
     """
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise SweepError(f"workers must be a positive integer; got {workers!r}")
@@ -307,6 +353,12 @@ def run_sweep(
     sets = dict(sets or {})
     points = expand_grid(grid, zipped)
     out = Path(out) if out else sweep_dir(experiment, grid, zipped, quick=quick, sets=sets, seed=seed)
+    out = out.absolute()
+    if out.exists() and not out.is_dir():
+        raise SweepError(f"--out {out} is a file; give a directory (new or an earlier sweep's)")
+    other = _sweep_experiment(out)
+    if other not in (None, experiment):  # its checkpoint would be dropped as not this sweep's
+        raise SweepError(f"{out} holds a sweep of {other}, not {experiment}; give another --out")
     configs = _point_configs(experiment, points, out, quick, sets, seed)  # checks every point first
     varied = list(points[0])
     t_start = time.perf_counter()
@@ -315,17 +367,28 @@ def run_sweep(
     digests = {
         k: content_hash({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()
     }
-    ckpt = Checkpoint(out / "points.jsonl", {"experiment": experiment, "sweep_format": 1})
+    ck_config = {"experiment": experiment, "sweep_format": 1}
+    stored = Checkpoint.peek(out / "points.jsonl", ck_config)
     done = {
         k
-        for k, r in ckpt.rows.items()
+        for k, r in stored.items()
         if k in configs and r.get("config_digest") == digests[k] and (r["status"] == "ok" or not retry_failed)
     }
     n_resumed = len(done)
     todo = [k for k in configs if k not in done]
+    need = list(metrics)
+    finished_ok = [stored[k] for k in configs if k in done and stored[k]["status"] == "ok"]
+    if need and finished_ok:
+        _check_metrics(finished_ok[0], need)
+        need = []
     revision, vers = code_revision(), versions()
     fresh: set[str] = set()
-    out.mkdir(parents=True, exist_ok=True)
+    own = None
+    if todo and client is None:  # connect (and check the scheduler) before writing anything
+        client, own = _client(workers, scheduler, threads)
+        if scheduler:
+            log.info("workers write each point's outputs under %s: a file system they must share", out)
+    ckpt = Checkpoint(out / "points.jsonl", ck_config)
 
     def record(key: str, res: dict) -> None:
         values, cfg = configs[key]
@@ -351,9 +414,6 @@ def run_sweep(
     if todo:
         from distributed import as_completed
 
-        own = None
-        if client is None:
-            client, own = _client(workers, scheduler, threads)
         try:
             futures = {
                 client.submit(
@@ -386,6 +446,14 @@ def run_sweep(
                 record(key, res)
                 if bar is not None:
                     bar.update()
+                if need and res["status"] == "ok":
+                    try:
+                        _check_metrics(ckpt.rows[key], need)
+                    except SweepError:
+                        for other_fut in futures:
+                            other_fut.cancel()
+                        raise
+                    need = []
             if bar is not None:
                 bar.close()
         finally:
@@ -394,8 +462,7 @@ def run_sweep(
             if own is not None:
                 own.close()
     rows = [ckpt.rows[k] for k in configs]
-    if not todo and not (out / "table.parquet").exists():
-        write_table(out / "table.parquet", rows, varied)
+    write_table(out / "table.parquet", rows, varied)  # this grid's points, also when none ran
     revisions = sorted({r["git_revision"] for r in rows})
     if len(revisions) > 1:
         log.warning("sweep %s: its rows come from %d code revisions %s", out, len(revisions), revisions)
@@ -419,6 +486,32 @@ def run_sweep(
     return summary
 
 
+def _sweep_experiment(out: Path) -> str | None:
+    """The experiment of the sweep in ``out`` (its sweep.json), if any."""
+    try:
+        return json.loads((out / "sweep.json").read_text()).get("experiment")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _check_metrics(row: dict, names: list[str]) -> None:
+    """``SweepError`` unless every name is a number column of a finished point's row."""
+    import difflib
+
+    metrics = row["metrics"]
+    numbers = sorted(k for k, v in metrics.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
+    for name in names:
+        if name in numbers:
+            continue
+        what = "is not a number" if name in metrics else "is not a column"
+        close = difflib.get_close_matches(name, numbers, n=3, cutoff=0.5)
+        raise SweepError(
+            f"{name!r} {what} of this sweep's table (checked on point {row['key']}); "
+            + (f"did you mean {close}? " if close else "")
+            + f"number columns: {numbers}"
+        )
+
+
 def _cli_value(v: Any) -> Any:
     """A ``--set`` value as the JSON value it stands for (a bare word is a string)."""
     from .experiment_config import _CliText, _parse_value
@@ -433,13 +526,21 @@ def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None 
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import pandas as pd
 
     from .results import save_figure
 
     df = read_table(table)
-    for name in (key, metric):
-        if name not in df.columns:
-            raise SweepError(f"{name!r} is not a column of {table}; columns: {sorted(df.columns)}")
+    if key not in _varied(df):
+        raise SweepError(f"{key!r} is not a swept key of {table}; plot against one of {_varied(df)}")
+    numbers = [
+        c
+        for c in df.columns
+        if pd.api.types.is_numeric_dtype(df[c]) and not pd.api.types.is_bool_dtype(df[c])
+    ]
+    if metric not in numbers:
+        what = "is not a number column" if metric in df.columns else "is not a column"
+        raise SweepError(f"{metric!r} {what} of {table}; number columns: {sorted(numbers)}")
     ok = df[df["status"] == "ok"]
     others = [c for c in _varied(df) if c not in (key, metric)]  # one line per combination of these
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
