@@ -388,7 +388,7 @@ def run_sweep(
         client, own = _client(workers, scheduler, threads)
         if scheduler:
             log.info("workers write each point's outputs under %s: a file system they must share", out)
-    ckpt = Checkpoint(out / "points.jsonl", ck_config)
+    ckpt: Checkpoint | None = None  # made (written) inside the try that closes the client
 
     def record(key: str, res: dict) -> None:
         values, cfg = configs[key]
@@ -415,6 +415,7 @@ def run_sweep(
         from distributed import as_completed
 
         try:
+            ckpt = Checkpoint(out / "points.jsonl", ck_config)
             futures = {
                 client.submit(
                     run_point,
@@ -461,6 +462,8 @@ def run_sweep(
                 client.close()
             if own is not None:
                 own.close()
+    if ckpt is None:
+        ckpt = Checkpoint(out / "points.jsonl", ck_config)
     rows = [ckpt.rows[k] for k in configs]
     write_table(out / "table.parquet", rows, varied)  # this grid's points, also when none ran
     revisions = sorted({r["git_revision"] for r in rows})
