@@ -47,6 +47,9 @@ def check_config(config: dict) -> None:
     check_mu(config["mu"], what="relative error rate of w_max")
     if not config["n_elements"] or min(config["n_elements"]) < 1:
         raise ValueError(f"n_elements must be mesh sizes >= 1, e.g. [25, 100]; got {config['n_elements']!r}")
+    for key in ("timing_twists", "timing_repeats"):
+        if config[key] < 1:
+            raise ValueError(f"{key} must be >= 1 (a count); got {config[key]!r}")
 
 
 def error_rate(w_mesh: np.ndarray, w_true: np.ndarray) -> float:

@@ -94,10 +94,10 @@ def check_config(config: dict) -> None:
     """The CLI checks settings with this before any work (workbench.experiment_config.build_config)."""
     check_protocol_config(config)
     unknown = [s for s in [*config["surfaces"], config["section_surface"]] if s not in THESIS_SURFACES]
-    if unknown or not config["surfaces"]:
+    if unknown or not config["surfaces"] or len(set(config["surfaces"])) < len(config["surfaces"]):
         raise ValueError(
             f"surfaces and section_surface must be thesis surfaces, one of {sorted(THESIS_SURFACES)} "
-            f"(surfaces at least one); got {unknown or config['surfaces']}"
+            f"(surfaces at least one, each once); got {unknown or config['surfaces']}"
         )
     check_workers(config["workers"], config["scheduler"])
 

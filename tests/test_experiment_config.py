@@ -221,9 +221,17 @@ def test_config_help_has_one_line_per_default_key(name):
         ("ls-fitting", {"surfaces": ["S9"]}, r"must be thesis surfaces, one of \['S1'.*got \['S9'\]"),
         ("ls-fitting", {"section_surface": "s4"}, r"got \['s4'\]"),
         ("ls-fitting", {"surfaces": []}, "at least one"),
+        ("ls-fitting", {"surfaces": ["S1", "S1"]}, "each once"),
+        ("discretization", {"timing_twists": 0}, "timing_twists must be >= 1"),
+        ("discretization", {"timing_repeats": 0}, "timing_repeats must be >= 1"),
     ],
 )
 def test_surface_names_are_checked_before_any_work(name, sets, match):
     """An unknown surface used to fail mid-run with a bare KeyError (a sweep point after 3.7 s)."""
     with pytest.raises(SystemExit, match=match):
         build_config(name, True, None, None, sets)
+
+
+def test_seed_given_twice_is_refused():
+    with pytest.raises(SystemExit, match=r"seed is given by --seed \(3\) and by --set seed=4: give it once"):
+        build_config("discretization", True, None, 3, {"seed": 4})

@@ -488,3 +488,63 @@ def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
             p.terminate()
         for p in procs:
             p.wait(timeout=30)
+
+
+def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(tmp_path, toy):
+    """The same swept value under another --set used to share (and overwrite) one point
+    folder, each run recomputing the other's; two sweeps into one directory ran every point
+    twice into the same folders."""
+    from contextlib import ExitStack
+
+    from workbench.sweep import _open_checkpoint
+
+    out = tmp_path / "sw"
+    a = run_sweep("toy", {"x": [1.0]}, sets={"fail_above": 10.0}, out=out, client=toy, progress=False)
+    b = run_sweep("toy", {"x": [1.0]}, sets={"fail_above": 100.0}, out=out, client=toy, progress=False)
+    a2 = run_sweep("toy", {"x": [1.0]}, sets={"fail_above": 10.0}, out=out, client=toy, progress=False)
+    assert (a["n_submitted"], b["n_submitted"], a2["n_submitted"]) == (1, 1, 0)
+    assert len(list((out / "points").iterdir())) == 2
+    with ExitStack() as stack:  # a sweep holding the directory
+        _open_checkpoint(out, {"experiment": "toy", "sweep_format": 1}, stack)
+        with pytest.raises(SweepError, match="another sweep is running in .*give another --out"):
+            run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    assert run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)["n_submitted"] == 1
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(SweepError, match="cannot be made: .*afile is not a writable directory"):
+        run_sweep("toy", {"x": [1.0]}, out=tmp_path / "afile" / "sub", client=toy, progress=False)
+    with pytest.raises(SweepError, match="--out is empty"):
+        run_sweep("toy", {"x": [1.0]}, out="", client=toy, progress=False)
+
+
+def test_a_sweep_whose_first_points_all_fail_stops_and_says_why(tmp_path, toy):
+    from workbench import config
+
+    out = tmp_path / "sw"
+    with config.override(sweep_stop_after_failures=3):
+        with pytest.raises(SweepError, match="the first 3 points all failed.*last error: ValueError: x = "):
+            run_sweep("toy", {"x": [float(x) for x in range(20, 40)]}, out=out, client=toy, progress=False)
+    status = json.loads((out / "sweep.json").read_text())
+    assert status["status"] == "stopped" and 3 <= status["n_failed"] < 20
+    assert len(pd.read_parquet(out / "table.parquet")) == status["n_failed"]
+    # failures among successes do not stop a sweep, and the summary names them
+    s = run_sweep("toy", {"x": [1.0, 30.0, 2.0]}, out=tmp_path / "mixed", client=toy, progress=False)
+    assert s["status"] == "complete" and s["n_failed"] == 1
+    assert s["failed"][0]["error"] == "ValueError: x = 30.0 is above fail_above = 10.0"
+
+
+def test_a_point_whose_outputs_were_deleted_runs_again(tmp_path, toy):
+    import shutil
+
+    out = tmp_path / "sw"
+    run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    shutil.rmtree(next((out / "points").iterdir()))
+    s = run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    assert (s["n_resumed"], s["n_submitted"]) == (1, 1)
+    assert len(list((out / "points").glob("*/summary.json"))) == 2
+
+
+def test_table_columns_of_the_sweep_itself_are_plot_metrics(tmp_path, toy):
+    out = tmp_path / "sw"
+    assert run_sweep("toy", {"x": [1.0]}, out=out, client=toy, progress=False, metrics=["seconds", "y"])
+    with pytest.raises(SweepError, match="'status' is not a number"):
+        run_sweep("toy", {"x": [1.0]}, out=out, client=toy, progress=False, metrics=["status"])

@@ -220,6 +220,10 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         f"in {summary['seconds']:.1f} s"
     )
     print(f"  table: {summary['table']}")
+    for bad in summary["failed"]:
+        print(f"  failed: {bad['point']}: {bad['error']}")
+    if summary["n_failed"]:
+        print("  (tracebacks in the table's error column; failed points run again with --retry-failed)")
     for key, metric in args.plot:
         try:
             print(f"  figure: {plot_sweep(summary['table'], key, metric)}")

@@ -377,6 +377,11 @@ class Defaults:
     # with no workers would otherwise hold the sweep at 0 % without a word.
     scheduler_wait_s: float = 30.0
 
+    # A sweep whose first this-many finished points all failed stops (the rest cancelled),
+    # printing the last error: a setting that fails every point (measured: a 10,000-point
+    # grid failing each point in 2 s) would otherwise run to the end.  0: never stop.
+    sweep_stop_after_failures: int = 5
+
     # Right-hand sides from which a sparse factor with row copies of L and U
     # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
     # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
@@ -540,6 +545,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "work_eps": _POS,  # "a small positive number" (thesis Eq. 4.5)
     "cluster_min_rows": _count(0),
     "scheduler_wait_s": _POS,
+    "sweep_stop_after_failures": _count(0),
     "blocked_solve_min_rhs": _count(0),
 }
 

@@ -227,6 +227,8 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     config["out"] = str(Path(out) if out else Path("results") / name)
     if seed is not None:
         config["seed"] = seed
+    if seed is not None and "seed" in sets:  # one of them would be ignored silently
+        raise SystemExit(f"seed is given by --seed ({seed}) and by --set seed={sets['seed']}: give it once")
     reserved = sorted({"quick", "out"} & set(sets))
     if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
         raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")

@@ -25,9 +25,11 @@ column named by its path (``table_4_6.vertical_lifting.q_work.All``).
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import logging
+import os
 import re
 import time
 import traceback
@@ -94,15 +96,18 @@ def expand_grid(grid: dict[str, list], zipped: dict[str, list] | None = None) ->
     ]
 
 
-def point_key(values: dict[str, Any]) -> str:
-    """A file-name-safe key of a point: its values (shortened, keys sorted) and a hash of all
-    of them, e.g. ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal values give equal keys, whatever
-    the order the keys were given in."""
+def point_key(values: dict[str, Any], config: dict | None = None) -> str:
+    """A file-name-safe key of a point: its values (shortened, keys sorted) and a hash of its
+    whole ``config`` (less ``out``; of the values alone without one), e.g.
+    ``mu=0.3_n_angles=4-1f3a9c2e``.  Equal configs give equal keys, whatever the order the
+    keys were given in; the same swept values under other fixed settings (``--set``,
+    ``--seed``, ``--quick``) get another key, so their outputs never overwrite each other."""
     text = "_".join(
         f"{k}={json.dumps(v, sort_keys=True, separators=(',', ':'))}" for k, v in sorted(values.items())
     )
     text = re.sub(r"[^A-Za-z0-9=._,+-]+", "", text)[:60]
-    return f"{text}-{content_hash(values, 8)}"
+    whole = values if config is None else {k: v for k, v in config.items() if k != "out"}
+    return f"{text}-{content_hash(whole, 8)}"
 
 
 def sweep_dir(
@@ -208,7 +213,7 @@ def _point_configs(
             # name the point only when one of its values is in question, not a --set one
             raise SweepError(f"point {given}: {msg}" if any(k in msg for k in given) else msg) from None
         values = {k: cfg[k] for k in given}
-        key = point_key(values)
+        key = point_key(values, cfg)
         if key in configs:
             raise SweepError(
                 f"the grid repeats a point: {given} is {configs[key][0]} (drop the duplicate value)"
@@ -348,14 +353,21 @@ def run_sweep(
         raise SweepError(f"workers must be a positive integer; got {workers!r}")
     if not isinstance(threads, int) or threads < 1:
         raise SweepError(f"threads must be a positive integer; got {threads!r}")
+    if scheduler is not None and not str(scheduler).strip():
+        raise SweepError("--scheduler is empty; give an address such as tcp://host:8786 (or leave it out)")
     if sum(x is not None for x in (workers, scheduler, client)) > 1:
         raise SweepError("give at most one of workers, scheduler and client")
     sets = dict(sets or {})
     points = expand_grid(grid, zipped)
+    if out is not None and not str(out).strip():
+        raise SweepError("--out is empty; give a directory (or leave --out out for the default)")
     out = Path(out) if out else sweep_dir(experiment, grid, zipped, quick=quick, sets=sets, seed=seed)
     out = out.absolute()
     if out.exists() and not out.is_dir():
         raise SweepError(f"--out {out} is a file; give a directory (new or an earlier sweep's)")
+    parent = next(p for p in (out, *out.parents) if p.exists())
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise SweepError(f"--out {out} cannot be made: {parent} is not a writable directory")
     other = _sweep_experiment(out)
     if other not in (None, experiment):  # its checkpoint would be dropped as not this sweep's
         raise SweepError(f"{out} holds a sweep of {other}, not {experiment}; give another --out")
@@ -374,6 +386,17 @@ def run_sweep(
         for k, r in stored.items()
         if k in configs and r.get("config_digest") == digests[k] and (r["status"] == "ok" or not retry_failed)
     }
+    lost = sorted(
+        k for k in done if stored[k]["status"] == "ok" and not (out / "points" / k / "summary.json").is_file()
+    )
+    if lost:  # a point's outputs were deleted: run it again rather than keep a row without them
+        log.warning(
+            "sweep %s: %d finished points lost their outputs (points/<key>/summary.json); re-run: %s",
+            out,
+            len(lost),
+            lost[:5],
+        )
+        done -= set(lost)
     n_resumed = len(done)
     todo = [k for k in configs if k not in done]
     need = list(metrics)
@@ -383,110 +406,168 @@ def run_sweep(
         need = []
     revision, vers = code_revision(), versions()
     fresh: set[str] = set()
-    own = None
-    if todo and client is None:  # connect (and check the scheduler) before writing anything
-        client, own = _client(workers, scheduler, threads)
-        if scheduler:
-            log.info("workers write each point's outputs under %s: a file system they must share", out)
-    ckpt: Checkpoint | None = None  # made (written) inside the try that closes the client
+    with contextlib.ExitStack() as stack:
+        if todo and client is None:  # connect (and check the scheduler) before writing anything
+            cores = os.cpu_count() or 1
+            if not scheduler and threads * (workers or cores) > cores:
+                log.warning(
+                    "%d workers x %d threads oversubscribe %d cores", workers or cores, threads, cores
+                )
+            # no idle processes: never more local workers than points to run
+            client, own = _client(None if scheduler else min(workers or cores, len(todo)), scheduler, threads)
+            if own is not None:
+                stack.callback(own.close)
+            stack.callback(client.close)  # runs first (last in, first out)
+            if scheduler:
+                log.info("workers write each point's outputs under %s: a file system they must share", out)
+        ckpt = _open_checkpoint(out, ck_config, stack)  # locked: one sweep at a time in out
 
-    def record(key: str, res: dict) -> None:
-        values, cfg = configs[key]
-        row = {
-            "config_digest": digests[key],
-            "values": values,
-            "status": res["status"],
-            "error": res["error"],
-            "seconds": res["seconds"],
-            "seed": cfg.get("seed"),
-            "git_revision": revision,
-            "versions": vers,
-            "metrics": flatten_scalars(res["summary"]) if res["summary"] else {},
-        }
-        if res["status"] != "ok":
-            log.warning("sweep point %s failed: %s", key, (res["error"] or "").strip().splitlines()[-1:])
-        ckpt.add(key, row)
-        fresh.add(key)
-        write_table(out / "table.parquet", [ckpt.rows[k] for k in configs if k in done or k in fresh], varied)
-        if on_point is not None:
-            on_point(key, ckpt.rows[key])
+        def finish(status: str) -> dict:
+            """Write this grid's table and sweep.json (also when stopped), return the summary."""
+            rows = [ckpt.rows[k] for k in configs if k in ckpt.rows]
+            write_table(out / "table.parquet", rows, varied)
+            revisions = sorted({r["git_revision"] for r in rows})
+            if len(revisions) > 1:
+                log.warning(
+                    "sweep %s: its rows come from %d code revisions %s", out, len(revisions), revisions
+                )
+            failed = [r for r in rows if r["status"] != "ok"]
+            summary = {
+                "experiment": experiment,
+                "status": status,
+                "grid": grid,
+                "zip": zipped or {},
+                "quick": quick,
+                "sets": {k: _cli_value(v) for k, v in sets.items()},
+                "n_points": len(configs),
+                "n_ok": len(rows) - len(failed),
+                "n_failed": len(failed),
+                "n_resumed": n_resumed,
+                "n_submitted": len(todo),
+                "failed": [{"point": r["key"], "error": _last_line(r["error"])} for r in failed[:5]],
+                "table": str(out / "table.parquet"),
+                "git_revision": revision,
+                "row_revisions": revisions,
+                "seconds": time.perf_counter() - t_start,
+            }
+            atomic_write_bytes(out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode())
+            return summary
 
-    if todo:
-        from distributed import as_completed
+        def record(key: str, res: dict) -> None:
+            values, cfg = configs[key]
+            row = {
+                "config_digest": digests[key],
+                "values": values,
+                "status": res["status"],
+                "error": res["error"],
+                "seconds": res["seconds"],
+                "seed": cfg.get("seed"),
+                "git_revision": revision,
+                "versions": vers,
+                "metrics": flatten_scalars(res["summary"]) if res["summary"] else {},
+            }
+            if res["status"] != "ok":
+                log.warning("sweep point %s failed: %s", key, _last_line(res["error"]))
+            ckpt.add(key, row)
+            fresh.add(key)
+            write_table(
+                out / "table.parquet", [ckpt.rows[k] for k in configs if k in done or k in fresh], varied
+            )
+            if on_point is not None:
+                on_point(key, ckpt.rows[key])
 
         try:
-            ckpt = Checkpoint(out / "points.jsonl", ck_config)
-            futures = {
-                client.submit(
-                    run_point,
-                    experiment,
-                    configs[k][1],
-                    threads,
-                    key=f"sweep-{k}",
-                    pure=False,
-                    retries=retries,
-                ): k
-                for k in todo
-            }
-            bar = None
-            if progress:
-                from tqdm import tqdm
+            if todo:
+                _run_points(client, experiment, configs, todo, threads, retries, progress, record, ckpt, need)
+        except BaseException:
+            finish("stopped")
+            raise
+        return finish("complete")
 
-                bar = tqdm(total=len(todo), desc=f"sweep {experiment}", unit="point")
-            for fut in as_completed(futures):
-                key = futures[fut]
-                try:
-                    res = fut.result()
-                except Exception:  # the task could not run at all (e.g. its workers kept dying)
-                    res = {
-                        "status": "failed",
-                        "summary": None,
-                        "seconds": float("nan"),
-                        "error": traceback.format_exc(),
-                    }
-                record(key, res)
-                if bar is not None:
-                    bar.update()
-                if need and res["status"] == "ok":
-                    try:
-                        _check_metrics(ckpt.rows[key], need)
-                    except SweepError:
-                        for other_fut in futures:
-                            other_fut.cancel()
-                        raise
-                    need = []
-            if bar is not None:
-                bar.close()
-        finally:
-            if own is not None or scheduler:
-                client.close()
-            if own is not None:
-                own.close()
-    if ckpt is None:
-        ckpt = Checkpoint(out / "points.jsonl", ck_config)
-    rows = [ckpt.rows[k] for k in configs]
-    write_table(out / "table.parquet", rows, varied)  # this grid's points, also when none ran
-    revisions = sorted({r["git_revision"] for r in rows})
-    if len(revisions) > 1:
-        log.warning("sweep %s: its rows come from %d code revisions %s", out, len(revisions), revisions)
-    summary = {
-        "experiment": experiment,
-        "grid": grid,
-        "zip": zipped or {},
-        "quick": quick,
-        "sets": {k: _cli_value(v) for k, v in sets.items()},
-        "n_points": len(configs),
-        "n_ok": sum(r["status"] == "ok" for r in rows),
-        "n_failed": sum(r["status"] != "ok" for r in rows),
-        "n_resumed": n_resumed,
-        "n_submitted": len(todo),
-        "table": str(out / "table.parquet"),
-        "git_revision": revision,
-        "row_revisions": revisions,
-        "seconds": time.perf_counter() - t_start,
+
+def _run_points(client, experiment, configs, todo, threads, retries, progress, record, ckpt, need) -> None:
+    """Submit ``todo``'s points and record each as it finishes; stop (cancelling the rest) when
+    a needed metric is missing or the first ``config.DEFAULTS.sweep_stop_after_failures``
+    finished points all failed."""
+    from distributed import as_completed
+
+    from . import config
+
+    futures = {
+        client.submit(
+            run_point, experiment, configs[k][1], threads, key=f"sweep-{k}", pure=False, retries=retries
+        ): k
+        for k in todo
     }
-    atomic_write_bytes(out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode())
-    return summary
+    stop_after = config.DEFAULTS.sweep_stop_after_failures
+    n_ok = n_failed = 0
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(todo), desc=f"sweep {experiment}", unit="point")
+    try:
+        for fut in as_completed(futures):
+            key = futures[fut]
+            try:
+                res = fut.result()
+            except Exception:  # the task could not run at all (e.g. its workers kept dying)
+                res = {
+                    "status": "failed",
+                    "summary": None,
+                    "seconds": float("nan"),
+                    "error": traceback.format_exc(),
+                }
+            record(key, res)
+            if bar is not None:
+                bar.update()
+            n_ok += res["status"] == "ok"
+            n_failed += res["status"] != "ok"
+            if need and res["status"] == "ok":
+                _check_metrics(ckpt.rows[key], need)
+                need = []
+            if stop_after and n_ok == 0 and n_failed >= stop_after:
+                raise SweepError(
+                    f"the first {n_failed} points all failed, so the sweep stopped (the rest cancelled); "
+                    f"last error: {_last_line(res['error'])}. Fix the setting and re-run; failed points "
+                    "run again with --retry-failed (their tracebacks: the table's error column)"
+                )
+    except BaseException:
+        client.cancel(list(futures))  # one call: a cancel per future is a round trip each
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _open_checkpoint(out: Path, ck_config: dict, stack: contextlib.ExitStack) -> Checkpoint:
+    """The sweep's checkpoint in ``out``, under an exclusive lock held until ``stack`` closes:
+    a second sweep into the same directory stops at once instead of running every point
+    again into the same folders."""
+    import fcntl
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        lock = stack.enter_context(open(out / ".sweep.lock", "a+"))
+    except OSError as exc:
+        raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise SweepError(
+            f"another sweep is running in {out}; wait for it to end (then resume there) or give another --out"
+        ) from None
+    stack.callback(fcntl.flock, lock, fcntl.LOCK_UN)
+    try:
+        return Checkpoint(out / "points.jsonl", ck_config)
+    except OSError as exc:
+        raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
+
+
+def _last_line(error: str | None) -> str:
+    """The last line of a traceback (the exception and its message)."""
+    lines = (error or "").strip().splitlines()
+    return lines[-1] if lines else ""
 
 
 def _sweep_experiment(out: Path) -> str | None:
@@ -501,7 +582,11 @@ def _check_metrics(row: dict, names: list[str]) -> None:
     """``SweepError`` unless every name is a number column of a finished point's row."""
     import difflib
 
-    metrics = row["metrics"]
+    # the experiment's numbers and the table's own columns (``seconds`` a number, ``status`` not)
+    metrics = {
+        **row["metrics"],
+        **{k: row.get(k) for k in ("seconds", "seed", "status", "error", "git_revision")},
+    }
     numbers = sorted(k for k, v in metrics.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
     for name in names:
         if name in numbers:
