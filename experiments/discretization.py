@@ -45,8 +45,11 @@ QUICK_CONFIG = {"n_elements": [25, 100, 300, 1000], "timing_twists": 10, "timing
 def check_config(config: dict) -> None:
     """μ > 0 before any work: the error rate is relative to w_max, which is 0 without friction."""
     check_mu(config["mu"], what="relative error rate of w_max")
-    if not config["n_elements"] or min(config["n_elements"]) < 1:
-        raise ValueError(f"n_elements must be mesh sizes >= 1, e.g. [25, 100]; got {config['n_elements']!r}")
+    if not config["n_elements"] or min(config["n_elements"]) < 2:  # mesh_profile's own minimum
+        raise ValueError(f"n_elements must be mesh sizes >= 2, e.g. [25, 100]; got {config['n_elements']!r}")
+    for key in ("timing_rtol", "truth_rtol"):
+        if not config[key] > 0:
+            raise ValueError(f"{key} must be a relative tolerance > 0, e.g. 1e-4; got {config[key]!r}")
     for key in ("timing_twists", "timing_repeats"):
         if config[key] < 1:
             raise ValueError(f"{key} must be >= 1 (a count); got {config[key]!r}")

@@ -223,6 +223,8 @@ def test_config_help_has_one_line_per_default_key(name):
         ("ls-fitting", {"surfaces": []}, "at least one"),
         ("ls-fitting", {"surfaces": ["S1", "S1"]}, "each once"),
         ("discretization", {"timing_twists": 0}, "timing_twists must be >= 1"),
+        ("discretization", {"n_elements": [1]}, "n_elements must be mesh sizes >= 2"),
+        ("discretization", {"timing_rtol": 0.0}, "timing_rtol must be a relative tolerance > 0"),
         ("discretization", {"timing_repeats": 0}, "timing_repeats must be >= 1"),
     ],
 )

@@ -306,7 +306,7 @@ def test_no_scheduler_or_one_without_workers_is_an_error_before_anything_is_writ
         ):
             run_sweep("toy", {"x": [1.0]}, scheduler=f"tcp://127.0.0.1:{port}", out=out, progress=False)
         assert time.perf_counter() - t0 < 30
-        with pytest.raises(SweepError, match="no Dask scheduler answered at 'nonsense'"):
+        with pytest.raises(SweepError, match="--scheduler 'nonsense' is not a Dask scheduler address"):
             run_sweep("toy", {"x": [1.0]}, scheduler="nonsense", out=out, progress=False)
         with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as empty:
             with pytest.raises(SweepError, match="has no workers after 2 s; start some with `dask worker"):
@@ -496,7 +496,7 @@ def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(
     twice into the same folders."""
     from contextlib import ExitStack
 
-    from workbench.sweep import _open_checkpoint
+    from workbench.sweep import _lock
 
     out = tmp_path / "sw"
     a = run_sweep("toy", {"x": [1.0]}, sets={"fail_above": 10.0}, out=out, client=toy, progress=False)
@@ -505,9 +505,14 @@ def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(
     assert (a["n_submitted"], b["n_submitted"], a2["n_submitted"]) == (1, 1, 0)
     assert len(list((out / "points").iterdir())) == 2
     with ExitStack() as stack:  # a sweep holding the directory
-        _open_checkpoint(out, {"experiment": "toy", "sweep_format": 1}, stack)
+        _lock(out, stack)
         with pytest.raises(SweepError, match="another sweep is running in .*give another --out"):
             run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+        # refused before a cluster is started (that took 10-16 s on two busy cores)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr("workbench.sweep._client", lambda *a: pytest.fail("a cluster was started"))
+            with pytest.raises(SweepError, match="another sweep is running"):
+                run_sweep("toy", {"x": [1.0, 2.0]}, out=out, workers=1, progress=False)
     assert run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)["n_submitted"] == 1
     (tmp_path / "afile").write_text("x")
     with pytest.raises(SweepError, match="cannot be made: .*afile is not a writable directory"):
@@ -525,6 +530,10 @@ def test_a_sweep_whose_first_points_all_fail_stops_and_says_why(tmp_path, toy):
             run_sweep("toy", {"x": [float(x) for x in range(20, 40)]}, out=out, client=toy, progress=False)
     status = json.loads((out / "sweep.json").read_text())
     assert status["status"] == "stopped" and 3 <= status["n_failed"] < 20
+    # a re-run whose points all fail again, with none left to run after them, completes
+    with config.override(sweep_stop_after_failures=3):
+        s = run_sweep("toy", {"x": [20.0, 21.0, 22.0]}, out=tmp_path / "three", client=toy, progress=False)
+    assert s["status"] == "complete" and s["n_failed"] == 3
     assert len(pd.read_parquet(out / "table.parquet")) == status["n_failed"]
     # failures among successes do not stop a sweep, and the summary names them
     s = run_sweep("toy", {"x": [1.0, 30.0, 2.0]}, out=tmp_path / "mixed", client=toy, progress=False)

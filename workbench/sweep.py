@@ -291,7 +291,11 @@ def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[A
         wait = config.DEFAULTS.scheduler_wait_s
         try:
             client = Client(scheduler, timeout=wait)
-        except (OSError, ValueError, TypeError) as exc:  # refused, timed out, a malformed address
+        except (ValueError, TypeError) as exc:  # a malformed address
+            raise SweepError(
+                f"--scheduler {scheduler!r} is not a Dask scheduler address ({exc}); give e.g. tcp://host:8786"
+            ) from None
+        except OSError as exc:  # refused, timed out
             raise SweepError(
                 f"no Dask scheduler answered at {scheduler!r} within {wait:g} s ({type(exc).__name__}: "
                 f"{exc}); start one with `dask scheduler` and give its address, e.g. tcp://host:8786"
@@ -407,6 +411,8 @@ def run_sweep(
     revision, vers = code_revision(), versions()
     fresh: set[str] = set()
     with contextlib.ExitStack() as stack:
+        if out.is_dir():  # a sweep running there already stops this one before it starts a cluster
+            _lock(out, stack)
         if todo and client is None:  # connect (and check the scheduler) before writing anything
             cores = os.cpu_count() or 1
             if not scheduler and threads * (workers or cores) > cores:
@@ -420,7 +426,9 @@ def run_sweep(
             stack.callback(client.close)  # runs first (last in, first out)
             if scheduler:
                 log.info("workers write each point's outputs under %s: a file system they must share", out)
-        ckpt = _open_checkpoint(out, ck_config, stack)  # locked: one sweep at a time in out
+        if not out.is_dir():
+            _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
+        ckpt = _checkpoint(out, ck_config)
 
         def finish(status: str) -> dict:
             """Write this grid's table and sweep.json (also when stopped), return the summary."""
@@ -476,6 +484,13 @@ def run_sweep(
             if on_point is not None:
                 on_point(key, ckpt.rows[key])
 
+        atomic_write_bytes(  # stale from an earlier grid until this one ends
+            out / "sweep.json",
+            (
+                json.dumps({"experiment": experiment, "status": "running", "pid": os.getpid(), "grid": grid})
+                + "\n"
+            ).encode(),
+        )
         try:
             if todo:
                 _run_points(client, experiment, configs, todo, threads, retries, progress, record, ckpt, need)
@@ -526,7 +541,7 @@ def _run_points(client, experiment, configs, todo, threads, retries, progress, r
             if need and res["status"] == "ok":
                 _check_metrics(ckpt.rows[key], need)
                 need = []
-            if stop_after and n_ok == 0 and n_failed >= stop_after:
+            if stop_after and n_ok == 0 and n_failed >= stop_after and n_failed < len(futures):
                 raise SweepError(
                     f"the first {n_failed} points all failed, so the sweep stopped (the rest cancelled); "
                     f"last error: {_last_line(res['error'])}. Fix the setting and re-run; failed points "
@@ -540,10 +555,10 @@ def _run_points(client, experiment, configs, todo, threads, retries, progress, r
             bar.close()
 
 
-def _open_checkpoint(out: Path, ck_config: dict, stack: contextlib.ExitStack) -> Checkpoint:
-    """The sweep's checkpoint in ``out``, under an exclusive lock held until ``stack`` closes:
-    a second sweep into the same directory stops at once instead of running every point
-    again into the same folders."""
+def _lock(out: Path, stack: contextlib.ExitStack) -> None:
+    """An exclusive lock on ``out`` (made if need be), held until ``stack`` closes: a second
+    sweep into the same directory stops at once instead of running every point again into
+    the same folders."""
     import fcntl
 
     try:
@@ -558,6 +573,10 @@ def _open_checkpoint(out: Path, ck_config: dict, stack: contextlib.ExitStack) ->
             f"another sweep is running in {out}; wait for it to end (then resume there) or give another --out"
         ) from None
     stack.callback(fcntl.flock, lock, fcntl.LOCK_UN)
+
+
+def _checkpoint(out: Path, ck_config: dict) -> Checkpoint:
+    """The sweep's checkpoint (``out/points.jsonl``); ``SweepError`` if it cannot be written."""
     try:
         return Checkpoint(out / "points.jsonl", ck_config)
     except OSError as exc:
