@@ -430,9 +430,14 @@ def run_sweep(
             _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
         ckpt = _checkpoint(out, ck_config)
 
+        def grid_rows() -> list[dict]:
+            """This grid's finished rows: resumed or recorded by this run (a stored row being
+            re-run — lost outputs, --retry-failed — is not one until it is recorded again)."""
+            return [ckpt.rows[k] for k in configs if k in done or k in fresh]
+
         def finish(status: str) -> dict:
             """Write this grid's table and sweep.json (also when stopped), return the summary."""
-            rows = [ckpt.rows[k] for k in configs if k in ckpt.rows]
+            rows = grid_rows()
             write_table(out / "table.parquet", rows, varied)
             revisions = sorted({r["git_revision"] for r in rows})
             if len(revisions) > 1:
@@ -478,9 +483,7 @@ def run_sweep(
                 log.warning("sweep point %s failed: %s", key, _last_line(res["error"]))
             ckpt.add(key, row)
             fresh.add(key)
-            write_table(
-                out / "table.parquet", [ckpt.rows[k] for k in configs if k in done or k in fresh], varied
-            )
+            write_table(out / "table.parquet", grid_rows(), varied)
             if on_point is not None:
                 on_point(key, ckpt.rows[key])
 
