@@ -49,6 +49,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench import config as cfg
 from workbench import frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
@@ -511,10 +512,15 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
     n_total = len(jobs) * len(config["deltas_mm"])
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
-    # one task per profile (a grasp's 3 would leave 2 workers idle on a short run), the
-    # longest first: the full-mesh references, then the profiles with the protocol ablation
-    rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
-    rows.sort(key=lambda t: not _ablated(t[1][0], t[1][-1][0], config))
+    # one task per profile on short runs (a grasp's 3 would leave 2 workers idle), per grasp
+    # on long ones (config.DEFAULTS.grasp_tasks_from: a profile's task re-solves the jaw
+    # displacements before it); the longest first: the full-mesh references, then the tasks
+    # with the protocol ablation
+    if len(todo_jobs) >= cfg.DEFAULTS.grasp_tasks_from:
+        rows = [("rows", job) for job in todo_jobs]
+    else:
+        rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
+    rows.sort(key=lambda t: not any(_ablated(t[1][0], k, config) for k in t[1][-1]))
     tasks = [("reference", label, pose) for label, pose in ref_cases] + rows
     ref_of: dict[str, dict] = {}
 

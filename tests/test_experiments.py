@@ -514,3 +514,31 @@ def test_peers_bottle_case_is_placed_as_fem_fitting_places_it():
     assert np.abs(mesh.signed_distance(near)[0] - pose.signed_distance(near)[0]).max() < 2 * sag
     with pytest.raises(SystemExit, match="bottle must be"):
         build_config("peers", True, None, None, {"bottle": {"index": 30, "height": 0.5, "mesh": [64, 64]}})
+
+
+def test_fem_fitting_gives_a_task_a_grasp_on_long_runs(tmp_path, monkeypatch):
+    """From ``config.DEFAULTS.grasp_tasks_from`` grasps a task holds a grasp's remaining jaw
+    displacements (solved once, in order), below it one profile; either way every profile to
+    do is in exactly one task and the tasks with the protocol ablation come first."""
+    from workbench import config
+    from workbench.experiments import fem_fitting as ff
+
+    cfg = build_config("fem-fitting", True, str(tmp_path), None, {"ablation_every": 5})
+    todo = [(j, 0, 0.5, "major", 0.0, [0, 1, 2]) for j in range(4)] + [(4, 1, 0.5, "minor", 1.5, [2])]
+    seen = {}
+
+    def fake_run_rows(fn, tasks, keep, config, **kw):
+        seen["tasks"] = tasks
+        return [], "here"
+
+    monkeypatch.setattr(ff, "run_rows", fake_run_rows)
+    ckpt = ff._checkpoint(tmp_path, cfg)
+    for threshold, per_task in ((5, 3), (6, 1)):
+        with config.override(grasp_tasks_from=threshold):
+            ff._sweep(todo, todo, [], ckpt, cfg, lambda: [])
+        tasks = seen["tasks"]
+        profiles = sorted((t[1][0], k) for t in tasks for k in t[1][-1])
+        assert profiles == sorted((job[0], k) for job in todo for k in job[-1])
+        assert max(len(t[1][-1]) for t in tasks) == per_task
+        ablated = [any(ff._ablated(t[1][0], k, cfg) for k in t[1][-1]) for t in tasks]
+        assert ablated == sorted(ablated, reverse=True) and any(ablated) and not all(ablated)

@@ -198,6 +198,32 @@ def test_reduced_gram_fit_is_the_full_gram_fit(rng):
     assert np.abs(V1 @ M_red.ravel(order="F") - V2 @ a_red).max() <= 1e-6 * np.abs(a_red).max()
 
 
+@pytest.mark.parametrize("r", [1, 2, 3, 4, 5, 6])
+def test_symmetric_block_is_fixed_by_the_coefficients_and_the_antisymmetric_block(r, rng):
+    """The fit's elimination (``_reduced_maps``): for any coefficients a and antisymmetric
+    block A, ``svec S = P a + Q svec A`` gives the Gram matrix M = T_sᵀ S T_s + T_aᵀ A T_a
+    of Eq. 3.16, ``V1 vec(M) = V2 a`` (checked with the maps of :mod:`.sos`, not the solver's
+    rows) — the equalities the solver no longer sees hold by construction."""
+    from workbench.limit_surface.sos import sos_convexity_maps, swap_blocks
+
+    V1, V2 = sos_convexity_maps(r)
+    P, Q = quart_mod._reduced_maps(r)
+    T_s, T_a = swap_blocks(r)
+    a = rng.standard_normal(V2.shape[1])
+    s_A = rng.standard_normal(len(T_a) * (len(T_a) + 1) // 2)
+    s_S = P @ a + (Q @ s_A if len(T_a) else 0.0)
+    M = T_s.T @ quart_mod._unsvec(s_S, len(T_s)) @ T_s
+    if len(T_a):
+        M = M + T_a.T @ quart_mod._unsvec(s_A, len(T_a)) @ T_a
+    scale = np.abs(a).max() + np.abs(s_A).max(initial=0)
+    assert np.abs(V1 @ M.ravel(order="F") - V2 @ a).max() <= 1e-12 * scale
+    # and the symmetric block is the only one: another S with the same (a, A) breaks Eq. 3.16
+    bump = np.zeros(len(s_S))
+    bump[0] = 1.0
+    M2 = M + T_s.T @ quart_mod._unsvec(bump, len(T_s)) @ T_s
+    assert np.abs(V1 @ M2.ravel(order="F") - V2 @ a).max() > 0.1
+
+
 @pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_a_clarabel_failure_falls_back_to_scs(s4_data, monkeypatch):
     """Clarabel is called directly; its errors are a recorded fallback, as cvxpy's were."""

@@ -372,6 +372,12 @@ class Defaults:
     # the workers' imports) outweighs what a second core saves.
     cluster_min_rows: int = 24
 
+    # Grasps to run from which fem-fitting gives each task a grasp's profiles (its jaw
+    # displacements solved once, in order) instead of one profile (which solves the
+    # displacements before it again: ~6 % of a full run, measured); below it one profile a
+    # task keeps both workers busy on short runs.  Changes no number, only the timings.
+    grasp_tasks_from: int = 64
+
     # Seconds a sweep on an existing cluster (--scheduler) waits for the scheduler to answer
     # and then for its first worker, before it stops with an error saying which: a scheduler
     # with no workers would otherwise hold the sweep at 0 % without a word.
@@ -544,6 +550,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "linearization_M": _count(1),
     "work_eps": _POS,  # "a small positive number" (thesis Eq. 4.5)
     "cluster_min_rows": _count(0),
+    "grasp_tasks_from": _count(1),
     "scheduler_wait_s": _POS,
     "sweep_stop_after_failures": _count(0),
     "blocked_solve_min_rhs": _count(0),

@@ -226,12 +226,10 @@ def _solver_options(solver: str) -> dict:
 
 @lru_cache(maxsize=16)
 def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
-    """The fit's fixed rows for Clarabel (``A x + s = b``, ``s`` in the cones), without the
-    ``R`` block: ``x = [a (L), τ, svec S, svec A]`` — zero cone ``V1 vec(M) − V2 a = 0``
-    (441 rows at r = 6) with ``M = Σ Tᵀ X T`` (:func:`.sos.swap_blocks`), then the
-    second-order cone ``(τ, R a − c)`` (its rows added per fit), then the two PSD
-    triangles ``s = svec X`` (Clarabel's: the upper triangle by columns, off-diagonal
-    entries times √2).  Returns (zero-cone rows, L, n_S, n_A)."""
+    """Eq. 3.16 in the svec variables of the two PSD blocks: ``Z [a; τ; svec S; svec A] = 0``
+    (441 rows at r = 6; the τ column empty) with ``M = Σ Tᵀ X T`` (:func:`.sos.swap_blocks`)
+    and Clarabel's svec (the upper triangle by columns, off-diagonal entries times √2).
+    Returns (Z, L, n_S, n_A); :func:`_reduced_maps` solves it for ``svec S``."""
     V2 = sos_convexity_maps(r)[1]
     L = V2.shape[1]
     cols = [-V2, sp.csc_matrix((V2.shape[0], 1))]
@@ -253,6 +251,36 @@ def _clarabel_data(r: int) -> tuple[sp.csc_matrix, int, int, int]:
 
 
 @lru_cache(maxsize=16)
+def _reduced_maps(r: int) -> tuple[sp.csc_matrix, sp.csc_matrix]:
+    """``(P, Q)`` with ``svec S = P a + Q svec A`` the only solution of Eq. 3.16
+    (:func:`_clarabel_data`): the symmetric block's map ``B_S`` is injective and its range holds
+    those of ``V2`` and of the antisymmetric block's ``B_A`` (checked here for the r asked;
+    true for r = 1..6, tests/test_quartic.py), so ``S`` is a linear function of ``(a, A)`` and
+    the fit needs no equality rows: at r = 6, 247 variables and 478 cone rows instead of 478
+    and 919 (441 equalities of rank 231), ~25 % less time a fit (measured).  P and Q hold small
+    constants (12, 6, 4, 2√2, 2, √2); entries below 1e-12 are round-off of exact zeros."""
+    zero, L, nS, nA = _clarabel_data(r)
+    Z = zero.toarray()
+    B_S, V2, B_A = Z[:, L + 1 : L + 1 + nS], -Z[:, :L], Z[:, L + 1 + nS :]
+    rhs = np.hstack([V2, -B_A])
+    from threadpoolctl import threadpool_limits
+
+    # one BLAS thread: a threaded LAPACK sums in another order, and these last bits would make a
+    # fit depend on whether this process had computed the maps with more threads (measured:
+    # serial and Dask rows apart by 1e-11)
+    with threadpool_limits(limits=1):
+        sol = np.linalg.lstsq(B_S, rhs, rcond=None)[0]
+    resid = float(np.abs(B_S @ sol - rhs).max())
+    if np.linalg.matrix_rank(B_S) != nS or resid > 1e-10:
+        raise RuntimeError(
+            f"the swap-invariant Gram form in {r} dims does not fix S from (a, A) "
+            f"(rank {np.linalg.matrix_rank(B_S)} of {nS}, residual {resid:.1e})"
+        )
+    sol[np.abs(sol) < 1e-12] = 0.0
+    return sp.csc_matrix(sol[:, :L]), sp.csc_matrix(sol[:, L:])
+
+
+@lru_cache(maxsize=16)
 def _svec_index(n: int) -> tuple[np.ndarray, np.ndarray]:
     """(row, column) of each entry of Clarabel's svec of an (n, n) symmetric matrix: the
     upper triangle (row <= column) column by column."""
@@ -270,20 +298,35 @@ def _unsvec(v: np.ndarray, n: int) -> np.ndarray:
     return X
 
 
+@lru_cache(maxsize=16)
+def _clarabel_fixed(r: int) -> tuple[sp.csc_matrix, int, int, int]:
+    """The rows of the fit that do not depend on the data: the PSD triangles
+    ``svec S = P a + Q svec A`` and ``svec A`` itself over ``x = [a (L), τ, svec A]``
+    (Clarabel's ``A x + s = b`` with ``b = 0``).  Returns (rows, L, n_S, n_A)."""
+    _, L, nS, nA = _clarabel_data(r)
+    P, Q = _reduced_maps(r)
+    rows = sp.hstack([-P, sp.csc_matrix((nS, 1))] + ([-Q] if nA else []))
+    if nA:
+        rows = sp.vstack([rows, sp.hstack([sp.csc_matrix((nA, L + 1)), -sp.identity(nA)])])
+    return rows.tocsc(), L, nS, nA
+
+
 def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
-    """Eq. 3.17 on the swap-invariant Gram blocks straight in Clarabel (no cvxpy: nothing
-    to compile per process, no reduction per fit): (ok, a, M, status)."""
+    """Eq. 3.17 straight in Clarabel (no cvxpy: nothing to compile per process): ``min τ`` over
+    ``x = [a, τ, svec A]`` with ``(τ, R a − c)`` in a second-order cone and the two swap-invariant
+    Gram blocks ``S(a, A)`` (:func:`_reduced_maps`) and ``A`` in PSD triangles.  Returns
+    (ok, a, M, status)."""
     import clarabel
 
-    zero, L, nS, nA = _clarabel_data(r)
-    n_x = L + 1 + nS + nA
+    psd, L, nS, nA = _clarabel_fixed(r)
+    n_x = L + 1 + nA
     # (τ, R a − c) = b − A x  with  A = [[0, −1, 0], [−R, 0, 0]], b = [0; −c]
     soc = sp.bmat([[None, sp.csc_matrix(-np.ones((1, 1)))], [sp.csc_matrix(-Rm), None]])
-    soc = sp.hstack([soc, sp.csc_matrix((L + 1, nS + nA))])
-    psd = sp.hstack([sp.csc_matrix((nS + nA, L + 1)), -sp.identity(nS + nA)])
-    A = sp.vstack([zero, soc, psd]).tocsc()
-    b = np.concatenate([np.zeros(zero.shape[0]), [0.0], -c_val, np.zeros(nS + nA)])
-    cones = [clarabel.ZeroConeT(zero.shape[0]), clarabel.SecondOrderConeT(L + 1)]
+    if nA:
+        soc = sp.hstack([soc, sp.csc_matrix((L + 1, nA))])
+    A = sp.vstack([soc, psd]).tocsc()
+    b = np.concatenate([[0.0], -c_val, np.zeros(nS + nA)])
+    cones = [clarabel.SecondOrderConeT(L + 1)]
     cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
     q = np.zeros(n_x)
     q[L] = 1.0  # min τ
@@ -300,11 +343,14 @@ def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
     if status not in ("Solved", "AlmostSolved"):
         return False, None, None, status
     x = np.asarray(sol.x)
-    (T_s, T_a), k = swap_blocks(r), L + 1
-    M = T_s.T @ _unsvec(x[k : k + nS], len(T_s)) @ T_s
+    a, s_A = x[:L], x[L + 1 :]
+    P, Q = _reduced_maps(r)
+    s_S = P @ a + (Q @ s_A if nA else 0.0)
+    (T_s, T_a) = swap_blocks(r)
+    M = T_s.T @ _unsvec(s_S, len(T_s)) @ T_s
     if nA:
-        M += T_a.T @ _unsvec(x[k + nS :], len(T_a)) @ T_a
-    return True, x[:L], M, "optimal" if status == "Solved" else "optimal_inaccurate"
+        M += T_a.T @ _unsvec(s_A, len(T_a)) @ T_a
+    return True, a, M, "optimal" if status == "Solved" else "optimal_inaccurate"
 
 
 def _solve(r: int, solver: str, Rm: np.ndarray, c_val: np.ndarray, warm_start: bool = True):
