@@ -223,3 +223,24 @@ def test_highs_lp_equals_scipy_linprog_with_its_duals(seed):
         highs_lp(np.ones(3), sp.csc_matrix(np.ones((1, 3))), [-1.0], [-1.0], np.zeros(3), np.full(3, np.inf))
         is None
     )
+
+
+def test_cut_store_rows_follow_every_add_and_eviction():
+    """The stacked rows are cached between adds: each add (and the eviction beyond
+    config.TOL.max_stored_cuts) shows in the next rows(), which callers cannot modify."""
+    from workbench import config
+    from workbench.grasp.resistance.cuts import CutStore
+
+    store, model, other = CutStore(), object(), object()
+    A, b = store.rows(model)
+    assert A.shape == (0, 6) and b.shape == (0,)
+    with config.override(max_stored_cuts=3):
+        for k in range(5):
+            store.add(model, np.full(6, float(k)), float(k))
+            A, b = store.rows(model)
+            kept = list(range(max(0, k - 2), k + 1))  # the newest three
+            np.testing.assert_array_equal(A, np.array([np.full(6, float(j)) for j in kept]))
+            np.testing.assert_array_equal(b, np.array(kept, dtype=float))
+            assert store.rows(model)[0] is A  # no re-stacking without an add
+    assert not A.flags.writeable and not b.flags.writeable
+    assert store.rows(other)[0].shape == (0, 6) and len(store) == 3
