@@ -49,7 +49,16 @@ from tqdm import tqdm
 
 from workbench import config as settings  # `config` is the run's dict here
 from workbench.parallel import check_workers, run_rows
-from workbench.results import Checkpoint, content_hash, save_figure, write_csv, write_summary
+from workbench.results import (
+    Checkpoint,
+    content_hash,
+    read_shared,
+    save_figure,
+    shared_cache_path,
+    write_csv,
+    write_shared,
+    write_summary,
+)
 
 NAME = "minimal-work"
 ROOT = Path(__file__).resolve().parents[1]
@@ -295,13 +304,41 @@ def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
     from workbench.fem.wall_grasps import stiffness_at
 
     n = len(L) // 2
-    for i in tqdm([i for i in range(n) if f"fem/{name}/{i}" not in ckpt], desc=f"FEM {name}", unit="grasp"):
+    todo = [i for i in range(n) if f"fem/{name}/{i}" not in ckpt]
+    # the same rows for every run at these wall settings (minimal-work with REACH and with FEM
+    # pads, a sweep's points): shared on this machine, keyed by every input and the code
+    shared = shared_cache_path(
+        "wall-fem-rows",
+        {
+            "mesh_file": _mesh_digest(str(_paths(config, name)[0])),
+            "locations": L,
+            **{k: config[k] for k in ("E", "nu", "thickness", "mesh", "jaw")},
+        },
+    )
+    cached = read_shared(shared) if todo else None
+    from_shared = cached is not None and len(cached) == n
+    if from_shared:
+        for i in todo:
+            ckpt.add(f"fem/{name}/{i}", cached[i])
+        todo = []
+    for i in tqdm(todo, desc=f"FEM {name}", unit="grasp"):
         geo, wall = wall_of(name)
         (row,) = stiffness_at(
             wall, geo.surface, L[[i, i + n]], z_range=geo.z_range, jaw=tuple(config["jaw"]), grasp_ids=[i]
         )
         ckpt.add(f"fem/{name}/{i}", row)
-    return [ckpt.rows[f"fem/{name}/{i}"] for i in range(n)]
+    rows = [ckpt.rows[f"fem/{name}/{i}"] for i in range(n)]
+    if not from_shared:  # without this run's checkpoint fields (its key and config hash)
+        write_shared(shared, [{k: v for k, v in r.items() if k not in ("key", "config_hash")} for r in rows])
+    return rows
+
+
+@lru_cache(maxsize=8)
+def _mesh_digest(path: str) -> str:
+    """SHA-256 of the mesh file's bytes (the key of results computed from it)."""
+    import hashlib
+
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def _num(x) -> float:

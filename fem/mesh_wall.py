@@ -100,13 +100,70 @@ class RadialSurface:
 
 
 def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
-    """(hit count per ray, list of each ray's sorted hit distances)."""
+    """(hit count per ray, list of each ray's sorted hit distances), from the disk cache
+    (:func:`_rays_cache_path`) when these rays were cast on this mesh before."""
+    # a few rays cast faster than the mesh hashes
+    path = _rays_cache_path(mesh, origins, dirs) if len(origins) >= 64 else None
+    if path is not None and path.exists():
+        try:
+            with np.load(path) as d:
+                counts, dist = d["counts"], d["dist"]
+            if counts.shape != (len(origins),) or dist.shape != (int(counts.sum()),):
+                raise ValueError(f"{counts.shape} counts, {dist.shape} distances for {len(origins)} rays")
+        except Exception as exc:  # a truncated or foreign file: cast again and overwrite it
+            log.warning("ray cache %s unreadable (%s); casting again", path, exc)
+        else:
+            return counts, np.split(dist, np.cumsum(counts)[:-1])
     locs, ray_idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=True)
     dist = np.einsum("ij,ij->i", locs - origins[ray_idx], dirs[ray_idx])
     order = np.lexsort((dist, ray_idx))
     ray_idx, dist = ray_idx[order], dist[order]
     counts = np.bincount(ray_idx, minlength=len(origins))
+    if path is not None:
+        import io
+
+        from workbench.results import atomic_write_bytes
+
+        buf = io.BytesIO()
+        np.savez(buf, counts=counts, dist=dist)
+        try:
+            atomic_write_bytes(path, buf.getvalue())
+        except OSError as exc:  # a read-only cache only costs the casting next time
+            log.warning("could not write the ray cache %s (%s); continuing without it", path, exc)
     return counts, np.split(dist, np.cumsum(counts)[:-1])
+
+
+#: bump when the cached ray hits would change (what _ray_hits stores or how it casts)
+RAYS_CACHE_VERSION = "1"
+
+
+def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
+    """``<cache>/rays-<sha256>.npz`` for these rays on this mesh, or ``None`` with the cache off
+    (:func:`workbench.fem.pad.pad_cache_dir`: ``$WORKBENCH_CACHE_DIR``, the folder the pads use).
+    Casting is trimesh's pure-NumPy intersector here (~2 s a wall's grid, ~5 s an object's wall:
+    every process of every run paid it — driver and each Dask worker of minimal-work, the
+    wall-nonlinear runs), so the hits are kept by the content hash of the mesh's vertices and
+    faces, the rays, the intersector's class and trimesh's version."""
+    import hashlib
+
+    import trimesh
+
+    from .pad import pad_cache_dir
+
+    folder = pad_cache_dir()
+    if folder is None:
+        return None
+    h = hashlib.sha256()
+    for arr in (
+        np.ascontiguousarray(mesh.vertices, dtype=np.float64),
+        np.ascontiguousarray(mesh.faces, dtype=np.int64),
+        np.ascontiguousarray(origins, dtype=np.float64),
+        np.ascontiguousarray(dirs, dtype=np.float64),
+    ):
+        h.update(str(arr.shape).encode())
+        h.update(arr.tobytes())
+    h.update(f"{type(mesh.ray).__module__};trimesh={trimesh.__version__};v={RAYS_CACHE_VERSION}".encode())
+    return folder / f"rays-{h.hexdigest()}.npz"
 
 
 def radial_surface(

@@ -542,3 +542,55 @@ def test_fem_fitting_gives_a_task_a_grasp_on_long_runs(tmp_path, monkeypatch):
         assert max(len(t[1][-1]) for t in tasks) == per_task
         ablated = [any(ff._ablated(t[1][0], k, cfg) for k in t[1][-1]) for t in tasks]
         assert ablated == sorted(ablated, reverse=True) and any(ablated) and not all(ablated)
+
+
+def test_minimal_work_fem_rows_are_shared_by_runs_at_the_same_wall(tmp_path, monkeypatch):
+    """The FEM stiffness at the measured grasps is computed once per machine for a wall's
+    settings: a second run (another output folder, another profile source) reads the shared
+    rows, checkpoints them as its own, and computes nothing; another E or another mesh file
+    computes again."""
+    import workbench.fem.wall_grasps as wg
+    from workbench.experiments import minimal_work as mw
+    from workbench.results import Checkpoint
+
+    data = tmp_path / "data"
+    (data / "meshes").mkdir(parents=True)
+    (data / "stiffness_maps").mkdir()
+    (data / "meshes" / "cup.obj").write_text("v 0 0 0\n")
+    (data / "stiffness_maps" / "cup.json").write_text("{}")
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "cache"))
+    calls = []
+
+    def fake_stiffness_at(wall, surface, pair, **kw):
+        calls.append(kw["grasp_ids"][0])
+        return [{"stiffness": 100.0 + kw["grasp_ids"][0] + wall, "grasp": kw["grasp_ids"][0]}]
+
+    monkeypatch.setattr(wg, "stiffness_at", fake_stiffness_at)
+    geo = type("Geo", (), {"surface": None, "z_range": (0.0, 1.0)})()
+    L = np.arange(24, dtype=float).reshape(8, 3)  # 4 grasps: jaw A rows, then jaw B rows
+    base = {
+        "data_dir": str(data),
+        "E": 1e9,
+        "nu": 0.4,
+        "thickness": 5e-4,
+        "mesh": [8, 4],
+        "jaw": [0.02, 0.04],
+    }
+
+    def run(config, out, wall=0.0):
+        ckpt = Checkpoint(tmp_path / out / "rows.jsonl", {**config, "out": out})
+        rows = mw._fem_rows(ckpt, "cup", L, lambda name: (geo, wall), config)
+        return [r["stiffness"] for r in rows], ckpt
+
+    first, _ = run({**base, "profiles": "reach"}, "a")
+    assert first == [100.0, 101.0, 102.0, 103.0] and calls == [0, 1, 2, 3]
+    second, ckpt = run({**base, "profiles": "fem"}, "b", wall=50.0)  # a different wall would show
+    assert second == first and calls == [0, 1, 2, 3]
+    # checkpointed under this run's own key: a resume of run b keeps them
+    assert len(Checkpoint.peek(ckpt.path, {**base, "profiles": "fem", "out": "b"})) == 4
+    third, _ = run({**base, "E": 2e9}, "c", wall=1.0)
+    assert third == [101.0, 102.0, 103.0, 104.0] and len(calls) == 8
+    (data / "meshes" / "cup.obj").write_text("v 0 0 1\n")
+    mw._mesh_digest.cache_clear()
+    run(base, "d")
+    assert len(calls) == 12

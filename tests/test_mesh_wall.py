@@ -118,3 +118,35 @@ def test_the_shared_meshes_give_a_side_wall_through_the_measured_locations(name)
         # the measured grasp points lie on the scanned surface (0.03 mm off the mesh;
         # the spline through the ray grid adds up to 0.3 mm on the mustard's shoulder)
         assert np.abs(off).max() < 0.5e-3
+
+
+def test_ray_hits_are_cached_by_content_and_a_bad_file_is_cast_again(tmp_path, monkeypatch):
+    """The second radial_surface of the same mesh reads its rays from the disk cache (no
+    casting) and is the same surface bit for bit; another mesh gets its own file; a corrupt
+    file is cast again and rewritten; with the cache off nothing is written."""
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
+    first = radial_surface(_cylinder(sections=64))
+    (path,) = tmp_path.glob("rays-*.npz")
+    casts = []
+    real = trimesh.ray.ray_triangle.RayMeshIntersector.intersects_location
+
+    def counting(self, *a, **k):
+        casts.append(1)
+        return real(self, *a, **k)
+
+    monkeypatch.setattr(trimesh.ray.ray_triangle.RayMeshIntersector, "intersects_location", counting)
+    again = radial_surface(_cylinder(sections=64))
+    assert not casts
+    np.testing.assert_array_equal(again.r, first.r)
+    np.testing.assert_array_equal(again.z, first.z)
+    radial_surface(_cylinder(sections=65))
+    assert len(casts) == 1 and len(list(tmp_path.glob("rays-*.npz"))) == 2
+    path.write_bytes(b"not an npz")
+    redone = radial_surface(_cylinder(sections=64))
+    assert len(casts) == 2
+    np.testing.assert_array_equal(redone.r, first.r)
+    with np.load(path) as d:  # rewritten, whole
+        assert d["counts"].sum() == d["dist"].size > 0
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", "off")
+    radial_surface(_cylinder(sections=66))
+    assert len(casts) == 3 and len(list(tmp_path.glob("rays-*.npz"))) == 2

@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import logging
 import os
 import platform
 import tempfile
@@ -19,6 +20,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+log = logging.getLogger(__name__)
 
 PACKAGES = (
     "numpy",
@@ -219,6 +222,44 @@ def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_
     full["wall_time_s"] = wall_time_s
     write_json(Path(out) / "summary.json", full)
     return full
+
+
+def shared_cache_path(kind: str, inputs: Any) -> Path | None:
+    """``<cache>/<kind>-<hash>.json`` for a result shared by runs on this machine (two
+    experiments, every point of a sweep), keyed by the content hash of ``inputs`` (JSON-able:
+    every input the result depends on) and of the code (:func:`code_hash`, so other code never
+    reuses it); ``None`` when the cache is off.  ``<cache>`` is the pads' folder
+    (``$WORKBENCH_CACHE_DIR``, :func:`workbench.fem.pad.pad_cache_dir`)."""
+    from workbench.fem.pad import pad_cache_dir
+
+    folder = pad_cache_dir()
+    if folder is None:
+        return None
+    return folder / f"{kind}-{content_hash({'inputs': inputs, 'code': code_hash()}, 24)}.json"
+
+
+def read_shared(path: Path | None) -> Any:
+    """What :func:`write_shared` stored at ``path``, or ``None`` (no cache, no file, or an
+    unreadable one: logged, the caller computes it again)."""
+    if path is None or not path.is_file():
+        return None
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError) as exc:
+        log.warning("shared result %s unreadable (%s); computing it again", path, exc)
+        return None
+
+
+def write_shared(path: Path | None, obj: Any) -> None:
+    """Store ``obj`` (JSON) at ``path`` atomically — concurrent writers of one key write the same
+    content, the last rename wins; a read-only cache only costs the recomputation next time."""
+    if path is None:
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(path, json.dumps(_jsonable(obj)).encode())
+    except OSError as exc:
+        log.warning("could not write the shared result %s (%s); continuing without it", path, exc)
 
 
 class Checkpoint:
