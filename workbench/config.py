@@ -374,7 +374,8 @@ class Defaults:
 
     # Grasps to run from which fem-fitting gives each task a grasp's profiles (its jaw
     # displacements solved once, in order) instead of one profile (which solves the
-    # displacements before it again: ~6 % of a full run, measured); below it one profile a
+    # displacements before it again: ~25 ms a profile, ~6 % of a full run, from the solve times
+    # in results/fem-fitting/profiles.csv); below it one profile a
     # task keeps both workers busy on short runs.  Changes no number, only the timings.
     grasp_tasks_from: int = 64
 
