@@ -316,7 +316,9 @@ def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
         },
     )
     cached = read_shared(shared) if todo else None
-    from_shared = cached is not None and len(cached) == n
+    from_shared = cached is not None and isinstance(cached, list) and len(cached) == n
+    if cached is not None and not from_shared:
+        log.warning("shared FEM rows %s hold no %d rows for %s; computing them again", shared, n, name)
     if from_shared:
         for i in todo:
             ckpt.add(f"fem/{name}/{i}", cached[i])

@@ -139,7 +139,7 @@ RAYS_CACHE_VERSION = "1"
 
 def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
     """``<cache>/rays-<sha256>.npz`` for these rays on this mesh, or ``None`` with the cache off
-    (:func:`workbench.fem.pad.pad_cache_dir`: ``$WORKBENCH_CACHE_DIR``, the folder the pads use).
+    (:func:`workbench.cachedir.cache_dir`: ``$WORKBENCH_CACHE_DIR``, the folder the pads use).
     Casting is trimesh's pure-NumPy intersector here (~2 s a wall's grid, ~5 s an object's wall:
     every process of every run paid it — driver and each Dask worker of minimal-work, the
     wall-nonlinear runs), so the hits are kept by the content hash of the mesh's vertices and
@@ -148,9 +148,9 @@ def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
 
     import trimesh
 
-    from .pad import pad_cache_dir
+    from workbench.cachedir import cache_dir
 
-    folder = pad_cache_dir()
+    folder = cache_dir()
     if folder is None:
         return None
     h = hashlib.sha256()

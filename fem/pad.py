@@ -25,7 +25,6 @@ from __future__ import annotations
 import hashlib
 import io
 import logging
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +32,8 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshHex
 
+from workbench.cachedir import CACHE_ENV  # noqa: F401 - re-exported: the variable's name
+from workbench.cachedir import cache_dir as _cache_dir
 from workbench.results import atomic_write_bytes
 
 from .elasticity import basis, stiffness
@@ -43,9 +44,6 @@ log = logging.getLogger(__name__)
 
 #: bump when the condensation changes, to invalidate disk caches (part of every cache key)
 CACHE_VERSION = "1"
-#: environment variable overriding the default cache directory
-CACHE_ENV = "WORKBENCH_CACHE_DIR"
-_APP = "nonplanar-workbench"
 
 
 @dataclass(frozen=True)
@@ -159,32 +157,9 @@ def top_face_nodes(points: np.ndarray, thickness: float) -> np.ndarray:
 
 
 def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
-    """The directory pad compliances are cached in, or ``None`` when caching is off.
-
-    cache_dir : ``None`` (or ``True``) -> ``$WORKBENCH_CACHE_DIR`` if set and non-empty
-        (``0``/``off``/``false``/``no`` disable the cache), else ``<user cache dir>/pads``;
-        a path -> that directory; ``False`` -> no cache.
-    """
-    if cache_dir is False:
-        return None
-    if cache_dir is True or cache_dir is None:
-        env = os.environ.get(CACHE_ENV, "").strip()
-        if env:
-            if env.lower() in {"0", "off", "false", "no"}:
-                return None
-            return Path(env).expanduser()
-        return _user_cache_root() / "pads"
-    if isinstance(cache_dir, (str, os.PathLike)):
-        return Path(cache_dir).expanduser()
-    raise ValueError(
-        f"cache_dir must be None (default location), a directory path or False (no cache); got {cache_dir!r}"
-    )
-
-
-def _user_cache_root() -> Path:
-    import platformdirs
-
-    return Path(platformdirs.user_cache_dir(_APP, appauthor=False))
+    """The directory pad compliances are cached in, or ``None`` when caching is off: the
+    workbench's cache folder, :func:`workbench.cachedir.cache_dir` (its rules)."""
+    return _cache_dir(cache_dir)
 
 
 def _key(mesh: MeshHex, nu: float, scheme: str) -> str:

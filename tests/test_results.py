@@ -135,3 +135,20 @@ def test_code_revision_is_dirty_for_code_changes_not_for_results(tmp_path):
     assert results.code_revision(tmp_path) == clean
     (tmp_path / "workbench" / "x.py").write_text("a = 2\n")
     assert results.code_revision(tmp_path) == clean + "-dirty"
+
+
+def test_shared_cache_path_names_files_inside_the_cache_only(tmp_path, monkeypatch):
+    """``kind`` names the file: anything but lower-case letters, digits and dashes is refused
+    (``../x`` would have written outside the cache); the key is the content's, not its order's."""
+    from workbench.results import read_shared, shared_cache_path, write_shared
+
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
+    for bad in ("../evil", "a/b", "", "Rows", None):
+        with pytest.raises(ValueError, match="lower-case letters, digits and dashes"):
+            shared_cache_path(bad, {})
+    p = shared_cache_path("wall-fem-rows", {"b": 1, "a": [1.0, 2.0]})
+    assert p.parent == tmp_path and p == shared_cache_path("wall-fem-rows", {"a": [1.0, 2.0], "b": 1})
+    write_shared(p, [{"k": 1.5}])
+    assert read_shared(p) == [{"k": 1.5}]
+    monkeypatch.setenv("WORKBENCH_CACHE_DIR", "OFF")
+    assert shared_cache_path("wall-fem-rows", {}) is None and read_shared(None) is None

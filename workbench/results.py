@@ -229,18 +229,24 @@ def shared_cache_path(kind: str, inputs: Any) -> Path | None:
     experiments, every point of a sweep), keyed by the content hash of ``inputs`` (JSON-able:
     every input the result depends on) and of the code (:func:`code_hash`, so other code never
     reuses it); ``None`` when the cache is off.  ``<cache>`` is the pads' folder
-    (``$WORKBENCH_CACHE_DIR``, :func:`workbench.fem.pad.pad_cache_dir`)."""
-    from workbench.fem.pad import pad_cache_dir
+    (``$WORKBENCH_CACHE_DIR``, :func:`workbench.cachedir.cache_dir`).  ``kind`` : lower-case
+    letters, digits and dashes (it names the file)."""
+    import re
 
-    folder = pad_cache_dir()
+    from workbench.cachedir import cache_dir
+
+    if not (isinstance(kind, str) and re.fullmatch(r"[a-z0-9][a-z0-9-]*", kind)):
+        raise ValueError(f"kind names the cache file: lower-case letters, digits and dashes; got {kind!r}")
+    folder = cache_dir()
     if folder is None:
         return None
     return folder / f"{kind}-{content_hash({'inputs': inputs, 'code': code_hash()}, 24)}.json"
 
 
 def read_shared(path: Path | None) -> Any:
-    """What :func:`write_shared` stored at ``path``, or ``None`` (no cache, no file, or an
-    unreadable one: logged, the caller computes it again)."""
+    """What :func:`write_shared` stored at ``path`` as JSON reads it back (NaN as ``None``, ±inf
+    as ``"inf"``/``"-inf"``, as in checkpoints), or ``None`` (no cache, no file, or an unreadable
+    one: logged, the caller computes it again)."""
     if path is None or not path.is_file():
         return None
     try:
@@ -251,8 +257,10 @@ def read_shared(path: Path | None) -> Any:
 
 
 def write_shared(path: Path | None, obj: Any) -> None:
-    """Store ``obj`` (JSON) at ``path`` atomically — concurrent writers of one key write the same
-    content, the last rename wins; a read-only cache only costs the recomputation next time."""
+    """Store ``obj`` at ``path`` atomically as JSON (NumPy types converted; anything else not
+    JSON-able raises ``TypeError``) — concurrent writers of one key write the same content, the
+    last rename wins; a cache that cannot be written (``OSError``) is logged and only costs the
+    recomputation next time."""
     if path is None:
         return
     try:
