@@ -120,16 +120,9 @@ def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, 
     ray_idx, dist = ray_idx[order], dist[order]
     counts = np.bincount(ray_idx, minlength=len(origins))
     if path is not None:
-        import io
+        from workbench.results import write_cache_npz
 
-        from workbench.results import atomic_write_bytes
-
-        buf = io.BytesIO()
-        np.savez(buf, counts=counts, dist=dist)
-        try:
-            atomic_write_bytes(path, buf.getvalue())
-        except OSError as exc:  # a read-only cache only costs the casting next time
-            log.warning("could not write the ray cache %s (%s); continuing without it", path, exc)
+        write_cache_npz(path, counts=counts, dist=dist)
     return counts, np.split(dist, np.cumsum(counts)[:-1])
 
 
@@ -144,26 +137,21 @@ def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
     every process of every run paid it — driver and each Dask worker of minimal-work, the
     wall-nonlinear runs), so the hits are kept by the content hash of the mesh's vertices and
     faces, the rays, the intersector's class and trimesh's version."""
-    import hashlib
-
     import trimesh
 
-    from workbench.cachedir import cache_dir
+    from workbench.cachedir import array_digest, cache_dir
 
     folder = cache_dir()
     if folder is None:
         return None
-    h = hashlib.sha256()
-    for arr in (
+    arrays = (
         np.ascontiguousarray(mesh.vertices, dtype=np.float64),
         np.ascontiguousarray(mesh.faces, dtype=np.int64),
         np.ascontiguousarray(origins, dtype=np.float64),
         np.ascontiguousarray(dirs, dtype=np.float64),
-    ):
-        h.update(str(arr.shape).encode())
-        h.update(arr.tobytes())
-    h.update(f"{type(mesh.ray).__module__};trimesh={trimesh.__version__};v={RAYS_CACHE_VERSION}".encode())
-    return folder / f"rays-{h.hexdigest()}.npz"
+    )
+    tag = f"{type(mesh.ray).__module__};trimesh={trimesh.__version__};v={RAYS_CACHE_VERSION}"
+    return folder / f"rays-{array_digest(arrays, tag)}.npz"
 
 
 def radial_surface(

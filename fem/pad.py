@@ -22,8 +22,6 @@ an unwritable cache directory only costs the rebuild next time.
 
 from __future__ import annotations
 
-import hashlib
-import io
 import logging
 import time
 from dataclasses import dataclass
@@ -32,9 +30,12 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshHex
 
-from workbench.cachedir import CACHE_ENV  # noqa: F401 - re-exported: the variable's name
+from workbench.cachedir import (
+    CACHE_ENV,  # noqa: F401 - re-exported: the variable's name
+    array_digest,
+)
 from workbench.cachedir import cache_dir as _cache_dir
-from workbench.results import atomic_write_bytes
+from workbench.results import write_cache_npz
 
 from .elasticity import basis, stiffness
 from .material import Material
@@ -163,12 +164,8 @@ def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
 
 
 def _key(mesh: MeshHex, nu: float, scheme: str) -> str:
-    h = hashlib.sha256()
-    for arr in (np.ascontiguousarray(mesh.p, dtype=np.float64), np.ascontiguousarray(mesh.t, dtype=np.int64)):
-        h.update(str(arr.shape).encode())
-        h.update(arr.tobytes())
-    h.update(f"nu={nu!r};scheme={scheme};v={CACHE_VERSION}".encode())
-    return h.hexdigest()
+    arrays = (np.ascontiguousarray(mesh.p, dtype=np.float64), np.ascontiguousarray(mesh.t, dtype=np.int64))
+    return array_digest(arrays, f"nu={nu!r};scheme={scheme};v={CACHE_VERSION}")
 
 
 def condense_pad(
@@ -226,12 +223,6 @@ def condense_pad(
     face_dofs = nodal[:, face].T.ravel()  # node-major [ux, uy, uz]
     C1 = schur_compliance(K[free][:, free], pos[face_dofs])
     seconds = time.perf_counter() - t0
-    if path is not None:
-        buf = io.BytesIO()
-        np.savez(buf, compliance_unit=C1, seconds=seconds)
-        try:
-            atomic_write_bytes(path, buf.getvalue())  # temp file + os.replace, 0o666 & ~umask
-            log.info("pad compliance (%.1f s) cached in %s", seconds, path)
-        except OSError as exc:  # a read-only cache only costs the rebuild next time
-            log.warning("could not write the pad cache %s (%s); continuing without it", path, exc)
+    if path is not None and write_cache_npz(path, compliance_unit=C1, seconds=np.float64(seconds)):
+        log.info("pad compliance (%.1f s) cached in %s", seconds, path)
     return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, seconds)

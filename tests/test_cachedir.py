@@ -20,3 +20,17 @@ def test_the_environment_chooses_the_folder_or_turns_it_off(tmp_path, monkeypatc
     assert cache_dir("~/y") == Path.home() / "y"
     with pytest.raises(ValueError, match="cache_dir must be None"):
         cache_dir(3)
+
+
+def test_array_digest_is_the_sha256_of_shapes_bytes_and_tag():
+    import hashlib
+
+    import numpy as np
+
+    from workbench.cachedir import array_digest
+
+    a, b = np.arange(6.0).reshape(2, 3), np.arange(4)
+    h = hashlib.sha256(b"(2, 3)" + a.tobytes() + b"(4,)" + b.tobytes() + b"v=1")
+    assert array_digest((a, b), "v=1") == h.hexdigest()
+    assert array_digest((a.reshape(3, 2), b), "v=1") != h.hexdigest()  # same bytes, other shape
+    assert array_digest((a, b), "v=2") != h.hexdigest()

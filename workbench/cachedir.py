@@ -5,8 +5,12 @@ the FEM modules can both reach it without importing each other."""
 
 from __future__ import annotations
 
+import hashlib
 import os
+from collections.abc import Iterable
 from pathlib import Path
+
+import numpy as np
 
 #: environment variable overriding the default cache directory
 CACHE_ENV = "WORKBENCH_CACHE_DIR"
@@ -43,3 +47,14 @@ def _user_cache_root() -> Path:
     import platformdirs
 
     return Path(platformdirs.user_cache_dir(_APP, appauthor=False))
+
+
+def array_digest(arrays: Iterable[np.ndarray], tag: str) -> str:
+    """SHA-256 hex digest of arrays (each's shape, then its bytes as given: the caller fixes the
+    dtype and C order) and a ``tag`` of the settings: the content key of a cache file."""
+    h = hashlib.sha256()
+    for arr in arrays:
+        h.update(str(arr.shape).encode())
+        h.update(arr.tobytes())
+    h.update(tag.encode())
+    return h.hexdigest()

@@ -224,6 +224,19 @@ def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_
     return full
 
 
+def write_cache_npz(path: Path, **arrays: np.ndarray) -> bool:
+    """Write ``arrays`` to the cache file ``path`` (``.npz``) atomically; ``False`` (logged) when
+    the cache cannot be written — that only costs the recomputation next time."""
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    try:
+        atomic_write_bytes(path, buf.getvalue())  # temp file + os.replace, 0o666 & ~umask
+    except OSError as exc:
+        log.warning("could not write the cache file %s (%s); continuing without it", path, exc)
+        return False
+    return True
+
+
 def shared_cache_path(kind: str, inputs: Any) -> Path | None:
     """``<cache>/<kind>-<hash>.json`` for a result shared by runs on this machine (two
     experiments, every point of a sweep), keyed by the content hash of ``inputs`` (JSON-able:
