@@ -196,12 +196,17 @@ ABLATION_VARIANTS = {
 }
 
 
-def _code_errors(pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False) -> dict:
+def _code_errors(
+    pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False, code=None
+) -> dict:
     """Thesis-code Eq. (3.18) errors {model: error} of one variant on profile ``pc``: the
-    models of :data:`TABLE_MODELS`, or with ``author`` the author's objective in their place."""
+    models of :data:`TABLE_MODELS`, or with ``author`` the author's objective in their place.
+    ``code``: the thesis-code sample of ``pc`` when the caller has it (the same wrenches)."""
     if coarse:
         pc = coarsen_profile(pc, config["ablation_cell_mm"] * 1e-3)
-    code = thesis_code_sample(pc, config["mu"], config["fine_level"], config["downsample_steps"], sides=sides)
+    if code is None:
+        steps = config["downsample_steps"]
+        code = thesis_code_sample(pc, config["mu"], config["fine_level"], steps, sides=sides)
     W, wm = code.train_wrenches, code.w_max
     if author:
         fits = {m: fit_author_objective(W, code.train_twists, FAMILY[m], w_max=wm) for m in TABLE_MODELS}
@@ -212,16 +217,17 @@ def _code_errors(pc, config: dict, *, sides=None, coarse: bool = False, author: 
     return out
 
 
-def _ablation(p_obj, p_jaw, config: dict) -> dict:
+def _ablation(p_obj, p_jaw, config: dict, code_obj=None) -> dict:
     """Row keys ``abl_<variant>_<model>``: the variant's Eq. (3.18) error in place of the
-    thesis-code protocol's ``<model>`` (module docstring), and ``abl_<variant>_n_train``."""
+    thesis-code protocol's ``<model>`` (module docstring), and ``abl_<variant>_n_train``.
+    ``code_obj``: the row's thesis-code sample of ``p_obj`` if it has one (reused, not redrawn)."""
     pts = p_obj.vertices if p_obj.vertices is not None else p_obj.centers
     box_with_origin = np.ptp(np.vstack([pts, np.zeros(3)]), axis=0)
     variants = {
         "jaw_frame": lambda: _code_errors(p_jaw, config),
         "origin_in_box": lambda: _code_errors(p_obj, config, sides=box_with_origin),
         "coarse_elements": lambda: _code_errors(p_obj, config, coarse=True),
-        "author_objective": lambda: _code_errors(p_obj, config, author=True),
+        "author_objective": lambda: _code_errors(p_obj, config, author=True, code=code_obj),
     }
     row = {}
     for name, fn in variants.items():
@@ -260,7 +266,7 @@ def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False
             row[f"{m}_code_error"] = fs.test_error
             row[f"{m}_code_support"] = fs.support.radial_mean
         if ablate:
-            row.update(_ablation(p_obj, pn, config))
+            row.update(_ablation(p_obj, pn, config, code if pc is p_obj else None))
     return row
 
 

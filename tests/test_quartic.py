@@ -53,8 +53,8 @@ def test_quartic_gradient_matches_finite_differences(s4_data, s4_quartic):
 
 @pytest.mark.parametrize("r", [6, 3, 1])
 def test_gradients_and_values_match_the_per_monomial_reference(r, rng):
-    """The kernel behind values and gradients (one pass per block of points) against the
-    gradient of Σ a_κ y^κ term by term, and Euler's 4 f = y·∇f against the sum itself, on
+    """The kernels behind values and gradients (one pass per block of points) against the
+    gradient of Σ a_κ y^κ term by term and against the sum itself (and Euler's 4 f = y·∇f), on
     random coefficients (any quartic: convexity plays no part) and points of every sign and
     of magnitudes 1e-3 to 1e3; more points than a kernel block, and not a multiple of it."""
     from workbench.limit_surface._kernels import BLOCK
@@ -71,6 +71,13 @@ def test_gradients_and_values_match_the_per_monomial_reference(r, rng):
     values = np.prod(y[:, None, :] ** expo[None], axis=2) * a  # (n, L)
     f = 0.25 * np.einsum("ij,ij->i", y, q._grad_sub(y))
     np.testing.assert_array_less(np.abs(f - values.sum(axis=1)), 1e-13 * np.abs(values).sum(axis=1))
+    # the values' own kernel (the nested sum over sorted index tuples) against the same sum
+    np.testing.assert_array_less(
+        np.abs(q._values_sub(y) - values.sum(axis=1)), 1e-14 * np.abs(values).sum(axis=1) + 1e-300
+    )
+    x = np.zeros((n, 6))
+    x[:, :r] = y  # nothing in the complement: the model's value is the kernel's
+    np.testing.assert_array_equal(q._value_n(x), q._values_sub(y))
 
 
 def _subspace(r):

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import config
-from ._kernels import _cubic_gradients
+from ._kernels import _cubic_gradients, _quartic_values
 from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
 from .sdp_solver import check_sdp_solver
@@ -71,9 +71,16 @@ class QuarticLS(LimitSurfaceModel):
         _cubic_gradients(yt, _cubic_factors(self.dim), np.ascontiguousarray(self._grad_map), out)
         return out.T
 
+    def _values_sub(self, y: np.ndarray) -> np.ndarray:
+        """(N,) values at subspace points y (N, r) (the kernel; the slow NumPy reference
+        ``monomials(y, exponents(r, 4)) @ A_q`` is in tests/test_quartic.py)."""
+        yt = np.ascontiguousarray(np.asarray(y, dtype=np.float64).T)
+        out = np.empty(yt.shape[1])
+        _quartic_values(yt, np.ascontiguousarray(self.A_q, dtype=np.float64), out)
+        return out
+
     def _value_n(self, x: np.ndarray) -> np.ndarray:
-        y = x @ self.subspace.basis
-        v = 0.25 * np.einsum("ij,ij->i", y, self._grad_sub(y))  # Euler: x·∇f = 4 f
+        v = self._values_sub(x @ self.subspace.basis)
         if self.subspace.complement.shape[1]:
             v = v + (np.sum((x @ self.subspace.complement) ** 2, axis=1) / config.TOL.flat_axis**2) ** 2
         return v
