@@ -17,8 +17,9 @@ to point along the twist (maximum dissipation), and the regulariser keeps the
 quartic determined with fewer wrenches than its 126 coefficients — the
 thesis-code training sets often have (``results/fem-fitting``).
 
-Reproduced as a *method*, here as one cvxpy problem per fit (the problem's size
-depends on the number of training wrenches, so it is not cached).  Conventions:
+Reproduced as a *method*, one conic program per fit, given to Clarabel directly (its size
+depends on the number of training wrenches, so nothing is cached; another solver goes
+through cvxpy).  Conventions:
 the twists are scaled into normalised coordinates (``ξ ⊙ scale``) and unit
 normalised as in ``normalizewrenchtwist.m``; our friction wrench opposes motion,
 so the outward normal is ``−ξ`` (the author's sign convention has ``+ξ``; the
@@ -35,12 +36,23 @@ import warnings
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from .. import config
 from .ellipsoid import EllipsoidLS, _embed
 from .normalize import Subspace, check_twists, prepare
-from .quartic import QuarticLS, _gram, _solver_options, _sos_convexity, certify
-from .sos import exponents, monomials
+from .quartic import (
+    QuarticLS,
+    _clarabel_data,
+    _gram,
+    _solver_options,
+    _sos_convexity,
+    _svec_index,
+    _unsvec,
+    certify,
+)
+from .sdp_solver import check_sdp_solver
+from .sos import exponents, monomials, swap_blocks
 
 MODELS = ("ellipsoid", "quartic")
 
@@ -72,6 +84,207 @@ def _check_weights(weights: Any) -> tuple[float, float, float]:
     return lam, ww, tw
 
 
+def _problem(wrenches: Any, twists: Any, w_max: Any):
+    """The fit's data: (w_max (6,), scale (6,), subspace, y (K, r) normalised wrenches in the
+    fit's coordinates, n (K, r) unit outward normals there) — module docstring."""
+    W, wm, scale, x, sub = prepare(wrenches, w_max)
+    xi = check_twists(W, twists, nonzero=True)  # every term of the objective needs a direction
+    if sub.dim == 6:  # fit in the normalised coordinates themselves, as the author's code
+        sub = Subspace(np.eye(6), np.zeros((6, 0)), sub.std)
+    B = sub.basis
+    y = x @ B
+    n = -(xi * scale) @ B  # outward normals in the fit's coordinates (friction opposes motion)
+    norm = np.linalg.norm(n, axis=1)
+    keep = norm > 0  # a twist with no component in the subspace says nothing about the normal
+    n[keep] /= norm[keep, None]
+    return wm, scale, sub, y, n
+
+
+def _ellipsoid_maps(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Value map Φ (K, m) and half-gradient maps G (K, r, m) of ``f = yᵀ A y`` and
+    ``g = A y`` in Clarabel's svec of A (m = r(r+1)/2; off-diagonal entries times √2, so
+    ``‖svec A‖ = ‖A‖_F``, the author's regulariser)."""
+    K, r = y.shape
+    i, j = _svec_index(r)
+    off = i != j
+    Phi = np.where(off, np.sqrt(2.0), 1.0) * y[:, i] * y[:, j]
+    G = np.zeros((K, r, len(i)))
+    cols = np.arange(len(i))
+    w = np.where(off, 1.0 / np.sqrt(2.0), 1.0)
+    G[:, i, cols] += w * y[:, j]  # (A y)_i gets A_ij y_j ...
+    G[:, j[off], cols[off]] += w[off] * y[:, i[off]]  # ... and (A y)_j gets A_ij y_i
+    return Phi, G
+
+
+def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) -> dict:
+    """The author's objective straight in Clarabel (cvxpy's compile cost ~0.1 s a fit and
+    ~2 s of import a process, for a program whose size changes with every training set):
+    ``min λ t + ω_w Σ u + ω_t Σ v`` over ``[c, (svec S, svec A), t, u, s, v]`` with
+    ``‖c‖ <= t``, ``|Φ c − 1| <= u``, ``s >= 0``, ``‖G_k c − s_k n_k‖ <= v_k`` (the twist
+    terms only when ω_t > 0) and ``c`` PSD (ellipsoid: c = svec A) or SOS-convex (quartic:
+    Eq. 3.16 with the Gram blocks S, A PSD, :func:`.quartic._clarabel_data`).  Returns the
+    values f (K,), gradients g (K, r) and twist scales s (K,) at the solution, the status,
+    and ``A`` (ellipsoid) or the coefficients ``a`` and Gram matrix ``M`` (quartic)."""
+    import clarabel
+
+    lam, ww, tw = weights
+    K, r = y.shape
+    if model == "ellipsoid":
+        Phi, G = _ellipsoid_maps(y)
+        nc, n_gram = Phi.shape[1], 0
+    else:
+        expo = exponents(r, 4)
+        Phi = monomials(y, expo)
+        G = np.stack(_gradient_design(y, expo), axis=1)  # (K, r, L)
+        # Eq. 3.16 as equalities over both Gram blocks (fit_quartic's elimination of the
+        # symmetric block made this program's KKT system denser: 1.5 s against 1.1 s a fit,
+        # K = 250 wrenches with twists; cvxpy's form 1.35 s)
+        Z, nc, nS, nA = _clarabel_data(r)
+        n_gram = nS + nA
+    twist = tw > 0
+    nK = K if twist else 0
+    # column offsets: c, the quartic's svec S and svec A, t, u, s, v
+    o_t = nc + n_gram
+    o_u = o_t + 1
+    o_s = o_u + K
+    o_v = o_s + nK
+    n_x = o_v + nK
+    ik = np.arange(K)
+    blocks, rhs, cones = [], [], []
+    # L1 value rows: Φ c − u <= 1 and −Φ c − u <= −1; and s >= 0
+    E_u = sp.csc_matrix((-np.ones(K), (ik, o_u + ik)), shape=(K, n_x))
+    F = sp.hstack([sp.csc_matrix(Phi), sp.csc_matrix((K, n_x - nc))])
+    blocks += [F + E_u, -F + E_u]
+    rhs += [np.ones(K), -np.ones(K)]
+    if twist:
+        blocks.append(sp.csc_matrix((-np.ones(K), (ik, o_s + ik)), shape=(K, n_x)))
+        rhs.append(np.zeros(K))
+    cones.append(clarabel.NonnegativeConeT(sum(len(b) for b in rhs)))
+    # ‖c‖ <= t: the slack (t, c)
+    blocks.append(
+        sp.vstack(
+            [
+                sp.csc_matrix(([-1.0], ([0], [o_t])), shape=(1, n_x)),
+                sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]),
+            ]
+        )
+    )
+    rhs.append(np.zeros(nc + 1))
+    cones.append(clarabel.SecondOrderConeT(nc + 1))
+    if twist:  # per wrench the slack (v_k, G_k c − s_k n_k): rows k (r + 1) .. k (r + 1) + r
+        rows = np.arange(K)[:, None] * (r + 1) + 1 + np.arange(r)[None, :]  # (K, r)
+        g_k, g_r, g_c = np.nonzero(G)
+        parts = [
+            (-np.ones(K), ik * (r + 1), o_v + ik),
+            (-G[g_k, g_r, g_c], rows[g_k, g_r], g_c),
+            (n.ravel(), rows.ravel(), np.repeat(o_s + ik, r)),
+        ]
+        data, ri, ci = (np.concatenate(z) for z in zip(*parts, strict=True))
+        blocks.append(sp.csc_matrix((data, (ri, ci)), shape=(K * (r + 1), n_x)))
+        rhs.append(np.zeros(K * (r + 1)))
+        cones += [clarabel.SecondOrderConeT(r + 1)] * K
+    if model == "ellipsoid":
+        blocks.append(sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]))
+        rhs.append(np.zeros(nc))
+        cones.append(clarabel.PSDTriangleConeT(r))
+    else:  # Z [a; τ; svec S; svec A] = 0 without its (empty) τ column, and S, A PSD
+        blocks.append(sp.hstack([Z[:, :nc], Z[:, nc + 1 :], sp.csc_matrix((Z.shape[0], n_x - nc - n_gram))]))
+        rhs.append(np.zeros(Z.shape[0]))
+        cones.append(clarabel.ZeroConeT(Z.shape[0]))
+        blocks.append(
+            sp.hstack(
+                [
+                    sp.csc_matrix((n_gram, nc)),
+                    -sp.identity(n_gram),
+                    sp.csc_matrix((n_gram, n_x - nc - n_gram)),
+                ]
+            )
+        )
+        rhs.append(np.zeros(n_gram))
+        cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
+    q = np.zeros(n_x)
+    q[o_t] = lam
+    q[o_u : o_u + K] = ww
+    q[o_v : o_v + nK] = tw
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    if model == "quartic":  # fit_quartic's KKT method and threads; the ellipsoid's defaults (measured)
+        opts = _solver_options("CLARABEL")
+        settings.direct_solve_method = opts["direct_solve_method"]
+        settings.max_threads = opts["max_threads"]
+    A = sp.vstack(blocks).tocsc()
+    try:
+        sol = clarabel.DefaultSolver(
+            sp.csc_matrix((n_x, n_x)), q, A, np.concatenate(rhs), cones, settings
+        ).solve()
+    except Exception as exc:  # noqa: BLE001 - Clarabel's errors (e.g. a failed factorisation)
+        raise RuntimeError(f"author-objective {model} fit failed with CLARABEL: {exc}") from exc
+    status = str(sol.status)
+    if status not in ("Solved", "AlmostSolved"):
+        raise RuntimeError(f"author-objective {model} fit: solver status {status}")
+    xs = np.asarray(sol.x)
+    c = xs[:nc]
+    out = {"status": "optimal" if status == "Solved" else "optimal_inaccurate", "f": Phi @ c}
+    out["g"] = np.einsum("krm,m->kr", G, c)
+    out["s"] = xs[o_s : o_s + nK] if twist else None
+    if model == "ellipsoid":
+        out["A"] = _unsvec(c, r)
+        return out
+    s_S, s_A = xs[nc : nc + nS], xs[nc + nS : nc + nS + nA]
+    T_s, T_a = swap_blocks(r)
+    M = T_s.T @ _unsvec(s_S, len(T_s)) @ T_s
+    if nA:
+        M += T_a.T @ _unsvec(s_A, len(T_a)) @ T_a
+    out.update(a=c, M=M)
+    return out
+
+
+def _solve_cvxpy(model: str, y: np.ndarray, n: np.ndarray, weights: tuple, solver: str) -> dict:
+    """The same program through cvxpy, for the other conic solvers (and, in the tests, an
+    independent statement of it: the full Eq. 3.16 equalities, cvxpy's own cone forms)."""
+    import cvxpy as cp
+
+    lam, ww, tw = weights
+    K, r = y.shape
+    s = cp.Variable(K, nonneg=True)  # free scale of each normal (the code's s_k >= eps)
+    if model == "ellipsoid":
+        A = cp.Variable((r, r), PSD=True)
+        Y = cp.Constant(y)
+        f = cp.sum(cp.multiply(Y @ A, Y), axis=1)
+        g = Y @ A
+        reg = cp.norm(A, "fro")
+        cons = []
+    else:
+        expo = exponents(r, 4)
+        a = cp.Variable(len(expo))
+        # SOS-convexity as fit_quartic states it: the swap-invariant Gram blocks (21 and 15
+        # at r = 6 instead of one 36 x 36 cone; M enters only this constraint, so the
+        # optimum is the same)
+        blocks, sos_convex = _sos_convexity(r, a)
+        f = monomials(y, expo) @ a
+        g = cp.vstack([D @ a for D in _gradient_design(y, expo)]).T
+        reg = cp.norm(a, 2)
+        cons = [sos_convex]
+    value_l1 = cp.sum(cp.abs(f - 1.0))
+    twist_sum = cp.sum(cp.norm(g - cp.multiply(s[:, None], cp.Constant(n)), 2, axis=1))
+    prob = cp.Problem(cp.Minimize(lam * reg + ww * value_l1 + (tw * twist_sum if tw > 0 else 0)), cons)
+    try:
+        with warnings.catch_warnings():  # "may be inaccurate": the status is recorded in info
+            warnings.simplefilter("ignore", UserWarning)
+            prob.solve(solver=solver, **(_solver_options(solver) if model == "quartic" else {}))
+    except (cp.error.SolverError, ValueError) as exc:
+        raise RuntimeError(f"author-objective {model} fit failed with {solver}: {exc}") from exc
+    if prob.status not in ("optimal", "optimal_inaccurate"):
+        raise RuntimeError(f"author-objective {model} fit: solver status {prob.status}")
+    out = {"status": prob.status, "f": np.asarray(f.value), "g": np.asarray(g.value)}
+    out["s"] = np.asarray(s.value) if tw > 0 else None
+    if model == "ellipsoid":
+        out["A"] = 0.5 * (A.value + A.value.T)
+    else:
+        out.update(a=np.asarray(a.value), M=_gram(blocks))
+    return out
+
+
 def fit_author_objective(
     wrenches: Any,
     twists: Any,
@@ -88,77 +301,40 @@ def fit_author_objective(
     w_max : optional exact (6,) maxima; default the sampled maxima.
     weights : (λ, ω_w, ω_t); default ``config.DEFAULTS.author_fit_weights`` = (1, 10, 1).
         ω_t = 0 fits values only (still L1 and regularised).
+    solver : "CLARABEL" (called directly, no cvxpy) or another cvxpy conic solver with SDP
+        support ("SCS").
     Returns the same model classes as :func:`fit_ellipsoid` / :func:`fit_quartic`;
     ``info["method"] == "author"``, with the solver status and the objective's terms.
     Raises ``ValueError`` on malformed input, ``RuntimeError`` if the solver fails.
     """
-    import cvxpy as cp
-
     t0 = time.perf_counter()
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
+    check_sdp_solver(solver)
     lam, ww, tw = _check_weights(config.DEFAULTS.author_fit_weights if weights is None else weights)
-    W, wm, scale, x, sub = prepare(wrenches, w_max)
-    xi = check_twists(W, twists, nonzero=True)  # every term of the objective needs a direction
-    if sub.dim == 6:  # fit in the normalised coordinates themselves, as the author's code
-        sub = Subspace(np.eye(6), np.zeros((6, 0)), sub.std)
-    B, r = sub.basis, sub.dim
-    y = x @ B
-    n = -(xi * scale) @ B  # outward normals in the fit's coordinates (friction opposes motion)
-    norm = np.linalg.norm(n, axis=1)
-    keep = norm > 0  # a twist with no component in the subspace says nothing about the normal
-    n[keep] /= norm[keep, None]
-    K = len(y)
-
-    s = cp.Variable(K, nonneg=True)  # free scale of each normal (the code's s_k >= eps)
-    if model == "ellipsoid":
-        A = cp.Variable((r, r), PSD=True)
-        Y = cp.Constant(y)
-        f = cp.sum(cp.multiply(Y @ A, Y), axis=1)
-        g = Y @ A
-        reg = cp.norm(A, "fro")
-        cons = []
-        L = r * (r + 1) // 2
+    wm, scale, sub, y, n = _problem(wrenches, twists, w_max)
+    K, r = y.shape
+    if solver.upper() == "CLARABEL":
+        sol = _solve_clarabel(model, y, n, (lam, ww, tw))
     else:
-        expo = exponents(r, 4)
-        L = len(expo)
-        a = cp.Variable(L)
-        # SOS-convexity as fit_quartic states it: the swap-invariant Gram blocks (21 and 15
-        # at r = 6 instead of one 36 x 36 cone; M enters only this constraint, so the
-        # optimum is the same)
-        blocks, sos_convex = _sos_convexity(r, a)
-        f = monomials(y, expo) @ a
-        g = cp.vstack([D @ a for D in _gradient_design(y, expo)]).T
-        reg = cp.norm(a, 2)
-        cons = [sos_convex]
-    value_l1 = cp.sum(cp.abs(f - 1.0))
-    twist_sum = cp.sum(cp.norm(g - cp.multiply(s[:, None], cp.Constant(n)), 2, axis=1))
-    prob = cp.Problem(cp.Minimize(lam * reg + ww * value_l1 + (tw * twist_sum if tw > 0 else 0)), cons)
-    try:
-        with warnings.catch_warnings():  # "may be inaccurate": the status is recorded in info
-            warnings.simplefilter("ignore", UserWarning)
-            # the quartic with fit_quartic's Clarabel settings (KKT method, one thread); the
-            # ellipsoid's small problem solved faster with Clarabel's defaults (measured)
-            prob.solve(solver=solver, **(_solver_options(solver) if model == "quartic" else {}))
-    except (cp.error.SolverError, ValueError) as exc:
-        raise RuntimeError(f"author-objective {model} fit failed with {solver}: {exc}") from exc
-    if prob.status not in ("optimal", "optimal_inaccurate"):
-        raise RuntimeError(f"author-objective {model} fit: solver status {prob.status}")
+        sol = _solve_cvxpy(model, y, n, (lam, ww, tw), solver)
+    # the objective's terms at the solution, from its coefficients (not the solver's epigraphs)
+    twist_res = np.linalg.norm(sol["g"] - sol["s"][:, None] * n, axis=1) if tw > 0 else None
     info = {
         "model": model,
         "method": "author",
         "solver": solver,
-        "status": prob.status,
-        "fallback": None if prob.status == "optimal" else "solved to reduced accuracy",
+        "status": sol["status"],
+        "fallback": None if sol["status"] == "optimal" else "solved to reduced accuracy",
         "weights": (lam, ww, tw),
-        "train_value_l1_mean": float(value_l1.value) / K,
-        "train_twist_residual_mean": float(twist_sum.value) / K if tw > 0 else None,
+        "train_value_l1_mean": float(np.abs(sol["f"] - 1.0).sum()) / K,
+        "train_twist_residual_mean": float(twist_res.sum()) / K if tw > 0 else None,
         "dim": r,
         "n_wrenches": K,
-        "n_coefficients": L,
+        "n_coefficients": r * (r + 1) // 2 if model == "ellipsoid" else len(exponents(r, 4)),
     }
     if model == "ellipsoid":
-        A_r = 0.5 * (A.value + A.value.T)
+        A_r = sol["A"]
         lam_min = float(np.linalg.eigvalsh(A_r).min())
         if lam_min <= 0:  # a boundary optimum (a flat direction): lift it to PD, record it
             # shift the spectrum to 1e-12 (relative) above zero: positive definite, a round-off change
@@ -166,11 +342,10 @@ def fit_author_objective(
             info["fallback"] = f"A had eigenvalue {lam_min:.2e}; lifted to positive definite"
         info["fit_time_s"] = time.perf_counter() - t0
         return EllipsoidLS(wm, scale, sub, info, A_e=_embed(A_r, sub))
-    M = _gram(blocks)
-    coeffs, delta = certify(np.asarray(a.value), M, r)
+    coeffs, delta = certify(sol["a"], sol["M"], r)
     info.update(certificate_delta=delta, whitening=np.ones(r), normal_weight=None)
     info["fit_time_s"] = time.perf_counter() - t0
-    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M)
+    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=sol["M"])
 
 
 __all__ = ["MODELS", "fit_author_objective"]
