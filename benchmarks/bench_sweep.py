@@ -3,12 +3,13 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 
 * **Overhead per task**: ``n`` no-op rows through :func:`workbench.parallel.map_rows` (the
   row loop of every experiment and sweep: ``client.map``, the one-BLAS-thread wrapper on the
-  worker, ``as_completed`` with results, the driver's callback) on a warm local cluster of one
-  single-threaded worker, the median of several batches divided by ``n``.  Measured here:
-  Dask's bare ``submit`` + ``fut.result()`` loop 6.5-6.9 ms a task; this path ~4.8 ms, after
-  two changes to it — a ``threadpoolctl`` controller made once per process instead of per row
-  (3-4 ms of library scan each) and results taken with the completions (``with_results``)
-  instead of a ``fut.result()`` per row.
+  worker, ``as_completed`` with results, the driver's callback) on a warm
+  :func:`workbench.parallel.local_cluster` of one single-threaded worker, the median of
+  several batches divided by ``n``.  Measured here: Dask's bare ``submit`` + ``fut.result()``
+  loop 6.5-6.9 ms a task; this path ~4.8 ms after two changes to it — a ``threadpoolctl``
+  controller made once per process instead of per row (3-4 ms of library scan each) and
+  results taken with the completions (``with_results``) instead of a ``fut.result()`` per
+  row — and ~2 ms with the scheduler's queue off (``config.DEFAULTS.cluster_worker_saturation``).
 * **Speed-up**: one sweep of ``points`` equal points of a small ``discretization --quick``
   run, on a local cluster of 1 and then of 2 worker processes (one thread each, Numba's
   threads capped at 1), each a fresh sweep directory; wall time of ``run_sweep`` including
@@ -53,14 +54,13 @@ def _noop(i: int) -> int:
 
 
 def task_overhead(n: int, batches: int) -> dict:
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    from workbench.parallel import map_rows
+    from workbench.parallel import local_cluster, map_rows
 
-    with (
-        LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster,
-        Client(cluster) as c,
-    ):
+    # the experiments' own local cluster (workbench.parallel.local_cluster: its queueing setting,
+    # config.DEFAULTS.cluster_worker_saturation, is most of this number), one worker
+    with local_cluster(1) as cluster, Client(cluster) as c:
         map_rows(_noop, range(10), lambda job, res: None, client=c)  # warm-up
         per_task = []
         for _ in range(batches):

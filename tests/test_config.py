@@ -104,6 +104,8 @@ def test_every_field_has_a_rule_and_every_default_passes_it():
             r"pitch_range must be a tuple of 2 .* with lo <= hi; got \(1.0, -1.0\)",
         ),
         ({"lp_presolve": 1}, r"lp_presolve must be True or False; got 1 \(int\)"),
+        ({"cluster_worker_saturation": 0.5}, r"cluster_worker_saturation must be a number >= 1 .*math.inf"),
+        ({"cluster_worker_saturation": float("nan")}, r"cluster_worker_saturation must be a number >= 1"),
     ],
 )
 def test_a_value_its_field_does_not_accept_is_refused_at_set_time(values, message):

@@ -179,6 +179,8 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
         }
     }
     env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
+    # the scheduler (in this process) reads its queueing when it is created, here too
+    pre_spawn["distributed.scheduler.worker-saturation"] = config.DEFAULTS.cluster_worker_saturation
     with dask.config.set(pre_spawn):  # each nanny reads it when it is created, here
         return LocalCluster(
             n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env
