@@ -44,6 +44,7 @@ from .normalize import Subspace, check_twists, prepare
 from .quartic import (
     QuarticLS,
     _clarabel_data,
+    _clarabel_settings,
     _gram,
     _solver_options,
     _sos_convexity,
@@ -206,12 +207,11 @@ def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) ->
     q[o_t] = lam
     q[o_u : o_u + K] = ww
     q[o_v : o_v + nK] = tw
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    if model == "quartic":  # fit_quartic's KKT method and threads; the ellipsoid's defaults (measured)
-        opts = _solver_options("CLARABEL")
-        settings.direct_solve_method = opts["direct_solve_method"]
-        settings.max_threads = opts["max_threads"]
+    if model == "quartic":  # fit_quartic's KKT settings; the ellipsoid's defaults (measured)
+        settings = _clarabel_settings()
+    else:
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
     A = sp.vstack(blocks).tocsc()
     try:
         sol = clarabel.DefaultSolver(

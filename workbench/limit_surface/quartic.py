@@ -221,14 +221,30 @@ def is_sos_convex(coeffs: Any, n: int, solver: str = "CLARABEL") -> bool:
 
 
 def _solver_options(solver: str) -> dict:
-    """cvxpy solve() options of the SOS programs: Clarabel's KKT factorisation and its
-    threads (``config.DEFAULTS.quartic_kkt_*``, read at call time)."""
+    """cvxpy solve() options of the SOS programs: Clarabel's KKT factorisation, its threads
+    and its iterative refinement (``config.DEFAULTS.quartic_kkt_*``, read at call time)."""
     from .. import config
 
     if solver.upper() != "CLARABEL":
         return {}
     d = config.DEFAULTS
-    return {"direct_solve_method": d.quartic_kkt_method, "max_threads": d.quartic_kkt_threads}
+    return {
+        "direct_solve_method": d.quartic_kkt_method,
+        "max_threads": d.quartic_kkt_threads,
+        "iterative_refinement_enable": d.quartic_kkt_refinement > 0,
+        "iterative_refinement_max_iter": max(d.quartic_kkt_refinement, 1),
+    }
+
+
+def _clarabel_settings(**overrides: Any) -> Any:
+    """Clarabel's settings of the SOS programs (:func:`_solver_options`), quiet."""
+    import clarabel
+
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    for key, value in {**_solver_options("CLARABEL"), **overrides}.items():
+        setattr(settings, key, value)
+    return settings
 
 
 @lru_cache(maxsize=16)
@@ -338,13 +354,8 @@ def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
     cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
     q = np.zeros(n_x)
     q[L] = 1.0  # min τ
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    opts = _solver_options("CLARABEL")
-    settings.direct_solve_method = opts["direct_solve_method"]
-    settings.max_threads = opts["max_threads"]
     try:
-        sol = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, A, b, cones, settings).solve()
+        sol = clarabel.DefaultSolver(sp.csc_matrix((n_x, n_x)), q, A, b, cones, _clarabel_settings()).solve()
     except Exception as exc:  # noqa: BLE001 - Clarabel's errors (e.g. a failed factorisation): fall back
         return False, None, None, f"{type(exc).__name__}: {exc}"
     status = str(sol.status)
