@@ -157,7 +157,8 @@ def row_client(
 def local_cluster(n_workers: int, threads: int = 1) -> Any:
     """A ``distributed.LocalCluster`` of ``n_workers`` processes with ``threads`` threads each,
     their Numba and OpenMP threads capped to ``threads`` (spinning OpenMP threads of one worker
-    starve the others) and their progress bars off (the driver shows one)."""
+    starve the others), their progress bars off (the driver shows one), and no task queue on
+    the scheduler (``config.DEFAULTS.cluster_worker_saturation``)."""
     import dask
     from distributed import LocalCluster
 
@@ -172,7 +173,7 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
     # thread count cannot go there (a driver whose Numba pool already runs on more threads
     # raises when it re-reads NUMBA_NUM_THREADS): it is the worker's own environment, and each
     # task caps Numba's threads anyway (_one_blas_thread).
-    pre_spawn = {
+    dask_settings = {
         "distributed.nanny.pre-spawn-environ": {
             "MALLOC_TRIM_THRESHOLD_": None,
             **dict.fromkeys(("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"), n),
@@ -180,8 +181,8 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
     }
     env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
     # the scheduler (in this process) reads its queueing when it is created, here too
-    pre_spawn["distributed.scheduler.worker-saturation"] = config.DEFAULTS.cluster_worker_saturation
-    with dask.config.set(pre_spawn):  # each nanny reads it when it is created, here
+    dask_settings["distributed.scheduler.worker-saturation"] = config.DEFAULTS.cluster_worker_saturation
+    with dask.config.set(dask_settings):  # each nanny reads its environment when it is created, here
         return LocalCluster(
             n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env
         )

@@ -236,13 +236,13 @@ def _solver_options(solver: str) -> dict:
     }
 
 
-def _clarabel_settings(**overrides: Any) -> Any:
+def _clarabel_settings() -> Any:
     """Clarabel's settings of the SOS programs (:func:`_solver_options`), quiet."""
     import clarabel
 
     settings = clarabel.DefaultSettings()
     settings.verbose = False
-    for key, value in {**_solver_options("CLARABEL"), **overrides}.items():
+    for key, value in _solver_options("CLARABEL").items():
         setattr(settings, key, value)
     return settings
 
