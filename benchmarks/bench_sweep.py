@@ -26,6 +26,8 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 * **Memory bandwidth**: one process against two at once on a 320 MB stream: the ratio two
   workers cannot beat on bandwidth-bound work (1.14x, 1.32x, 1.80x and 1.92x in four runs on
   this VM: its host shares the bandwidth, and how much varies).
+* **Quartic fits**: one process against two at once on fem-fitting's dominant compute (a
+  Clarabel quartic fit, cache-resident): the ceiling two workers have on its rows here.
 * **fem-fitting full**: read from ``results/fem-fitting/summary.json`` (``make reproduce``).
 """
 
@@ -140,6 +142,47 @@ def memory_scaling(repeats: int = 3) -> dict:
     }
 
 
+_FITS = """
+import time, numpy as np
+from workbench import fit_quartic
+rng = np.random.default_rng(0)
+G = rng.standard_normal((6, 6))
+A = G @ G.T + 6 * np.eye(6)
+x = rng.standard_normal((600, 6))
+x /= np.sqrt(np.einsum("ij,jk,ik->i", x, A, x))[:, None] ** rng.uniform(0.9, 1.1, (600, 1))
+fit_quartic(x)
+t = time.perf_counter()
+for _ in range(N):
+    fit_quartic(x)
+print(time.perf_counter() - t)
+"""
+
+
+def compute_scaling(fits: int = 20, repeats: int = 3) -> dict:
+    """fem-fitting's dominant compute — the quartic fit (Clarabel, cache-resident: a 727-row
+    KKT system) — in one process against two at once, one thread each: the most two workers
+    can gain on fem-fitting's rows on this machine, whatever the scheduling (two virtual CPUs
+    that share one physical core, or its caches, give well below 2x)."""
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
+    cmd = [sys.executable, "-c", _FITS.replace("range(N)", f"range({fits})")]
+
+    def one() -> float:
+        return float(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout)
+
+    def two() -> list[float]:
+        ps = [subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True) for _ in range(2)]
+        return [float(p.communicate()[0]) for p in ps]
+
+    alone = statistics.median(one() for _ in range(repeats))
+    pair = statistics.median(max(two()) for _ in range(repeats))
+    return {
+        "one_process_s_per_fit": alone / fits,
+        "two_processes_s_per_fit": pair / fits,
+        "throughput_2_over_1": 2 * alone / pair,
+        "what": f"{fits} quartic fits (600 wrenches, Clarabel) in one process vs two at once",
+    }
+
+
 def _children_cpu_s() -> float:
     """User + system CPU seconds of this process's finished children (and theirs)."""
     import resource
@@ -245,6 +288,7 @@ def main() -> None:
     sp = speedup(4 if args.quick else 8)
     ff = fem_fitting_rows(1 if args.quick else 3)
     mem = memory_scaling(1 if args.quick else 3)
+    fits = compute_scaling(5 if args.quick else 20, 1 if args.quick else 3)
     full = fem_fitting_full()
     load_after = os.getloadavg()
     out = {
@@ -258,6 +302,7 @@ def main() -> None:
             **machine_roofline(quick=True),
             "cpu_count": os.cpu_count(),
             "memory_bandwidth": mem,
+            "quartic_fit_scaling": fits,
             "loadavg_1_5_15_before": load_before,
             "loadavg_1_5_15_after": load_after,
         },
@@ -285,6 +330,10 @@ def main() -> None:
     print(
         f"  memory bandwidth: one process {mem['one_process_GBps']:.1f} GB/s, two at once "
         f"{mem['two_processes_GBps']:.1f} GB/s -> {mem['throughput_2_over_1']:.2f}x"
+    )
+    print(
+        f"  quartic fits: one process {fits['one_process_s_per_fit']:.3f} s a fit, two at once "
+        f"{fits['two_processes_s_per_fit']:.3f} s -> {fits['throughput_2_over_1']:.2f}x"
     )
     print(
         f"  sweep of {sp[1]['n_ok']} points: 1 worker {sp[1]['wall_s']:.1f} s, "
