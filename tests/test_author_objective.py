@@ -160,10 +160,30 @@ def test_direct_clarabel_program_is_the_cvxpy_program(ellipsoid_data, rng, model
     ref = ao._solve_cvxpy(model, y, n, weights, "CLARABEL")
     assert direct["status"] == ref["status"] == "optimal"
     assert objective(direct) == pytest.approx(objective(ref), rel=1e-6)
-    # the public function solves this program: its recorded terms are the direct solution's
+    # the public function solves this program: the objective of the model it returns (the
+    # quartic's certificate moves it off the optimum by its δ) is the direct solution's, and
+    # its recorded terms add up to it
     info = fit_author_objective(W, xi, model, weights=weights).info
     lam, ww, tw = weights
-    terms = ww * info["train_value_l1_mean"] + (tw * info["train_twist_residual_mean"] if tw else 0.0)
-    coef = direct["A"] if model == "ellipsoid" else direct["a"]
-    assert info["solver"] == "CLARABEL"
-    assert terms * len(W) == pytest.approx(objective(direct) - lam * np.linalg.norm(coef), rel=1e-12)
+    assert info["solver"] == "CLARABEL" and "warning" not in info
+    assert info["objective"] == pytest.approx(objective(direct), rel=1e-6)
+    terms = ww * info["train_value_l1_mean"] + tw * info["train_twist_residual_mean"]
+    assert lam * info["regulariser"] + len(W) * terms == pytest.approx(info["objective"], rel=1e-12)
+
+
+def test_a_fit_that_collapses_toward_zero_is_reported(ellipsoid_data, rng, caplog):
+    """A large twist weight against the value weight buys a lower objective with a surface far
+    outside every training wrench (the twist term rewards a small gradient): reported, not
+    silent; and ω_w = 0 is refused by the config as by the fit."""
+    from workbench import config
+
+    A, W, xi = ellipsoid_data
+    W = W[:150] * (1 + 0.03 * rng.standard_normal((150, 1)))
+    xi = xi[:150] + 0.1 * np.abs(xi).mean() * rng.standard_normal((150, 6))
+    xi[np.einsum("ij,ij->i", W, xi) > 0] *= -1
+    with caplog.at_level("WARNING"):
+        model = fit_author_objective(W, xi, "quartic", weights=(0.1, 1.0, 5.0))
+    assert np.median(model.value(W)) < config.DEFAULTS.author_fit_collapse_below
+    assert "collapsed toward f = 0" in model.info["warning"] and "collapsed" in caplog.text
+    with pytest.raises(ValueError, match="omega_w > 0"):
+        config.configure(author_fit_weights=(1.0, 0.0, 1.0))

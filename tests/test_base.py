@@ -19,3 +19,5 @@ def test_radial_error_is_the_geometric_distance(s4_data, s4_quartic):
             assert model.fitting_error(rho * on) == pytest.approx(abs(rho**model.degree - 1), rel=1e-9)
     with pytest.raises(ValueError, match="kind must be"):
         e.fitting_error(on, "nope")
+    with pytest.raises(ValueError, match="at least one wrench"):  # not numpy's nan of an empty mean
+        e.fitting_error(on[:0])

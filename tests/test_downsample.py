@@ -134,6 +134,10 @@ def test_one_index_per_occupied_cell_sorted(rng):
         (np.ones((4, 6)), -2.5, "steps must be a positive number"),
         (np.ones((4, 6)), np.nan, "steps must be a positive number"),
         (np.ones((4, 6)), np.inf, "steps must be a positive number"),
+        (np.ones((4, 6)), "2", "steps must be a positive number.*got '2'"),
+        (np.ones((4, 6)), True, "steps must be a positive number.*got True"),
+        (np.ones((4, 6)), 1e6, "at most 1000"),
+        (np.ones((0, 6)), 2.5, "wrenches has no rows"),
     ],
 )
 def test_careless_input_is_refused(wrenches, steps, match):

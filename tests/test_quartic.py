@@ -242,3 +242,22 @@ def test_a_clarabel_failure_falls_back_to_scs(s4_data, monkeypatch):
     q = fit_quartic(s4_data[1])
     assert q.info["solver"] == "SCS" and "CLARABEL" in q.info["fallback"]
     assert q.fitting_error(s4_data[2]) <= 0.02  # SCS's fit is a fit
+
+
+@pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
+def test_repeated_wrenches_are_reported_underdetermined_and_careless_weights_refused(s4_data, caplog):
+    """100 distinct wrenches given twice pass the 126-row count but fix only ~100
+    coefficients: the fit says so (logged, info["underdetermined"]) instead of returning an
+    overfit as if the data determined it; the S4 fit itself is determined.  A normal weight
+    without twists is refused, and too few wrenches point to the regularised objective."""
+    W = s4_data[1]
+    assert fit_quartic(W).info["underdetermined"] is None
+    with caplog.at_level("WARNING"):
+        q = fit_quartic(np.vstack([W[:100], W[:100]]))
+    assert "determine about" in q.info["underdetermined"] and "of the 126" in caplog.text
+    determined = int(q.info["underdetermined"].split("about ")[1].split()[0])
+    assert 90 <= determined <= 100  # the 100 distinct wrenches' rows, at most
+    with pytest.raises(ValueError, match="no twists were given"):
+        fit_quartic(W, normal_weight=1.0)
+    with pytest.raises(ValueError, match="fit_author_objective"):
+        fit_quartic(W[:100])

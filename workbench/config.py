@@ -138,6 +138,12 @@ class Tolerances:
     # models by percents.  1e-9 is five decades above that and below any real gap.
     downsample_tie_atol: float = 1e-9
 
+    # A quartic fit's least-squares rows determine a coefficient when the QR's diagonal entry
+    # for it is above this fraction of the largest: repeated wrenches (100 distinct ones given
+    # twice pass the 126-row count) leave ~1e-16; the whitened bottle fits, above ~1e-4.  Below
+    # it the fit is logged and recorded as underdetermined (info["underdetermined"]).
+    quartic_rank_rtol: float = 1e-10
+
     # Semi-axis (normalised units) given to dropped directions so every
     # returned A_e is positive definite: the model is "flat" to this thickness.
     flat_axis: float = 1e-6
@@ -316,6 +322,11 @@ class Defaults:
     # of the author's exampleFEM.m, exampleParametricSurface.m and
     # exampleMeshedSurface.m (all three use 1 / 10 / 1).
     author_fit_weights: tuple[float, float, float] = (1.0, 10.0, 1.0)
+    # Median value on its training wrenches below which an author-objective fit is reported
+    # (logged, info["warning"]) as collapsed toward f = 0: the twist term rewards a small
+    # gradient, and weights like (0.1, 1, 5) bought a lower objective with ||a|| = 3e-8 (a
+    # new-user trial).  A fit through its data has median ~1.
+    author_fit_collapse_below: float = 0.5
 
     # Dense QP solver of wrench resistance: "auto" = quadprog up to
     # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree
@@ -496,6 +507,19 @@ def _saturation(v: Any) -> float:
     return float(v)
 
 
+def _author_weights(v: Any) -> tuple[float, ...]:
+    """(λ, ω_w, ω_t) of the author's objective: finite, >= 0, ω_w > 0 (the fit refuses ω_w = 0:
+    the zero function is then optimal)."""
+    expect = "a tuple of 3 finite numbers >= 0 (lambda, omega_w, omega_t) with omega_w > 0"
+    try:
+        out = _reals(3, _NONNEG)(v)
+    except _Reject:
+        raise _Reject(expect) from None
+    if out[1] <= 0:
+        raise _Reject(expect)
+    return out
+
+
 def _qp_solvers() -> tuple[str, ...]:
     from qpsolvers import available_solvers  # the dense QP solvers grasp resistance can call
 
@@ -527,6 +551,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "degenerate_wmax_rtol": _NONNEG,
     "subspace_rtol": _NONNEG,
     "downsample_tie_atol": _NONNEG,
+    "quartic_rank_rtol": _NONNEG,
     "flat_axis": _POS,  # keeps A_e positive definite
     "sdp_alpha_per_wrench": _NONNEG,  # 0: off
     "support_wmax_mismatch": _NONNEG,
@@ -557,7 +582,8 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "mu": _POS,  # mu = 0 has no friction wrenches to normalise
     "seed": _count(0),  # numpy seeds are non-negative
     "quartic_normal_weight": _NONNEG,
-    "author_fit_weights": _reals(3, _NONNEG, what="finite numbers >= 0 (lambda, omega_w, omega_t)"),
+    "author_fit_weights": _author_weights,
+    "author_fit_collapse_below": _NONNEG,
     "reach_min_facing": _FRACTION,  # a cosine against the approach
     "qp_solver": _choice(lambda: ("auto", *_qp_solvers())),
     "qp_auto_large": _count(0),

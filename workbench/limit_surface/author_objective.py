@@ -31,6 +31,7 @@ The quartic's coefficients are certified convex like :func:`fit_quartic`'s.
 
 from __future__ import annotations
 
+import logging
 import time
 import warnings
 from typing import Any
@@ -56,6 +57,7 @@ from .sdp_solver import check_sdp_solver
 from .sos import exponents, monomials, swap_blocks
 
 MODELS = ("ellipsoid", "quartic")
+log = logging.getLogger(__name__)
 
 
 def _gradient_design(y: np.ndarray, expo: np.ndarray) -> list[np.ndarray]:
@@ -304,7 +306,10 @@ def fit_author_objective(
     solver : "CLARABEL" (called directly, no cvxpy) or another cvxpy conic solver with SDP
         support ("SCS").
     Returns the same model classes as :func:`fit_ellipsoid` / :func:`fit_quartic`;
-    ``info["method"] == "author"``, with the solver status and the objective's terms.
+    ``info["method"] == "author"``, with the solver status and the objective's terms of the
+    returned model (:func:`_terms`: ``train_value_l1_mean``, ``train_twist_residual_mean``,
+    ``regulariser``, ``objective``), and ``info["warning"]`` if it collapsed toward f ≡ 0.
+    ω_w must be > 0 (without it the zero function is optimal).
     Raises ``ValueError`` on malformed input, ``RuntimeError`` if the solver fails.
     """
     t0 = time.perf_counter()
@@ -318,8 +323,6 @@ def fit_author_objective(
         sol = _solve_clarabel(model, y, n, (lam, ww, tw))
     else:
         sol = _solve_cvxpy(model, y, n, (lam, ww, tw), solver)
-    # the objective's terms at the solution, from its coefficients (not the solver's epigraphs)
-    twist_res = np.linalg.norm(sol["g"] - sol["s"][:, None] * n, axis=1) if tw > 0 else None
     info = {
         "model": model,
         "method": "author",
@@ -327,8 +330,6 @@ def fit_author_objective(
         "status": sol["status"],
         "fallback": None if sol["status"] == "optimal" else "solved to reduced accuracy",
         "weights": (lam, ww, tw),
-        "train_value_l1_mean": float(np.abs(sol["f"] - 1.0).sum()) / K,
-        "train_twist_residual_mean": float(twist_res.sum()) / K if tw > 0 else None,
         "dim": r,
         "n_wrenches": K,
         "n_coefficients": r * (r + 1) // 2 if model == "ellipsoid" else len(exponents(r, 4)),
@@ -340,12 +341,54 @@ def fit_author_objective(
             # shift the spectrum to 1e-12 (relative) above zero: positive definite, a round-off change
             A_r = A_r + (1e-12 * float(np.abs(A_r).max()) - lam_min) * np.eye(r)
             info["fallback"] = f"A had eigenvalue {lam_min:.2e}; lifted to positive definite"
-        info["fit_time_s"] = time.perf_counter() - t0
-        return EllipsoidLS(wm, scale, sub, info, A_e=_embed(A_r, sub))
-    coeffs, delta = certify(sol["a"], sol["M"], r)
-    info.update(certificate_delta=delta, whitening=np.ones(r), normal_weight=None)
+        coef, f, g = A_r, np.einsum("ij,jk,ik->i", y, A_r, y), y @ A_r
+    else:
+        coef, delta = certify(sol["a"], sol["M"], r)
+        info.update(certificate_delta=delta, whitening=np.ones(r), normal_weight=None)
+        expo = exponents(r, 4)
+        f = monomials(y, expo) @ coef
+        g = np.column_stack([D @ coef for D in _gradient_design(y, expo)])
+    info.update(_terms(coef, f, g, n, (lam, ww, tw)))
+    _check_collapse(info, f)
     info["fit_time_s"] = time.perf_counter() - t0
-    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=sol["M"])
+    if model == "ellipsoid":
+        return EllipsoidLS(wm, scale, sub, info, A_e=_embed(A_r, sub))
+    return QuarticLS(wm, scale, sub, info, A_q=coef, gram=sol["M"])
+
+
+def _terms(coef: np.ndarray, f: np.ndarray, g: np.ndarray, n: np.ndarray, weights: tuple) -> dict:
+    """The objective's terms for the returned model (after the ellipsoid's lift or the quartic's
+    certificate, which move it off the solver's optimum by round-off or by ``certificate_delta``):
+    coefficients ``coef``, values f (K,) and (half-)gradients g (K, r) at the training wrenches,
+    unit normals n (K, r) (zero rows: no direction).  The twist term is its minimum over the
+    free scale, ``min_{s >= 0} ‖g − s n‖ = sqrt(|g|² − max(g·n, 0)²)``, also when ω_t = 0."""
+    lam, ww, tw = weights
+    gn = np.maximum(np.einsum("ij,ij->i", g, n), 0.0)
+    twist = np.sqrt(np.maximum(np.einsum("ij,ij->i", g, g) - gn**2, 0.0))
+    value = np.abs(f - 1.0)
+    reg = float(np.linalg.norm(coef))
+    return {
+        "train_value_l1_mean": float(value.mean()),
+        "train_twist_residual_mean": float(twist.mean()),
+        "regulariser": reg,  # ‖A‖_F or ‖a‖₂
+        "objective": lam * reg + ww * float(value.sum()) + tw * float(twist.sum()),
+    }
+
+
+def _check_collapse(info: dict, f: np.ndarray) -> None:
+    """Warn (log and ``info["warning"]``) when the fit shrank toward f ≡ 0: the twist term
+    rewards a small gradient, so a large ω_t (or λ) against ω_w can buy a lower objective with
+    a surface far outside every training wrench (a trial: ‖a‖ = 3e-8 at weights (0.1, 1, 5)),
+    which every resistance test would then call inside."""
+    median = float(np.median(f))
+    floor = config.DEFAULTS.author_fit_collapse_below
+    if median < floor:
+        info["warning"] = (
+            f"the fit collapsed toward f = 0: median value {median:.3g} on its training wrenches "
+            f"(below config.DEFAULTS.author_fit_collapse_below = {floor:g}); raise the wrench weight "
+            f"ω_w or lower ω_t and λ (weights {info['weights']})"
+        )
+        log.warning("author-objective %s fit: %s", info["model"], info["warning"])
 
 
 __all__ = ["MODELS", "fit_author_objective"]

@@ -80,6 +80,8 @@ class LimitSurfaceModel:
         an ellipsoid for the same geometric miss; the radial error does not.
         """
         arr, _ = self._as_rows(wrenches)
+        if len(arr) == 0:
+            raise ValueError("fitting_error needs at least one wrench (a mean over none is undefined)")
         f = self._value_n(arr / self.scale)
         if kind == "eq3.18":
             return float(np.mean(np.abs(f - 1.0)))

@@ -19,6 +19,8 @@ the training set a function of the contact, not of its last bits: a profile pert
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 from .. import config
@@ -35,8 +37,12 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     members within ``config.TOL.downsample_tie_atol`` of the nearest (read at call time).
     """
     W = check_wrenches(wrenches)
-    if not (np.isfinite(steps) and steps > 0):
-        raise ValueError(f"steps must be a positive number of cell widths per range; got {steps}")
+    # at most 1,000 cell widths a range: (floor(steps) + 1)^6 cells must index in int64
+    if isinstance(steps, bool) or not isinstance(steps, numbers.Real) or not 0 < steps <= 1000:
+        raise ValueError(
+            f"steps must be a positive number of cell widths per range, at most 1000 (the author's "
+            f"2.5); got {steps!r}"
+        )
     Wt = np.ascontiguousarray(W.T)  # (6, N): per-coordinate passes run along memory (~4x faster)
     lo, hi = Wt.min(axis=1), Wt.max(axis=1)
     width = (hi - lo) / steps

@@ -27,6 +27,8 @@ def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
     bad = ~np.isfinite(W)
     if bad.any():
         raise ValueError(f"{name} must be finite; row {int(np.argwhere(bad)[0][0])} has NaN/inf")
+    if len(W) == 0:
+        raise ValueError(f"{name} has no rows: give at least one (K, 6) wrench")
     if not np.any(W):
         raise ValueError(f"{name} are all zero: there is no friction to model (check mu and pressures)")
     return W
@@ -153,6 +155,6 @@ def prepare(
         raise ValueError(
             f"{len(W)} wrenches span {sub.dim} dimensions: too few to tell the contact's wrench space "
             "from the sample (a fit would be flat in every direction not sampled) — sample at least "
-            "21 (a 6D ellipsoid's unknowns; the thesis uses 100-1,000)"
+            "21 for an ellipsoid, 126 for a quartic (their unknowns in 6D; the thesis uses 100-1,000)"
         )
     return W, wm, scale, x, sub

@@ -479,7 +479,13 @@ def fit_quartic(
     if len(W) < L:
         raise ValueError(
             f"a quartic in {r} dimensions has {L} coefficients but only {len(W)} wrenches were given "
-            f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid)"
+            f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid), or fit "
+            "fewer with their twists by the author's regularised objective (fit_author_objective)"
+        )
+    if twists is None and normal_weight:
+        raise ValueError(
+            f"normal_weight={normal_weight} weights the twists' gradient rows, but no twists were given: "
+            "pass twists= (the ones the wrenches were computed from) or leave normal_weight out"
         )
     # fit in whitened coordinates z = y / s (s: RMS of the wrenches along each PCA
     # direction): thin contacts have directions ~100x thinner than others, whose
@@ -505,6 +511,8 @@ def fit_quartic(
     # R of [A | b] holds R of A and Qᵀb in its last column: Q is never formed (~40 % of the QR's time)
     Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
     Rm, c_val = Rb[:L, :L], Rb[:L, L]
+    diag = np.abs(np.diag(Rm))
+    determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
     failures = []
     for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
         ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
@@ -519,6 +527,14 @@ def fit_quartic(
     fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
     if fallback:
         log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
+    underdetermined = None
+    if determined < L:  # repeated or dependent wrenches: the fit is not the data's
+        underdetermined = (
+            f"the {len(W)} wrenches determine about {determined} of the {L} coefficients (repeated or "
+            "dependent wrenches); the rest are set by the convexity constraint alone — sample more "
+            "distinct wrenches"
+        )
+        log.warning("quartic fit: %s", underdetermined)
     g, delta = certify(a_val, M_val, r)  # rigorously convex in z
     coeffs = g / np.prod(s**expo, axis=1)  # f(y) = g(y / s)
     info = {
@@ -531,6 +547,7 @@ def fit_quartic(
         "dim": r,
         "n_wrenches": len(W),
         "normal_weight": float(beta),  # 0: values only (Eq. 3.17 as in the thesis)
+        "underdetermined": underdetermined,  # None, or why the data do not fix the fit
         "fit_time_s": time.perf_counter() - t0,
     }
     return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M_val)
