@@ -105,6 +105,23 @@ def speedup(points: int) -> dict:
     return out
 
 
+def _one_vs_two(script: str, repeats: int) -> tuple[float, float]:
+    """Medians of the seconds ``script`` prints, run alone and (the slower of) two at once, each
+    a fresh interpreter with one BLAS, OpenMP and Numba thread."""
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
+    cmd = [sys.executable, "-c", script]
+
+    def one() -> float:
+        return float(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout)
+
+    def two() -> list[float]:
+        ps = [subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True) for _ in range(2)]
+        return [float(p.communicate()[0]) for p in ps]
+
+    alone = statistics.median(one() for _ in range(repeats))
+    return alone, statistics.median(max(two()) for _ in range(repeats))
+
+
 _STREAM = """
 import time, numpy as np
 a = np.random.default_rng(0).random(40_000_000)  # 320 MB: far beyond any cache
@@ -121,18 +138,7 @@ def memory_scaling(repeats: int = 3) -> dict:
     """The machine's memory bandwidth, one process against two at once (a STREAM-like scale of
     320 MB, one BLAS thread each): FEM solves and wrench sums over large profiles are bandwidth
     bound, so two workers cannot beat this ratio on them however the tasks are spread."""
-    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-    cmd = [sys.executable, "-c", _STREAM]
-
-    def one() -> float:
-        return float(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout)
-
-    def two() -> list[float]:
-        ps = [subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True) for _ in range(2)]
-        return [float(p.communicate()[0]) for p in ps]
-
-    alone = statistics.median(one() for _ in range(repeats))
-    pair = statistics.median(max(two()) for _ in range(repeats))
+    alone, pair = _one_vs_two(_STREAM, repeats)
     gbs = 20 * 2 * 8 * 40e6 / 1e9  # bytes read and written per run [GB]
     return {
         "one_process_GBps": gbs / alone,
@@ -160,21 +166,10 @@ print(time.perf_counter() - t)
 
 def compute_scaling(fits: int = 20, repeats: int = 3) -> dict:
     """fem-fitting's dominant compute — the quartic fit (Clarabel, cache-resident: a 727-row
-    KKT system) — in one process against two at once, one thread each: the most two workers
-    can gain on fem-fitting's rows on this machine, whatever the scheduling (two virtual CPUs
-    that share one physical core, or its caches, give well below 2x)."""
-    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
-    cmd = [sys.executable, "-c", _FITS.replace("range(N)", f"range({fits})")]
-
-    def one() -> float:
-        return float(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout)
-
-    def two() -> list[float]:
-        ps = [subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True) for _ in range(2)]
-        return [float(p.communicate()[0]) for p in ps]
-
-    alone = statistics.median(one() for _ in range(repeats))
-    pair = statistics.median(max(two()) for _ in range(repeats))
+    KKT system) — in one process against two at once, one thread each: what two workers can
+    gain on that share of its rows on this machine, whatever the scheduling (two virtual CPUs
+    that share one physical core, or its caches, would give well below 2x)."""
+    alone, pair = _one_vs_two(_FITS.replace("range(N)", f"range({fits})"), repeats)
     return {
         "one_process_s_per_fit": alone / fits,
         "two_processes_s_per_fit": pair / fits,
