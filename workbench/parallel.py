@@ -177,11 +177,11 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
         "distributed.nanny.pre-spawn-environ": {
             "MALLOC_TRIM_THRESHOLD_": None,
             **dict.fromkeys(("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"), n),
-        }
+        },
+        # the scheduler (in this process) reads its queueing when it is created, here too
+        "distributed.scheduler.worker-saturation": config.DEFAULTS.cluster_worker_saturation,
     }
     env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
-    # the scheduler (in this process) reads its queueing when it is created, here too
-    dask_settings["distributed.scheduler.worker-saturation"] = config.DEFAULTS.cluster_worker_saturation
     with dask.config.set(dask_settings):  # each nanny reads its environment when it is created, here
         return LocalCluster(
             n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env

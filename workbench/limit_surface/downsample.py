@@ -59,9 +59,10 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
     counts = np.diff(np.r_[starts, len(ks)])
     Ws = W[order]
-    # one pass over all cells instead of a loop per cell (a few hundred cells: 27 -> ~3 ms a
-    # profile); the sums are row after row as W[members].mean(axis=0) adds them, so the means,
-    # distances and kept indices are those of the per-cell loop to the last bit
+    # one pass over all cells instead of a loop per cell (with the transposed passes above:
+    # 25.6 -> 19.7 ms on 48,483 wrenches, ~250 cells); the sums are row after row as
+    # W[members].mean(axis=0) adds them, so the means, distances and kept indices are those of
+    # the per-cell loop to the last bit
     means = np.add.reduceat(Ws, starts, axis=0) / counts[:, None]
     d = np.linalg.norm(Ws - np.repeat(means, counts, axis=0), axis=1)
     near = d <= np.repeat(np.minimum.reduceat(d, starts) + tie, counts)
