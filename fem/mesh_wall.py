@@ -103,25 +103,25 @@ def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, 
     """(hit count per ray, list of each ray's sorted hit distances), from the disk cache
     (:func:`_rays_cache_path`) when these rays were cast on this mesh before."""
     # a few rays cast faster than the mesh hashes
+    from workbench.results import read_cache_npz, write_cache_npz
+
     path = _rays_cache_path(mesh, origins, dirs) if len(origins) >= 64 else None
-    if path is not None and path.exists():
-        try:
-            with np.load(path) as d:
-                counts, dist = d["counts"], d["dist"]
-            if counts.shape != (len(origins),) or dist.shape != (int(counts.sum()),):
-                raise ValueError(f"{counts.shape} counts, {dist.shape} distances for {len(origins)} rays")
-        except Exception as exc:  # a truncated or foreign file: cast again and overwrite it
-            log.warning("ray cache %s unreadable (%s); casting again", path, exc)
-        else:
-            return counts, np.split(dist, np.cumsum(counts)[:-1])
+
+    def check(d: dict) -> None:
+        counts, dist = d["counts"], d["dist"]
+        if counts.shape != (len(origins),) or dist.shape != (int(counts.sum()),):
+            raise ValueError(f"{counts.shape} counts, {dist.shape} distances for {len(origins)} rays")
+
+    cached = read_cache_npz(path, check, "ray cache", "casting again")
+    if cached is not None:
+        counts, dist = cached["counts"], cached["dist"]
+        return counts, np.split(dist, np.cumsum(counts)[:-1])
     locs, ray_idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=True)
     dist = np.einsum("ij,ij->i", locs - origins[ray_idx], dirs[ray_idx])
     order = np.lexsort((dist, ray_idx))
     ray_idx, dist = ray_idx[order], dist[order]
     counts = np.bincount(ray_idx, minlength=len(origins))
     if path is not None:
-        from workbench.results import write_cache_npz
-
         write_cache_npz(path, counts=counts, dist=dist)
     return counts, np.split(dist, np.cumsum(counts)[:-1])
 

@@ -35,7 +35,7 @@ from workbench.cachedir import (
     array_digest,
 )
 from workbench.cachedir import cache_dir as _cache_dir
-from workbench.results import write_cache_npz
+from workbench.results import read_cache_npz, write_cache_npz
 
 from .elasticity import basis, stiffness
 from .material import Material
@@ -194,20 +194,19 @@ def condense_pad(
     folder = pad_cache_dir(cache_dir)
     path = None if folder is None else folder / f"pad-{_key(mesh, material.nu, tag)}.npz"
     n = 3 * face.size
-    if path is not None and path.exists():
-        try:
-            with np.load(path) as d:
-                C1 = d["compliance_unit"]
-                built = float(d["seconds"]) if "seconds" in d else float("nan")
-            if C1.shape != (n, n):
-                raise ValueError(f"compliance of shape {C1.shape}, expected {(n, n)}")
-        except Exception as exc:  # truncated/corrupt file: rebuild and overwrite it
-            log.warning("pad cache %s unreadable (%s); condensing again", path, exc)
-        else:
-            log.info("pad compliance loaded from %s", path)
-            return CondensedPad(
-                geometry, material, face, np.column_stack([x[face], y[face]]), C1, built, True
-            )
+
+    def check(d: dict) -> None:
+        if d["compliance_unit"].shape != (n, n):
+            raise ValueError(f"compliance of shape {d['compliance_unit'].shape}, expected {(n, n)}")
+        if "seconds" in d:
+            float(d["seconds"])  # the build time it records: a scalar
+
+    cached = read_cache_npz(path, check, "pad cache", "condensing again")
+    if cached is not None:
+        log.info("pad compliance loaded from %s", path)
+        C1 = cached["compliance_unit"]
+        built = float(cached["seconds"]) if "seconds" in cached else float("nan")
+        return CondensedPad(geometry, material, face, np.column_stack([x[face], y[face]]), C1, built, True)
 
     t0 = time.perf_counter()
     K = stiffness(mesh, Material(1.0, material.nu), scheme)  # E = 1: C scales with 1/E

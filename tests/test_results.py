@@ -152,3 +152,26 @@ def test_shared_cache_path_names_files_inside_the_cache_only(tmp_path, monkeypat
     assert read_shared(p) == [{"k": 1.5}]
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", "OFF")
     assert shared_cache_path("wall-fem-rows", {}) is None and read_shared(None) is None
+
+
+def test_cache_npz_round_trip_and_an_unreadable_file_is_none(tmp_path, caplog):
+    """write_cache_npz / read_cache_npz (the pad and ray caches' files): the arrays come back
+    bit for bit; no cache, no file, a truncated file or one failing the caller's check read as
+    None (the caller recomputes), the last two with one warning naming the file."""
+    path = tmp_path / "x.npz"
+    a = np.random.default_rng(0).standard_normal((3, 4))
+    assert results.write_cache_npz(path, a=a, n=np.int64(7))
+    got = results.read_cache_npz(path, lambda d: None, "test cache", "again")
+    np.testing.assert_array_equal(got["a"], a)
+    assert int(got["n"]) == 7
+    assert results.read_cache_npz(None, lambda d: None, "test cache", "again") is None
+    assert results.read_cache_npz(tmp_path / "none.npz", lambda d: None, "test cache", "again") is None
+
+    def wrong_shape(d):
+        raise ValueError(f"shape {d['a'].shape}")
+
+    with caplog.at_level("WARNING"):
+        assert results.read_cache_npz(path, wrong_shape, "test cache", "again") is None
+        path.write_bytes(path.read_bytes()[:40])
+        assert results.read_cache_npz(path, lambda d: None, "test cache", "again") is None
+    assert caplog.text.count("test cache") == 2 and "shape (3, 4)" in caplog.text

@@ -237,6 +237,23 @@ def write_cache_npz(path: Path, **arrays: np.ndarray) -> bool:
     return True
 
 
+def read_cache_npz(path: Path | None, check: Any, what: str, redo: str) -> dict[str, np.ndarray] | None:
+    """The arrays of the cache file ``path`` (``.npz``, :func:`write_cache_npz`), or ``None`` when
+    there is none — or when it cannot be read or ``check(arrays)`` raises (a truncated or foreign
+    file): logged as "``what`` <path> unreadable (<why>); ``redo``", and the caller computes the
+    result again and overwrites the file."""
+    if path is None or not path.exists():
+        return None
+    try:
+        with np.load(path) as d:
+            arrays = {k: d[k] for k in d.files}
+        check(arrays)
+    except Exception as exc:  # noqa: BLE001 - any unreadable file only costs the recomputation
+        log.warning("%s %s unreadable (%s); %s", what, path, exc, redo)
+        return None
+    return arrays
+
+
 def shared_cache_path(kind: str, inputs: Any) -> Path | None:
     """``<cache>/<kind>-<hash>.json`` for a result shared by runs on this machine (two
     experiments, every point of a sweep), keyed by the content hash of ``inputs`` (JSON-able:
