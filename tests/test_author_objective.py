@@ -109,9 +109,11 @@ def test_regularised_quartic_fits_below_126_wrenches(ellipsoid_data, rng):
     "kwargs, match",
     [
         ({"model": "cubic"}, "model must be one of"),
-        ({"weights": (1, 0, 1)}, "positive wrench weight"),
-        ({"weights": (1, 10)}, "three numbers"),
-        ({"weights": (-1, 10, 1)}, "must be finite, >= 0"),
+        # the rule of config.DEFAULTS.author_fit_weights (the same for the config field)
+        ({"weights": (1, 0, 1)}, r"weights \(λ, wrench weight, .* omega_w > 0; got \(1, 0, 1\)"),
+        ({"weights": (1, 10)}, r"a tuple of 3 finite numbers"),
+        ({"weights": (-1, 10, 1)}, r"finite numbers >= 0 .*got \(-1, 10, 1\)"),
+        ({"weights": (True, 10, 1)}, r"got \(True, 10, 1\)"),
         ({"twists": "transposed"}, "twists must have the wrenches' shape"),
         ({"twists": "nan"}, "twist 3 is NaN/inf or zero"),
         ({"twists": "zero"}, "twist 3 is NaN/inf or zero"),

@@ -81,7 +81,7 @@ def test_every_field_has_a_rule_and_every_default_passes_it():
     assert sorted(names) == sorted(config._RULES)
     for cls, obj in ((config.Tolerances, config.TOL), (config.Defaults, config.DEFAULTS)):
         for f in fields(cls):
-            assert config._check(f.name, getattr(obj, f.name)) == getattr(obj, f.name), f.name
+            assert config.check_value(f.name, getattr(obj, f.name)) == getattr(obj, f.name), f.name
 
 
 @pytest.mark.parametrize(

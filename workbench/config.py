@@ -605,15 +605,17 @@ _RULES: dict[str, Callable[[Any], Any]] = {
 }
 
 
-def _check(name: str, value: Any) -> Any:
-    """``value`` as stored for field ``name``; ValueError (expected, got, fix) when it does not fit."""
+def check_value(name: str, value: Any, what: str | None = None) -> Any:
+    """``value`` as stored for the Tolerances/Defaults field ``name`` — the one rule of that
+    quantity, also for a function that takes it as an argument (``what``: how the message names
+    it, default "config field <name>"); ValueError (expected, got, fix) when it does not fit."""
     try:
         return _RULES[name](value)
     except _Reject as exc:
         default = getattr(Tolerances, name, None)
         default = getattr(Defaults, name) if default is None else default
         raise ValueError(
-            f"config field {name} must be {exc}; got {value!r} ({type(value).__name__}). "
+            f"{what or 'config field ' + name} must be {exc}; got {value!r} ({type(value).__name__}). "
             f"Pass such a value, e.g. its default {name}={default!r}"
         ) from None
 
@@ -629,7 +631,7 @@ def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
             f"unknown tolerance/default names {unknown}; the fields of config.Tolerances and "
             "config.Defaults are the names to use (e.g. resist_rtol, quadrature_rtol, work_eps)"
         )
-    checked = {k: _check(k, v) for k, v in values.items()}
+    checked = {k: check_value(k, v) for k, v in values.items()}
     return {k: v for k, v in checked.items() if k in tol}, {k: v for k, v in checked.items() if k in dft}
 
 

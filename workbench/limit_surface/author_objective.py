@@ -72,19 +72,8 @@ def _gradient_design(y: np.ndarray, expo: np.ndarray) -> list[np.ndarray]:
 
 
 def _check_weights(weights: Any) -> tuple[float, float, float]:
-    try:
-        lam, ww, tw = (float(v) for v in weights)
-    except (TypeError, ValueError):
-        raise ValueError(
-            "weights must be three numbers (λ, wrench weight, twist weight), e.g. (1, 10, 1); "
-            f"got {weights!r}"
-        ) from None
-    if not all(np.isfinite(v) and v >= 0 for v in (lam, ww, tw)) or ww == 0:
-        raise ValueError(
-            f"weights (λ, wrench weight, twist weight) must be finite, >= 0, with a positive wrench "
-            f"weight; got {(lam, ww, tw)}"
-        )
-    return lam, ww, tw
+    """(λ, ω_w, ω_t) by the rule of ``config.DEFAULTS.author_fit_weights`` (one rule for both)."""
+    return config.check_value("author_fit_weights", weights, "weights (λ, wrench weight, twist weight)")
 
 
 def _problem(wrenches: Any, twists: Any, w_max: Any):
