@@ -28,11 +28,14 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    training half of the grasps, reported on the other half.
 
 Rows (one per candidate grasp, and one per FEM grasp of the calibration) are
-checkpointed, so a killed run resumes.  The candidate grasps (step 3-5) and the nonlinear
-walls' load curves run as Dask tasks (:mod:`workbench.parallel`: a local cluster of one
-worker per core when there are many, ``workers`` / ``scheduler``); each worker process
-loads the meshes and maps and builds each object's wall once (:func:`_object_wall`, a
-per-process memo), and the driver renders the stiffness maps meanwhile.  The rows are the
+checkpointed, so a killed run resumes.  The wall squeezes (step 2 and every candidate's), the
+candidate grasps (step 3-5) and the nonlinear walls' load curves run as Dask tasks
+(:mod:`workbench.parallel`: a local cluster of one worker per core when there are many,
+``workers`` / ``scheduler``); a worker process builds an object's wall once for its squeezes
+(:func:`_object_wall`, a per-process memo), the candidates' tasks get their squeeze's row and
+build no wall, and the driver renders the stiffness maps meanwhile.  The squeezes depend only
+on the wall settings, so a second run at them (e.g. ``profiles="fem"``) reads them from the
+machine's shared cache.  The rows are the
 serial run's, bit for bit (``tests/test_parallel.py``).
 """
 
@@ -123,6 +126,8 @@ DEFAULT_CONFIG = {
 WHERE_KEYS = ("out", "workers", "scheduler")
 #: a local cluster for the load curves from this many (each takes 10-60 s; a cluster's start ~3 s)
 NL_MIN_ROWS = 8
+#: grasps of one object per wall-stiffness task (~0.3-1 s each; a worker factorises each wall once)
+WALL_ROWS_PER_TASK = 8
 NL_KEYS = ("nl_work_objects", "nl_mesh", "nl_step_mm", "nl_max_closing_mm")
 QUICK_CONFIG = {
     "n_heights": 3,
@@ -282,8 +287,8 @@ def _jaws_of(mesh, g: dict, config: dict) -> list:
 
 def _grasp_task(job: tuple, config: dict) -> dict:
     """One candidate grasp's row (:func:`_grasp_row`) from ``job`` = (object, index, grasp,
-    calibration scale, seed), in the driver or a Dask worker."""
-    name, k, g, scale, seed = job
+    calibration scale, seed, the grasp's wall stiffness row), in the driver or a Dask worker."""
+    name, k, g, scale, seed, fem = job
     mesh_path, map_path = _paths(config, name)
     return _grasp_row(
         name,
@@ -292,47 +297,80 @@ def _grasp_task(job: tuple, config: dict) -> dict:
         _mesh(str(mesh_path)),
         _measured_map(str(map_path)),
         scale,
-        partial(_wall_of, config=config),
+        fem,
         partial(_jaws_of, config=config),
         config,
         seed,
     )
 
 
-def _fem_rows(ckpt, name, L, wall_of, config) -> list[dict]:
-    """FEM stiffness at the measured grasps (checkpointed)."""
+def _wall_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
+    """The linear wall's stiffness at a chunk of one object's grasps, in the driver or a Dask
+    worker: ``job`` = (object, kind, grasp numbers (m,), locations (2m, 3): the first jaws, then
+    the second); [(checkpoint key ``<kind>/<object>/<number>``, row of
+    :func:`workbench.fem.wall_grasps.stiffness_at`)]."""
     from workbench.fem.wall_grasps import stiffness_at
 
-    n = len(L) // 2
-    todo = [i for i in range(n) if f"fem/{name}/{i}" not in ckpt]
-    # the same rows for every run at these wall settings (minimal-work with REACH and with FEM
-    # pads, a sweep's points): shared on this machine, keyed by every input and the code
-    shared = shared_cache_path(
-        "wall-fem-rows",
-        {
-            "mesh_file": _mesh_digest(str(_paths(config, name)[0])),
-            "locations": L,
-            **{k: config[k] for k in ("E", "nu", "thickness", "mesh", "jaw")},
-        },
+    name, kind, ids, P = job
+    geo, wall = _wall_of(name, config)
+    rows = stiffness_at(
+        wall, geo.surface, P, z_range=geo.z_range, jaw=tuple(config["jaw"]), grasp_ids=list(ids)
     )
-    cached = read_shared(shared) if todo else None
-    from_shared = cached is not None and isinstance(cached, list) and len(cached) == n
-    if cached is not None and not from_shared:
-        log.warning("shared FEM rows %s hold no %d rows for %s; computing them again", shared, n, name)
-    if from_shared:
-        for i in todo:
-            ckpt.add(f"fem/{name}/{i}", cached[i])
-        todo = []
-    for i in tqdm(todo, desc=f"FEM {name}", unit="grasp"):
-        geo, wall = wall_of(name)
-        (row,) = stiffness_at(
-            wall, geo.surface, L[[i, i + n]], z_range=geo.z_range, jaw=tuple(config["jaw"]), grasp_ids=[i]
+    return [(f"{kind}/{name}/{i}", row) for i, row in zip(ids, rows, strict=True)]
+
+
+def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
+    """Step 2's FEM and every candidate's wall stiffness: ``locations`` {(object, kind): (2n, 3)
+    grasp points, the first jaws then the second} — kind "fem" (the measured grasps) or "wall"
+    (the candidates) — to {(object, kind): n rows} (checkpointed as ``<kind>/<object>/<i>``).
+    The squeezes run as Dask tasks of :data:`WALL_ROWS_PER_TASK` grasps of one object (a worker
+    factorises each object's wall once); they do not depend on the profiles or the metrics, so
+    they are shared on this machine by every run at the same wall settings (minimal-work with
+    REACH and with FEM pads, a sweep's points), keyed by every input and the code."""
+    jobs, shared = [], {}
+    for (name, kind), L in locations.items():
+        n = len(L) // 2
+        todo = [i for i in range(n) if f"{kind}/{name}/{i}" not in ckpt]
+        path = shared_cache_path(
+            "wall-rows",
+            {
+                "mesh_file": _mesh_digest(str(_paths(config, name)[0])),
+                "locations": L,
+                **{k: config[k] for k in ("E", "nu", "thickness", "mesh", "jaw")},
+            },
         )
-        ckpt.add(f"fem/{name}/{i}", row)
-    rows = [ckpt.rows[f"fem/{name}/{i}"] for i in range(n)]
-    if not from_shared:  # without this run's checkpoint fields (its key and config hash)
-        write_shared(shared, [{k: v for k, v in r.items() if k not in ("key", "config_hash")} for r in rows])
-    return rows
+        cached = read_shared(path) if todo else None
+        from_shared = isinstance(cached, list) and len(cached) == n
+        if cached is not None and not from_shared:
+            log.warning("shared wall rows %s hold no %d rows for %s; computing them again", path, n, name)
+        if from_shared:
+            for i in todo:
+                ckpt.add(f"{kind}/{name}/{i}", cached[i])
+            todo = []
+        else:
+            shared[name, kind] = path
+        for c in range(0, len(todo), WALL_ROWS_PER_TASK):
+            ids = todo[c : c + WALL_ROWS_PER_TASK]
+            jobs.append((name, kind, ids, L[np.r_[ids, np.asarray(ids) + n]]))
+    with tqdm(total=sum(len(j[2]) for j in jobs), desc="wall FEM", unit="grasp") as bar:
+        run_rows(
+            partial(_wall_task, config=config),
+            jobs,
+            lambda job, rows: [ckpt.add(key, row) for key, row in rows],
+            config,
+            n_rows=sum(len(j[2]) for j in jobs),
+            progress=bar,
+        )
+    out = {}
+    for (name, kind), L in locations.items():
+        rows = [ckpt.rows[f"{kind}/{name}/{i}"] for i in range(len(L) // 2)]
+        if (name, kind) in shared:  # without this run's checkpoint fields (its key and config hash)
+            write_shared(
+                shared[name, kind],
+                [{k: v for k, v in r.items() if k not in ("key", "config_hash")} for r in rows],
+            )
+        out[name, kind] = rows
+    return out
 
 
 @lru_cache(maxsize=8)
@@ -348,6 +386,7 @@ def _num(x) -> float:
 
 
 def run(config: dict) -> dict:
+    from workbench.fem.wall_grasps import read_locations
     from workbench.grasp.stiffness_map import leave_one_out
 
     t_start = time.perf_counter()
@@ -359,22 +398,26 @@ def run(config: dict) -> dict:
         {k: v for k, v in config.items() if k not in WHERE_KEYS and k not in NL_KEYS},
     )
     n_resumed = len(ckpt.rows)
-    meshes, validation, interp, grasps_all, fig_data = {}, {}, {}, [], {}
+    meshes, smaps, cands, validation, interp, grasps_all, fig_data, at = {}, {}, {}, {}, {}, [], {}, {}
     for name in config["objects"]:
         mesh_path, map_path = _paths(config, name)
         meshes[name] = _mesh(str(mesh_path))
-        smap = _measured_map(str(map_path))  # refuses a file without measurements
+        smaps[name] = _measured_map(str(map_path))  # refuses a file without measurements
         # 1. the measured map's leave-one-grasp-out error
-        interp[name] = leave_one_out(smap)
-        # 2. FEM at the measured grasps, one scalar calibrated on half, checked on the other
-        validation[name], fig_data[name] = _calibrated_wall(ckpt, name, rng, config)
-        # 3. candidate grasps
+        interp[name] = leave_one_out(smaps[name])
+        # 3. candidate grasps (their wall stiffness is computed with step 2's)
+        cands[name] = _candidates(meshes[name], name, config)
+        at[name, "fem"] = read_locations(map_path)[0]
+        at[name, "wall"] = np.array([g["p1"] for g in cands[name]] + [g["p2"] for g in cands[name]])
+    # 2. the wall FEM at the measured grasps and at every candidate (Dask tasks)
+    wall = _wall_rows(ckpt, at, config)
+    for name in config["objects"]:
+        # 2. one scalar calibrated on half of the measured grasps, checked on the other
+        validation[name], fig_data[name] = _calibrated_wall(wall[name, "fem"], name, rng, config)
         scale = validation[name]["calibrated"]["scale"]
-        grasps_all += [
-            (name, k, g, smap, scale) for k, g in enumerate(_candidates(meshes[name], name, config))
-        ]
+        grasps_all += [(name, k, g, smaps[name], scale) for k, g in enumerate(cands[name])]
     # 3-5. profiles, metrics and simulated truth per candidate (Dask); the driver renders the maps
-    rows, ran_on, stiffness_figures = _candidate_rows(ckpt, grasps_all, out, meshes, fig_data, config)
+    rows, ran_on, stiffness_figures = _candidate_rows(ckpt, grasps_all, wall, out, meshes, fig_data, config)
     skipped = [
         {"object": r["object"], "grasp": r["grasp"], "reason": r["skipped"]} for r in rows if "skipped" in r
     ]
@@ -421,17 +464,18 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _calibrated_wall(ckpt, name: str, rng: np.random.Generator, config: dict) -> tuple[dict, dict]:
-    """Step 2 for object ``name``: the FEM at its measured grasps (checkpointed), one factor
-    calibrated on a random half (drawn from ``rng``) and scored on the other, and what the
-    factor leaves (series compliance, large deflection, the clamps).  Returns the
-    validation summary and the stiffness figures' data."""
+def _calibrated_wall(
+    fem_rows: list[dict], name: str, rng: np.random.Generator, config: dict
+) -> tuple[dict, dict]:
+    """Step 2 for object ``name``: from the FEM at its measured grasps (``fem_rows``, one per
+    grasp: :func:`_wall_rows`), one factor calibrated on a random half (drawn from ``rng``) and
+    scored on the other, and what the factor leaves (series compliance, large deflection, the
+    clamps).  Returns the validation summary and the stiffness figures' data."""
     from workbench.fem.calibration import missing_physics, one_factor_validation
     from workbench.fem.wall_grasps import read_locations
 
     mesh_path, map_path = _paths(config, name)
     L, measured = read_locations(map_path)
-    fem_rows = _fem_rows(ckpt, name, L, partial(_wall_of, config=config), config)
     fem = np.array([_num(r["stiffness"]) for r in fem_rows])
     n_g = len(fem)
     z_mid = 0.5 * (L[:n_g, 2] + L[n_g:, 2])
@@ -468,11 +512,19 @@ def _candidates(mesh, name: str, config: dict) -> list[dict]:
     return cands
 
 
-def _candidate_rows(ckpt, grasps_all, out: Path, meshes: dict, fig_data: dict, config: dict):
+def _candidate_rows(ckpt, grasps_all, wall: dict, out: Path, meshes: dict, fig_data: dict, config: dict):
     """Rows of every candidate grasp (checkpoint ``grasp/<object>/<k>``), the missing ones as
-    Dask tasks while the driver renders the stiffness maps: (rows, where they ran, map figures)."""
+    Dask tasks while the driver renders the stiffness maps: (rows, where they ran, map figures).
+    ``wall`` : the candidates' wall stiffness rows (:func:`_wall_rows`, kind "wall")."""
     todo = [
-        (name, k, g, scale, config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k)
+        (
+            name,
+            k,
+            g,
+            scale,
+            config["seed"] * 100_003 + 1009 * config["objects"].index(name) + k,
+            wall[name, "wall"][k],
+        )
         for name, k, g, _, scale in grasps_all
         if f"grasp/{name}/{k}" not in ckpt
     ]
@@ -750,9 +802,9 @@ def _validation_line(name: str, v: dict) -> str:
     )
 
 
-def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: int) -> dict:
-    """Metrics and simulated truth of one candidate grasp (module docstring, steps 3-5)."""
-    from workbench.fem.wall_grasps import stiffness_at
+def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: int) -> dict:
+    """Metrics and simulated truth of one candidate grasp (module docstring, steps 3-5);
+    ``fem`` : its row of the linear wall's stiffness (:func:`_wall_task`), before calibration."""
     from workbench.grasp.exact import ExactContacts
     from workbench.grasp.models import contact_sets
     from workbench.grasp.robust import Perturbation, q_robust
@@ -771,10 +823,6 @@ def _grasp_row(name, k, g, mesh, smap, scale, wall_of, jaws_of, config, seed: in
         return {"object": name, "grasp": k, "skipped": str(e)}
     contacts = [contact_sets(p, "6dls", M=config["M"], seed=config["seed"])[0] for p in profiles]
     s_map = smap(np.array([g["p1"], g["p2"]]))
-    geo, wall = wall_of(name)
-    (fem,) = stiffness_at(
-        wall, geo.surface, np.array([g["p1"], g["p2"]]), z_range=geo.z_range, jaw=tuple(config["jaw"])
-    )
     s_fem = np.inf if fem["rigid"] or fem["failed"] else fem["stiffness"] * scale
     com, mass = mesh.convex_hull.center_mass, config["mass_kg"][name]  # the filled object's centre
     exact = ExactContacts(profiles, seed=config["seed"])

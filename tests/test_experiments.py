@@ -544,11 +544,11 @@ def test_fem_fitting_gives_a_task_a_grasp_on_long_runs(tmp_path, monkeypatch):
         assert ablated == sorted(ablated, reverse=True) and any(ablated) and not all(ablated)
 
 
-def test_minimal_work_fem_rows_are_shared_by_runs_at_the_same_wall(tmp_path, monkeypatch):
-    """The FEM stiffness at the measured grasps is computed once per machine for a wall's
-    settings: a second run (another output folder, another profile source) reads the shared
-    rows, checkpoints them as its own, and computes nothing; another E or another mesh file
-    computes again."""
+def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, monkeypatch):
+    """The wall squeezes (the measured grasps' FEM and every candidate's) are computed once per
+    machine for a wall's settings, in tasks of WALL_ROWS_PER_TASK grasps of one object: a second
+    run (another output folder, another profile source) reads the shared rows, checkpoints them
+    as its own, and computes nothing; another E or another mesh file computes again."""
     import workbench.fem.wall_grasps as wg
     from workbench.experiments import minimal_work as mw
     from workbench.results import Checkpoint
@@ -559,15 +559,21 @@ def test_minimal_work_fem_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mon
     (data / "meshes" / "cup.obj").write_text("v 0 0 0\n")
     (data / "stiffness_maps" / "cup.json").write_text("{}")
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "cache"))
-    calls = []
+    calls, wall = [], {"offset": 0.0}
+    geo = type("Geo", (), {"surface": None, "z_range": (0.0, 1.0)})()
+    monkeypatch.setattr(mw, "_wall_of", lambda name, config: (geo, wall["offset"]))
 
-    def fake_stiffness_at(wall, surface, pair, **kw):
-        calls.append(kw["grasp_ids"][0])
-        return [{"stiffness": 100.0 + kw["grasp_ids"][0] + wall, "grasp": kw["grasp_ids"][0]}]
+    def fake_stiffness_at(w, surface, P, **kw):
+        ids = kw["grasp_ids"]
+        calls.append(list(ids))
+        assert len(P) == 2 * len(ids)
+        # the grasp's first jaw point (row j) and second (row j + m) reach the squeeze
+        return [{"stiffness": 100.0 + i + w, "x": [P[j, 0], P[j + len(ids), 0]]} for j, i in enumerate(ids)]
 
     monkeypatch.setattr(wg, "stiffness_at", fake_stiffness_at)
-    geo = type("Geo", (), {"surface": None, "z_range": (0.0, 1.0)})()
-    L = np.arange(24, dtype=float).reshape(8, 3)  # 4 grasps: jaw A rows, then jaw B rows
+    n_fem, n_cand = 4, mw.WALL_ROWS_PER_TASK + 3  # the candidates in two tasks
+    L = np.arange(6 * n_fem, dtype=float).reshape(2 * n_fem, 3)  # jaw A rows, then jaw B rows
+    C = 1000 + np.arange(6 * n_cand, dtype=float).reshape(2 * n_cand, 3)
     base = {
         "data_dir": str(data),
         "E": 1e9,
@@ -575,22 +581,33 @@ def test_minimal_work_fem_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mon
         "thickness": 5e-4,
         "mesh": [8, 4],
         "jaw": [0.02, 0.04],
+        "workers": 1,
+        "scheduler": "",
     }
 
-    def run(config, out, wall=0.0):
+    def run(config, out, offset=0.0):
+        wall["offset"] = offset
         ckpt = Checkpoint(tmp_path / out / "rows.jsonl", {**config, "out": out})
-        rows = mw._fem_rows(ckpt, "cup", L, lambda name: (geo, wall), config)
-        return [r["stiffness"] for r in rows], ckpt
+        rows = mw._wall_rows(ckpt, {("cup", "fem"): L, ("cup", "wall"): C}, config)
+        own = ("key", "config_hash")  # the run's checkpoint fields
+        return {k: [{a: b for a, b in r.items() if a not in own} for r in v] for k, v in rows.items()}, ckpt
 
     first, _ = run({**base, "profiles": "reach"}, "a")
-    assert first == [100.0, 101.0, 102.0, 103.0] and calls == [0, 1, 2, 3]
-    second, ckpt = run({**base, "profiles": "fem"}, "b", wall=50.0)  # a different wall would show
-    assert second == first and calls == [0, 1, 2, 3]
+    assert [r["stiffness"] for r in first["cup", "fem"]] == [100.0, 101.0, 102.0, 103.0]
+    assert [r["x"] for r in first["cup", "fem"]] == [[L[i, 0], L[i + n_fem, 0]] for i in range(n_fem)]
+    assert [r["x"] for r in first["cup", "wall"]] == [[C[i, 0], C[i + n_cand, 0]] for i in range(n_cand)]
+    assert calls == [
+        [0, 1, 2, 3],
+        list(range(mw.WALL_ROWS_PER_TASK)),
+        list(range(mw.WALL_ROWS_PER_TASK, n_cand)),
+    ]
+    second, ckpt = run({**base, "profiles": "fem"}, "b", offset=50.0)  # a different wall would show
+    assert second == first and len(calls) == 3
     # checkpointed under this run's own key: a resume of run b keeps them
-    assert len(Checkpoint.peek(ckpt.path, {**base, "profiles": "fem", "out": "b"})) == 4
-    third, _ = run({**base, "E": 2e9}, "c", wall=1.0)
-    assert third == [101.0, 102.0, 103.0, 104.0] and len(calls) == 8
+    assert len(Checkpoint.peek(ckpt.path, {**base, "profiles": "fem", "out": "b"})) == n_fem + n_cand
+    third, _ = run({**base, "E": 2e9}, "c", offset=1.0)
+    assert [r["stiffness"] for r in third["cup", "fem"]] == [101.0, 102.0, 103.0, 104.0] and len(calls) == 6
     (data / "meshes" / "cup.obj").write_text("v 0 0 1\n")
     mw._mesh_digest.cache_clear()
     run(base, "d")
-    assert len(calls) == 12
+    assert len(calls) == 9

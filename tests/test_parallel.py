@@ -277,16 +277,24 @@ def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_p
 
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_worker_processes(tmp_path):
-    """minimal-work's tasks — a candidate grasp's row (metrics and simulated truth, the wall
-    built once per worker process) and a nonlinear wall's load curve — give the serial rows
-    bit for bit on two worker processes (timings aside)."""
+    """minimal-work's tasks — the wall squeezes of a chunk of grasps (the wall built once per
+    worker process), a candidate grasp's row (metrics and simulated truth) and a nonlinear
+    wall's load curve — give the serial rows bit for bit on two worker processes (timings
+    aside), and a chunk's squeezes are those of its grasps one at a time."""
     from pathlib import Path
 
     import numpy as np
     from distributed import Client, LocalCluster
 
     from workbench.experiment_config import build_config
-    from workbench.experiments.minimal_work import DEFAULT_CONFIG, _grasp_task, _load_curve, _mesh, _paths
+    from workbench.experiments.minimal_work import (
+        DEFAULT_CONFIG,
+        _grasp_task,
+        _load_curve,
+        _mesh,
+        _paths,
+        _wall_task,
+    )
     from workbench.grasp.sampling import horizontal_grasps
 
     if not Path(DEFAULT_CONFIG["data_dir"], "meshes").is_dir():  # before build_config, which checks it
@@ -297,9 +305,16 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     lo, hi = mesh.bounds[:, 2]
     cands = horizontal_grasps(mesh, [lo + 0.4 * (hi - lo), lo + 0.6 * (hi - lo)], 2, cfg["mu"], pad=None)
     assert len(cands) >= 2
-    grasps = [("shampoo", 0, cands[0], 0.5, 100)]
+    # the candidate's wall row as the experiment's wall stage computes it (one task of its own)
+    ((_, wall_row),) = _wall_task(("shampoo", "wall", [0], np.array([cands[0]["p1"], cands[0]["p2"]])), cfg)
+    grasps = [("shampoo", 0, cands[0], 0.5, 100, wall_row)]
     curves = [(1, "shampoo", 1, cands[1], 0.5, 2.0)]
-    tasks = ((partial(_grasp_task, config=cfg), grasps), (partial(_load_curve, config=cfg), curves))
+    walls = [("shampoo", "wall", [0, 1], np.array([c[p] for p in ("p1", "p2") for c in cands[:2]]))]
+    tasks = (
+        (partial(_grasp_task, config=cfg), grasps),
+        (partial(_load_curve, config=cfg), curves),
+        (partial(_wall_task, config=cfg), walls),
+    )
 
     def collect(into, tag):
         # the grasp's number: job[1] of a grasp task (object, k, ...), job[2] of a curve (i, object, k, ...)
@@ -313,11 +328,21 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
             map_rows(f, jobs, collect(dist, f.func.__name__), client=c)
 
     def numbers(rows):
+        def drop(r):  # timings aside
+            return {a: b for a, b in r.items() if a != "seconds"}
+
         return json.dumps(
-            {str(k): {a: b for a, b in r.items() if a != "seconds"} for k, r in rows.items()}, sort_keys=True
+            {
+                str(k): drop(r) if isinstance(r, dict) else [(a, drop(b)) for a, b in r]
+                for k, r in rows.items()
+            },
+            sort_keys=True,
         )
 
-    assert len(serial) == 2
+    assert len(serial) == 3
+    # the wall task's squeezes of two grasps at once are the squeezes one at a time
+    one = [_wall_task(("shampoo", "wall", [k], w[3][[k, k + 2]]), cfg)[0] for k in (0, 1) for w in walls]
+    assert numbers({"one": one}) == numbers({"one": serial[("_wall_task", "wall")]})
     assert serial[("_load_curve", 1)]["curve"] is not None
     assert np.isfinite(serial[("_grasp_task", 0)]["s_fem"])
     assert numbers(serial) == numbers(dist)
