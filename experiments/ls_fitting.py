@@ -122,13 +122,18 @@ class Contact:
             self._fn = partial(frictional_wrenches, prof, mu=self.mu)
             self.w_max = w_max(prof, self.mu)
         self._memo: dict[bytes, np.ndarray] = {}
-        self._memo_max = config["support_directions"]  # only direction sets are reused
+        # only the support error's twist sets are reused (the same for every model of the
+        # surface): its directions and its ±e_i probes of the six components
+        self._memo_max = config["support_directions"] + 12
+        self.memo_hits = 0
 
     def wrenches(self, xi: np.ndarray) -> np.ndarray:
         if len(xi) > self._memo_max:
             return self._fn(xi)
         key = np.ascontiguousarray(xi).tobytes()
-        if key not in self._memo:
+        if key in self._memo:
+            self.memo_hits += 1
+        else:
             self._memo[key] = self._fn(xi)
         return self._memo[key]
 
@@ -268,17 +273,22 @@ def _warm(config: dict) -> dict:
     return dict(_BUILT)
 
 
-def _surface(job: tuple[int, str], config: dict) -> dict:
-    """Every fit and error of surface ``name`` (the i-th): one row of the experiment, run in
-    the driver or on a Dask worker (``workbench.parallel.map_rows``)."""
-    i, name = job
+def _surface(job: tuple[int, str, str], config: dict) -> dict:
+    """One part of surface ``name`` (the i-th), run in the driver or on a Dask worker
+    (``workbench.parallel.map_rows``): ``part`` "fits" — every fit and error of the thesis-text
+    protocol — or "code" — the thesis-code protocol (:func:`thesis_code_rows`, {"code": ...}),
+    a task of its own: its 48,483-twist quadrature is up to 80 s of a surface's ~100, and the
+    two halves of six surfaces balance two workers where six whole surfaces left a long tail."""
+    i, name, part = job
     _warm(config)
-    Kc = config["solver_comparison_K"]
     contact = Contact(THESIS_SURFACES[name], config)
+    if part == "code":
+        return {"code": thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3)}
+    Kc = config["solver_comparison_K"]
     support_of = _support_of(contact, config)
     W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
     res = {key: {kind: {} for kind in KINDS} for key in ("err", "train_err", "rt", "radial")}
-    res.update(rows=[], solver_rows=[], convex={}, support={}, log_det={}, code=None, section=None)
+    res.update(rows=[], solver_rows=[], convex={}, support={}, log_det={}, section=None)
     section = name == config["section_surface"]
     for K in config["K"]:
         W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
@@ -310,8 +320,6 @@ def _surface(job: tuple[int, str], config: dict) -> dict:
                     "heldout_error": fs.test_error,
                     "support_radial": fs.support.radial_mean,
                 }
-    if config["thesis_code"]:
-        res["code"] = thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3)
     return res
 
 
@@ -574,18 +582,21 @@ def run(config: dict) -> dict:
     # one-time problem builds in this process, kept out of the fit timings (and measured)
     build_s = _warm(config)
 
-    # every surface's fits and errors (a row each), here or on Dask workers
-    done: dict[str, dict] = {}
-    surfaces = list(enumerate(config["surfaces"]))
+    # every surface's fits and errors, here or on Dask workers: the thesis-code halves first
+    # (the larger tasks), then the fits
+    done: dict[str, dict] = {name: {"code": None} for name in config["surfaces"]}
+    parts = ("code", "fits") if config["thesis_code"] else ("fits",)
+    jobs = [(i, name, part) for part in parts for i, name in enumerate(config["surfaces"])]
     # a continuous-source surface takes ~2 min (adaptive quadrature): two already pay for a
     # cluster's start; mesh-source (quick) surfaces take seconds
     min_rows = 2 if config["wrench_source"] == "continuous" else None
-    with tqdm(total=len(surfaces), desc="surfaces", unit="surface") as bar:
+    with tqdm(total=len(jobs), desc="surface parts", unit="part") as bar:
         _, ran_on = run_rows(
             partial(_surface, config=config),
-            surfaces,
-            lambda job, r: done.__setitem__(job[1], r),
+            jobs,
+            lambda job, r: done[job[1]].update(r),
             config,
+            n_rows=len(config["surfaces"]),
             min_rows=min_rows,
             progress=bar,
         )

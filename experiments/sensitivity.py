@@ -228,6 +228,31 @@ def _row_tasks(config: dict) -> list[tuple]:
     return tasks
 
 
+def _inputs_of(task: tuple, config: dict) -> tuple:
+    """What a row computes from: rows with the same inputs are computed once (:func:`_rows_and_truth`)
+    — a margin with the default training sampler (``config.DEFAULTS.ls_training_sampler``) is
+    the training-sampler row of that kind, and the zero μ and length offsets are the k-series
+    row at ``k_true``."""
+    kind = task[0]
+    if kind == "margin":
+        return ("margin", task[1], SamplerSpec(kind=task[2]))  # kind None: the default's
+    if kind == "setting":
+        _, series, x, model = task
+        k = x if series == "k" else config["k_true"]
+        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
+        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
+        return ("setting", k, length, mu, model)
+    return task
+
+
+def _as(row: dict, task: tuple, source: str) -> dict:
+    """Row ``row`` (checkpointed for ``source``) as the row of ``task``, which has its inputs."""
+    row = {k: v for k, v in row.items() if k not in ("key", "config_hash")}
+    if task[0] == "setting":
+        row.update(series=task[1], x=task[2])
+    return {**row, "same_inputs_as": source}
+
+
 def _key(task: tuple) -> str:
     kind = task[0]
     if kind == "margin":
@@ -401,7 +426,25 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
     Returns (truth (n,) bool, its ms per grasp, where the rows ran)."""
     W, _, mu_true, f_true = _inputs(config)
     n = len(W)
-    todo = [t for t in _row_tasks(config) if _key(t) not in ckpt]
+    same: dict[tuple, list[tuple]] = {}  # inputs -> the rows of them; the first is computed
+    for t in _row_tasks(config):
+        same.setdefault(_inputs_of(t, config), []).append(t)
+
+    def keep(task: tuple, row: dict) -> None:  # the row, and its copies as the rows of its twins
+        ckpt.add(_key(task), row)
+        for twin in same[_inputs_of(task, config)][1:]:
+            if _key(twin) not in ckpt:
+                ckpt.add(_key(twin), _as(ckpt.rows[_key(task)], twin, _key(task)))
+
+    todo = []
+    for first, *_ in same.values():
+        if _key(first) in ckpt:  # a resume: the twins a killed run had not copied yet
+            keep_twins = ckpt.rows[_key(first)]
+            for twin in same[_inputs_of(first, config)][1:]:
+                if _key(twin) not in ckpt:
+                    ckpt.add(_key(twin), _as(keep_twins, twin, _key(first)))
+        else:
+            todo.append(first)
     got: dict = {}
 
     def ground_truth() -> None:
@@ -422,7 +465,7 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
         _, ran_on = run_rows(
             partial(_row, config=config),
             todo,
-            lambda task, row: ckpt.add(_key(task), _scored(row, got["truth"])),
+            lambda task, row: keep(task, _scored(row, got["truth"])),
             config,
             progress=bar,
             meanwhile=ground_truth,

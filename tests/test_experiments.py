@@ -320,9 +320,65 @@ def test_sensitivity_quick(tmp_path):
     for kind, e in td.items():
         assert e["vs_exact_nominal"]["n"] >= 30, kind
         assert 0 < e["vs_exact_nominal"]["median_abs_log_ratio"] < 0.05, (kind, e)
-    # the default sampler is "mix": the plain 6dls margins are the @mix ones
+    # the default sampler is "mix": the plain 6dls margins are the @mix ones, computed once
     rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
     assert rows["margin/6dls"]["margins"] == rows["margin/6dls@mix"]["margins"]
+    assert rows["margin/6dls@mix"]["same_inputs_as"] == "margin/6dls"
+
+
+@EXPERIMENT_RUN
+def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
+    """The margin with the default training sampler is the "mix" row, and the zero μ and length
+    offsets are the k row at k_true: each computed apart gives the same numbers, so a run
+    computes one and checkpoints it under every key (marked), also when it resumes after a kill
+    between the two."""
+    from workbench.experiment_config import build_config
+    from workbench.experiments.sensitivity import _row
+
+    sets = {
+        "n_disturbances": 8,
+        "models": ["planar", "6dls"],
+        "training_models": ["6dls"],
+        "training_samplers": ["thesis", "mix"],
+        "k_values": [2.0, 2.4],
+        "mu_offsets": [0.0, 0.2],
+        "length_offsets": [0.0],
+        "robust_disturbances": 4,
+    }
+    cfg = build_config("sensitivity", True, str(tmp_path), None, sets)
+    assert cfg["k_true"] == 2.4
+    # the premise, computed apart
+    assert _row(("margin", "6dls", None), cfg)["margins"] == _row(("margin", "6dls", "mix"), cfg)["margins"]
+    preds = [
+        _row(("setting", s, x, "6dls"), cfg)["pred"]
+        for s, x in [("k", 2.4), ("mu_offset", 0.0), ("length_offset", 0.0)]
+    ]
+    assert preds[0] == preds[1] == preds[2] and 0 < sum(preds[0]) < len(preds[0])
+    argv = ["run", "sensitivity", "--quick", "--out", str(tmp_path), "--set", "workers=1"]
+    argv += [a for k, v in sets.items() for a in ("--set", f"{k}={json.dumps(v)}")]
+    assert main(argv) == 0
+    lines = (tmp_path / "rows.jsonl").read_text().splitlines()
+    rows = {r["key"]: r for r in map(json.loads, lines)}
+    twins = {
+        "margin/6dls@mix": "margin/6dls",
+        "mu_offset/0.0/planar": "k/2.4/planar",
+        "mu_offset/0.0/6dls": "k/2.4/6dls",
+        "length_offset/0.0/planar": "k/2.4/planar",
+        "length_offset/0.0/6dls": "k/2.4/6dls",
+    }
+    assert {k for k, r in rows.items() if "same_inputs_as" in r} == set(twins)
+    for twin, first in twins.items():
+        assert rows[twin]["same_inputs_as"] == first
+        for field in ("margins", "precision", "recall", "positives"):
+            assert rows[twin].get(field) == rows[first].get(field), (twin, field)
+    assert rows["mu_offset/0.0/6dls"]["series"] == "mu_offset" and rows["mu_offset/0.0/6dls"]["x"] == 0.0
+    # killed after the first rows, before their twins were copied: the resume copies them
+    (tmp_path / "rows.jsonl").write_text(
+        "\n".join(x for x in lines if json.loads(x)["key"] not in twins) + "\n"
+    )
+    assert main(argv) == 0
+    again = (tmp_path / "rows.jsonl").read_text().splitlines()[len(lines) - len(twins) :]
+    assert sorted(json.loads(x)["key"] for x in again) == sorted(twins)  # nothing else recomputed
 
 
 def test_fem_fitting_leaves_out_an_underdetermined_quartic():
@@ -611,3 +667,26 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     mw._mesh_digest.cache_clear()
     run(base, "d")
     assert len(calls) == 9
+
+
+def test_ls_fitting_support_twists_are_integrated_once_per_surface():
+    """The support error's twists (its directions and the ±e_i probes) are the same for every
+    model of a surface: the second model's support error reuses the first's wrenches (the memo
+    held 4,000 twists against 4,000 + 12 asked, so it never hit) — and gets the same error as
+    with fresh wrenches."""
+    from workbench.experiment_config import build_config
+    from workbench.experiments import ls_fitting as lf
+    from workbench.limit_surface.fit_score import fit_and_score
+
+    config = build_config("ls-fitting", True, None, None, {"support_directions": 300})
+    contact = lf.Contact(lf.THESIS_SURFACES["S3"], config)
+    W, wm, xi = lf.wrenches(contact, 200, 1)
+    support = lf._support_of(contact, config)
+    errs = [
+        fit_and_score(k, W, w_max=wm, **support).support.radial_mean
+        for k in ("ellipsoid_sdp", "ellipsoid_lsq")
+    ]
+    assert contact.memo_hits == 1
+    fresh = lf.Contact(lf.THESIS_SURFACES["S3"], config)
+    again = fit_and_score("ellipsoid_lsq", W, w_max=wm, **lf._support_of(fresh, config)).support.radial_mean
+    assert fresh.memo_hits == 0 and again == errs[1]
