@@ -241,6 +241,30 @@ def test_cut_store_rows_follow_every_add_and_eviction():
             kept = list(range(max(0, k - 2), k + 1))  # the newest three
             np.testing.assert_array_equal(A, np.array([np.full(6, float(j)) for j in kept]))
             np.testing.assert_array_equal(b, np.array(kept, dtype=float))
-            assert store.rows(model)[0] is A  # no re-stacking without an add
+            assert np.shares_memory(store.rows(model)[0], A)  # a view: no re-stacking
     assert not A.flags.writeable and not b.flags.writeable
     assert store.rows(other)[0].shape == (0, 6) and len(store) == 3
+
+
+def test_cut_store_rows_handed_out_never_change():
+    """rows() are views of the store's buffers: later adds, evictions and the buffer's
+    replacement when full leave every view handed out before as it was (against a list
+    reference of the newest max_stored_cuts cuts)."""
+    from workbench import config
+    from workbench.grasp.resistance.cuts import CutStore
+
+    rng = np.random.default_rng(0)
+    store, model, ref, held = CutStore(), object(), [], []
+    with config.override(max_stored_cuts=40):
+        for _ in range(500):
+            a, b = rng.standard_normal(6), float(rng.standard_normal())
+            store.add(model, a, b)
+            ref = (ref + [(a, b)])[-40:]
+            A, B = store.rows(model)
+            np.testing.assert_array_equal(A, np.array([x for x, _ in ref]))
+            np.testing.assert_array_equal(B, np.array([y for _, y in ref]))
+            held.append((A, B, A.copy(), B.copy()))
+    for A, B, A0, B0 in held:
+        np.testing.assert_array_equal(A, A0)
+        np.testing.assert_array_equal(B, B0)
+    assert len(store) == 40

@@ -19,38 +19,43 @@ class CutStore:
     """Mutable store of tangent-plane cuts per limit-surface model (see module docstring)."""
 
     def __init__(self) -> None:
-        self._cuts: dict[int, tuple[object, list[np.ndarray], list[float]]] = {}
-        # the stacked rows of a model since its last add: a program is assembled many times
-        # between adds (a margin's bisection), and stacking ~2,000 cuts each time took 12 % of
-        # a sensitivity margin row (measured)
-        self._stacked: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        # per model: (model, A buffer (m, 6), b buffer (m,), [first, end) of the live cuts).  The
+        # live cuts are a slice of the buffers, so rows() is a view, not a restack: a program is
+        # assembled many times between adds and stacking ~2,000 cuts each time took 12 % of a
+        # sensitivity margin row, and with a restack after every add ~8 % (both measured).  An
+        # add writes past the live slice and dropping the oldest moves `first`, so a view handed
+        # out earlier never changes; a full buffer is replaced by a new one, not overwritten.
+        self._cuts: dict[int, list] = {}
 
     def __len__(self) -> int:
-        return sum(len(a) for _, a, _ in self._cuts.values())
+        return sum(end - first for _, _, _, first, end in self._cuts.values())
 
     def rows(self, model) -> tuple[np.ndarray, np.ndarray]:
-        """(k, 6), (k,) cuts of ``model`` (empty arrays if none)."""
+        """(k, 6), (k,) cuts of ``model``, oldest first (empty arrays if none), read-only."""
         entry = self._cuts.get(id(model))
-        if entry is None or entry[0] is not model or not entry[1]:
+        if entry is None or entry[0] is not model or entry[3] == entry[4]:
             return np.zeros((0, 6)), np.zeros(0)
-        stacked = self._stacked.get(id(model))
-        if stacked is None:
-            stacked = (np.array(entry[1]), np.array(entry[2]))
-            for arr in stacked:
-                arr.flags.writeable = False  # shared by every caller until the next add
-            self._stacked[id(model)] = stacked
-        return stacked
+        _, A, B, first, end = entry
+        return A[first:end], B[first:end]
 
     def add(self, model, a: np.ndarray, b: float) -> None:
         """Store ``a s <= b``; beyond ``config.TOL.max_stored_cuts`` the oldest goes (the newest
         must stay, or the refinement would re-solve the same program)."""
-        self._stacked.pop(id(model), None)
         entry = self._cuts.get(id(model))
         if entry is None or entry[0] is not model:
-            entry = (model, [], [])
+            entry = [model, np.zeros((0, 6)), np.zeros(0), 0, 0]
             self._cuts[id(model)] = entry
-        _, A, B = entry
-        while A and len(A) >= config.TOL.max_stored_cuts:
-            del A[0], B[0]
-        A.append(np.asarray(a, float))
-        B.append(float(b))
+        _, A, B, first, end = entry
+        first = max(first, end - (config.TOL.max_stored_cuts - 1))  # read now; keep room for this one
+        if end == len(A):  # full: the live cuts into a new buffer with as much room again
+            n = end - first
+            A2, B2 = np.empty((max(2 * n, 64), 6)), np.empty(max(2 * n, 64))
+            A2[:n], B2[:n] = A[first:end], B[first:end]
+            for arr in (A2, B2):
+                arr.flags.writeable = False
+            A, B, first, end = A2, B2, 0, n
+        for arr, value in ((A, a), (B, b)):
+            arr.flags.writeable = True
+            arr[end] = value
+            arr.flags.writeable = False
+        entry[1:] = [A, B, first, end + 1]
