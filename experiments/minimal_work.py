@@ -837,6 +837,15 @@ def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: 
         "s_fem": float(s_fem),
     }
     poses = {task: task_wrenches(task, mass, com, g["axis"]) for task in TASKS}
+    q_robust_of: dict[bytes, float] = {}  # the tasks share the 0° pose: its q_robust once
+
+    def q_of(w: np.ndarray) -> float:
+        key = np.ascontiguousarray(w).tobytes()
+        if key not in q_robust_of:
+            perturb = Perturbation(n_samples=config["robust_samples"])
+            q_robust_of[key] = q_robust(contacts, mu, mass, com, perturb, w_ext=w, seed=0)
+        return q_robust_of[key]
+
     # every pose of both tasks on one LP (the 0° pose they share is solved once)
     mw_all, k0 = minimal_work_poses(contacts, np.vstack(list(poses.values())), mu, s_map), 0
     for task, ws in poses.items():
@@ -845,12 +854,7 @@ def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: 
         W = max(m.W for m in mw)
         # beyond the thesis: the work from the calibrated FEM's force-deflection line, ∫ f dΔ = f²/(2 s)
         W_fem = max(float(np.sum(m.forces**2 / (2 * s_fem))) if m.feasible else np.inf for m in mw)
-        qr = min(
-            q_robust(
-                contacts, mu, mass, com, Perturbation(n_samples=config["robust_samples"]), w_ext=w, seed=0
-            )
-            for w in ws
-        )
+        qr = min(q_of(w) for w in ws)
         truth, f_req = simulated_success(
             exact,
             ws,
