@@ -1,6 +1,8 @@
-"""Private ``@njit`` kernels of the condensed contact solve and of the sparse factor's
-blocked triangular solves (math only; the callers in ``contact.py`` and
-``sparse_factor.py`` own validation).  NumPy references: ``tests/naive.py``.
+"""Private ``@njit`` kernels of the condensed contact solve, of the sparse factor's
+blocked triangular solves, of the element loops of the nonlinear wall and pad and of the
+mesh obstacles' point-triangle distances (math only; the callers in ``contact.py``,
+``sparse_factor.py``, ``svk.py``, ``nonlinear.py`` and ``obstacles.py`` own validation).
+NumPy references: ``tests/naive.py`` (the point-triangle distance's: trimesh's ``closest_point``).
 
 Imported as ``workbench.fem._kernels`` (the folder installs under ``workbench``); Numba's
 on-disk cache of these kernels is keyed by this file's timestamp, so an edit here also
@@ -11,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from workbench.config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
+from workbench.config import NUMBA_FLAGS, NUMBA_FLAGS_IEEE, NUMBA_FLAGS_PARALLEL
 
 
 @njit(**NUMBA_FLAGS_PARALLEL)
@@ -287,3 +289,120 @@ def _neo_hookean_element_loop(
             for j in range(nk):
                 data[slot[base + i * nk + j]] += Ke[i, j]
     return jmin
+
+
+# ------------------------------------------------------------------ point-triangle distances
+# trimesh.triangles.closest_point (Ericson, Real-Time Collision Detection §5.1.5) one pair at a
+# time, operation for operation: its NumPy rows become scalars, so these kernels compile with
+# NUMBA_FLAGS_IEEE (no FMA contraction or reassociation) and give its numbers bit for bit.
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _dot3(a0: float, a1: float, a2: float, b0: float, b1: float, b2: float) -> float:
+    """``a·b`` summed in NumPy's order for a row of three (``np.dot(a * b, ones)``)."""
+    return a0 * b0 + a1 * b1 + a2 * b2
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _closest_on_triangle(
+    tris: np.ndarray, t: int, x: np.ndarray, i: int, L: float, zero: float
+) -> tuple[float, float, float, float]:
+    """The point of triangle ``tris[t]`` (3 corners × 3) closest to ``x[i]`` and its distance,
+    computed in the frame centred at ``x[i]`` and scaled by ``L`` — ``closest_point((tris[t] -
+    x[i]) / L, 0) * L``, then ``+ x[i]`` — with trimesh's region tests (tolerance ``zero``) in its
+    order: a collapsed edge AB first (the segment AC), then vertex A, vertex B, edge AB, vertex C,
+    edge AC, edge BC, the face."""
+    x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
+    a0, a1, a2 = (tris[t, 0, 0] - x0) / L, (tris[t, 0, 1] - x1) / L, (tris[t, 0, 2] - x2) / L
+    b0, b1, b2 = (tris[t, 1, 0] - x0) / L, (tris[t, 1, 1] - x1) / L, (tris[t, 1, 2] - x2) / L
+    c0, c1, c2 = (tris[t, 2, 0] - x0) / L, (tris[t, 2, 1] - x1) / L, (tris[t, 2, 2] - x2) / L
+    ab0, ab1, ab2 = b0 - a0, b1 - a1, b2 - a2
+    ac0, ac1, ac2 = c0 - a0, c1 - a1, c2 - a2
+    # the query point is the origin: p - a = 0 - a (as trimesh subtracts, signed zeros alike)
+    ap0, ap1, ap2 = 0.0 - a0, 0.0 - a1, 0.0 - a2
+    d1 = _dot3(ab0, ab1, ab2, ap0, ap1, ap2)
+    d2 = _dot3(ac0, ac1, ac2, ap0, ap1, ap2)
+    bp0, bp1, bp2 = 0.0 - b0, 0.0 - b1, 0.0 - b2
+    d3 = _dot3(ab0, ab1, ab2, bp0, bp1, bp2)
+    d4 = _dot3(ac0, ac1, ac2, bp0, bp1, bp2)
+    cp0, cp1, cp2 = 0.0 - c0, 0.0 - c1, 0.0 - c2
+    d5 = _dot3(ab0, ab1, ab2, cp0, cp1, cp2)
+    d6 = _dot3(ac0, ac1, ac2, cp0, cp1, cp2)
+    vc = d1 * d4 - d3 * d2
+    vb = d5 * d2 - d1 * d6
+    va = d3 * d6 - d5 * d4
+    if ab0 == 0.0 and ab1 == 0.0 and ab2 == 0.0:
+        # A = B: the segment AC (a point if C = A too); trimesh writes it over vertex A's result
+        ls = _dot3(ac0, ac1, ac2, ac0, ac1, ac2)
+        f = _dot3(ap0, ap1, ap2, ac0, ac1, ac2) / ls if ls > 0.0 else 0.0
+        f = min(max(f, 0.0), 1.0)
+        r0, r1, r2 = a0 + f * ac0, a1 + f * ac1, a2 + f * ac2
+    elif d1 < zero and d2 < zero:
+        r0, r1, r2 = a0, a1, a2
+    elif d3 > -zero and d4 <= d3:
+        r0, r1, r2 = b0, b1, b2
+    elif vc < zero and d1 > -zero and d3 < zero:
+        v = d1 / (d1 - d3)
+        r0, r1, r2 = a0 + v * ab0, a1 + v * ab1, a2 + v * ab2
+    elif d6 > -zero and d5 <= d6:
+        r0, r1, r2 = c0, c1, c2
+    elif vb < zero and d2 > -zero and d6 < zero:
+        w = d2 / (d2 - d6)
+        r0, r1, r2 = a0 + w * ac0, a1 + w * ac1, a2 + w * ac2
+    elif va < zero and (d4 - d3) > -zero and (d5 - d6) > -zero:
+        d43 = d4 - d3
+        w = d43 / (d43 + (d5 - d6))
+        r0, r1, r2 = b0 + w * (c0 - b0), b1 + w * (c1 - b1), b2 + w * (c2 - b2)
+    else:
+        denom = 1.0 / (va + vb + vc)
+        v = vb * denom
+        w = vc * denom
+        r0, r1, r2 = a0 + ab0 * v + ac0 * w, a1 + ab1 * v + ac1 * w, a2 + ab2 * v + ac2 * w
+    q0, q1, q2 = r0 * L, r1 * L, r2 * L
+    return q0 + x0, q1 + x1, q2 + x2, np.sqrt(_dot3(q0, q1, q2, q0, q1, q2))
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _point_triangle_pairs(
+    tris: np.ndarray,
+    x: np.ndarray,
+    owner: np.ndarray,
+    tri: np.ndarray,
+    L: float,
+    zero: float,
+    pts: np.ndarray,
+    dist: np.ndarray,
+) -> None:
+    """``pts[k]`` (m, 3), ``dist[k]`` (m,): the point of triangle ``tris[tri[k]]`` closest to
+    ``x[owner[k]]`` and its distance (:func:`_closest_on_triangle`)."""
+    for k in range(tri.size):
+        p0, p1, p2, d = _closest_on_triangle(tris, tri[k], x, owner[k], L, zero)
+        pts[k, 0], pts[k, 1], pts[k, 2], dist[k] = p0, p1, p2, d
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _nearest_of_candidates(
+    tris: np.ndarray,
+    x: np.ndarray,
+    cand: np.ndarray,
+    L: float,
+    zero: float,
+    pts: np.ndarray,
+    dist: np.ndarray,
+    which: np.ndarray,
+) -> None:
+    """Per point ``x[i]``, the nearest of its candidate triangles ``cand[i]`` (n, k): its
+    closest point ``pts[i]``, distance ``dist[i]`` and triangle ``which[i]``, the first of equal
+    distances and the first NaN as ``argmin`` picks them (:func:`_closest_on_triangle`)."""
+    for i in range(cand.shape[0]):
+        best_j = 0
+        b0, b1, b2, best = _closest_on_triangle(tris, cand[i, 0], x, i, L, zero)
+        if best == best:  # a NaN distance is argmin's pick at once
+            for j in range(1, cand.shape[1]):
+                p0, p1, p2, d = _closest_on_triangle(tris, cand[i, j], x, i, L, zero)
+                if d < best or d != d:
+                    best_j, b0, b1, b2, best = j, p0, p1, p2, d
+                    if d != d:
+                        break
+        pts[i, 0], pts[i, 1], pts[i, 2], dist[i] = b0, b1, b2, best
+        which[i] = cand[i, best_j]

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._kernels import _nearest_of_candidates, _point_triangle_pairs
+
 
 def _unit(v) -> np.ndarray:
     v = np.asarray(v, dtype=float)
@@ -18,6 +20,13 @@ def _unit(v) -> np.ndarray:
     if not np.isfinite(n) or n == 0:
         raise ValueError(f"direction must be a finite non-zero 3-vector; got {v}")
     return v / n
+
+
+def _frozen(a, dtype) -> np.ndarray:
+    """A C-contiguous copy of ``a`` that cannot be written."""
+    out = np.array(a, dtype=dtype, order="C")
+    out.flags.writeable = False
+    return out
 
 
 def _point(name: str, p) -> None:
@@ -215,6 +224,12 @@ class MeshObstacle:
         in mm reads as 150 m: pass ``units="mm"``); ``allow_scale=True`` accepts any size.
     transform : 4×4 rigid transform applied after the unit conversion (metres).
     facing : keep only faces whose normal has a positive component along it (one-sided).
+
+    The obstacle is fixed when made: its search trees and the arrays its queries read
+    (corners, face normals, vertex normals at each face's corners) are read-only copies of
+    ``mesh`` taken then — a query does not go through trimesh's cached properties, which
+    re-hash the mesh at every access — so edit no ``mesh`` in place; :meth:`transformed`
+    makes a moved obstacle.
     """
 
     def __init__(
@@ -254,6 +269,10 @@ class MeshObstacle:
             mesh.apply_transform(np.asarray(transform, dtype=float))
         self.mesh = mesh
         self.facing = None if facing is None else _unit(facing)
+        # what the queries read, as plain read-only arrays (the same numbers as trimesh's)
+        self._triangles = _frozen(mesh.triangles, float)  # (F, 3, 3) corners
+        self._face_normals = _frozen(mesh.face_normals, float)  # (F, 3)
+        self._corner_normals = _frozen(mesh.vertex_normals[mesh.faces], float)  # (F, 3, 3)
         from scipy.spatial import cKDTree
 
         # thin walls (0.4 mm on some thesis bottles): a point pressed past half the
@@ -262,7 +281,7 @@ class MeshObstacle:
         keep = (
             np.arange(len(mesh.faces))
             if self.facing is None
-            else np.flatnonzero(mesh.face_normals @ self.facing > 0)
+            else np.flatnonzero(self._face_normals @ self.facing > 0)
         )
         self._faces = keep
         centers = mesh.triangles_center[keep]
@@ -272,7 +291,7 @@ class MeshObstacle:
         # centroid within d + this of x, which certifies the nearest-centroid candidates.
         # Faces far above the median (a cylinder's full-height sides, a cap's spokes) are
         # searched in a tree of their own, so they do not widen every other point's search.
-        reach = np.linalg.norm(mesh.triangles[keep] - centers[:, None, :], axis=2).max(axis=1)
+        reach = np.linalg.norm(self._triangles[keep] - centers[:, None, :], axis=2).max(axis=1)
         big = reach > 2.0 * np.median(reach)
         self._reach = float(reach[~big].max()) if (~big).any() else 0.0
         self._big = keep[big]
@@ -289,21 +308,27 @@ class MeshObstacle:
         in a frame centered at the query point and scaled by the mean edge
         length: trimesh's routine uses absolute tolerances and, with mm-sized
         triangles in metres, returned distances 5x too large (measured on a
-        20k-face sphere of radius 20 mm; O(1) triangles fix it).  The candidates
+        20k-face sphere of radius 20 mm; O(1) triangles fix it).  The distances are
+        that routine's (Ericson's region tests, tolerance ``TOL.point_triangle_zero`` =
+        trimesh's ``tol.zero``) bit for bit, computed pair by pair by
+        ``fem._kernels._closest_on_triangle`` in that frame.  The candidates
         are certified: where a face outside them could still be closer (its
         centroid within the found distance plus the largest centroid-to-corner
         distance — long or sliver faces, e.g. a cylinder's full-height sides), every
         face whose centroid lies in that ball is searched as well.
         """
-        x = np.asarray(x, dtype=float)
+        from workbench.config import TOL
+
+        x = np.ascontiguousarray(x, dtype=float)
         k = min(self.CANDIDATES, len(self._faces))
         r_cand, cand = self._tree.query(x, k=k)
         cand = self._faces[cand.reshape(len(x), k)]
-        pts, dist = self._point_triangle(np.repeat(x, k, axis=0), cand.ravel())
-        pts, dist = pts.reshape(len(x), k, 3), dist.reshape(len(x), k)
-        j = dist.argmin(axis=1)
-        rows = np.arange(len(x))
-        best_p, best_d, best_t = pts[rows, j], dist[rows, j], cand[rows, j]
+        # the nearest candidate of each point (the first of equal distances, as argmin)
+        best_p, best_d = np.empty((len(x), 3)), np.empty(len(x))
+        best_t = np.empty(len(x), dtype=cand.dtype)
+        _nearest_of_candidates(
+            self._triangles, x, cand, self._edge, TOL.point_triangle_zero, best_p, best_d, best_t
+        )
         if k < len(self._faces):
             searches = [(self._tree, self._faces, self._reach, np.asarray(r_cand).reshape(len(x), k)[:, -1])]
             if self._big_tree is not None:  # r = 0: always searched (few faces)
@@ -318,7 +343,7 @@ class MeshObstacle:
                 if owner.size == 0:
                     continue
                 tri = faces[np.concatenate([np.asarray(b, dtype=np.int64) for b in balls])]
-                p2, d2 = self._point_triangle(x[owner], tri)
+                p2, d2 = self._point_triangle(x, owner, tri)
                 order = np.lexsort((d2, owner))  # per query point, nearest first
                 first = order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
                 i = owner[first]
@@ -327,15 +352,20 @@ class MeshObstacle:
                 best_p[i], best_d[i], best_t[i] = p2[first], d2[first], tri[first]
         return best_p, best_d, best_t
 
-    def _point_triangle(self, x: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Closest points (m, 3) on triangles ``tri`` (m,) to points ``x`` (m, 3), and the
-        distances, in the query-centred, edge-scaled frame (see :meth:`closest`)."""
-        from trimesh.triangles import closest_point
+    def _point_triangle(
+        self, x: np.ndarray, owner: np.ndarray, tri: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Closest points (m, 3) on triangles ``tri`` (m,) to points ``x[owner]`` (``x`` (n, 3)
+        C-contiguous, ``owner`` (m,)), and the distances, in the query-centred, edge-scaled frame
+        (see :meth:`closest`): trimesh's ``closest_point`` pair by pair, the same numbers
+        (``fem._kernels._closest_on_triangle``)."""
+        from workbench.config import TOL
 
-        L = self._edge
-        local = (self.mesh.triangles[tri] - x[:, None, :]) / L
-        pts = closest_point(local, np.zeros((len(x), 3))) * L
-        return pts + x, np.linalg.norm(pts, axis=1)
+        owner = np.asarray(owner, dtype=np.int64)
+        tri = np.asarray(tri, dtype=np.int64)
+        pts, dist = np.empty((tri.size, 3)), np.empty(tri.size)
+        _point_triangle_pairs(self._triangles, x, owner, tri, self._edge, TOL.point_triangle_zero, pts, dist)
+        return pts, dist
 
     def transformed(self, transform: np.ndarray, facing=None) -> MeshObstacle:
         """Copy moved by a 4×4 homogeneous transform (metres), optionally one-sided."""
@@ -347,12 +377,12 @@ class MeshObstacle:
 
         x = np.asarray(x, dtype=float)
         closest, dist, tri = self.closest(x)
-        fn = self.mesh.face_normals[tri]
+        fn = self._face_normals[tri]
         # vertex normals interpolated at c (barycentric coordinates in the query-centered,
         # edge-scaled frame, for the same tolerance reason as in closest())
-        local = (self.mesh.triangles[tri] - x[:, None, :]) / self._edge
+        local = (self._triangles[tri] - x[:, None, :]) / self._edge
         bary = points_to_barycentric(local, (closest - x) / self._edge)
-        n_s = np.einsum("ij,ijk->ik", bary, self.mesh.vertex_normals[self.mesh.faces[tri]])
+        n_s = np.einsum("ij,ijk->ik", bary, self._corner_normals[tri])
         n_s /= np.linalg.norm(n_s, axis=1, keepdims=True)
         # within 1e-6 edge lengths of a face (e.g. the center of a contact element whose
         # corners lie on a curved surface) x - c is rounding-scale: use the face instead

@@ -188,3 +188,34 @@ def rodrigues(v):
     K = K - np.swapaxes(K, -1, -2)
     s, c = np.sin(th)[..., None], np.cos(th)[..., None]
     return np.eye(3) + s * K + (1 - c) * (K @ K)
+
+
+def point_triangle_closest(tris, x, L, zero=1e-13):
+    """Slow reference of ``workbench.fem._kernels._closest_on_triangle``: trimesh's
+    ``closest_point`` (Ericson's region tests, whole rows at a time) on the triangles (m, 3, 3)
+    moved to the query points ``x`` (m, 3) and scaled by ``L``, then back — what
+    ``MeshObstacle`` computed before the kernel.  ``zero`` must be trimesh's own ``tol.zero``
+    (its region tests read that).  Returns the closest points (m, 3) and distances (m,)."""
+    from trimesh.constants import tol
+    from trimesh.triangles import closest_point
+
+    assert zero == tol.zero, "trimesh's closest_point tests regions with its own tol.zero"
+    local = (np.asarray(tris, float) - x[:, None, :]) / L
+    q = closest_point(local, np.zeros((len(x), 3))) * L
+    return q + x, np.linalg.norm(q, axis=1)
+
+
+def point_triangle_pairs(tris, x, owner, tri, L, zero, pts, dist):
+    """``workbench.fem._kernels._point_triangle_pairs`` (same arguments) by
+    :func:`point_triangle_closest`."""
+    pts[:], dist[:] = point_triangle_closest(tris[tri], x[owner], L, zero)
+
+
+def nearest_of_candidates(tris, x, cand, L, zero, pts, dist, which):
+    """``workbench.fem._kernels._nearest_of_candidates`` (same arguments): every candidate by
+    :func:`point_triangle_closest`, then ``argmin`` per point."""
+    n, k = cand.shape
+    p, d = point_triangle_closest(tris[cand.ravel()], np.repeat(x, k, axis=0), L, zero)
+    j = d.reshape(n, k).argmin(axis=1)
+    rows = np.arange(n)
+    pts[:], dist[:], which[:] = p.reshape(n, k, 3)[rows, j], d.reshape(n, k)[rows, j], cand[rows, j]

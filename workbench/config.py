@@ -4,7 +4,7 @@ Every field carries a comment saying why it has its value.  Library code reads
 ``config.TOL.<field>`` and ``config.DEFAULTS.<field>`` when a function runs (never as a
 default argument bound at import), so :func:`override` (a block, e.g. in a test) and
 :func:`configure` (the rest of the process) change what every later call uses.  Kernels import
-``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` from here and nowhere else, so a
+``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` / ``NUMBA_FLAGS_IEEE`` from here and nowhere else, so a
 user (or CI) can switch caching or threading off in one spot, e.g.
 ``WORKBENCH_NUMBA_PARALLEL=0``.
 
@@ -46,6 +46,11 @@ PARALLEL: bool = _env_flag("WORKBENCH_NUMBA_PARALLEL", True)
 
 NUMBA_FLAGS: dict = {"fastmath": set(FASTMATH), "cache": CACHE, "nogil": True}
 NUMBA_FLAGS_PARALLEL: dict = {**NUMBA_FLAGS, "parallel": PARALLEL}
+# Kernels that redo a NumPy routine's arithmetic bit for bit (fem's point-triangle distance:
+# trimesh's closest_point, pair by pair): no fastmath, as NumPy rounds each product and sum on
+# its own ('contract' would fuse them into FMAs, 'reassoc' reorder the sums), and NumPy's
+# error model (x / 0 is ±inf or NaN as NumPy gives it, where Numba's default raises).
+NUMBA_FLAGS_IEEE: dict = {**NUMBA_FLAGS, "fastmath": False, "error_model": "numpy"}
 
 
 @dataclass(frozen=True)
@@ -235,6 +240,13 @@ class Tolerances:
     # at a limit passes even with rounding on top — the thesis's surfaces S1-S6
     # are exactly 2 m long and their mesh profiles measure 2(1 + 2e-16) m.
     extent_limit_rtol: float = 1e-9
+
+    # Region tests of the point-triangle distance of fem.obstacles.MeshObstacle (Ericson's, as
+    # trimesh.triangles.closest_point): a dot product below this counts as zero.  They run in
+    # the query-centred frame scaled by the mesh's mean edge, so this is relative to the edge
+    # (squared); 1e-13 is trimesh's tol.zero, with which the distances were computed before
+    # fem._kernels took over (the same numbers, bit for bit).
+    point_triangle_zero: float = 1e-13
 
     # Two eigenvalues of a point set's covariance within this fraction of the
     # largest are equal (workbench.profile.pca_box_longest_side): rounding makes
@@ -568,6 +580,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "max_object_extent_m": _POS,
     "min_object_extent_m": _NONNEG,  # 0: no lower limit
     "extent_limit_rtol": _NONNEG,
+    "point_triangle_zero": _NONNEG,
     "pca_degenerate_rtol": _NONNEG,
     "flipped_normal_force_fraction": _FRACTION,
     "rigid_stiffness_threshold": _POS,
