@@ -35,8 +35,7 @@ candidate grasps (step 3-5) and the nonlinear walls' load curves run as Dask tas
 (:func:`_object_wall`, a per-process memo), the candidates' tasks get their squeeze's row and
 build no wall, and the driver renders the stiffness maps meanwhile.  The squeezes depend only
 on the wall settings, so a second run at them (e.g. ``profiles="fem"``) reads them from the
-machine's shared cache.  The rows are the
-serial run's, bit for bit (``tests/test_parallel.py``).
+machine's shared cache.  The rows are the serial run's, bit for bit (``tests/test_parallel.py``).
 """
 
 from __future__ import annotations
