@@ -351,13 +351,14 @@ def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
         for c in range(0, len(todo), WALL_ROWS_PER_TASK):
             ids = todo[c : c + WALL_ROWS_PER_TASK]
             jobs.append((name, kind, ids, L[np.r_[ids, np.asarray(ids) + n]]))
-    with tqdm(total=sum(len(j[2]) for j in jobs), desc="wall FEM", unit="grasp") as bar:
+    n_rows = sum(len(j[2]) for j in jobs)
+    with tqdm(total=n_rows, desc="wall FEM", unit="grasp") as bar:
         run_rows(
             partial(_wall_task, config=config),
             jobs,
             lambda job, rows: [ckpt.add(key, row) for key, row in rows],
             config,
-            n_rows=sum(len(j[2]) for j in jobs),
+            n_rows=n_rows,
             progress=bar,
         )
     out = {}
@@ -398,6 +399,7 @@ def run(config: dict) -> dict:
     )
     n_resumed = len(ckpt.rows)
     meshes, smaps, cands, validation, interp, grasps_all, fig_data, at = {}, {}, {}, {}, {}, [], {}, {}
+    measured = {}
     for name in config["objects"]:
         mesh_path, map_path = _paths(config, name)
         meshes[name] = _mesh(str(mesh_path))
@@ -406,13 +408,15 @@ def run(config: dict) -> dict:
         interp[name] = leave_one_out(smaps[name])
         # 3. candidate grasps (their wall stiffness is computed with step 2's)
         cands[name] = _candidates(meshes[name], name, config)
-        at[name, "fem"] = read_locations(map_path)[0]
+        at[name, "fem"], measured[name] = read_locations(map_path)
         at[name, "wall"] = np.array([g["p1"] for g in cands[name]] + [g["p2"] for g in cands[name]])
     # 2. the wall FEM at the measured grasps and at every candidate (Dask tasks)
     wall = _wall_rows(ckpt, at, config)
     for name in config["objects"]:
         # 2. one scalar calibrated on half of the measured grasps, checked on the other
-        validation[name], fig_data[name] = _calibrated_wall(wall[name, "fem"], name, rng, config)
+        validation[name], fig_data[name] = _calibrated_wall(
+            wall[name, "fem"], at[name, "fem"], measured[name], name, rng, config
+        )
         scale = validation[name]["calibrated"]["scale"]
         grasps_all += [(name, k, g, smaps[name], scale) for k, g in enumerate(cands[name])]
     # 3-5. profiles, metrics and simulated truth per candidate (Dask); the driver renders the maps
@@ -464,17 +468,21 @@ def run(config: dict) -> dict:
 
 
 def _calibrated_wall(
-    fem_rows: list[dict], name: str, rng: np.random.Generator, config: dict
+    fem_rows: list[dict],
+    L: np.ndarray,
+    measured: np.ndarray,
+    name: str,
+    rng: np.random.Generator,
+    config: dict,
 ) -> tuple[dict, dict]:
     """Step 2 for object ``name``: from the FEM at its measured grasps (``fem_rows``, one per
-    grasp: :func:`_wall_rows`), one factor calibrated on a random half (drawn from ``rng``) and
-    scored on the other, and what the factor leaves (series compliance, large deflection, the
-    clamps).  Returns the validation summary and the stiffness figures' data."""
+    grasp: :func:`_wall_rows`; the grasps ``L`` (2n, 3) and their ``measured`` stiffness (n,) of
+    the map file), one factor calibrated on a random half (drawn from ``rng``) and scored on the
+    other, and what the factor leaves (series compliance, large deflection, the clamps).  Returns
+    the validation summary and the stiffness figures' data."""
     from workbench.fem.calibration import missing_physics, one_factor_validation
-    from workbench.fem.wall_grasps import read_locations
 
-    mesh_path, map_path = _paths(config, name)
-    L, measured = read_locations(map_path)
+    mesh_path = _paths(config, name)[0]
     fem = np.array([_num(r["stiffness"]) for r in fem_rows])
     n_g = len(fem)
     z_mid = 0.5 * (L[:n_g, 2] + L[n_g:, 2])

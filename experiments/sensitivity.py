@@ -430,19 +430,19 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
     for t in _row_tasks(config):
         same.setdefault(_inputs_of(t, config), []).append(t)
 
-    def keep(task: tuple, row: dict) -> None:  # the row, and its copies as the rows of its twins
-        ckpt.add(_key(task), row)
-        for twin in same[_inputs_of(task, config)][1:]:
+    def copy_to_twins(first: tuple) -> None:  # row `first` as the rows of its twins not yet kept
+        for twin in same[_inputs_of(first, config)][1:]:
             if _key(twin) not in ckpt:
-                ckpt.add(_key(twin), _as(ckpt.rows[_key(task)], twin, _key(task)))
+                ckpt.add(_key(twin), _as(ckpt.rows[_key(first)], twin, _key(first)))
+
+    def keep(task: tuple, row: dict) -> None:
+        ckpt.add(_key(task), row)
+        copy_to_twins(task)
 
     todo = []
     for first, *_ in same.values():
         if _key(first) in ckpt:  # a resume: the twins a killed run had not copied yet
-            keep_twins = ckpt.rows[_key(first)]
-            for twin in same[_inputs_of(first, config)][1:]:
-                if _key(twin) not in ckpt:
-                    ckpt.add(_key(twin), _as(keep_twins, twin, _key(first)))
+            copy_to_twins(first)
         else:
             todo.append(first)
     got: dict = {}

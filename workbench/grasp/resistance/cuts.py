@@ -25,6 +25,7 @@ class CutStore:
         # sensitivity margin row, and with a restack after every add ~8 % (both measured).  An
         # add writes past the live slice and dropping the oldest moves `first`, so a view handed
         # out earlier never changes; a full buffer is replaced by a new one, not overwritten.
+        # An entry exists from its first add on, so its live slice is never empty.
         self._cuts: dict[int, list] = {}
 
     def __len__(self) -> int:
@@ -33,10 +34,12 @@ class CutStore:
     def rows(self, model) -> tuple[np.ndarray, np.ndarray]:
         """(k, 6), (k,) cuts of ``model``, oldest first (empty arrays if none), read-only."""
         entry = self._cuts.get(id(model))
-        if entry is None or entry[0] is not model or entry[3] == entry[4]:
+        if entry is None or entry[0] is not model:
             return np.zeros((0, 6)), np.zeros(0)
         _, A, B, first, end = entry
-        return A[first:end], B[first:end]
+        A, B = A[first:end], B[first:end]
+        A.flags.writeable = B.flags.writeable = False  # the views only: the store appends
+        return A, B
 
     def add(self, model, a: np.ndarray, b: float) -> None:
         """Store ``a s <= b``; beyond ``config.TOL.max_stored_cuts`` the oldest goes (the newest
@@ -51,11 +54,6 @@ class CutStore:
             n = end - first
             A2, B2 = np.empty((max(2 * n, 64), 6)), np.empty(max(2 * n, 64))
             A2[:n], B2[:n] = A[first:end], B[first:end]
-            for arr in (A2, B2):
-                arr.flags.writeable = False
             A, B, first, end = A2, B2, 0, n
-        for arr, value in ((A, a), (B, b)):
-            arr.flags.writeable = True
-            arr[end] = value
-            arr.flags.writeable = False
+        A[end], B[end] = a, b
         entry[1:] = [A, B, first, end + 1]
