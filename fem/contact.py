@@ -19,6 +19,8 @@ import numpy as np
 import scipy.linalg as sla
 from scipy.optimize import nnls
 
+from workbench.kernel_launch import launch
+
 from ._kernels import _normal_block, _normal_rows
 from .pad import CondensedPad, PadGeometry, top_face_nodes
 
@@ -172,11 +174,13 @@ def solve_contact(
     for _ in range(10):  # grow the candidate set until no node penetrates
         new = np.setdiff1d(cand, have)
         if new.size:
-            _normal_rows(C1, new, nrm, G[have.size : have.size + new.size])
+            rows = G[have.size : have.size + new.size]
+            launch(_normal_rows, rows.size, C1, new, nrm, rows)
             have = np.concatenate([have, new])
         if have.size:
             A = np.empty((have.size, have.size))
-            _normal_block(G[: have.size], have, nrm, A)  # n_iᵀ C_ij n_j
+            # n_iᵀ C_ij n_j
+            launch(_normal_block, 3 * A.size, G[: have.size], have, nrm, A)
             # warm start: the previous solution's active set plus the new violators
             guess = (lam1[have] > 0) | np.isin(have, new) if iters else seed[have]
             lam_c, it, method = solve_lcp(0.5 * (A + A.T), d[have], active=guess)

@@ -395,6 +395,12 @@ class Defaults:
     # rigid deflected less than that.
     work_eps: float = 5e-5
 
+    # Inner-loop iterations (elements x twists, points x monomials, ...) from which a kernel
+    # call runs its parallel (prange) twin; below, the serial twin (workbench.kernel_launch).
+    # A parallel region costs ~4 µs to start on idle threads and up to ~1 ms when another
+    # process holds the other core; 50,000 iterations are ~50-150 µs of serial work here.
+    parallel_min_work: int = 50_000
+
     # Rows of one experiment from which it runs them on a local Dask cluster (one worker per
     # core) when its ``workers`` setting is 0 (auto): below it a cluster's start (~3 s with
     # the workers' imports) outweighs what a second core saves.
@@ -606,6 +612,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "lp_dual_feasibility_tolerance": _POS,
     "quartic_kkt_method": _choice(lambda: ("faer", "qdldl")),
     "quartic_kkt_threads": _count(1),
+    "parallel_min_work": _count(0),
     "quartic_kkt_refinement": _count(0),
     "linearization_M": _count(1),
     "work_eps": _POS,  # "a small positive number" (thesis Eq. 4.5)

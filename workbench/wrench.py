@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from . import _kernels, config
+from .kernel_launch import launch
 from .profile import ContactProfile
 from .twists import canonical_twists
 
@@ -86,7 +87,11 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
     # a batch is K segments (one per twist) spanning all N elements
     lo = np.zeros(k, dtype=np.int64)
     hi = np.full(k, len(prof), dtype=np.int64)
-    _kernels._fw_segments(xi, np.arange(k, dtype=np.int64), lo, hi, *prof._soa, mu_f, rtol2, out)
+    launch(
+        _kernels._fw_segments,
+        k * len(prof),
+        *(xi, np.arange(k, dtype=np.int64), lo, hi, *prof._soa, mu_f, rtol2, out),
+    )
     return out[0] if single else out
 
 

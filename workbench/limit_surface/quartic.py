@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import config
+from ..kernel_launch import launch
 from ._kernels import _cubic_gradients, _quartic_values
 from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
@@ -68,7 +69,12 @@ class QuarticLS(LimitSurfaceModel):
         ``monomials(y, exponents(r, 3)) @ _grad_map`` is in tests/test_quartic.py)."""
         yt = np.ascontiguousarray(np.asarray(y, dtype=np.float64).T)
         out = np.empty_like(yt)
-        _cubic_gradients(yt, _cubic_factors(self.dim), np.ascontiguousarray(self._grad_map), out)
+        factors = _cubic_factors(self.dim)
+        launch(
+            _cubic_gradients,
+            yt.shape[1] * factors.shape[0] * self.dim,
+            *(yt, factors, np.ascontiguousarray(self._grad_map), out),
+        )
         return out.T
 
     def _values_sub(self, y: np.ndarray) -> np.ndarray:
@@ -76,7 +82,8 @@ class QuarticLS(LimitSurfaceModel):
         ``monomials(y, exponents(r, 4)) @ A_q`` is in tests/test_quartic.py)."""
         yt = np.ascontiguousarray(np.asarray(y, dtype=np.float64).T)
         out = np.empty(yt.shape[1])
-        _quartic_values(yt, np.ascontiguousarray(self.A_q, dtype=np.float64), out)
+        coef = np.ascontiguousarray(self.A_q, dtype=np.float64)
+        launch(_quartic_values, yt.shape[1] * coef.size, yt, coef, out)
         return out
 
     def _value_n(self, x: np.ndarray) -> np.ndarray:

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .. import _kernels, config
+from ..kernel_launch import launch
 from ..profile import ContactProfile, pca_box_longest_side
 from ..twists import canonical_twists
 from ..wrench import check_mu, check_twists
@@ -438,8 +439,10 @@ def surface_wrenches(
     def evaluate(cells: Array, groups: Array, twists: Array) -> Array:
         out = np.empty((cells.shape[0], 6))
         seg_lo, seg_hi = geometry.segments(cells)
-        _kernels._fw_segments(
-            twists, groups.astype(np.int64), seg_lo, seg_hi, *geometry.cols, 1.0, rtol2, out
+        launch(
+            _kernels._fw_segments,
+            cells.shape[0] * geometry.q,
+            *(twists, groups.astype(np.int64), seg_lo, seg_hi, *geometry.cols, 1.0, rtol2, out),
         )
         return out
 
