@@ -193,36 +193,60 @@ def test_highs_lp_equals_scipy_linprog_with_its_duals(seed):
     A_eq = rng.standard_normal((m_eq, n))
     A_ub = rng.standard_normal((m_ub, n))
     x0 = rng.uniform(0.1, 1.0, n)  # strictly feasible: every row and bound holds at x0
-    b_eq, b_ub = A_eq @ x0, A_ub @ x0 + rng.uniform(0.1, 1.0, m_ub)
     c = rng.uniform(0.5, 2.0, n)  # positive costs with x >= 0: bounded
     ub = np.where(rng.random(n) < 0.3, 2.0, np.inf)
+    M = np.vstack([A_eq, A_ub])
+    M[rng.random(M.shape) < 0.2] = 0.0  # zeros the compressed columns leave out
+    M[:, 3] = 0.0  # and an empty column
+    b_eq, b_ub = M[:m_eq] @ x0, M[m_eq:] @ x0 + rng.uniform(0.1, 1.0, m_ub)
     ref = linprog(
         c,
-        A_ub=A_ub,
+        A_ub=M[m_eq:],
         b_ub=b_ub,
-        A_eq=A_eq,
+        A_eq=M[:m_eq],
         b_eq=b_eq,
         bounds=list(zip([0] * n, ub, strict=True)),
         method="highs",
     )
     assert ref.status == 0
-    x, duals, fun = highs_lp(
-        c,
-        sp.csc_matrix(np.vstack([A_eq, A_ub])),
-        np.r_[b_eq, np.full(m_ub, -np.inf)],
-        np.r_[b_eq, b_ub],
-        np.zeros(n),
-        ub,
-    )
-    assert fun == pytest.approx(ref.fun, rel=1e-12)
-    np.testing.assert_allclose(x, ref.x, atol=1e-9)
-    np.testing.assert_allclose(duals[:m_eq], ref.eqlin.marginals, atol=1e-9)
-    np.testing.assert_allclose(duals[m_eq:], ref.ineqlin.marginals, atol=1e-9)
+    got = [
+        highs_lp(c, form, np.r_[b_eq, np.full(m_ub, -np.inf)], np.r_[b_eq, b_ub], np.zeros(n), ub)
+        for form in (M, sp.csc_matrix(M), sp.csr_matrix(M))  # dense or sparse: one model
+    ]
+    for x, duals, fun in got:
+        assert fun == pytest.approx(ref.fun, rel=1e-12)
+        np.testing.assert_allclose(x, ref.x, atol=1e-9)
+        np.testing.assert_allclose(duals[:m_eq], ref.eqlin.marginals, atol=1e-9)
+        np.testing.assert_allclose(duals[m_eq:], ref.ineqlin.marginals, atol=1e-9)
+        np.testing.assert_array_equal(x, got[0][0])  # HiGHS got the same arrays
     # an infeasible LP (x >= 0 and Σ x = -1) is no answer
     assert (
         highs_lp(np.ones(3), sp.csc_matrix(np.ones((1, 3))), [-1.0], [-1.0], np.zeros(3), np.full(3, np.inf))
         is None
     )
+
+
+def test_csc_arrays_of_a_dense_matrix_are_scipys():
+    """The compressed columns highs_lp builds from a dense matrix in NumPy: scipy's csc_matrix
+    arrays exactly (zeros and negative zeros left out, empty columns, sorted rows)."""
+    import scipy.sparse as sp
+
+    from workbench.grasp.resistance.solvers import _csc, _csc_arrays
+
+    rng = np.random.default_rng(3)
+    M = rng.standard_normal((7, 12))
+    M[rng.random(M.shape) < 0.4] = 0.0
+    M[2, 5] = -0.0
+    M[:, [0, 9]] = 0.0
+    ref = sp.csc_matrix(M)
+    for got, want in zip(_csc_arrays(M), (ref.indptr, ref.indices, ref.data), strict=True):
+        np.testing.assert_array_equal(got, want)
+    # the conic solve's objective: the upper triangle as scipy's triu gives it
+    S = M.T @ M
+    got, ref = _csc(np.triu(S)), sp.triu(sp.csc_matrix(S)).tocsc()
+    for a in ("indptr", "indices", "data"):
+        np.testing.assert_array_equal(getattr(got, a), getattr(ref, a))
+    assert got.shape == ref.shape
 
 
 def test_cut_store_rows_follow_every_add_and_eviction():

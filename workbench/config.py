@@ -354,10 +354,14 @@ class Defaults:
     qp_auto_large: int = 48
     # Tried (and recorded in the result) when the chosen QP solver returns nothing.
     qp_fallback_solver: str = "clarabel"
-    # HiGHS presolve on the minimal-force LPs (grasp/resistance/solvers.MinLP): off.
+    # HiGHS presolve on the workbench's LPs (grasp/resistance/solvers: MinLP, the minimal-force
+    # LPs, and highs_lp, the residual LPs of vertex sets and the exact column LPs): off.
     # They are small and dense (2 jaws x 200 directions: 407 rows, 26 columns; HiGHS
     # gets the dual, 26 x 407) and presolve cost 0.6 of 1.5 ms per solve without
-    # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.
+    # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.  On
+    # sensitivity's LPs (10 rows; ~420 columns in resists_exact, ~1,200 for two 6DFW
+    # contacts) presolve was most of the time: 5.5 -> 1.1 ms and 13.5 -> 1.9 ms a solve
+    # (medians over 299 and 84 LPs), the optimum within 3e-12 (absolute).
     lp_presolve: bool = False
     # HiGHS's simplex scaling of that model (simplex_scale_strategy: 0 off, 2 its
     # default equilibration) and its dual feasibility tolerance.  In the dual HiGHS

@@ -21,7 +21,6 @@ This is the ground truth of the sensitivity experiment (issue 5 scope 7).
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..profile import ContactProfile
 from ..twists import sample_twists_thesis
@@ -110,7 +109,7 @@ def resists_exact(
             s0 += m
         out = highs_lp(
             np.r_[np.zeros(n), np.ones(12)],
-            sp.csc_matrix(np.vstack([A, B])),
+            np.vstack([A, B]),
             np.r_[target, np.full(2 * N, -np.inf)],
             np.r_[target, hi / F, -lo / F],
             np.zeros(n + 12),

@@ -100,33 +100,55 @@ def _slack_form(prog: Program):
     return np.vstack(A_eq), np.concatenate(b_eq), G12, h, lb, ub
 
 
+def _csc_arrays(M: np.ndarray | sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indptr, indices, data) of ``M`` (m, n) in compressed columns, row indices sorted, the
+    zeros left out: what ``scipy.sparse.csc_matrix(M)`` holds, built from a dense ``M`` in NumPy
+    (scipy's constructor spends ~0.3 ms in Python on the workbench's 10 x 420 LPs)."""
+    if sp.issparse(M):
+        M = sp.csc_matrix(M)
+        M.sort_indices()
+        return M.indptr.astype(np.int32), M.indices.astype(np.int32), M.data.astype(float)
+    M = np.asarray(M, dtype=float)
+    col, row = np.nonzero(M.T)  # column by column, rows ascending
+    indptr = np.zeros(M.shape[1] + 1, dtype=np.int32)
+    np.cumsum(np.bincount(col, minlength=M.shape[1]), out=indptr[1:])
+    return indptr, row.astype(np.int32), M.T[col, row]
+
+
+def _csc(M: np.ndarray) -> sp.csc_matrix:
+    """``scipy.sparse.csc_matrix(M)`` of a dense ``M``, the same arrays (:func:`_csc_arrays`)."""
+    indptr, indices, data = _csc_arrays(M)
+    return sp.csc_matrix((data, indices, indptr), shape=M.shape)
+
+
 def highs_lp(
     cost: np.ndarray,
-    M: sp.csc_matrix,
+    M: np.ndarray | sp.spmatrix,
     row_lo: np.ndarray,
     row_hi: np.ndarray,
     col_lo: np.ndarray,
     col_hi: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, float] | None:
     """``min costᵀx`` s.t. ``row_lo <= M x <= row_hi``, ``col_lo <= x <= col_hi`` (±inf: no
-    bound) by HiGHS with its defaults (those of ``linprog(method="highs")``), one model passed
-    straight to ``highspy``: ``(x (n,), row duals (m,), objective)``, None unless optimal.
+    bound) by HiGHS with its defaults (those of ``linprog(method="highs")``) but presolve
+    (``config.DEFAULTS.lp_presolve``, read now), one model passed straight to ``highspy``:
+    ``(x (n,), row duals (m,), objective)``, None unless optimal.
 
-    cost : (n,); M : (m, n) csc; row duals as ``linprog``'s ``marginals`` (∂ objective / ∂ row
+    cost : (n,); M : (m, n) dense or sparse; row duals as ``linprog``'s ``marginals`` (∂ objective / ∂ row
     bound).  scipy's ``linprog`` spends ~3–12 ms per call cleaning and converting its inputs
     in Python, more than HiGHS takes on the workbench's small LPs."""
     import highspy
 
     inf = highspy.kHighsInf
-    M = sp.csc_matrix(M)
-    M.sort_indices()
+    indptr, indices, data = _csc_arrays(M)
     n = M.shape[1]
     h = highspy._Highs()  # without highspy.Highs's banner on stdout (see MinLP)
     h.setOptionValue("output_flag", False)
+    h.setOptionValue("presolve", "on" if config.DEFAULTS.lp_presolve else "off")
     status = h.passModel(
         n,
         M.shape[0],
-        M.nnz,
+        len(data),
         int(highspy.MatrixFormat.kColwise),
         int(highspy.ObjSense.kMinimize),
         0.0,
@@ -135,9 +157,9 @@ def highs_lp(
         np.where(np.isfinite(col_hi), col_hi, inf),
         np.where(np.isfinite(row_lo), row_lo, -inf),
         np.where(np.isfinite(row_hi), row_hi, inf),
-        M.indptr.astype(np.int32),
-        M.indices.astype(np.int32),
-        M.data.astype(float),
+        indptr,
+        indices,
+        data,
         np.zeros(n, dtype=np.int32),
     )
     if status == highspy.HighsStatus.kError:  # pragma: no cover - a malformed program is a bug
@@ -158,9 +180,7 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     rows = [A_eq] if G is None else [A_eq, G]
     row_lo = np.concatenate([b_eq] + ([] if G is None else [np.full(len(G), -np.inf)]))
     row_hi = np.concatenate([b_eq] + ([] if G is None else [h]))
-    out = highs_lp(
-        np.r_[np.zeros(prog.n), np.ones(12)], sp.csc_matrix(np.vstack(rows)), row_lo, row_hi, lb, ub
-    )
+    out = highs_lp(np.r_[np.zeros(prog.n), np.ones(12)], np.vstack(rows), row_lo, row_hi, lb, ub)
     if out is None:
         return None, float("nan")
     x, _, objective = out
@@ -382,7 +402,7 @@ def solve_conic(
 
     A_all, b_all, cones, sizes = _conic_data(prog, None if cost is None else tol)
     if cost is None:
-        P = sp.triu(sp.csc_matrix(prog.A6.T @ prog.A6)).tocsc()
+        P = _csc(np.triu(prog.A6.T @ prog.A6))
         q = prog.A6.T @ prog.w
     else:
         P = sp.csc_matrix((prog.n, prog.n))
@@ -392,7 +412,7 @@ def solve_conic(
     # tighter than resist_rtol (1e-6) by four orders: the decision reads the optimum, not the solver's noise
     settings.tol_gap_abs = settings.tol_gap_rel = 1e-10
     settings.tol_feas = 1e-10
-    sol = clarabel.DefaultSolver(P, q, sp.csc_matrix(A_all), b_all, cones, settings).solve()
+    sol = clarabel.DefaultSolver(P, q, _csc(A_all), b_all, cones, settings).solve()
     status = str(sol.status)
     y = np.array(sol.x)
     if status in ("Solved", "AlmostSolved"):
