@@ -45,13 +45,15 @@ from tqdm import tqdm
 from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
-from workbench.grasp.models import contact_sets
+from workbench.grasp.models import check_model, contact_sets
 from workbench.grasp.precision import matched_precision, recall_at_least, scores
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.sources.scenes import elliptic_cylinder_grasp
+from workbench.sources.surfaces import check_n_elements
+from workbench.wrench import check_mu
 
 NAME = "sensitivity"
 
@@ -122,7 +124,35 @@ QUICK_CONFIG = {
 
 
 def check_config(config: dict) -> None:
-    """Sampler kinds are checked before the ground truth is computed (the CLI calls this)."""
+    """Refuse, before the ground truth is computed (``build_config`` calls this), what the run
+    would refuse only after minutes of rows: μ = 0 (frictionless: the truth resists none of
+    the disturbances, so every recall is undefined and the μ offsets, relative to μ, all
+    collapse to 0), a mesh of < 2 elements, an unknown model, more robust disturbances than
+    disturbances, precision levels outside (0, 1] and unknown sampler kinds.  Each check is
+    the rule of the function that would raise later, called early."""
+    if check_mu(config["mu"]) == 0:
+        raise ValueError(
+            "mu = 0 is a frictionless grasp: the simulated truth resists none of the disturbances, "
+            "so every recall is undefined, and the mu offsets (relative to mu) all collapse to 0; "
+            "give mu > 0, e.g. --set mu=0.3 (the default)"
+        )
+    check_n_elements(config["n_elements"])
+    for key in ("models", "training_models"):
+        if not config[key]:
+            raise ValueError(f'{key} must name at least one model, e.g. ["6dls"]; got []')
+        for model in config[key]:
+            try:
+                check_model(model)
+            except ValueError as exc:
+                raise ValueError(f"{key}: {exc}") from None
+    if config["n_disturbances"] < 1 or not 1 <= config["robust_disturbances"] <= config["n_disturbances"]:
+        raise ValueError(
+            "n_disturbances must be >= 1 and robust_disturbances in [1, n_disturbances] (the robust "
+            f"metric's grasps are the first of them); got {config['n_disturbances']} and "
+            f"{config['robust_disturbances']}"
+        )
+    # matched_precision's own check of the levels, on a one-grasp stand-in
+    matched_precision(np.ones(1), np.ones(1, bool), config["precision_levels"])
     for kind in config["training_samplers"]:
         SamplerSpec(kind=kind)  # raises ValueError naming the known kinds
     check_workers(config["workers"], config["scheduler"])
@@ -511,35 +541,46 @@ def _figures(out: Path, series_out: dict, matched: dict, config: dict) -> list[s
     return figures
 
 
+def _num(value, spec: str) -> str:
+    """``value`` formatted by ``spec``, or ``n/a`` where it is undefined: a recall with no
+    positive truth, a precision with no positive prediction (NaN in a fresh row, None once
+    checkpointed as JSON)."""
+    if value is None or (isinstance(value, float) and np.isnan(value)):
+        return "n/a"
+    return format(value, spec)
+
+
 def _headline(
     truth, series_out, ms_model, matched, nonplanar_ge, margin_error, training, config
 ) -> list[str]:
+    """The summary's headline lines; undefined numbers (None or NaN) read ``n/a``."""
     levels = config["precision_levels"]
     return [
-        f"truth: {truth.mean():.0%} of {len(truth)} disturbances resisted (simulated truth, exact 6DFW set)",
+        f"truth: {_num(truth.mean(), '.0%')} of {len(truth)} disturbances resisted "
+        "(simulated truth, exact 6DFW set)",
         *(
-            f"{m}: recall vs k {[round(v, 2) for v in series_out['k'][m]['recall']]}, "
-            f"{ms_model[m]:.2f} ms/grasp"
+            f"{m}: recall vs k [{', '.join(_num(v, '.2f') for v in series_out['k'][m]['recall'])}], "
+            f"{_num(ms_model[m], '.2f')} ms/grasp"
             for m in config["models"]
         ),
         "recall at matched precision "
         + "; ".join(
             f"P>={lv}: "
-            + ", ".join(f"{m} {matched[m]['at_levels']['recall'][j]:.2f}" for m in config["models"])
+            + ", ".join(f"{m} {_num(matched[m]['at_levels']['recall'][j], '.2f')}" for m in config["models"])
             for j, lv in enumerate(levels)
         ),
         f"6DLS/6DFC recall >= planar and point at matched precision: {nonplanar_ge}",
         "resistance margin vs the truth's, median |log ratio| (bias): "
         + ", ".join(
-            f"{m} {e['median_abs_log_ratio']:.3f} ({e['median_log_ratio']:+.3f})"
+            f"{m} {_num(e['median_abs_log_ratio'], '.3f')} ({_num(e['median_log_ratio'], '+.3f')})"
             for m, e in margin_error.items()
         ),
         *(
             f"training wrenches of {m}, margin vs the noise-free exact margin, median |log ratio| "
             "(bias): "
             + ", ".join(
-                f"{k} {e['vs_exact_nominal']['median_abs_log_ratio']:.4f} "
-                f"({e['vs_exact_nominal']['median_log_ratio']:+.4f})"
+                f"{k} {_num(e['vs_exact_nominal']['median_abs_log_ratio'], '.4f')} "
+                f"({_num(e['vs_exact_nominal']['median_log_ratio'], '+.4f')})"
                 for k, e in by.items()
             )
             for m, by in training.items()

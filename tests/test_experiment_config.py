@@ -128,6 +128,16 @@ def test_the_suggested_value_is_shell_quoted():
     assert suggested == DEFAULT_CONFIG["heights"] and len(suggested) == 21  # the default, pasted back
 
 
+def test_seed_flag_is_checked_like_a_set_seed():
+    """``--seed -1`` passed the checks and failed in numpy at the first random draw (``--set
+    seed=-1`` and a sweep's ``--grid seed=[-1]`` were refused up front)."""
+    with pytest.raises(SystemExit, match=r"--seed -1: seed expects int .* negative .* give e.g. --seed 0"):
+        build_config("sensitivity", True, None, -1, {})
+    with pytest.raises(SystemExit, match="--seed 2.5: seed expects int"):
+        build_config("discretization", True, None, 2.5, {})
+    assert build_config("sensitivity", True, None, 3, {})["seed"] == 3
+
+
 def test_cli_config_layers():
     cfg = build_config("discretization", True, None, 7, {"timing_repeats": 2})
     assert cfg["seed"] == 7 and cfg["timing_repeats"] == 2 and cfg["quick"]

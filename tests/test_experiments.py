@@ -92,6 +92,16 @@ def test_discretization_fig_3_8(discretization):
         ("fem-fitting", {"code_frame": "pad"}, "code_frame must be 'object' or 'jaw'"),
         ("fem-fitting", {"ablation_cell_mm": 0.003}, "ablation_cell_mm must be a cell size in mm"),
         ("sensitivity", {"training_samplers": ["thesis", "nope"]}, "sampler kind must be one of"),
+        # a sweep trial's values that failed only inside the run (the same rules, called early)
+        ("sensitivity", {"n_elements": 0}, "n_elements must be >= 2"),
+        ("sensitivity", {"n_elements": 1}, "n_elements must be >= 2"),
+        ("sensitivity", {"models": ["6dls", "bogus"]}, "models: model must be one of .* got 'bogus'"),
+        ("sensitivity", {"training_models": ["nope"]}, "training_models: model must be one of"),
+        ("sensitivity", {"models": []}, "models must name at least one model"),
+        ("sensitivity", {"mu": 0.0}, "mu = 0 is a frictionless grasp: the simulated truth resists none"),
+        ("sensitivity", {"robust_disturbances": 41}, r"n_disturbances .* robust_disturbances in \[1, n_"),
+        ("sensitivity", {"n_disturbances": 0}, "n_disturbances must be >= 1"),
+        ("sensitivity", {"precision_levels": [90.0]}, r"levels must be precision levels in \(0, 1\]"),
         # the peers' careless inputs of a new-user trial: each ran to nonsense or failed late
         ("peers", {"margin_steps": 0}, "margin_steps must be an integer >= 1"),
         ("peers", {"E": 1.0}, "E is in pascals"),
@@ -118,6 +128,29 @@ def test_discretization_fig_3_8(discretization):
 def test_settings_a_default_cannot_judge_are_refused_before_any_work(name, sets, match):
     with pytest.raises(SystemExit, match=f"{name}: {match}"):
         build_config(name, True, None, None, sets)
+
+
+def test_sensitivity_headline_reads_undefined_numbers_as_n_a():
+    """A sweep point whose truth resisted nothing crashed in the headline (round(None)) after
+    the whole run, writing no summary: a recall without positives is None once checkpointed."""
+    import numpy as np
+
+    from workbench.experiments.sensitivity import _headline
+
+    nan = float("nan")
+    config = {"models": ["6dls"], "precision_levels": [0.9]}
+    lines = _headline(
+        np.zeros(4, bool),
+        {"k": {"6dls": {"recall": [None, nan]}}},
+        {"6dls": nan},
+        {"6dls": {"at_levels": {"recall": [nan]}}},
+        {"0.9": True},
+        {"6dls": {"median_abs_log_ratio": nan, "median_log_ratio": nan}},
+        {"6dls": {"thesis": {"vs_exact_nominal": {"median_abs_log_ratio": nan, "median_log_ratio": None}}}},
+        config,
+    )
+    assert lines[1] == "6dls: recall vs k [n/a, n/a], n/a ms/grasp"
+    assert "6dls n/a" in lines[2] and "6dls n/a (n/a)" in lines[4] and "thesis n/a (n/a)" in lines[5]
 
 
 @pytest.fixture(scope="module")

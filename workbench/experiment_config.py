@@ -178,6 +178,18 @@ def _coerce(key: str, value: Any, default: Any) -> Any:
         ) from None
 
 
+def _coerce_seed(seed: Any, default: Any) -> Any:
+    """``--seed``'s value checked like ``--set seed=...`` against the default seed (an int
+    >= 0 where the default is one); ``SystemExit`` naming ``--seed`` otherwise."""
+    if default is None:  # an experiment without a seed key of its own takes it as given
+        return seed
+    try:
+        return _coerce("seed", seed, default)
+    except SystemExit as exc:
+        msg = str(exc.code).replace(f"--set seed={_dumps(seed)}", f"--seed {_dumps(seed)}", 1)
+        raise SystemExit(msg.split(" — give e.g.")[0] + f" — give e.g. --seed {_dumps(default)}") from None
+
+
 def _number(x: Any) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
@@ -225,10 +237,10 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         config.update(module.QUICK_CONFIG)
     config["quick"] = quick
     config["out"] = str(Path(out) if out else Path("results") / name)
-    if seed is not None:
-        config["seed"] = seed
     if seed is not None and "seed" in sets:  # one of them would be ignored silently
         raise SystemExit(f"seed is given by --seed ({seed}) and by --set seed={sets['seed']}: give it once")
+    if seed is not None:  # checked like --set seed=... (a negative seed fails in numpy otherwise)
+        config["seed"] = _coerce_seed(seed, module.DEFAULT_CONFIG.get("seed"))
     reserved = sorted({"quick", "out"} & set(sets))
     if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
         raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")

@@ -82,6 +82,14 @@ def planar_profile(profile: ContactProfile) -> ContactProfile:
     )
 
 
+def check_model(name: str) -> str:
+    """``name`` if it is one of :data:`MODELS`, else a ``ValueError`` listing them (also used
+    by the experiments' ``check_config`` to refuse a model before any work)."""
+    if name not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}; got {name!r}")
+    return name
+
+
 def contact_sets(
     profile: ContactProfile,
     name: str,
@@ -108,8 +116,7 @@ def contact_sets(
     ``6dls``/``planar``; seed : sampler seed; sampler : training wrenches of the limit
     surfaces (6DLS, 6DFC, planar; default ``SamplerSpec()``, see its kinds).
     """
-    if name not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}; got {name!r}")
+    check_model(name)
     cache = cache if cache is not None else LimitSurfaceCache()
     if name == "6dls_quartic":
         quartic = True

@@ -536,6 +536,14 @@ def _grid_size(surface: ParametricSurface, n_elements: int) -> tuple[int, int]:
     return best[1], best[2]
 
 
+def check_n_elements(n_elements: int) -> int:
+    """``n_elements`` as an int if a mesh can have that many triangles (>= 2), else a
+    ``ValueError`` (:func:`mesh_surface`'s rule, also called by the experiments' ``check_config``)."""
+    if int(n_elements) < 2:
+        raise ValueError(f"n_elements must be >= 2 (triangles of the contact mesh); got {n_elements}")
+    return int(n_elements)
+
+
 def mesh_surface(surface: ParametricSurface, n_elements: int) -> tuple[Array, Array, Array]:
     """Triangle mesh of a parametric surface with ~``n_elements`` triangles.
 
@@ -544,8 +552,7 @@ def mesh_surface(surface: ParametricSurface, n_elements: int) -> tuple[Array, Ar
     face normal agrees with the surface normal.  Returns vertices (V, 3),
     faces (T, 3) int and the parametric centroid of each face (T, 2).
     """
-    if int(n_elements) < 2:
-        raise ValueError(f"n_elements must be >= 2; got {n_elements}")
+    check_n_elements(n_elements)
     nu, nv = _grid_size(surface, int(n_elements))
     U, V, P = _grid(surface, nu, nv)
     idx = np.arange((nu + 1) * (nv + 1)).reshape(nu + 1, nv + 1)
