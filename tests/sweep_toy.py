@@ -19,6 +19,7 @@ def run(config: dict) -> dict:
         "y": config["x"] ** 2,
         "nested": {"z": config["x"] + 1.0, "ok": True, "name": config["tag"]},
         "values": [1, 2, 3],  # a short list: columns values.0-2
+        "undefined": None,  # a number with no value here (a recall without positives): a NaN column
         "headline": [f"y = {config['x'] ** 2}"],
     }
     return write_summary(Path(config["out"]), NAME, config, summary, 0.0)

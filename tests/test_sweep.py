@@ -73,6 +73,7 @@ def test_flatten_scalars_keeps_numbers_by_path_and_drops_long_lists_and_metadata
         "flag": False,
     }
     assert flatten_scalars(s) == {
+        "experiment": "x",  # a string, as the docstring says (it was left out)
         "n": 3,
         "t.lift.q": 0.5,
         "t.lift.All": 0.7,
@@ -80,6 +81,8 @@ def test_flatten_scalars_keeps_numbers_by_path_and_drops_long_lists_and_metadata
         "arr.1": 2,
         "rows.0.F": 1.5,
         "rows.1.0": 0.25,
+        "rows.1.1": None,  # a null keeps its column (NaN in the table)
+        "none": None,
         "flag": False,
     }
 
@@ -97,6 +100,8 @@ def test_flatten_scalars_keeps_numbers_by_path_and_drops_long_lists_and_metadata
         (["--grid", "mu"], "expects KEY=JSON_LIST"),
         (["--grid", "mu=[0.5", "--quick"], "not a JSON list"),
         (["--grid", "mu=[0.5]", "--workers", "0"], "workers must be a positive integer"),
+        (["--grid", "mu=[0.5]", "--seed", "-1"], "--seed -1: seed expects int"),  # as --grid seed=[-1]
+        (["--grid", "mu=[0.5]", "--scheduler", "tcp://127.0.0.1:99999"], "port '99999' is not a TCP port"),
     ],
 )
 def test_cli_refuses_bad_sweeps_before_any_work(tmp_path, capsys, args, match):
@@ -299,13 +304,15 @@ def test_no_scheduler_or_one_without_workers_is_an_error_before_anything_is_writ
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
     out = tmp_path / "sw"
+    # refused at once (a TCP probe), not after the client's whole wait (30 s by default)
+    t0 = time.perf_counter()
+    with pytest.raises(SweepError, match=f"no Dask scheduler at 'tcp://127.0.0.1:{port}': .* refused"):
+        run_sweep("toy", {"x": [1.0]}, scheduler=f"tcp://127.0.0.1:{port}", out=out, progress=False)
+    assert time.perf_counter() - t0 < 5
+    for bad in ("tcp://127.0.0.1:99999", "tcp://127.0.0.1:0", "127.0.0.1:x"):
+        with pytest.raises(SweepError, match="is not a TCP port"):
+            run_sweep("toy", {"x": [1.0]}, scheduler=bad, out=out, progress=False)
     with config.override(scheduler_wait_s=2.0):
-        t0 = time.perf_counter()
-        with pytest.raises(
-            SweepError, match=f"no Dask scheduler answered at 'tcp://127.0.0.1:{port}' within 2 s"
-        ):
-            run_sweep("toy", {"x": [1.0]}, scheduler=f"tcp://127.0.0.1:{port}", out=out, progress=False)
-        assert time.perf_counter() - t0 < 30
         with pytest.raises(SweepError, match="--scheduler 'nonsense' is not a Dask scheduler address"):
             run_sweep("toy", {"x": [1.0]}, scheduler="nonsense", out=out, progress=False)
         with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as empty:
@@ -557,3 +564,151 @@ def test_table_columns_of_the_sweep_itself_are_plot_metrics(tmp_path, toy):
     assert run_sweep("toy", {"x": [1.0]}, out=out, client=toy, progress=False, metrics=["seconds", "y"])
     with pytest.raises(SweepError, match="'status' is not a number"):
         run_sweep("toy", {"x": [1.0]}, out=out, client=toy, progress=False, metrics=["status"])
+
+
+def test_scheduler_host_port_reads_tcp_addresses_only():
+    from workbench.sweep import scheduler_host_port
+
+    assert scheduler_host_port("tcp://10.0.0.5:8786") == ("10.0.0.5", 8786)
+    assert scheduler_host_port("10.0.0.5:8786") == ("10.0.0.5", 8786)
+    assert scheduler_host_port("tls://[::1]:8786/") == ("::1", 8786)
+    assert scheduler_host_port("inproc://10.0.0.5/1/2") is None and scheduler_host_port("nonsense") is None
+    with pytest.raises(SweepError, match="port '65536' is not a TCP port"):
+        scheduler_host_port("tcp://h:65536")
+
+
+def test_null_summary_values_are_nan_columns_and_the_experiment_is_a_column(tmp_path, toy):
+    """A null summary value (an undefined recall) had no column, so --plot called it "not a
+    column"; the experiment name was left out though flatten_scalars' docstring includes strings."""
+    from workbench.sweep import plot_sweep
+
+    out = tmp_path / "sw"
+    run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False, metrics=["undefined"])
+    df = pd.read_parquet(out / "table.parquet")
+    assert df["undefined"].dtype == float and df["undefined"].isna().all()
+    assert (df["experiment"] == "toy").all()
+    assert plot_sweep(out / "table.parquet", "x", "undefined").is_file()
+
+
+def test_keys_zipped_with_the_x_key_do_not_split_the_plot_into_lines(tmp_path, toy, monkeypatch):
+    """--plot n_wrenches ... with n_wrenches and n_heldout zipped drew one dot per line."""
+    from workbench import results
+    from workbench.sweep import line_keys, plot_sweep
+
+    assert line_keys(["E", "n", "h"], "n", "y", ["n", "h"]) == ["E"]  # h varies along the line
+    assert line_keys(["E", "n", "h"], "E", "y", ["n", "h"]) == ["n", "h"]  # one line per zip pair
+    assert line_keys(["E", "n"], "E", "y", []) == ["n"]
+    out = tmp_path / "sw"
+    zipped = {"x": [1.0, 2.0, 3.0], "fail_above": [11.0, 12.0, 13.0]}
+    run_sweep("toy", {"tag": ["p", "q"]}, zipped, out=out, client=toy, progress=False)
+    figs = []
+    real = results.save_figure
+    monkeypatch.setattr(results, "save_figure", lambda fig, path: figs.append(fig) or real(fig, path))
+    plot_sweep(out / "table.parquet", "x", "y")  # the zip keys read from sweep.json
+    lines = figs[-1].axes[0].get_lines()
+    assert len(lines) == 2 and all(len(line.get_xdata()) == 3 for line in lines)
+    plot_sweep(out / "table.parquet", "tag", "y", zipped=["x", "fail_above"])
+    assert len(figs[-1].axes[0].get_lines()) == 3  # one line per zipped pair
+
+
+def test_cluster_keys_of_an_experiment_are_refused_in_a_sweep(tmp_path):
+    """sensitivity's own workers/scheduler were accepted in --grid and silently ignored (a
+    point runs serially in one task of the sweep's cluster)."""
+    for args in (["--grid", "workers=[1,2]"], ["--zip", 'scheduler=["a","b"]'], ["--set", "workers=2"]):
+        with pytest.raises(SweepError, match=r"\['(workers|scheduler)'\] in .* --workers N or --scheduler"):
+            run_sweep(
+                "sensitivity",
+                *_grid_and_zip(args),
+                quick=True,
+                sets=cli._parse_sets(args[1:]) if args[0] == "--set" else None,
+                out=tmp_path / "sw",
+                progress=False,
+            )
+    assert not (tmp_path / "sw").exists()
+
+
+def _grid_and_zip(args: list[str]) -> tuple[dict, dict]:
+    grid = cli._parse_lists(args[1:], "--grid") if args[0] == "--grid" else {"mu": [0.3]}
+    zipped = cli._parse_lists(args[1:], "--zip") if args[0] == "--zip" else {}
+    return grid, zipped
+
+
+def test_sweep_values_that_fail_in_the_run_are_refused_before_any_work(tmp_path):
+    for grid, match in (
+        ({"n_elements": [0, 1]}, "n_elements must be >= 2"),
+        ({"models": [["6dls", "bogus"]]}, "model must be one of .* got 'bogus'"),
+        ({"mu": [0, 0.3]}, "mu = 0 is a frictionless grasp"),
+    ):
+        with pytest.raises(SweepError, match=match):
+            run_sweep("sensitivity", grid, quick=True, out=tmp_path / "sw", progress=False)
+    with pytest.raises(SweepError, match="--seed -1: seed expects int"):
+        run_sweep("sensitivity", {"mu": [0.3]}, quick=True, seed=-1, out=tmp_path / "sw", progress=False)
+    assert not (tmp_path / "sw").exists()
+
+
+def test_a_list_valued_key_swept_by_scalars_says_to_give_a_list_of_lists(tmp_path):
+    import shlex
+
+    with pytest.raises(SweepError) as exc:
+        run_sweep("sensitivity", {"force_range": [20, 35]}, quick=True, out=tmp_path / "sw", progress=False)
+    msg = str(exc.value)
+    assert "force_range takes a list" in msg and "list of lists" in msg, msg
+    flag, item = shlex.split(msg.split("e.g. ")[-1])  # the hint, pasted back, is a valid sweep
+    assert flag == "--grid" and cli._parse_lists([item], "--grid") == {"force_range": [[20.0, 35.0]]}
+    with pytest.raises(SweepError, match="so --zip sweeps it by a list of lists"):
+        run_sweep(
+            "sensitivity", {}, {"force_range": [20, 35]}, quick=True, out=tmp_path / "s", progress=False
+        )
+
+
+def test_a_bad_plot_metric_gets_close_names_not_every_column(tmp_path, toy):
+    from workbench.sweep import close_columns, column_hint
+
+    columns = [f"table.m{i}.recall" for i in range(200)] + ["table.6dls.precision"]
+    hint = column_hint("table.6dls.precison", columns)
+    assert hint.startswith("did you mean ['table.6dls.precision'") and "201 number columns in all" in hint
+    assert "table.m150.recall" not in hint and len(hint) < 400
+    close = close_columns("recall", columns, 3)  # a last part finds the dotted paths ending in it
+    assert len(close) == 3 and all(c.endswith(".recall") for c in close)
+    with pytest.raises(SweepError, match=r"'nested.zz' is not a column .* did you mean \['nested.z'"):
+        run_sweep("toy", {"x": [1.0]}, out=tmp_path / "sw", client=toy, progress=False, metrics=["nested.zz"])
+
+
+def test_points_of_other_code_are_re_run_with_a_reason_and_kept_as_history(tmp_path, toy, monkeypatch):
+    """A re-run after a code change re-ran every point saying only "0 resumed, 3 run", and
+    dropped the old rows from points.jsonl (documented as keeping every point ever finished);
+    an earlier --plot's figure stayed beside the new table; the lock file stayed behind."""
+    from workbench import results
+
+    out = tmp_path / "sw"
+    first = run_sweep("toy", {"x": [1.0, 2.0, 3.0]}, out=out, client=toy, progress=False)
+    assert first["n_other_code"] == 0 and not (out / ".sweep.lock").exists()
+    (out / "plot_x_y.png").write_bytes(b"stale")
+    monkeypatch.setattr(results, "code_hash", lambda n=16: "another-code"[:n])
+    again = run_sweep("toy", {"x": [1.0, 2.0, 3.0]}, out=out, client=toy, progress=False)
+    assert (again["n_resumed"], again["n_submitted"], again["n_other_code"]) == (0, 3, 3)
+    assert again["other_code_revisions"] == [first["git_revision"]]
+    assert len(_rows(out / "points.jsonl")) == 6  # the old code's rows kept as history
+    assert len(pd.read_parquet(out / "table.parquet")) == 3
+    assert not (out / "plot_x_y.png").exists() and not (out / ".sweep.lock").exists()
+    third = run_sweep("toy", {"x": [1.0, 2.0, 3.0]}, out=out, client=toy, progress=False)
+    assert (third["n_resumed"], third["n_other_code"]) == (3, 0)
+
+
+def test_cli_says_why_points_ran_again(tmp_path, capsys, monkeypatch):
+    summary = {
+        "n_points": 3,
+        "n_ok": 3,
+        "n_failed": 0,
+        "n_resumed": 0,
+        "n_submitted": 3,
+        "n_other_code": 3,
+        "other_code_revisions": ["abc123"],
+        "seconds": 1.0,
+        "table": str(tmp_path / "table.parquet"),
+        "failed": [],
+    }
+    monkeypatch.setattr("workbench.sweep.run_sweep", lambda *a, **k: summary)
+    assert cli.main(["sweep", "discretization", "--grid", "mu=[0.5]", "--out", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    assert "0 resumed, 3 run" in text and "3 points were computed by other code (revisions abc123" in text

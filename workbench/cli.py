@@ -219,6 +219,12 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         f"{summary['n_failed']} failed; {summary['n_resumed']} resumed, {summary['n_submitted']} run) "
         f"in {summary['seconds']:.1f} s"
     )
+    if summary["n_other_code"]:
+        print(
+            f"  {summary['n_other_code']} points were computed by other code "
+            f"(revisions {', '.join(summary['other_code_revisions'])}; the sources changed since): re-run "
+            "(their old rows stay in points.jsonl)"
+        )
     print(f"  table: {summary['table']}")
     for bad in summary["failed"]:
         print(f"  failed: {bad['point']}: {bad['error']}")
@@ -226,7 +232,7 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         print("  (tracebacks in the table's error column; failed points run again with --retry-failed)")
     for key, metric in args.plot:
         try:
-            print(f"  figure: {plot_sweep(summary['table'], key, metric)}")
+            print(f"  figure: {plot_sweep(summary['table'], key, metric, zipped=list(zipped))}")
         except SweepError as exc:
             fail(exc)
     return 0 if summary["n_failed"] == 0 else 1

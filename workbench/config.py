@@ -428,6 +428,15 @@ class Defaults:
     # and then for its first worker, before it stops with an error saying which: a scheduler
     # with no workers would otherwise hold the sweep at 0 % without a word.
     scheduler_wait_s: float = 30.0
+    # Seconds a sweep's TCP probe of a --scheduler host:port waits before the Dask client is
+    # made: a refused connection (nothing listens there) or an unknown host then stops the
+    # sweep at once instead of after scheduler_wait_s; a probe that times out (a firewall
+    # dropping packets) leaves the answer to the client's own wait.
+    scheduler_probe_s: float = 2.0
+
+    # Close column names a sweep suggests for a --plot METRIC that is not a number column of
+    # its table (difflib), instead of listing its every column (~200 for some experiments).
+    sweep_column_hints: int = 5
 
     # A sweep whose first this-many finished points all failed stops (the rest cancelled),
     # printing the last error: a setting that fails every point (measured: a 10,000-point
@@ -624,6 +633,8 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "cluster_worker_saturation": _saturation,
     "grasp_tasks_from": _count(1),
     "scheduler_wait_s": _POS,
+    "scheduler_probe_s": _POS,
+    "sweep_column_hints": _count(1),
     "sweep_stop_after_failures": _count(0),
     "blocked_solve_min_rhs": _count(0),
 }

@@ -308,33 +308,44 @@ class Checkpoint:
     torn last line is ignored on reload.  Rows are kept only if their
     ``config_hash`` matches — a hash of ``config`` and of the code (:func:`code_hash`) — so
     changing the sweep's settings or the code that computes its rows starts afresh instead of
-    mixing results.  Resuming never duplicates a key.
+    mixing results.  Resuming never duplicates a key.  ``keep_other=True`` keeps the other
+    rows in the file as history (a sweep's ``points.jsonl``: every point ever finished),
+    never resumed; otherwise they are dropped.
     """
 
-    def __init__(self, path: Path, config: dict) -> None:
+    def __init__(self, path: Path, config: dict, *, keep_other: bool = False) -> None:
 
         self.path = Path(path)
         self.config_hash = content_hash({"config": config, "code": code_hash()})
         self.rows: dict[str, dict] = Checkpoint.peek(self.path, config)
-        # rewrite only the valid rows, so a torn line never precedes new ones
+        # rewrite only the whole rows (all of them, or the valid ones), so a torn line never
+        # precedes new ones
+        kept = Checkpoint.history(self.path) if keep_other else list(self.rows.values())
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(self.path, "".join(json.dumps(r) + "\n" for r in self.rows.values()).encode())
+        atomic_write_bytes(self.path, "".join(json.dumps(r) + "\n" for r in kept).encode())
+
+    @staticmethod
+    def history(path: Path) -> list[dict]:
+        """Every whole row of the file at ``path``, in order, whatever its config and code
+        (a torn line is left out); ``[]`` for no file."""
+        rows = []
+        if Path(path).is_file():
+            for line in Path(path).read_text().splitlines():
+                try:
+                    row = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                if isinstance(row, dict) and "key" in row:
+                    rows.append(row)
+        return rows
 
     @staticmethod
     def peek(path: Path, config: dict) -> dict[str, dict]:
         """The rows a ``Checkpoint(path, config)`` would resume, read without writing
         anything (no file or directory is created)."""
         config_hash = content_hash({"config": config, "code": code_hash()})
-        rows: dict[str, dict] = {}
-        if Path(path).is_file():
-            for line in Path(path).read_text().splitlines():
-                try:
-                    row = json.loads(line)
-                except json.JSONDecodeError:
-                    continue  # a torn last line of a killed run
-                if row.get("config_hash") == config_hash:
-                    rows[row["key"]] = row
-        return rows
+        # a torn last line of a killed run is left out; the last row of a key wins
+        return {r["key"]: r for r in Checkpoint.history(path) if r.get("config_hash") == config_hash}
 
     def __contains__(self, key: str) -> bool:
         return key in self.rows

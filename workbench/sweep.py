@@ -45,6 +45,7 @@ __all__ = [
     "SweepError",
     "expand_grid",
     "flatten_scalars",
+    "line_keys",
     "plot_sweep",
     "point_key",
     "read_table",
@@ -54,7 +55,13 @@ __all__ = [
 ]
 
 #: summary keys that are run metadata, not results: kept out of the table's metric columns
-_META = {"experiment", "config", "versions", "seed", "headline"}
+#: (``seed`` has a column of its own)
+_META = {"config", "versions", "seed", "headline"}
+
+#: an experiment's own keys that place its rows on a Dask cluster; inside a sweep each point
+#: runs serially in one task of the sweep's cluster, so a sweep refuses them
+#: (its ``--workers`` / ``--scheduler`` size that cluster instead)
+CLUSTER_KEYS = ("workers", "scheduler")
 
 
 class SweepError(ValueError):
@@ -132,11 +139,13 @@ def sweep_dir(
 MAX_LIST_COLUMNS = 16
 
 
-def flatten_scalars(summary: dict | list, prefix: str = "") -> dict[str, float | int | bool | str]:
-    """Every scalar (number, flag or string) of a nested summary dict, keyed by its dotted
-    path; the elements of lists of at most :data:`MAX_LIST_COLUMNS` entries by their index
-    (``table_3_2.S1.6d_nonplanar.4``); longer lists and the run metadata (``config``,
-    ``versions``, ``headline``) are left out."""
+def flatten_scalars(summary: dict | list, prefix: str = "") -> dict[str, float | int | bool | str | None]:
+    """Every scalar (number, flag, string or null) of a nested summary dict, keyed by its
+    dotted path — the top-level ``experiment`` name too; the elements of lists of at most
+    :data:`MAX_LIST_COLUMNS` entries by their index (``table_3_2.S1.6d_nonplanar.4``); longer
+    lists and the run metadata (``config``, ``versions``, ``seed``, ``headline``) are left out.
+    A null (an undefined number, e.g. a recall without positives) keeps its column: NaN in
+    the table."""
     out: dict[str, Any] = {}
     items = summary.items() if isinstance(summary, dict) else enumerate(summary)
     for key, value in items:
@@ -145,7 +154,7 @@ def flatten_scalars(summary: dict | list, prefix: str = "") -> dict[str, float |
         name = f"{prefix}{key}"
         if isinstance(value, dict) or (isinstance(value, list) and 0 < len(value) <= MAX_LIST_COLUMNS):
             out.update(flatten_scalars(value, f"{name}."))
-        elif isinstance(value, (bool, int, float, str)):
+        elif value is None or isinstance(value, (bool, int, float, str)):
             out[name] = value
     return out
 
@@ -186,13 +195,36 @@ def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
         }
 
 
+def list_key_hint(key: str, value: Any, default: Any, flag: str = "--grid") -> str | None:
+    """The fix for a swept value that is not a list where ``key``'s default is one (a
+    ``--grid 'force_range=[20,35]'`` sweeps the scalars 20 and 35): a list-valued key is swept
+    by a list of lists, one inner list per point.  None when that is not the mistake."""
+    import shlex
+
+    if not isinstance(default, (list, tuple)) or isinstance(value, (list, tuple)):
+        return None
+    example = json.dumps([list(default)])
+    return (
+        f"{key} takes a list, so {flag} sweeps it by a list of lists, one inner list per point: "
+        f"e.g. {flag} {shlex.quote(f'{key}={example}')}"
+    )
+
+
 def _point_configs(
-    experiment: str, points: list[dict], out: Path, quick: bool, sets: dict, seed: int | None
+    experiment: str,
+    points: list[dict],
+    out: Path,
+    quick: bool,
+    sets: dict,
+    seed: int | None,
+    zipped_keys: tuple[str, ...] = (),
 ) -> dict[str, tuple[dict, dict]]:
     """key -> (point values, full config), every config checked before any work.  A point's
     values are taken as its config holds them (an int given for a float key is that float),
     so ``mu=[1, 1.0]`` repeats a point and ``mu=1`` resumes a point written as ``mu=1.0``."""
-    from .experiment_config import build_config
+    import importlib
+
+    from .experiment_config import EXPERIMENTS, build_config
 
     both = sorted(set(sets) & set(points[0]))
     if both:
@@ -207,8 +239,17 @@ def _point_configs(
             msg = str(exc.code)
             for k in given:  # the value came from the grid, not from --set: say so
                 if msg.startswith(f"--set {k}="):
-                    msg = f"grid value {msg[len('--set ') :]}".replace(
-                        "— give e.g. --set", "— each value in the list must look like the default, e.g. --set"
+                    flag = "--zip" if k in zipped_keys else "--grid"
+                    default = importlib.import_module(EXPERIMENTS[experiment]).DEFAULT_CONFIG.get(k)
+                    hint = list_key_hint(k, given[k], default, flag)
+                    msg = f"grid value {msg[len('--set ') :]}"
+                    msg = (
+                        msg.split(" — give e.g.")[0] + f" — {hint}"
+                        if hint
+                        else msg.replace(
+                            "— give e.g. --set",
+                            "— each value in the list must look like the default, e.g. --set",
+                        )
                     )
             # name the point only when one of its values is in question, not a --set one
             raise SweepError(f"point {given}: {msg}" if any(k in msg for k in given) else msg) from None
@@ -258,7 +299,9 @@ def write_table(path: Path, rows: list[dict], varied: list[str]) -> Path:
     arrays = {}
     for k, col in columns.items():
         kinds = {type(v) for v in col if v is not None}
-        if kinds <= {int, float} and float in kinds:
+        if not kinds:  # null in every row (an undefined number): a NaN column, plottable
+            col = [float("nan")] * len(col)
+        elif kinds <= {int, float} and float in kinds:
             col = [None if v is None else float(v) for v in col]  # ints and floats: one float column
         elif len(kinds) > 1:
             col = [None if v is None else json.dumps(v) for v in col]  # mixed kinds: JSON text
@@ -275,11 +318,62 @@ def read_table(path: Path) -> Any:
     return pd.read_parquet(path)
 
 
+def scheduler_host_port(address: str) -> tuple[str, int] | None:
+    """(host, port) of a TCP scheduler address (``tcp://host:port``, ``tls://...``, a bare
+    ``host:port``; an IPv6 host in brackets), or None for another protocol or no port (Dask
+    judges those).  ``SweepError`` for a port that is not a number in 1-65535."""
+    proto, sep, rest = address.strip().partition("://")
+    if not sep:
+        proto, rest = "tcp", address.strip()
+    if proto not in ("tcp", "tls"):
+        return None
+    host, colon, port_text = rest.rstrip("/").rpartition(":")
+    if not colon or host.count(":") and not host.startswith("["):  # no port, or a bare IPv6 host
+        return None
+    if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
+        raise SweepError(
+            f"--scheduler {address!r}: port {port_text!r} is not a TCP port (1-65535); give the address "
+            "`dask scheduler` printed, e.g. tcp://host:8786"
+        )
+    return host.strip("[]") or "127.0.0.1", int(port_text)
+
+
+def _probe_scheduler(address: str, timeout: float) -> None:
+    """``SweepError`` at once when nothing listens at ``address``'s host and port (connection
+    refused, host unknown or unreachable), instead of the Dask client's full wait; a probe
+    that times out returns (the client's own wait then decides)."""
+    import socket
+
+    host_port = scheduler_host_port(address)
+    if host_port is None:
+        return
+    host, port = host_port
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            return
+    except TimeoutError:
+        log.info("no answer from %s:%d within %g s; waiting for the Dask client", host, port, timeout)
+        return
+    except socket.gaierror as exc:
+        raise SweepError(
+            f"--scheduler {address!r}: host {host!r} is unknown ({exc.strerror or exc}); give the "
+            "scheduler's host name or IP address, e.g. tcp://10.0.0.5:8786"
+        ) from None
+    except OSError as exc:  # refused, unreachable
+        raise SweepError(
+            f"no Dask scheduler at {address!r}: {host}:{port} refused the connection "
+            f"({exc.strerror or exc}); start one with `dask scheduler --port {port}` there, or give "
+            "the address a running scheduler printed"
+        ) from None
+
+
 def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[Any, Any]:
     """(client, cluster or None): a local cluster of ``workers`` processes with ``threads``
     threads each (default one per core; :func:`workbench.parallel.local_cluster`), or a
-    client of the scheduler at ``scheduler`` once it has a worker — ``SweepError`` if it
-    does not answer, or has none, within ``config.DEFAULTS.scheduler_wait_s`` (read now)."""
+    client of the scheduler at ``scheduler`` once it has a worker — ``SweepError`` at once if
+    its host:port refuses a connection (:func:`_probe_scheduler`,
+    ``config.DEFAULTS.scheduler_probe_s``), else if it does not answer, or has no worker,
+    within ``config.DEFAULTS.scheduler_wait_s`` (both read now)."""
     import os
 
     from distributed import Client
@@ -289,6 +383,7 @@ def _client(workers: int | None, scheduler: str | None, threads: int) -> tuple[A
 
     if scheduler:
         wait = config.DEFAULTS.scheduler_wait_s
+        _probe_scheduler(scheduler, config.DEFAULTS.scheduler_probe_s)
         try:
             client = Client(scheduler, timeout=wait)
         except (ValueError, TypeError) as exc:  # a malformed address
@@ -334,7 +429,8 @@ def run_sweep(
 ) -> dict:
     """Run ``experiment`` at every point of the grid (module docstring); returns the
     sweep's summary (``n_points``, ``n_ok``, ``n_failed``, ``n_resumed``, ``n_submitted``,
-    ``table``, ``seconds``), also written to ``DIR/sweep.json``.
+    ``n_other_code`` — points run again because only other code had finished them — and
+    ``other_code_revisions``, ``table``, ``seconds``), also written to ``DIR/sweep.json``.
 
     grid, zipped : key -> JSON list (:func:`expand_grid`); sets : fixed ``--set`` values
     (text or values); quick, seed : as ``workbench run``; out : the sweep's directory
@@ -351,7 +447,8 @@ def run_sweep(
     outputs where the driver looks (they must share its file system; started in another
     directory, a relative path would land in theirs).  Nothing is written, and no cluster
     started, before the grid, the directory and the scheduler check out.  The table holds the
-    points of this grid (``points.jsonl`` keeps every point ever finished in ``out``).
+    points of this grid (``points.jsonl`` keeps every point ever finished in ``out``, by any
+    code revision; the ``plot_*.png`` of earlier runs are removed).
     """
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise SweepError(f"workers must be a positive integer; got {workers!r}")
@@ -359,10 +456,13 @@ def run_sweep(
         raise SweepError(f"threads must be a positive integer; got {threads!r}")
     if scheduler is not None and not str(scheduler).strip():
         raise SweepError("--scheduler is empty; give an address such as tcp://host:8786 (or leave it out)")
+    if scheduler is not None:
+        scheduler_host_port(str(scheduler))  # a port out of range: refused now, not after the wait
     if sum(x is not None for x in (workers, scheduler, client)) > 1:
         raise SweepError("give at most one of workers, scheduler and client")
     sets = dict(sets or {})
     points = expand_grid(grid, zipped)
+    _refuse_cluster_keys(experiment, {**(zipped or {}), **grid}, sets)
     if out is not None and not str(out).strip():
         raise SweepError("--out is empty; give a directory (or leave --out out for the default)")
     out = Path(out) if out else sweep_dir(experiment, grid, zipped, quick=quick, sets=sets, seed=seed)
@@ -375,7 +475,7 @@ def run_sweep(
     other = _sweep_experiment(out)
     if other not in (None, experiment):  # its checkpoint would be dropped as not this sweep's
         raise SweepError(f"{out} holds a sweep of {other}, not {experiment}; give another --out")
-    configs = _point_configs(experiment, points, out, quick, sets, seed)  # checks every point first
+    configs = _point_configs(experiment, points, out, quick, sets, seed, tuple(zipped or {}))  # checks all
     varied = list(points[0])
     t_start = time.perf_counter()
     # one checkpoint per directory; a row counts as done only while its own config (less its
@@ -385,6 +485,8 @@ def run_sweep(
     }
     ck_config = {"experiment": experiment, "sweep_format": 1}
     stored = Checkpoint.peek(out / "points.jsonl", ck_config)
+    # this grid's points finished only by other code: run again, their old rows kept as history
+    other_code = _other_code_rows(Checkpoint.history(out / "points.jsonl"), configs, stored)
     done = {
         k
         for k, r in stored.items()
@@ -403,6 +505,16 @@ def run_sweep(
         done -= set(lost)
     n_resumed = len(done)
     todo = [k for k in configs if k not in done]
+    other_revisions = sorted({str(other_code[k]) for k in todo if k in other_code})
+    n_other_code = sum(k in other_code for k in todo)
+    if n_other_code:
+        log.warning(
+            "sweep %s: %d points were computed by other code (revisions %s; the sources changed since): "
+            "re-run; their old rows stay in points.jsonl",
+            out,
+            n_other_code,
+            other_revisions,
+        )
     need = list(metrics)
     finished_ok = [stored[k] for k in configs if k in done and stored[k]["status"] == "ok"]
     if need and finished_ok:
@@ -429,6 +541,7 @@ def run_sweep(
         if not out.is_dir():
             _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
         ckpt = _checkpoint(out, ck_config)
+        _remove_stale_plots(out)
 
         def grid_rows() -> list[dict]:
             """This grid's finished rows: resumed or recorded by this run (a stored row being
@@ -457,6 +570,8 @@ def run_sweep(
                 "n_failed": len(failed),
                 "n_resumed": n_resumed,
                 "n_submitted": len(todo),
+                "n_other_code": n_other_code,
+                "other_code_revisions": other_revisions,
                 "failed": [{"point": r["key"], "error": _last_line(r["error"])} for r in failed[:5]],
                 "table": str(out / "table.parquet"),
                 "git_revision": revision,
@@ -561,29 +676,91 @@ def _run_points(client, experiment, configs, todo, threads, retries, progress, r
 def _lock(out: Path, stack: contextlib.ExitStack) -> None:
     """An exclusive lock on ``out`` (made if need be), held until ``stack`` closes: a second
     sweep into the same directory stops at once instead of running every point again into
-    the same folders."""
+    the same folders.  The lock file ``out/.sweep.lock`` is removed when ``stack`` closes (while
+    still locked); a sweep that locked a file removed meanwhile takes the new one."""
     import fcntl
 
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        lock = stack.enter_context(open(out / ".sweep.lock", "a+"))
-    except OSError as exc:
-        raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
-    try:
-        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        raise SweepError(
-            f"another sweep is running in {out}; wait for it to end (then resume there) or give another --out"
-        ) from None
-    stack.callback(fcntl.flock, lock, fcntl.LOCK_UN)
+    path = out / ".sweep.lock"
+    for _ in range(3):  # a file removed between our open and our lock is not the lock any more
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            lock = open(path, "a+")
+        except OSError as exc:
+            raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            lock.close()
+            raise SweepError(
+                f"another sweep is running in {out}; wait for it to end (then resume there) or give "
+                "another --out"
+            ) from None
+        try:
+            current = os.path.samestat(os.fstat(lock.fileno()), os.stat(path))
+        except FileNotFoundError:
+            current = False
+        if current:
+            stack.callback(lock.close)
+            stack.callback(fcntl.flock, lock, fcntl.LOCK_UN)
+            stack.callback(_unlink, path)  # runs first: removed while still held
+            return
+        lock.close()
+    raise SweepError(f"other sweeps keep starting in {out}; give another --out")
+
+
+def _unlink(path: Path) -> None:
+    """Remove ``path`` if it is there."""
+    with contextlib.suppress(FileNotFoundError):
+        path.unlink()
 
 
 def _checkpoint(out: Path, ck_config: dict) -> Checkpoint:
-    """The sweep's checkpoint (``out/points.jsonl``); ``SweepError`` if it cannot be written."""
+    """The sweep's checkpoint (``out/points.jsonl``, keeping the rows of other code and other
+    sweep formats as history); ``SweepError`` if it cannot be written."""
     try:
-        return Checkpoint(out / "points.jsonl", ck_config)
+        return Checkpoint(out / "points.jsonl", ck_config, keep_other=True)
     except OSError as exc:
         raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
+
+
+def _other_code_rows(history: list[dict], configs: dict, stored: dict) -> dict[str, str]:
+    """key -> the code revision of the last row of each of this grid's points that
+    ``points.jsonl`` holds only from other code (a point's key fixes its config, so a row
+    that is not resumed is another code's or another sweep format's)."""
+    return {
+        r["key"]: r.get("git_revision", "?")
+        for r in history
+        if r["key"] in configs and r["key"] not in stored
+    }
+
+
+def _refuse_cluster_keys(experiment: str, swept: dict, sets: dict) -> None:
+    """``SweepError`` for an experiment's own :data:`CLUSTER_KEYS` in the grid or ``--set``:
+    a point runs serially in one task of the sweep's cluster, so they would be ignored."""
+    import importlib
+
+    from .experiment_config import EXPERIMENTS
+
+    if experiment not in EXPERIMENTS:  # build_config names the known ones
+        return
+    own = importlib.import_module(EXPERIMENTS[experiment]).DEFAULT_CONFIG
+    given = [k for k in CLUSTER_KEYS if k in own and (k in swept or k in sets)]
+    if given:
+        where = "--grid/--zip" if any(k in swept for k in given) else "--set"
+        raise SweepError(
+            f"{given} in {where}: {experiment}'s own {'/'.join(CLUSTER_KEYS)} keys place its rows on a "
+            "cluster, but in a sweep every point runs serially in one task of the sweep's cluster, so "
+            "they would be ignored; size that cluster with --workers N or --scheduler ADDRESS instead"
+        )
+
+
+def _remove_stale_plots(out: Path) -> None:
+    """Remove ``out``'s ``plot_*.png`` of earlier runs: the table is rewritten now, so they may
+    show other points (``workbench sweep --plot`` writes the ones asked for again)."""
+    for old in sorted(out.glob("plot_*.png")):
+        with contextlib.suppress(OSError):
+            old.unlink()
+            log.info("removed %s (from an earlier run of this sweep)", old)
 
 
 def _last_line(error: str | None) -> str:
@@ -601,25 +778,51 @@ def _sweep_experiment(out: Path) -> str | None:
 
 
 def _check_metrics(row: dict, names: list[str]) -> None:
-    """``SweepError`` unless every name is a number column of a finished point's row."""
-    import difflib
-
+    """``SweepError`` unless every name is a number column of a finished point's row (a null
+    value counts: the column is NaN there), with the closest column names as a hint."""
     # the experiment's numbers and the table's own columns (``seconds`` a number, ``status`` not)
     metrics = {
         **row["metrics"],
         **{k: row.get(k) for k in ("seconds", "seed", "status", "error", "git_revision")},
     }
-    numbers = sorted(k for k, v in metrics.items() if isinstance(v, (int, float)) and not isinstance(v, bool))
+    numbers = sorted(
+        k
+        for k, v in metrics.items()
+        if v is None or (isinstance(v, (int, float)) and not isinstance(v, bool))
+    )
     for name in names:
         if name in numbers:
             continue
         what = "is not a number" if name in metrics else "is not a column"
-        close = difflib.get_close_matches(name, numbers, n=3, cutoff=0.5)
         raise SweepError(
             f"{name!r} {what} of this sweep's table (checked on point {row['key']}); "
-            + (f"did you mean {close}? " if close else "")
-            + f"number columns: {numbers}"
+            + column_hint(name, numbers)
         )
+
+
+def close_columns(name: str, columns: list[str], n: int | None = None) -> list[str]:
+    """Up to ``n`` (default ``config.DEFAULTS.sweep_column_hints``, read now) of ``columns``
+    closest to ``name``: difflib's close matches of the whole dotted path, then the columns
+    whose last part is ``name``'s last part (``recall`` finds ``...6dls.recall``)."""
+    import difflib
+
+    from . import config
+
+    n = config.DEFAULTS.sweep_column_hints if n is None else n
+    close = difflib.get_close_matches(name, columns, n=n, cutoff=0.5)
+    leaf = name.rsplit(".", 1)[-1]
+    close += [c for c in columns if c not in close and c.rsplit(".", 1)[-1] == leaf]
+    return close[:n]
+
+
+def column_hint(name: str, columns: list[str]) -> str:
+    """ "did you mean [...]?" for a name that is not one of ``columns``, and the columns
+    themselves only when they are few (a summary has ~200 number columns)."""
+    close = close_columns(name, columns)
+    text = f"did you mean {close}? " if close else "no column name is close; "
+    if len(columns) <= 20:
+        return text + f"number columns: {columns}"
+    return text + f"{len(columns)} number columns in all (pandas.read_parquet(<table>).columns lists them)"
 
 
 def _cli_value(v: Any) -> Any:
@@ -629,9 +832,19 @@ def _cli_value(v: Any) -> Any:
     return _parse_value(str(v)) if isinstance(v, _CliText) else v
 
 
-def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None = None) -> Path:
+def plot_sweep(
+    table: str | Path,
+    key: str,
+    metric: str,
+    out: str | Path | None = None,
+    zipped: list[str] | tuple[str, ...] | None = None,
+) -> Path:
     """Figure of ``metric`` against ``key`` from a sweep table (one line per combination of
-    the other varied keys); written next to the table as ``plot_<key>_<metric>.png``."""
+    the other varied keys); written next to the table as ``plot_<key>_<metric>.png``.
+
+    zipped : the sweep's ``--zip`` keys (default: those of the ``sweep.json`` beside the
+    table).  When ``key`` is one of them, the others vary with it along the line and do not
+    split lines (:func:`line_keys`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -650,9 +863,10 @@ def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None 
     ]
     if metric not in numbers:
         what = "is not a number column" if metric in df.columns else "is not a column"
-        raise SweepError(f"{metric!r} {what} of {table}; number columns: {sorted(numbers)}")
+        raise SweepError(f"{metric!r} {what} of {table}; " + column_hint(metric, sorted(numbers)))
     ok = df[df["status"] == "ok"]
-    others = [c for c in _varied(df) if c not in (key, metric)]  # one line per combination of these
+    zipped = _zip_keys(Path(table).parent) if zipped is None else list(zipped)
+    others = line_keys(_varied(df), key, metric, zipped)  # one line per combination of these
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     groups = ok.groupby(others) if others else [((), ok)]
     for label, g in groups:
@@ -673,6 +887,22 @@ def plot_sweep(table: str | Path, key: str, metric: str, out: str | Path | None 
     safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", f"plot_{key}_{metric}")
     path = Path(out) if out else Path(table).parent / f"{safe}.png"
     return save_figure(fig, path)
+
+
+def line_keys(varied: list[str], key: str, metric: str, zipped: list[str]) -> list[str]:
+    """The varied keys that split a plot of ``metric`` against ``key`` into lines: every
+    other varied key, less the keys zipped with ``key`` (paired with it, they vary along the
+    line: one line per combination of the ``--grid`` keys)."""
+    along = set(zipped) if key in zipped else set()
+    return [c for c in varied if c not in (key, metric) and c not in along]
+
+
+def _zip_keys(out: Path) -> list[str]:
+    """The ``--zip`` keys of the sweep in ``out`` (its sweep.json), ``[]`` if none or unknown."""
+    try:
+        return list(json.loads((out / "sweep.json").read_text()).get("zip") or {})
+    except (OSError, ValueError, AttributeError):
+        return []
 
 
 def _varied(df: Any) -> list[str]:
