@@ -199,8 +199,77 @@ def test_the_cell_cache_changes_no_bit(name):
     xi = sample_twists_thesis(30, surface.length_scale, seed=11)
     reference = _wrenches_evaluating_every_cell(surface, xi, 0.7, 1e-4)
     np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
-    with config.override(quadrature_cache_cells=40):
-        np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
+    for cap in (40, 0):
+        with config.override(quadrature_cache_cells=cap):
+            np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
+
+
+def _cell_tree(surface, depth):
+    """Every cell of the first ``depth`` levels below a surface's initial cells and its id
+    (surfaces._split, _split_ids), level by level: (n, 4) bounds, (n,) ids."""
+    from workbench.sources import surfaces as srf
+
+    cells = [srf._initial_cells(surface)]
+    ids = [np.arange(len(cells[0]), 2 * len(cells[0]), dtype=np.int64)]
+    for _ in range(depth):
+        cells.append(srf._split(cells[-1]))
+        ids.append(srf._split_ids(ids[-1]))
+    return np.concatenate(cells), np.concatenate(ids)
+
+
+def test_cell_ids_name_one_cell_each_and_never_overflow():
+    """The 4-ary heap numbering: across levels, one id per cell and one cell per id; a child
+    past _ID_LIMIT gets a negative id (none), as do its descendants — the cell cache keys by them."""
+    from workbench.sources import surfaces as srf
+
+    cells, ids = _cell_tree(THESIS_SURFACES["S1"], 7)
+    assert len(ids) == 14 * (4**8 - 1) // 3 and (ids > 0).all()
+    assert len(np.unique(ids)) == len(ids) == len(np.unique(cells, axis=0))
+    deep = np.array([srf._ID_LIMIT // 4 - 1, srf._ID_LIMIT // 4, -1, -5])
+    kids = srf._split_ids(deep)
+    assert (kids[:4] == 4 * deep[0] + np.arange(4)).all() and kids[3] < srf._ID_LIMIT
+    assert (kids[4:] < 0).all()
+    assert (srf._split_ids(kids[4:]) < 0).all()
+
+
+@pytest.mark.parametrize("cap", [100_000, 300, 0])
+def test_the_cell_cache_returns_each_cells_own_points(cap):
+    """_CellGeometry over calls of revisited, new and id-less (-1) cells, growing its table and
+    (small caps) starting afresh: every segment holds its own cell's Gauss points, bit for bit."""
+    from workbench.sources import surfaces as srf
+
+    surface = THESIS_SURFACES["S4"]
+    order, center = 3, np.array([0.01, -0.02, 0.03])
+    cells, ids = _cell_tree(surface, 4)
+    ids[len(ids) // 2 :: 7] = -1  # as if too deep for an id: keyed by their bounds
+    ids[len(ids) // 2 + 3 :: 11] = -6
+    xyz, n, da, p = srf._cell_points(surface, cells, order)
+    q = order * order
+    rng = np.random.default_rng(5)
+    geometry = srf._CellGeometry(surface, order, center, cap)
+    for _ in range(12):
+        rows = rng.choice(len(cells), rng.integers(1, 900))
+        rows = np.concatenate([rows, rows[: len(rows) // 3]])  # repeats within a call
+        lo, hi = geometry.segments(cells[rows], ids[rows])
+        assert (hi - lo == q).all()
+        points = (lo[:, None] + np.arange(q)).ravel()
+        own = (rows[:, None] * q + np.arange(q)).ravel()
+        np.testing.assert_array_equal(geometry.cols[0:3, points], (xyz[own] - center).T)
+        np.testing.assert_array_equal(geometry.cols[3:6, points], n[own].T)
+        np.testing.assert_array_equal(geometry.cols[6, points], da[own] * p[own])
+        assert geometry.n <= max(cap, len(np.unique(rows)))
+
+
+def test_cells_without_an_id_change_no_bit(monkeypatch):
+    """With ids ending two levels down (every deeper cell keyed by its bounds), the wrenches
+    are those of evaluating every cell afresh."""
+    from workbench.sources import surfaces as srf
+
+    surface = THESIS_SURFACES["S1"].normalized()
+    xi = sample_twists_thesis(12, surface.length_scale, seed=3)
+    reference = _wrenches_evaluating_every_cell(surface, xi, 0.7, 1e-4)
+    monkeypatch.setattr(srf, "_ID_LIMIT", 4 * 16 * 4**2)
+    np.testing.assert_array_equal(surface_wrenches(surface, xi, 0.7, rtol=1e-4), reference)
 
 
 def test_rough_integrand_stops_at_the_cell_cap_with_an_honest_estimate(caplog):
@@ -291,3 +360,33 @@ def test_sigma_of_the_wrong_shape_is_refused_where_it_is_evaluated():
     rows = _polar_disc("disc-rows", 0.01, analytic=False, sigma=lambda r, t: np.stack([r, t, 0 * r]))
     with pytest.raises(ValueError, match=r"sigma must map .*\(3, \d+\).*np.stack\(np.broadcast_arrays"):
         mesh_profile(rows, 20)
+
+
+def test_cell_slot_kernel_matches_a_dict(rng):
+    """workbench._kernels._cell_slots against a Python dict: slots by first appearance, the
+    rows of new ids, over calls that repeat, add and mix ids (runs of consecutive ids as a
+    level holds, random large ones, and the < -1 keys of cells without an id)."""
+    from workbench import _kernels
+
+    table = np.full((2, 1 << 12), -1, dtype=np.int64)
+    ref: dict[int, int] = {}
+    for call in range(6):
+        ids = np.concatenate(
+            [
+                np.arange(1000 + 50 * call, 1100 + 50 * call),  # consecutive: overlaps the last call
+                rng.integers(0, 2**62, 30),
+                -2 - rng.integers(0, 40, 10),
+                rng.choice(np.array(list(ref) or [7]), 20),  # held already
+            ]
+        ).astype(np.int64)
+        rng.shuffle(ids)
+        want_rows, want = [], np.empty_like(ids)
+        for i, key in enumerate(ids.tolist()):
+            if key not in ref:
+                ref[key] = len(ref)
+                want_rows.append(i)
+            want[i] = ref[key]
+        slots, rows = np.empty_like(ids), np.empty_like(ids)
+        k = _kernels._cell_slots(table, ids, len(ref) - len(want_rows), slots, rows)
+        np.testing.assert_array_equal(slots, want)
+        np.testing.assert_array_equal(rows[:k], want_rows)

@@ -176,44 +176,103 @@ class _CellGeometry:
     The adaptive quadrature of a twist chunk re-visits the cells other twists and chunks
     refined into — measured over 1,000 twists at rtol 1e-4, S1 asked for 118,420 cells of
     which 14,902 differ, S4 262,258 of 21,659 — and evaluating the surface (its Python
-    callables) and gathering the points cost ~30x the wrench kernel on them.  A cell is its
-    bounds (u0, u1, v0, v1), bit for bit: children are midpoints of their parent's, so a cell
-    reached twice has the same bytes.  Holds at most ``max_cells`` cells (or one call's): when
-    a call's new cells do not fit, it starts afresh.
+    callables) and gathering the points cost ~30x the wrench kernel on them.  A cell is
+    named by its id from :func:`_adaptive` (``cell_ids=True``; one instance per set of
+    initial cells, so an id is one cell's bounds) and looked up in a hash table by a kernel:
+    hashing the bounds' bytes in a dict took 30 % of the CPU time of S4's 48,483-twist
+    quadrature in ls-fitting (6.9 of 22.7 s), the ids and the table 8 % (1.5 of 18.5 s).  A
+    cell deeper than the ids reach (a negative id) is keyed by its bounds (u0, u1, v0, v1),
+    bit for bit: children are midpoints of their parent's, so a cell reached twice has the
+    same bytes.  Holds at most ``max_cells`` cells (or one call's): when a call's new cells do
+    not fit, it starts afresh.
 
-    Arrays per point: ``r = xyz - center`` (the torque arm), ``n``, ``dw = w_gl |σ_u × σ_v| p``.
+    Arrays per segment: ``ids`` (its cell's key).  Per point: ``r = xyz - center`` (the torque
+    arm), ``n``, ``dw = w_gl |σ_u × σ_v| p``.
     """
 
     def __init__(self, surface: ParametricSurface, order: int, center: Array, max_cells: int) -> None:
         self.surface, self.order, self.center, self.max_cells = surface, order, center, max_cells
         self.q = order * order
-        self.index: dict[bytes, int] = {}
-        self.cols = np.empty((7, 64 * self.q))  # rx, ry, rz, nx, ny, nz, dw; capacity doubles
+        self.ids = np.empty(64, dtype=np.int64)  # capacity doubles, as that of cols
+        self.cols = np.empty((7, 64 * self.q))  # rx, ry, rz, nx, ny, nz, dw
+        self._clear()
 
-    def segments(self, cells: Array) -> tuple[Array, Array]:
-        """(m,) first and one-past-last point of each of cells (m, 4) in :attr:`cols`."""
-        cells = np.ascontiguousarray(cells, dtype=np.float64)
-        keys = cells.view(np.dtype((np.void, 32))).ravel().tolist()
-        index = self.index
-        new = {key: k for k, key in enumerate(keys) if key not in index}  # key -> a row holding it
-        if new:
-            if len(index) + len(new) > self.max_cells:
-                index.clear()  # full: start afresh (every cell of this call is new then)
-                new = dict(zip(keys, range(len(keys)), strict=True))
-            rows = np.fromiter(new.values(), dtype=np.int64, count=len(new))
-            xyz, n, da, p = _cell_points(self.surface, cells[rows], self.order)
-            start = len(index) * self.q
-            stop = start + len(rows) * self.q
-            if stop > self.cols.shape[1]:
-                grown = np.empty((7, max(2 * self.cols.shape[1], stop)))
-                grown[:, :start] = self.cols[:, :start]
-                self.cols = grown
-            self.cols[0:3, start:stop] = (xyz - self.center).T
-            self.cols[3:6, start:stop] = n.T
-            self.cols[6, start:stop] = da * p
-            index.update(zip(new, range(len(index), len(index) + len(new)), strict=True))
-        lo = np.fromiter(map(index.__getitem__, keys), dtype=np.int64, count=len(keys)) * self.q
+    def _clear(self) -> None:
+        self.n = 0  # cells held
+        self.table = np.full((2, 64), -1, dtype=np.int64)  # _kernels._cell_slots'
+        self.deep: dict[bytes, int] = {}  # bounds -> key (< -1) of a cell without an id
+
+    def _keys(self, cells: Array, ids: Array) -> Array:
+        """(m,) the cells' ids, each negative one (a cell too deep for an id) replaced by a key
+        < -1 of its bounds (-1 marks empty entries of the table)."""
+        if ids.size == 0 or ids.min() >= 0:
+            return ids
+        deep = np.flatnonzero(ids < 0)
+        ids = ids.copy()
+        bounds = np.ascontiguousarray(cells[deep], dtype=np.float64).view(np.dtype((np.void, 32))).ravel()
+        ids[deep] = [self.deep.setdefault(key, -2 - len(self.deep)) for key in bounds.tolist()]
+        return ids
+
+    def _slots(self, keys: Array) -> tuple[Array, Array]:
+        """(m,) slots of keys (m,), adding the missing ones; (k,) rows of the k added."""
+        size = self.table.shape[1]
+        if 2 * (self.n + keys.size) > size:  # under half full after the call: short probes
+            size = 1 << int(2 * (self.n + keys.size)).bit_length()
+            self.table = np.full((2, size), -1, dtype=np.int64)
+            held = self.ids[: self.n]  # distinct: re-added at their slots 0..n-1
+            _kernels._cell_slots(self.table, held, 0, np.empty_like(held), np.empty_like(held))
+        slots, rows = np.empty_like(keys), np.empty_like(keys)
+        k = _kernels._cell_slots(self.table, keys, self.n, slots, rows)
+        return slots, rows[:k]
+
+    def segments(self, cells: Array, ids: Array) -> tuple[Array, Array]:
+        """(m,) first and one-past-last point in :attr:`cols` of each of cells (m, 4) with
+        ids (m,) int64 (:func:`_adaptive`'s, negative for a cell without one)."""
+        ids = np.asarray(ids, dtype=np.int64)
+        keys = self._keys(cells, ids)
+        slots, new = self._slots(keys)
+        if new.size and self.n + new.size > self.max_cells:
+            self._clear()  # full: start afresh (every cell of this call is new then)
+            keys = self._keys(cells, ids)
+            slots, new = self._slots(keys)
+        if new.size:  # slots n.. in order of first appearance, as a dict of the cells did
+            self._store(cells[new], keys[new])
+        lo = slots * self.q
         return lo, lo + self.q
+
+    def _store(self, cells: Array, keys: Array) -> None:
+        """Evaluate cells (k, 4) with keys (k,) into the next k segments."""
+        xyz, n, da, p = _cell_points(self.surface, cells, self.order)
+        start, stop = self.n, self.n + cells.shape[0]
+        a, b = start * self.q, stop * self.q
+        if stop > self.ids.size:
+            size = max(2 * self.ids.size, stop)
+            self.ids = np.concatenate([self.ids[:start], np.empty(size - start, dtype=np.int64)])
+            grown = np.empty((7, size * self.q))
+            grown[:, :a] = self.cols[:, :a]
+            self.cols = grown
+        self.ids[start:stop] = keys
+        self.cols[0:3, a:b] = (xyz - self.center).T
+        self.cols[3:6, a:b] = n.T
+        self.cols[6, a:b] = da * p
+        self.n = stop
+
+
+#: Cell ids (:func:`_adaptive` with ``cell_ids=True``): the i-th of m initial cells is m + i
+#: and child k of cell c (:func:`_split`'s order) is 4c + k, a 4-ary heap numbering unique
+#: across levels (a level-L id lies in [m 4^L, 2m 4^L)).  Ids stay below _ID_LIMIT (int64 cannot
+#: overflow): a child past it gets a negative id (none), as do its descendants (4c + k < 0 for
+#: c < 0) — with 16 initial cells, those of level 29 and deeper (widths < 2e-9 of the initial
+#: cells').
+_ID_LIMIT = 2**62
+
+
+def _split_ids(ids: Array) -> Array:
+    """(m,) cell ids -> (4m,) their children's, children of cell i at rows 4i..4i+3 (as :func:`_split`)."""
+    kids = (4 * ids[:, None] + np.arange(4)).ravel()
+    if ids.size and ids.max() >= _ID_LIMIT // 4:  # rare: not tested per child
+        kids[np.repeat(ids >= _ID_LIMIT // 4, 4)] = -1
+    return kids
 
 
 def _split(cells: Array) -> Array:
@@ -252,6 +311,7 @@ def _adaptive(
     eta: float = 0.1,
     max_cells: int | None = None,
     setting: str = "rtol",
+    cell_ids: bool = False,
 ) -> tuple[Array, Array, int]:
     """Adaptive cubature of ``n_groups`` vector integrands sharing a domain.
 
@@ -261,25 +321,32 @@ def _adaptive(
     summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
     and the number of integrand cells evaluated.  max_cells : default
     ``config.TOL.quadrature_max_cells`` (read now).  setting : where ``tol`` came from
-    (named by the warning when the cell cap stops the refinement).
+    (named by the warning when the cell cap stops the refinement).  cell_ids : call
+    ``evaluate(cells, groups, ids)`` instead, ids (m,) int64 naming each cell among the
+    descendants of ``init_cells`` (negative: none, :data:`_ID_LIMIT`).
     """
     block = config.TOL.quadrature_eval_block
     max_cells = config.TOL.quadrature_max_cells if max_cells is None else max_cells
     raw_evaluate = evaluate
 
-    def evaluate(c: Array, g: Array) -> Array:  # bounded temporaries
+    def evaluate(c: Array, g: Array, ids: Array) -> Array:  # bounded temporaries
+        def part(i: int, j: int) -> Array:
+            return raw_evaluate(c[i:j], g[i:j], ids[i:j]) if cell_ids else raw_evaluate(c[i:j], g[i:j])
+
         if c.shape[0] <= block:
-            return raw_evaluate(c, g)
-        return np.concatenate(
-            [raw_evaluate(c[i : i + block], g[i : i + block]) for i in range(0, c.shape[0], block)]
-        )
+            return part(0, c.shape[0])
+        return np.concatenate([part(i, i + block) for i in range(0, c.shape[0], block)])
+
+    def evaluate_kids(c: Array, g: Array, ids: Array) -> Array:  # (m, 4, q) of cells' children
+        return evaluate(_split(c), np.repeat(g, 4), _split_ids(ids)).reshape(-1, 4, q)
 
     m0 = init_cells.shape[0]
     cells = np.tile(init_cells, (n_groups, 1))
     groups = np.repeat(np.arange(n_groups), m0)
-    coarse = evaluate(cells, groups)
+    ids = m0 + np.arange(n_groups * m0, dtype=np.int64) % m0  # as np.tile(init_cells, ...)
+    coarse = evaluate(cells, groups, ids)
     q = coarse.shape[1]
-    kids = evaluate(_split(cells), np.repeat(groups, 4)).reshape(-1, 4, q)
+    kids = evaluate_kids(cells, groups, ids)
     n_eval = 5 * cells.shape[0]
     for _ in range(max_passes):
         fine = kids.sum(axis=1)
@@ -304,12 +371,14 @@ def _adaptive(
             break
         new_cells = _split(cells[mark])
         new_groups = np.repeat(groups[mark], 4)
+        new_ids = _split_ids(ids[mark])
         new_coarse = kids[mark].reshape(-1, q)
-        new_kids = evaluate(_split(new_cells), np.repeat(new_groups, 4)).reshape(-1, 4, q)
+        new_kids = evaluate_kids(new_cells, new_groups, new_ids)
         n_eval += 4 * new_cells.shape[0]
         keep = ~mark
         cells = np.concatenate([cells[keep], new_cells])
         groups = np.concatenate([groups[keep], new_groups])
+        ids = np.concatenate([ids[keep], new_ids])
         coarse = np.concatenate([coarse[keep], new_coarse])
         kids = np.concatenate([kids[keep], new_kids])
     fine = kids.sum(axis=1)
@@ -436,9 +505,9 @@ def surface_wrenches(
 
     geometry = _CellGeometry(surface, order, mom.pressure_center, config.TOL.quadrature_cache_cells)
 
-    def evaluate(cells: Array, groups: Array, twists: Array) -> Array:
+    def evaluate(cells: Array, groups: Array, ids: Array, twists: Array) -> Array:
         out = np.empty((cells.shape[0], 6))
-        seg_lo, seg_hi = geometry.segments(cells)
+        seg_lo, seg_hi = geometry.segments(cells, ids)
         launch(
             _kernels._fw_segments,
             cells.shape[0] * geometry.q,
@@ -455,8 +524,8 @@ def surface_wrenches(
     for start in range(0, xi.shape[0], chunk):
         part = xi[start : start + chunk]
 
-        def evaluate_part(cells: Array, groups: Array, part: Array = part) -> Array:
-            return evaluate(cells, groups, part)
+        def evaluate_part(cells: Array, groups: Array, ids: Array, part: Array = part) -> Array:
+            return evaluate(cells, groups, ids, part)
 
         vals[start : start + len(part)], err[start : start + len(part)], _ = _adaptive(
             evaluate_part,
@@ -466,6 +535,7 @@ def surface_wrenches(
             target,
             config.TOL.quadrature_max_passes,
             setting=setting,
+            cell_ids=True,
         )
     vals *= mu_f
     if single:
