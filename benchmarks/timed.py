@@ -5,7 +5,9 @@
 
 runs COMMAND, then merges ``{LABEL: {seconds, command, exit_code}}`` into the split of the
 current ``make reproduce`` (``REPRODUCE_RUN``, set once by the Makefile; a new value starts a
-new split, so the file holds one run's steps) with their total and the machine: cores and
+new split, so the file holds one run's steps, and moves the split it replaces to
+``reproduce.previous.json``: one step timed by hand cannot wipe a whole run's) with their total
+and the machine: cores and
 the FMA roofline of benchmarks/bench_wrench.py, measured once per run (DEVELOPERS.md:
 every timing beside the machine's measured limit).  The file is rewritten atomically; the
 command's exit code is passed on, so a failing step still stops ``make``.
@@ -23,6 +25,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "benchmarks" / "reproduce.json"
+
+
+def _previous(out: Path) -> Path:
+    """Where the split a new run replaces is kept (one: the last run before this one)."""
+    return out.with_name(out.stem + ".previous.json")
 
 
 def _children_cpu_s() -> float:
@@ -48,6 +55,9 @@ def main(argv: list[str]) -> int:
     data = json.loads(OUT.read_text()) if OUT.exists() else {}
     if data.get("run") != run_id:  # a new make reproduce: a new split
         from bench_wrench import machine_roofline  # the sibling benchmark's FMA roofline
+
+        if data:
+            write_json(_previous(OUT), data)
 
         data = {
             "benchmark": "make reproduce, wall time per step (issue 14: <= 30 min on this 2-core machine)",

@@ -41,7 +41,8 @@ def test_a_step_records_its_processes_cpu_and_the_cores_it_kept_busy(monkeypatch
     assert spin["cores_busy"] == spin["cpu_seconds"] / spin["seconds"]
     assert data["steps"]["fail"]["exit_code"] == 3
     assert data["total_cpu_seconds"] == spin["cpu_seconds"] + data["steps"]["fail"]["cpu_seconds"]
-    # a new run starts a new split
+    # a new run starts a new split; the one it replaces is kept beside it
     monkeypatch.setenv("REPRODUCE_RUN", "next-run")
     mod.main(["again", "--", sys.executable, "-c", "pass"])
     assert list(json.loads((tmp_path / "reproduce.json").read_text())["steps"]) == ["again"]
+    assert json.loads((tmp_path / "reproduce.previous.json").read_text()) == data
