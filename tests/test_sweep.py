@@ -641,8 +641,9 @@ def test_sweep_values_that_fail_in_the_run_are_refused_before_any_work(tmp_path)
     ):
         with pytest.raises(SweepError, match=match):
             run_sweep("sensitivity", grid, quick=True, out=tmp_path / "sw", progress=False)
-    with pytest.raises(SweepError, match="--seed -1: seed expects int"):
+    with pytest.raises(SweepError, match="--seed -1: seed expects int") as exc:
         run_sweep("sensitivity", {"mu": [0.3]}, quick=True, seed=-1, out=tmp_path / "sw", progress=False)
+    assert "thickness" not in str(exc.value)  # the note on sizes refused at 0 is not a seed's
     assert not (tmp_path / "sw").exists()
 
 
@@ -650,11 +651,12 @@ def test_a_list_valued_key_swept_by_scalars_says_to_give_a_list_of_lists(tmp_pat
     import shlex
 
     with pytest.raises(SweepError) as exc:
-        run_sweep("sensitivity", {"force_range": [20, 35]}, quick=True, out=tmp_path / "sw", progress=False)
+        run_sweep("sensitivity", {"force_range": [25, 40]}, quick=True, out=tmp_path / "sw", progress=False)
     msg = str(exc.value)
     assert "force_range takes a list" in msg and "list of lists" in msg, msg
-    flag, item = shlex.split(msg.split("e.g. ")[-1])  # the hint, pasted back, is a valid sweep
-    assert flag == "--grid" and cli._parse_lists([item], "--grid") == {"force_range": [[20.0, 35.0]]}
+    # the hint, pasted back, is a valid sweep of the values given (not of the default, 20-35)
+    flag, item = shlex.split(msg.split("e.g. ")[-1])
+    assert flag == "--grid" and cli._parse_lists([item], "--grid") == {"force_range": [[25, 40]]}
     with pytest.raises(SweepError, match="so --zip sweeps it by a list of lists"):
         run_sweep(
             "sensitivity", {}, {"force_range": [20, 35]}, quick=True, out=tmp_path / "s", progress=False

@@ -200,9 +200,11 @@ def _check_range(key: str, value: Any, default: Any) -> Any:
     noise levels; offsets with negative defaults are free); a ``*_range`` key is
     ``[lo, hi]`` with ``lo <= hi``.  Maps (e.g. approach angles) are not judged."""
     if _number(default) and default >= 0 and _number(value) and value < 0:
+        # a float key may be a size the experiment refuses at 0 too; an integer key (a seed, a
+        # count) takes 0 unless its experiment says otherwise
+        zero = "" if isinstance(default, int) else " (the experiment may refuse 0 as well, e.g. a thickness)"
         raise _Mismatch(
-            f"{value!r} is negative; the default is not, and this key takes no negative values "
-            "(the experiment may refuse 0 as well, e.g. a thickness)"
+            f"{value!r} is negative; the default is not, and this key takes no negative values{zero}"
         )
     if isinstance(default, (list, tuple)) and default and all(_number(d) and d >= 0 for d in default):
         bad = [v for v in value if _number(v) and v < 0]

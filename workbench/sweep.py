@@ -195,15 +195,16 @@ def run_point(experiment: str, config: dict, threads: int = 1) -> dict:
         }
 
 
-def list_key_hint(key: str, value: Any, default: Any, flag: str = "--grid") -> str | None:
-    """The fix for a swept value that is not a list where ``key``'s default is one (a
+def list_key_hint(key: str, values: list, default: Any, flag: str = "--grid") -> str | None:
+    """The fix for swept ``values`` that are not lists where ``key``'s default is one (a
     ``--grid 'force_range=[20,35]'`` sweeps the scalars 20 and 35): a list-valued key is swept
-    by a list of lists, one inner list per point.  None when that is not the mistake."""
+    by a list of lists, one inner list per point — the example wraps the values given (one
+    point of them), not the default.  None when that is not the mistake."""
     import shlex
 
-    if not isinstance(default, (list, tuple)) or isinstance(value, (list, tuple)):
+    if not isinstance(default, (list, tuple)) or any(isinstance(v, (list, tuple)) for v in values):
         return None
-    example = json.dumps([list(default)])
+    example = json.dumps([list(values)])
     return (
         f"{key} takes a list, so {flag} sweeps it by a list of lists, one inner list per point: "
         f"e.g. {flag} {shlex.quote(f'{key}={example}')}"
@@ -241,7 +242,8 @@ def _point_configs(
                 if msg.startswith(f"--set {k}="):
                     flag = "--zip" if k in zipped_keys else "--grid"
                     default = importlib.import_module(EXPERIMENTS[experiment]).DEFAULT_CONFIG.get(k)
-                    hint = list_key_hint(k, given[k], default, flag)
+                    swept = list(dict.fromkeys(json.dumps(p[k]) for p in points))  # in the order given
+                    hint = list_key_hint(k, [json.loads(v) for v in swept], default, flag)
                     msg = f"grid value {msg[len('--set ') :]}"
                     msg = (
                         msg.split(" — give e.g.")[0] + f" — {hint}"
