@@ -83,17 +83,17 @@ def resists_exact(
     F = contacts.F if forces is None else np.asarray(forces, float)
     N = len(F)
     lo, hi = F * (1 - r), F
-    cols = [list(s) for s in contacts.start]
+    # each contact's columns (its wrenches, μ = 1, unit force), grown by one row a round: arrays
+    # kept between rounds instead of a list restacked every round (the same rows, the same bits)
+    cols = [np.array(s, dtype=float) for s in contacts.start]
     # unit-force columns u = μ w + ŵ⊥ in the object frame; weights α in newtons
     D = capacity_scaling(
-        np.vstack(
-            [(F[i] * (mu * np.array(cols[i]) + contacts.normal[i])) @ contacts.G[i].T for i in range(N)]
-        ),
+        np.vstack([(F[i] * (mu * cols[i] + contacts.normal[i])) @ contacts.G[i].T for i in range(N)]),
         contacts.arm,
     )
     target = -w * D
     for it in range(1, max_iter + 1):
-        U = [((mu * np.array(cols[i]) + contacts.normal[i]) @ contacts.G[i].T * D) * F[i] for i in range(N)]
+        U = [((mu * cols[i] + contacts.normal[i]) @ contacts.G[i].T * D) * F[i] for i in range(N)]
         sizes = [len(u) for u in U]
         n = sum(sizes)
         A = np.zeros((6, n + 12))
@@ -132,5 +132,5 @@ def resists_exact(
         if gap > tol:
             return False, it  # separated by the exact support: certified outside
         for i in range(N):
-            cols[i].append(new[i])
+            cols[i] = np.vstack([cols[i], new[i]])
     raise RuntimeError(f"resists_exact did not converge in {max_iter} column-generation rounds")
