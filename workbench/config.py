@@ -399,10 +399,11 @@ class Defaults:
     # rigid deflected less than that.
     work_eps: float = 5e-5
 
-    # Inner-loop iterations (elements x twists, points x monomials, ...) from which a kernel
-    # call runs its parallel (prange) twin; below, the serial twin (workbench.kernel_launch).
-    # A parallel region costs ~4 µs to start on idle threads and up to ~1 ms when another
-    # process holds the other core; 50,000 iterations are ~50-150 µs of serial work here.
+    # Inner-loop iterations (elements x twists, points x monomials, ...) from which a parallel
+    # (prange) kernel call runs on Numba's threads; below, on the calling thread alone (a
+    # thread mask of one, the same compiled kernel: workbench.kernel_launch).  A parallel
+    # region costs ~4 µs to start on idle threads and up to ~1 ms when another process holds
+    # the other core; 50,000 iterations are ~50-150 µs of serial work here.
     parallel_min_work: int = 50_000
 
     # Rows of one experiment from which it runs them on a local Dask cluster (one worker per
