@@ -46,7 +46,7 @@ from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
 from workbench.grasp.models import check_model, contact_sets
-from workbench.grasp.precision import matched_precision, recall_at_least, scores
+from workbench.grasp.precision import check_levels, matched_precision, recall_at_least, scores
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
@@ -151,8 +151,7 @@ def check_config(config: dict) -> None:
             f"metric's grasps are the first of them); got {config['n_disturbances']} and "
             f"{config['robust_disturbances']}"
         )
-    # matched_precision's own check of the levels, on a one-grasp stand-in
-    matched_precision(np.ones(1), np.ones(1, bool), config["precision_levels"])
+    check_levels(config["precision_levels"])  # matched_precision's rule
     for kind in config["training_samplers"]:
         SamplerSpec(kind=kind)  # raises ValueError naming the known kinds
     check_workers(config["workers"], config["scheduler"])

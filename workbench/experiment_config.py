@@ -158,8 +158,9 @@ def _check_finite(value: Any, where: str) -> None:
             _check_finite(v, where)
 
 
-def _coerce(key: str, value: Any, default: Any) -> Any:
-    """The ``--set`` value for ``key`` checked against its default's type."""
+def _coerce(key: str, value: Any, default: Any, flag: str = "--set") -> Any:
+    """The ``--set`` value for ``key`` checked against its default's type; ``flag`` names an
+    option that gives the key alone (``--seed``) in the message instead of ``--set key=``."""
     schema = _schema(default)
     if isinstance(value, _CliText):
         text = str(value)
@@ -172,22 +173,15 @@ def _coerce(key: str, value: Any, default: Any) -> Any:
         return _check_range(key, _check(value, schema, ""), default)
     except _Mismatch as exc:
         shown = _dumps(default)
+        given, example = (
+            (f"--set {key}={text}", f"--set {shlex.quote(f'{key}={shown}')}")
+            if flag == "--set"
+            else (f"{flag} {text}", f"{flag} {shown}")
+        )
         raise SystemExit(
-            f"--set {key}={text}: {key} expects {_describe(schema)} (default {shown}); "
-            f"{exc.args[0]} — give e.g. --set {shlex.quote(f'{key}={shown}')}"
+            f"{given}: {key} expects {_describe(schema)} (default {shown}); {exc.args[0]} "
+            f"— give e.g. {example}"
         ) from None
-
-
-def _coerce_seed(seed: Any, default: Any) -> Any:
-    """``--seed``'s value checked like ``--set seed=...`` against the default seed (an int
-    >= 0 where the default is one); ``SystemExit`` naming ``--seed`` otherwise."""
-    if default is None:  # an experiment without a seed key of its own takes it as given
-        return seed
-    try:
-        return _coerce("seed", seed, default)
-    except SystemExit as exc:
-        msg = str(exc.code).replace(f"--set seed={_dumps(seed)}", f"--seed {_dumps(seed)}", 1)
-        raise SystemExit(msg.split(" — give e.g.")[0] + f" — give e.g. --seed {_dumps(default)}") from None
 
 
 def _number(x: Any) -> bool:
@@ -241,8 +235,10 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     config["out"] = str(Path(out) if out else Path("results") / name)
     if seed is not None and "seed" in sets:  # one of them would be ignored silently
         raise SystemExit(f"seed is given by --seed ({seed}) and by --set seed={sets['seed']}: give it once")
+    default_seed = module.DEFAULT_CONFIG.get("seed")
     if seed is not None:  # checked like --set seed=... (a negative seed fails in numpy otherwise)
-        config["seed"] = _coerce_seed(seed, module.DEFAULT_CONFIG.get("seed"))
+        # an experiment without a seed key of its own takes it as given
+        config["seed"] = seed if default_seed is None else _coerce("seed", seed, default_seed, "--seed")
     reserved = sorted({"quick", "out"} & set(sets))
     if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
         raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")

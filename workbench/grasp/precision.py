@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["matched_precision", "recall_at_least", "scores"]
+__all__ = ["check_levels", "matched_precision", "recall_at_least", "scores"]
 
 
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
@@ -31,9 +31,26 @@ def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
     }
 
 
+def check_levels(levels: Any) -> None:
+    """``levels`` a sequence of precision levels in (0, 1] (:func:`matched_precision`'s);
+    ValueError saying what it got otherwise (an experiment's ``check_config`` calls it too)."""
+    if isinstance(levels, str) or not np.iterable(levels):
+        raise ValueError(
+            f"levels must be a sequence of precision levels in (0, 1], e.g. [0.9, 0.95]; got {levels!r} "
+            f"(a single level: pass [{levels!r}])"
+        )
+    for level in levels:
+        if isinstance(level, bool) or not isinstance(level, numbers.Real) or not 0 < level <= 1:
+            raise ValueError(
+                f"levels must be precision levels in (0, 1] (fractions, not percent: 0.9 for 90 %); got "
+                f"{level!r} in {list(levels)!r}"
+            )
+
+
 def _check_matched(margins: Any, truth: Any, levels: Any) -> tuple[np.ndarray, np.ndarray]:
     """``margins`` (n,) float without NaN and ``truth`` (n,) bool; ValueError naming
-    :func:`matched_precision`'s arguments otherwise, and for levels outside (0, 1]."""
+    :func:`matched_precision`'s arguments otherwise, and for levels outside (0, 1]
+    (:func:`check_levels`)."""
     m, t = np.asarray(margins), np.asarray(truth)
     if m.ndim != 1 or m.dtype == bool or not np.issubdtype(m.dtype, np.number):
         raise ValueError(
@@ -52,17 +69,7 @@ def _check_matched(margins: Any, truth: Any, levels: Any) -> tuple[np.ndarray, n
             f"truth must be an (n,) boolean array like margins {m.shape} (True: the truth resists); got "
             f"{t.dtype} shape {t.shape} — convert 0/1 with np.asarray(truth, bool)"
         )
-    if isinstance(levels, str) or not np.iterable(levels):
-        raise ValueError(
-            f"levels must be a sequence of precision levels in (0, 1], e.g. [0.9, 0.95]; got {levels!r} "
-            f"(a single level: pass [{levels!r}])"
-        )
-    for level in levels:
-        if isinstance(level, bool) or not isinstance(level, numbers.Real) or not 0 < level <= 1:
-            raise ValueError(
-                f"levels must be precision levels in (0, 1] (fractions, not percent: 0.9 for 90 %); got "
-                f"{level!r} in {list(levels)!r}"
-            )
+    check_levels(levels)
     return m, t
 
 
