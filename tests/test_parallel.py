@@ -84,11 +84,11 @@ def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_mal
     before = {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "TQDM_DISABLE")}
     with local_cluster(2, 1) as cluster, Client(cluster) as client:
         seen = list(client.run(_worker_environment).values())
-        # the scheduler hands out every task at once (config.DEFAULTS.cluster_worker_saturation):
-        # Dask's default queue cost each row a round trip
-        assert cluster.scheduler.WORKER_SATURATION == config.DEFAULTS.cluster_worker_saturation == math.inf
-    with config.override(cluster_worker_saturation=2), local_cluster(1, 1) as cluster:
-        assert cluster.scheduler.WORKER_SATURATION == 2.0
+        # the scheduler reads its queueing from config.DEFAULTS.cluster_worker_saturation (1.1:
+        # a row at a time to whichever worker is free), also when it is overridden
+        assert cluster.scheduler.WORKER_SATURATION == config.DEFAULTS.cluster_worker_saturation == 1.1
+    with config.override(cluster_worker_saturation=math.inf), local_cluster(1, 1) as cluster:
+        assert cluster.scheduler.WORKER_SATURATION == math.inf
     assert len(seen) == 2
     for env, _numba_threads, pools in seen:
         assert env == {

@@ -413,10 +413,14 @@ class Defaults:
     # Tasks a local cluster's scheduler hands a worker ahead, per thread (Dask's
     # distributed.scheduler.worker-saturation; inf: all of them at once, Dask's work stealing
     # balancing the tail).  Dask's default 1.1 keeps the rest on the scheduler and sends one
-    # only when one finishes, so every row waited a worker -> scheduler -> worker round trip:
-    # measured on no-op rows, 3.8-4.8 ms a row at 1.1 (the same at 2.0), 1.7-3.6 ms at inf.
-    # An existing cluster (--scheduler) keeps its own setting.
-    cluster_worker_saturation: float = math.inf
+    # when one finishes: a worker -> scheduler -> worker round trip a row (no-op rows, one
+    # worker: 2.9-3.1 ms a row at 1.1 and 2.0, 0.7-1.0 ms at inf; 3.8-4.8 ms at 1.1 on a
+    # slower host) but the rows go to whichever worker is free, longest first.  Rows here last
+    # 0.1-5 s and differ, and handing them all out at submit split them by count: fem-fitting
+    # --quick on a running 2-worker cluster, 1.42x over serial at inf, 1.74x at 1.1 (tasks
+    # 3.3-3.8 s -> 2.9-3.0 s; benchmarks/bench_sweep.py).  An existing cluster (--scheduler)
+    # keeps its own setting.
+    cluster_worker_saturation: float = 1.1
 
     # Grasps to run from which fem-fitting gives each task a grasp's profiles (its jaw
     # displacements solved once, in order) instead of one profile (which solves the

@@ -157,8 +157,8 @@ def row_client(
 def local_cluster(n_workers: int, threads: int = 1) -> Any:
     """A ``distributed.LocalCluster`` of ``n_workers`` processes with ``threads`` threads each,
     their Numba and OpenMP threads capped to ``threads`` (spinning OpenMP threads of one worker
-    starve the others), their progress bars off (the driver shows one), and no task queue on
-    the scheduler (``config.DEFAULTS.cluster_worker_saturation``)."""
+    starve the others), their progress bars off (the driver shows one), and the scheduler's
+    queueing from ``config.DEFAULTS.cluster_worker_saturation``."""
     import dask
     from distributed import LocalCluster
 
