@@ -247,3 +247,21 @@ def test_surface_names_are_checked_before_any_work(name, sets, match):
 def test_seed_given_twice_is_refused():
     with pytest.raises(SystemExit, match=r"seed is given by --seed \(3\) and by --set seed=4: give it once"):
         build_config("discretization", True, None, 3, {"seed": 4})
+
+
+def test_a_bad_value_carries_its_parts_for_another_option():
+    """The CLI's message and the parts a sweep words for --grid come from one error."""
+    from workbench.experiment_config import ConfigValueError
+
+    with pytest.raises(ConfigValueError) as exc:
+        build_config("discretization", False, None, None, {"mu": -1})
+    e = exc.value
+    assert isinstance(e, SystemExit)  # the CLI prints it as before
+    assert (e.key, e.text, e.expects, e.default, e.flag) == ("mu", "-1", "float", "1.0", "--set")
+    assert "negative" in e.reason
+    assert str(e.code) == e.message()
+    assert e.message().startswith("--set mu=-1: mu expects float (default 1.0)")
+    assert e.message("grid value mu=-1", "fix it").endswith(f"{e.reason} — fix it")
+    with pytest.raises(ConfigValueError) as exc:
+        build_config("discretization", False, None, -1, {})
+    assert exc.value.flag == "--seed" and exc.value.example() == "--seed 0"

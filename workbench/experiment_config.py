@@ -109,6 +109,33 @@ class _Mismatch(Exception):
     """A value does not fit its schema; ``args[0]`` says where and why."""
 
 
+class ConfigValueError(SystemExit):
+    """A config value that does not fit its key's default, raised before any work: its
+    ``SystemExit`` message is the CLI's (``--set KEY=VALUE: ...``), and its parts — ``key``, the
+    value as given (``text``), what the key ``expects``, its ``default`` (JSON) and the
+    ``reason`` — let a caller that took the value from another option word it for that option
+    (:meth:`message`; a sweep's ``--grid``) instead of rewriting the text."""
+
+    def __init__(self, key: str, text: str, expects: str, default: str, reason: str, flag: str = "--set"):
+        self.key, self.text, self.expects, self.default, self.reason = key, text, expects, default, reason
+        self.flag = flag
+        super().__init__(self.message())
+
+    def example(self) -> str:
+        """The default as the option that gave the value takes it: ``--set 'mu=0.5'``, ``--seed 0``."""
+        if self.flag == "--set":
+            return f"--set {shlex.quote(f'{self.key}={self.default}')}"
+        return f"{self.flag} {self.default}"
+
+    def message(self, given: str | None = None, fix: str | None = None) -> str:
+        """``GIVEN: KEY expects ... (default ...); REASON — FIX``; ``given`` defaults to the option
+        and value (``--set mu=-1``, ``--seed -1``), ``fix`` to an example with the default."""
+        if given is None:
+            given = f"--set {self.key}={self.text}" if self.flag == "--set" else f"{self.flag} {self.text}"
+        fix = f"give e.g. {self.example()}" if fix is None else fix
+        return f"{given}: {self.key} expects {self.expects} (default {self.default}); {self.reason} — {fix}"
+
+
 def _check(value: Any, schema: Any, where: str) -> Any:
     """``value`` coerced to ``schema`` (int -> float); raises _Mismatch."""
     if schema == "any" or schema is None:
@@ -159,8 +186,9 @@ def _check_finite(value: Any, where: str) -> None:
 
 
 def _coerce(key: str, value: Any, default: Any, flag: str = "--set") -> Any:
-    """The ``--set`` value for ``key`` checked against its default's type; ``flag`` names an
-    option that gives the key alone (``--seed``) in the message instead of ``--set key=``."""
+    """The ``--set`` value for ``key`` checked against its default's type, or
+    :class:`ConfigValueError`; ``flag`` names an option that gives the key alone (``--seed``)
+    in the message instead of ``--set key=``."""
     schema = _schema(default)
     if isinstance(value, _CliText):
         text = str(value)
@@ -172,16 +200,7 @@ def _coerce(key: str, value: Any, default: Any, flag: str = "--set") -> Any:
     try:
         return _check_range(key, _check(value, schema, ""), default)
     except _Mismatch as exc:
-        shown = _dumps(default)
-        given, example = (
-            (f"--set {key}={text}", f"--set {shlex.quote(f'{key}={shown}')}")
-            if flag == "--set"
-            else (f"{flag} {text}", f"{flag} {shown}")
-        )
-        raise SystemExit(
-            f"{given}: {key} expects {_describe(schema)} (default {shown}); {exc.args[0]} "
-            f"— give e.g. {example}"
-        ) from None
+        raise ConfigValueError(key, text, _describe(schema), _dumps(default), exc.args[0], flag) from None
 
 
 def _number(x: Any) -> bool:

@@ -225,7 +225,7 @@ def _point_configs(
     so ``mu=[1, 1.0]`` repeats a point and ``mu=1`` resumes a point written as ``mu=1.0``."""
     import importlib
 
-    from .experiment_config import EXPERIMENTS, build_config
+    from .experiment_config import EXPERIMENTS, ConfigValueError, build_config
 
     both = sorted(set(sets) & set(points[0]))
     if both:
@@ -236,23 +236,19 @@ def _point_configs(
     for given in points:
         try:
             cfg = build_config(experiment, quick, str(out / "points"), seed, {**sets, **given})
-        except SystemExit as exc:
+        except ConfigValueError as exc:
+            if exc.key not in given or exc.flag != "--set":  # a --set or --seed value: as the CLI says it
+                raise SweepError(str(exc.code)) from None
+            # the value came from the grid: say so, and fix the grid rather than a --set
+            k = exc.key
+            flag = "--zip" if k in zipped_keys else "--grid"
+            default = importlib.import_module(EXPERIMENTS[experiment]).DEFAULT_CONFIG.get(k)
+            swept = list(dict.fromkeys(json.dumps(p[k]) for p in points))  # in the order given
+            hint = list_key_hint(k, [json.loads(v) for v in swept], default, flag)
+            fix = hint or f"each value in the list must look like the default, e.g. {exc.example()}"
+            raise SweepError(f"point {given}: {exc.message(f'grid value {k}={exc.text}', fix)}") from None
+        except SystemExit as exc:  # an unknown key, or the experiment's own check_config
             msg = str(exc.code)
-            for k in given:  # the value came from the grid, not from --set: say so
-                if msg.startswith(f"--set {k}="):
-                    flag = "--zip" if k in zipped_keys else "--grid"
-                    default = importlib.import_module(EXPERIMENTS[experiment]).DEFAULT_CONFIG.get(k)
-                    swept = list(dict.fromkeys(json.dumps(p[k]) for p in points))  # in the order given
-                    hint = list_key_hint(k, [json.loads(v) for v in swept], default, flag)
-                    msg = f"grid value {msg[len('--set ') :]}"
-                    msg = (
-                        msg.split(" — give e.g.")[0] + f" — {hint}"
-                        if hint
-                        else msg.replace(
-                            "— give e.g. --set",
-                            "— each value in the list must look like the default, e.g. --set",
-                        )
-                    )
             # name the point only when one of its values is in question, not a --set one
             raise SweepError(f"point {given}: {msg}" if any(k in msg for k in given) else msg) from None
         values = {k: cfg[k] for k in given}
