@@ -76,6 +76,25 @@ def _sqrt_div_rate(t, w, reps):
     return total
 
 
+def cpu_identity() -> dict:
+    """What picks the arithmetic's last bits on this host: the CPU, the target Numba compiles its
+    kernels for, and the kernel set the BLAS chose.  Two hosts that differ in these round
+    differently (FMA contraction, vector width, summation order), so results compared across
+    runs agree to round-off, not bit for bit, unless these match."""
+    from pathlib import Path
+
+    import llvmlite.binding as llvm
+    from threadpoolctl import threadpool_info
+
+    model = ""
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        names = [ln for ln in cpuinfo.read_text().splitlines() if ln.startswith("model name")]
+        model = names[0].split(":", 1)[1].strip() if names else ""
+    blas = [f"{p.get('internal_api')} {p.get('architecture', '')}".strip() for p in threadpool_info()]
+    return {"cpu_model": model, "llvm_host_cpu": llvm.get_host_cpu_name(), "blas_kernels": blas}
+
+
 def machine_roofline(quick: bool) -> dict:
     x = np.random.default_rng(0).random(2 * 4096)
     reps = 2000 if quick else 20000
@@ -88,6 +107,7 @@ def machine_roofline(quick: bool) -> dict:
     ns_sqrt_div = dt2 / (r2 * t.size) * 1e9
     ns_flops = FLOPS_PER_PAIR / gflops
     return {
+        **cpu_identity(),
         "threads": get_num_threads(),
         "fma_gflops_measured": gflops,
         "sqrt_div_ns_per_element_measured": ns_sqrt_div,
