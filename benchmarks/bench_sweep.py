@@ -208,6 +208,18 @@ def _children_cpu_s() -> float:
     return r.ru_utime + r.ru_stime
 
 
+def _medians(runs: dict[int, list[dict]], keys: tuple[str, ...]) -> dict:
+    """Per worker count: the median of each of ``keys`` over its runs, where they ran, the runs."""
+    return {
+        workers: {
+            **{k: statistics.median(r[k] for r in rs) for k in keys},
+            "ran_on": rs[0]["ran_on"],
+            "runs": rs,
+        }
+        for workers, rs in runs.items()
+    }
+
+
 def fem_fitting_rows(repeats: int = 3) -> dict:
     """``fem-fitting --quick`` (12 profiles in 4 grasps, 2 full-mesh reference cases) with its
     tasks serial and on 2 local workers, ``repeats`` times each (alternating), medians: the
@@ -236,15 +248,7 @@ def fem_fitting_rows(repeats: int = 3) -> dict:
             runs[workers].append(
                 {**{k: s[v] for k, v in keep.items()}, "process_wall_s": process_s, "process_cpu_s": cpu_s}
             )
-    out: dict = {}
-    for workers, rs in runs.items():
-        out[workers] = {
-            "tasks_wall_s": statistics.median(r["tasks_wall_s"] for r in rs),
-            "run_wall_s": statistics.median(r["run_wall_s"] for r in rs),
-            "process_wall_s": statistics.median(r["process_wall_s"] for r in rs),
-            "ran_on": rs[0]["ran_on"],
-            "runs": rs,
-        }
+    out: dict = _medians(runs, ("tasks_wall_s", "run_wall_s", "process_wall_s"))
     # where the two workers' time goes (medians over runs): the tasks' compute against the
     # serial run's, i.e. what running on two fresh processes adds (imports, caches, the first
     # fit's set-up, sharing the cores with the driver's rendering), and the wall time left over
@@ -306,15 +310,7 @@ def fem_fitting_rows_warm(repeats: int = 3) -> dict:
                         }
                     )
         n_workers = len(client.scheduler_info()["workers"])
-    out: dict = {}
-    for workers, rs in runs.items():
-        out[workers] = {
-            "run_wall_s": statistics.median(r["run_wall_s"] for r in rs),
-            "tasks_wall_s": statistics.median(r["tasks_wall_s"] for r in rs),
-            "busy_s": statistics.median(r["busy_s"] for r in rs),
-            "ran_on": rs[0]["ran_on"],
-            "runs": rs,
-        }
+    out: dict = _medians(runs, ("run_wall_s", "tasks_wall_s", "busy_s"))
     out["cluster_workers"] = n_workers
     out["speedup_run"] = out[1]["run_wall_s"] / out[2]["run_wall_s"]
     out["speedup_tasks"] = out[1]["tasks_wall_s"] / out[2]["tasks_wall_s"]
