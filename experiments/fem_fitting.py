@@ -60,6 +60,7 @@ from workbench.fem.pad import PadGeometry, condense_pad
 from workbench.fem.validation import condensed_vs_full
 from workbench.limit_surface.author_objective import fit_author_objective
 from workbench.limit_surface.fit_score import fit_and_score, fit_model, min_wrenches
+from workbench.limit_surface.support_error import SharedWrenches
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
@@ -171,7 +172,9 @@ def _fits(W: np.ndarray, wm: np.ndarray, config: dict, seed: int, *, test: np.nd
     surface points.  A model is left out (absent key) when K is below its unknowns — the
     thesis-code training set can be below the quartic's 126 (the author's code regularises
     instead; we do not fake a fit)."""
-    wrenches_of = partial(frictional_wrenches, contact, mu=config["mu"])
+    # one exact wrench set of the support error's twists for the models (SharedWrenches)
+    exact = partial(frictional_wrenches, contact, mu=config["mu"])
+    wrenches_of = SharedWrenches(exact, config["support_directions"])
     return {
         m: fit_and_score(
             m,

@@ -45,6 +45,7 @@ from workbench import (
     w_max,
 )
 from workbench.limit_surface.fit_score import FitScore, convexity, fit_and_score, min_wrenches
+from workbench.limit_surface.support_error import SharedWrenches
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
 from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
@@ -116,26 +117,21 @@ class Contact:
         prof = mesh_profile(surface, config["mesh_elements"]).normalized()
         self.sides = box_sides(prof)  # the author's lengthArray, from the mesh's centres
         if config["wrench_source"] == "continuous":
-            self._fn = partial(surface_wrenches, self.surface, mu=self.mu, rtol=config["quad_rtol"])
+            fn = partial(surface_wrenches, self.surface, mu=self.mu, rtol=config["quad_rtol"])
             self.w_max = surface_w_max(self.surface, self.mu)
         else:
-            self._fn = partial(frictional_wrenches, prof, mu=self.mu)
+            fn = partial(frictional_wrenches, prof, mu=self.mu)
             self.w_max = w_max(prof, self.mu)
-        self._memo: dict[bytes, np.ndarray] = {}
-        # only the support error's twist sets are reused (the same for every model of the
-        # surface): its directions and its ±e_i probes of the six components
-        self._memo_max = config["support_directions"] + 12
-        self.memo_hits = 0
+        # only the support error's twist sets are reused (the same for every model of the surface)
+        self._wrenches = SharedWrenches(fn, config["support_directions"])
+
+    @property
+    def memo_hits(self) -> int:
+        """Support-error twist sets answered without integrating them again."""
+        return self._wrenches.hits
 
     def wrenches(self, xi: np.ndarray) -> np.ndarray:
-        if len(xi) > self._memo_max:
-            return self._fn(xi)
-        key = np.ascontiguousarray(xi).tobytes()
-        if key in self._memo:
-            self.memo_hits += 1
-        else:
-            self._memo[key] = self._fn(xi)
-        return self._memo[key]
+        return self._wrenches(xi)
 
 
 def wrenches(contact: Contact, n_twists: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

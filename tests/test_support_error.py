@@ -7,7 +7,7 @@ import pytest
 from naive import fw_loop, fw_vectorized, random_profile
 
 from workbench import ContactProfile, fit_ellipsoid, fit_quartic, frictional_wrenches
-from workbench.limit_surface.support_error import support_error, uniform_normals
+from workbench.limit_surface.support_error import SharedWrenches, support_error, uniform_normals
 from workbench.twists import sample_twists_thesis
 
 
@@ -100,3 +100,31 @@ def test_careless_input_is_refused(ellipsoid_case):
     # the wrenches of another μ (here half): refused, not scored as a 50 % miss
     with pytest.raises(ValueError, match="w_max"):
         support_error(model, _ellipsoid_support(A_n, scale, factor=0.5), 500)
+
+
+def test_shared_wrenches_computes_each_support_twist_set_once():
+    """The models of one contact ask the support error's twists again: the second ask is the
+    first's wrenches (the same bits, a fresh array); larger sets are computed every time."""
+    rng = np.random.default_rng(3)
+    prof = ContactProfile(
+        0.01 * rng.normal(size=(40, 3)),
+        np.tile([0.0, 0.0, 1.0], (40, 1)),
+        np.full(40, 1e-4),
+        rng.uniform(0.5, 1.5, 40),
+    )
+    calls = []
+
+    def fn(xi):
+        calls.append(len(xi))
+        return frictional_wrenches(prof, xi, 0.5)
+
+    shared = SharedWrenches(fn, 100)
+    xi = rng.normal(size=(112, 6))
+    first, second = shared(xi), shared(xi.copy())
+    assert calls == [112] and shared.hits == 1
+    assert np.array_equal(first, second) and first is not second
+    first[:] = 0.0  # a caller's change does not reach the kept set
+    assert np.array_equal(shared(xi), frictional_wrenches(prof, xi, 0.5))
+    big = rng.normal(size=(113, 6))  # beyond the support error's 100 + 12 twists: not kept
+    shared(big), shared(big)
+    assert calls == [112, 113, 113] and shared.hits == 2

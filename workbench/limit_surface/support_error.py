@@ -64,6 +64,38 @@ def twists_for_normals(model: LimitSurfaceModel, normals: np.ndarray) -> np.ndar
     return -np.asarray(normals, float) / model.scale
 
 
+class SharedWrenches:
+    """``wrenches_of`` for :func:`support_error` that computes each of its twist sets once.
+
+    The models of one contact with the same ``scale`` get the same twists for a seed
+    (:func:`uniform_normals`, plus the ±e_i probes), so the second and later models' support
+    errors reuse the first's exact wrenches — the same function on the same twists, so the same
+    bits.  Twist sets of up to ``n_directions + 12`` rows (the support error's) are kept, keyed by
+    their bytes; larger ones (training or test sets) are computed afresh and not kept.
+
+    fn : ``(K, 6) twists -> (K, 6)`` exact wrenches of the contact, e.g.
+        ``partial(frictional_wrenches, profile, mu=mu)``.
+    n_directions : the support error's ``n_directions``.
+    """
+
+    def __init__(self, fn: Callable[[np.ndarray], np.ndarray], n_directions: int) -> None:
+        self._fn = fn
+        self._max_rows = int(n_directions) + 12  # the directions and the ±e_i probes of 6 components
+        self._kept: dict[bytes, np.ndarray] = {}
+        self.hits = 0  # calls answered from a kept set
+
+    def __call__(self, twists: np.ndarray) -> np.ndarray:
+        """(K, 6) wrenches of ``twists`` (K, 6), a fresh array each call."""
+        if len(twists) > self._max_rows:
+            return self._fn(twists)
+        key = np.ascontiguousarray(twists, dtype=float).tobytes()
+        if key in self._kept:
+            self.hits += 1
+        else:
+            self._kept[key] = np.asarray(self._fn(twists), float)
+        return self._kept[key].copy()
+
+
 def support_error(
     model: LimitSurfaceModel,
     wrenches_of: Callable[[np.ndarray], np.ndarray],
@@ -124,4 +156,4 @@ def support_error(
     )
 
 
-__all__ = ["SupportError", "support_error", "twists_for_normals", "uniform_normals"]
+__all__ = ["SharedWrenches", "SupportError", "support_error", "twists_for_normals", "uniform_normals"]
