@@ -286,14 +286,12 @@ def fem_fitting_rows_warm(repeats: int = 3) -> dict:
     cvxpy and the condensed pad are paid before the clock starts.  The cold numbers
     (:func:`fem_fitting_rows`) add a fresh cluster's start and two fresh workers' warm-up, about
     as long as the quick run's own compute here."""
-    from distributed import Client
-
     from workbench.experiment_config import build_config
     from workbench.experiments.fem_fitting import run
     from workbench.parallel import local_cluster
 
     runs: dict[int, list[dict]] = {1: [], 2: []}
-    with local_cluster(2) as cluster, Client(cluster) as client, tempfile.TemporaryDirectory() as tmp:
+    with local_cluster(2) as cluster, tempfile.TemporaryDirectory() as tmp:
         address = cluster.scheduler_address
         for k in range(repeats + 1):  # the first of each is the warm-up
             for workers in (1, 2):
@@ -309,7 +307,7 @@ def fem_fitting_rows_warm(repeats: int = 3) -> dict:
                             "busy_s": s["tasks_stream"]["busy_s"],
                         }
                     )
-        n_workers = len(client.scheduler_info()["workers"])
+        n_workers = len(cluster.scheduler_info["workers"])
     out: dict = _medians(runs, ("run_wall_s", "tasks_wall_s", "busy_s"))
     out["cluster_workers"] = n_workers
     out["speedup_run"] = out[1]["run_wall_s"] / out[2]["run_wall_s"]

@@ -83,8 +83,9 @@ def resists_exact(
     F = contacts.F if forces is None else np.asarray(forces, float)
     N = len(F)
     lo, hi = F * (1 - r), F
-    # each contact's columns (its wrenches, μ = 1, unit force), grown by one row a round: arrays
-    # kept between rounds instead of a list restacked every round (the same rows, the same bits)
+    # each contact's columns (its wrenches, μ = 1, unit force) as an array grown by one row a
+    # round (one copy a round, where turning a list of rows into an array every round was slower;
+    # the same rows, the same bits)
     cols = [np.array(s, dtype=float) for s in contacts.start]
     # unit-force columns u = μ w + ŵ⊥ in the object frame; weights α in newtons
     D = capacity_scaling(
