@@ -60,3 +60,114 @@ def test_grasp_pipeline_on_a_thesis_object_if_available():
     light = gravity_wrench(0.2 * 0.5 * F / 9.81, mesh.center_mass)
     heavy = gravity_wrench(5 * 0.5 * F / 9.81, mesh.center_mass)
     assert resists(sets, light, 0.5) and not resists(sets, heavy, 0.5)
+
+
+def _flat_press(outline, center, max_edge):
+    """A polygon pad pressed flat on the 60 × 60 mm top face of a box (approach -z, up +y: e2 = +y,
+    e1 = e2 × a = -x), uniform compression."""
+    import trimesh
+
+    from workbench.sources.reach import reach_profile
+
+    box = trimesh.creation.box((0.06, 0.06, 0.02))
+    return reach_profile(
+        box, center, [0, 0, -1], [0, 1, 0], outline=outline, closing=1e-3, stiffness=1e9, max_edge=max_edge
+    )
+
+
+@pytest.mark.parametrize("max_edge", [1e-3, 0.5e-3])
+def test_polygon_pad_pressed_flat_covers_the_polygon(max_edge):
+    """The YuMi pad (asymmetric along e2) on a big face: footprint area = polygon area and pressure
+    centre = its centroid, placed at center + c1 e1 + c2 e2.  The error comes from the band of
+    elements the boundary cuts (in or out by their centre): |ΔA| <= 0.25 · perimeter · max_edge
+    (measured 0.05–0.07 here, 0.11 for the offset rectangle below), the centre within 0.2 max_edge
+    (measured 0.06–0.09)."""
+    from workbench.sources.gripper import polygon_centroid, yumi
+
+    jaw = yumi().jaws(np.eye(4))[0]  # the pad in (e1, e2) coordinates
+    poly = jaw.outline
+    perimeter = np.linalg.norm(np.diff(np.vstack([poly, poly[:1]]), axis=0), axis=1).sum()
+    assert perimeter == pytest.approx(2 * 0.0225 + 0.01 + 0.02 + 2 * np.hypot(0.005, 0.005))
+    c = np.array([0.004, -0.006, 0.01])
+    p = _flat_press(poly, c, max_edge)
+    assert abs(p.areas.sum() - 5.25e-4) <= 0.25 * perimeter * max_edge
+    c1, c2 = polygon_centroid(poly)
+    assert (c1, c2) == pytest.approx((0.0, -4.3254e-3), abs=1e-7)
+    expected = c + c1 * np.array([-1, 0, 0]) + c2 * np.array([0, 1, 0])
+    assert np.linalg.norm(p.pressure_center - expected) <= 0.2 * max_edge
+    np.testing.assert_allclose(p.pressures, 1e9 * 1e-3)
+
+
+def test_offset_rectangle_pad_pressed_flat():
+    """A 10 × 16 mm rectangle centred at (e1, e2) = (3, -5) mm: area 1.6 cm², centre offset by
+    (3, -5) mm, i.e. (-3, -5) mm in x, y."""
+    from workbench.sources.gripper import PadShape
+
+    pad = PadShape.rectangle(0.01, 0.016, offset=(-0.005, -0.003))  # tooltip (x, y) -> (e1, e2) = (-y, x)
+    poly = np.c_[-pad.outline[:, 1], pad.outline[:, 0]]
+    c = np.array([0.002, 0.001, 0.01])
+    p = _flat_press(poly, c, 0.5e-3)
+    assert abs(p.areas.sum() - 1.6e-4) <= 0.25 * 0.052 * 0.5e-3
+    np.testing.assert_allclose(p.pressure_center, c + [-0.003, -0.005, 0], atol=0.2 * 0.5e-3)
+
+
+def test_pad_profile_reaches_within_its_stroke_and_misses_cleanly(caplog):
+    """A YuMi jaw opened 20 mm above a face touches it (the whole pad, k · closing everywhere); one
+    beyond its 25 mm stroke or moved sideways off the face touches nothing: None, logged at DEBUG."""
+    import logging
+
+    import trimesh
+
+    from workbench.sources.reach import pad_profile
+
+    box = trimesh.creation.box((0.06, 0.06, 0.02))  # top face at z = 0.01
+    g = yumi_gripper()
+
+    def jaw_at(height, x=0.0):
+        # gripper x (jaw 0's closing) along -z, approach z along -y, y = z × x = +x
+        R = np.array([[0, 1, 0], [0, 0, -1], [-1, 0, 0.0]])
+        pose = np.eye(4)
+        pose[:3, :3] = R
+        pose[:3, 3] = [x, 0, 0.01 + height] - R @ g.tooltips[0, :3, 3]
+        return g.jaws(pose)[0]
+
+    jaw = jaw_at(0.02)
+    np.testing.assert_allclose([jaw.origin, jaw.closing], [[0, 0, 0.03], [0, 0, -1]], atol=1e-12)
+    p = pad_profile(box, jaw, closing=1e-3, max_edge=1e-3)
+    assert abs(p.areas.sum() - 5.25e-4) <= 0.25 * 0.0886 * 1e-3
+    np.testing.assert_allclose(p.pressures, jaw.stiffness * 1e-3)
+    with caplog.at_level(logging.DEBUG, logger="workbench.sources.reach"):
+        assert pad_profile(box, jaw_at(0.026), closing=1e-3) is None
+        assert "covers no part" in caplog.text
+        assert pad_profile(box, jaw_at(0.005, x=0.06), closing=1e-3) is None  # sideways off the face
+    with pytest.raises(ValueError, match="must be > 0"):
+        pad_profile(box, jaw, closing=0.0)
+    with pytest.raises(ValueError, match="Jaw"):
+        pad_profile(box, {"origin": jaw.origin}, closing=1e-3)
+    with pytest.raises(ValueError, match="watertight"):
+        pad_profile(trimesh.Trimesh(box.vertices, box.faces[:-2]), jaw, closing=1e-3)
+
+
+def yumi_gripper():
+    from workbench.sources.gripper import yumi
+
+    return yumi()
+
+
+def test_reach_profile_window_and_outline_errors():
+    """window=(lo, hi) searches only that range along the approach; bad outlines and windows raise."""
+    import trimesh
+
+    from workbench.sources.reach import reach_profile
+
+    box = trimesh.creation.box((0.06, 0.06, 0.02))
+    poly = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]
+    far = [0, 0, 0.03]  # 20 mm above the face
+    with pytest.raises(ValueError, match="covers no part"):
+        reach_profile(box, far, [0, 0, -1], [0, 1, 0], outline=poly)  # default ±10 mm
+    p = reach_profile(box, far, [0, 0, -1], [0, 1, 0], outline=poly, window=(0, 0.025), closing=1e-3)
+    assert abs(p.areas.sum() - 4e-4) <= 0.25 * 0.08 * 1e-3
+    with pytest.raises(ValueError, match="millimetres"):
+        reach_profile(box, far, [0, 0, -1], outline=np.asarray(poly) * 1000, window=(0, 0.025))
+    with pytest.raises(ValueError, match="lo < hi"):
+        reach_profile(box, far, [0, 0, -1], outline=poly, window=(0.025, 0))

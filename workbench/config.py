@@ -214,6 +214,11 @@ class Tolerances:
     # before the cutting-plane refinement adds a tangent plane (Kelley).
     cut_rtol: float = 1e-4
 
+    # The object settled between the jaws (workbench.grasp.settle) when the normal forces'
+    # torque normal to the closing axis is at most this × force × pad size: 1e-3 of a 20 N
+    # jaw on a 28 mm pad is 0.6 mN·m, a thousandth of what friction on it can hold.
+    settle_torque_rtol: float = 1e-3
+
     # Cutting-plane rounds before an unconverged refinement defers to the
     # conservative inner-vertex LP (resistance) or reports a lower bound (minimal
     # force).  Resistance takes a median of 7 rounds in the sensitivity scenes; the
@@ -349,6 +354,24 @@ class Defaults:
     # it) get no Winkler pressure — their area under the pad vanishes; without it
     # a box's side walls carried up to 9 % of the jaw force sideways.
     reach_min_facing: float = 0.1
+
+    # The largest turn [rad] of a free object between the jaws (workbench.grasp.settle)
+    # before the fingers, not the pads, would stop it.  The YuMi trials need 0-6 deg (their
+    # jaws 0-9 deg off the faces); 20 deg leaves room for a pose perturbation on top.
+    settle_max_tilt: float = 0.35
+    # The settle's continuation: compressions [m] at which the turn is found first (a deep
+    # press gives a large patch and a smooth torque), before the pad's own.  One 2 mm step
+    # found every YuMi trial's turn that the pad's own 0.1 mm alone missed.
+    settle_closings: tuple[float, float] = (2e-3, 5e-4)
+
+    # Pose robustness (workbench.grasp.pose_robust, 6DFC §V-B.1): the gripper pose is
+    # perturbed in its own frame by a translation ~ N(0, sigma_trans²) per axis [m] and a
+    # rotation exp([xi]x), xi ~ N(0, sigma_rot²) per axis [rad] (ipc-graspsim's GaussianPoseRV
+    # construction), and the contact recomputed.  6DFC Fig. 3: mAP and mAR best at
+    # N_r = 10 samples and sigma_r = 0.003 m.
+    pose_samples: int = 10
+    pose_sigma_trans: float = 0.003
+    pose_sigma_rot: float = 0.003
 
     qp_solver: str = "auto"
     qp_auto_large: int = 48
@@ -598,6 +621,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "known_force_rtol": _real(0.0, hi=1.0, hi_open=True),  # [F(1 - r), F] with F(1 - r) > 0
     "group_min_net_push": _FRACTION,
     "cut_rtol": _POS,
+    "settle_torque_rtol": _POS,  # a solver's torque is never exactly 0
     "max_cut_rounds": _count(0),  # 0: no refinement, the inner vertices decide at once
     "max_stored_cuts": _count(1),
     "qp_ridge": _POS,  # quadprog and DAQP need a strictly convex objective
@@ -622,6 +646,11 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "author_fit_weights": _author_weights,
     "author_fit_collapse_below": _NONNEG,
     "reach_min_facing": _FRACTION,  # a cosine against the approach
+    "settle_max_tilt": _real(0.0, hi=1.5708),  # radians; 0: no turn (each jaw pressed alone)
+    "settle_closings": _reals(2, _POS, what="compressions [m] > 0"),
+    "pose_samples": _count(1),
+    "pose_sigma_trans": _NONNEG,  # metres; 0: no translation noise
+    "pose_sigma_rot": _NONNEG,  # radians; 0: no rotation noise
     "qp_solver": _choice(lambda: ("auto", *_qp_solvers())),
     "qp_auto_large": _count(0),
     "qp_fallback_solver": _choice(_qp_solvers),

@@ -23,6 +23,7 @@ EXPERIMENTS = {
     "minimal-work": "workbench.experiments.minimal_work",
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
     "peers": "workbench.experiments.peers",
+    "physical-trials": "workbench.experiments.physical_trials",
 }
 
 

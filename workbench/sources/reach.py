@@ -9,18 +9,25 @@ Geometry by projection, no booleans: the object is refined near the jaw to
 grid over the footprint and only the front-most surface of each bin counts
 (what the pad can reach first); the jaw closes by ``closing`` from first touch.
 
-:func:`reach_profile` is one jaw's profile; :func:`jaw_profiles` both jaws' of a grasp,
-scaled to the force-sensor reading (the FEM counterpart: :mod:`workbench.sources.fem_jaw`).
+:func:`reach_profile` is one jaw's profile (a centred rectangle or any polygon pad);
+:func:`jaw_profiles` both jaws' of a grasp, scaled to the force-sensor reading (the FEM
+counterpart: :mod:`workbench.sources.fem_jaw`); :func:`pad_profile` the jaw of a
+:class:`~.gripper.Gripper` closing from its open tooltip, None when it misses.
 """
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from ..profile import ContactProfile
+from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 
-__all__ = ["jaw_profiles", "reach_profile"]
+__all__ = ["jaw_profiles", "pad_profile", "reach_profile"]
+
+log = logging.getLogger(__name__)
 
 
 def reach_profile(
@@ -30,6 +37,8 @@ def reach_profile(
     up=(0.0, 0.0, 1.0),
     *,
     pad: tuple[float, float] = (0.02, 0.04),
+    outline=None,
+    window: tuple[float, float] | None = None,
     closing: float = 1e-3,
     stiffness: float = 1.0e6 / 0.005,
     max_edge: float = 1e-3,
@@ -42,6 +51,15 @@ def reach_profile(
     ``approach`` (into the object), pad ``(width, length)`` [m], closing ``closing`` [m]
     past first touch, pressure ``stiffness · compression`` [Pa/m].
 
+    outline : (k, 2) [m] or None — the pad's footprint as a polygon in the jaw frame's
+        ``(e1, e2)`` coordinates about ``center`` (:func:`~.jaws.jaw_frame`: e2 the part of
+        ``up`` ⟂ approach, e1 = e2 × approach; :attr:`~.gripper.Jaw.outline`), in place of the
+        centred ``pad`` rectangle (then ignored).
+    window : ``(lo, hi)`` [m] or None — the range along the approach, relative to ``center``,
+        searched for surface: faces reaching into it, and of those the sub-triangles whose centre
+        lies in it (a jaw open at ``center`` with ``stroke`` of travel: ``(0, stroke)``).  None: faces
+        reaching into ``±depth_window``, with no sub-triangle filter.
+
     ``units`` is the unit of ``mesh.vertices`` only (``None``: metres; "mm" scales a
     copy by 1e-3): ``center`` and every other length are in metres, as returned by
     ``antipodal_grasps(mesh, ..., units=...)``.
@@ -50,38 +68,171 @@ def reach_profile(
     for a mesh spanning more than ``TOL.max_object_extent_m`` or less than
     ``TOL.min_object_extent_m`` (a likely unit mistake; ``allow_scale=True`` accepts it).
     """
-    import trimesh
-
     from ..units import closed_mesh
 
-    check_pad(pad)
+    poly = None if outline is None else as_polygon(outline, "outline (the pad in jaw coordinates e1, e2)")
+    if poly is None:
+        check_pad(pad)
+    win = _check_window(window, depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
     if not (closing > 0 and stiffness > 0 and max_edge > 0):
         raise ValueError("closing, stiffness and max_edge must be > 0")
+    out = _reach(mesh, center, approach, up, pad, poly, win, window is not None, closing, stiffness, max_edge)
+    if isinstance(out, str):
+        raise ValueError(out)
+    return out
+
+
+def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = None, max_edge: float = 1e-3):
+    """The REACH profile (:func:`reach_profile`) of a gripper's jaw (:meth:`~.gripper.Gripper.jaws`)
+    closing on ``mesh`` [m] from its open tooltip: the pad polygon ``jaw.outline`` at ``jaw.origin``
+    moves along ``jaw.closing`` to the first surface within its ``jaw.stroke``, then on by ``closing``
+    [m]; pressure ``stiffness`` [Pa/m] (default ``jaw.stiffness``) times the compression.
+
+    Returns a :class:`ContactProfile`, or None when the pad touches nothing within its stroke (a
+    physical miss, logged at DEBUG).  Raises ValueError for bad input (a mesh that is not
+    watertight or not in metres, closing, stiffness or max_edge not > 0).
+    """
+    if not isinstance(jaw, Jaw):
+        raise ValueError(f"jaw must be a Jaw (Gripper.jaws(pose)); got {type(jaw).__name__}")
+    k = jaw.stiffness if stiffness is None else stiffness
+    if not (closing > 0 and k > 0 and max_edge > 0):
+        raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
+    cen, normal, area = _fine_surface(mesh, float(max_edge))
+    # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
+    # past its surface (the other jaw closes too): the search starts a stroke behind the tooltip
+    # (approach collisions are not modelled)
+    lo, hi = -jaw.stroke, jaw.stroke
+    rel = cen - jaw.origin
+    u, v, z = rel @ jaw.e1, rel @ jaw.e2, rel @ jaw.closing
+    (u_lo, v_lo), (u_hi, v_hi) = jaw.outline.min(axis=0), jaw.outline.max(axis=0)
+    near = (u >= u_lo - max_edge) & (u <= u_hi + max_edge) & (v >= v_lo - max_edge) & (v <= v_hi + max_edge)
+    near &= (z >= lo) & (z <= hi)
+    if not near.any():
+        log.debug("pad_profile: a miss: the pad outline covers no part of the object within its stroke")
+        return None
+    frame = (jaw.closing, jaw.e1, jaw.e2)
+    out = _press(
+        cen[near],
+        normal[near],
+        area[near],
+        jaw.origin,
+        frame,
+        None,
+        jaw.outline,
+        (lo, hi),
+        True,
+        closing,
+        k,
+        max_edge,
+    )
+    if isinstance(out, str):
+        log.debug("pad_profile: a miss: %s", out)
+        return None
+    return out
+
+
+#: the fine surfaces of the last meshes pressed by pad_profile, by content hash (a pose-robustness
+#: run presses one mesh hundreds of times: subdividing it each time was 70 % of a press)
+_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+_FINE_KEEP = 4
+
+
+def _fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The whole mesh subdivided to ``max_edge`` (centres, normals, areas; read-only), cached by a
+    hash of its vertices, faces and ``max_edge``; the mesh is checked once (watertight, metres)."""
+    import hashlib
+
+    from ..units import closed_mesh
+
+    v = np.ascontiguousarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=float)
+    f = np.ascontiguousarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64)
+    key = hashlib.sha1(v.tobytes() + f.tobytes() + np.float64(max_edge).tobytes()).hexdigest()
+    if key not in _FINE:
+        mesh = closed_mesh(mesh, "mesh passed to pad_profile")
+        arrays = _fine_faces(np.asarray(mesh.vertices, float), np.asarray(mesh.faces), max_edge)
+        for arr in arrays:
+            arr.flags.writeable = False
+        while len(_FINE) >= _FINE_KEEP:
+            _FINE.pop(next(iter(_FINE)))
+        _FINE[key] = arrays
+    return _FINE[key]
+
+
+def _check_window(window, depth_window: float) -> tuple[float, float]:
+    if window is None:
+        return -depth_window, depth_window
+    try:
+        lo, hi = (float(w) for w in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be (lo, hi) [m] along the approach; got {window!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise ValueError(
+            f"window must be (lo, hi) [m], finite with lo < hi, e.g. (0, stroke); got {window!r}"
+        )
+    return lo, hi
+
+
+def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing, stiffness, max_edge):
+    """The profile of :func:`reach_profile` on checked input, or why the pad touches nothing (str).
+
+    The footprint is the ``pad`` rectangle (``poly`` None) or the polygon ``poly`` (k, 2) in
+    (e1, e2); ``window`` the (lo, hi) searched along the approach; ``filter_window`` also drops
+    sub-triangles whose centre is outside it.
+    """
     a, e1, e2 = jaw_frame(approach, up)
     c = np.asarray(center, float)
+    if poly is None:
+        (u_lo, v_lo), (u_hi, v_hi) = (-pad[0] / 2, -pad[1] / 2), (pad[0] / 2, pad[1] / 2)
+    else:
+        (u_lo, v_lo), (u_hi, v_hi) = poly.min(axis=0), poly.max(axis=0)
+    lo, hi = window
     rel = mesh.vertices - c
     u, v, z = rel @ e1, rel @ e2, rel @ a
-    # faces whose bounding box (in the jaw frame) overlaps the footprint and the depth
+    # faces whose bounding box (in the jaw frame) overlaps the footprint's and the depth
     # window: a large face can cover the pad with no vertex inside it (a box's side, a
     # coarse cylinder), so vertices alone would miss it
     fu, fv, fz = u[mesh.faces], v[mesh.faces], z[mesh.faces]  # (m, 3) each
-    hu, hv = pad[0] / 2 + 2 * max_edge, pad[1] / 2 + 2 * max_edge
-    near = (fu.min(1) <= hu) & (fu.max(1) >= -hu) & (fv.min(1) <= hv) & (fv.max(1) >= -hv)
-    near &= (fz.min(1) <= depth_window) & (fz.max(1) >= -depth_window)
+    near = (fu.min(1) <= u_hi + 2 * max_edge) & (fu.max(1) >= u_lo - 2 * max_edge)
+    near &= (fv.min(1) <= v_hi + 2 * max_edge) & (fv.max(1) >= v_lo - 2 * max_edge)
+    near &= (fz.min(1) <= hi) & (fz.max(1) >= lo)
     faces = mesh.faces[near]
+    what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
     if len(faces) == 0:
-        raise ValueError(
-            f"the pad footprint {pad} m around {np.round(c, 4).tolist()} covers no part of the object "
-            f"within ±{depth_window} m along the approach {np.round(a, 3).tolist()}: check center, "
+        return (
+            f"{what} around {np.round(c, 4).tolist()} covers no part of the object "
+            f"within [{lo:.4g}, {hi:.4g}] m along the approach {np.round(a, 3).tolist()}: check center, "
             "approach (into the object) and units"
         )
-    sub_v, sub_f = trimesh.remesh.subdivide_to_size(mesh.vertices, faces, max_edge=max_edge)
+    cen, normal, area = _fine_faces(mesh.vertices, faces, max_edge)
+    return _press(
+        cen, normal, area, c, (a, e1, e2), pad, poly, window, filter_window, closing, stiffness, max_edge
+    )
+
+
+def _fine_faces(vertices: np.ndarray, faces: np.ndarray, max_edge: float):
+    """Centres (m, 3), unit normals (m, 3) and areas (m,) of ``faces`` subdivided to ``max_edge``."""
+    import trimesh
+
+    sub_v, sub_f = trimesh.remesh.subdivide_to_size(vertices, faces, max_edge=max_edge)
     tri = sub_v[sub_f]
     cen = tri.mean(axis=1)
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = cross / np.maximum(2 * area, 1e-300)[:, None]
+    return cen, normal, area
+
+
+def _press(cen, normal, area, c, frame, pad, poly, window, filter_window, closing, stiffness, max_edge):
+    """The Winkler pad pressed on the fine faces (``cen``, ``normal``, ``area``) from ``c`` (3,)
+    along ``frame[0]``: the rest of :func:`_reach`."""
+    a, e1, e2 = frame
+    if poly is None:
+        (u_lo, v_lo), v_hi = (-pad[0] / 2, -pad[1] / 2), pad[1] / 2
+    else:
+        (u_lo, v_lo), v_hi = poly.min(axis=0), poly.max(axis=0)[1]
+    lo, hi = window
+    what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
     rel = cen - c
     u, v, z = rel @ e1, rel @ e2, rel @ a
     # faces (nearly) parallel to the approach have no area under the pad: a Winkler
@@ -89,17 +240,24 @@ def reach_profile(
     from .. import config
 
     facing = normal @ a < -config.DEFAULTS.reach_min_facing
-    keep = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2) & facing & (area > 0)
+    if poly is None:
+        inside = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2)
+    else:
+        inside = points_in_polygon(np.column_stack([u, v]), poly)
+    keep = inside & facing & (area > 0)
+    if filter_window:
+        keep &= (z >= lo) & (z <= hi)
     if not keep.any():
-        raise ValueError(
-            f"no object surface faces the jaw inside the pad footprint (approach {np.round(a, 3).tolist()} "
+        return (
+            f"no object surface faces the jaw inside {what} (approach {np.round(a, 3).tolist()} "
             "must point into the object, from the jaw towards the surface)"
         )
     idx = np.flatnonzero(keep)
-    # front-most surface per footprint bin (the pad cannot reach behind the first surface)
-    iu = np.floor((u[idx] + pad[0] / 2) / max_edge).astype(int)
-    iv = np.floor((v[idx] + pad[1] / 2) / max_edge).astype(int)
-    bins = iu * (int(pad[1] / max_edge) + 2) + iv
+    # front-most surface per footprint bin (the pad cannot reach behind the first surface);
+    # the bins tile the footprint's bounding box
+    iu = np.floor((u[idx] - u_lo) / max_edge).astype(int)
+    iv = np.floor((v[idx] - v_lo) / max_edge).astype(int)
+    bins = iu * (int((v_hi - v_lo) / max_edge) + 2) + iv
     order = np.lexsort((z[idx], bins))
     first = np.r_[True, bins[order][1:] != bins[order][:-1]]
     front_z = np.repeat(z[idx][order][first], np.diff(np.r_[np.flatnonzero(first), len(order)]))

@@ -222,7 +222,15 @@ def min_grasp_force(
             solver = "highs"
             y, status = solve_min_lp(prog, cost, tol)
             if y is None and status != "infeasible":
-                raise RuntimeError(f"HiGHS failed on the minimal-force LP: {status}")
+                # HiGHS undecided (seen: "Unknown" on two hard points' infeasible LP): the same
+                # polyhedral program to Clarabel's interior point, which certifies infeasibility
+                _fallback(fallbacks, f"HiGHS {status} on the minimal-force LP; Clarabel")
+                solver = "clarabel"
+                y, status = solve_conic(prog, cost, tol)
+                if y is not None and status != "optimal":
+                    y = None
+                if y is None and status != "infeasible":
+                    raise RuntimeError(f"HiGHS and Clarabel failed on the minimal-force LP: {status}")
         if y is None:
             nan = np.full(len(contacts), np.nan)
             return MinimalForce(

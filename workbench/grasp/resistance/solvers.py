@@ -299,6 +299,8 @@ class MinLP:
         self._optimal = False  # whether the model holds an optimal basis to start from
         #: warm solves whose optimum was not provably unique, re-solved cold
         self.cold_resolves = 0
+        #: solves that ended neither optimal nor infeasible without presolve, re-solved with it
+        self.presolve_resolves = 0
 
     def solve(self, w: np.ndarray, warm: bool = False) -> tuple[np.ndarray | None, str]:
         """(y, status) against the (scaled) disturbance ``w`` (6,): status "optimal",
@@ -312,6 +314,17 @@ class MinLP:
                 "warm minimal-force LP: %s; re-solved cold", "optimum not unique" if y is not None else status
             )
             y, status = self._run(w, False)
+        if y is None and status != "infeasible" and not config.DEFAULTS.lp_presolve:
+            # without presolve the primal simplex can stop at "Unknown" on an infeasible
+            # program of two hard point contacts (their dual unbounded only along a ray it
+            # does not follow): one cold re-solve with presolve decides it
+            log.warning("minimal-force LP: HiGHS %s without presolve; re-solved with presolve", status)
+            self.presolve_resolves += 1
+            self._h.setOptionValue("presolve", "on")
+            try:
+                y, status = self._run(w, False)
+            finally:
+                self._h.setOptionValue("presolve", "off")
         self._optimal = y is not None
         return y, status
 

@@ -1,0 +1,325 @@
+"""Real robot grasps: every contact model's prediction on physical trials (6DFC Table I;
+thesis Table 4.1), scored against the real outcomes.
+
+The default trials are the REACH dataset's 125 physical grasps of one object (ABB YuMi,
+3 mm silicone pads, 20 N, μ 0.3, a 3 cm cube of 3 g; MIT, packaged in
+``workbench/data/reach_trials/`` with its notice) — one object of REACH's 21, 125 of its 2,625
+trials.  Any file of that format runs with ``--set trials=PATH --set mesh=PATH``.
+
+Per grasp (its gripper pose in the object's frame, gravity in that frame): the contact is
+recomputed from the pose — both pads pressed, the object free to settle between them
+(:mod:`workbench.grasp.settle`) — and every model judges it (:func:`judge_contact`: held at
+the gripper's force, and the force margin ``1 − f_min / f``).  Qualities: ``nominal`` (the
+margin at the recorded pose) and ``robust`` (the mean margin over N_r recomputed contacts at
+perturbed poses, 6DFC §V-B.1; one value per robustness seed).  Thresholds only by
+leave-one-grasp-out cross-validation (a grasp's trials never choose its own threshold).
+The contact with each pad pressed alone (no settling) is recorded beside, to show what the
+settle changes.
+"""
+
+from __future__ import annotations
+
+import time
+from functools import lru_cache, partial
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from workbench.grasp.crossval import crossval_scores, seed_summary
+from workbench.grasp.gripper_eval import check_task, gripper_contact, judge_contact
+from workbench.grasp.models import MODELS
+from workbench.grasp.pose_robust import PoseNoise, pose_samples
+from workbench.limit_surface import LimitSurfaceCache
+from workbench.parallel import check_workers, run_rows
+from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+
+NAME = "physical-trials"
+
+DEFAULT_CONFIG = {
+    "seed": 0,
+    "trials": "",  # a REACH trial JSON; "" = the packaged cube_3cm.json
+    "mesh": "",  # the object's mesh [m]; "" = the packaged cube_3cm.obj
+    "gripper": "yumi",  # "yumi" (the packaged preset) or a gripper yaml in the same format
+    "mass": 0.0,  # kg; 0 = read by object name (REACH's masses: the cube 3 g)
+    "mu": 0.0,  # friction coefficient; 0 = the gripper's own (YuMi: 0.3)
+    "models": list(MODELS),
+    "n_robust": 10,  # N_r pose samples per grasp (6DFC Fig. 3's best)
+    "sigma_trans": 0.003,  # m, per axis (6DFC's sigma_r)
+    "sigma_rot": 0.003,  # rad, per axis
+    "robust_seeds": 5,  # robustness seeds: mAP ± std over them (6DFC Table I: 5 runs)
+    "grasps": [],  # grasp indices to run; [] = all
+    "workers": 0,  # 0 = one per core when there are many rows, 1 = serially here
+    "scheduler": "",  # an existing Dask cluster's address
+}
+QUICK_CONFIG = {
+    "models": ["soft_point", "6dls", "6dfc"],
+    "n_robust": 3,
+    "robust_seeds": 2,
+    "grasps": [0, 2, 5, 19],
+}
+WHERE_KEYS = ("out", "workers", "scheduler")
+
+
+def check_config(config: dict) -> None:
+    """What fails only inside a run, refused before any work."""
+    check_workers(config["workers"], config["scheduler"])
+    bad = sorted(set(config["models"]) - set(MODELS))
+    if bad or not config["models"]:
+        raise ValueError(f"models must be a non-empty list of {list(MODELS)}; got {config['models']!r}")
+    if config["robust_seeds"] < 1 or config["n_robust"] < 1:
+        raise ValueError(
+            "n_robust and robust_seeds must be counts >= 1; got "
+            f"{config['n_robust']!r}, {config['robust_seeds']!r}"
+        )
+    PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"]).resolved()
+    if config["mass"] < 0:
+        raise ValueError(
+            f"mass must be the object's mass [kg] > 0, or 0 to read it by name; got {config['mass']!r}"
+        )
+    if config["mu"] < 0:
+        raise ValueError(
+            f"mu must be a friction coefficient > 0, or 0 for the gripper's own; got {config['mu']!r}"
+        )
+
+
+def _inputs(config: dict):
+    """(trials, mesh, gripper) of the config, read once per process."""
+    return _read_inputs(config["trials"], config["mesh"], config["gripper"])
+
+
+@lru_cache(maxsize=2)
+def _read_inputs(trials_path: str, mesh_path: str, gripper: str):
+    import trimesh
+
+    from workbench.sources.gripper import gripper_from_yaml, yumi
+    from workbench.sources.trials import default_mesh_path, default_trials_path, read_trials
+
+    trials = read_trials(trials_path or default_trials_path())
+    mesh = trimesh.load(mesh_path or default_mesh_path(), force="mesh")
+    gripper = yumi() if gripper == "yumi" else gripper_from_yaml(gripper)
+    return trials, mesh, gripper
+
+
+def _mass(config: dict, trials) -> float:
+    """The object's mass [kg]: given, or read by the trials' object name."""
+    if config["mass"]:
+        return float(config["mass"])
+    if trials.mass is None:
+        raise ValueError(
+            f"the mass of {trials.obj!r} is not known here (REACH's objects only): give it, "
+            "e.g. --set mass=0.25 [kg]"
+        )
+    return float(trials.mass)
+
+
+def _judge_all(contact, models, task, cache):
+    """{model: Verdict} for one contact, with each model's seconds."""
+    out, secs = {}, {}
+    for m in models:
+        t0 = time.perf_counter()
+        out[m] = judge_contact(contact, m, cache=cache, **task)
+        secs[m] = time.perf_counter() - t0
+    return out, secs
+
+
+def _grasp_row(job, config: dict) -> list:
+    """One Dask task: grasp ``g`` at robustness seed ``s`` — N_r recomputed contacts judged by
+    every model; seed 0 also the nominal contact, settled and pressed jaw by jaw."""
+    g, s = job
+    trials, mesh, gripper = _inputs(config)
+    grasp = trials.grasps()[g]
+    mu = config["mu"] or gripper.mu
+    task = {"mu": mu, "mass": _mass(config, trials), "com": np.asarray(mesh.center_mass), "down": grasp.down}
+    cache = LimitSurfaceCache()
+    models = config["models"]
+    row = {"grasp": g, "seed": s}
+    if s == 0:
+        for label, settle in (("nominal", True), ("pressed", False)):
+            t0 = time.perf_counter()
+            c = gripper_contact(mesh, gripper, grasp.pose, settle=settle)
+            row[f"{label}_contact_s"] = time.perf_counter() - t0
+            verdicts, secs = _judge_all(c, models, task, cache)
+            row[f"{label}_touches"] = c.touches
+            row[f"{label}_tilt_deg"] = float(np.degrees(c.tilt))
+            row[f"{label}_torque"] = c.torque
+            row[f"{label}_reason"] = c.reason
+            row[f"{label}_area_mm2"] = (
+                [float(p.areas.sum() * 1e6) for p in c.profiles] if c.touches else [0.0, 0.0]
+            )
+            for m, v in verdicts.items():
+                row[f"{label}/{m}/held"] = v.resisted
+                row[f"{label}/{m}/margin"] = v.margin
+                row[f"{label}/{m}/scale"] = v.scale if np.isfinite(v.scale) else None
+                row[f"{label}/{m}/reason"] = v.reason
+                row[f"{label}/{m}/s"] = secs[m]
+    noise = PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"])
+    margins = {m: [] for m in models}
+    held = {m: [] for m in models}
+    contact_s, judge_s = [], {m: [] for m in models}
+    misses = 0
+    for T in pose_samples(grasp.pose, noise, seed=_seed(config["seed"], g, s)):
+        t0 = time.perf_counter()
+        c = gripper_contact(mesh, gripper, T)
+        contact_s.append(time.perf_counter() - t0)
+        misses += not c.touches
+        verdicts, secs = _judge_all(c, models, task, cache)
+        for m, v in verdicts.items():
+            margins[m].append(v.margin)
+            held[m].append(v.resisted)
+            judge_s[m].append(secs[m])
+    row["robust_misses"] = misses
+    row["robust_contact_s"] = float(np.sum(contact_s))
+    for m in models:
+        row[f"robust/{m}/q"] = float(np.mean(margins[m]))
+        row[f"robust/{m}/p_held"] = float(np.mean(held[m]))
+        row[f"robust/{m}/s"] = float(np.sum(judge_s[m]))
+    return [(f"{g}/{s}", row)]
+
+
+def _seed(seed: int, g: int, s: int) -> np.random.Generator:
+    """The pose samples' generator of grasp g at robustness seed s (independent streams)."""
+    return np.random.default_rng([seed, g, s])
+
+
+def _score(trials, rows: dict, models, config) -> tuple[dict, dict]:
+    """Per model and quality: cross-validated scores (per seed for the robust quality)."""
+    gi = trials.grasp_index
+    keep = np.isin(gi, sorted({r["grasp"] for r in rows.values()}))
+    group, success = gi[keep], trials.success[keep]
+    per_grasp = {}
+    scores = {}
+    for m in models:
+        nominal = {r["grasp"]: r[f"nominal/{m}/margin"] for r in rows.values() if r["seed"] == 0}
+        pressed = {r["grasp"]: r[f"pressed/{m}/margin"] for r in rows.values() if r["seed"] == 0}
+        out = {}
+        for label, q in (("nominal", nominal), ("pressed", pressed)):
+            out[label] = crossval_scores(np.array([q[g] for g in group]), success, group)
+        by_seed = []
+        for s in range(config["robust_seeds"]):
+            q = {r["grasp"]: r[f"robust/{m}/q"] for r in rows.values() if r["seed"] == s}
+            by_seed.append(crossval_scores(np.array([q[g] for g in group]), success, group))
+        out["robust"] = seed_summary(by_seed)
+        out["robust_seed0"] = by_seed[0]
+        scores[m] = out
+        per_grasp[m] = {"nominal": nominal, "pressed": pressed}
+    return scores, per_grasp
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    trials, mesh, gripper = _inputs(config)
+    mu = config["mu"] or gripper.mu
+    check_task(mesh, _mass(config, trials), mu, (0.0, 0.0, -1.0))
+    grasps = trials.grasps()
+    todo_g = config["grasps"] or sorted(grasps)
+    key_cfg = {k: v for k, v in config.items() if k not in WHERE_KEYS}
+    ckpt = Checkpoint(out / "rows.jsonl", key_cfg)
+    jobs = [(g, s) for g in todo_g for s in range(config["robust_seeds"]) if f"{g}/{s}" not in ckpt.rows]
+
+    def keep(job, res) -> None:
+        for key, row in res:
+            ckpt.add(key, row)
+
+    with tqdm(total=len(jobs), desc="grasps x seeds", unit="row") as bar:
+        _, ran_on = run_rows(partial(_grasp_row, config=config), jobs, keep, config, progress=bar)
+    rows = {k: r for k, r in ckpt.rows.items() if r["grasp"] in todo_g}
+    models = config["models"]
+    scores, per_grasp = _score(trials, rows, models, config)
+    summary = _summary(trials, rows, scores, models, config, ran_on)
+    _tables(out, trials, rows, models, todo_g)
+    _figures(out, trials, rows, scores, models, todo_g)
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+def _summary(trials, rows, scores, models, config, ran_on) -> dict:
+    nominal_rows = [r for r in rows.values() if r["seed"] == 0]
+    outcomes = {}
+    for g in sorted({r["grasp"] for r in rows.values()}):
+        sel = trials.grasp_index == g
+        outcomes[str(g)] = int(trials.success[sel].sum())
+    timing = {}
+    for m in models:
+        per = [
+            (r["robust_contact_s"] + r[f"robust/{m}/s"]) * 1e3 for r in rows.values()
+        ]  # what one model costs a user: N_r contacts + the model's judgements
+        timing[m] = {"median_ms_per_grasp_n_robust": float(np.median(per)), "worst_ms": float(np.max(per))}
+
+    def flips(label):
+        return {m: int(sum(not r[f"{label}/{m}/held"] for r in nominal_rows)) for m in models}
+
+    return {
+        "data": "REACH physical trials: one object of REACH's 21, "
+        f"{int(np.isin(trials.grasp_index, [r['grasp'] for r in nominal_rows]).sum())} of its 2,625 trials",
+        "n_trials": int(np.isin(trials.grasp_index, [r["grasp"] for r in nominal_rows]).sum()),
+        "n_grasps": len(nominal_rows),
+        "successes_per_grasp": outcomes,
+        "ran_on": ran_on,
+        "scores": scores,
+        "not_held_nominal": flips("nominal"),
+        "not_held_pressed_jaw_by_jaw": flips("pressed"),
+        "settle": {
+            "tilt_deg": {str(r["grasp"]): r["nominal_tilt_deg"] for r in nominal_rows},
+            "converged": int(sum(r["nominal_torque"] <= 1e-3 for r in nominal_rows if r["nominal_touches"])),
+        },
+        "timing": timing,
+        "best": _best(scores),
+    }
+
+
+def _best(scores) -> dict:
+    """The model and quality with the highest cross-validated balanced accuracy (ties: AUC)."""
+    cands = []
+    for m, s in scores.items():
+        for label in ("nominal", "pressed"):
+            cands.append((s[label]["balanced_accuracy"], s[label]["roc_auc"], m, label))
+        r = s["robust"]
+        cands.append((r["balanced_accuracy"]["mean"], r["roc_auc"]["mean"], m, "robust"))
+    ba, auc, m, label = max(cands, key=lambda c: (np.nan_to_num(c[0]), np.nan_to_num(c[1])))
+    return {"model": m, "quality": label, "balanced_accuracy": ba, "roc_auc": auc}
+
+
+def _tables(out, trials, rows, models, grasps) -> None:
+    head = ["grasp", "successes", "area1_mm2", "area2_mm2", "tilt_deg"]
+    head += [f"{lab}/{m}" for m in models for lab in ("nominal", "robust_seed0")]
+    body = []
+    for g in grasps:
+        r = rows[f"{g}/0"]
+        body.append(
+            [
+                g,
+                int(trials.success[trials.grasp_index == g].sum()),
+                *r["nominal_area_mm2"],
+                r["nominal_tilt_deg"],
+            ]
+            + [x for m in models for x in (r[f"nominal/{m}/margin"], r[f"robust/{m}/q"])]
+        )
+    write_csv(out / "grasps.csv", head, body)
+
+
+def _figures(out, trials, rows, scores, models, grasps) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from workbench.grasp.crossval import roc_curve_points
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    gi = trials.grasp_index
+    keep = np.isin(gi, grasps)
+    success = trials.success[keep]
+    for m in models:
+        q = np.array([rows[f"{g}/0"][f"robust/{m}/q"] for g in gi[keep]])
+        fpr, tpr, prec, rec = roc_curve_points(q, success)
+        axes[0].plot(fpr, tpr, label=f"{m} (AUC {scores[m]['robust_seed0']['roc_auc']:.2f})")
+        axes[1].step(rec, prec, where="post", label=m)
+    axes[0].plot([0, 1], [0, 1], "k:", lw=0.8)
+    axes[0].set(
+        xlabel="false positive rate", ylabel="true positive rate", title="ROC, robust quality (seed 0)"
+    )
+    axes[1].set(xlabel="recall", ylabel="precision", title="precision-recall, robust quality (seed 0)")
+    axes[0].legend(fontsize=7)
+    save_figure(fig, out / "roc_pr.png")
+    plt.close(fig)

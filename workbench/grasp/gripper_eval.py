@@ -1,0 +1,242 @@
+"""A grasp given as users have it: a gripper (:class:`~workbench.sources.gripper.Gripper`) at a
+4×4 pose in the object's frame, gravity in a direction, the contact recomputed from the pose.
+
+:func:`gripper_contact` is the contact (model-independent): both pads pressed on the mesh
+(:func:`~workbench.sources.reach.pad_profile`, the gripper's polygon pad) with the object free
+to settle between them (:func:`~.settle.settle_contact`), or a miss.  :func:`judge_contact`
+asks one contact model whether that contact holds the object (thesis Eq. 2.100) and how much
+force it needs (Eq. 4.4): its ``margin`` ``1 − f_min / f`` is the thesis's force quality
+(§4.3.3.2) with the gripper's own force as ``f⊥max``, 0 when the pads miss or the model
+cannot hold it.  :func:`evaluate_gripper` composes them, and with a
+:class:`~.pose_robust.PoseNoise` recomputes the contact at N_r perturbed poses and reports
+the mean margin and the fraction held (6DFC §V-B.1).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..limit_surface import LimitSurfaceCache
+from .models import MODELS, contact_sets
+from .pose_robust import PoseNoise, check_pose, pose_samples
+from .resistance import CutStore, min_grasp_force, resists
+from .robust import gravity_wrench
+from .settle import SettledContact, settle_contact
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "GripperEvaluation",
+    "Verdict",
+    "check_task",
+    "evaluate_gripper",
+    "gripper_contact",
+    "judge_contact",
+]
+
+#: the densest solid (osmium, 22.6 g/cm³) and the lightest thin-walled object a parallel-jaw gripper
+#: lifts (a paper cup: ~40 kg/m³ of its closed volume) bound a plausible mean density [kg/m³]
+_DENSITY_RANGE = (5.0, 23_000.0)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One contact model's answer for one contact.
+
+    resisted : the model holds the task wrench at the gripper's force; margin : ``1 −
+    f_min / f`` in [0, 1] (0: a miss or not held at any force up to f); scale : ``f_min /
+    f`` (inf when no force holds); reason : why not, in words ("" when held).
+    """
+
+    model: str
+    resisted: bool
+    margin: float
+    scale: float
+    reason: str = ""
+
+
+@dataclass(frozen=True)
+class GripperEvaluation:
+    """What :func:`evaluate_gripper` found: the nominal ``contact`` and ``verdict``; with pose
+    robustness the per-sample verdicts, ``q_pose`` (mean margin) and ``p_held`` (fraction of
+    samples held, a miss counting as not held); ``timings_ms`` per stage."""
+
+    verdict: Verdict
+    contact: SettledContact = field(repr=False)
+    q_pose: float | None = None
+    p_held: float | None = None
+    samples: tuple[Verdict, ...] = field(default=(), repr=False)
+    timings_ms: dict = field(default_factory=dict)
+
+
+def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
+    """Gripper-level careless-input checks; returns the unit ``down`` (3,).
+
+    mass [kg] against the object's volume (a mean density outside 5–23,000 kg/m³: a mass in
+    grams, or a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
+    or a slip); down a non-zero (3,) direction.
+    """
+    from ..wrench import check_mu
+
+    mu = check_mu(mu)
+    if not 0 < mu <= 2:
+        hint = (
+            f" — a percentage? pass {mu / 100:g}"
+            if mu > 2
+            else " — without friction a parallel-jaw grasp holds nothing"
+        )
+        raise ValueError(
+            f"mu must be a friction coefficient in (0, 2] (rubber on plastic ~0.3-1.5); got {mu!r}{hint}"
+        )
+    gravity_wrench(mass, np.zeros(3))  # a number > 0, at most config.TOL.max_plausible_mass_kg
+    if mesh is not None and getattr(mesh, "is_volume", False):
+        rho = mass / float(mesh.volume)
+        lo, hi = _DENSITY_RANGE
+        if rho > hi:
+            raise ValueError(
+                f"mass {mass!r} kg in a {mesh.volume * 1e6:.3g} cm³ object is a mean density of "
+                f"{rho:.3g} kg/m³, "
+                f"denser than any solid (osmium: 22,600): a mass in grams? pass {mass / 1e3:g}"
+            )
+        if rho < lo:
+            log.warning(
+                "mass %g kg in a %.3g cm³ object: a mean density of %.3g kg/m³, lighter than a paper cup — "
+                "a mass in tonnes or a mesh in millimetres?",
+                mass,
+                mesh.volume * 1e6,
+                rho,
+            )
+    d = np.asarray(down, dtype=float)
+    if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
+        raise ValueError(
+            "down must be a non-zero (3,) gravity direction in the object frame; "
+            f"got {np.asarray(down).tolist()}"
+        )
+    return d / np.linalg.norm(d)
+
+
+def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float = 1e-3) -> SettledContact:
+    """Both pads of ``gripper`` at ``pose`` (4, 4; the gripper in the object frame [m]) pressed
+    on ``mesh`` at the gripper's force, the object settled between them (``settle=False``:
+    each pad pressed alone at the pose as given).  A pad that touches nothing within its
+    stroke is a miss (``contact.touches`` False, ``contact.reason`` says which), not an error.
+    """
+    from ..sources.reach import pad_profile
+
+    T = check_pose(pose, "gripper pose")
+    jaws = gripper.jaws(T)
+    k = gripper.pad.stiffness  # Winkler modulus [Pa/m]
+    # the pressure's shape is the Winkler pad's at the compression the force gives over the
+    # whole pad: a partial patch is pressed deeper, but the profile is scaled to the force
+    closing = gripper.force / (k * gripper.pad.area)
+
+    def press(jaw, depth):
+        return pad_profile(mesh, jaw, closing=depth, stiffness=k, max_edge=max_edge)
+
+    return settle_contact(jaws, press, gripper.force, closing=closing, settle=settle)
+
+
+def judge_contact(
+    contact: SettledContact,
+    model: str,
+    *,
+    mu: float,
+    mass: float,
+    com,
+    down,
+    cache: LimitSurfaceCache | None = None,
+    cuts: CutStore | None = None,
+    seed: int = 0,
+) -> Verdict:
+    """Whether ``model`` (one of :data:`~.models.MODELS`) says ``contact`` holds the object of
+    ``mass`` [kg] at ``com`` (3,) [m] against gravity along ``down`` (3,; object frame, before
+    the settle's turn, which is applied here), at the contact's force, and its margin."""
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}; got {model!r}")
+    if not contact.touches:
+        return Verdict(model, False, 0.0, np.inf, f"no contact: {contact.reason}")
+    d = contact.rotation @ np.asarray(down, float)  # the object turned as it settled
+    w = gravity_wrench(mass, com, down=d)
+    cache = LimitSurfaceCache() if cache is None else cache
+    cuts = CutStore() if cuts is None else cuts
+    sets = [c for p in contact.profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
+    held = resists(sets, w, mu, cuts=cuts)
+    mf = min_grasp_force(sets, w, mu, cuts=cuts)
+    scale = float(mf.scale) if mf.feasible and np.isfinite(mf.scale) else np.inf
+    margin = float(np.clip(1.0 - scale, 0.0, 1.0)) if np.isfinite(scale) else 0.0
+    reason = ""
+    if not held:
+        reason = (
+            f"the {model} contacts cannot balance gravity at this force (relative residual "
+            f"{held.residual:.2g}; minimal force "
+            f"{'none' if not np.isfinite(scale) else f'{scale:.3g} × the force'})"
+        )
+        if model == "point":
+            reason += ": two point contacts on one line resist no torque about that line"
+    return Verdict(model, bool(held), margin if held else 0.0, scale, reason)
+
+
+def evaluate_gripper(
+    mesh,
+    gripper,
+    pose,
+    *,
+    model: str = "6dls",
+    mass: float,
+    com=None,
+    down=(0.0, 0.0, -1.0),
+    mu: float | None = None,
+    robust: PoseNoise | None = None,
+    settle: bool = True,
+    seed: int = 0,
+    cache: LimitSurfaceCache | None = None,
+    cuts: CutStore | None = None,
+) -> GripperEvaluation:
+    """Evaluate ``gripper`` at ``pose`` (4, 4: the gripper frame in the object frame [m]) on
+    ``mesh`` (metres) under contact model ``model``, holding ``mass`` [kg] at ``com`` (3,)
+    [m; default the mesh's centre of mass] against gravity along ``down`` (3,; object frame).
+
+    mu : the pad's friction coefficient (default ``gripper.mu``); robust : a
+        :class:`~.pose_robust.PoseNoise` to also recompute the contact at perturbed poses
+        (``q_pose``, ``p_held``); settle : the object free to settle between the pads
+        (:mod:`~.settle`); seed : pose samples and the models' samplers.
+    """
+    mu = gripper.mu if mu is None else mu
+    if mu is None:
+        raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")
+    d = check_task(mesh, mass, mu, down)
+    c = np.asarray(mesh.center_mass if com is None else com, float)
+    cache = LimitSurfaceCache() if cache is None else cache
+    cuts = CutStore() if cuts is None else cuts
+    t = {}
+    t0 = time.perf_counter()
+    contact = gripper_contact(mesh, gripper, pose, settle=settle)
+    t["contact"] = (time.perf_counter() - t0) * 1e3
+    t0 = time.perf_counter()
+    v = judge_contact(contact, model, mu=mu, mass=mass, com=c, down=d, cache=cache, cuts=cuts, seed=seed)
+    t["judge"] = (time.perf_counter() - t0) * 1e3
+    if robust is None:
+        return GripperEvaluation(v, contact, timings_ms=t)
+    t0 = time.perf_counter()
+    samples = tuple(
+        judge_contact(
+            gripper_contact(mesh, gripper, T, settle=settle),
+            model,
+            mu=mu,
+            mass=mass,
+            com=c,
+            down=d,
+            cache=cache,
+            cuts=cuts,
+            seed=seed,
+        )
+        for T in pose_samples(pose, robust, seed)
+    )
+    t["pose_robust"] = (time.perf_counter() - t0) * 1e3
+    q = float(np.mean([s.margin for s in samples]))
+    p = float(np.mean([s.resisted for s in samples]))
+    return GripperEvaluation(v, contact, q, p, samples, t)

@@ -1,0 +1,190 @@
+"""The contact a free object makes between two parallel jaws: both pads' patches solved together.
+
+A jaw pressed on its own meets a face 3–9° off its normal along a strip at the pad's edge, and
+two such strips put the jaws' pressure centres centimetres apart: a couple no free object
+holds still under.  Between force-controlled parallel jaws the object is free to turn until
+the pads' normal forces balance (equal and opposite forces on one line, no net torque) —
+what the thesis's quasi-static analysis presumes of the contact it analyses (§4.1.3.2, both
+jaws at one force reading) and what a soft pad does to a cube that is grasped a few degrees
+off square.
+
+The model (stated, not tuned): the object is rigid, the pads are Winkler foundations
+(:mod:`workbench.sources.reach`: pressure ∝ local compression), each jaw pushes with the same
+force along the closing axis, and the object turns relative to the gripper about the point
+midway between the tooltips, about the two axes normal to the closing axis, by at most
+``config.DEFAULTS.settle_max_tilt`` (beyond it a finger, not the pad, would have to stop it).
+Turning about the closing axis and sliding are left to friction: they are the
+resistance question itself.  :func:`settle_contact` finds the turn at which the normal
+forces' torque about the axes normal to the closing axis vanishes (relative to force × pad
+size, ``config.TOL.settle_torque_rtol``), starting from deep compressions where the patch is
+large and the torque smooth and ending at the pad's own (continuation over
+``config.DEFAULTS.settle_closings``).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.spatial.transform import Rotation
+
+from ..profile import ContactProfile
+from ..sources.jaws import with_axis_force
+
+log = logging.getLogger(__name__)
+
+__all__ = ["SettledContact", "normal_torque", "settle_contact", "turned_jaw"]
+
+#: a pad press: (jaw, closing [m]) -> the jaw's contact profile, or None when it touches nothing
+Press = Callable[[object, float], "ContactProfile | None"]
+
+
+@dataclass(frozen=True)
+class SettledContact:
+    """Both jaws' contact after the object settled between them.
+
+    profiles : the two jaws' profiles scaled to ``force`` each, or None when a pad touches
+        nothing (then ``reason`` says which).
+    jaws : the jaws where the object settled (object frame), after the turn ``rotation``.
+    rotation : (3, 3) the turn of the gripper relative to the object about ``pivot`` (the
+        object turns by its transpose relative to the gripper: gravity's direction in the
+        object frame turns by ``rotation`` too).
+    tilt : the turn's angle [rad]; torque : the remaining normal-force torque normal to the
+        closing axis relative to force × pad size; converged : ``torque <= tol``.
+    """
+
+    profiles: tuple[ContactProfile, ContactProfile] | None
+    jaws: tuple
+    rotation: np.ndarray = field(repr=False)
+    pivot: np.ndarray = field(repr=False)
+    tilt: float
+    torque: float
+    converged: bool
+    reason: str = ""
+    n_evaluations: int = 0
+
+    @property
+    def touches(self) -> bool:
+        """Both pads touch the object."""
+        return self.profiles is not None
+
+
+def turned_jaw(jaw, rotation: np.ndarray, pivot: np.ndarray):
+    """``jaw`` turned by ``rotation`` (3, 3) about ``pivot`` (3,) [m] (a rigid motion of the
+    gripper in the object frame); the pad outline rides along in the jaw's own axes."""
+    R = np.asarray(rotation, float)
+    p = np.asarray(pivot, float)
+    return replace(
+        jaw,
+        origin=p + R @ (np.asarray(jaw.origin, float) - p),
+        closing=R @ np.asarray(jaw.closing, float),
+        e1=R @ np.asarray(jaw.e1, float),
+        e2=R @ np.asarray(jaw.e2, float),
+    )
+
+
+def normal_torque(profiles, point: np.ndarray) -> np.ndarray:
+    """(3,) torque about ``point`` of the profiles' normal forces on the object
+    (``Σ (c − point) × (−p a n)``, CONVENTIONS.md: normals out of the object)."""
+    tau = np.zeros(3)
+    for prof in profiles:
+        f = -(prof.pressures * prof.areas)[:, None] * prof.normals
+        tau += np.cross(prof.centers - point, f).sum(axis=0)
+    return tau
+
+
+def _basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors normal to ``axis`` and to each other."""
+    helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
+    b1 = np.cross(axis, helper)
+    b1 /= np.linalg.norm(b1)
+    return b1, np.cross(axis, b1)
+
+
+def settle_contact(
+    jaws,
+    press: Press,
+    force: float,
+    *,
+    closing: float,
+    settle: bool = True,
+    max_tilt: float | None = None,
+    tol: float | None = None,
+) -> SettledContact:
+    """Both jaws' contact with the object free to turn between them (module docstring).
+
+    jaws : the two jaws (:class:`~workbench.sources.gripper.Jaw`, object frame) as the gripper
+        pose puts them; press : ``press(jaw, closing)`` the jaw's profile pressed ``closing``
+        [m] past first touch, or None when its pad touches nothing
+        (:func:`~workbench.sources.reach.pad_profile`); force : each jaw's force [N] along
+        its closing axis; closing : the pad's compression at ``force`` [m] (the pressure's
+        shape; the last step of the continuation).
+    settle : False gives each jaw's own patch at the pose as given (no turn): the
+        contact of the jaws pressed one by one.
+    max_tilt, tol : ``config.DEFAULTS.settle_max_tilt`` [rad] and
+        ``config.TOL.settle_torque_rtol`` when None.
+    """
+    from .. import config
+
+    max_tilt = config.DEFAULTS.settle_max_tilt if max_tilt is None else float(max_tilt)
+    tol = config.TOL.settle_torque_rtol if tol is None else float(tol)
+    if not (np.isfinite(force) and force > 0):
+        raise ValueError(f"force must be each jaw's force in newtons, finite and > 0; got {force!r}")
+    if not (np.isfinite(closing) and closing > 0):
+        raise ValueError(f"closing must be the pad's compression [m], > 0; got {closing!r}")
+    j1, j2 = jaws
+    axis = np.asarray(j1.closing, float)
+    pivot = 0.5 * (np.asarray(j1.origin, float) + np.asarray(j2.origin, float))
+    b1, b2 = _basis(axis)
+    size = float(np.ptp(np.asarray(j1.outline, float), axis=0).max())
+    n_eval = [0]
+
+    def pressed(theta: np.ndarray, depth: float):
+        R = Rotation.from_rotvec(theta[0] * b1 + theta[1] * b2).as_matrix()
+        turned = tuple(turned_jaw(j, R, pivot) for j in (j1, j2))
+        n_eval[0] += 1
+        profs = []
+        for k, jaw in enumerate(turned):
+            prof = press(jaw, depth)
+            if prof is None:
+                return R, turned, None, f"pad {k + 1} touches nothing"
+            profs.append(with_axis_force(prof, jaw.closing, force))
+        return R, turned, tuple(profs), ""
+
+    def residual(theta: np.ndarray, depth: float) -> np.ndarray:
+        _, turned, profs, _ = pressed(theta, depth)
+        if profs is None:  # lost contact: push back towards the start
+            return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(max_tilt, 1e-12))
+        tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
+        return np.array([tau @ b1, tau @ b2]) / (force * size)
+
+    theta = np.zeros(2)
+    if settle and max_tilt > 0:
+        _, _, profs0, _ = pressed(theta, closing)
+        if profs0 is not None:  # a pad that misses at the pose as given is a miss (no search)
+            lo, hi = np.full(2, -max_tilt), np.full(2, max_tilt)
+            for depth in (*config.DEFAULTS.settle_closings, closing):
+                if depth < closing:
+                    continue
+                sol = least_squares(
+                    residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
+                )
+                theta = sol.x
+    R, turned, profs, reason = pressed(theta, closing)
+    if profs is None:
+        log.debug("settle: %s", reason)
+        tilt = float(np.linalg.norm(theta))
+        return SettledContact(None, turned, R, pivot, tilt, np.nan, False, reason, n_eval[0])
+    tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
+    rel = float(np.hypot(tau @ b1, tau @ b2) / (force * size))
+    ok = rel <= tol
+    if settle and not ok:
+        reason = (
+            f"the normal forces keep a torque of {rel:.2g} × force × pad size after a turn of "
+            f"{np.degrees(np.linalg.norm(theta)):.1f}° (limit {np.degrees(max_tilt):.0f}°)"
+        )
+        log.info("settle: %s", reason)
+    return SettledContact(profs, turned, R, pivot, float(np.linalg.norm(theta)), rel, ok, reason, n_eval[0])
