@@ -22,6 +22,7 @@ $(PEERS_STAMP): $(STAMP)
 # timed into results/benchmarks/reproduce.json (benchmarks/timed.py: one split per run).
 RUN_ID := $(shell date +%Y%m%dT%H%M%S)
 OBJECTS := ../shared/data/deformable_objects
+FIG3_MODELS := models=["point","reach","6dls","6dfc"]
 TIMED  = REPRODUCE_RUN=$(RUN_ID) $(BIN)/python benchmarks/timed.py
 reproduce: $(PEERS_STAMP)
 	$(TIMED) parametric-surfaces -- $(BIN)/workbench run parametric-surfaces
@@ -49,6 +50,16 @@ reproduce: $(PEERS_STAMP)
 	  echo "wall-nonlinear, minimal-work: skipped - $(OBJECTS) (meshes/, stiffness_maps/) not found"; \
 	fi
 	$(TIMED) peers -- $(BIN)/workbench run peers
+	: the REACH dataset's real YuMi trials on a 3 cm cube, packaged under their MIT notice
+	$(TIMED) physical-trials -- $(BIN)/workbench run physical-trials
+	: 6DFC Fig. 3 on them: mAP and mAR against N_r and sigma_r, its four algorithms, by sweeps
+	$(TIMED) physical-trials-fig3a -- $(BIN)/workbench sweep physical-trials --grid 'n_robust=[1,3,10,20]' \
+		--set '$(FIG3_MODELS)' --out results/physical-trials-fig3a
+	$(TIMED) physical-trials-fig3b -- $(BIN)/workbench sweep physical-trials \
+		--grid 'sigma_trans=[0.001,0.003,0.005,0.01]' --set '$(FIG3_MODELS)' --out results/physical-trials-fig3b
+	$(BIN)/python -c 'from workbench.trial_figures import fig_3; fig_3({"n_robust": \
+		"results/physical-trials-fig3a/table.parquet", "sigma_trans": "results/physical-trials-fig3b/table.parquet"}, \
+		["point", "reach", "6dls", "6dfc"], "results/physical-trials/fig_3_6dfc.png")'
 	$(TIMED) bench-wrench -- $(BIN)/python benchmarks/bench_wrench.py
 	$(TIMED) bench-limit-surface -- $(BIN)/python benchmarks/bench_limit_surface.py
 	$(TIMED) bench-grasp -- $(BIN)/python benchmarks/bench_grasp.py
@@ -57,6 +68,7 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) bench-newton -- $(BIN)/python benchmarks/bench_newton.py
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 	$(TIMED) bench-pareto -- $(BIN)/python benchmarks/bench_pareto.py
+	$(TIMED) bench-physical-trials -- $(BIN)/python benchmarks/bench_physical_trials.py
 	$(BIN)/workbench report
 
 # with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
@@ -83,6 +95,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_wall_stiffness.py
 	$(BIN)/python benchmarks/bench_sweep.py
 	$(BIN)/python benchmarks/bench_pareto.py
+	$(BIN)/python benchmarks/bench_physical_trials.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -30,6 +30,8 @@ from workbench.grasp.crossval import crossval_scores, seed_summary
 from workbench.grasp.gripper_eval import check_task, gripper_contact, judge_contact
 from workbench.grasp.models import MODELS
 from workbench.grasp.pose_robust import PoseNoise, pose_samples
+from workbench.grasp.precision import scores as scores_of
+from workbench.grasp.threshold import balanced_accuracy
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
@@ -195,12 +197,13 @@ def _score(trials, rows: dict, models, config) -> tuple[dict, dict]:
         out = {}
         for label, q in (("nominal", nominal), ("pressed", pressed)):
             out[label] = crossval_scores(np.array([q[g] for g in group]), success, group)
-        by_seed = []
-        for s in range(config["robust_seeds"]):
-            q = {r["grasp"]: r[f"robust/{m}/q"] for r in rows.values() if r["seed"] == s}
-            by_seed.append(crossval_scores(np.array([q[g] for g in group]), success, group))
-        out["robust"] = seed_summary(by_seed)
-        out["robust_seed0"] = by_seed[0]
+        for label, key in (("robust", "q"), ("robust_held", "p_held")):
+            by_seed = []
+            for s in range(config["robust_seeds"]):
+                q = {r["grasp"]: r[f"robust/{m}/{key}"] for r in rows.values() if r["seed"] == s}
+                by_seed.append(crossval_scores(np.array([q[g] for g in group]), success, group))
+            out[label] = seed_summary(by_seed)
+            out[f"{label}_seed0"] = by_seed[0]
         scores[m] = out
         per_grasp[m] = {"nominal": nominal, "pressed": pressed}
     return scores, per_grasp
@@ -229,7 +232,7 @@ def run(config: dict) -> dict:
     scores, per_grasp = _score(trials, rows, models, config)
     summary = _summary(trials, rows, scores, models, config, ran_on)
     _tables(out, trials, rows, models, todo_g)
-    _figures(out, trials, rows, scores, models, todo_g)
+    _figures(out, trials, rows, scores, models, todo_g, config)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
@@ -263,9 +266,70 @@ def _summary(trials, rows, scores, models, config, ran_on) -> dict:
             "tilt_deg": {str(r["grasp"]): r["nominal_tilt_deg"] for r in nominal_rows},
             "converged": int(sum(r["nominal_torque"] <= 1e-3 for r in nominal_rows if r["nominal_touches"])),
         },
+        "verdict_scores": _verdict_scores(trials, rows, models),
         "timing": timing,
         "best": _best(scores),
+        "per_grasp": _per_grasp(trials, rows, scores, models),
     }
+
+
+def _verdict_scores(trials, rows, models) -> dict:
+    """Per model, the binary verdict "held at the gripper's force" at the recorded pose (the
+    thesis's Table 4.1 kind of prediction: no threshold) against the outcomes."""
+    gi = trials.grasp_index
+    grasps = sorted({r["grasp"] for r in rows.values()})
+    keep = np.isin(gi, grasps)
+    truth = trials.success[keep]
+    out = {}
+    for m in models:
+        for label in ("nominal", "pressed"):
+            pred = np.array([rows[f"{g}/0"][f"{label}/{m}/held"] for g in gi[keep]], dtype=bool)
+            pr = scores_of(pred, truth)
+            tp, fp, fn = int((pred & truth).sum()), int((pred & ~truth).sum()), int((~pred & truth).sum())
+            f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else float("nan")
+            out.setdefault(m, {})[label] = {
+                **pr,
+                "f1": f1,
+                "accuracy": float((pred == truth).mean()),
+                "balanced_accuracy": balanced_accuracy(pred, truth),
+            }
+    return out
+
+
+def _per_grasp(trials, rows, scores, models) -> dict:
+    """Per grasp: its outcomes, contact and, per model, the qualities and the cross-validated
+    predictions (robust qualities: seed 0)."""
+    gi = trials.grasp_index
+    grasps = sorted({r["grasp"] for r in rows.values()})
+    first = {g: int(np.flatnonzero(gi[np.isin(gi, grasps)] == g)[0]) for g in grasps}
+    out = {}
+    for g in grasps:
+        r = rows[f"{g}/0"]
+        out[str(g)] = {
+            "held": int(trials.success[gi == g].sum()),
+            "trials": int((gi == g).sum()),
+            "contact_area_mm2": r["nominal_area_mm2"],
+            "settle_tilt_deg": r["nominal_tilt_deg"],
+            "robust_misses_seed0": r["robust_misses"],
+            "models": {
+                m: {
+                    "nominal_margin": r[f"nominal/{m}/margin"],
+                    "robust_q": r[f"robust/{m}/q"],
+                    "robust_p_held": r[f"robust/{m}/p_held"],
+                    "reason": r[f"nominal/{m}/reason"],
+                    **{
+                        f"predicted_{lab}": bool(scores[m][key]["predicted"][first[g]])
+                        for lab, key in (
+                            ("nominal", "nominal"),
+                            ("robust", "robust_seed0"),
+                            ("robust_held", "robust_held_seed0"),
+                        )
+                    },
+                }
+                for m in models
+            },
+        }
+    return out
 
 
 def _best(scores) -> dict:
@@ -274,8 +338,9 @@ def _best(scores) -> dict:
     for m, s in scores.items():
         for label in ("nominal", "pressed"):
             cands.append((s[label]["balanced_accuracy"], s[label]["roc_auc"], m, label))
-        r = s["robust"]
-        cands.append((r["balanced_accuracy"]["mean"], r["roc_auc"]["mean"], m, "robust"))
+        for label in ("robust", "robust_held"):
+            r = s[label]
+            cands.append((r["balanced_accuracy"]["mean"], r["roc_auc"]["mean"], m, label))
     ba, auc, m, label = max(cands, key=lambda c: (np.nan_to_num(c[0]), np.nan_to_num(c[1])))
     return {"model": m, "quality": label, "balanced_accuracy": ba, "roc_auc": auc}
 
@@ -298,7 +363,7 @@ def _tables(out, trials, rows, models, grasps) -> None:
     write_csv(out / "grasps.csv", head, body)
 
 
-def _figures(out, trials, rows, scores, models, grasps) -> None:
+def _figures(out, trials, rows, scores, models, grasps, config) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -322,4 +387,37 @@ def _figures(out, trials, rows, scores, models, grasps) -> None:
     axes[1].set(xlabel="recall", ylabel="precision", title="precision-recall, robust quality (seed 0)")
     axes[0].legend(fontsize=7)
     save_figure(fig, out / "roc_pr.png")
+    plt.close(fig)
+    _panels(out, trials, rows, models, grasps, plt, config)
+
+
+def _panels(out, trials, rows, models, grasps, plt, config) -> None:
+    """Per grasp: jaw 1's pad on the face where the object settled, its contact, the outcome and
+    each model's robust quality (seed 0)."""
+    from workbench.trial_figures import facing_surface, grasp_panel
+
+    _, mesh, gripper = _inputs(config)
+    n = len(grasps)
+    cols = int(np.ceil(np.sqrt(n)))
+    fig, axes = plt.subplots(int(np.ceil(n / cols)), cols, figsize=(1.9 * cols, 2.2 * np.ceil(n / cols)))
+    axes = np.atleast_1d(axes).ravel()
+    for ax, g in zip(axes, grasps, strict=False):
+        grasp = trials.grasps()[g]
+        c = gripper_contact(mesh, gripper, grasp.pose)
+        held = sum(grasp.outcomes)
+        grasp_panel(
+            ax,
+            c,
+            facing_surface(mesh, c.jaws[0]),
+            title=f"grasp {g}",
+            outcome=f"{held}/{len(grasp.outcomes)} held",
+            qualities={m: rows[f"{g}/0"][f"robust/{m}/q"] for m in models},
+            failed=held * 2 < len(grasp.outcomes),
+        )
+    for ax in axes[n:]:
+        ax.set_axis_off()
+    fig.suptitle(
+        "jaw 1's pad (outline) on the face, the settled contact (pressure), robust quality q", fontsize=8
+    )
+    save_figure(fig, out / "grasp_panels.png", dpi=160)
     plt.close(fig)

@@ -88,20 +88,24 @@ def test_average_precision_by_hand_and_against_a_slow_scan(rng):
     assert np.isnan(average_precision([0.2, 0.7], [0, 0]))  # no success: recall undefined
 
 
-def test_average_recall_by_hand_and_against_a_slow_scan(rng):
-    # recalls at t = 0.9, 0.8, 0.4, 0.1: 1/3, 2/3, 2/3, 1
-    assert average_recall(Q5, S5) == pytest.approx((1 / 3 + 2 / 3 + 2 / 3 + 1) / 4)
+def test_average_recall_by_hand_on_the_reach_labs_grid(rng):
+    # successes at 0.95, 0.85, 0.15: all three recalled at t = 0 and 0.1, two at t = 0.2 ... 0.8
+    # (7 thresholds), one at 0.9, none at 1.0: (2 + 7 * 2/3 + 1/3) / 11 = 7/11
+    q = [0.95, 0.85, 0.75, 0.45, 0.15]
+    s = [1, 1, 0, 0, 1]
+    assert average_recall(q, s) == pytest.approx(7 / 11, abs=1e-12)
+    assert average_recall(np.zeros(4), [1, 0, 1, 1]) == pytest.approx(1 / 11)  # a constant 0
+    assert average_recall(np.ones(4), [1, 0, 1, 1]) == 1.0
+    assert average_recall(q, s, thresholds=[0.5]) == pytest.approx(2 / 3)
     for _ in range(20):
         q, s = _random_tied(rng)
-        slow = np.mean([r for _, r in _pr_slow(q, s)])
+        grid = np.linspace(0, 1, 11)
+        recalls = [np.mean([qi >= t for qi, si in zip(q, s, strict=True) if si]) for t in grid]
+        slow = np.mean(recalls)
         assert average_recall(q, s) == pytest.approx(slow, abs=1e-12)
-        # the docstring's reading: the mean over successes of the fraction of thresholds recalling them
-        ts = np.unique(q)
-        frac = [np.mean(ts <= qi) for qi in q[s]]
-        assert average_recall(q, s) == pytest.approx(np.mean(frac), abs=1e-12)
-    assert average_recall([0.1, 0.2, 0.9, 0.9], [0, 0, 1, 1]) == 1.0  # successes share the top quality
-    assert average_recall([0.1, 0.2, 0.9], [1, 0, 0]) == pytest.approx(1 / 3)  # success lowest: 1/k
     assert np.isnan(average_recall([0.2, 0.7], [0, 0]))
+    with pytest.raises(ValueError, match="thresholds"):
+        average_recall(q, s, thresholds=[])
 
 
 def test_best_threshold_separates_a_separable_set():
@@ -235,7 +239,10 @@ def test_crossval_scores_by_hand():
     assert (got["threshold_min"], got["threshold_max"]) == (pytest.approx(0.3), pytest.approx(0.7))
     assert got["roc_auc"] == pytest.approx(8.5 / 9)  # 0.9 beats 3 failures twice; 0.5: tie + 2 wins
     assert got["average_precision"] == pytest.approx(2 / 3 * 1 + 1 / 3 * 3 / 4)
-    assert got["average_recall"] == pytest.approx((2 / 3 + 1 + 1) / 3)
+    q = np.array([0.9, 0.9, 0.5, 0.5, 0.1, 0.1])
+    s = np.array([1, 1, 1, 0, 0, 0], bool)
+    grid = [np.mean(q[s] >= t) for t in np.linspace(0, 1, 11)]
+    assert got["average_recall"] == pytest.approx(np.mean(grid))
 
 
 def test_constant_quality_and_single_class():

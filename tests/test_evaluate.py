@@ -131,3 +131,17 @@ def test_careless_arguments_are_refused_before_any_work(cylinder_jaws, kw, match
         evaluate_grasp(None, grasp, **args)
     with pytest.raises(ValueError, match="got a list of 1"):
         evaluate_grasp(None, GRASP, profiles=cylinder_jaws[:1], mu=MU, mass=0.3, com=[0, 0, 0])
+
+
+def test_gravity_takes_a_direction(cylinder_jaws):
+    """``down=`` turns the task: gravity along −y instead of −z loads the same weight along −y
+    (w_ext = [0, −m g, 0, 0, 0, 0] about a centre of mass at the origin), and the minimal force
+    of two soft points is the same by symmetry of the friction circle (their friction is a
+    polygon: within its 8-gon's in/out radius ratio cos(π/8))."""
+    mass = 0.3
+    kw = dict(profiles=cylinder_jaws, model="soft_point", force=10.0, mu=MU, mass=mass, com=[0, 0, 0])
+    z = evaluate_grasp(None, GRASP, **kw)
+    y = evaluate_grasp(None, GRASP, down=(0, -2.0, 0), **kw)
+    np.testing.assert_allclose(y.w_ext, [0, -mass * G_ACC, 0, 0, 0, 0], atol=1e-15)
+    assert y.resisted
+    assert np.cos(np.pi / 8) - 1e-9 <= z.min_force.scale / y.min_force.scale <= 1 / np.cos(np.pi / 8) + 1e-9

@@ -123,3 +123,30 @@ def test_two_hard_points_minimal_force_is_none_even_where_highs_is_undecided(cub
     mf = min_grasp_force(sets, gravity_wrench(MASS, np.zeros(3), down=c.rotation @ grasp.down), 0.3)
     assert not mf.feasible and mf.total == np.inf
     assert all("Clarabel" in f for f in mf.fallbacks)
+
+
+def test_an_object_wider_than_the_opening_is_a_miss():
+    # a 6 cm box in a gripper that opens 5 cm: no grasp, said so
+    box = trimesh.creation.box((0.06, 0.06, 0.03))
+    ev = evaluate_gripper(box, yumi(), _top_down(depth=0.005), model="6dls", mass=0.05)
+    assert not ev.contact.touches and "wider than the gripper's opening" in ev.verdict.reason
+    assert ev.verdict.margin == 0.0
+
+
+def test_several_models_share_one_set_of_contacts(cube):
+    from workbench.grasp.gripper_eval import evaluate_models
+
+    noise = PoseNoise(4, 0.003, 0.003)
+    both = evaluate_models(
+        cube, yumi(), _top_down(y=0.02), models=("soft_point", "6dls"), mass=MASS, robust=noise
+    )
+    assert both["soft_point"].contact is both["6dls"].contact
+    one = evaluate_gripper(cube, yumi(), _top_down(y=0.02), model="6dls", mass=MASS, robust=noise)
+    assert one.q_pose == both["6dls"].q_pose and one.verdict.scale == both["6dls"].verdict.scale
+
+
+def test_gravity_against_the_approach_is_warned(cube, caplog):
+    # a top-down gripper with "down" = +z (an up vector): possible (a grasp from below), so a warning
+    with caplog.at_level("WARNING"):
+        evaluate_gripper(cube, yumi(), _top_down(), model="soft_point", mass=MASS, down=(0, 0, 1))
+    assert "is down an up vector" in caplog.text

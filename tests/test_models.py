@@ -33,3 +33,39 @@ def test_every_model_on_the_elliptic_cylinder_grasp():
             assert resists(sets, twist, mu), name
     with pytest.raises(ValueError, match="model must be one of"):
         contact_sets(profiles[0], "ellipsoid")
+
+
+def test_planar_profile_of_a_strip_one_element_wide():
+    """Centres on one line leave the PCA plane undetermined (the zero-normal crash of a 1 mm
+    strip in the physical trials): the plane through the line closest to normal to the net
+    normal — for a flat strip, the strip's own plane; a single element keeps its normal."""
+    from workbench.grasp.models import planar_profile
+    from workbench.profile import ContactProfile
+
+    n = np.array([0.0, 0.6, -0.8])
+    x = np.linspace(-2e-3, 2e-3, 5)
+    centers = np.column_stack([x, np.zeros(5), np.zeros(5)])
+    strip = ContactProfile(centers, np.tile(n, (5, 1)), np.full(5, 1e-7), np.full(5, 1e5))
+    flat = planar_profile(strip)
+    np.testing.assert_allclose(flat.normals, np.tile(n, (5, 1)), atol=1e-12)
+    np.testing.assert_allclose(flat.centers, centers, atol=1e-15)
+    assert flat.F == pytest.approx(strip.F, rel=1e-12)
+    one = planar_profile(ContactProfile(centers[:1], n[None], [1e-7], [1e5]))
+    np.testing.assert_allclose(one.normals[0], n, atol=1e-12)
+
+
+def test_planar_profile_of_a_spread_patch_is_the_pca_plane():
+    """Away from the collinear case the plane is the least-variance PCA axis, as before (by hand:
+    the SVD of the area-weighted centres, oriented like the net normal)."""
+    from workbench.grasp.models import net_normal, planar_profile
+    from workbench.profile import ContactProfile
+
+    rng = np.random.default_rng(3)
+    c = rng.normal(size=(40, 3)) * [3e-3, 2e-3, 2e-4]
+    normals = np.tile([0.0, 0.0, 1.0], (40, 1)) + rng.normal(scale=0.05, size=(40, 3))
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    prof = ContactProfile(c, normals, rng.uniform(1e-7, 2e-7, 40), rng.uniform(1e4, 2e4, 40))
+    w = (prof.centers - prof.pressure_center) * np.sqrt(prof.areas)[:, None]
+    v = np.linalg.svd(w)[2][-1]
+    v = v * np.sign(v @ net_normal(prof))
+    np.testing.assert_allclose(planar_profile(prof).normals[0], v, atol=1e-12)

@@ -88,6 +88,13 @@ def test_turned_jaw_is_a_rigid_motion(cube):
     t = turned_jaw(jaw, R, p)
     np.testing.assert_allclose(t.origin - p, R @ (jaw.origin - p), atol=1e-15)
     np.testing.assert_allclose(np.cross(t.e2, t.closing), t.e1, atol=1e-12)
+    # the unchecked fast path builds what the checked constructor builds from the moved vectors
+    from workbench.sources.gripper import Jaw
+
+    checked = Jaw(t.origin, t.closing, t.e1, t.e2, jaw.outline, jaw.stroke, jaw.stiffness)
+    for name in ("origin", "closing", "e1", "e2", "outline"):
+        np.testing.assert_array_equal(getattr(t, name), getattr(checked, name))
+        assert not getattr(t, name).flags.writeable
 
 
 def test_normal_torque_of_two_opposed_offset_patches():

@@ -151,23 +151,30 @@ def average_precision(quality, success) -> float:
     return float(np.sum(np.diff(recall, prepend=0.0) * precision))
 
 
-def average_recall(quality, success) -> float:
-    """Average recall: the mean of the recalls R_k of ``quality >= t_k`` over the distinct
-    qualities t_k — the same thresholds as :func:`average_precision`, each counted once.
+#: the thresholds of :func:`average_recall`: the REACH lab's comparison of grasp qualities with
+#: physical outcomes (ipc-graspsim ``tools/grasping/compare_ipc_phys.py``: t = 0, 0.1, …, 1.0)
+RECALL_THRESHOLDS = tuple(np.linspace(0.0, 1.0, 11))
 
-    The 6DFC paper (§V) reports AP and AR without a formula; this is our definition.  It is
-    the mean over the successes of the fraction of the k thresholds that recall them, so 1
-    when every success has the top quality, about 1/2 for a quality that ranks at random,
-    and 1/k when every success has the lowest.
 
-    quality : (n,) float (±inf allowed, no NaN); success : (n,) bool.
+def average_recall(quality, success, thresholds: Sequence[float] = RECALL_THRESHOLDS) -> float:
+    """Average recall: the mean over ``thresholds`` of the recall of ``quality >= t`` — for a
+    quality in [0, 1] (a robust quality: the mean over pose samples), the 11 thresholds 0, 0.1,
+    …, 1 of the comparison script of the REACH lab (the 6DFC paper reports mAR without a
+    formula; its authors' public comparison code averages the recall over this grid).
+
+    A quality that says "success" everywhere (constant 1) has AR 1 only at t <= 1; a constant
+    0 is recalled at t = 0 only (AR 1/11).  quality : (n,) float (±inf allowed, no NaN);
+    success : (n,) bool; thresholds : the grid (non-empty, finite).
 
     NaN without any success.
     """
     q, s = _check(quality, success)
+    t = np.asarray(thresholds, dtype=float)
+    if t.ndim != 1 or t.size == 0 or not np.isfinite(t).all():
+        raise ValueError(f"thresholds must be a non-empty (k,) array of finite numbers; got {thresholds!r}")
     if not s.any():
         return float("nan")
-    return float(np.mean(_pr_curve(q, s)[1]))
+    return float(np.mean([(q[s] >= ti).mean() for ti in t]))
 
 
 def _cut(a: float, b: float) -> float:

@@ -90,6 +90,7 @@ def evaluate_grasp(
     units: str | None = None,
     allow_scale: bool = False,
     seed: int = 0,
+    down=(0.0, 0.0, -1.0),
 ) -> GraspEvaluation:
     """Evaluate an antipodal grasp of ``mesh`` (metres) under contact model ``model``, with
     the jaws' REACH profiles made from the mesh or the given ``profiles`` of any source.
@@ -102,7 +103,9 @@ def evaluate_grasp(
         contacts.  The minimal reading is ``force * result.min_force.scale``.
     mu : friction coefficient.
     w_ext : the task wrench (6,) about the object origin; or ``mass`` [kg] and ``com``
-        (3,) [m] (inside the object's bounding box) for holding against gravity.
+        (3,) [m] (inside the object's bounding box) for holding against gravity along
+        ``down`` (3,; the object frame's −z unless given, e.g. a trial's gravity in the object's
+        frame).  A gripper given as a 4×4 pose: :func:`~.gripper_eval.evaluate_gripper`.
     min_force : also solve the minimal grasp force (same model, ``objective="scale"``).
     robust : a :class:`Perturbation` to also compute ``q_robust`` (Eq. 2.101).
     representation : "model" (default), "outer" or "inner" (see :func:`resists`).
@@ -139,7 +142,7 @@ def evaluate_grasp(
                     f"com {c.tolist()} lies far outside the object's bounding box "
                     f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
                 )
-        w = gravity_wrench(mass, com)
+        w = gravity_wrench(mass, com, down=down)
     else:
         if mass is not None or com is not None:
             raise ValueError("give the task either as w_ext or as mass and com, not both")
@@ -195,6 +198,7 @@ def evaluate_grasp(
             representation=representation,
             cuts=cuts,
             w_ext=w if w_ext is not None else None,
+            down=down,
         )
         t["q_robust"] = (time.perf_counter() - t0) * 1e3
     return GraspEvaluation(model, w, verdict, mf, q, profiles, contacts, t)

@@ -9,7 +9,8 @@ force it needs (Eq. 4.4): its ``margin`` ``1 − f_min / f`` is the thesis's for
 (§4.3.3.2) with the gripper's own force as ``f⊥max``, 0 when the pads miss or the model
 cannot hold it.  :func:`evaluate_gripper` composes them, and with a
 :class:`~.pose_robust.PoseNoise` recomputes the contact at N_r perturbed poses and reports
-the mean margin and the fraction held (6DFC §V-B.1).
+the mean margin and the fraction held (6DFC §V-B.1); :func:`evaluate_models` does it for
+several models on the same contacts.
 """
 
 from __future__ import annotations
@@ -32,8 +33,10 @@ log = logging.getLogger(__name__)
 __all__ = [
     "GripperEvaluation",
     "Verdict",
+    "check_down",
     "check_task",
     "evaluate_gripper",
+    "evaluate_models",
     "gripper_contact",
     "judge_contact",
 ]
@@ -180,12 +183,33 @@ def judge_contact(
     return Verdict(model, bool(held), margin if held else 0.0, scale, reason)
 
 
-def evaluate_gripper(
+def check_down(pose, down) -> None:
+    """Log a warning when gravity points against the gripper's approach (its z axis): a grasp
+    from below the object is possible but unusual — ``down`` given as an up vector?  (A table-top
+    grasp approaches along gravity or across it.)"""
+    approach = np.asarray(pose, float)[:3, 2]
+    d = np.asarray(down, float) / np.linalg.norm(down)
+    if approach @ d < -0.5:
+        log.warning(
+            "the gripper approaches against gravity (approach · down = %.2f): a grasp from below the "
+            "object — is down an up vector? (down is gravity's direction in the object frame)",
+            approach @ d,
+        )
+
+
+def evaluate_gripper(mesh, gripper, pose, *, model: str = "6dls", **kwargs) -> GripperEvaluation:
+    """Evaluate ``gripper`` at ``pose`` under one contact model ``model``: :func:`evaluate_models`
+    with ``models=(model,)`` (its arguments and defaults; settling on, no pose robustness unless
+    ``robust`` is given)."""
+    return evaluate_models(mesh, gripper, pose, models=(model,), **kwargs)[model]
+
+
+def evaluate_models(
     mesh,
     gripper,
     pose,
     *,
-    model: str = "6dls",
+    models=MODELS,
     mass: float,
     com=None,
     down=(0.0, 0.0, -1.0),
@@ -195,48 +219,60 @@ def evaluate_gripper(
     seed: int = 0,
     cache: LimitSurfaceCache | None = None,
     cuts: CutStore | None = None,
-) -> GripperEvaluation:
+) -> dict[str, GripperEvaluation]:
     """Evaluate ``gripper`` at ``pose`` (4, 4: the gripper frame in the object frame [m]) on
-    ``mesh`` (metres) under contact model ``model``, holding ``mass`` [kg] at ``com`` (3,)
-    [m; default the mesh's centre of mass] against gravity along ``down`` (3,; object frame).
+    ``mesh`` (metres) under each contact model of ``models``, holding ``mass`` [kg] at ``com``
+    (3,) [m; default the mesh's centre of mass] against gravity along ``down`` (3,; gravity's
+    direction in the object frame, e.g. :attr:`~workbench.sources.trials.TrialGrasp.down`).
+    The contacts — nominal and at each pose sample — are computed once and shared by the models.
 
-    mu : the pad's friction coefficient (default ``gripper.mu``); robust : a
-        :class:`~.pose_robust.PoseNoise` to also recompute the contact at perturbed poses
-        (``q_pose``, ``p_held``); settle : the object free to settle between the pads
-        (:mod:`~.settle`); seed : pose samples and the models' samplers.
+    mu : the pad's friction coefficient (default ``gripper.mu``).
+    robust : a :class:`~.pose_robust.PoseNoise`: also recompute the contact at N_r perturbed
+        poses; then ``q_pose`` is the mean ``margin`` over the samples (a miss counts 0) and
+        ``p_held`` the fraction of samples held (both None without it).
+    settle : True (default): the object free to settle between the pads (:mod:`~.settle`);
+        False: each pad pressed alone at the pose as given.
+    seed : pose samples and the models' samplers.
+
+    ``verdict.margin`` is ``1 − f_min / f``: the share of the gripper's force ``f`` not needed
+    to hold the object (the thesis's force quality, §4.3.3.2).  For a light object it sits near
+    1 on every grasp that touches and its differences come from the torque the weight puts on
+    the contact; ``verdict.scale`` (``f_min / f``) says the same unclipped.
     """
+    for m in models:
+        if m not in MODELS:
+            raise ValueError(f"model must be one of {MODELS}; got {m!r}")
     mu = gripper.mu if mu is None else mu
     if mu is None:
         raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")
     d = check_task(mesh, mass, mu, down)
+    check_down(check_pose(pose, "gripper pose"), d)
     c = np.asarray(mesh.center_mass if com is None else com, float)
     cache = LimitSurfaceCache() if cache is None else cache
     cuts = CutStore() if cuts is None else cuts
-    t = {}
+    task = {"mu": mu, "mass": mass, "com": c, "down": d, "cache": cache, "cuts": cuts, "seed": seed}
     t0 = time.perf_counter()
     contact = gripper_contact(mesh, gripper, pose, settle=settle)
-    t["contact"] = (time.perf_counter() - t0) * 1e3
-    t0 = time.perf_counter()
-    v = judge_contact(contact, model, mu=mu, mass=mass, com=c, down=d, cache=cache, cuts=cuts, seed=seed)
-    t["judge"] = (time.perf_counter() - t0) * 1e3
-    if robust is None:
-        return GripperEvaluation(v, contact, timings_ms=t)
-    t0 = time.perf_counter()
-    samples = tuple(
-        judge_contact(
-            gripper_contact(mesh, gripper, T, settle=settle),
-            model,
-            mu=mu,
-            mass=mass,
-            com=c,
-            down=d,
-            cache=cache,
-            cuts=cuts,
-            seed=seed,
-        )
-        for T in pose_samples(pose, robust, seed)
-    )
-    t["pose_robust"] = (time.perf_counter() - t0) * 1e3
-    q = float(np.mean([s.margin for s in samples]))
-    p = float(np.mean([s.resisted for s in samples]))
-    return GripperEvaluation(v, contact, q, p, samples, t)
+    t_contact = (time.perf_counter() - t0) * 1e3
+    samples = []
+    t_samples = 0.0
+    if robust is not None:
+        t0 = time.perf_counter()
+        samples = [gripper_contact(mesh, gripper, T, settle=settle) for T in pose_samples(pose, robust, seed)]
+        t_samples = (time.perf_counter() - t0) * 1e3
+    out = {}
+    for m in models:
+        t = {"contact": t_contact}
+        t0 = time.perf_counter()
+        v = judge_contact(contact, m, **task)
+        t["judge"] = (time.perf_counter() - t0) * 1e3
+        if robust is None:
+            out[m] = GripperEvaluation(v, contact, timings_ms=t)
+            continue
+        t0 = time.perf_counter()
+        judged = tuple(judge_contact(sc, m, **task) for sc in samples)
+        t["pose_robust"] = t_samples + (time.perf_counter() - t0) * 1e3  # contacts shared by the models
+        q = float(np.mean([s.margin for s in judged]))
+        p = float(np.mean([s.resisted for s in judged]))
+        out[m] = GripperEvaluation(v, contact, q, p, judged, t)
+    return out

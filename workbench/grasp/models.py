@@ -70,10 +70,23 @@ def net_normal(profile: ContactProfile) -> np.ndarray:
 def planar_profile(profile: ContactProfile) -> ContactProfile:
     """The profile projected onto the plane through its pressure centre normal to the
     least-variance PCA axis of its element centres (oriented like the net normal);
-    element forces are kept (so F is), areas shrink by ``|n·n_p|``."""
+    element forces are kept (so F is), areas shrink by ``|n·n_p|``.
+
+    Centres on one line (a strip one element wide) or at one point leave the PCA plane
+    undetermined: the plane is then the one through that line closest to normal to the net
+    normal (``config.TOL.planar_collinear_rtol``)."""
+    from .. import config
+
     c = profile.centers - profile.pressure_center
-    _, _, Vt = np.linalg.svd(c * np.sqrt(profile.areas)[:, None], full_matrices=False)
-    n_p = Vt[-1] * np.sign(Vt[-1] @ net_normal(profile))
+    nn = net_normal(profile)
+    _, s, Vt = np.linalg.svd(c * np.sqrt(profile.areas)[:, None], full_matrices=True)
+    s = np.r_[s, np.zeros(3 - len(s))]
+    if s[1] <= config.TOL.planar_collinear_rtol * s[0] or s[0] == 0:
+        line = Vt[0] if s[0] > 0 else np.zeros(3)
+        n_p = nn - (nn @ line) * line
+        n_p /= np.linalg.norm(n_p)
+    else:
+        n_p = Vt[-1] * (1.0 if Vt[-1] @ nn >= 0 else -1.0)
     proj = profile.centers - np.outer(c @ n_p, n_p)
     cos = np.clip(np.abs(profile.normals @ n_p), 1e-3, None)
     areas = profile.areas * cos

@@ -28,8 +28,9 @@ __all__ = ["PoseNoise", "pose_samples"]
 @dataclass(frozen=True)
 class PoseNoise:
     """Gripper-pose noise of pose robustness: ``n_samples`` (N_r), ``sigma_trans`` [m] and
-    ``sigma_rot`` [rad] per axis; None takes ``config.DEFAULTS.pose_samples`` /
-    ``pose_sigma_trans`` / ``pose_sigma_rot`` (6DFC Fig. 3's best: 10 samples, 3 mm)."""
+    ``sigma_rot`` [rad] per axis; None takes ``config.DEFAULTS.pose_samples`` (10, 6DFC
+    Fig. 3's best), ``pose_sigma_trans`` (0.003 m, 6DFC's σ_r) and ``pose_sigma_rot`` (0.003
+    rad, 0.17°: ipc-graspsim's rotation σ; 6DFC gives no number)."""
 
     n_samples: int | None = None
     sigma_trans: float | None = None

@@ -108,6 +108,7 @@ def q_robust(
     representation: str = "model",
     cuts: CutStore | None = None,
     w_ext=None,
+    down=(0.0, 0.0, -1.0),
 ) -> float:
     """Eq. (2.101) for the task "hold against gravity" (vertical lifting): the fraction
     of perturbed samples that :func:`~workbench.grasp.resistance.resists` says hold —
@@ -118,13 +119,19 @@ def q_robust(
         ``mass`` at ``com`` (then σ_mass and σ_com do not apply, and ``mass``/``com``
         are not used).
     cuts : a cut store shared by the samples (a fresh one if None).
+    down : (3,) gravity's direction in the object frame.
+
+    The contacts ride along rigidly: no contact is recomputed at the perturbed pose (a pad
+    that would slide off the object still holds).  Robustness that moves the gripper and
+    recomputes the contact: :func:`~.gripper_eval.evaluate_gripper` with a
+    :class:`~.pose_robust.PoseNoise` (6DFC §V-B.1).
     """
     contacts = check_contacts(contacts)
     check_mu(mu)
     if representation not in REPRESENTATIONS:
         raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
     if w_ext is None:
-        gravity_wrench(mass, com)  # validates mass and com
+        gravity_wrench(mass, com, down=down)  # validates mass, com and down
     p = Perturbation() if perturbation is None else perturbation
     if not isinstance(p, Perturbation):
         raise ValueError(f"perturbation must be a Perturbation (or None: defaults); got {type(p).__name__}")
@@ -141,6 +148,6 @@ def q_robust(
         coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     for i in range(K):
         moved = [c.moved(Rs[i], ts[i]) for c in contacts]
-        w = gravity_wrench(masses[i], coms[i]) if w_ext is None else w_ext
+        w = gravity_wrench(masses[i], coms[i], down=down) if w_ext is None else w_ext
         ok += bool(resists(moved, w, mus[i], representation=representation, cuts=cuts))
     return ok / K

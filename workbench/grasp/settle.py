@@ -16,16 +16,16 @@ midway between the tooltips, about the two axes normal to the closing axis, by a
 Turning about the closing axis and sliding are left to friction: they are the
 resistance question itself.  :func:`settle_contact` finds the turn at which the normal
 forces' torque about the axes normal to the closing axis vanishes (relative to force × pad
-size, ``config.TOL.settle_torque_rtol``), starting from deep compressions where the patch is
-large and the torque smooth and ending at the pad's own (continuation over
-``config.DEFAULTS.settle_closings``).
+size, ``config.TOL.settle_torque_rtol``), starting from the turn that makes the pads flush
+with a deeper-pressed patch (``config.DEFAULTS.settle_start_closing``) and ending at the pad's
+own compression.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -74,16 +74,8 @@ class SettledContact:
 
 def turned_jaw(jaw, rotation: np.ndarray, pivot: np.ndarray):
     """``jaw`` turned by ``rotation`` (3, 3) about ``pivot`` (3,) [m] (a rigid motion of the
-    gripper in the object frame); the pad outline rides along in the jaw's own axes."""
-    R = np.asarray(rotation, float)
-    p = np.asarray(pivot, float)
-    return replace(
-        jaw,
-        origin=p + R @ (np.asarray(jaw.origin, float) - p),
-        closing=R @ np.asarray(jaw.closing, float),
-        e1=R @ np.asarray(jaw.e1, float),
-        e2=R @ np.asarray(jaw.e2, float),
-    )
+    gripper in the object frame; :meth:`~workbench.sources.gripper.Jaw.turned`)."""
+    return jaw.turned(rotation, pivot)
 
 
 def normal_torque(profiles, point: np.ndarray) -> np.ndarray:
@@ -94,6 +86,30 @@ def normal_torque(profiles, point: np.ndarray) -> np.ndarray:
         f = -(prof.pressures * prof.areas)[:, None] * prof.normals
         tau += np.cross(prof.centers - point, f).sum(axis=0)
     return tau
+
+
+class _Settled(Exception):
+    """Raised inside the residual to stop the solver at a turn whose torque is well inside the
+    tolerance (least_squares has no such stopping rule)."""
+
+    def __init__(self, theta: np.ndarray) -> None:
+        super().__init__()
+        self.theta = np.array(theta, dtype=float)
+
+
+def _flush_turn(profiles, axis: np.ndarray, b1: np.ndarray, b2: np.ndarray) -> np.ndarray:
+    """The turn (2,) about ``b1``, ``b2`` that brings the closing ``axis`` onto the mean of the
+    two patches' net normals (jaw 1's against it, jaw 2's along it): the pads flush with flat
+    faces — the settle's first guess."""
+    n1, n2 = (-p.normal_wrench[:3] / np.linalg.norm(p.normal_wrench[:3]) for p in profiles)
+    target = n2 - n1
+    target /= np.linalg.norm(target)
+    rv = np.cross(axis, target)
+    s = np.linalg.norm(rv)
+    if s < 1e-15:
+        return np.zeros(2)
+    rv *= np.arcsin(min(s, 1.0)) / s
+    return np.array([rv @ b1, rv @ b2])
 
 
 def _basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -121,7 +137,7 @@ def settle_contact(
         [m] past first touch, or None when its pad touches nothing
         (:func:`~workbench.sources.reach.pad_profile`); force : each jaw's force [N] along
         its closing axis; closing : the pad's compression at ``force`` [m] (the pressure's
-        shape; the last step of the continuation).
+        shape; the last stage of the search).
     settle : False gives each jaw's own patch at the pose as given (no turn): the
         contact of the jaws pressed one by one.
     max_tilt, tol : ``config.DEFAULTS.settle_max_tilt`` [rad] and
@@ -142,7 +158,9 @@ def settle_contact(
     size = float(np.ptp(np.asarray(j1.outline, float), axis=0).max())
     n_eval = [0]
 
-    def pressed(theta: np.ndarray, depth: float):
+    opening = float((np.asarray(j2.origin, float) - np.asarray(j1.origin, float)) @ axis)
+
+    def pressed(theta: np.ndarray, depth: float, scale: bool = True):
         R = Rotation.from_rotvec(theta[0] * b1 + theta[1] * b2).as_matrix()
         turned = tuple(turned_jaw(j, R, pivot) for j in (j1, j2))
         n_eval[0] += 1
@@ -150,29 +168,54 @@ def settle_contact(
         for k, jaw in enumerate(turned):
             prof = press(jaw, depth)
             if prof is None:
-                return R, turned, None, f"pad {k + 1} touches nothing"
-            profs.append(with_axis_force(prof, jaw.closing, force))
+                return R, turned, None, f"the pad of tooltip {k} touches nothing"
+            profs.append(with_axis_force(prof, jaw.closing, force) if scale else prof)
+        # the object slides along the closing axis, but it must fit between the open jaws
+        width = float((profs[1].pressure_center - profs[0].pressure_center) @ turned[0].closing)
+        if width > opening:
+            return (
+                R,
+                turned,
+                None,
+                (
+                    f"the object is {width * 1e3:.1f} mm wide between the pads, wider than the gripper's "
+                    f"opening {opening * 1e3:.1f} mm"
+                ),
+            )
         return R, turned, tuple(profs), ""
 
     def residual(theta: np.ndarray, depth: float) -> np.ndarray:
-        _, turned, profs, _ = pressed(theta, depth)
+        _, turned, profs, _ = pressed(theta, depth, scale=False)
         if profs is None:  # lost contact: push back towards the start
             return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(max_tilt, 1e-12))
-        tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
-        return np.array([tau @ b1, tau @ b2]) / (force * size)
+        # each jaw's torque at the force (the profiles' own pressures scaled, as with_axis_force does)
+        point = 0.5 * (turned[0].origin + turned[1].origin)
+        tau = sum(
+            normal_torque([p], point) * force / abs(p.normal_wrench[:3] @ j.closing)
+            for p, j in zip(profs, turned, strict=True)
+        )
+        r = np.array([tau @ b1, tau @ b2]) / (force * size)
+        # settled well inside the tolerance at the pad's compression (loosely at a deeper one,
+        # which only gives the next stage its start): no more iterations
+        if np.linalg.norm(r) <= (tol / 10 if depth == closing else tol):
+            raise _Settled(theta)
+        return r
 
     theta = np.zeros(2)
     if settle and max_tilt > 0:
-        _, _, profs0, _ = pressed(theta, closing)
-        if profs0 is not None:  # a pad that misses at the pose as given is a miss (no search)
+        start = config.DEFAULTS.settle_start_closing
+        stages = ([start] if start > closing else []) + [closing]
+        _, _, deep, _ = pressed(theta, stages[0], scale=False)
+        if deep is not None:  # a pad that misses at the pose as given is a miss (no search)
             lo, hi = np.full(2, -max_tilt), np.full(2, max_tilt)
-            for depth in (*config.DEFAULTS.settle_closings, closing):
-                if depth < closing:
-                    continue
-                sol = least_squares(
-                    residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
-                )
-                theta = sol.x
+            theta = np.clip(_flush_turn(deep, axis, b1, b2), lo, hi)
+            for depth in stages:
+                try:
+                    theta = least_squares(
+                        residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
+                    ).x
+                except _Settled as done:
+                    theta = np.array(done.theta, dtype=float)
     R, turned, profs, reason = pressed(theta, closing)
     if profs is None:
         log.debug("settle: %s", reason)

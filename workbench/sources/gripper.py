@@ -393,6 +393,26 @@ class Jaw:
         object.__setattr__(self, "stroke", _positive("Jaw.stroke [m]", self.stroke))
         object.__setattr__(self, "stiffness", _positive("Jaw.stiffness [Pa/m]", self.stiffness))
 
+    def turned(self, rotation: np.ndarray, pivot: np.ndarray) -> Jaw:
+        """This jaw turned by ``rotation`` (3, 3) about ``pivot`` (3,) [m] (a rigid motion of the
+        gripper in the object frame; the outline rides along in the jaw's own axes).  A rigid
+        motion of a checked jaw is a valid jaw: only the moved vectors are made, not re-checked
+        (the settle turns a jaw some twenty times a contact)."""
+        R = np.asarray(rotation, float)
+        p = np.asarray(pivot, float)
+        out = object.__new__(Jaw)
+        for name, v in (
+            ("origin", p + R @ (self.origin - p)),
+            ("closing", R @ self.closing),
+            ("e1", R @ self.e1),
+            ("e2", R @ self.e2),
+        ):
+            v.flags.writeable = False
+            object.__setattr__(out, name, v)
+        for name in ("outline", "stroke", "stiffness"):
+            object.__setattr__(out, name, getattr(self, name))
+        return out
+
     @property
     def outline_points(self) -> np.ndarray:
         """(k, 3) the pad polygon in the object frame [m]."""
