@@ -69,3 +69,23 @@ def test_planar_profile_of_a_spread_patch_is_the_pca_plane():
     v = np.linalg.svd(w)[2][-1]
     v = v * np.sign(v @ net_normal(prof))
     np.testing.assert_allclose(planar_profile(prof).normals[0], v, atol=1e-12)
+
+
+def test_a_one_element_contact_is_a_point_under_every_model():
+    """A pad catching a cube's corner touches one element: its exact 6DFW set is the friction
+    disc (no torsion), so the limit-surface models reduce to the hard point contact instead of
+    failing to fit a surface to a contact with no extent (a sweep point of the physical trials)."""
+    from workbench.grasp.models import MODELS, contact_sets
+    from workbench.grasp.resistance import resists
+    from workbench.profile import ContactProfile
+
+    one = ContactProfile([[0.01, 0.0, 0.0]], [[1.0, 0.0, 0.0]], [1e-7], [2e8])  # 20 N along −x
+    for name in MODELS:
+        sets = contact_sets(one, name)
+        assert sum(abs(s.force) for s in sets) == pytest.approx(20.0, rel=1e-9), name
+        # 5 N of tangential load (below mu F = 10 N at mu = 0.5) balanced by the contact with a
+        # normal push; a torque about the contact normal is not (no torsion)
+        w_ok = [20.0, 0.0, 5.0, 0.0, -0.05, 0.0]
+        w_torsion = [20.0, 0.0, 0.0, 0.01, 0.0, 0.0]
+        assert resists(sets, w_ok, 0.5), name
+        assert not resists(sets, w_torsion, 0.5), name

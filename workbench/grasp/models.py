@@ -32,6 +32,7 @@ Limit surfaces go through a :class:`~workbench.limit_surface.LimitSurfaceCache`
 
 from __future__ import annotations
 
+import logging
 from dataclasses import replace
 
 import numpy as np
@@ -50,6 +51,8 @@ from .contacts import (
     soft_point_contact,
     wrench_hull_contact,
 )
+
+log = logging.getLogger(__name__)
 
 MODELS = ("point", "soft_point", "planar", "3dls_nonplanar", "6dfw", "reach", "6dls", "6dls_quartic", "6dfc")
 
@@ -142,6 +145,12 @@ def contact_sets(
         return [soft_point_contact(o, n, F, torsion_length(profile, n), n_edges=n_edges, name=name)]
     if name == "reach":
         return reach_contacts(profile, max_triangles=reach_triangles, n_edges=n_edges)
+    if name != "6dfw" and np.ptp(profile.centers, axis=0).max() == 0.0:
+        # one element (or coincident centres: a pad catching an edge or a corner): its exact 6DFW
+        # set is the friction disc at the pressure centre, no torsion and no tilting torque — the
+        # hard point contact every limit-surface model of it reduces to; a fit needs extent
+        log.info("%s contact of one point (%d element(s)): its friction cone", name, len(profile.areas))
+        return [point_contact(o, net_normal(profile), F, n_edges=n_edges, name=name)]
     if name in ("6dls", "6dls_quartic", "6dfc"):
         model = cache.contact_model(profile, 1.0, spec=spec, sampler=sampler)
         return [limit_surface_contact(model, o, F, M=M, cone=name == "6dfc", name=name, seed=seed)]
