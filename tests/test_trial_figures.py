@@ -40,18 +40,20 @@ def test_fig_3_draws_each_models_mean_against_the_swept_key(tmp_path):
     rows = []
     for n in (1, 3, 10):
         row = {"n_robust": n, "status": "ok"}
-        for m in ("point", "6dfc"):
+        for m in ("point", "6dfc", "reach"):  # reach: every value as 6dfc's
             for metric in ("average_precision", "average_recall"):
                 base = f"scores.{m}.robust_held.{metric}"
-                row[f"{base}.mean"] = 0.5 + 0.01 * n + (0.1 if m == "6dfc" else 0.0)
+                row[f"{base}.mean"] = 0.5 + 0.01 * n + (0.1 if m != "point" else 0.0)
                 row[f"{base}.std"] = 0.02
         rows.append(row)
     rows.append({**rows[0], "n_robust": 20, "status": "failed"})  # a failed point is left out
     table = tmp_path / "table.parquet"
     pd.DataFrame(rows).to_parquet(table)
     assert fig_3({"n_robust": table}, ["point", "6dfc"], tmp_path / "fig3.png").is_file()
-    fig = fig_3_figure({"n_robust": table}, ["point", "6dfc"])
+    fig = fig_3_figure({"n_robust": table}, ["point", "6dfc", "reach"])
     ax = fig.axes[0]
+    # models with the same curves are drawn once and named together
+    assert [line.get_label() for line in ax.lines] == ["point", "6dfc = reach"]
     x, y = ax.lines[1].get_data()
     np.testing.assert_allclose(x, [1, 3, 10])
     np.testing.assert_allclose(y, [0.61, 0.63, 0.70])

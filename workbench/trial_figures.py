@@ -72,7 +72,6 @@ def facing_surface(mesh, jaw, window: float = 0.004, max_edge: float = 1e-3) -> 
     return cen[near & (z <= z0 + window)]
 
 
-
 def fig_3(tables: dict[str, str], models, out, quality: str = "robust_held"):
     """6DFC Fig. 3(a, b) on physical trials, written to ``out`` (PNG; :func:`fig_3_figure`)."""
     from .results import save_figure
@@ -94,16 +93,35 @@ def fig_3_figure(tables: dict[str, str], models, quality: str = "robust_held"):
     import pandas as pd
 
     label = {"n_robust": "N_r (pose samples)", "sigma_trans": "σ_r [m] (pose translation)"}
-    fig, axes = plt.subplots(2, len(tables), figsize=(5.0 * len(tables), 6.4), squeeze=False)
-    for col, (key, path) in enumerate(tables.items()):
+    metrics = (("average_precision", "mAP"), ("average_recall", "mAR"))
+    frames = {}
+    for key, path in tables.items():
         df = pd.read_parquet(path)
-        df = df[df["status"] == "ok"].sort_values(key)
-        for row, (metric, name) in enumerate((("average_precision", "mAP"), ("average_recall", "mAR"))):
+        frames[key] = df[df["status"] == "ok"].sort_values(key)
+
+    def curves(m):
+        return np.concatenate(
+            [
+                frames[k][f"scores.{m}.{quality}.{metric}.{s}"].to_numpy(float)
+                for k in frames
+                for metric, _ in metrics
+                for s in ("mean", "std")
+            ]
+        )
+
+    # models whose every curve is the same drawn once, named together (e.g. "reach = 6dls = 6dfc")
+    groups: list[list[str]] = []
+    for m in models:
+        same = next((g for g in groups if np.array_equal(curves(g[0]), curves(m))), None)
+        groups.append([m]) if same is None else same.append(m)
+    fig, axes = plt.subplots(2, len(tables), figsize=(5.0 * len(tables), 6.4), squeeze=False)
+    for col, (key, df) in enumerate(frames.items()):
+        for row, (metric, name) in enumerate(metrics):
             ax = axes[row, col]
-            for m in models:
-                base = f"scores.{m}.{quality}.{metric}"
+            for g in groups:
+                base = f"scores.{g[0]}.{quality}.{metric}"
                 mean, std = df[f"{base}.mean"].to_numpy(float), df[f"{base}.std"].to_numpy(float)
-                ax.plot(df[key], mean, "o-", label=m)
+                ax.plot(df[key], mean, "o-", label=" = ".join(g))
                 ax.fill_between(df[key], mean - std, mean + std, alpha=0.2)
             ax.set_xlabel(label.get(key, key))
             ax.set_ylabel(name)

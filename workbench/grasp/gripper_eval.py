@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -140,7 +140,15 @@ def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float
     def press(jaw, depth):
         return pad_profile(mesh, jaw, closing=depth, stiffness=k, max_edge=max_edge)
 
-    return settle_contact(jaws, press, gripper.force, closing=closing, settle=settle)
+    contact = settle_contact(jaws, press, gripper.force, closing=closing, settle=settle)
+    if not contact.touches and "touches nothing" in contact.reason:
+        lo, hi = np.asarray(mesh.bounds, float)
+        mid = 0.5 * (jaws[0].origin + jaws[1].origin)
+        gap = float(np.linalg.norm(np.clip(mid, lo, hi) - mid))
+        if gap > 0:  # say how far: a pose metres away is likely in another unit
+            where = f"the gripper's centre is {gap:.3g} m outside the object's box"
+            contact = replace(contact, reason=f"{contact.reason} ({where})")
+    return contact
 
 
 def judge_contact(

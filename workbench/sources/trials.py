@@ -38,6 +38,9 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
+#: files whose repaired rotations this process has warned about
+_REPAIRED_WARNED: set[str] = set()
+
 #: object masses [kg] of the REACH trials (the table of ``tools/grasping/phys_grasp_ipc.py`` in
 #: BerkeleyAutomation/ipc-graspsim, grams there)
 REACH_MASS_KG = {
@@ -220,7 +223,11 @@ def read_trials(path, *, repair_atol: float = 0.02) -> Trials:
     if len(set(objs)) != 1:
         raise ValueError(f"{path}: one object per trial file; got {sorted(set(objs))}")
     if repaired:
-        log.warning(
+        # a warning the first time a process reads the file (a sweep's every point reads it again)
+        level = logging.INFO if str(path.resolve()) in _REPAIRED_WARNED else logging.WARNING
+        _REPAIRED_WARNED.add(str(path.resolve()))
+        log.log(
+            level,
             "%s: %d pose/grasp rotations were not orthonormal (max |RᵀR − I| up to %.3g) and were made "
             "orthonormal keeping their world-z rows",
             path.name,
