@@ -361,15 +361,13 @@ class Defaults:
     reach_min_facing: float = 0.1
 
     # The largest turn [rad] of a free object between the jaws (workbench.grasp.settle)
-    # before the fingers, not the pads, would stop it.  The YuMi trials need 0-6 deg (their
-    # jaws 0-9 deg off the faces); 20 deg leaves room for a pose perturbation on top.
+    # before the fingers, not the pads, would stop it.  The YuMi trials' jaws sit up to
+    # 9.4 deg off the faces; 20 deg leaves room for a pose perturbation on top.
     settle_max_tilt: float = 0.35
     # The settle's first stage [m]: the patch pressed this deep (wider, its torque smoother)
     # gives the first guess (the turn that makes the pads flush with the patches' net normals)
-    # and a first solve, before the pad's own compression.  On 97 YuMi contacts (25 trials'
-    # poses, 72 pose samples) 0.5 mm settled all of them in 12 torque evaluations on average;
-    # a continuation over 2 and 0.5 mm took 19; the pad's own 0.1 mm alone left one of the 97
-    # with 4× the tolerated torque.
+    # and a first solve, before the pad's own compression: started at the pad's own ~0.1 mm,
+    # the solver can stall on a thin patch whose torque jumps as elements enter and leave it.
     settle_start_closing: float = 5e-4
 
     # Pose robustness (workbench.grasp.pose_robust, 6DFC §V-B.1): the gripper pose is

@@ -500,13 +500,20 @@ def _work_vs(other: str) -> Callable[[Summaries], Any]:
     return ours
 
 
-def _check_work_above(other: str) -> Callable[[Any], tuple[bool, str, str]]:
+def _check_above(label: Callable[[Any, float, float], str]) -> Callable[[Any], tuple[bool, str, str]]:
+    """Trend check of ``{key: (a, b)}``: holds when every ``a > b``; each pair shown by
+    ``label(key, a, b)``, the deviations ``a − b``."""
+
     def check(v: Any) -> tuple[bool, str, str]:
-        shown = "; ".join(f"{TASKS[t]}: q_work {w:.3f} vs {other} {o:.3f}" for t, (w, o) in v.items())
-        dev = "; ".join(f"{w - o:+.3f}" for w, o in v.values())
-        return all(w > o for w, o in v.values()), shown, dev
+        shown = "; ".join(label(k, a, b) for k, (a, b) in v.items())
+        dev = "; ".join(f"{a - b:+.3f}" for a, b in v.values())
+        return all(a > b for a, b in v.values()), shown, dev
 
     return check
+
+
+def _check_work_above(other: str) -> Callable[[Any], tuple[bool, str, str]]:
+    return _check_above(lambda t, w, o: f"{TASKS[t]}: q_work {w:.3f} vs {other} {o:.3f}")
 
 
 PT = "physical-trials/summary.json"
@@ -559,12 +566,7 @@ def _mean_std_not_comparable(printed: str) -> Callable[[Any], Verdict]:
 
 
 def _check_gain(better: str) -> Callable[[Any], tuple[bool, str, str]]:
-    def check(v: Any) -> tuple[bool, str, str]:
-        shown = "; ".join(f"{better} {b:.3f} vs {m} {o:.3f}" for m, (b, o) in v.items())
-        dev = "; ".join(f"{b - o:+.3f}" for b, o in v.values())
-        return all(b > o for b, o in v.values()), shown, dev
-
-    return check
+    return _check_above(lambda m, b, o: f"{better} {b:.3f} vs {m} {o:.3f}")
 
 
 def _count_vs(thesis: str) -> Callable[[Any], Verdict]:

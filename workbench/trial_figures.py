@@ -58,9 +58,9 @@ def grasp_panel(
 def facing_surface(mesh, jaw, window: float = 0.004, max_edge: float = 1e-3) -> np.ndarray:
     """(m, 3) centres of the mesh's fine faces that face ``jaw`` within ``window`` [m] of the
     front-most one under its pad's bounding box (what the panel draws as the face)."""
-    from .sources.reach import _fine_surface
+    from .sources.reach import fine_surface
 
-    cen, normal, _ = _fine_surface(mesh, max_edge)
+    cen, normal, _ = fine_surface(mesh, max_edge)
     rel = cen - jaw.origin
     z = rel @ jaw.closing
     facing = normal @ jaw.closing < -0.5

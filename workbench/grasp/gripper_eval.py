@@ -22,10 +22,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
-from .models import MODELS, contact_sets
+from .models import MODELS, check_model, contact_sets
 from .pose_robust import PoseNoise, check_pose, pose_samples
 from .resistance import CutStore, min_grasp_force, resists
-from .robust import gravity_wrench
+from .robust import check_mass, gravity_wrench
 from .settle import SettledContact, settle_contact
 
 log = logging.getLogger(__name__)
@@ -83,19 +83,10 @@ def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
     grams, or a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
     or a slip); down a non-zero (3,) direction.
     """
-    from ..wrench import check_mu
+    from ..sources.gripper import check_pad_mu
 
-    mu = check_mu(mu)
-    if not 0 < mu <= 2:
-        hint = (
-            f" — a percentage? pass {mu / 100:g}"
-            if mu > 2
-            else " — without friction a parallel-jaw grasp holds nothing"
-        )
-        raise ValueError(
-            f"mu must be a friction coefficient in (0, 2] (rubber on plastic ~0.3-1.5); got {mu!r}{hint}"
-        )
-    gravity_wrench(mass, np.zeros(3))  # a number > 0, at most config.TOL.max_plausible_mass_kg
+    check_pad_mu(mu)
+    check_mass(mass)
     if mesh is not None and getattr(mesh, "is_volume", False):
         rho = mass / float(mesh.volume)
         lo, hi = _DENSITY_RANGE
@@ -166,8 +157,7 @@ def judge_contact(
     """Whether ``model`` (one of :data:`~.models.MODELS`) says ``contact`` holds the object of
     ``mass`` [kg] at ``com`` (3,) [m] against gravity along ``down`` (3,; object frame, before
     the settle's turn, which is applied here), at the contact's force, and its margin."""
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}; got {model!r}")
+    check_model(model)
     if not contact.touches:
         return Verdict(model, False, 0.0, np.inf, f"no contact: {contact.reason}")
     d = contact.rotation @ np.asarray(down, float)  # the object turned as it settled
@@ -248,8 +238,7 @@ def evaluate_models(
     the contact; ``verdict.scale`` (``f_min / f``) says the same unclipped.
     """
     for m in models:
-        if m not in MODELS:
-            raise ValueError(f"model must be one of {MODELS}; got {m!r}")
+        check_model(m)
     mu = gripper.mu if mu is None else mu
     if mu is None:
         raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")

@@ -58,13 +58,9 @@ def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
-def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
-    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
-
-    mass : kg, > 0 and at most ``config.TOL.max_plausible_mass_kg`` (a larger value is
-    taken for grams); com : (3,) centre of mass [m], within ``TOL.max_object_extent_m`` of
-    the origin (farther is taken for millimetres); down : (3,) gravity direction.
-    """
+def check_mass(mass) -> float:
+    """``mass`` [kg] as a float: a finite number > 0 and at most
+    ``config.TOL.max_plausible_mass_kg`` (a larger value is taken for grams); else ValueError."""
     from workbench import config
 
     tol = config.TOL  # read at call time
@@ -80,6 +76,20 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
             f"(config.TOL.max_plausible_mass_kg) — a mass in grams? pass {mass / 1e3:g} (or raise the "
             "limit for a heavy part)"
         )
+    return float(mass)
+
+
+def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
+    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
+
+    mass : kg, > 0 and at most ``config.TOL.max_plausible_mass_kg`` (a larger value is
+    taken for grams); com : (3,) centre of mass [m], within ``TOL.max_object_extent_m`` of
+    the origin (farther is taken for millimetres); down : (3,) gravity direction.
+    """
+    from workbench import config
+
+    tol = config.TOL  # read at call time
+    check_mass(mass)
     c = np.asarray(com, float)
     if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"com must be a finite (3,) point [m]; got shape {c.shape}: {c.tolist()}")

@@ -71,6 +71,27 @@ _MAX_TRANSLATION_M = 5.0
 _RIGID_ATOL = 1e-5
 
 
+def check_pad_mu(mu) -> float:
+    """``mu`` as a float if it is a pad's friction coefficient, in (0, 2] (rubber on plastic
+    ~0.3–1.5); else ValueError naming the likely slip (30 for 0.3: a percentage; 0: no friction,
+    no parallel-jaw grasp holds anything).  The one rule of a gripper's μ: :class:`Gripper` and
+    :func:`~workbench.grasp.gripper_eval.check_task` call it."""
+    if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, numbers.Real) or not np.isfinite(mu):
+        raise ValueError(f"mu must be a finite friction coefficient; got {mu!r}")
+    if not 0 < mu <= _MAX_MU:
+        if _MAX_MU < mu <= 100:
+            hint = f" a percentage? pass {mu / 100:g}"
+        elif mu == 0:
+            hint = " without friction a parallel-jaw grasp holds nothing"
+        else:
+            hint = ""
+        raise ValueError(
+            f"mu must be a friction coefficient in (0, {_MAX_MU:g}] (rubber on plastic ~0.3-1.5); "
+            f"got {mu!r}:{hint}"
+        )
+    return float(mu)
+
+
 # ---------------------------------------------------------------- rigid transforms
 
 
@@ -461,13 +482,7 @@ class Gripper:
             )
         object.__setattr__(self, "force", float(self.force))
         if self.mu is not None:
-            mu = self.mu
-            if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, numbers.Real) or not np.isfinite(mu):
-                raise ValueError(f"mu must be a finite friction coefficient or None; got {mu!r}")
-            if not 0 < mu <= _MAX_MU:
-                hint = f" a percentage? pass {mu / 100:g}" if _MAX_MU < mu <= 100 else ""
-                raise ValueError(f"mu must be a friction coefficient in (0, {_MAX_MU:g}]; got {mu!r}:{hint}")
-            object.__setattr__(self, "mu", float(mu))
+            object.__setattr__(self, "mu", check_pad_mu(self.mu))
         object.__setattr__(
             self,
             "opening",

@@ -25,7 +25,7 @@ from ..profile import ContactProfile
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 
-__all__ = ["jaw_profiles", "pad_profile", "reach_profile"]
+__all__ = ["fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
 
 log = logging.getLogger(__name__)
 
@@ -98,7 +98,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
     k = jaw.stiffness if stiffness is None else stiffness
     if not (closing > 0 and k > 0 and max_edge > 0):
         raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
-    cen, normal, area = _fine_surface(mesh, float(max_edge))
+    cen, normal, area = fine_surface(mesh, float(max_edge))
     # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
     # past its surface (the other jaw closes too): the search starts a stroke behind the tooltip
     # (approach collisions are not modelled)
@@ -133,12 +133,12 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
 
 
 #: the fine surfaces of the last meshes pressed by pad_profile, by content hash (a pose-robustness
-#: run presses one mesh hundreds of times: subdividing it each time was 70 % of a press)
+#: run presses one mesh hundreds of times; the subdivision does not depend on the pose)
 _FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 _FINE_KEEP = 4
 
 
-def _fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The whole mesh subdivided to ``max_edge`` (centres, normals, areas; read-only), cached by a
     hash of its vertices, faces and ``max_edge``; the mesh is checked once (watertight, metres)."""
     import hashlib
