@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: reproduce test test-nojit lint bench clean
+.PHONY: reproduce test test-nojit lint bench bench-shoulder clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -69,6 +69,7 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 	$(TIMED) bench-pareto -- $(BIN)/python benchmarks/bench_pareto.py
 	$(TIMED) bench-physical-trials -- $(BIN)/python benchmarks/bench_physical_trials.py
+	$(TIMED) bench-memory -- $(BIN)/python benchmarks/bench_memory.py
 	$(BIN)/workbench report
 
 # with the library's coverage (pyproject.toml [tool.coverage]: sources and the 85 % floor)
@@ -96,6 +97,12 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_sweep.py
 	$(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/python benchmarks/bench_physical_trials.py
+	$(BIN)/python benchmarks/bench_memory.py
+
+# The wall mesh's convergence at shoulder grasps (~20 min on one thread, meshes up to [120, 60]:
+# ~8 GiB): kept out of `make reproduce`; its JSON is committed and read by wall-stiffness.
+bench-shoulder: $(STAMP)
+	$(BIN)/python benchmarks/bench_shoulder_convergence.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -22,6 +22,7 @@ from workbench import (
     surface_wrenches,
     w_max,
 )
+from workbench.experiment_keys import Key, check_key
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.sources.surfaces import mesh_profile
@@ -39,12 +40,25 @@ DEFAULT_CONFIG = {
     "timing_twists": 60,  # thesis-sampled twists (x2 with translations) per surface for timing
     "timing_repeats": 5,
 }
+#: what each key means, its unit and plausible range (``workbench run discretization --help``)
+KEYS = {
+    "mu": Key(
+        "friction coefficient; wrenches scale with it, so the error rates do not (thesis: 1)", "", "mu"
+    ),
+    "n_elements": Key("target triangle counts of the meshed surfaces, each >= 2"),
+    "truth_rtol": Key("relative accuracy of the ground-truth w_max (adaptive quadrature), > 0"),
+    "timing_rtol": Key("relative accuracy of the timed continuous wrenches, > 0 (acceptance: <= 1e-4)"),
+    "timing_twists": Key("thesis-sampled twists per surface for the timings (x2 with translations), >= 1"),
+    "timing_repeats": Key("timing repeats (the median is reported), >= 1"),
+}
 QUICK_CONFIG = {"n_elements": [25, 100, 300, 1000], "timing_twists": 10, "timing_repeats": 3}
 
 
 def check_config(config: dict) -> None:
     """μ > 0 before any work: the error rate is relative to w_max, which is 0 without friction."""
-    check_mu(config["mu"], what="relative error rate of w_max")
+    for key, spec in KEYS.items():  # also for run(config) called directly
+        check_key(key, spec, config[key])
+    check_mu(config["mu"], what="relative error rate of w_max")  # and not 0 (the Key's range takes it)
     if not config["n_elements"] or min(config["n_elements"]) < 2:  # mesh_profile's own minimum
         raise ValueError(f"n_elements must be mesh sizes >= 2, e.g. [25, 100]; got {config['n_elements']!r}")
     for key in ("timing_rtol", "truth_rtol"):

@@ -52,6 +52,7 @@ from tqdm import tqdm
 from workbench import config as cfg
 from workbench import frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
+from workbench.experiment_keys import Key, check_key
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
 from workbench.fem.contact import solve_contact
 from workbench.fem.extract import extract_profile
@@ -64,6 +65,7 @@ from workbench.limit_surface.support_error import SharedWrenches
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.twists_author import AUTHOR_LEVELS
 from workbench.wrench import check_mu
 
 NAME = "fem-fitting"
@@ -110,21 +112,48 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
+_PAD_M = {"width": ("pad_size", 1.0), "length": ("pad_size", 1.0), "thickness": ("pad_thickness", 1.0)}
+#: what each key means, its unit and plausible range (``workbench run fem-fitting --help``)
+KEYS = {
+    "n_objects": Key("bottles of the family (thesis: 24)"),
+    "n_asymmetric": Key("asymmetric bottles among them (thesis: 8)"),
+    "heights": Key("grasp heights as fractions of the bottle height, in (0, 1)"),
+    "approaches": Key("approach name -> grasp-axis angle from the section's major axis", "rad"),
+    "deltas_mm": Key(
+        "jaw displacements after first touch, each below the pad thickness", "mm", "closing", 1e-3
+    ),
+    "pad": Key("silicone pad: width, length, thickness [m] and hexes nx, ny, nz", "m", fields=_PAD_M),
+    "E": Key("pad Young's modulus (profiles are normalised: E only scales the force)", "Pa", "pad_modulus"),
+    "nu": Key("pad Poisson ratio", "", "poisson"),
+    "mu": Key("friction coefficient, > 0 (normalised wrenches do not depend on it)", "", "mu"),
+    "n_wrenches": Key("thesis-text wrenches per profile, >= 126 (the quartic's unknowns; thesis: 600)"),
+    "n_heldout": Key("held-out wrenches per profile for Eq. (3.18), >= 1"),
+    "pitch_range": Key("thesis-text sampler: pitch h ~ U[lo, hi] x the length scale l_s"),
+    "thesis_code": Key("also run the thesis-code protocol (the author's twist grid, downsampled training)"),
+    "fine_level": Key(
+        "the author's twist grid fineLevel (0: 48,483 twists)", choices=lambda: sorted(AUTHOR_LEVELS)
+    ),
+    "downsample_steps": Key("thesis-code training grid: cell widths per wrench range, >= 2 (author: 2.5)"),
+    "support_directions": Key("uniform normals per profile for the sampler-independent error"),
+    "code_frame": Key("frame of the author's axis-aligned grid", choices=("object", "jaw")),
+    "ablation_every": Key("protocol ablation on every n-th profile (0: none)"),
+    "ablation_cell_mm": Key(
+        "element size of the coarsened ablation variant, in [0.1, 100] (thesis: 3)", "mm"
+    ),
+    "reference_cases": Key("bottle contacts also solved on the full mesh (condensed vs reference)"),
+    "reference_delta_mm": Key("jaw displacement of those reference contacts", "mm", "closing", 1e-3),
+    "render_examples": Key("profiles rendered as figures"),
+}
 
 
 def check_config(config: dict) -> None:
     """Refuse settings the defaults cannot judge, before any work (build_config calls it)."""
     check_protocol_config(config)
     check_workers(config["workers"], config["scheduler"])
-    check_mu(config["mu"], what="limit surface")
-    Material(config["E"], config["nu"])  # their own range checks (E > 0, -1 < ν < 0.5)
+    for key, spec in KEYS.items():  # E, ν, μ, the pad's sizes, the words (also for run(config))
+        check_key(key, spec, config[key])
+    check_mu(config["mu"], what="limit surface")  # and not 0 (the Key's range takes it)
     geom = PadGeometry(**config["pad"])
-    # a gripper pad is at most 20 cm across and 5 cm thick; sizes given in mm exceed that 1000-fold
-    if max(geom.width, geom.length) > 0.2 or geom.thickness > 0.05:
-        raise ValueError(
-            f"pad {geom.width} x {geom.length} x {geom.thickness} m is not a gripper pad — are the "
-            "sizes in millimetres? give metres (the default is 0.02 x 0.04 x 0.005)"
-        )
     if not all(0 < h < 1 for h in config["heights"]):
         raise ValueError(f"heights are fractions of the bottle height in (0, 1); got {config['heights']}")
     if not all(0 < d < geom.thickness * 1e3 for d in config["deltas_mm"]):
@@ -138,8 +167,6 @@ def check_config(config: dict) -> None:
             f"n_wrenches must be >= {n_quartic} (the quartic's coefficients; the thesis uses 600) and "
             f"n_heldout >= 1; got {config['n_wrenches']} and {config['n_heldout']}"
         )
-    if config["code_frame"] not in ("object", "jaw"):
-        raise ValueError(f"code_frame must be 'object' or 'jaw'; got {config['code_frame']!r}")
     if not (isinstance(config["ablation_every"], int) and config["ablation_every"] >= 0):
         raise ValueError(
             f"ablation_every must be an integer >= 0 (0: no ablation); got {config['ablation_every']!r}"

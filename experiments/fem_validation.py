@@ -15,12 +15,14 @@ speed); (d) p >= 0, no penetration, monotone F(δ); (e) linear vs neo-Hookean at
 from __future__ import annotations
 
 import time
+import warnings
 from functools import partial
 from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
+from workbench.experiment_keys import Key, check_key
 from workbench.fem.contact import solve_contact, solve_contact_full
 from workbench.fem.extract import face_grid, nodal_pressures
 from workbench.fem.material import Material
@@ -28,6 +30,7 @@ from workbench.fem.obstacles import Cylinder, Plane, Sphere
 from workbench.fem.pad import PadGeometry, condense_pad
 from workbench.fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
 from workbench.parallel import check_workers, run_rows
+from workbench.plausible import ImplausibleWarning
 from workbench.results import save_figure, write_csv, write_summary
 
 NAME = "fem-validation"
@@ -58,8 +61,42 @@ DEFAULT_CONFIG = {
 }
 
 
+#: what each key means, its unit and plausible range (``workbench run fem-validation --help``)
+KEYS = {
+    "nus": Key("Poisson ratios of the Lamé volumetric-locking check", "", "poisson"),
+    "cylinder_mesh": Key("[radial, circumferential] hexes of the Lamé thick-walled cylinder"),
+    "winkler_h": Key(
+        "thickness of the compressible thin layer (Winkler limits, 12 mm pad)", "m", "pad_thickness"
+    ),
+    "winkler_cells": Key("face cells per side of the 12 mm Winkler pad"),
+    "compare_pad": Key("[nx, ny, nz] hexes of the 16 x 20 x 4 mm condensed-vs-full pad"),
+    "compare_nu": Key("Poisson ratio of the condensed-vs-full pad", "", "poisson"),
+    "delta_sweep": Key("indentations of the force-displacement (monotonicity) check", "m", "closing"),
+    "hertz_fine_sizes": Key("finest hex size under the Hertz contact (a = 1.5 mm), one mesh each", "m"),
+    "hertz_growth": Key("geometric growth of the Hertz mesh away from the contact, > 1"),
+    "fidelity_pad": Key("[nx, ny, nz] hexes of the 16 x 20 x 5 mm linear-vs-neo-Hookean pad"),
+    "fidelity_nu": Key("Poisson ratio of the linear-vs-neo-Hookean pad", "", "poisson"),
+    "fidelity_deltas": Key("indentations of the linear-vs-neo-Hookean check, as fractions delta/h"),
+    "fidelity_full_mesh": Key("also the full-mesh linear level of that check"),
+    # not a "poisson" Key: 0.49999 is deliberately beyond real silicone (the usual range ends at
+    # 0.4999), so the Key would warn on the default and call it a per-cent slip; check_config
+    # refuses values outside (-1, 0.5) by the same rule, without the warning
+    "thin_film_nu": Key("Poisson ratio of the nearly incompressible thin-film layer, in (-1, 0.5)"),
+    "thin_film_cylinder_a_h": Key("contact half-widths a/h of the plane-strain thin-film check"),
+    "thin_film_sphere_a_h": Key("contact radii a/h of the 3D thin-film check"),
+}
+
+
 def check_config(config: dict) -> None:
     """The CLI checks settings with this before any work (workbench.experiment_config.build_config)."""
+    for key, spec in KEYS.items():  # the Poisson ratios and sizes (also for run(config))
+        check_key(key, spec, config[key])
+    with warnings.catch_warnings():  # 0.49999 is beyond the usual range on purpose (KEYS above)
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        try:
+            Material(1.0e6, config["thin_film_nu"])  # the Poisson rule: refused outside (-1, 0.5)
+        except ValueError as exc:
+            raise ValueError(f"thin_film_nu: {exc}") from None
     check_workers(config["workers"], config["scheduler"])
 
 

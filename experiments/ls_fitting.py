@@ -44,13 +44,15 @@ from workbench import (
     surface_wrenches,
     w_max,
 )
+from workbench.experiment_keys import Key, check_key
 from workbench.limit_surface.fit_score import FitScore, convexity, fit_and_score, min_wrenches
 from workbench.limit_surface.support_error import SharedWrenches
 from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
 from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
-from workbench.twists_author import box_sides, sample_twists_author
+from workbench.twists_author import AUTHOR_LEVELS, box_sides, sample_twists_author
+from workbench.wrench import check_mu
 
 NAME = "ls-fitting"
 #: the models fitted (workbench.limit_surface.fit_score), and the two whose support errors,
@@ -94,16 +96,39 @@ DEFAULT_CONFIG = {
 def check_config(config: dict) -> None:
     """The CLI checks settings with this before any work (workbench.experiment_config.build_config)."""
     check_protocol_config(config)
-    unknown = [s for s in [*config["surfaces"], config["section_surface"]] if s not in THESIS_SURFACES]
-    if unknown or not config["surfaces"] or len(set(config["surfaces"])) < len(config["surfaces"]):
+    for key, spec in KEYS.items():  # μ, the surface names, the words (also for run(config))
+        check_key(key, spec, config[key])
+    check_mu(config["mu"], what="limit surface")  # and not 0 (the Key's range takes it)
+    if not config["surfaces"] or len(set(config["surfaces"])) < len(config["surfaces"]):
         raise ValueError(
-            f"surfaces and section_surface must be thesis surfaces, one of {sorted(THESIS_SURFACES)} "
-            f"(surfaces at least one, each once); got {unknown or config['surfaces']}"
+            f"surfaces must name at least one thesis surface, each once; got {config['surfaces']}"
         )
     check_workers(config["workers"], config["scheduler"])
 
 
 QUICK_CONFIG = {"K": [200, 600], "n_heldout": 4000, "wrench_source": "mesh", "mesh_elements": 800}
+#: what each key means, its unit and plausible range (``workbench run ls-fitting --help``)
+KEYS = {
+    "mu": Key("friction coefficient, > 0 (normalised wrenches do not depend on it; thesis: 1)", "", "mu"),
+    "surfaces": Key("thesis surfaces to fit, each once", choices=lambda: tuple(THESIS_SURFACES)),
+    "K": Key("training wrenches per fit (the quartics need >= 126)"),
+    "n_heldout": Key("held-out wrenches per surface for Eq. (3.18)"),
+    "wrench_source": Key(
+        "the surfaces' wrenches: adaptive quadrature or a mesh", choices=("continuous", "mesh")
+    ),
+    "quad_rtol": Key("relative accuracy of the continuous wrenches, > 0"),
+    "mesh_elements": Key("triangles of the mesh (wrench_source=mesh, and the thesis-code grid's box)"),
+    "thesis_code": Key("also run the thesis-code protocol (the thesis-text one always runs)"),
+    "fine_level": Key(
+        "the author's twist grid fineLevel (0: 48,483 twists)", choices=lambda: sorted(AUTHOR_LEVELS)
+    ),
+    "downsample_steps": Key("thesis-code training grid: cell widths per wrench range, >= 2 (author: 2.5)"),
+    "support_directions": Key("uniform normals per surface for the sampler-independent error"),
+    "log_det_alphas": Key("alpha / K of Eq. (3.12)'s log-det penalty, measured at solver_comparison_K"),
+    "solver_comparison_K": Key("K at which SCS also runs and the support errors are measured"),
+    "section_surface": Key("surface of Fig 3.10's cross-sections", choices=lambda: tuple(THESIS_SURFACES)),
+    "section_K": Key("K of Fig 3.10's cross-sections"),
+}
 
 
 class Contact:

@@ -50,6 +50,7 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench import config as settings  # `config` is the run's dict here
+from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_rows
 from workbench.results import (
     Checkpoint,
@@ -155,13 +156,44 @@ def _paths(config: dict, name: str) -> tuple[Path, Path]:
 
 
 PROFILE_SOURCES = ("reach", "fem")
+#: what each key means, its unit and plausible range (``workbench run minimal-work --help``)
+KEYS = {
+    "data_dir": Key("folder with meshes/NAME.obj and stiffness_maps/NAME.json (deformable_objects)"),
+    "objects": Key("measured objects of data_dir"),
+    "mass_kg": Key("filled mass of each object, {object: kg}", "kg", "mass"),
+    "mu": Key("jaw-pad friction coefficient, > 0 (thesis §4.1: 0.3-0.5)", "", "mu"),
+    "n_heights": Key("candidate grasp heights, evenly inside the object's z extent"),
+    "n_angles": Key("candidate grasp-axis angles in [0, pi) per height"),
+    "jaw": Key("jaw pad [width, length]", "m", "pad_size"),
+    "grasp_force": Key("force per jaw of the profiles and q_robust (thesis §4.3.3.1)", "N", "jaw_force"),
+    "profiles": Key("jaw contact profiles: REACH (§4.3.2.1) or the FEM pad", choices=PROFILE_SOURCES),
+    "reach_closing_mm": Key("REACH pad compression past first touch", "mm", "closing", 1e-3),
+    "M": Key("linearisation directions of C_outer (Eq. 3.28)"),
+    "robust_samples": Key("pose samples N_r of q_robust"),
+    "E": Key("wall Young's modulus before calibration (PET)", "Pa", "wall_modulus"),
+    "nu": Key("wall Poisson ratio", "", "poisson"),
+    "thickness": Key("wall thickness", "m", "wall_thickness"),
+    "mesh": Key("wall hexes [around, along the height]"),
+    "safety": Key("truth: the gripper closes to safety x the exactly required force"),
+    "force_cap": Key("truth: largest force per jaw the gripper closes to", "N", "jaw_force"),
+    "closing_limit_mm": Key(
+        "truth: larger jaw closings crease the wall or dislodge the content", "mm", "closing", 1e-3
+    ),
+    "noise_samples": Key("truth: friction and force samples per grasp"),
+    "sigma_mu": Key("truth: relative standard deviation of the friction coefficient"),
+    "sigma_force": Key("truth: relative standard deviation of the jaw force"),
+    "sigma": Key("quality threshold, < 1 (thesis §4.3.4: 0.5)"),
+    "train_fraction": Key("fraction of the grasps the normalisers are fitted on, in (0, 1)"),
+    "nl_work_objects": Key("objects (of objects) whose W also comes from the nonlinear wall; [] skips it"),
+    "nl_mesh": Key("nonlinear wall hexes [around, along the height]"),
+    "nl_step_mm": Key("closing increment of the nonlinear load stepping", "mm", "closing", 1e-3),
+    "nl_max_closing_mm": Key("the nonlinear load stepping stops at this closing", "mm", "closing", 1e-3),
+}
 
 
 def check_config(config: dict) -> None:
-    """Before any work: a known profile source, and every object's mesh and measured map
-    where ``data_dir`` says."""
-    if config["profiles"] not in PROFILE_SOURCES:
-        raise ValueError(f"profiles must be one of {PROFILE_SOURCES}; got {config['profiles']!r}")
+    """Before any work: every key by its :data:`KEYS` entry (a known profile source, plausible
+    physical numbers), and every object's mesh and measured map where ``data_dir`` says."""
     known = set(DEFAULT_CONFIG["objects"]) | set(config["objects"])
     unknown = sorted(set(config["nl_work_objects"]) - known)
     if unknown:
@@ -175,10 +207,6 @@ def check_config(config: dict) -> None:
 def _check_values(config: dict) -> None:
     """The numbers the run would refuse only after minutes of work (a mass in grams at the
     first grasp, σ at the normaliser fit), refused before any."""
-    from workbench.fem.material import Material
-    from workbench.fem.object_wall import check_wall_options
-    from workbench.grasp.robust import gravity_wrench
-
     masses = config["mass_kg"]
     missing = [o for o in config["objects"] if not isinstance(masses, dict) or o not in masses]
     if missing:
@@ -187,17 +215,13 @@ def _check_values(config: dict) -> None:
             f"mass_kg must give every object's filled mass [kg]; missing {missing} — e.g. "
             f"--set 'mass_kg={json.dumps(example)}'"
         )
-    for o in config["objects"]:
-        try:
-            gravity_wrench(masses[o], np.zeros(3))  # its checks: finite, > 0, not in grams
-        except ValueError as e:
-            raise ValueError(f"mass_kg[{o!r}]: {e}") from None
-    for key in ("mu", "grasp_force", "force_cap", "closing_limit_mm"):
-        v = config[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (np.isfinite(v) and v > 0):
-            raise ValueError(
-                f"{key} must be a finite number > 0; got {v!r} (default {DEFAULT_CONFIG[key]!r})"
-            )
+    for key, spec in KEYS.items():  # μ, masses, forces, closings, the wall, the jaw (also for run(config))
+        check_key(key, spec, config[key])
+    if config["mu"] == 0:  # the Key's range takes it (an idealisation, not a slip)
+        raise ValueError(
+            "mu must be > 0: frictionless jaws hold no object against gravity, so every grasp fails "
+            "and the qualities compare nothing; give the jaw-pad friction (thesis §4.1: 0.3-0.5)"
+        )
     sigma = config["sigma"]  # fit_normaliser's condition, checked at the end of a run
     if (
         isinstance(sigma, bool)
@@ -212,8 +236,6 @@ def _check_values(config: dict) -> None:
         raise ValueError(
             f"train_fraction must be in (0, 1) (the grasps the normalisers are fitted on); got {tf!r}"
         )
-    check_wall_options(config["thickness"], "auto")
-    Material(config["E"], config["nu"])  # its own range checks
 
 
 @lru_cache(maxsize=8)

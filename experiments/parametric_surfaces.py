@@ -16,6 +16,7 @@ from tqdm import tqdm
 
 from workbench import config as settings  # `config` is the run's dict here
 from workbench import project_to_plane, sample_twists_thesis, surface_moments, surface_w_max, surface_wrenches
+from workbench.experiment_keys import Key, check_key
 from workbench.limit_surface.normalize import explained_variance_ratio
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
@@ -36,6 +37,16 @@ DEFAULT_CONFIG = {
     "figure_elements": 500,
 }
 QUICK_CONFIG = {"n_pca": 120, "figure_surfaces": ["S1"], "quad_rtol": 1e-6}
+#: what each key means, its unit and plausible range (``workbench run parametric-surfaces --help``)
+KEYS = {
+    "mu": Key("friction coefficient of Table 3.2's w_max, > 0 (thesis §3.5.1: 1)", "", "mu"),
+    "example_mu": Key("friction coefficient of Example 3.2.5's wrench, > 0 (thesis: 0.3)", "", "mu"),
+    "quad_rtol": Key("relative accuracy of w_max and the example (adaptive quadrature), > 0"),
+    "n_pca": Key("Fibonacci directions of the PCA wrenches (2 n twists: rotations and translations)"),
+    "pca_rtol": Key("relative accuracy of the PCA wrenches, > 0"),
+    "figure_surfaces": Key("thesis surfaces drawn", choices=lambda: tuple(THESIS_SURFACES)),
+    "figure_elements": Key("triangles of each drawn surface's mesh"),
+}
 
 THESIS_TABLE_3_2 = {
     "6d_nonplanar": [0.64, 0.64, 1.00, 0.34, 0.69, 0.59],
@@ -49,13 +60,10 @@ COMPONENTS = ["f_x", "f_y", "f_z", "tau_x", "tau_y", "tau_z"]
 def check_config(config: dict) -> None:
     """What the defaults cannot tell, before any work (``build_config``): μ > 0 and known
     figure surfaces."""
-    check_mu(config["mu"], what="Table 3.2's w_max")
+    for key, spec in KEYS.items():  # μ and the surface names (also for run(config))
+        check_key(key, spec, config[key])
+    check_mu(config["mu"], what="Table 3.2's w_max")  # and not 0 (the Key's range takes it)
     check_mu(config["example_mu"], what="Example 3.2.5's wrench")
-    unknown = [s for s in config["figure_surfaces"] if s not in THESIS_SURFACES]
-    if unknown:
-        raise ValueError(
-            f"figure_surfaces {unknown} are not thesis surfaces; choose from {sorted(THESIS_SURFACES)}"
-        )
 
 
 def example(config: dict) -> dict:

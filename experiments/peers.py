@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.experiment_keys import Key, check_key
 from workbench.fem.contact import solve_contact, solve_contact_full
 from workbench.fem.extract import extract_profile, face_grid, nodal_pressures
 from workbench.fem.material import Material
@@ -48,6 +49,7 @@ from workbench.pareto import at_equal
 from workbench.peers import metrics
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.timing import median_runtime
+from workbench.wrench import check_mu
 
 log = logging.getLogger(__name__)
 
@@ -100,6 +102,50 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
+#: what each key means, its unit and plausible range (``workbench run peers --help``)
+KEYS = {
+    "E": Key("pad Young's modulus (silicone)", "Pa", "pad_modulus"),
+    "nu": Key("pad Poisson ratio", "", "poisson"),
+    "mu": Key("Coulomb friction coefficient, > 0", "", "mu"),
+    # one quantity for the three: the thickness is judged as a pad size too (Key has no
+    # per-position quantities for a list)
+    "pad_mm": Key(
+        "pad [width (x), length (y), thickness h]",
+        "mm",
+        fields={0: ("pad_size", 1e-3), 1: ("pad_size", 1e-3), 2: ("pad_thickness", 1e-3)},
+    ),
+    "pad_cells": Key("[nx, ny, nz] hexes of the FEM pads"),
+    "cases": Key("contacts compared, at least one", choices=lambda: CASES),
+    "radius_mm": Key("sphere and cylinder radius, in [1, 1000)", "mm"),
+    "ellipse_mm": Key("elliptic cylinder semi-axes [along the pad normal, across]", "mm"),
+    "bottle": Key(
+        "thesis bottle: index 0-23, grasp height as a fraction of its height, Drake mesh [n_theta, n_z]"
+    ),
+    "ellipse_sections": Key("facets around Drake's elliptic cylinder mesh"),
+    "deltas_mm": Key("jaw displacements, each below the pad thickness", "mm", "closing", 1e-3),
+    "reference_stabilization": Key("fraction of full integration kept against hourglass modes (neo-Hookean)"),
+    "sweep_delta_mm": Key(
+        "jaw displacement of the runtime-vs-error sweeps, one of deltas_mm", "mm", "closing", 1e-3
+    ),
+    "condensed_sweep_cells": Key("[nx, ny, nz] hexes of the condensed pads of the runtime sweep"),
+    "drake_sweep_resolution_over_R": Key("Drake's rigid tessellation hints of the runtime sweep, / R"),
+    "drake_resolution_over_R": Key("Drake's rigid tessellation hint of the per-delta rows, / R, < 1"),
+    "foundation_cells": Key("Winkler grid cells per side of the runtime sweep (the last is used per delta)"),
+    "margin_delta_mm": Key(
+        "jaw displacement of the fitted 6DLS and the margins, one of deltas_mm", "mm", "closing", 1e-3
+    ),
+    "ls_model": Key("6DLS fitted to each peer's 6DFWs", choices=lambda: _ls_models()),
+    "ls_twists": Key("thesis-sampled twists of that fit (2 ls_twists wrenches)"),
+    "ls_directions": Key("uniform normals at which the fitted 6DLS is scored"),
+    "n_disturbances": Key("lever disturbances (thesis §4.1.3.1) of the margins"),
+    "margin_steps": Key("bisection steps on log2 s in [1/64, 64]"),
+    "grid_mm": Key("pressure comparison grid spacing, below the pad's width and length", "mm"),
+    "hertz_block": Key(
+        "Hertz check: sphere R_mm, contact a_mm, block nu, finest hex fine_mm, depths_mm [H, 2H] (mm)",
+        fields={"nu": ("poisson", 1.0)},
+    ),
+    "repeats": Key("timing repeats (median after one warm-up)"),
+}
 
 QUICK_CONFIG = {
     "hertz_block": {"R_mm": 20.0, "a_mm": 1.5, "nu": 0.3, "fine_mm": 0.6, "depths_mm": [20.0, 40.0]},
@@ -121,6 +167,13 @@ QUICK_CONFIG = {
 CASES = ("sphere", "cylinder", "elliptic_cylinder", "bottle")
 #: the errors reported per peer and case as the worst (largest |value|) over the jaw displacements
 ERRORS = ("force_rel_err", "area_rel_err", "pressure_rel_l2", "torsion_rel_err", "torque_rel_err")
+
+
+def _ls_models() -> tuple[str, ...]:
+    """The 6DLS models a peer's fit may use (workbench.limit_surface.fit_score, imported late)."""
+    from workbench.limit_surface.fit_score import MODELS
+
+    return tuple(MODELS)
 
 
 def _positive_list(config: dict, key: str, n: int | None = None, integer: bool = False) -> list:
@@ -150,9 +203,9 @@ def check_config(config: dict) -> None:
     """The CLI checks settings with this before any work (careless input fails here, not after
     minutes of neo-Hookean references)."""
     check_workers(config["workers"], config["scheduler"])
+    for key, spec in KEYS.items():  # E, ν, μ, the pad and the jaw displacements (also for run(config))
+        check_key(key, spec, config[key])
     w, ln, h = _positive_list(config, "pad_mm", 3)
-    if min(w, ln, h) < 1.0:
-        raise ValueError(f"pad_mm is in millimetres (16 x 20 x 5 mm = [16, 20, 5]); got {config['pad_mm']!r}")
     if not config["condensed_sweep_cells"]:
         raise ValueError("condensed_sweep_cells must list at least one [nx, ny, nz] (the vs-Drake reading)")
     _positive_list(config, "pad_cells", 3, integer=True)
@@ -161,10 +214,7 @@ def check_config(config: dict) -> None:
     _positive_list(config, "ellipse_mm", 2)
     for cells in config["condensed_sweep_cells"]:
         _positive_list({"condensed_sweep_cells": cells}, "condensed_sweep_cells", 3, integer=True)
-    _positive(config, "mu", "-", 10.0)
-    _positive(config, "E", "Pa")
-    if not 1e3 <= config["E"] <= 1e12:
-        raise ValueError(f"E is in pascals (1 MPa = 1e6, silicone ~0.1-5e6); got {config['E']!r}")
+    check_mu(config["mu"], what="torsion length tau_max / (mu f_n)")  # and not 0 (the Key's range takes it)
     hb = config["hertz_block"]
     keys = {"R_mm", "a_mm", "nu", "fine_mm", "depths_mm"}
     if not (isinstance(hb, dict) and set(hb) == keys):
@@ -174,7 +224,6 @@ def check_config(config: dict) -> None:
         )
     for k in ("R_mm", "a_mm", "fine_mm"):
         _positive(hb, k, "mm")
-    _positive(hb, "nu", "-", 0.5)
     d1, d2 = _positive_list(hb, "depths_mm", 2)
     if d2 != 2 * d1 or not hb["a_mm"] < 0.5 * hb["R_mm"] or not hb["a_mm"] < 0.2 * d1:
         raise ValueError(
@@ -219,9 +268,8 @@ def check_config(config: dict) -> None:
     ):
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
-    bad = [c for c in config["cases"] if c not in CASES]
-    if bad or not config["cases"]:
-        raise ValueError(f"cases must be a non-empty list of {CASES}; got {config['cases']!r}")
+    if not config["cases"]:
+        raise ValueError(f"cases must name at least one of {CASES}; got []")
     if not config["deltas_mm"] or not all(0 < d < h for d in config["deltas_mm"]):
         raise ValueError(
             f"deltas_mm must be jaw displacements in (0, h = {h}) mm; got {config['deltas_mm']!r}"

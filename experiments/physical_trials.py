@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.experiment_keys import Key, check_key
 from workbench.grasp.crossval import crossval_scores, seed_summary
 from workbench.grasp.gripper_eval import check_task, gripper_contact, judge_contact
 from workbench.grasp.models import MODELS
@@ -54,6 +55,22 @@ DEFAULT_CONFIG = {
     "workers": 0,  # 0 = one per core when there are many rows, 1 = serially here
     "scheduler": "",  # an existing Dask cluster's address
 }
+#: what each key means, its unit and plausible range (``workbench run physical-trials --help``);
+#: mass carries no quantity: its 0 means "read by name", which the mass range refuses, so
+#: check_config judges it when given
+KEYS = {
+    "trials": Key("a REACH trial JSON file; empty = the packaged cube_3cm.json"),
+    "mesh": Key("the object's mesh file in metres; empty = the packaged cube_3cm.obj"),
+    "gripper": Key("'yumi' (the packaged preset) or a gripper yaml file in the same format"),
+    "mass": Key("object mass; REACH's by the object's name when 0 (the cube: 3 g)", "kg", "mass", unset=0.0),
+    "mu": Key("friction coefficient; 0 = the gripper's own (YuMi: 0.3)", "", "mu"),
+    "models": Key("contact models judged, at least one", choices=lambda: MODELS),
+    "n_robust": Key("pose samples N_r per grasp, >= 1 (6DFC Fig. 3's best: 10)"),
+    "sigma_trans": Key("pose noise per axis, translation (6DFC's sigma_r)", "m"),
+    "sigma_rot": Key("pose noise per axis, rotation", "rad"),
+    "robust_seeds": Key("robustness seeds: mAP +- std over them, >= 1 (6DFC Table I: 5)"),
+    "grasps": Key("grasp indices to run; [] = all"),
+}
 QUICK_CONFIG = {
     "models": ["soft_point", "6dls", "6dfc"],
     "n_robust": 3,
@@ -66,23 +83,16 @@ WHERE_KEYS = ("out", "workers", "scheduler")
 def check_config(config: dict) -> None:
     """What fails only inside a run, refused before any work."""
     check_workers(config["workers"], config["scheduler"])
-    bad = sorted(set(config["models"]) - set(MODELS))
-    if bad or not config["models"]:
-        raise ValueError(f"models must be a non-empty list of {list(MODELS)}; got {config['models']!r}")
+    for key, spec in KEYS.items():  # μ and the model names (also for run(config))
+        check_key(key, spec, config[key])
+    if not config["models"]:
+        raise ValueError(f"models must name at least one of {list(MODELS)}; got []")
     if config["robust_seeds"] < 1 or config["n_robust"] < 1:
         raise ValueError(
             "n_robust and robust_seeds must be counts >= 1; got "
             f"{config['n_robust']!r}, {config['robust_seeds']!r}"
         )
     PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"]).resolved()
-    if config["mass"] < 0:
-        raise ValueError(
-            f"mass must be the object's mass [kg] > 0, or 0 to read it by name; got {config['mass']!r}"
-        )
-    if config["mu"] < 0:
-        raise ValueError(
-            f"mu must be a friction coefficient > 0, or 0 for the gripper's own; got {config['mu']!r}"
-        )
 
 
 def _inputs(config: dict):

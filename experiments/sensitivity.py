@@ -42,10 +42,12 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.config import SAMPLER_KINDS
+from workbench.experiment_keys import Key, check_key
 from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
-from workbench.grasp.models import check_model, contact_sets
+from workbench.grasp.models import MODELS, contact_sets
 from workbench.grasp.precision import check_levels, matched_precision, recall_at_least, scores
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
@@ -53,7 +55,6 @@ from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.sources.scenes import elliptic_cylinder_grasp
 from workbench.sources.surfaces import check_n_elements
-from workbench.wrench import check_mu
 
 NAME = "sensitivity"
 
@@ -107,6 +108,41 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
+#: what each key means, its unit and plausible range (``workbench run sensitivity --help``)
+KEYS = {
+    "mu": Key("true friction coefficient, > 0 (thesis §4.1.3: 0.3)", "", "mu"),
+    "k_true": Key("true pressure exponent k of Eq. (4.3)"),
+    "a": Key("elliptic cylinder semi-axis along the grasp axis", "m"),
+    "b": Key("elliptic cylinder semi-axis across the grasp axis", "m"),
+    "half_angle": Key("the contact's angular half-width, < pi/2", "rad"),
+    # the flat pad's length pressed along the cylinder: judged as a pad size
+    "length": Key(
+        "true contact length along the cylinder axis (the pad's length in contact)", "m", "pad_size"
+    ),
+    "n_elements": Key("triangles of each jaw's contact, >= 2"),
+    "n_disturbances": Key("lever disturbances (grasps) of the series, >= 1"),
+    "force_range": Key("grasp forces read by the force sensor, [lo, hi] per jaw", "N", "jaw_force"),
+    "noise_mu": Key("truth: relative standard deviation of the friction coefficient"),
+    "noise_force": Key("truth: relative standard deviation of the grasp force around the sensor reading"),
+    "truth_start_wrenches": Key("starting columns of the exact column generation"),
+    "weight_range": Key("weights hung at the lever arms, [lo, hi]", "N"),
+    "lever_x": Key("lever arm |r_x| (tau_z = -r_x m g)", "m"),
+    "lever_z": Key("lever arm |r_z| (tau_x = r_z m g: torsion about the grasp axis)", "m"),
+    "models": Key("contact models compared, at least one", choices=lambda: MODELS),
+    "M": Key("linearisation directions of C_outer (Eq. 3.28)"),
+    "k_values": Key("assumed pressure exponents k of Fig 4.4(b)"),
+    "mu_offsets": Key("relative offsets x of the assumed mu = mu (1 + x), Fig 4.4(c)"),
+    "length_offsets": Key("relative offsets x of the assumed contact length (1 + x), Fig 4.4(d)"),
+    "robust_n_r": Key("pose samples N_r of q_robust (6DFC Fig 3)"),
+    "robust_sigma_r": Key("pose noise sigma_r of q_robust (rotation sigma = sigma_r / 0.03 m)", "m"),
+    "robust_disturbances": Key("disturbances of the robust metric, in [1, n_disturbances]"),
+    "precision_levels": Key("precision levels at which recall is matched, in (0, 1]"),
+    "margin_steps": Key("bisection steps on log2 s* in [-6, 6]"),
+    "training_samplers": Key(
+        "sampler kinds whose limit surfaces are compared", choices=lambda: SAMPLER_KINDS
+    ),
+    "training_models": Key("models of that comparison, at least one", choices=lambda: MODELS),
+}
 QUICK_CONFIG = {
     "n_elements": 150,
     "n_disturbances": 40,
@@ -125,12 +161,15 @@ QUICK_CONFIG = {
 
 def check_config(config: dict) -> None:
     """Refuse, before the ground truth is computed (``build_config`` calls this), what the run
-    would refuse only after minutes of rows: μ = 0 (frictionless: the truth resists none of
-    the disturbances, so every recall is undefined and the μ offsets, relative to μ, all
-    collapse to 0), a mesh of < 2 elements, an unknown model, more robust disturbances than
-    disturbances, precision levels outside (0, 1] and unknown sampler kinds.  Each check is
-    the rule of the function that would raise later, called early."""
-    if check_mu(config["mu"]) == 0:
+    would refuse only after minutes of rows: implausible physical numbers, unknown models and
+    sampler kinds (:data:`KEYS`: the library's own lists), μ = 0 (frictionless: the truth resists
+    none of the disturbances, so every recall is undefined and the μ offsets, relative to μ, all
+    collapse to 0), a mesh of < 2 elements, more robust disturbances than disturbances and
+    precision levels outside (0, 1].  Each check is the rule of the function that would raise
+    later, called early."""
+    for key, spec in KEYS.items():  # also for run(config) called directly
+        check_key(key, spec, config[key])
+    if config["mu"] == 0:  # the Key's range takes it
         raise ValueError(
             "mu = 0 is a frictionless grasp: the simulated truth resists none of the disturbances, "
             "so every recall is undefined, and the mu offsets (relative to mu) all collapse to 0; "
@@ -140,11 +179,6 @@ def check_config(config: dict) -> None:
     for key in ("models", "training_models"):
         if not config[key]:
             raise ValueError(f'{key} must name at least one model, e.g. ["6dls"]; got []')
-        for model in config[key]:
-            try:
-                check_model(model)
-            except ValueError as exc:
-                raise ValueError(f"{key}: {exc}") from None
     if config["n_disturbances"] < 1 or not 1 <= config["robust_disturbances"] <= config["n_disturbances"]:
         raise ValueError(
             "n_disturbances must be >= 1 and robust_disturbances in [1, n_disturbances] (the robust "
@@ -152,8 +186,6 @@ def check_config(config: dict) -> None:
             f"{config['robust_disturbances']}"
         )
     check_levels(config["precision_levels"])  # matched_precision's rule
-    for kind in config["training_samplers"]:
-        SamplerSpec(kind=kind)  # raises ValueError naming the known kinds
     check_workers(config["workers"], config["scheduler"])
 
 

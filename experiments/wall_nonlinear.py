@@ -30,6 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 from tqdm import tqdm
 
+from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_summary
 from workbench.stats import rank_correlation
@@ -61,11 +62,31 @@ DEFAULT_CONFIG = {
 WHERE_KEYS = ("out", "workers", "scheduler")
 #: a local cluster for the load curves from this many grasps (each takes 10-60 s; a cluster's start ~3 s)
 NL_MIN_ROWS = 2
+#: what each key means, its unit and plausible range (``workbench run wall-nonlinear --help``)
+KEYS = {
+    "data_dir": Key("folder with meshes/NAME.obj and stiffness_maps/NAME.json (deformable_objects)"),
+    "object": Key("a measured object of data_dir"),
+    "E": Key("wall Young's modulus before calibration (PET)", "Pa", "wall_modulus"),
+    "nu": Key("wall Poisson ratio", "", "poisson"),
+    "thickness": Key("wall thickness", "m", "wall_thickness"),
+    "mesh": Key("wall hexes [around, along the height] (both models share it)"),
+    "n_grasps": Key("nonlinear load curves at this many grasps, spread over the heights"),
+    "grasps": Key("null, or distinct grasp indices of the map (replaces n_grasps)"),
+    "force": Key("force per jaw at which the models' stiffness is compared (thesis: 10)", "N", "jaw_force"),
+    "force_stop": Key("the load curves run to this mean jaw force (room to calibrate E)", "N", "jaw_force"),
+    "step_mm": Key("closing increment of the load stepping", "mm", "closing", 1e-3),
+    # a cap, not judged as a "closing": its 40 mm default is above that quantity's usual 20 mm
+    # (the measured cup closes up to 23 mm at 10 N), which would warn on every run
+    "max_closing_mm": Key("the load stepping stops at this closing, > step_mm", "mm", "closing", 1e-3),
+}
 QUICK_CONFIG = {"n_grasps": 1, "mesh": [12, 6], "force": 3.0, "force_stop": 3.3, "step_mm": 2.0}
 
 
 def check_config(config: dict) -> None:
-    """What the defaults' types cannot tell: ``grasps`` is None or distinct grasp indices."""
+    """What the defaults' types cannot tell: plausible physical numbers (:data:`KEYS`, also for
+    run(config)), and ``grasps`` is None or distinct grasp indices."""
+    for key, spec in KEYS.items():
+        check_key(key, spec, config[key])
     g = config["grasps"]
     if g is not None and (
         not isinstance(g, list)

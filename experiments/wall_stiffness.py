@@ -29,18 +29,21 @@ grasp order with ``rigid`` and ``failed`` flags; when the JSON also holds a
 from __future__ import annotations
 
 import time
+import warnings
 from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
+from workbench.experiment_keys import Key, check_key
 from workbench.fem.bottle import Bottle, bottle_family
 from workbench.fem.material import Material
-from workbench.fem.object_wall import wall_geometry
+from workbench.fem.object_wall import TOPS, wall_geometry
 from workbench.fem.wall import build_wall, ring_pinch, ring_wall, squeeze
 from workbench.fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
 from workbench.parallel import check_workers, run_rows
+from workbench.plausible import ImplausibleWarning
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.stats import rank_correlation
 
@@ -69,6 +72,24 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
+#: what each key means, its unit and plausible range (``workbench run wall-stiffness --help``)
+KEYS = {
+    "bottles": Key("indices into bottle_family(seed), 0-23 (16-23 asymmetric)"),
+    "E": Key("wall Young's modulus", "Pa", "wall_modulus"),
+    "nu": Key("wall Poisson ratio", "", "poisson"),
+    "thickness": Key("wall thickness", "m", "wall_thickness"),
+    "mesh": Key("wall hexes [around, along the height]; memory grows ~ their product squared"),
+    "height_fractions": Key("grasp heights as fractions of the wall's height, in [0, 1]"),
+    "n_angles": Key("grasp-axis angles in [0, pi) per height"),
+    "force": Key("force per jaw", "N", "jaw_force"),
+    "jaw": Key("jaw face [width (horizontal), length (vertical)]", "m", "pad_size"),
+    "ring_meshes": Key("hexes around the Roark ring of the validation"),
+    "convergence_meshes": Key("wall meshes [around, along] of the mesh-convergence study"),
+    "object": Key("a watertight mesh file in metres of a thin-walled object; empty = the bottle family"),
+    "locations": Key("JSON file with stiffness_locations (2n, 3) [m] for object="),
+    "rigid_closing_mm": Key("closings below this count as rigid", "mm", "closing", 1e-3),
+    "top": Key("object=: top edge of the wall", choices=lambda: TOPS),
+}
 #: settings that do not enter the checkpoint key: where rows run changes no number
 WHERE_KEYS = ("out", "workers", "scheduler")
 QUICK_CONFIG = {
@@ -92,7 +113,9 @@ def ring_rows(config: dict) -> list[dict]:
         perp = ring_pinch(R, t, mat, n_theta=n)
         wall = ring_wall(R, t, mat, n)
         P = 1e-3  # N on a slab of length t: P' = 2 N/m, linear anyway
-        sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
+        with warnings.catch_warnings():  # a probe load of Roark's ring, not a gripper's: no warning
+            warnings.simplefilter("ignore", ImplausibleWarning)
+            sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
         exact = (np.pi / 4 - 2 / np.pi) * (P / t) * R**3 / D
         rows.append(
             {
@@ -141,7 +164,9 @@ def _map_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
             "bottle": i,
             "height_fraction": hf,
             "angle": a,
-            "stiffness_N_per_m": r["stiffness"],
+            # an impossible closing (jaws meeting inside the object) is flagged, not a stiffness
+            "stiffness_N_per_m": None if r["implausible"] else r["stiffness"],
+            "implausible": r["implausible"],
             "closing_mm": r["delta"] * 1e3,
             "contact_nodes": r["contact_nodes"],
             "contact_points": r["contact_points"].tolist(),
@@ -249,15 +274,17 @@ def run(config: dict) -> dict:
                     for a in angles
                 ]
                 for hf in config["height_fractions"]
-            ]
+            ],
+            dtype=float,  # None (an implausible closing) -> NaN
         )
         maps[str(i)] = {
             "asymmetric": bool(family[i].asymmetric),
             "height_fractions": config["height_fractions"],
             "angles_rad": angles.tolist(),
-            "stiffness_N_per_m": grid.tolist(),
-            "min": float(grid.min()),
-            "max": float(grid.max()),
+            "stiffness_N_per_m": [[None if np.isnan(v) else v for v in row] for row in grid.tolist()],
+            "n_implausible": int(np.isnan(grid).sum()),
+            "min": None if np.isnan(grid).all() else float(np.nanmin(grid)),
+            "max": None if np.isnan(grid).all() else float(np.nanmax(grid)),
         }
     figures = _figures(out, family, maps, config)
     ms = np.array([r["ms"] for r in rows])
@@ -266,10 +293,12 @@ def run(config: dict) -> dict:
         "mesh_convergence": conv,
         "maps": maps,
         "n_grasps": len(rows),
+        "n_implausible": sum(m["n_implausible"] for m in maps.values()),
         "n_resumed": n_resumed,
         "rows_ran_on": ran_on,
         "wall_build_s": build_s,
         "ms_per_grasp": {"median": float(np.median(ms)), "max": float(ms.max())},
+        "mesh_error": mesh_error(config["mesh"]),
         "model": (
             f"linear elastic wall E = {mat.E:.3g} Pa, nu = {mat.nu}, t = {config['thickness'] * 1e3} mm, "
             "clamped base, open top, rigid frictionless jaws, secant stiffness at the target force"
@@ -282,12 +311,56 @@ def run(config: dict) -> dict:
             *(
                 f"bottle {k}: stiffness {m['min']:.0f}..{m['max']:.0f} N/m over "
                 f"{len(config['height_fractions'])} heights x {len(angles)} axes"
+                + (f" ({m['n_implausible']} flagged implausible)" if m["n_implausible"] else "")
+                if m["min"] is not None
+                else f"bottle {k}: IMPLAUSIBLE — at every grasp the jaws would close by more than the "
+                "bottle's width (the linear wall model does not hold: E or thickness in another unit?)"
                 for k, m in maps.items()
             ),
             f"{len(rows)} grasps, median {np.median(ms):.0f} ms per grasp after a one-off wall factorisation",
+            f"discretisation: {mesh_error(config['mesh'])['note']}",
         ],
     }
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+#: the measured discretisation error of the default wall mesh (benchmarks/bench_shoulder_convergence.py)
+CONVERGENCE_FILE = Path("results/benchmarks/shoulder_convergence.json")
+
+
+def mesh_error(mesh: list, path: Path = CONVERGENCE_FILE) -> dict:
+    """What is known of the stiffness error of wall ``mesh`` [around, along]: the error of that
+    mesh against the finest one measured, per region (body, below a shoulder, on a shoulder)
+    from the convergence benchmark's file, or a note that this mesh was not measured."""
+    import json
+
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return {"measured": False, "note": f"no convergence measurement at {path} (make reproduce writes it)"}
+    if list(mesh) != list(data.get("default_mesh", [])):
+        return {
+            "measured": False,
+            "note": f"mesh {list(mesh)} not measured; {path} measures {data.get('default_mesh')} "
+            "against the finest mesh that fits (benchmarks/bench_shoulder_convergence.py)",
+        }
+    plain = [k for k in data["per_mesh"] if "/" not in k]  # "48x24/g2" is a graded variant
+    finest = max(plain, key=lambda k: int(k.split("x")[0]) * int(k.split("x")[1]))
+    regions = {
+        name: {k: r["default_rel_to_finest"][k] for k in ("min", "median", "max")}
+        for name, r in data["regions"].items()
+    }
+    text = "; ".join(
+        f"{name.replace('_', ' ')} {r['min']:+.0%}..{r['max']:+.0%} (median {r['median']:+.0%})"
+        for name, r in regions.items()
+    )
+    return {
+        "measured": True,
+        "reference_mesh": finest,
+        "rel_to_reference": regions,
+        "note": f"stiffness of mesh {list(mesh)} vs {finest}: {text}; a jaw edge on a shoulder is not "
+        f"converged even on the finest meshes (results/benchmarks/shoulder_convergence.json)",
+    }
 
 
 def _file_hash(path: str) -> str:
@@ -337,20 +410,10 @@ def check_config(config: dict) -> None:
     """With ``object=``, refuse careless inputs before any work (:func:`_object_inputs`);
     ``workbench run`` turns the ``ValueError`` into its error message.  Force, E and jaw
     size are checked in every mode (force=0 used to fail only after the wall was built)."""
-    for key, unit in (("force", "N per jaw, e.g. 10.0"), ("E", "Pa, e.g. 2.5e9 for PET")):
-        v = config[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (np.isfinite(v) and v > 0):
-            raise ValueError(f"{key} must be finite and > 0 [{unit}]; got {v!r}")
-    from workbench.config import TOL
-
-    jaw = np.asarray(config["jaw"], dtype=float)
-    if jaw.shape != (2,) or not (np.isfinite(jaw).all() and (jaw > 0).all()):
-        raise ValueError(f"jaw must be [width, length] > 0 [m], e.g. [0.02, 0.04]; got {config['jaw']!r}")
-    if (jaw > TOL.max_object_extent_m).any():
-        raise ValueError(
-            f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}, larger than "
-            f"any object ({TOL.max_object_extent_m:g} m) — in millimetres? pass {(jaw / 1e3).tolist()}"
-        )
+    for key in ("force", "E", "nu", "thickness", "jaw", "rigid_closing_mm", "top"):  # also for run(config)
+        check_key(key, KEYS[key], config[key])
+    if len(config["jaw"]) != 2:
+        raise ValueError(f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}")
     check_workers(config["workers"], config["scheduler"])
     if config["locations"] and not config["object"]:
         raise ValueError(
@@ -414,6 +477,7 @@ def run_object(config: dict) -> dict:
         "stiffness_n_per_m": s.tolist(),
         "rigid": [bool(r["rigid"]) for r in rows],
         "failed": [bool(r["failed"]) for r in rows],
+        "implausible": [bool(r.get("implausible", False)) for r in rows],
         "non_antipodal": [bool(r.get("non_antipodal", False)) for r in rows],
         "axis_normal_deg": [r.get("axis_normal_deg") for r in rows],
         "reasons": [r["reason"] for r in rows],
@@ -427,6 +491,7 @@ def run_object(config: dict) -> dict:
         "wall_build_s": build_s,
         "s_per_grasp": {"median": float(np.median(secs)), "max": float(secs.max())} if secs.size else None,
         "n_resumed": n_resumed,
+        "mesh_error": mesh_error(config["mesh"]),
         "model": (
             f"linear elastic wall E = {config['E']:.3g} Pa, nu = {config['nu']}, "
             f"t = {config['thickness'] * 1e3} mm, "
@@ -464,6 +529,12 @@ def run_object(config: dict) -> dict:
             if soft.size
             else "none deflects"
         ),
+        *(
+            [f"{sum(summary['implausible'])} flagged implausible (closing beyond the object's width)"]
+            if any(summary["implausible"])
+            else []
+        ),
+        f"discretisation: {summary['mesh_error']['note']}",
     ]
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
@@ -477,7 +548,7 @@ def _figures(out: Path, family, maps: dict, config: dict) -> list[str]:
     figs = []
     fig, axes = plt.subplots(1, len(maps), figsize=(4.2 * len(maps), 3.6), squeeze=False)
     for ax, (k, m) in zip(axes[0], maps.items(), strict=True):
-        grid = np.array(m["stiffness_N_per_m"]) / 1e3
+        grid = np.array(m["stiffness_N_per_m"], dtype=float) / 1e3
         im = ax.imshow(
             grid,
             origin="lower",
@@ -513,7 +584,7 @@ def _render(out: Path, family, maps: dict) -> Path:
         tm = b.to_trimesh(96, 80)
         H = b.params.height
         ang = np.array(m["angles_rad"])
-        grid = np.array(m["stiffness_N_per_m"]) / 1e3
+        grid = np.array(m["stiffness_N_per_m"], dtype=float) / 1e3
         # periodic in the axis angle (period π): wrap one column
         interp = RegularGridInterpolator(
             (np.array(m["height_fractions"]), np.r_[ang, np.pi]),
@@ -534,6 +605,47 @@ def _render(out: Path, family, maps: dict) -> Path:
     pl.view_xz()
     pl.camera.elevation = 15
     return save_screenshot(pl, out / "stiffness_render.png")
+
+
+#: Peak memory of one run against its walls' factors (issue 44), fitted by
+#: benchmarks/bench_memory.py on 2026-11-29 to one-bottle --quick runs at meshes [24, 12] ..
+#: [96, 48] (0.72 .. 5.6 GiB, within 6 % of the fit); three bottles at [48, 24] and a
+#: convergence study up to [64, 32] came out 3 % and 1 % above the estimate; [144, 72] reads
+#: ~14.0 GiB (it was killed at an 11.8 GiB worker limit).  The measurements:
+#: results/benchmarks/memory_model.json.  peak = base_bytes + bytes_per_nnz * nnz, with the
+#: factor's non-zeros nnz = nnz_coefficient * free_dofs ** nnz_exponent.
+MEMORY_MODEL = {
+    "measured_on": "2026-11-29",
+    "base_bytes": 5.162e8,
+    "bytes_per_nnz": 48.40,
+    "nnz_coefficient": 80.76,
+    "nnz_exponent": 1.1789,
+}
+
+
+def memory_estimate(config: dict, model: dict | None = None) -> int:
+    """Estimated peak resident memory [bytes] of one run of ``config`` (a sweep point, run
+    serially in one process), from :data:`MEMORY_MODEL` (or ``model``, the same keys).
+
+    A wall of ``mesh = [n_theta, n_z]`` has ``36 n_theta n_z`` free dofs (one triquadratic hex
+    through the wall: ``2 n_theta × 2 n_z × 3`` free nodes above the clamped base).  Walls alive
+    at once: the family's maps keep up to two factored walls (``_bottle_wall``'s cache of two;
+    a wall is factored on first use, after the cache has dropped the oldest); the
+    mesh-convergence study builds its walls one after another, before the maps.  With
+    ``object=`` one wall, of at least ``n_z`` rows (:func:`wall_geometry` adds rows for a lip).
+    """
+    m = MEMORY_MODEL if model is None else model
+
+    def factor_bytes(mesh: list) -> float:
+        dofs = 36.0 * int(mesh[0]) * int(mesh[1])
+        return m["bytes_per_nnz"] * m["nnz_coefficient"] * dofs ** m["nnz_exponent"]
+
+    if config["object"]:
+        walls = factor_bytes(config["mesh"])
+    else:
+        maps = min(len(config["bottles"]), 2) * factor_bytes(config["mesh"])
+        walls = max([maps, *(factor_bytes(c) for c in config["convergence_meshes"])])
+    return int(m["base_bytes"] + walls)
 
 
 if __name__ == "__main__":

@@ -80,7 +80,9 @@ def press(
     """
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity must be one of {FIDELITIES}; got {fidelity!r}")
-    deltas = sorted(float(d) for d in deltas)
+    from workbench.plausible import check_each
+
+    deltas = sorted(float(d) for d in check_each("closing", list(deltas), "deltas (jaw displacements [m])"))
     if not deltas:
         raise ValueError("deltas is empty: give at least one jaw displacement [m]")
     if deltas[-1] >= geometry.thickness:

@@ -17,10 +17,12 @@ class Material:
     def __post_init__(self) -> None:
         if not (np.isfinite(self.E) and self.E > 0):
             raise ValueError(f"E must be a positive Young's modulus [Pa]; got {self.E}")
-        if not (np.isfinite(self.nu) and -1.0 < self.nu < 0.5):
-            raise ValueError(
-                f"nu must be in (-1, 0.5); got {self.nu} — for incompressible silicone use e.g. 0.499"
-            )
+        from workbench.plausible import check
+
+        try:
+            check("poisson", self.nu, "nu")
+        except ValueError as exc:
+            raise ValueError(f"{exc} — for incompressible silicone use e.g. 0.499") from None
 
     @property
     def mu(self) -> float:

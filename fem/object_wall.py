@@ -155,23 +155,11 @@ class WallGeometry:
 def check_wall_options(thickness: Any, top: Any) -> None:
     """``ValueError`` unless ``thickness`` is a finite wall thickness > 0 [m] and ``top`` one
     of ``TOPS`` (:func:`wall_geometry`'s options, checkable before any mesh is read)."""
-    if not (
-        isinstance(thickness, (int, float, np.number))
-        and not isinstance(thickness, bool)
-        and np.isfinite(thickness)
-        and thickness > 0
-    ):
-        raise ValueError(
-            f"thickness must be a positive wall thickness [m]; got {thickness!r} — give the wall's "
-            "thickness in metres, e.g. 0.5e-3 for a 0.5 mm PET wall"
-        )
-    from workbench.config import TOL
+    from workbench.plausible import check
 
-    if thickness < TOL.min_wall_thickness_m:  # read at call time
-        raise ValueError(
-            f"thickness must be a wall thickness in metres of at least {TOL.min_wall_thickness_m:g} m "
-            f"(config.TOL.min_wall_thickness_m); got {thickness!r} — e.g. 0.5e-3 for a 0.5 mm PET wall"
-        )
+    if isinstance(thickness, np.number):
+        thickness = thickness.item()
+    check("wall_thickness", thickness, "thickness")
     if top not in TOPS:
         raise ValueError(
             f"top must be one of {TOPS} (the wall's top edge; module workbench.fem.object_wall); got {top!r}"

@@ -185,6 +185,9 @@ def condense_pad(
         face center (the candidate contact zone of a large block, e.g. Hertz);
         contact outside it is then not represented.
     """
+    from workbench.plausible import check
+
+    check("pad_modulus", material.E, "material.E (the pad's Young's modulus [Pa])")
     mesh = geometry.mesh()
     x, y, z = mesh.p
     face = top_face_nodes(mesh.p, geometry.thickness)

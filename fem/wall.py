@@ -191,6 +191,11 @@ def build_wall(
         then the rigid-body modes in the plane are removed by the symmetry
         conditions ``u_y = 0`` at θ = 0, π and ``u_x = 0`` at θ = ±π/2 (n_theta % 4 == 0).
     """
+    from workbench.plausible import check
+
+    check("wall_modulus", material.E, "material.E (the wall's Young's modulus [Pa])")
+    if not callable(thickness):
+        check("wall_thickness", thickness, "thickness")
     t0 = time.perf_counter()
     mesh, outer, bottom, top = wall_mesh(surface, thickness, n_theta, n_z, z_range)
     basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
@@ -339,7 +344,9 @@ def squeeze(
     clamps stand for its stiff base and shoulder, so they carry no net force), each
     travelling its own distance ``jaw_travel`` (2,) [m] from first touch.
     Returns ``stiffness`` = force / Δ [N/m], the jaw closing ``delta`` [m] (sum of
-    both jaws' travel), the forces of both jaws, the contact
+    both jaws' travel), ``width`` [m] the object's width between the first touches and
+    ``implausible`` (``delta >= width``: the jaws would meet inside the object — an
+    impossible result of the linear model, flagged, not a stiffness), the forces of both jaws, the contact
     points of the grasp axis with the wall, and the number of LCP solves;
     ``on_clamp`` is True when a jaw would travel past a clamped node of its
     footprint (``clamp_gap`` [m] from that jaw's first touch): the jaw then rests on the
@@ -364,8 +371,9 @@ def squeeze(
     13 667 (+4.5 %) at 96; an independent Sanders-shell solution gives 12 946 (new-user
     trial, issue 13).
     """
-    if not (np.isfinite(force) and force > 0):
-        raise ValueError(f"force must be a positive jaw force [N]; got {force}")
+    from workbench.sources.jaws import check_jaw_force
+
+    check_jaw_force(force)
     axis = np.asarray(axis, float)
     axis = axis / np.linalg.norm(axis)
     up = np.array([0.0, 0.0, 1.0])
@@ -469,7 +477,18 @@ def squeeze(
         viol = viol[np.argsort(gap_all[viol])][:max_add]
         active = np.union1d(active, viol)
     delta = float(travel.sum())
+    width = float(np.linalg.norm(touch[0] - touch[1]))
+    if delta >= width:  # impossible: the jaws would meet inside the object
+        log.warning(
+            "squeeze: the jaws close by %.4g m at %g N, more than the object's %.4g m width along the "
+            "grasp axis — the linear wall model does not hold there (a modulus in another unit?)",
+            delta,
+            force,
+            width,
+        )
     return {
+        "width": width,
+        "implausible": bool(delta >= width),
         "on_clamp": bool((travel > stop).any()),
         "clamp_gap": float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
         "stiffness": force / delta,

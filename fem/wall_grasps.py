@@ -16,6 +16,8 @@ flagged with its reason:
   below ``rigid_closing`` (what the gripper cannot resolve) —
   reported as ``RIGID_STIFFNESS`` like the measured maps' 8e10 (the computed value
   is kept as ``fem_stiffness``);
+* ``failed`` (and ``implausible``): the jaws would close by more than the object's width at
+  the target force — an impossible closing of the linear model (a modulus in another unit);
 * ``failed``: the squeeze raised (e.g. no wall under a jaw), the grasp axis is
   not horizontal (the squeeze's jaws are vertical), or it points out of the wall at a
   jaw point (more than 90° from the outward normal: the jaw would press from inside) —
@@ -195,6 +197,7 @@ def stiffness_at(
             "delta": np.nan,
             "rigid": False,
             "failed": False,
+            "implausible": False,
             "non_antipodal": bool(ang > limit),
             "axis_normal_deg": ang,
             "reason": None,
@@ -233,7 +236,16 @@ def stiffness_at(
                 res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
                 s = float(res["stiffness"])
                 row.update(stiffness=s, fem_stiffness=s, delta=float(res["delta"]))
-                if res["on_clamp"]:
+                if res.get("implausible", False):
+                    row.update(
+                        stiffness=np.nan,
+                        failed=True,
+                        implausible=True,
+                        reason=f"impossible: the jaws close by {res['delta']:.4g} m at the target force, "
+                        f"more than the object's {res['width'] * 1e3:.3g} mm width (the linear wall model "
+                        "does not hold; a modulus or thickness in another unit?)",
+                    )
+                elif res["on_clamp"]:
                     row.update(
                         stiffness=RIGID_STIFFNESS,
                         rigid=True,

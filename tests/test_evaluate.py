@@ -120,7 +120,7 @@ def test_point_jaws_cannot_hold_a_weight_off_their_axis(cylinder_jaws):
         ({"profiles": None}, "give the object mesh"),
         ({"profiles": "jaws"}, "profiles must be a list of the two jaws' ContactProfiles"),
         ({"pad": (0.02, np.nan)}, "pad must be the jaw face"),
-        ({"force": -1.0}, "force must be the jaw's reading"),
+        ({"force": -1.0}, r"force \(each jaw's reading \[N\]\) must be a jaw force in \(0, 500\] N"),
         ({"grasp": {"p1": [0, 0, 0], "p2": [1, 0, 0], "axis": [0, 0, 0]}}, "axis non-zero"),
     ],
 )

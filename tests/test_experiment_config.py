@@ -201,6 +201,7 @@ def test_config_help_lists_types_defaults_and_quick_values(toy):
     assert config_help("toy").splitlines() == [
         "config keys (--set KEY=VALUE, JSON; a bare word is a string):",
         "  seed (int) = 0",
+        "      random seed (numpy), >= 0",  # experiment_keys.COMMON: the toy declares no KEYS
         "  x (float) = 1.0",
         "  fail_above (float) = 10.0",
         "  sleep (float) = 0.0   [--quick: 0.0]",
@@ -212,11 +213,13 @@ def test_config_help_lists_types_defaults_and_quick_values(toy):
 
 @pytest.mark.parametrize("name", sorted(EXPERIMENTS))
 def test_config_help_has_one_line_per_default_key(name):
+    """Each key's line (type, default, --quick value), then what it means (its Key, described)."""
     module = importlib.import_module(EXPERIMENTS[name])
     lines = config_help(name).splitlines()
-    assert len(lines) == len(module.DEFAULT_CONFIG) + 2
-    for line, key in zip(lines[1:-1], module.DEFAULT_CONFIG, strict=True):
-        assert line.startswith(f"  {key} (")
+    assert len(lines) == 2 * len(module.DEFAULT_CONFIG) + 2  # every key has a Key (test_experiment_keys)
+    for i, key in enumerate(module.DEFAULT_CONFIG):
+        assert lines[1 + 2 * i].startswith(f"  {key} (")
+        assert lines[2 + 2 * i].startswith("      ") and len(lines[2 + 2 * i].strip()) > 10
 
 
 @pytest.mark.parametrize(
@@ -225,11 +228,11 @@ def test_config_help_has_one_line_per_default_key(name):
         (
             "parametric-surfaces",
             {"figure_surfaces": ["S1", "S9"]},
-            r"figure_surfaces \['S9'\] are not thesis surfaces",
+            r"figure_surfaces must be one of \['S1', .*'S6'\]; got \['S1', 'S9'\]",
         ),
         ("parametric-surfaces", {"example_mu": 0.0}, "mu = 0 has no friction wrench"),
-        ("ls-fitting", {"surfaces": ["S9"]}, r"must be thesis surfaces, one of \['S1'.*got \['S9'\]"),
-        ("ls-fitting", {"section_surface": "s4"}, r"got \['s4'\]"),
+        ("ls-fitting", {"surfaces": ["S9"]}, r"surfaces must be one of \['S1'.*got \['S9'\]"),
+        ("ls-fitting", {"section_surface": "s4"}, r"section_surface must be one of \['S1'.*got 's4'"),
         ("ls-fitting", {"surfaces": []}, "at least one"),
         ("ls-fitting", {"surfaces": ["S1", "S1"]}, "each once"),
         ("discretization", {"timing_twists": 0}, "timing_twists must be >= 1"),

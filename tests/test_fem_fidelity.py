@@ -111,11 +111,11 @@ def test_linear_levels_press_a_layer_uniaxially_at_nu_0(fidelity):
     [
         ([], {}, "deltas is empty"),
         ([1e-4, 0.002], {}, "not below the layer thickness h = 0.002 m"),  # the back would hit
-        ([0.5], {"fidelity": "nonlinear"}, "displacements are in metres"),  # 0.5 mm meant
+        ([0.5], {"fidelity": "nonlinear"}, "probably in millimetres — pass 0.0005"),  # 0.5 mm meant
         ([1e-4], {"fidelity": "Condensed"}, "fidelity must be one of"),
         ([1e-4], {"fidelity": "condensed", "step": 1e-5}, "unknown options"),
-        ([-1e-5], {"fidelity": "linear"}, "delta must be a non-negative jaw displacement"),
-        ([np.nan], {"fidelity": "linear"}, "delta must be a non-negative jaw displacement"),
+        ([-1e-5], {"fidelity": "linear"}, r"jaw closing in \[0, 0.1\] m; got -1e-05"),
+        ([np.nan], {"fidelity": "linear"}, r"jaw closing in \[0, 0.1\] m; got nan"),
     ],
 )
 def test_press_rejects_careless_input(deltas, kw, match):

@@ -13,6 +13,7 @@ from workbench.fem.extract import extract_profile
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Cylinder
 from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.plausible import ImplausibleWarning
 from workbench.sources.fem_jaw import fem_jaw_profile, fem_jaw_profiles, jaw_rotation
 
 GEOM = PadGeometry(width=0.016, length=0.024, thickness=0.004, nx=16, ny=24, nz=3)
@@ -82,8 +83,10 @@ def test_bad_input(pad):
         fem_jaw_profile(cyl.copy().apply_scale(1000), [-30, 0, 0], [1.0, 0, 0], 5.0, pad=pad)
     with pytest.raises(ValueError, match="point"):
         fem_jaw_profile(cyl, [-0.03, 0], [1.0, 0, 0], 5.0, pad=pad)
-    with pytest.raises(ValueError, match="reaches only"):  # a 4 mm layer cannot take 1 kN
+    with pytest.raises(ValueError, match=r"jaw force in \(0, 500\] N"):  # no gripper presses 1 kN a jaw
         fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], 1000.0, pad=pad)
+    with pytest.warns(ImplausibleWarning), pytest.raises(ValueError, match="reaches only"):
+        fem_jaw_profile(cyl, [-0.03, 0, 0], [1.0, 0, 0], 450.0, pad=pad)  # a 4 mm layer takes ~412 N
     with pytest.raises(ValueError, match="dict"):
         fem_jaw_profiles(cyl, [[-0.03, 0, 0], [0.03, 0, 0]], 5.0, pad=pad)
 

@@ -48,7 +48,7 @@ def test_derived_moduli_match_the_conversion_formulas(E, nu):
     [
         (np.inf, 0.3, "E must be a positive Young's modulus"),
         (-np.inf, 0.3, "E must be a positive Young's modulus"),
-        (1e6, np.nan, r"nu must be in \(-1, 0.5\)"),
+        (1e6, np.nan, r"nu must be a Poisson ratio in \(-1, 0.5\)"),
         (1e6, 0.5, "for incompressible silicone use e.g. 0.499"),
     ],
 )

@@ -136,7 +136,7 @@ def test_squeeze_equal_jaw_forces_off_centre(bottle_wall):
 def test_squeeze_bad_input(bottle_wall):
     b, wall = bottle_wall
     H = b.params.height
-    with pytest.raises(ValueError, match="positive jaw force"):
+    with pytest.raises(ValueError, match=r"jaw force in \(0, 500\] N"):
         squeeze(wall, np.array([0, 0, 0.5 * H]), np.array([1.0, 0, 0]), force=0.0)
     with pytest.raises(ValueError, match="misses the object"):
         squeeze(wall, np.array([0, 0, 2 * H]), np.array([1.0, 0, 0]))

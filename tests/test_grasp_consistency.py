@@ -304,7 +304,7 @@ def test_careless_inputs_name_the_fix():
         evaluate_grasp(box, {**g, "axis": -g["axis"]}, mu=MU, mass=0.3, com=[0, 0, 0])
     for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)
         with pytest.raises(
-            ValueError, match=r"force must be the jaw's reading in newtons, finite and > 0; got"
+            ValueError, match=r"force \(each jaw's reading \[N\]\) must be a (jaw force in|number)"
         ):
             evaluate_grasp(box, g, force=force, mu=MU, mass=0.3, com=[0, 0, 0])
     for pad in ((-0.02, 0.04), (0.02,), "0.02"):  # on the REACH path, before the footprint is cast

@@ -87,7 +87,7 @@ def test_pose_robustness_recomputes_the_contact(cube):
     ("kwargs", "match"),
     [
         ({"mass": 3.0}, "grams"),  # 3 g given as 3.0 kg
-        ({"mass": MASS, "mu": 30.0}, "percentage"),
+        ({"mass": MASS, "mu": 30.0}, "per cent — pass 0.3"),
         ({"mass": MASS, "down": (0, 0, 0)}, "down"),
     ],
 )

@@ -37,7 +37,7 @@ def test_check_jaw_force_takes_finite_positive_numbers_only():
         check_jaw_force(good)
     for bad in (True, np.bool_(True), "10", None, 0.0, -1.0, np.nan, np.inf, [10.0]):
         with pytest.raises(
-            ValueError, match=r"force must be the jaw's reading in newtons, finite and > 0; got"
+            ValueError, match=r"force \(each jaw's reading \[N\]\) must be a (jaw force in|number)"
         ):
             check_jaw_force(bad)
 
@@ -112,15 +112,23 @@ def test_checked_jaw_profile_scales_a_profile_at_its_jaw_and_refuses_others():
         checked_jaw_profile({"centers": prof.centers}, point, approach, 8.0, pad)
     with pytest.raises(ValueError, match="pad must be"):
         checked_jaw_profile(prof, point, approach, 8.0, (0.02, 0.0))
-    # a jaw point 5 cm away: farther than the pad's diagonal √(0.02² + 0.04²) = 4.47 cm from
-    # the pressure centre Σ p a c / Σ p a
-    far = point + [0, 0.05, 0]
+    # the pressure centre Σ p a c / Σ p a must lie in the pad's footprint: within half its
+    # diagonal √(0.02² + 0.04²) / 2 = 22.4 mm (× 1.1, config.TOL.jaw_profile_plane_rtol) of the
+    # jaw point in the pad plane — a jaw point 30 mm away along y is refused, 20 mm accepted
     centre = (prof.pressures * prof.areas) @ prof.centers / (prof.pressures * prof.areas).sum()
+    far = point + [0, 0.03, 0]
     off = np.linalg.norm(centre - far)
-    assert off > np.hypot(*pad)
-    with pytest.raises(ValueError, match=rf"pressure centre is {off:.3g} m from its jaw's contact point"):
+    assert off > 1.1 * np.hypot(*pad) / 2 > np.linalg.norm(centre - point - [0, 0.02, 0])
+    with pytest.raises(ValueError, match=rf"pressure centre is {off * 1e3:.3g} mm from its jaw's contact"):
         checked_jaw_profile(prof, far, approach, 8.0, pad)
-    checked_jaw_profile(prof, point + [0, 0.04, 0], approach, 8.0, pad)  # within the diagonal
+    checked_jaw_profile(prof, point + [0, 0.02, 0], approach, 8.0, pad)
+    # along the approach at most 0.5 (config.TOL.jaw_profile_depth_rtol) of that half-diagonal,
+    # 11.2 mm, deeper than the jaw point: a jaw point 15 mm outside the object (the profile of a
+    # narrower object) is refused, 10 mm accepted; one 15 mm inside it (a pad stopped by a rim) too
+    with pytest.raises(ValueError, match=r"pressure centre is 15 mm into the object from its jaw's contact"):
+        checked_jaw_profile(prof, point - 0.015 * approach, approach, 8.0, pad)
+    checked_jaw_profile(prof, point - 0.01 * approach, approach, 8.0, pad)
+    checked_jaw_profile(prof, point + 0.015 * approach, approach, 8.0, pad)
     flipped = ContactProfile(prof.centers, -prof.normals, prof.areas, prof.pressures)
     with pytest.raises(ValueError, match=r"would pull the object .*normals must point out of the object"):
         checked_jaw_profile(flipped, point, approach, 8.0, pad)

@@ -51,7 +51,7 @@ def test_plain_open_edge_and_the_lip_stiffens_it():
         object_wall(plain, top="lip")
     with pytest.raises(ValueError, match="top must be one of"):
         object_wall(plain, top="open")
-    with pytest.raises(ValueError, match="positive wall thickness"):
+    with pytest.raises(ValueError, match=r"wall thickness in \[1e-05, 0.05\] m"):
         object_wall(plain, thickness=0.0)
 
 

@@ -244,8 +244,9 @@ def test_the_table_holds_the_grid_just_run_even_when_nothing_ran(tmp_path, toy):
 
 
 def test_a_missing_plot_metric_stops_the_sweep_at_its_first_point(tmp_path, toy):
-    """Checked on the first finished point, not after the whole sweep; when points are
-    already finished, before anything is submitted."""
+    """With nothing to check against, checked on the first finished point, not after the
+    whole sweep; when points are already finished, or an earlier sweep of the experiment
+    lies beside this one, before anything is submitted."""
     out = tmp_path / "sw"
     seen = []
     with pytest.raises(SweepError, match=r"'yy' is not a column .* did you mean \['y'"):
@@ -260,10 +261,13 @@ def test_a_missing_plot_metric_stops_the_sweep_at_its_first_point(tmp_path, toy)
             on_point=lambda k, r: seen.append(k),
         )
     assert 1 <= len(seen) <= 2  # two threads: the first point, perhaps its neighbour
-    with pytest.raises(SweepError, match="'nested.name' is not a number"):
+    # the stopped sweep "sw" beside "b" is an earlier table of toy: checked there, before any work
+    with pytest.raises(SweepError, match="'nested.name' is not a number of toy's tables .*before any work"):
         run_sweep(
             "toy", {"x": [1.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["nested.name"]
         )
+    assert not (tmp_path / "b").exists()
+    run_sweep("toy", {"x": [1.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["y"])
     n = len(_rows(tmp_path / "b" / "points.jsonl"))
     with pytest.raises(SweepError, match="'nope' is not a column"):  # from the finished point
         run_sweep("toy", {"x": [1.0, 5.0]}, out=tmp_path / "b", client=toy, progress=False, metrics=["nope"])
@@ -636,7 +640,7 @@ def _grid_and_zip(args: list[str]) -> tuple[dict, dict]:
 def test_sweep_values_that_fail_in_the_run_are_refused_before_any_work(tmp_path):
     for grid, match in (
         ({"n_elements": [0, 1]}, "n_elements must be >= 2"),
-        ({"models": [["6dls", "bogus"]]}, "model must be one of .* got 'bogus'"),
+        ({"models": [["6dls", "bogus"]]}, r"models must be one of \['point'.*'bogus' not"),
         ({"mu": [0, 0.3]}, "mu = 0 is a frictionless grasp"),
     ):
         with pytest.raises(SweepError, match=match):

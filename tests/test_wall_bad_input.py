@@ -22,6 +22,7 @@ from workbench.cli import main
 from workbench.fem.mesh_wall import radial_surface
 from workbench.fem.object_wall import object_wall, wall_geometry
 from workbench.fem.wall_grasps import grasp_pairs, read_locations
+from workbench.plausible import ImplausibleWarning
 
 R, T, H = 0.020, 0.5e-3, 0.040  # cup radius, wall, height [m]
 Z = 0.020  # grasp height, mid side wall
@@ -197,7 +198,7 @@ CLI_CASES = {
     ),
     "thickness 0": (
         ["object=cup.obj", "locations=good.json", "thickness=0"],
-        ["thickness must be a positive wall thickness [m]", "got 0.0", "e.g. 0.5e-3"],
+        ["thickness [m] must be a wall thickness in [1e-05, 0.05] m", "got 0.0", "PET bottle 0.2-0.5 mm"],
     ),
     "thickness -1e-3": (
         ["object=cup.obj", "locations=good.json", "thickness=-1e-3"],
@@ -205,11 +206,11 @@ CLI_CASES = {
     ),
     "thickness 1e-9 (a slip of units)": (
         ["object=cup.obj", "locations=good.json", "thickness=1e-9"],
-        ["thickness must be a wall thickness in metres of at least 1e-05 m", "got 1e-09", "e.g. 0.5e-3"],
+        ["thickness [m] must be a wall thickness in [1e-05, 0.05] m", "got 1e-09", "PET bottle 0.2-0.5 mm"],
     ),
     "jaw in millimetres": (
         ["object=cup.obj", "locations=good.json", "jaw=[20,40]"],
-        ["jaw must be [width, length] in metres", "got [20.0, 40.0]", "millimetres? pass [0.02, 0.04]"],
+        ["jaw[0] [m] must be a pad size", "got 20.0", "probably in millimetres — pass 0.02 [m]"],
     ),
     "locations without object": (
         ["locations=good.json"],
@@ -302,9 +303,11 @@ def test_library_refuses_careless_meshes(files):
 
 @pytest.mark.parametrize("thickness", [0.0, -1e-3, float("nan"), "0.5e-3"])
 def test_library_refuses_a_thickness_that_is_not_positive(thickness):
-    with pytest.raises(ValueError, match=r"thickness must be a positive wall thickness \[m\]") as exc:
+    with pytest.raises(
+        ValueError, match=r"thickness must be a (wall thickness in \[1e-05, 0.05\] m|number)"
+    ) as exc:
         object_wall(_cup(), thickness=thickness)  # before the mesh is read, long before assembly
-    _has(str(exc.value), f"got {thickness!r}", "e.g. 0.5e-3")
+    _has(str(exc.value), f"got {thickness!r}")
 
 
 @pytest.mark.parametrize(
@@ -445,11 +448,15 @@ def test_minimal_work_refuses_careless_settings_before_any_work(capsys, tmp_path
 
 def test_thickness_in_millimetres_is_refused(capsys, tmp_path, files):
     """0.5 meant as 0.5 mm: a 0.5 m wall on a 40 mm cup was built and called rigid."""
-    with pytest.raises(ValueError, match="more than a fifth of the section's smallest radius") as exc:
+    with pytest.raises(ValueError, match="probably in millimetres — pass 0.0005") as exc:
         wall_geometry(_cup(), thickness=0.5)
-    _has(str(exc.value), "thickness 0.5 m", "e.g. 0.5e-3 for 0.5 mm")
     err = _cli_error(capsys, tmp_path, files, "object=cup.obj", "locations=good.json", "thickness=0.5")
-    _has(err, "more than a fifth", "0.5e-3")
+    _has(err, "probably in millimetres", "0.0005")
+    # a plausible thickness (with a warning) that is still too thick for this small cup
+    with pytest.warns(ImplausibleWarning, match="above the usual 0.01 m"):
+        with pytest.raises(ValueError, match="more than a fifth of the section's smallest radius") as exc:
+            wall_geometry(_cup(), thickness=0.02)
+    _has(str(exc.value), "thickness 0.02 m")
     assert "Traceback" not in err
 
 
@@ -488,7 +495,12 @@ def test_unit_messages_name_only_fixes_the_caller_has():
 
 @pytest.mark.parametrize(
     "key, value, word",
-    [("force", "0", "> 0"), ("force", "-10", "negative"), ("E", "0", "> 0"), ("jaw", "[0.02, 0]", "> 0")],
+    [
+        ("force", "0", "(0, 500] N"),
+        ("force", "-10", "negative"),
+        ("E", "0", "(100000, 1e+12] Pa"),
+        ("jaw", "[0.02, 0]", "(0.0001, 0.2] m"),
+    ],
 )
 def test_wall_stiffness_refuses_a_zero_force_e_or_jaw_before_any_work(capsys, tmp_path, key, value, word):
     with pytest.raises(SystemExit) as exc:

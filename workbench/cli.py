@@ -80,9 +80,12 @@ examples:
   workbench sweep ls-fitting --quick --grid 'surfaces=[["S1"],["S3"]]' --scheduler tcp://10.0.0.5:8786
   workbench sweep sensitivity --quick --grid mu=[0.3,0.5,0.7] --plot mu truth_positive_fraction
 
-Every point's config is checked before any work.  Results: DIR/table.parquet (one row per
-point), DIR/points/<key>/ (each run's outputs), DIR/sweep.json; a killed sweep resumes on
-re-run.  workbench run NAME --help lists NAME's keys."""
+Every point's config is checked before any work, and so is every point's memory where the
+experiment estimates it (wall-stiffness: from its mesh): a point larger than a worker's
+memory limit is refused (its row says how much it needs) and the others run.  Results:
+DIR/table.parquet (one row per point), DIR/points/<key>/ (each run's outputs), DIR/sweep.json;
+a killed sweep resumes on re-run, and a finished point is never computed again.
+workbench run NAME --help lists NAME's keys."""
 
 
 def _add_sweep_parser(sub: Any, fmt: Any) -> None:
@@ -148,7 +151,8 @@ def _add_sweep_parser(sub: Any, fmt: Any) -> None:
         action="append",
         default=[],
         metavar=("KEY", "METRIC"),
-        help="write DIR/plot_KEY_METRIC.png: a table column against a varied key (repeatable)",
+        help="write DIR/plot_KEY_METRIC.png: a table column against a varied key (repeatable); log axes "
+        "on a geometric grid, units from the names (stiffness_N_per_m: N/m)",
     )
     sw.add_argument("-v", "--verbose", action="store_true")
 
@@ -187,7 +191,10 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
     try:
         grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
-        for key, _ in args.plot:  # checked now; the metric is checked on the first finished point
+        # the key is checked now; the metric by run_sweep before any work (against this sweep's
+        # finished rows, the experiment's declared columns or its earlier tables) or, with none
+        # of those, on the first finished point
+        for key, _ in args.plot:
             if key not in {**grid, **zipped}:
                 raise SweepError(
                     f"--plot {key} ...: {key!r} is not a swept key; plot against one of {[*grid, *zipped]}"
@@ -214,10 +221,12 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
             f"\nworkbench sweep {args.experiment}: interrupted; every finished point is kept — "
             "re-run the same command to resume\n",
         )
+    n_refused = summary.get("n_refused", 0)
     print(
         f"sweep {args.experiment}: {summary['n_points']} points ({summary['n_ok']} ok, "
-        f"{summary['n_failed']} failed; {summary['n_resumed']} resumed, {summary['n_submitted']} run) "
-        f"in {summary['seconds']:.1f} s"
+        f"{summary['n_failed']} failed"
+        + (f", {n_refused} refused for memory" if n_refused else "")
+        + f"; {summary['n_resumed']} resumed, {summary['n_submitted']} run) in {summary['seconds']:.1f} s"
     )
     if summary["n_other_code"]:
         print(
@@ -230,12 +239,14 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         print(f"  failed: {bad['point']}: {bad['error']}")
     if summary["n_failed"]:
         print("  (tracebacks in the table's error column; failed points run again with --retry-failed)")
+    for bad in summary.get("refused", []):
+        print(f"  {bad['point']}: {bad['error']}")
     for key, metric in args.plot:
         try:
             print(f"  figure: {plot_sweep(summary['table'], key, metric, zipped=list(zipped))}")
         except SweepError as exc:
             fail(exc)
-    return 0 if summary["n_failed"] == 0 else 1
+    return 0 if summary["n_failed"] == 0 and not n_refused else 1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -307,6 +318,9 @@ def main(argv: list[str] | None = None) -> int:
             parser.exit(2, f"workbench run {args.experiment}: error: {exc.code}\n")
         raise
     module = importlib.import_module(EXPERIMENTS[args.experiment])
+    need = _memory_check(args.experiment, config)
+    if need is not None:
+        parser.exit(2, f"workbench run {args.experiment}: error: {need}\n")
     t0 = time.perf_counter()
     try:
         summary = module.run(config)
@@ -318,6 +332,30 @@ def main(argv: list[str] | None = None) -> int:
     for line in summary.get("headline", []):
         print(f"  {line}")
     return 0
+
+
+def _memory_check(experiment: str, config: dict) -> str | None:
+    """Why a run cannot fit this machine's available memory (its experiment's estimate,
+    :func:`workbench.sweep.memory_estimate`), or None; more than half of it is warned."""
+    import psutil
+
+    from .sweep import memory_estimate
+
+    est = memory_estimate(experiment, config)
+    if est is None:
+        return None
+    free = psutil.virtual_memory().available
+    gib = 2.0**30
+    if est > free:
+        return (
+            f"this run needs ~{est / gib:.1f} GiB (the experiment's memory model), more than the "
+            f"{free / gib:.1f} GiB available here — use a coarser mesh, or run it on a larger machine"
+        )
+    if est > free / 2:
+        logging.getLogger(__name__).warning(
+            "this run needs ~%.1f GiB of the %.1f GiB available here", est / gib, free / gib
+        )
+    return None
 
 
 if __name__ == "__main__":

@@ -291,10 +291,34 @@ class Tolerances:
     # payload (a few kg; 10 N per jaw at mu 0.5 holds 1 kg), so a larger number is taken for
     # grams — a filled 0.27 kg bottle given as 270, a 50 g cup as 50.  Raise it for heavy parts.
     max_plausible_mass_kg: float = 20.0
+    # (the other physical inputs' plausible ranges: workbench.plausible.RANGES)
 
-    # Thinnest wall [m] a thin-wall model accepts (10 µm, a thin film): a thinner one is a
-    # unit slip (a 0.5 mm wall given as 0.5e-6) and makes the stiffness matrix singular.
-    min_wall_thickness_m: float = 1e-5
+    # issue 44: model round-off / profile checks
+    # Round-off of a computed friction-wrench component, relative to the largest w_max: the wrench
+    # kernel resolves an element's slip direction from |v_t| > tangential_velocity_rtol |v|, where
+    # the rounding of v - (v.n)n turns it by up to eps/1e-12 = 2.2e-4, so a component that is 0 in
+    # exact arithmetic (a flat contact's f_n) can come out at ~1e-4 mu F (seen: 3.2e-5, and w_max
+    # entries down to -3.5e-7, on planar REACH/FEM profiles).  w_max entries down to -this x
+    # max(w_max) are set to 0, further below refused (the author's +xi sign); wrenches may exceed
+    # a given exact w_max by this much (normalize.prepare).
+    wrench_roundoff_rtol: float = 1e-3
+    # A jaw profile given for a grasp lies in the pad's footprint: its pressure centre within half
+    # the pad's diagonal of the jaw point in the pad plane, times 1 + this (an FEM pad's loaded face
+    # bulges sideways and its elements move with it: 10 % is 2.2 mm on the 20 x 40 mm pad, under
+    # half its 5 mm layer).
+    jaw_profile_plane_rtol: float = 0.1
+    # ... and at most this x half the pad's diagonal deeper into the object than the jaw point:
+    # the pad touches first at or before the grasp point (a surface point under its centre) and
+    # the contact lies within the jaw's advance from that touch (< 0.9 x the FEM layer: 0.2 on
+    # the 20 x 40 x 5 mm pad; REACH closes 1 mm).  REACH on antipodal grasps of the thesis objects
+    # (20 x 40 and 8 x 20 mm pads): at most 0.35 mm deeper.  Towards the jaw there is no bound: a
+    # pad stopped by a rim or a tilted face sat up to 15.8 mm behind the grasp point there.
+    jaw_profile_depth_rtol: float = 0.5
+    # A profile from a source whose pressure distribution changes with force (the FEM pad: on a
+    # curved face the contact radius grows as F^(1/3), Hertz) scaled to a reading more than this
+    # factor from the one it was made at, either way, is warned about: at 1.1^3 its torsional
+    # capacity per newton is already ~10 % off.
+    profile_force_ratio_warn: float = 1.331
 
 
 TOL = Tolerances()
@@ -477,6 +501,14 @@ class Defaults:
     # grid failing each point in 2 s) would otherwise run to the end.  0: never stop.
     sweep_stop_after_failures: int = 5
 
+    # A sweep plot's axis is logarithmic when its grid is geometric: its largest log-step at most
+    # this many times its smallest (a 1-2-5 series passes, 1, 2, 3 does not) ...
+    sweep_log_step_spread: float = 1.5
+    # ... and it spans more than this ratio (a decade; also the y axis's rule) ...
+    sweep_log_min_span: float = 10.0
+    # ... or steps by at least this ratio (25, 50, 100)
+    sweep_log_min_step: float = 2.0
+
     # Right-hand sides from which a sparse factor with row copies of L and U
     # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
     # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
@@ -642,7 +674,11 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "min_plausible_stiffness": _NONNEG,
     "antipodal_max_deg": _real(0.0, hi=180.0),
     "max_plausible_mass_kg": _POS,
-    "min_wall_thickness_m": _POS,  # a zero wall makes the stiffness matrix singular
+    # issue 44: model round-off / profile checks
+    "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max
+    "jaw_profile_plane_rtol": _NONNEG,  # 0: exactly the footprint's circumscribed circle
+    "jaw_profile_depth_rtol": _POS,  # 0 refuses every curved contact
+    "profile_force_ratio_warn": _real(1.0),  # 1: warn at any scaling
     # Defaults
     "twist_radius_factor": _NONNEG,  # 0: every rotation axis through o
     "pitch_range": _reals(2, _real(), ordered=True, what="finite numbers (lo, hi) [l_s]"),
@@ -677,6 +713,9 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "scheduler_probe_s": _POS,
     "sweep_column_hints": _count(1),
     "sweep_stop_after_failures": _count(0),
+    "sweep_log_step_spread": _real(1.0),  # a ratio of log-steps: >= 1
+    "sweep_log_min_span": _real(1.0, lo_open=True),  # a ratio of values: > 1
+    "sweep_log_min_step": _real(1.0, lo_open=True),
     "blocked_solve_min_rhs": _count(0),
 }
 

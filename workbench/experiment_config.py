@@ -11,6 +11,8 @@ import shlex
 from pathlib import Path
 from typing import Any
 
+from .experiment_keys import COMMON, Key, check_key, describe
+
 #: experiment name -> module in the ``experiments`` package
 EXPERIMENTS = {
     "parametric-surfaces": "workbench.experiments.parametric_surfaces",
@@ -273,6 +275,13 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}{hint}; known: {known}")
     defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
     config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
+    keys = key_specs(module)
+    for key in sets:  # each physical number by its quantity's one rule, each word by its choices
+        if key in keys:
+            try:
+                check_key(key, keys[key], config[key])
+            except ValueError as exc:
+                raise SystemExit(f"{name}: --set {key}={_dumps(config[key])}: {exc}") from None
     check = getattr(module, "check_config", None)  # what a key's default cannot tell (a level, a kind)
     if check is not None:
         try:
@@ -282,15 +291,25 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
     return config
 
 
+def key_specs(module: Any) -> dict[str, Key]:
+    """The :class:`~workbench.experiment_keys.Key` of each config key of an experiment module:
+    its ``KEYS``, then the keys every experiment shares."""
+    return {**COMMON, **getattr(module, "KEYS", {})}
+
+
 def config_help(name: str) -> str:
-    """The keys of experiment ``name`` with type, default and ``--quick`` value."""
+    """The keys of experiment ``name`` with type, default, ``--quick`` value, and what each
+    means: unit, plausible range, allowed values (:func:`~workbench.experiment_keys.describe`)."""
     module = importlib.import_module(EXPERIMENTS[name])
     quick = module.QUICK_CONFIG
+    keys = key_specs(module)
     lines = ["config keys (--set KEY=VALUE, JSON; a bare word is a string):"]
     for key, default in module.DEFAULT_CONFIG.items():
         line = f"  {key} ({_describe(_schema(default))}) = {_dumps(default)}"
         if key in quick:
             line += f"   [--quick: {_dumps(quick[key])}]"
         lines.append(line)
+        if key in keys:
+            lines.append(f"      {describe(keys[key])}")
     lines.append("  quick, out: set by --quick and --out")
     return "\n".join(lines)

@@ -32,6 +32,7 @@ __all__ = [
     "check_workers",
     "in_dask_worker",
     "local_cluster",
+    "local_memory_limit",
     "map_rows",
     "pin_numba_threads_env",
     "row_client",
@@ -154,11 +155,22 @@ def row_client(
         yield client
 
 
-def local_cluster(n_workers: int, threads: int = 1) -> Any:
+def local_memory_limit(n_workers: int) -> int:
+    """The ``memory_limit`` [bytes] of each worker of a :func:`local_cluster` of ``n_workers``:
+    this machine's memory (or its cgroup's limit) shared equally — Dask's ``"auto"`` for a
+    local cluster, computed here so a sweep knows it before it starts the cluster."""
+    from distributed.worker_memory import parse_memory_limit
+
+    return parse_memory_limit("auto", 1, max(1, int(n_workers)), logger=log)
+
+
+def local_cluster(n_workers: int, threads: int = 1, memory_limit: int | None = None) -> Any:
     """A ``distributed.LocalCluster`` of ``n_workers`` processes with ``threads`` threads each,
     their Numba and OpenMP threads capped to ``threads`` (spinning OpenMP threads of one worker
-    starve the others), their progress bars off (the driver shows one), and the scheduler's
-    queueing from ``config.DEFAULTS.cluster_worker_saturation``."""
+    starve the others), their progress bars off (the driver shows one), the scheduler's
+    queueing from ``config.DEFAULTS.cluster_worker_saturation``, and each worker's memory
+    limit ``memory_limit`` [bytes] (default :func:`local_memory_limit`; its nanny restarts it
+    above ``distributed.worker.memory.terminate`` of that)."""
     import dask
     from distributed import LocalCluster
 
@@ -184,7 +196,12 @@ def local_cluster(n_workers: int, threads: int = 1) -> Any:
     env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
     with dask.config.set(dask_settings):  # each nanny reads its environment when it is created, here
         return LocalCluster(
-            n_workers=n_workers, threads_per_worker=threads, processes=True, dashboard_address=None, env=env
+            n_workers=n_workers,
+            threads_per_worker=threads,
+            processes=True,
+            dashboard_address=None,
+            env=env,
+            memory_limit=local_memory_limit(n_workers) if memory_limit is None else int(memory_limit),
         )
 
 

@@ -14,11 +14,18 @@ rescaled; zero normals are always rejected).
 Size: the length scale ``l_s`` is computed at construction, and a profile
 longer than ``config.TOL.max_object_extent_m`` (2 m) is rejected as a likely unit
 mistake unless ``allow_scale=True`` (see :mod:`workbench.units`).
+
+Provenance: a profile source that knows where its profiles hold attaches a
+:class:`ProfileSource` (the FEM pad: the reading it was pressed to and the largest it
+reaches); rigid motions and pressure scalings keep it, new pressures drop it.  Grasp
+analysis checks a reading against it before scaling a profile to that reading
+(:func:`workbench.sources.jaws.with_axis_force`).
 """
 
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
@@ -27,7 +34,7 @@ import numpy as np
 from . import config
 from .units import check_extent, length_factor
 
-__all__ = ["ContactProfile", "length_factor", "pca_box_longest_side"]
+__all__ = ["ContactProfile", "ProfileSource", "length_factor", "pca_box_longest_side"]
 
 
 log = logging.getLogger(__name__)
@@ -134,6 +141,38 @@ def _diameter(points: np.ndarray, fallback: float) -> float:
     return best
 
 
+@dataclass(frozen=True)
+class ProfileSource:
+    """Where a profile's pressure distribution comes from and the readings it holds for.
+
+    name : the source, e.g. ``"fem_pad"``.
+    force : the jaw's reading [N] (normal force along its approach) the source made the
+        distribution at.
+    force_range : ``(lo, hi)`` [N], the readings the source can produce for this contact
+        (the FEM pad: ``(0, what the layer reaches before the object meets its rigid back)``);
+        a reading outside it is refused when the profile is scaled to it.
+    linear : whether the distribution is the same at every reading (pressures proportional to
+        the force, as REACH's Winkler pad at a fixed closing); False (the FEM pad: the contact
+        grows with force) warns when the profile is scaled far from ``force``
+        (``config.TOL.profile_force_ratio_warn``).
+    """
+
+    name: str
+    force: float
+    force_range: tuple[float, float] = (0.0, float("inf"))
+    linear: bool = False
+
+    def __post_init__(self) -> None:
+        lo, hi = (float(v) for v in self.force_range)
+        if not (np.isfinite(self.force) and self.force > 0 and 0 <= lo <= self.force <= hi):
+            raise ValueError(
+                f"ProfileSource {self.name!r}: force must be a reading > 0 [N] within force_range "
+                f"(lo, hi) with 0 <= lo <= hi; got force {self.force!r}, force_range {self.force_range!r}"
+            )
+        object.__setattr__(self, "force", float(self.force))
+        object.__setattr__(self, "force_range", (lo, hi))
+
+
 def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.ndarray:
     try:
         arr = np.array(value, dtype=np.float64)  # copy: profiles own their data
@@ -168,6 +207,9 @@ class ContactProfile:
         Pressures ``p_i`` [Pa], all >= 0 and not all zero.
     vertices : (m, 3) float, optional
         Mesh vertices (for plotting/export); ``faces`` : (n, k) int, optional.
+    source : ProfileSource, optional
+        Provenance of the pressures (the reading they were made at and the readings the
+        source holds for); None: unknown, nothing is checked.
     normalize_normals : bool
         Rescale non-unit normals instead of rejecting them.
     allow_scale : bool
@@ -201,7 +243,10 @@ class ContactProfile:
         faces: Any = None,
         normalize_normals: bool = False,
         allow_scale: bool = False,
+        source: ProfileSource | None = None,
     ) -> None:
+        if source is not None and not isinstance(source, ProfileSource):
+            raise ValueError(f"source must be a ProfileSource or None; got {type(source).__name__}")
         centers = _as_float_array("centers", centers, (3,))
         normals = _as_float_array("normals", normals, (3,))
         areas = _as_float_array("areas", areas, ())
@@ -268,6 +313,7 @@ class ContactProfile:
         for arr in (self.centers, self.normals, self.areas, self.pressures):
             arr.flags.writeable = False  # cached properties depend on them
         self.allow_scale = bool(allow_scale)
+        self.source = source
         check_extent(
             self.length_scale,
             "ContactProfile (l_s, the longest side of its PCA box)",
@@ -362,8 +408,10 @@ class ContactProfile:
         return tuple(cols)
 
     # ------------------------------------------------------------- derivations
-    def with_pressures(self, pressures: Any) -> ContactProfile:
-        """Same geometry with new per-element pressures (n,)."""
+    def with_pressures(self, pressures: Any, *, source: ProfileSource | None = None) -> ContactProfile:
+        """Same geometry with new per-element pressures (n,): a new distribution, so the
+        ``source`` of this one does not carry over (pass the new one's, or use :meth:`scaled`
+        for the same distribution at another force)."""
         return ContactProfile(
             self.centers,
             self.normals,
@@ -372,11 +420,24 @@ class ContactProfile:
             vertices=self.vertices,
             faces=self.faces,
             allow_scale=self.allow_scale,
+            source=source,
         )
+
+    def scaled(self, factor: float) -> ContactProfile:
+        """The same distribution at ``factor`` (> 0) times the force: every pressure times
+        ``factor``, the ``source`` kept (it says which readings the distribution holds for)."""
+        factor = float(factor)
+        if not (np.isfinite(factor) and factor > 0):
+            raise ValueError(f"factor must be a finite number > 0; got {factor}")
+        return self.with_pressures(self.pressures * factor, source=self.source)
+
+    def with_source(self, source: ProfileSource | None) -> ContactProfile:
+        """The same profile with provenance ``source`` (a profile source attaches it)."""
+        return self.with_pressures(self.pressures, source=source)
 
     def normalized(self) -> ContactProfile:
         """Same geometry with ``p̂`` so that ``F = 1`` (a limit-surface "profile pair")."""
-        return self.with_pressures(self.normalized_pressures)
+        return self.with_pressures(self.normalized_pressures, source=self.source)
 
     def transformed(self, rotation: Any = None, translation: Any = None) -> ContactProfile:
         """Rigidly moved copy: ``x' = R x + t``, ``n' = R n``.
@@ -402,6 +463,7 @@ class ContactProfile:
             faces=self.faces,
             normalize_normals=True,
             allow_scale=self.allow_scale,
+            source=self.source,
         )
 
     def in_contact_frame(self, rotation: Any = None) -> ContactProfile:

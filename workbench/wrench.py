@@ -41,14 +41,19 @@ def check_twists(twists: Any) -> tuple[np.ndarray, bool]:
 
 
 def check_mu(mu: Any, *, what: str | None = None) -> float:
-    """Validate a friction coefficient (finite, >= 0).  ``what``: name of a result
-    that needs friction (e.g. "a limit surface"); then μ must be > 0."""
-    try:
-        mu_f = float(mu)
-    except (TypeError, ValueError):
-        raise ValueError(f"mu must be a non-negative float; got {mu!r}") from None
-    if not np.isfinite(mu_f) or mu_f < 0:
-        raise ValueError(f"mu must be a finite friction coefficient >= 0; got {mu_f}")
+    """A friction coefficient as a float: its plausible range ``[0, 2]`` (one rule,
+    :data:`workbench.plausible.RANGES` ``"mu"``: 30 is refused as a percentage, 1.8 warned).
+    ``what``: name of a result that needs friction (e.g. "a limit surface"); then μ must be > 0."""
+    from .plausible import check
+
+    if isinstance(mu, np.ndarray) and mu.shape == ():
+        mu = mu.item()
+    if isinstance(mu, str):  # a numeric string ("0.5" from a file) is that number, here and everywhere
+        try:
+            mu = float(mu)
+        except ValueError:
+            raise ValueError(f"mu must be a friction coefficient (a number); got {mu!r}") from None
+    mu_f = check("mu", mu, "mu")
     if what is not None and mu_f == 0:
         raise ValueError(
             f"mu = 0 has no friction wrench, so there is no {what} to compute; pass the contact's "

@@ -271,12 +271,15 @@ def limit_surface_contact(
     cone: bool = False,
     name: str = "6DLS",
     seed: int = 0,
+    R: np.ndarray | None = None,
 ) -> ContactSet:
     """6DLS (``cone=False``, force known) or 6DFC (``cone=True``, ``f_C <= force``)
     from a contact-wrench model fitted at μ = 1 on the normalised profile.
 
-    The model's wrenches are about the profile's pressure centre ``origin`` with
-    object-frame axes (CONVENTIONS.md), so ``R = I``, ``t = origin``.  The inner
+    The model's wrenches are about the profile's pressure centre ``origin`` (3,) [m]
+    with object-frame axes (CONVENTIONS.md), so ``R = I``, ``t = origin`` — or, for a
+    model fitted on the profile expressed in a frame turned by ``R`` (3, 3) (the planar
+    model's plane frame), with that frame's axes: ``object = R @ local``.  The inner
     linearisation (Eq. 3.19–3.21, 3.27) gives the vertices (GWS, LP), the outer
     tangent half-spaces at the same points (Eq. 3.22–3.24, 3.28/3.30) the QP's constraints.
     """
@@ -286,7 +289,7 @@ def limit_surface_contact(
         name,
         outer.vertices,
         np.asarray(model.normal_wrench, float),
-        np.eye(3),
+        np.eye(3) if R is None else np.array(R, dtype=float),
         np.asarray(origin, float),
         float(force),
         cone,

@@ -10,7 +10,8 @@
    at ``p2`` approaching against it;
 2. both profiles checked (each lies at its jaw and *pushes* the object; a profile whose
    normals point into the object would pull) and scaled to the force-sensor reading along
-   the grasp axis (:func:`~workbench.sources.jaws.checked_jaw_profile`, §4.1.3.2) — the same
+   the grasp axis within the readings their source holds for
+   (:func:`~workbench.sources.jaws.checked_jaw_profile`, §4.1.3.2) — the same
    check and scaling whatever the source;
 3. the contact sets of the requested model only (:func:`~.models.contact_sets`:
    no quartic unless ``6dls_quartic``, no 6DFW sampling unless ``6dfw``/``3dls_nonplanar``,
@@ -114,10 +115,15 @@ def evaluate_grasp(
     profiles : the two jaws' profiles ``[jaw at p1, jaw at p2]`` from any source in
         :mod:`workbench.sources` (REACH computed before, the FEM pad's
         :func:`~workbench.sources.fem_jaw.fem_jaw_profiles`, a closed-form scene); the mesh
-        step is skipped.  Each is checked as REACH's are (a ContactProfile whose pressure
-        centre lies within the pad's diagonal of its jaw point and which pushes the object
-        along its approach, :func:`~workbench.sources.jaws.checked_jaw_profile`) and scaled
-        to ``force``; a ValueError says which check failed.
+        step is skipped.  Each is checked as REACH's are
+        (:func:`~workbench.sources.jaws.checked_jaw_profile`: a ContactProfile at its jaw —
+        pressure centre in the pad's footprint around the jaw point and near it along the
+        approach, ``config.TOL.jaw_profile_plane_rtol`` / ``jaw_profile_depth_rtol`` — that
+        pushes the object along its approach) and scaled to ``force``; a ValueError says which
+        check failed.  A profile that records its source (:class:`~workbench.profile.ProfileSource`,
+        e.g. the FEM pad's) is not scaled to a reading the source cannot produce (refused) and,
+        if its distribution changes with force, a ``UserWarning`` says when ``force`` is far
+        from the reading it was made at (``config.TOL.profile_force_ratio_warn``).
     up, pad : the jaws' length axis and face size ``(width, length)`` [m] (REACH's
         footprint; for given profiles the bound of the check that each lies at its jaw:
         pass the FEM pad's ``(width, length)``).

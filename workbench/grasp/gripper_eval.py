@@ -41,10 +41,6 @@ __all__ = [
     "judge_contact",
 ]
 
-#: the densest solid (osmium, 22.6 g/cm³) and the lightest thin-walled object a parallel-jaw gripper
-#: lifts (a paper cup: ~40 kg/m³ of its closed volume) bound a plausible mean density [kg/m³]
-_DENSITY_RANGE = (5.0, 23_000.0)
-
 
 @dataclass(frozen=True)
 class Verdict:
@@ -79,8 +75,9 @@ class GripperEvaluation:
 def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
     """Gripper-level careless-input checks; returns the unit ``down`` (3,).
 
-    mass [kg] against the object's volume (a mean density outside 5–23,000 kg/m³: a mass in
-    grams, or a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
+    mass [kg] against the object's volume (a mean density above the plausible range of
+    :data:`workbench.plausible.RANGES` ``"density"`` is refused as a mass in grams, one below it
+    warned as a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
     or a slip); down a non-zero (3,) direction.
     """
     from ..sources.gripper import check_pad_mu
@@ -89,7 +86,9 @@ def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
     check_mass(mass)
     if mesh is not None and getattr(mesh, "is_volume", False):
         rho = mass / float(mesh.volume)
-        lo, hi = _DENSITY_RANGE
+        from ..plausible import RANGES
+
+        lo, hi = RANGES["density"].lo, RANGES["density"].hi  # the one rule of a density
         if rho > hi:
             raise ValueError(
                 f"mass {mass!r} kg in a {mesh.volume * 1e6:.3g} cm³ object is a mean density of "

@@ -84,10 +84,11 @@ def squeeze_check(contacts: list[ContactSet]) -> None:
 
 
 def check_mu(mu) -> float:
-    """A finite friction coefficient ``>= 0`` or a ValueError."""
-    if isinstance(mu, (bool, np.bool_)) or not np.isscalar(mu) or not np.isfinite(mu) or mu < 0:
-        raise ValueError(f"mu (friction coefficient) must be a finite number >= 0; got {mu!r}")
-    return float(mu)
+    """A friction coefficient ``>= 0`` in its plausible range, or a ValueError
+    (:func:`workbench.wrench.check_mu`, the one rule of μ)."""
+    from ..wrench import check_mu as _check
+
+    return _check(mu)
 
 
 def grasp_map(contacts) -> np.ndarray:

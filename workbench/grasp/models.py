@@ -9,7 +9,8 @@ one jaw contributes under model ``name``:
 ``soft_point``      soft point contact (Eq. 2.50; the thesis's "Point" baseline of
                     §4.1.4.3), ``f⊥ <= F``, torsion ``γ = μ Σ p a |r_t| / F``
 ``planar``          3DLS-planar: the profile projected onto its PCA plane (§4.1.4.3), a
-                    3D ellipsoid fitted to its (f_t1, f_t2, τ_n) wrenches
+                    3D ellipsoid fitted to its (f_t1, f_t2, τ_n) wrenches, in the plane's
+                    frame (:func:`plane_frame_profile`)
 ``3dls_nonplanar``  3DLS fitted to the three major components of the 6DFWs — tangential
                     forces and torsion about the net normal — the other three set to
                     zero (§4.1.3.3: f_y, f_z, τ_x for a grasp axis x)
@@ -98,6 +99,37 @@ def planar_profile(profile: ContactProfile) -> ContactProfile:
     )
 
 
+def _turn(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(3, 3) the smallest rotation taking unit ``a`` to unit ``b`` (Rodrigues; ``a · b > 0``)."""
+    v, c = np.cross(a, b), float(a @ b)
+    K = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
+def plane_frame_profile(flat: ContactProfile) -> tuple[ContactProfile, np.ndarray]:
+    """A flat profile (:func:`planar_profile`: one normal ``n_p`` (3,), centres on one plane)
+    in its plane's frame: ``(local, R)`` with ``object = R @ local + flat.pressure_center``;
+    ``R`` (3, 3) is the smallest rotation taking the object axis nearest ``n_p``, ``±e_k``, to
+    ``n_p``, so the frame keeps the object's axes as far as the plane allows (``R = I`` for a
+    plane normal to an axis).  ``local`` has normals exactly ``±e_k`` and centres exactly on
+    ``x_k = 0``: its normal force and tilting torques are exactly 0.  In the object frame a
+    plane a round-off off an axis (an SVD normal 1e-8 from it) leaves them at round-off size,
+    and the wrench kernel resolves such slips (``|v_t|`` ~ 1e-12 ``|v|``) in directions turned
+    by up to ~2e-4: they came out below the exact ``w_max`` (a negative one crashed the
+    fit) or as spurious dimensions of the normalised wrenches."""
+    n_p = flat.normals[0]
+    k = int(np.argmax(np.abs(n_p)))
+    axis = np.zeros(3)
+    axis[k] = np.sign(n_p[k])
+    R = _turn(axis, n_p)
+    local = (flat.centers - flat.pressure_center) @ R  # rows R.T (c − o)
+    local[:, k] = 0.0
+    prof = ContactProfile(
+        local, np.tile(axis, (len(local), 1)), flat.areas, flat.pressures, allow_scale=flat.allow_scale
+    )
+    return prof, R
+
+
 def check_model(name: str) -> str:
     """``name`` if it is one of :data:`MODELS`, else a ``ValueError`` listing them (also used
     by the experiments' ``check_config`` to refuse a model before any work)."""
@@ -156,8 +188,9 @@ def contact_sets(
         return [limit_surface_contact(model, o, F, M=M, cone=name == "6dfc", name=name, seed=seed)]
     if name == "planar":
         flat = planar_profile(profile)
-        model = cache.contact_model(flat, 1.0, spec=spec, sampler=sampler)
-        return [limit_surface_contact(model, flat.pressure_center, F, M=M, name=name, seed=seed)]
+        local, R = plane_frame_profile(flat)  # fitted in the plane's frame: exactly planar wrenches
+        model = cache.contact_model(local, 1.0, spec=spec, sampler=sampler)
+        return [limit_surface_contact(model, flat.pressure_center, F, M=M, name=name, seed=seed, R=R)]
     fw_sampler = SamplerSpec(kind="thesis", n=n_wrenches // 2, seed=seed)  # n rotations + n translations
     unit = profile.normalized()
     W = frictional_wrenches(unit, fw_sampler.twists(unit), 1.0)

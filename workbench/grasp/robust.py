@@ -61,22 +61,11 @@ def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def check_mass(mass) -> float:
     """``mass`` [kg] as a float: a finite number > 0 and at most
     ``config.TOL.max_plausible_mass_kg`` (a larger value is taken for grams); else ValueError."""
-    from workbench import config
+    from workbench.plausible import check
 
-    tol = config.TOL  # read at call time
-    if (
-        isinstance(mass, (bool, np.bool_))
-        or not isinstance(mass, (int, float, np.integer, np.floating))
-        or not (np.isfinite(mass) and mass > 0)
-    ):
-        raise ValueError(f"mass must be a finite number > 0 [kg]; got {mass!r}")
-    if mass > tol.max_plausible_mass_kg:
-        raise ValueError(
-            f"mass must be in kg; got {mass!r}, above {tol.max_plausible_mass_kg:g} kg "
-            f"(config.TOL.max_plausible_mass_kg) — a mass in grams? pass {mass / 1e3:g} (or raise the "
-            "limit for a heavy part)"
-        )
-    return float(mass)
+    if isinstance(mass, (np.integer, np.floating)):
+        mass = mass.item()
+    return check("mass", mass, "mass")
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:

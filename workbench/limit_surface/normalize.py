@@ -3,7 +3,9 @@
 
 Degenerate components (``w_max,i <= config.TOL.degenerate_wmax_rtol * max w_max``,
 e.g. ``f_z`` of a planar contact in the xy-plane) are scaled by ``max w_max``
-instead of ``w_max,i`` — never divided by ~0 — and the PCA then drops them.
+instead of ``w_max,i`` — never divided by ~0 — and the PCA then drops them.  Such an
+entry computed from wrench sums may land a round-off below 0: :func:`check_w_max`, the
+one rule of ``w_max``, sets it to 0 (``config.TOL.wrench_roundoff_rtol``) and refuses more.
 """
 
 from __future__ import annotations
@@ -70,13 +72,45 @@ def check_twists(
     return xi
 
 
+def check_w_max(w_max: Any) -> np.ndarray:
+    """The (6,) maximal wrench magnitudes ``w_max`` validated: finite, a positive largest
+    entry, and no entry below 0 beyond round-off.
+
+    ``w_max,i = −w(e_i)_i >= 0`` in exact arithmetic (friction dissipates), but a degenerate
+    entry (a planar contact's normal force or tilting torque) comes out of the wrench sums a
+    little below 0; entries down to ``−config.TOL.wrench_roundoff_rtol · max(w_max)`` (read now)
+    are returned as 0 — degenerate, as they are — and anything further below raises.
+    Returns a new (6,) float array."""
+    try:
+        wm = np.array(w_max, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"w_max must be a numeric (6,) array; got {type(w_max).__name__}") from None
+    if wm.shape != (6,) or not np.all(np.isfinite(wm)):
+        raise ValueError(f"w_max must be a finite (6,) array of maximal wrench magnitudes; got {wm}")
+    top = float(wm.max())
+    if not top > 0:
+        raise ValueError(
+            f"w_max must have a positive entry; got {wm} — are the wrenches all zero, or of the opposite "
+            "sign (friction opposes motion: pass the twists' own wrenches, not the author's +ξ)?"
+        )
+    floor = -config.TOL.wrench_roundoff_rtol * top
+    if (wm < floor).any():
+        i = int(np.argmin(wm))
+        raise ValueError(
+            f"w_max component {i} is {wm[i]:.6g}, below 0 by more than round-off "
+            f"(config.TOL.wrench_roundoff_rtol = {config.TOL.wrench_roundoff_rtol:g} of the largest, "
+            f"{top:.6g}): w_max,i = −w(e_i)_i >= 0 since friction dissipates — these are not a contact's "
+            "maxima (wrenches of the opposite sign, another contact's?): pass workbench.w_max(profile, mu) "
+            "or omit w_max to use the sampled maxima"
+        )
+    return np.maximum(wm, 0.0)
+
+
 def wrench_scale(w_max: np.ndarray) -> np.ndarray:
-    """(6,) divisor per component: ``w_max`` with degenerate entries replaced
-    by ``max(w_max)`` (Eq. 3.10 without dividing by ~0)."""
-    w_max = np.asarray(w_max, dtype=np.float64)
+    """(6,) divisor per component: ``w_max`` (checked by :func:`check_w_max`) with degenerate
+    entries replaced by ``max(w_max)`` (Eq. 3.10 without dividing by ~0)."""
+    w_max = check_w_max(w_max)
     top = float(w_max.max())
-    if not np.isfinite(top) or top <= 0:
-        raise ValueError(f"w_max must have a positive entry; got {w_max}")
     return np.where(w_max > config.TOL.degenerate_wmax_rtol * top, w_max, top)
 
 
@@ -133,14 +167,19 @@ def prepare(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Subspace]:
     """Common preamble of the fitters: validated raw wrenches W (K, 6), w_max
     (given, or the sampled maxima of Algorithm 1), the guarded scale,
-    normalised wrenches x̂ (Eq. 3.10) and their PCA subspace."""
+    normalised wrenches x̂ (Eq. 3.10) and their PCA subspace.  A given ``w_max`` passes
+    :func:`check_w_max` (round-off negatives of degenerate entries become 0), the wrenches may
+    exceed it by ``config.TOL.given_wmax_rtol`` relative plus ``wrench_roundoff_rtol ·
+    max(w_max)``, and its degenerate components are the exact zeros of the contact: the
+    wrenches' round-off there is set to 0 (W returned so)."""
     W = check_wrenches(wrenches)
-    wm = np.abs(W).max(axis=0) if w_max is None else np.asarray(w_max, dtype=np.float64)
-    if wm.shape != (6,) or not np.all(np.isfinite(wm)) or (wm < 0).any():
-        raise ValueError(f"w_max must be a finite non-negative (6,) array; got {wm}")
+    # the sampled maxima are >= 0 by construction; given ones may hold round-off negatives
+    wm = np.abs(W).max(axis=0) if w_max is None else check_w_max(w_max)
     if w_max is not None:
         reach = np.abs(W).max(axis=0)
-        over = reach > wm * (1 + config.TOL.given_wmax_rtol) + config.TOL.degenerate_wmax_rtol * wm.max()
+        # the kernel's round-off may take a component a little past its exact maximum
+        slack = config.TOL.wrench_roundoff_rtol * wm.max()
+        over = reach > wm * (1 + config.TOL.given_wmax_rtol) + slack
         if over.any():
             i = int(np.argmax(np.where(over, reach / np.maximum(wm, 1e-300), 0)))
             raise ValueError(
@@ -149,6 +188,10 @@ def prepare(
                 "e.g. workbench.w_max(profile, mu)) — or omit it to use the sampled maxima"
             )
     scale = wrench_scale(wm)
+    if w_max is not None:
+        # exact maxima: a degenerate component is 0 for every wrench of the contact, and what the
+        # samples hold there is round-off (bounded by the check above) that the PCA would keep
+        W = np.where(wm <= config.TOL.degenerate_wmax_rtol * wm.max(), 0.0, W)
     x = W / scale
     sub = pca_subspace(x)
     if sub.dim >= len(W):

@@ -37,7 +37,7 @@ from workbench.fem.material import Material
 from workbench.fem.obstacles import MeshObstacle
 from workbench.fem.pad import CondensedPad, PadGeometry, condense_pad
 
-from ..profile import ContactProfile
+from ..profile import ContactProfile, ProfileSource
 from ..units import closed_mesh
 from .jaws import check_grasp, check_jaw_force, jaw_frame, with_axis_force
 
@@ -117,7 +117,10 @@ def fem_jaw_profile(
         grasps, its condensation (20–70 s, disk-cached) dominates the first call.
 
     Returns a :class:`~workbench.profile.ContactProfile` whose normal force along
-    ``approach`` is ``force`` (to 1e-9 relative) and whose normals point out of the object.
+    ``approach`` is ``force`` (to 1e-9 relative) and whose normals point out of the object,
+    with its :class:`~workbench.profile.ProfileSource` ``"fem_pad"``: made at ``force``, valid
+    for readings up to what the layer reaches on this contact (grasp analysis refuses to scale
+    it beyond, and warns when it is scaled far from ``force``: the contact grows with force).
     Raises ``ValueError`` for a bad mesh, a non-positive force, a jaw that touches
     nothing, or a force the layer cannot reach before its rigid back meets the object.
     """
@@ -170,7 +173,9 @@ def fem_jaw_profile(
     log.debug(
         "fem_jaw_profile: delta %.4g mm, %d elements, %d solves", delta * 1e3, len(prof.areas), len(cache)
     )
-    return with_axis_force(prof.transformed(R, posed.t), R[:, 2], force)
+    # the pad reaches f_hi here: beyond it a linearly scaled profile describes no real contact
+    source = ProfileSource("fem_pad", force, (0.0, f_hi), linear=False)
+    return with_axis_force(prof.transformed(R, posed.t), R[:, 2], force).with_source(source)
 
 
 def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfile]:

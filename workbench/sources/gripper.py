@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .jaws import jaw_frame
+from ..plausible import RANGES, check
+from .jaws import check_jaw_force, jaw_frame
 
 __all__ = [
     "DATA_DIR",
@@ -58,14 +59,7 @@ DATA_DIR = Path(__file__).resolve().parents[1] / "data" / "reach_trials"
 #: force needs (pressures are rescaled to the force reading).
 SILICONE_MODULUS_PA = 1.0e6
 
-# plausibility limits of careless input (no gripper pad is 20 cm long; no gripper presses one
-# jaw with 50 kgf; no gripper is 5 m from the object it holds)
-_MAX_PAD_EXTENT_M = 0.2
-_MIN_PAD_EXTENT_M = 1e-4
-_MAX_THICKNESS_M = 0.05
-_MAX_JAW_FORCE_N = 500.0
-_MAX_MU = 2.0
-_MAX_OPENING_M = 0.5
+# no gripper is 5 m from the object it holds (the physical inputs' ranges: workbench.plausible)
 _MAX_TRANSLATION_M = 5.0
 # |RᵀR − I| allowed in a rigid transform: 6-digit rotations (REACH's) are off by ~4e-7
 _RIGID_ATOL = 1e-5
@@ -76,20 +70,15 @@ def check_pad_mu(mu) -> float:
     ~0.3–1.5); else ValueError naming the likely slip (30 for 0.3: a percentage; 0: no friction,
     no parallel-jaw grasp holds anything).  The one rule of a gripper's μ: :class:`Gripper` and
     :func:`~workbench.grasp.gripper_eval.check_task` call it."""
-    if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, numbers.Real) or not np.isfinite(mu):
-        raise ValueError(f"mu must be a finite friction coefficient; got {mu!r}")
-    if not 0 < mu <= _MAX_MU:
-        if _MAX_MU < mu <= 100:
-            hint = f" a percentage? pass {mu / 100:g}"
-        elif mu == 0:
-            hint = " without friction a parallel-jaw grasp holds nothing"
-        else:
-            hint = ""
+    from workbench.wrench import check_mu
+
+    mu_f = check_mu(mu)
+    if mu_f == 0:
         raise ValueError(
-            f"mu must be a friction coefficient in (0, {_MAX_MU:g}] (rubber on plastic ~0.3-1.5); "
-            f"got {mu!r}:{hint}"
+            "mu must be a friction coefficient > 0 (rubber on plastic ~0.3-1.5); got 0: without "
+            "friction a parallel-jaw grasp holds nothing"
         )
-    return float(mu)
+    return mu_f
 
 
 # ---------------------------------------------------------------- rigid transforms
@@ -204,20 +193,22 @@ def as_polygon(outline, what: str = "outline") -> np.ndarray:
     if len(p) < 3:
         raise ValueError(f"{what} needs at least 3 distinct vertices; got {len(p)}: {p.tolist()}")
     extent = float((p.max(0) - p.min(0)).max())
-    if extent > _MAX_PAD_EXTENT_M:
+    size = RANGES["pad_size"]
+    if extent > size.hi:
         # the unit giving a size nearest (in ratio) a typical 2 cm pad
         unit, factor = min(
             (("centimetres", 0.01), ("millimetres", 0.001)), key=lambda u: abs(np.log(extent * u[1] / 0.02))
         )
         raise ValueError(
-            f"{what} spans {extent:.4g} m, more than any pad ({_MAX_PAD_EXTENT_M:g} m): given in {unit}? "
+            f"{what} spans {extent:.4g} m, more than any pad ({size.hi:g} m): given in {unit}? "
             f"outlines are in metres: multiply it by {factor:g}"
         )
-    if extent < _MIN_PAD_EXTENT_M:
+    if extent < size.lo:
         raise ValueError(
-            f"{what} spans {extent:.3g} m, less than {_MIN_PAD_EXTENT_M:g} m: converted to metres twice? "
+            f"{what} spans {extent:.3g} m, less than {size.lo:g} m: converted to metres twice? "
             "outlines are in metres"
         )
+    check("pad_size", extent, f"{what}'s extent [m]")  # warns outside the usual sizes
     bad = _crossing_edges(p)
     if bad is not None:
         raise ValueError(
@@ -279,20 +270,8 @@ class PadShape:
 
     def __post_init__(self):
         object.__setattr__(self, "outline", as_polygon(self.outline, "pad outline"))
-        object.__setattr__(
-            self,
-            "thickness",
-            _positive(
-                "pad thickness [m]", self.thickness, _MAX_THICKNESS_M, "given in millimetres? pass metres"
-            ),
-        )
-        modulus = _positive("pad modulus [Pa]", self.modulus)
-        if modulus < 1e3:
-            raise ValueError(
-                f"pad modulus = {modulus!r} Pa is softer than any pad (< 1 kPa): given in MPa? pass pascals "
-                "(silicone ~1e6)"
-            )
-        object.__setattr__(self, "modulus", modulus)
+        object.__setattr__(self, "thickness", check("pad_thickness", self.thickness, "pad thickness"))
+        object.__setattr__(self, "modulus", check("pad_modulus", self.modulus, "pad modulus"))
 
     @property
     def area(self) -> float:
@@ -326,8 +305,8 @@ class PadShape:
     ) -> PadShape:
         """A ``width`` (tooltip y) × ``length`` (tooltip x, the approach) rectangle [m] centred at
         ``offset`` (2,) [m] in the tooltip (x, y) plane."""
-        w = _positive("pad width [m]", width)
-        h = _positive("pad length [m]", length)
+        w = check("pad_size", width, "pad width")
+        h = check("pad_size", length, "pad length")
         ox, oy = np.asarray(offset, float)
         pts = [
             (ox - h / 2, oy - w / 2),
@@ -466,27 +445,13 @@ class Gripper:
     def __post_init__(self):
         if not isinstance(self.pad, PadShape):
             raise ValueError(f"pad must be a PadShape; got {type(self.pad).__name__}")
-        if (
-            isinstance(self.force, (bool, np.bool_))
-            or not isinstance(self.force, numbers.Real)
-            or not (np.isfinite(self.force) and self.force > 0)
-        ):
-            raise ValueError(
-                f"force must be the closing force of each jaw in newtons, finite and > 0; got {self.force!r}"
-            )
-        if self.force > _MAX_JAW_FORCE_N:
-            raise ValueError(
-                f"force = {self.force:g} N per jaw is more than a plausible {_MAX_JAW_FORCE_N:g} N: a "
-                "force in millinewtons or grams-force, or a total force in place of each jaw's? force is "
-                "per jaw in newtons (Gripper.with_total_force(total) halves a total)"
-            )
-        object.__setattr__(self, "force", float(self.force))
+        object.__setattr__(self, "force", check_jaw_force(self.force))
         if self.mu is not None:
             object.__setattr__(self, "mu", check_pad_mu(self.mu))
         object.__setattr__(
             self,
             "opening",
-            _positive("opening [m]", self.opening, _MAX_OPENING_M, "given in millimetres? pass metres"),
+            check("opening", self.opening, "opening"),
         )
         if self.finger_mesh is not None:
             object.__setattr__(self, "finger_mesh", Path(self.finger_mesh))
@@ -541,7 +506,7 @@ class Gripper:
 
     def with_total_force(self, total: float) -> Gripper:
         """A copy whose per-jaw ``force`` is half of ``total`` [N], the sum over both jaws."""
-        _positive("total force [N]", total)
+        check("jaw_force", total / 2 if isinstance(total, numbers.Real) else total, "half the total force")
         return dataclasses.replace(self, force=total / 2)
 
     def jaws(self, pose) -> tuple[Jaw, Jaw]:

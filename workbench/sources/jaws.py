@@ -6,36 +6,47 @@ Each jaw has a frame (approach, pad width axis, pad length axis) and a force-sen
 reading along the grasp axis to which its profile is scaled.  REACH
 (:mod:`~workbench.sources.reach`) and the FEM pad (:mod:`~workbench.sources.fem_jaw`) make
 jaw profiles with these; :func:`checked_jaw_profile` is the check a profile of *any* source
-passes before grasp analysis uses it as a jaw's contact.
+passes before grasp analysis uses it as a jaw's contact: it lies at its jaw (pressure centre
+in the pad's footprint, no deeper than the jaw advances past the grasp point,
+``config.TOL.jaw_profile_*``), pushes, and is scaled to the reading within the readings its
+source holds for (:class:`~workbench.profile.ProfileSource`, :func:`check_source_force`).
 """
 
 from __future__ import annotations
 
-import numbers
+import warnings
 
 import numpy as np
 
+from .. import config
 from ..profile import ContactProfile
 
 __all__ = [
     "check_grasp",
     "check_jaw_force",
+    "check_jaw_position",
     "check_pad",
+    "check_source_force",
     "checked_jaw_profile",
     "jaw_frame",
     "with_axis_force",
 ]
 
 
-def check_jaw_force(force) -> None:
-    """ValueError unless ``force`` (a jaw's force-sensor reading [N]) is a finite number > 0
-    (a bool is not a number here: ``force=True`` is a slip, not 1 N)."""
-    if (
-        isinstance(force, (bool, np.bool_))
-        or not isinstance(force, numbers.Real)
-        or not (np.isfinite(force) and force > 0)
-    ):
-        raise ValueError(f"force must be the jaw's reading in newtons, finite and > 0; got {force!r}")
+def check_jaw_force(force) -> float:
+    """``force`` (a jaw's force-sensor reading [N]) as a float if it is a plausible jaw force,
+    ``(0, 500]`` N (:data:`workbench.plausible.RANGES` ``"jaw_force"``, the one rule; a bool is not a
+    number here: ``force=True`` is a slip, not 1 N), else ValueError naming the likely slip."""
+    from ..plausible import check
+
+    if isinstance(force, (np.integer, np.floating)):
+        force = force.item()
+    try:
+        return check("jaw_force", force, "force (each jaw's reading [N])")
+    except ValueError as exc:
+        raise ValueError(
+            f"{exc}; a total force of both jaws is twice a jaw's (Gripper.with_total_force halves a total)"
+        ) from None
 
 
 def check_pad(pad) -> None:
@@ -48,6 +59,9 @@ def check_pad(pad) -> None:
         raise ValueError(
             f"pad must be the jaw face (width, length) [m], two numbers > 0, e.g. (0.02, 0.04); got {pad!r}"
         )
+    from ..plausible import check_each
+
+    check_each("pad_size", size, "pad (width, length) [m]")
 
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -76,14 +90,79 @@ def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return a, np.cross(e2, a), e2
 
 
+def check_source_force(profile: ContactProfile, force: float) -> None:
+    """Whether the reading ``force`` [N] is one ``profile``'s source holds for
+    (:class:`~workbench.profile.ProfileSource`; nothing to check without one): ValueError
+    outside its ``force_range``; for a source whose distribution changes with force
+    (``linear=False``, the FEM pad), a ``UserWarning`` when ``force`` is more than
+    ``config.TOL.profile_force_ratio_warn`` (read now) away from the reading it was made at."""
+    src = profile.source
+    if src is None:
+        return
+    lo, hi = src.force_range
+    if not lo <= force <= hi:
+        raise ValueError(
+            f"a reading of {force:.6g} N is outside what the profile's source can produce: {src.name} made "
+            f"it at {src.force:.6g} N and reaches [{lo:.6g}, {hi:.6g}] N on this contact, so scaling it "
+            "linearly would describe a contact that cannot exist — ask for a force in that range, or make "
+            "the profiles at this force with their source (e.g. fem_jaw_profiles(mesh, grasp, force))"
+        )
+    ratio = force / src.force
+    limit = config.TOL.profile_force_ratio_warn
+    if not src.linear and max(ratio, 1.0 / ratio) > limit:
+        warnings.warn(
+            f"a {src.name} profile made at {src.force:.6g} N is scaled to {force:.6g} N (x{ratio:.3g}): "
+            "its pressure distribution changes with force (the contact grows as it is pressed), so the "
+            f"scaled one is not the source's at {force:.6g} N (config.TOL.profile_force_ratio_warn = "
+            f"{limit:g}) — make the profiles at this force",
+            UserWarning,
+            stacklevel=3,
+        )
+
+
 def with_axis_force(profile: ContactProfile, axis, force: float) -> ContactProfile:
     """The profile's pressures scaled so its normal force along ``axis`` (3,) has magnitude
-    ``force`` [N] — a force-sensor reading along the grasp axis (thesis §4.1.3.2)."""
+    ``force`` [N] — a force-sensor reading along the grasp axis (thesis §4.1.3.2).  The
+    profile's ``source`` is kept, and ``force`` checked against it (:func:`check_source_force`)."""
+    check_source_force(profile, force)
     a = np.asarray(axis, float)
     fa = abs(float(profile.normal_wrench[:3] @ (a / np.linalg.norm(a))))
     if not fa > 0:
         raise ValueError("the profile has no normal force along the axis")
-    return profile.with_pressures(profile.pressures * force / fa)
+    return profile.with_pressures(profile.pressures * force / fa, source=profile.source)
+
+
+def check_jaw_position(prof: ContactProfile, point: np.ndarray, approach: np.ndarray, pad) -> None:
+    """ValueError unless ``prof`` lies at the jaw at ``point`` (3,) [m] approaching along
+    ``approach`` (3,) with face ``pad = (width, length)`` [m]: its pressure centre within
+    half the pad's diagonal of ``point`` in the pad plane, times
+    ``1 + config.TOL.jaw_profile_plane_rtol`` (the footprint, whatever the pad's turn about
+    the approach), and at most ``config.TOL.jaw_profile_depth_rtol`` times that half-diagonal
+    deeper into the object than ``point`` along the approach (both read now).  Towards the jaw
+    nothing is bounded: a pad stopped by a rim or a tilted face before it reaches the grasp
+    point presses there, so a profile of a narrower grasp of the same face passes."""
+    a = np.asarray(approach, float)
+    a = a / np.linalg.norm(a)
+    d = prof.pressure_center - np.asarray(point, float)
+    along = float(d @ a)
+    plane = float(np.linalg.norm(d - along * a))
+    half = 0.5 * float(np.hypot(*pad))
+    where = f"its jaw's contact point {np.round(point, 4).tolist()}"
+    fix = "a profile of another grasp, pose or unit? Make the profiles at this grasp"
+    if plane > half * (1.0 + config.TOL.jaw_profile_plane_rtol):
+        raise ValueError(
+            f"the profile's pressure centre is {plane * 1e3:.3g} mm from {where} in the pad plane, outside "
+            f"the pad's footprint (half the pad's diagonal, {half * 1e3:.3g} mm, times 1 + "
+            f"config.TOL.jaw_profile_plane_rtol = {config.TOL.jaw_profile_plane_rtol:g}): {fix}"
+        )
+    depth = config.TOL.jaw_profile_depth_rtol * half
+    if along > depth:  # the jaw touches at or before its point, then advances by its compression
+        raise ValueError(
+            f"the profile's pressure centre is {along * 1e3:.3g} mm into the object from {where} along "
+            f"the approach, more than the jaw advances past its first touch ({depth * 1e3:.3g} mm, "
+            f"config.TOL.jaw_profile_depth_rtol = {config.TOL.jaw_profile_depth_rtol:g} of half the "
+            f"pad's diagonal): {fix}"
+        )
 
 
 def checked_jaw_profile(
@@ -93,20 +172,14 @@ def checked_jaw_profile(
 
     point : (3,) the jaw's contact point [m]; approach : (3,) unit, from the jaw into the
     object; pad : the jaw face ``(width, length)`` [m].  Raises ValueError unless ``prof``
-    is a :class:`ContactProfile` whose pressure centre lies within the pad's diagonal of
-    ``point`` and whose net normal force pushes the object along ``approach``
-    (normals out of the object, CONVENTIONS.md).
+    is a :class:`ContactProfile` at its jaw (:func:`check_jaw_position`) whose net normal
+    force pushes the object along ``approach`` (normals out of the object, CONVENTIONS.md),
+    and ``force`` is a reading its source holds for (:func:`check_source_force`).
     """
     if not isinstance(prof, ContactProfile):
         raise ValueError(f"profiles must be ContactProfile objects, one per jaw; got {type(prof).__name__}")
     check_pad(pad)
-    off = float(np.linalg.norm(prof.pressure_center - point))
-    if off > float(np.hypot(*pad)):
-        raise ValueError(
-            f"the profile's pressure centre is {off:.3g} m from its jaw's contact point "
-            f"{np.round(point, 4).tolist()} (more than the pad's diagonal): a profile of another grasp, "
-            "pose or unit?"
-        )
+    check_jaw_position(prof, point, approach, pad)
     # the jaw pushes the object along its approach: −Σ p a n · approach > 0
     push = float(prof.normal_wrench[:3] @ approach)
     if not push > 0:

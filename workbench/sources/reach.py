@@ -21,6 +21,7 @@ import logging
 
 import numpy as np
 
+from ..plausible import check
 from ..profile import ContactProfile
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
@@ -75,8 +76,12 @@ def reach_profile(
         check_pad(pad)
     win = _check_window(window, depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
-    if not (closing > 0 and stiffness > 0 and max_edge > 0):
-        raise ValueError("closing, stiffness and max_edge must be > 0")
+    if not (
+        check("closing", closing, "closing (past first touch [m])") > 0 and stiffness > 0 and max_edge > 0
+    ):
+        raise ValueError(
+            f"closing, stiffness and max_edge must be > 0; got {closing!r}, {stiffness!r}, {max_edge!r}"
+        )
     out = _reach(mesh, center, approach, up, pad, poly, win, window is not None, closing, stiffness, max_edge)
     if isinstance(out, str):
         raise ValueError(out)
@@ -96,7 +101,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
     if not isinstance(jaw, Jaw):
         raise ValueError(f"jaw must be a Jaw (Gripper.jaws(pose)); got {type(jaw).__name__}")
     k = jaw.stiffness if stiffness is None else stiffness
-    if not (closing > 0 and k > 0 and max_edge > 0):
+    if not (check("closing", closing, "closing (past first touch [m])") > 0 and k > 0 and max_edge > 0):
         raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
     cen, normal, area = fine_surface(mesh, float(max_edge))
     # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
@@ -132,15 +137,26 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
     return out
 
 
-#: the fine surfaces of the last meshes pressed by pad_profile, by content hash (a pose-robustness
-#: run presses one mesh hundreds of times; the subdivision does not depend on the pose)
-_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+#: the fine surfaces of the last meshes pressed by pad_profile, or made by fine_surface for many
+#: reach_profile presses, by content hash (a pose-robustness run or an antipodal sampler presses
+#: one mesh hundreds of times; the subdivision does not depend on the pose)
+_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
 _FINE_KEEP = 4
 
 
 def fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The whole mesh subdivided to ``max_edge`` (centres, normals, areas; read-only), cached by a
-    hash of its vertices, faces and ``max_edge``; the mesh is checked once (watertight, metres)."""
+    hash of its vertices, faces and ``max_edge``; the mesh is checked once (watertight, metres).
+
+    While it is cached, :func:`reach_profile` with this ``max_edge`` takes its sub-triangles
+    from it instead of subdividing the faces near the pad again (the same profile, faster when
+    one mesh is pressed many times: call this first)."""
+    return _fine_surface(mesh, max_edge)[:3]
+
+
+def _fine_surface(mesh, max_edge: float, build: bool = True):
+    """:func:`fine_surface` and the index (m,) of each sub-triangle's face in ``mesh.faces``;
+    None when it is not cached and ``build`` is False."""
     import hashlib
 
     from ..units import closed_mesh
@@ -149,6 +165,8 @@ def fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndar
     f = np.ascontiguousarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64)
     key = hashlib.sha1(v.tobytes() + f.tobytes() + np.float64(max_edge).tobytes()).hexdigest()
     if key not in _FINE:
+        if not build:
+            return None
         mesh = closed_mesh(mesh, "mesh passed to pad_profile")
         arrays = _fine_faces(np.asarray(mesh.vertices, float), np.asarray(mesh.faces), max_edge)
         for arr in arrays:
@@ -204,23 +222,34 @@ def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing
             f"within [{lo:.4g}, {hi:.4g}] m along the approach {np.round(a, 3).tolist()}: check center, "
             "approach (into the object) and units"
         )
-    cen, normal, area = _fine_faces(mesh.vertices, faces, max_edge)
+    fine = _fine_surface(mesh, max_edge, build=False)
+    if fine is None:
+        cen, normal, area, _ = _fine_faces(mesh.vertices, faces, max_edge)
+    else:
+        # the near faces' sub-triangles from the cached whole-mesh subdivision: the same triangles
+        # in the same order as subdividing the near faces alone (subdivide_to_size splits an
+        # edge by its own length and keeps each pass's order), so the profile is the same
+        sel = near[fine[3]]
+        cen, normal, area = fine[0][sel], fine[1][sel], fine[2][sel]
     return _press(
         cen, normal, area, c, (a, e1, e2), pad, poly, window, filter_window, closing, stiffness, max_edge
     )
 
 
 def _fine_faces(vertices: np.ndarray, faces: np.ndarray, max_edge: float):
-    """Centres (m, 3), unit normals (m, 3) and areas (m,) of ``faces`` subdivided to ``max_edge``."""
+    """Centres (m, 3), unit normals (m, 3) and areas (m,) of ``faces`` subdivided to ``max_edge``,
+    and the index (m,) of each sub-triangle's face in ``faces``."""
     import trimesh
 
-    sub_v, sub_f = trimesh.remesh.subdivide_to_size(vertices, faces, max_edge=max_edge)
+    sub_v, sub_f, parent = trimesh.remesh.subdivide_to_size(
+        vertices, faces, max_edge=max_edge, return_index=True
+    )
     tri = sub_v[sub_f]
     cen = tri.mean(axis=1)
     cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = cross / np.maximum(2 * area, 1e-300)[:, None]
-    return cen, normal, area
+    return cen, normal, area, parent
 
 
 def _press(cen, normal, area, c, frame, pad, poly, window, filter_window, closing, stiffness, max_edge):

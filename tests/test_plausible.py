@@ -1,0 +1,215 @@
+"""Plausible ranges of the physical inputs (workbench.plausible): the rule of each quantity,
+and the library entry points that apply it — each fed the careless inputs new users gave
+(issue 44: a wall E in MPa, a force in millinewtons, μ as a percentage, a pad in mm ...)."""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from workbench import plausible
+from workbench.plausible import RANGES, ImplausibleWarning, check, check_each
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "inputs.md"
+
+
+def _usual(r) -> float:
+    """A value well inside the usual range (its geometric middle when both ends are > 0)."""
+    lo, hi = r.usual
+    return math.sqrt(lo * hi) if lo > 0 else (lo + hi) / 2
+
+
+@pytest.mark.parametrize("key", sorted(RANGES))
+def test_each_range_passes_usual_values_silently_and_refuses_beyond_its_limits(key):
+    r = RANGES[key]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a usual value: no warning
+        assert check(key, _usual(r)) == pytest.approx(_usual(r))
+        assert check(key, r.usual[0]) == r.usual[0] and check(key, r.usual[1]) == r.usual[1]
+    hi = r.upper()
+    for bad in (hi * 1.01 + 1e-12, r.lo - abs(r.lo) * 0.01 - 1e-12, np.nan, np.inf):
+        with pytest.raises(ValueError, match=f"must be an? {re.escape(r.name)} in"):
+            check(key, bad)
+    if r.lo_open:
+        with pytest.raises(ValueError, match="must be a"):
+            check(key, r.lo)
+    for slip in (True, "1.0", None, [1.0]):
+        with pytest.raises(ValueError, match="must be a number"):
+            check(key, slip)
+
+
+@pytest.mark.parametrize("key", sorted(RANGES))
+def test_each_unit_slip_is_named_with_the_value_to_pass(key):
+    """A usual value given in each slip unit is refused or warned, and the message names the
+    first slip (in the range's order) that makes it usual, with the SI value back — unless it
+    is still a usual value (then nothing can tell)."""
+    r = RANGES[key]
+    si = _usual(r)
+    for slip_factor in (f for _, f in r.slips):
+        given = si / slip_factor
+        if r.usual[0] <= given <= r.usual[1]:
+            continue
+        unit, factor = next((u, f) for u, f in r.slips if r.usual[0] <= given * f <= r.usual[1])
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            try:
+                check(key, given)
+                text = " ".join(str(w.message) for w in seen if issubclass(w.category, ImplausibleWarning))
+            except ValueError as exc:
+                text = str(exc)
+        assert f"in {unit}" in text, (key, unit, given, text)
+        named = float(re.search(r"pass ([-+0-9.e]+)", text).group(1))
+        assert named == pytest.approx(given * factor, rel=1e-5)
+
+
+def test_the_issues_mistakes_get_the_likely_unit():
+    cases = [
+        ("wall_modulus", 2500.0, "MPa — pass 2.5e+09"),  # E=2500 meant as MPa (issue 44)
+        ("wall_modulus", 2.5, "GPa — pass 2.5e+09"),
+        ("pad_modulus", 1.0, "MPa — pass 1e+06"),
+        ("poisson", 45.0, "per cent — pass 0.45"),
+        ("mu", 30.0, "per cent — pass 0.3"),
+        ("mu", 50.0, "per cent — pass 0.5"),
+        ("wall_thickness", 0.5, "millimetres — pass 0.0005"),
+        ("pad_thickness", 3.0, "millimetres — pass 0.003"),
+        ("pad_size", 20.0, "millimetres — pass 0.02"),
+        ("jaw_force", 1e4, "millinewtons — pass 10"),
+        ("closing", 2.0, "millimetres — pass 0.002"),
+        ("mass", 270.0, "grams — pass 0.27"),
+        ("density", 1e6, "more than any real mean density"),
+        ("opening", 50.0, "millimetres — pass 0.05"),
+    ]
+    for key, value, words in cases:
+        with pytest.raises(ValueError) as exc:
+            check(key, value, "x")
+        assert words in str(exc.value), (key, str(exc.value))
+        assert re.match("x must be an? ", str(exc.value))
+
+
+def test_unusual_values_warn_and_say_why():
+    with pytest.warns(ImplausibleWarning, match=r"below the usual 5e\+07 Pa .*MPa"):
+        assert check("wall_modulus", 2e5) == 2e5  # 0.2 MPa: rubber, or 200 GPa in MPa?
+    with pytest.warns(ImplausibleWarning, match="above the usual 1.5 of a friction coefficient"):
+        check("mu", 1.8)
+    with pytest.warns(ImplausibleWarning, match="results may not describe a real gripper"):
+        check("jaw_force", 400.0)
+    with pytest.warns(ImplausibleWarning, match="below the usual 0.0001 m"):
+        check("wall_thickness", 5e-5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert check("mu", 0) == 0.0  # frictionless: an idealisation, not a slip
+
+
+def test_a_config_tolerance_sets_the_mass_limit_at_call_time():
+    from workbench import config
+
+    with pytest.raises(ValueError, match="max_plausible_mass_kg"):
+        check("mass", 30.0)
+    with config.override(max_plausible_mass_kg=50.0):
+        with pytest.warns(ImplausibleWarning):
+            assert check("mass", 30.0) == 30.0
+
+
+def test_check_each_keeps_shape_and_names_the_bad_element():
+    np.testing.assert_array_equal(check_each("pad_size", [[0.02, 0.04]]), [[0.02, 0.04]])
+    with pytest.raises(ValueError, match="got 40.0: probably in millimetres"):
+        check_each("pad_size", np.array([0.02, 40.0]))
+
+
+def test_the_docs_table_is_the_code_table():
+    assert plausible.markdown_table() in DOCS.read_text(), "regenerate docs/inputs.md's table"
+
+
+# ---------------------------------------------------------------- entry points
+
+
+def test_library_entry_points_apply_the_ranges():
+    from workbench.fem.material import Material
+    from workbench.fem.pad import PadGeometry, condense_pad
+    from workbench.fem.wall import build_wall, circle_surface
+    from workbench.grasp.robust import check_mass
+    from workbench.sources.gripper import PadShape, yumi
+    from workbench.sources.jaws import check_jaw_force, check_pad
+    from workbench.wrench import check_mu
+
+    with pytest.raises(ValueError, match="MPa — pass 2.5e\\+09"):
+        build_wall(circle_surface(0.03), Material(2500.0, 0.4), n_theta=16, n_z=4)
+    with pytest.raises(ValueError, match="millimetres — pass 0.0005"):
+        build_wall(circle_surface(0.03), Material(2.5e9, 0.4), thickness=0.5, n_theta=16, n_z=4)
+    with pytest.raises(ValueError, match="MPa — pass 1e\\+06"):
+        condense_pad(PadGeometry(nx=2, ny=2, nz=1), Material(1.0, 0.45), cache_dir=False)
+    with pytest.raises(ValueError, match="grams — pass 0.03"):
+        check_mass(30.0)
+    with pytest.raises(ValueError, match="per cent — pass 0.5"):
+        check_mu(50)
+    with pytest.raises(ValueError, match="millinewtons — pass 10"):
+        check_jaw_force(1e4)
+    with pytest.raises(ValueError, match="millimetres — pass 0.02"):
+        check_pad((20, 40))
+    with pytest.raises(ValueError, match="pad width .* millimetres — pass 0.02"):
+        PadShape.rectangle(20, 8)
+    with pytest.raises(ValueError, match="millimetres — pass 0.003"):
+        PadShape.rectangle(0.02, 0.008, thickness=3)
+    with pytest.raises(ValueError, match="MPa — pass 1e\\+06"):
+        PadShape.rectangle(0.02, 0.008, modulus=1.0)
+    import dataclasses
+
+    with pytest.raises(ValueError, match="millimetres — pass 0.05"):
+        dataclasses.replace(yumi(), opening=50.0)
+
+
+def test_evaluate_grasp_refuses_the_issues_force_and_friction():
+    """evaluate_grasp(force=1e4) and mu=50 ran silently before issue 44."""
+    import trimesh
+
+    from workbench.grasp.evaluate import evaluate_grasp
+
+    box = trimesh.creation.box((0.04, 0.04, 0.04))
+    g = {"p1": np.array([-0.02, 0, 0.0]), "p2": np.array([0.02, 0, 0.0]), "axis": np.array([1.0, 0, 0])}
+    with pytest.raises(ValueError, match="millinewtons — pass 10"):
+        evaluate_grasp(box, g, force=1e4, model="point")
+    with pytest.raises(ValueError, match="per cent — pass 0.5"):
+        evaluate_grasp(box, g, mu=50, model="point")
+
+
+# ---------------------------------------------------------------- impossible derived quantities
+
+
+def test_an_impossible_closing_is_flagged_not_reported_as_a_stiffness():
+    """A 0.2 MPa 'bottle' (2.5e9 meant, a slip of 10^4 the range lets through with a warning)
+    closes by metres at 10 N on a 60 mm tube: squeeze flags it, stiffness_at reports no number."""
+    from workbench.fem.material import Material
+    from workbench.fem.wall import PET, build_wall, circle_surface, squeeze
+    from workbench.fem.wall_grasps import stiffness_at
+
+    surface = circle_surface(0.03)
+    kw = {"n_theta": 16, "n_z": 6, "z_range": (0.0, 0.06), "clamp_top": True}
+    c, ax = np.array([0.0, 0.0, 0.03]), np.array([1.0, 0.0, 0.0])
+    pet = squeeze(build_wall(surface, PET, **kw), c, ax, force=10.0)
+    assert pet["width"] == pytest.approx(0.06, rel=1e-9)  # the tube's outer diameter
+    assert not pet["implausible"] and pet["delta"] < 0.01 * pet["width"]
+    with pytest.warns(ImplausibleWarning, match="wall Young's modulus"):
+        soft_wall = build_wall(surface, Material(2e5, 0.4), **kw)
+    soft = squeeze(soft_wall, c, ax, force=10.0)
+    # not exactly 1/E-proportional (the jaws' gaps to the footprint are metres, not scaled), but
+    # orders of magnitude beyond the tube: more nodes reach a jaw
+    assert soft["delta"] > 1e3 * pet["delta"]
+    assert soft["implausible"] and soft["delta"] > soft["width"]
+    import trimesh
+
+    from workbench.fem.object_wall import wall_geometry
+
+    cup = trimesh.creation.cylinder(radius=0.03, height=0.08, sections=64)
+    cup.apply_translation((0, 0, 0.04))
+    geo = wall_geometry(cup, thickness=0.5e-3, n_z=8, top="clamped")
+    with pytest.warns(ImplausibleWarning):
+        wall = geo.build(Material(2e5, 0.4), n_theta=16)
+    L = np.array([[0.03, 0.0, 0.04], [-0.03, 0.0, 0.04]])
+    (row,) = stiffness_at(wall, geo.surface, L, z_range=geo.z_range, force=10.0)
+    assert row["implausible"] and row["failed"] and np.isnan(row["stiffness"])
+    assert "impossible" in row["reason"] and "60 mm width" in row["reason"]

@@ -1,0 +1,317 @@
+"""Plausible ranges of the physical inputs: one rule per quantity.
+
+Every physical number a user gives — a Young's modulus, a Poisson ratio, a friction
+coefficient, a wall or pad thickness, a mass, a density, a jaw force, a pad size, a
+closing — is judged here, whichever entry point takes it (a function argument, a
+``--set`` or a ``--grid`` value), so the same number gets the same answer everywhere:
+
+- outside the range of real materials and grippers (``Range.lo``/``Range.hi``) it is
+  refused with a ``ValueError`` that names the likely unit slip and the value to pass
+  (``E=2500`` for a bottle wall: "probably in MPa: pass 2.5e9");
+- inside that range but outside the usual one (``Range.usual``) it passes with an
+  :class:`ImplausibleWarning` that says why it is unusual.
+
+The ranges are SI (m, kg, N, Pa).  They are deliberately wide: they exist to catch unit
+slips (a factor 1,000 or 10⁶), not to judge a design.  A quantity whose upper limit is a
+config tolerance (``Range.limit_field``, e.g. ``TOL.max_plausible_mass_kg``) reads it at
+call time.  :func:`markdown_table` renders the table for ``docs/inputs.md``.
+"""
+
+from __future__ import annotations
+
+import logging
+import numbers
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+__all__ = ["RANGES", "ImplausibleWarning", "Range", "check", "check_each", "markdown_table"]
+
+
+class ImplausibleWarning(UserWarning):
+    """A physical input inside the range of real things but outside the usual one."""
+
+
+@dataclass(frozen=True)
+class Range:
+    """The plausible values of one physical quantity [SI].
+
+    name : how a message names it ("wall Young's modulus").
+    unit : its SI unit ("Pa"); "" for a dimensionless number.
+    lo, hi : refused below ``lo`` / above ``hi`` (``lo_open``: ``lo`` itself refused too).
+    usual : (lo, hi) — values outside it pass with an :class:`ImplausibleWarning`.
+    slips : (unit name, SI value of one such unit) — the units a mistaken number was
+        probably given in, tried in order: the first that makes it a usual value is named.
+    examples : real values, quoted in every message (where the range comes from).
+    limit_field : a ``config.TOL`` field that replaces ``hi`` (read at call time).
+    hi_open : ``hi`` itself refused too (a Poisson ratio of 0.5 makes the stiffness singular).
+    """
+
+    name: str
+    unit: str
+    lo: float
+    hi: float
+    usual: tuple[float, float]
+    slips: tuple[tuple[str, float], ...] = ()
+    examples: str = ""
+    lo_open: bool = True
+    limit_field: str | None = None
+    hi_open: bool = False
+
+    def upper(self) -> float:
+        """``hi``, or the config tolerance that sets it."""
+        if self.limit_field is None:
+            return self.hi
+        from . import config
+
+        return float(getattr(config.TOL, self.limit_field))
+
+    def interval(self, scale: float = 1.0) -> str:
+        """The accepted values as an interval, in units of ``scale`` SI ("(0, 500]")."""
+        return _interval(self.lo / scale, self.upper() / scale, self.lo_open, self.hi_open)
+
+
+_MM, _CM = ("millimetres", 1e-3), ("centimetres", 1e-2)
+
+#: quantity key -> its range.  Sources: polymer and metal moduli from Ashby's material
+#: charts (M. F. Ashby, *Materials Selection in Mechanical Design*, 4th ed., ch. 4);
+#: elastomer pads from Shore-A hardness (Gent 1958: 10-90 Shore A ≈ 0.3-30 MPa); friction
+#: of rubber on plastic, metal and glass 0.2-1.5; grippers from vendor data sheets
+#: (parallel-jaw grippers: 1-300 N a jaw, pads 5-60 mm, strokes up to ~0.2 m).
+RANGES: dict[str, Range] = {
+    "wall_modulus": Range(
+        "wall Young's modulus",
+        "Pa",
+        1e5,
+        1e12,
+        (5e7, 4.5e11),
+        (("MPa", 1e6), ("GPa", 1e9), ("kPa", 1e3)),
+        "PET bottle 2-4 GPa, HDPE ~1 GPa, aluminium 70 GPa, steel 200 GPa",
+    ),
+    "pad_modulus": Range(
+        "pad Young's modulus",
+        "Pa",
+        1e3,
+        1e10,
+        (1e4, 1e8),
+        (("MPa", 1e6), ("kPa", 1e3), ("GPa", 1e9)),
+        "silicone pads 0.1-10 MPa (Ecoflex 00-30 ~0.1 MPa, 30 Shore A ~1 MPa), polyurethane ~30 MPa",
+    ),
+    "poisson": Range(
+        "Poisson ratio",
+        "",
+        -1.0,
+        0.5,
+        (0.0, 0.49999),
+        (("per cent", 1e-2),),
+        "plastics 0.35-0.42, metals ~0.3, silicone 0.45-0.4999",
+        hi_open=True,
+    ),
+    "mu": Range(
+        "friction coefficient",
+        "",
+        0.0,
+        2.0,
+        (0.05, 1.5),
+        (("per cent", 1e-2),),
+        "rubber on plastic or metal 0.3-1.2, silicone on glass up to ~1.5",
+        lo_open=False,
+    ),
+    "wall_thickness": Range(
+        "wall thickness",
+        "m",
+        1e-5,
+        0.05,
+        (1e-4, 1e-2),
+        (_MM, ("micrometres", 1e-6), _CM),
+        "PET bottle 0.2-0.5 mm, HDPE jug ~1 mm, glass jar 2-4 mm",
+        lo_open=False,
+    ),
+    "pad_thickness": Range(
+        "pad thickness",
+        "m",
+        1e-4,
+        0.1,
+        (5e-4, 3e-2),
+        (_MM, _CM),
+        "silicone gripper pads 1-10 mm",
+        lo_open=False,
+    ),
+    "pad_size": Range(
+        "pad size",
+        "m",
+        1e-4,
+        0.2,
+        (2e-3, 0.1),
+        (_MM, _CM),
+        "parallel-jaw pads 5-60 mm wide or long (YuMi's 20 x 8 mm, Robotiq 2F-85's 22 x 38 mm)",
+    ),
+    "jaw_force": Range(
+        "jaw force",
+        "N",
+        0.0,
+        500.0,
+        (1.0, 300.0),
+        (("millinewtons", 1e-3),),
+        "parallel-jaw grippers 1-300 N a jaw (YuMi 20 N, Franka 70 N, Robotiq 2F-85 20-235 N)",
+    ),
+    "closing": Range(
+        "jaw closing",
+        "m",
+        0.0,
+        0.1,
+        (1e-6, 0.04),
+        (_MM, ("micrometres", 1e-6), _CM),
+        "a pad pressed 0.1-5 mm into an object, a thin wall dented up to ~40 mm",
+        lo_open=False,
+    ),
+    "mass": Range(
+        "object mass",
+        "kg",
+        0.0,
+        20.0,
+        (1e-3, 10.0),
+        (("grams", 1e-3),),
+        "a 3 cm plastic cube 0.01 kg, a full 0.5 L bottle 0.5 kg, a power drill 1.5 kg",
+        limit_field="max_plausible_mass_kg",
+    ),
+    "density": Range(
+        "mean density",
+        "kg/m³",
+        5.0,
+        23000.0,
+        (30.0, 20000.0),
+        (("g/cm³", 1e3),),
+        "an empty bottle ~30 kg/m³ (mass over enclosed volume), wood 500, water 1000, steel 7850",
+    ),
+    "opening": Range(
+        "gripper opening",
+        "m",
+        0.0,
+        0.5,
+        (5e-3, 0.3),
+        (_MM, _CM),
+        "parallel-jaw strokes 20-200 mm (YuMi 50 mm, Robotiq 2F-85 85 mm)",
+    ),
+}
+
+
+def _a(noun: str) -> str:
+    return ("an " if noun[0] in "aeiou" else "a ") + noun
+
+
+def _interval(lo: float, hi: float | str, lo_open: bool, hi_open: bool) -> str:
+    hi_text = hi if isinstance(hi, str) else f"{hi:g}"
+    return f"{'(' if lo_open else '['}{lo:g}, {hi_text}{')' if hi_open else ']'}"
+
+
+def _fmt(x: float, unit: str) -> str:
+    return f"{x:g} {unit}".rstrip()
+
+
+_SI_NAMES = {"m": "metres", "kg": "kilograms", "N": "newtons", "Pa": "pascals"}
+
+#: a unit slip is named only for a value this far (a ratio) outside the usual range: a Poisson
+#: ratio of 0.5 is not 0.5 % and a 400 N jaw is not 400 mN, though both are unusual
+_SLIP_MIN_RATIO = 2.0
+
+
+def _likely(r: Range, v: float, scale: float, unit: str) -> str:
+    """The slip that makes ``v`` (given in ``unit``, ``scale`` SI each) a usual value, as the
+    fix to name in ``unit`` ("" if none does)."""
+    lo, hi = r.usual
+    if not (v * scale > 0 and (v * scale < lo / _SLIP_MIN_RATIO or v * scale > hi * _SLIP_MIN_RATIO)):
+        return ""  # near the usual range: unusual, but no sign of another unit
+    # SI given to a key in mm
+    si_unit = () if scale == 1.0 or not r.unit else ((_SI_NAMES.get(r.unit, r.unit), 1.0),)
+    for slip, si in (*si_unit, *r.slips):
+        if si == scale:  # the declared unit itself is no slip
+            continue
+        if r.usual[0] <= v * si <= r.usual[1]:
+            return f": probably in {slip} — pass {v * si / scale:.6g}" + (f" [{unit}]" if unit else "")
+    return ""
+
+
+def check(
+    key: str, value: Any, what: str | None = None, *, scale: float = 1.0, unit: str | None = None
+) -> float:
+    """``value`` as a float if it is a plausible ``key`` quantity (see :data:`RANGES`), else
+    ``ValueError`` naming the range, the likely unit slip and the value to pass; a value
+    inside the range but unusual passes with an :class:`ImplausibleWarning` saying why.
+
+    key : a quantity of :data:`RANGES` ("wall_modulus", "mu", "mass", ...).
+    value : the number, in SI units unless ``scale`` says otherwise (a bool is refused:
+        ``force=True`` is a slip, not 1 N).
+    what : how to name the input in the message (an argument or a config key); default the
+        quantity's name.
+    scale, unit : ``value`` is in units of ``scale`` SI named ``unit`` (a config key in mm:
+        1e-3, "mm"); messages then speak that unit.  Returns the value as given (not SI).
+    """
+    r = RANGES[key]
+    name = what or r.name
+    unit = r.unit if unit is None else unit
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a number [{unit or '-'}]; got {value!r} ({type(value).__name__})")
+    given = float(value)
+    x = given * scale
+    hi = r.upper()
+    low = x <= r.lo if r.lo_open else x < r.lo
+    high = x >= hi if r.hi_open else x > hi
+    if not np.isfinite(x) or low or high:
+        over = (
+            f" (config.TOL.{r.limit_field}: raise it for an unusual case)" if r.limit_field and x > hi else ""
+        )
+        hint = _likely(r, given, scale, unit) if np.isfinite(x) else ""
+        if not hint and np.isfinite(x) and x > hi:
+            hint = f": more than any real {r.name}"
+        raise ValueError(
+            f"{name} must be {_a(r.name)} in {r.interval(scale)} {unit}".rstrip()
+            + f"{over}; got {value!r}{hint} (real values: {r.examples})"
+        )
+    # the closed lower limit itself is a deliberate idealisation (mu = 0: frictionless), not a slip
+    if not r.usual[0] <= x <= r.usual[1] and not (x == r.lo and not r.lo_open):
+        hint = _likely(r, given, scale, unit)
+        side = "below" if x < r.usual[0] else "above"
+        bound = (r.usual[0] if x < r.usual[0] else r.usual[1]) / scale
+        warnings.warn(
+            f"{name} = {given:g} {unit}".rstrip()
+            + f" is {side} the usual {_fmt(bound, unit)} of {_a(r.name)} ({r.examples}); "
+            + (f"was it in another unit{hint}?" if hint else "results may not describe a real gripper"),
+            ImplausibleWarning,
+            stacklevel=2,
+        )
+    return given
+
+
+def check_each(key: str, values: Any, what: str | None = None) -> np.ndarray:
+    """Every number of ``values`` (a scalar, sequence or array) checked by :func:`check`;
+    returns them as a float array of the same shape."""
+    arr = np.asarray(values, dtype=object)
+    out = np.empty(arr.shape, dtype=np.float64)
+    for idx, v in np.ndenumerate(arr):
+        if isinstance(v, (np.floating, np.integer)):
+            v = v.item()
+        out[idx] = check(key, v, what)
+    return out
+
+
+def markdown_table() -> str:
+    """The ranges as a Markdown table (quantity, unit, refused outside, warned outside,
+    unit slips named, real values) — the table of ``docs/inputs.md``."""
+    lines = [
+        "| quantity | unit | refused outside | warned outside | slips named | real values |",
+        "|---|---|---|---|---|---|",
+    ]
+    for key, r in RANGES.items():
+        hi = f"{r.hi:g}" if r.limit_field is None else f"TOL.{r.limit_field} ({r.hi:g})"
+        slips = ", ".join(u for u, _ in r.slips) or "-"
+        lines.append(
+            f"| `{key}`: {r.name} | {r.unit or '-'} | {_interval(r.lo, hi, r.lo_open, r.hi_open)} "
+            f"| [{r.usual[0]:g}, {r.usual[1]:g}] "
+            f"| {slips} | {r.examples} |"
+        )
+    return "\n".join(lines)
