@@ -212,7 +212,6 @@ def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
     assert per_jaw["soft_point"] >= per_jaw["6dfw"] and per_jaw["reach"] >= per_jaw["6dfw"], per_jaw
 
 
-@pytest.mark.jit_only("over 15 s as pure Python")
 def test_antipodal_grasps_drop_edge_contacts():
     """A flat jaw tilted against a cylinder wall presses it with the pad's edge: such
     grasps are dropped (pressure centre in the outer quarter of the face); kept ones have

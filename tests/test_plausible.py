@@ -180,6 +180,9 @@ def test_evaluate_grasp_refuses_the_issues_force_and_friction():
 # ---------------------------------------------------------------- impossible derived quantities
 
 
+@pytest.mark.jit_only(
+    "~60 s as pure Python (three walls' sparse factors); the factor's kernels run JIT-off in test_fem_wall"
+)
 def test_an_impossible_closing_is_flagged_not_reported_as_a_stiffness():
     """A 0.2 MPa 'bottle' (2.5e9 meant, a slip of 10^4 the range lets through with a warning)
     closes by metres at 10 N on a 60 mm tube: squeeze flags it, stiffness_at reports no number."""

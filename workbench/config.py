@@ -501,6 +501,10 @@ class Defaults:
     # grid failing each point in 2 s) would otherwise run to the end.  0: never stop.
     sweep_stop_after_failures: int = 5
 
+    # Seconds an automatic progress bar (progress=None on a terminal: grasp sampling) waits
+    # before it appears, so that short calls print nothing.
+    progress_delay_s: float = 2.0
+
     # A sweep plot's axis is logarithmic when its grid is geometric: its largest log-step at most
     # this many times its smallest (a 1-2-5 series passes, 1, 2, 3 does not) ...
     sweep_log_step_spread: float = 1.5
@@ -713,6 +717,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "scheduler_probe_s": _POS,
     "sweep_column_hints": _count(1),
     "sweep_stop_after_failures": _count(0),
+    "progress_delay_s": _NONNEG,  # 0: a bar at once
     "sweep_log_step_spread": _real(1.0),  # a ratio of log-steps: >= 1
     "sweep_log_min_span": _real(1.0, lo_open=True),  # a ratio of values: > 1
     "sweep_log_min_step": _real(1.0, lo_open=True),

@@ -6,17 +6,137 @@ inside the friction cone around ``−n1`` (half-angle ``atan μ``); cast a ray f
 ``p2`` — the outer surface on the far side, so a thin-walled (hollow) object is
 grasped across, not through its 0.4 mm wall; keep the grasp if ``n2`` is also
 within the friction cone of the axis (antipodal), the jaw opening ``|p2 − p1|``
-fits, and both contacts clear the table by ``clearance``.  Seeded; returns as
-many grasps as found (up to ``n``).
+fits, both contacts clear the table by ``clearance`` and neither flat jaw first meets
+the surface at its pad edge.  Seeded; returns as many grasps as found (up to ``n``)
+as :class:`Grasps`, a list that also counts the candidates dropped per reason
+(:data:`DROP_REASONS`).
+
+Both samplers show a progress bar (tqdm, on stderr) when asked to (``progress=True``) or,
+by default, when stderr is a terminal and the call has run a few seconds: the pad-edge
+check presses each surviving candidate's two jaws (:func:`edge_touch`).
 """
 
 from __future__ import annotations
 
 import logging
+import sys
+from typing import Any
 
 import numpy as np
 
 log = logging.getLogger(__name__)
+
+#: why a candidate is not kept, in the order the samplers test it: reason -> (what happened,
+#: what usually gets more grasps).  Every reason is a key of :attr:`Grasps.dropped`.
+DROP_REASONS: dict[str, tuple[str, str]] = {
+    "no_far_side": (
+        "the line along the axis finds no far side to grasp",
+        "check that the mesh is closed and its normals point outward",
+    ),
+    "too_narrow": ("the jaw opening is below min_width", "a smaller min_width"),
+    "too_wide": ("the jaw opening exceeds max_width", "a larger max_width if the gripper opens that far"),
+    "outside_cone": (
+        "a contact normal lies outside the friction cone of the axis",
+        "more candidates (max_samples), or a larger mu only if the materials' friction allows it",
+    ),
+    "near_table": ("a contact is within clearance of the table", "a smaller clearance or a lower table_z"),
+    "pad_edge": (
+        "a flat jaw first meets the surface at its pad edge (edge_touch)",
+        "a smaller pad=(width, length), a larger edge_depth, or pad=None to keep every antipodal pair",
+    ),
+}
+
+# the pad-edge check's fine surface [m]: the mesh refined to 1 mm under the pad (edge_touch);
+# the samplers have the whole mesh subdivided to it once, for all their presses
+_EDGE_MAX_EDGE = 1e-3
+
+
+class Grasps(list):
+    """The grasps a sampler returns: a plain ``list`` of grasp dicts — iterate, index and
+    ``len`` it as before — that also says what became of the candidates it tried.
+
+    dropped : dict[str, int]
+        Candidates not kept, per reason: every key of :data:`DROP_REASONS`, zeros included.
+    n_candidates : int
+        Candidates tried, ``len(self) + sum(self.dropped.values())``; a sampler that stops at
+        ``n`` grasps may try fewer than it drew.
+
+    The list is an ordinary mutable list; ``dropped`` and ``n_candidates`` describe the call
+    that made it and do not follow later changes to the list (a slice, ``list(grasps)`` or
+    ``grasps + other`` is a plain list).
+    """
+
+    def __init__(self, grasps=(), *, dropped: dict[str, int] | None = None) -> None:
+        super().__init__(grasps)
+        self.dropped: dict[str, int] = dict.fromkeys(DROP_REASONS, 0)
+        for reason, count in (dropped or {}).items():
+            if reason not in DROP_REASONS:
+                raise ValueError(
+                    f"dropped reasons must be keys of DROP_REASONS {list(DROP_REASONS)}; got {reason!r}"
+                )
+            self.dropped[reason] = int(count)
+        self.n_candidates: int = len(self) + sum(self.dropped.values())
+
+    def summary(self) -> str:
+        """One line: kept of tried, and the non-zero drop counts per reason."""
+        parts = [f"{c} {r}" for r, c in self.dropped.items() if c]
+        return f"{len(self)} kept of {self.n_candidates} candidates" + (
+            f"; dropped {', '.join(parts)}" if parts else ""
+        )
+
+
+def _progress_bar(progress: bool | None, total: int, desc: str) -> Any:
+    """A tqdm bar of ``total`` candidates on stderr, or None: ``progress`` True shows it,
+    False never, None only when stderr is a terminal and after ``config.DEFAULTS.progress_delay_s``."""
+    if progress is not None and not isinstance(progress, bool):
+        raise ValueError(
+            f"progress must be True (show a bar), False (never) or None (on a terminal, for long calls); "
+            f"got {progress!r}"
+        )
+    if progress is False or (
+        progress is None and not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty())
+    ):
+        return None
+    from tqdm import tqdm
+
+    from .. import config
+
+    delay = config.DEFAULTS.progress_delay_s if progress is None else 0.0
+    return tqdm(total=total, desc=desc, unit="candidate", file=sys.stderr, delay=delay)
+
+
+def check_edge_args(pad, edge_depth) -> None:
+    """ValueError unless ``pad`` is a jaw face ``(width, length)`` [m] and ``edge_depth`` a
+    closing > 0 [m] (the rules of :func:`~workbench.sources.jaws.check_pad` and of a closing,
+    :mod:`workbench.plausible`): the pad-edge check would otherwise call every grasp an edge
+    touch, as a jaw that touches nothing is one (:func:`edge_touch`)."""
+    from ..sources.jaws import check_pad
+    from ..sources.reach import check_press_closing
+
+    check_pad(pad)
+    check_press_closing(edge_depth, "edge_depth")
+
+
+def _subdivide_once(mesh, presses: int, pad) -> None:
+    """Cache the whole mesh refined for the pad-edge check (:func:`~workbench.sources.reach.fine_surface`)
+    so that each :func:`edge_touch` takes the faces under its pad from it instead of refining
+    them again — when that pays: when the mesh's area is at most the ``presses`` expected times
+    the pad's (a large finely meshed object pressed a few times keeps refining only the faces
+    under each pad).  A mesh the cache refuses (one accepted with ``allow_scale``) is logged."""
+    from ..sources.reach import fine_surface
+
+    if mesh.area > presses * pad[0] * pad[1]:
+        return
+    try:
+        fine_surface(mesh, _EDGE_MAX_EDGE)
+    except ValueError as exc:
+        log.info("pad-edge checks refine the faces under each pad, press by press: %s", exc)
+
+
+def _edge_pair(mesh, p1, p2, axis, up, pad, edge_depth) -> bool:
+    """Whether either jaw of the grasp (jaw 1 at ``p1`` along ``axis``, jaw 2 at ``p2`` against
+    it) first meets the surface at its pad edge (:func:`edge_touch`)."""
+    return edge_touch(mesh, p1, axis, up, pad, edge_depth) or edge_touch(mesh, p2, -axis, up, pad, edge_depth)
 
 
 def _cone_directions(rng: np.random.Generator, axes: np.ndarray, half_angle: float) -> np.ndarray:
@@ -48,8 +168,15 @@ def antipodal_grasps(
     pad: tuple[float, float] | None = (0.02, 0.04),
     up=(0.0, 0.0, 1.0),
     edge_depth: float = 1e-3,
-) -> list[dict]:
-    """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m].
+    progress: bool | None = None,
+) -> Grasps:
+    """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m], as
+    :class:`Grasps`: a list of those dicts whose ``dropped`` counts the candidates not kept
+    per reason (:data:`DROP_REASONS`) and ``n_candidates`` those tried.
+
+    ``max_samples`` candidates (default ``20 n``) are drawn and tried in turn until ``n``
+    grasps are kept; fewer than ``n`` logs a WARNING with the counts per reason and what
+    usually helps.
 
     ``units`` is the unit of ``mesh.vertices`` (``None``: metres; "mm" scales a
     copy by 1e-3); every other length argument and every result is in metres.  A
@@ -60,8 +187,10 @@ def antipodal_grasps(
 
     pad, up, edge_depth : grasps whose flat jaws (``pad = (width, length)`` [m], length
         axis along ``up``) would first meet the surface at a pad edge more than
-        ``edge_depth`` [m] before the contact point are dropped (counted in the log; see
+        ``edge_depth`` [m] before the contact point are dropped (reason ``"pad_edge"``; see
         :func:`edge_touch`); ``pad=None`` keeps every antipodal pair.
+    progress : True shows a progress bar of the candidates on stderr, False never, None
+        (default) when stderr is a terminal and the call runs longer than a few seconds.
     """
     import trimesh
 
@@ -72,54 +201,89 @@ def antipodal_grasps(
         raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
     mesh = mesh_in_metres(mesh, "mesh passed to antipodal_grasps", units=units, allow_scale=allow_scale)
     check_mu(mu)
+    for name, value in (("n", n), ("max_samples", 1 if max_samples is None else max_samples)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+    if pad is not None:
+        check_edge_args(pad, edge_depth)
     rng = np.random.default_rng(seed)
     half = np.arctan(mu)
     m = max_samples or 20 * n
+    bar = _progress_bar(progress, m, "antipodal_grasps")
+    if pad is not None:
+        _subdivide_once(mesh, m, pad)
     pts, fid = trimesh.sample.sample_surface(mesh, m, seed=int(rng.integers(2**31)))
     n1 = mesh.face_normals[fid]
     axes = _cone_directions(rng, -n1, half)
     # ray start offset off the surface: far above round-off of the mesh scale, far below any wall
     eps = 1e-6 * mesh.scale
     locs, ray_idx, tri_idx = mesh.ray.intersects_location(pts + eps * axes, axes, multiple_hits=True)
-    out = []
-    n_edge = 0
-    for k in range(m):
-        hits = np.flatnonzero(ray_idx == k)
-        if hits.size == 0:
-            continue
-        dist = (locs[hits] - pts[k]) @ axes[k]
-        exits = hits[(mesh.face_normals[tri_idx[hits]] @ axes[k] > 0) & (dist > eps)]
-        if exits.size == 0:
-            continue
-        j = exits[np.argmax((locs[exits] - pts[k]) @ axes[k])]
-        p2, n2 = locs[j], mesh.face_normals[tri_idx[j]]
-        width = float(np.linalg.norm(p2 - pts[k]))
-        if not min_width <= width <= max_width or np.arccos(np.clip(n2 @ axes[k], -1, 1)) > half:
-            continue
-        if table_z is not None and min(pts[k][2], p2[2]) < table_z + clearance:
-            continue
-        if pad is not None and (
-            edge_touch(mesh, pts[k], axes[k], up, pad, edge_depth)
-            or edge_touch(mesh, p2, -axes[k], up, pad, edge_depth)
-        ):
-            n_edge += 1
-            continue
-        out.append(
-            {
-                "p1": pts[k],
-                "p2": p2,
-                "n1": n1[k],
-                "n2": n2,
-                "axis": axes[k],
-                "center": 0.5 * (pts[k] + p2),
-                "width": width,
-            }
+    # the hits of ray k are order[starts[k]:starts[k + 1]], in the order the intersector gave them
+    order = np.argsort(ray_idx, kind="stable")
+    starts = np.searchsorted(ray_idx[order], np.arange(m + 1))
+    out, dropped = [], dict.fromkeys(DROP_REASONS, 0)
+    geometry = (locs, tri_idx, eps, half, (min_width, max_width), table_z, clearance, pad, up, edge_depth)
+    try:
+        for k in range(m):
+            grasp = _antipodal_candidate(
+                mesh, pts[k], n1[k], axes[k], order[starts[k] : starts[k + 1]], *geometry
+            )
+            if isinstance(grasp, str):
+                dropped[grasp] += 1
+            else:
+                out.append(grasp)
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix(kept=len(out), refresh=False)
+            if len(out) == n:
+                break
+    finally:
+        if bar is not None:
+            bar.close()
+    result = Grasps(out, dropped=dropped)
+    log.info("antipodal_grasps: %s", result.summary())
+    if len(result) < n:
+        hints = "; ".join(
+            f"{c} {r} ({DROP_REASONS[r][0]}: {DROP_REASONS[r][1]})" for r, c in result.dropped.items() if c
         )
-        if len(out) == n:
-            break
-    if n_edge:
-        log.info("antipodal_grasps: dropped %d grasps whose jaws meet the surface at a pad edge", n_edge)
-    return out
+        log.warning(
+            "antipodal_grasps: %d of %d grasps found among %d candidates; dropped %s; or draw more "
+            "candidates (max_samples=%d now)",
+            len(result),
+            n,
+            result.n_candidates,
+            hints or "none",
+            m,
+        )
+    return result
+
+
+def _antipodal_candidate(
+    mesh, p1, n1, axis, hits, locs, tri_idx, eps, half, widths, table_z, clearance, pad, up, edge_depth
+) -> dict | str:
+    """The grasp of one candidate of :func:`antipodal_grasps` (jaw 1 at ``p1`` (3,) with
+    normal ``n1`` closing along ``axis``; ``hits`` its ray's rows of ``locs`` / ``tri_idx``),
+    or the key of :data:`DROP_REASONS` saying why it is not kept."""
+    if hits.size == 0:
+        return "no_far_side"
+    dist = (locs[hits] - p1) @ axis
+    exits = hits[(mesh.face_normals[tri_idx[hits]] @ axis > 0) & (dist > eps)]
+    if exits.size == 0:
+        return "no_far_side"
+    j = exits[np.argmax((locs[exits] - p1) @ axis)]
+    p2, n2 = locs[j], mesh.face_normals[tri_idx[j]]
+    width = float(np.linalg.norm(p2 - p1))
+    if width < widths[0]:
+        return "too_narrow"
+    if width > widths[1]:
+        return "too_wide"
+    if np.arccos(np.clip(n2 @ axis, -1, 1)) > half:
+        return "outside_cone"
+    if table_z is not None and min(p1[2], p2[2]) < table_z + clearance:
+        return "near_table"
+    if pad is not None and _edge_pair(mesh, p1, p2, axis, up, pad, edge_depth):
+        return "pad_edge"
+    return {"p1": p1, "p2": p2, "n1": n1, "n2": n2, "axis": axis, "center": 0.5 * (p1 + p2), "width": width}
 
 
 def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float = 0.75) -> bool:
@@ -130,16 +294,22 @@ def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float 
     ``1 − rim`` of the face (or nothing faces the jaw).  The jaw then presses with its
     edge, far from the planned contact, and face-contact models do not describe what it
     transmits.  A patch that merely spans the face (a cylinder along the pad) is not
-    an edge contact: its pressure centre stays inside."""
+    an edge contact: its pressure centre stays inside.
+
+    Raises ValueError for a bad ``pad`` or ``depth`` (rather than calling every grasp an edge touch).
+    """
     from ..sources.jaws import jaw_frame
     from ..sources.reach import reach_profile
 
+    check_edge_args(pad, depth)
     a = np.asarray(approach, float) / np.linalg.norm(approach)
     up = np.asarray(up, float)
     if abs(a @ up) > 0.99 * np.linalg.norm(up):  # jaw length axis undefined: any perpendicular
         up = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     try:
-        prof = reach_profile(mesh, p, a, up, pad=pad, closing=depth, allow_scale=True)
+        prof = reach_profile(
+            mesh, p, a, up, pad=pad, closing=depth, max_edge=_EDGE_MAX_EDGE, allow_scale=True
+        )
     except ValueError:  # the pad touches nothing facing it: no face contact at all
         return True
     _, e1, e2 = jaw_frame(a, up)
@@ -157,7 +327,8 @@ def horizontal_grasps(
     pad: tuple[float, float] | None = (0.02, 0.04),
     edge_depth: float = 1e-3,
     units: str | float | None = None,
-) -> list[dict]:
+    progress: bool | None = None,
+) -> Grasps:
     """Antipodal grasps with horizontal axes through a vertical axis, on a grid of
     ``heights`` (k,) [m] × ``n_angles`` axis angles in [0, π) — the layout of the measured
     stiffness maps (thesis §4.3.3.1) and of a parallel-jaw gripper grasping an upright
@@ -165,8 +336,12 @@ def horizontal_grasps(
     outermost hits of the line, ``axis`` from jaw 1 into the object), kept when both
     surface normals lie within the friction cone (half-angle ``arctan μ``) of the axis
     and, with ``pad``, neither jaw first meets the surface at a pad edge (:func:`edge_touch`).
+    Returned as :class:`Grasps` (the grid's lines are the candidates, in height-major order;
+    ``dropped`` counts ``no_far_side`` (the line meets the mesh less than twice),
+    ``outside_cone`` and ``pad_edge``).
 
     centre : (2,) the vertical axis's (x, y) [m] (default the mesh box's centre).
+    progress : as :func:`antipodal_grasps`.
     """
     from ..units import closed_mesh
     from .gws import check_mu
@@ -175,6 +350,8 @@ def horizontal_grasps(
     check_mu(mu)
     if isinstance(n_angles, bool) or not isinstance(n_angles, (int, np.integer)) or n_angles < 1:
         raise ValueError(f"n_angles must be an integer >= 1; got {n_angles!r}")
+    if pad is not None:
+        check_edge_args(pad, edge_depth)
     z = np.atleast_1d(np.asarray(heights, float))
     lo, hi = mesh.bounds
     if z.ndim != 1 or not np.isfinite(z).all() or ((z <= lo[2]) | (z >= hi[2])).any():
@@ -184,43 +361,55 @@ def horizontal_grasps(
     phis = np.pi * np.arange(n_angles) / n_angles
     Z, P = np.meshgrid(z, phis, indexing="ij")
     d = np.column_stack([np.cos(P.ravel()), np.sin(P.ravel()), np.zeros(P.size)])
+    bar = _progress_bar(progress, len(d), "horizontal_grasps")
     far = float(np.linalg.norm(hi - lo))
     origins = np.column_stack([c[0] - far * d[:, 0], c[1] - far * d[:, 1], Z.ravel()])
     locs, ray_idx, tri_idx = mesh.ray.intersects_location(origins, d, multiple_hits=True)
-    out, n_cone, n_edge = [], 0, 0
-    for k in range(len(d)):
-        hits = np.flatnonzero(ray_idx == k)
-        if hits.size < 2:
-            continue
-        t = (locs[hits] - origins[k]) @ d[k]
-        i1, i2 = hits[np.argmin(t)], hits[np.argmax(t)]
-        p1, p2 = locs[i1], locs[i2]
-        n1, n2 = mesh.face_normals[tri_idx[i1]], mesh.face_normals[tri_idx[i2]]
-        if np.arccos(np.clip(-n1 @ d[k], -1, 1)) > half or np.arccos(np.clip(n2 @ d[k], -1, 1)) > half:
-            n_cone += 1
-            continue
-        if pad is not None and (
-            edge_touch(mesh, p1, d[k], (0.0, 0.0, 1.0), pad, edge_depth)
-            or edge_touch(mesh, p2, -d[k], (0.0, 0.0, 1.0), pad, edge_depth)
-        ):
-            n_edge += 1
-            continue
-        out.append(
-            {
-                "p1": p1,
-                "p2": p2,
-                "n1": n1,
-                "n2": n2,
-                "axis": d[k].copy(),
-                "center": 0.5 * (p1 + p2),
-                "width": float(np.linalg.norm(p2 - p1)),
-            }
-        )
-    log.info(
-        "horizontal_grasps: %d of %d kept (%d outside the friction cone, %d meet a pad edge)",
-        len(out),
-        len(d),
-        n_cone,
-        n_edge,
-    )
-    return out
+    if pad is not None:
+        _subdivide_once(mesh, 2 * len(d), pad)
+    order = np.argsort(ray_idx, kind="stable")
+    starts = np.searchsorted(ray_idx[order], np.arange(len(d) + 1))
+    out, dropped = [], dict.fromkeys(DROP_REASONS, 0)
+    try:
+        for k in range(len(d)):
+            grasp = _horizontal_candidate(
+                mesh, origins[k], d[k], order[starts[k] : starts[k + 1]], locs, tri_idx, half, pad, edge_depth
+            )
+            if isinstance(grasp, str):
+                dropped[grasp] += 1
+            else:
+                out.append(grasp)
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix(kept=len(out), refresh=False)
+    finally:
+        if bar is not None:
+            bar.close()
+    result = Grasps(out, dropped=dropped)
+    log.info("horizontal_grasps: %s", result.summary())
+    return result
+
+
+def _horizontal_candidate(mesh, origin, d, hits, locs, tri_idx, half, pad, edge_depth) -> dict | str:
+    """The grasp on the line from ``origin`` along ``d`` of :func:`horizontal_grasps`
+    (``hits`` its rows of ``locs`` / ``tri_idx``), or the key of :data:`DROP_REASONS` saying
+    why it is not kept."""
+    if hits.size < 2:
+        return "no_far_side"
+    t = (locs[hits] - origin) @ d
+    i1, i2 = hits[np.argmin(t)], hits[np.argmax(t)]
+    p1, p2 = locs[i1], locs[i2]
+    n1, n2 = mesh.face_normals[tri_idx[i1]], mesh.face_normals[tri_idx[i2]]
+    if np.arccos(np.clip(-n1 @ d, -1, 1)) > half or np.arccos(np.clip(n2 @ d, -1, 1)) > half:
+        return "outside_cone"
+    if pad is not None and _edge_pair(mesh, p1, p2, d, (0.0, 0.0, 1.0), pad, edge_depth):
+        return "pad_edge"
+    return {
+        "p1": p1,
+        "p2": p2,
+        "n1": n1,
+        "n2": n2,
+        "axis": d.copy(),
+        "center": 0.5 * (p1 + p2),
+        "width": float(np.linalg.norm(p2 - p1)),
+    }

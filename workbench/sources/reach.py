@@ -31,6 +31,17 @@ __all__ = ["fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
 log = logging.getLogger(__name__)
 
 
+def check_press_closing(closing, what: str = "closing") -> float:
+    """``closing`` [m] past first touch as a float if it is a plausible jaw closing
+    (:mod:`workbench.plausible`) and > 0 (a pad pressed by 0 carries no pressure), else
+    ValueError — the rule of every REACH press (:func:`reach_profile`, :func:`pad_profile`,
+    the samplers' pad-edge check)."""
+    c = check("closing", closing, f"{what} (past first touch [m])")
+    if c <= 0:
+        raise ValueError(f"{what} must be a closing > 0 [m] past first touch, e.g. 1e-3; got {closing!r}")
+    return c
+
+
 def reach_profile(
     mesh,
     center,
@@ -76,9 +87,7 @@ def reach_profile(
         check_pad(pad)
     win = _check_window(window, depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
-    if not (
-        check("closing", closing, "closing (past first touch [m])") > 0 and stiffness > 0 and max_edge > 0
-    ):
+    if not (check_press_closing(closing) > 0 and stiffness > 0 and max_edge > 0):
         raise ValueError(
             f"closing, stiffness and max_edge must be > 0; got {closing!r}, {stiffness!r}, {max_edge!r}"
         )
@@ -101,7 +110,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
     if not isinstance(jaw, Jaw):
         raise ValueError(f"jaw must be a Jaw (Gripper.jaws(pose)); got {type(jaw).__name__}")
     k = jaw.stiffness if stiffness is None else stiffness
-    if not (check("closing", closing, "closing (past first touch [m])") > 0 and k > 0 and max_edge > 0):
+    if not (check_press_closing(closing) > 0 and k > 0 and max_edge > 0):
         raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
     cen, normal, area = fine_surface(mesh, float(max_edge))
     # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
