@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import sys
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -221,26 +222,15 @@ def antipodal_grasps(
     # the hits of ray k are order[starts[k]:starts[k + 1]], in the order the intersector gave them
     order = np.argsort(ray_idx, kind="stable")
     starts = np.searchsorted(ray_idx[order], np.arange(m + 1))
-    out, dropped = [], dict.fromkeys(DROP_REASONS, 0)
     geometry = (locs, tri_idx, eps, half, (min_width, max_width), table_z, clearance, pad, up, edge_depth)
-    try:
-        for k in range(m):
-            grasp = _antipodal_candidate(
-                mesh, pts[k], n1[k], axes[k], order[starts[k] : starts[k + 1]], *geometry
-            )
-            if isinstance(grasp, str):
-                dropped[grasp] += 1
-            else:
-                out.append(grasp)
-            if bar is not None:
-                bar.update(1)
-                bar.set_postfix(kept=len(out), refresh=False)
-            if len(out) == n:
-                break
-    finally:
-        if bar is not None:
-            bar.close()
-    result = Grasps(out, dropped=dropped)
+    result = _collect(
+        (
+            _antipodal_candidate(mesh, pts[k], n1[k], axes[k], order[starts[k] : starts[k + 1]], *geometry)
+            for k in range(m)
+        ),
+        bar,
+        n,
+    )
     log.info("antipodal_grasps: %s", result.summary())
     if len(result) < n:
         hints = "; ".join(
@@ -256,6 +246,28 @@ def antipodal_grasps(
             m,
         )
     return result
+
+
+def _collect(candidates: Iterator[dict | str], bar: Any, n: int | None = None) -> Grasps:
+    """The grasps among ``candidates`` (each a grasp dict or the :data:`DROP_REASONS` key it was
+    dropped for), at most ``n`` (None: all), the drops counted; ``bar`` (or None) advanced per
+    candidate and closed at the end."""
+    out, dropped = [], dict.fromkeys(DROP_REASONS, 0)
+    try:
+        for grasp in candidates:
+            if isinstance(grasp, str):
+                dropped[grasp] += 1
+            else:
+                out.append(grasp)
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix(kept=len(out), refresh=False)
+            if n is not None and len(out) == n:
+                break
+    finally:
+        if bar is not None:
+            bar.close()
+    return Grasps(out, dropped=dropped)
 
 
 def _antipodal_candidate(
@@ -369,23 +381,15 @@ def horizontal_grasps(
         _subdivide_once(mesh, 2 * len(d), pad)
     order = np.argsort(ray_idx, kind="stable")
     starts = np.searchsorted(ray_idx[order], np.arange(len(d) + 1))
-    out, dropped = [], dict.fromkeys(DROP_REASONS, 0)
-    try:
-        for k in range(len(d)):
-            grasp = _horizontal_candidate(
+    result = _collect(
+        (
+            _horizontal_candidate(
                 mesh, origins[k], d[k], order[starts[k] : starts[k + 1]], locs, tri_idx, half, pad, edge_depth
             )
-            if isinstance(grasp, str):
-                dropped[grasp] += 1
-            else:
-                out.append(grasp)
-            if bar is not None:
-                bar.update(1)
-                bar.set_postfix(kept=len(out), refresh=False)
-    finally:
-        if bar is not None:
-            bar.close()
-    result = Grasps(out, dropped=dropped)
+            for k in range(len(d))
+        ),
+        bar,
+    )
     log.info("horizontal_grasps: %s", result.summary())
     return result
 
