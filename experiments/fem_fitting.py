@@ -120,7 +120,7 @@ KEYS = {
     "heights": Key("grasp heights as fractions of the bottle height, in (0, 1)"),
     "approaches": Key("approach name -> grasp-axis angle from the section's major axis", "rad"),
     "deltas_mm": Key(
-        "jaw displacements after first touch, each below the pad thickness", "mm", "closing", 1e-3
+        "jaw displacements after first touch, each below the pad thickness", "mm", "compression", 1e-3
     ),
     "pad": Key("silicone pad: width, length, thickness [m] and hexes nx, ny, nz", "m", fields=_PAD_M),
     "E": Key("pad Young's modulus (profiles are normalised: E only scales the force)", "Pa", "pad_modulus"),
@@ -141,7 +141,7 @@ KEYS = {
         "element size of the coarsened ablation variant, in [0.1, 100] (thesis: 3)", "mm"
     ),
     "reference_cases": Key("bottle contacts also solved on the full mesh (condensed vs reference)"),
-    "reference_delta_mm": Key("jaw displacement of those reference contacts", "mm", "closing", 1e-3),
+    "reference_delta_mm": Key("jaw displacement of those reference contacts", "mm", "compression", 1e-3),
     "render_examples": Key("profiles rendered as figures"),
 }
 

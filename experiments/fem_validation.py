@@ -71,7 +71,7 @@ KEYS = {
     "winkler_cells": Key("face cells per side of the 12 mm Winkler pad"),
     "compare_pad": Key("[nx, ny, nz] hexes of the 16 x 20 x 4 mm condensed-vs-full pad"),
     "compare_nu": Key("Poisson ratio of the condensed-vs-full pad", "", "poisson"),
-    "delta_sweep": Key("indentations of the force-displacement (monotonicity) check", "m", "closing"),
+    "delta_sweep": Key("indentations of the force-displacement (monotonicity) check", "m", "compression"),
     "hertz_fine_sizes": Key("finest hex size under the Hertz contact (a = 1.5 mm), one mesh each", "m"),
     "hertz_growth": Key("geometric growth of the Hertz mesh away from the contact, > 1"),
     "fidelity_pad": Key("[nx, ny, nz] hexes of the 16 x 20 x 5 mm linear-vs-neo-Hookean pad"),

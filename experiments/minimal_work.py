@@ -167,7 +167,7 @@ KEYS = {
     "jaw": Key("jaw pad [width, length]", "m", "pad_size"),
     "grasp_force": Key("force per jaw of the profiles and q_robust (thesis §4.3.3.1)", "N", "jaw_force"),
     "profiles": Key("jaw contact profiles: REACH (§4.3.2.1) or the FEM pad", choices=PROFILE_SOURCES),
-    "reach_closing_mm": Key("REACH pad compression past first touch", "mm", "closing", 1e-3),
+    "reach_closing_mm": Key("REACH pad compression past first touch", "mm", "compression", 1e-3),
     "M": Key("linearisation directions of C_outer (Eq. 3.28)"),
     "robust_samples": Key("pose samples N_r of q_robust"),
     "E": Key("wall Young's modulus before calibration (PET)", "Pa", "wall_modulus"),

@@ -122,17 +122,17 @@ KEYS = {
         "thesis bottle: index 0-23, grasp height as a fraction of its height, Drake mesh [n_theta, n_z]"
     ),
     "ellipse_sections": Key("facets around Drake's elliptic cylinder mesh"),
-    "deltas_mm": Key("jaw displacements, each below the pad thickness", "mm", "closing", 1e-3),
+    "deltas_mm": Key("jaw displacements, each below the pad thickness", "mm", "compression", 1e-3),
     "reference_stabilization": Key("fraction of full integration kept against hourglass modes (neo-Hookean)"),
     "sweep_delta_mm": Key(
-        "jaw displacement of the runtime-vs-error sweeps, one of deltas_mm", "mm", "closing", 1e-3
+        "jaw displacement of the runtime-vs-error sweeps, one of deltas_mm", "mm", "compression", 1e-3
     ),
     "condensed_sweep_cells": Key("[nx, ny, nz] hexes of the condensed pads of the runtime sweep"),
     "drake_sweep_resolution_over_R": Key("Drake's rigid tessellation hints of the runtime sweep, / R"),
     "drake_resolution_over_R": Key("Drake's rigid tessellation hint of the per-delta rows, / R, < 1"),
     "foundation_cells": Key("Winkler grid cells per side of the runtime sweep (the last is used per delta)"),
     "margin_delta_mm": Key(
-        "jaw displacement of the fitted 6DLS and the margins, one of deltas_mm", "mm", "closing", 1e-3
+        "jaw displacement of the fitted 6DLS and the margins, one of deltas_mm", "mm", "compression", 1e-3
     ),
     "ls_model": Key("6DLS fitted to each peer's 6DFWs", choices=lambda: _ls_models()),
     "ls_twists": Key("thesis-sampled twists of that fit (2 ls_twists wrenches)"),

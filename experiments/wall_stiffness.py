@@ -74,17 +74,21 @@ DEFAULT_CONFIG = {
 }
 #: what each key means, its unit and plausible range (``workbench run wall-stiffness --help``)
 KEYS = {
-    "bottles": Key("indices into bottle_family(seed), 0-23 (16-23 asymmetric)"),
+    "bottles": Key(
+        "bottle family only (no object=): indices into bottle_family(seed), 0-23 (16-23 asymmetric)"
+    ),
     "E": Key("wall Young's modulus", "Pa", "wall_modulus"),
     "nu": Key("wall Poisson ratio", "", "poisson"),
     "thickness": Key("wall thickness", "m", "wall_thickness"),
     "mesh": Key("wall hexes [around, along the height]; memory grows ~ their product squared"),
-    "height_fractions": Key("grasp heights as fractions of the wall's height, in [0, 1]"),
-    "n_angles": Key("grasp-axis angles in [0, pi) per height"),
+    "height_fractions": Key("bottle family only: grasp heights as fractions of the wall's height, in [0, 1]"),
+    "n_angles": Key("bottle family only: grasp-axis angles in [0, pi) per height"),
     "force": Key("force per jaw", "N", "jaw_force"),
     "jaw": Key("jaw face [width (horizontal), length (vertical)]", "m", "pad_size"),
-    "ring_meshes": Key("hexes around the Roark ring of the validation"),
-    "convergence_meshes": Key("wall meshes [around, along] of the mesh-convergence study"),
+    "ring_meshes": Key("bottle family only: hexes around the Roark ring of the validation"),
+    "convergence_meshes": Key(
+        "bottle family only: wall meshes [around, along] of the mesh-convergence study"
+    ),
     "object": Key("a watertight mesh file in metres of a thin-walled object; empty = the bottle family"),
     "locations": Key("JSON file with stiffness_locations (2n, 3) [m] for object="),
     "rigid_closing_mm": Key("closings below this count as rigid", "mm", "closing", 1e-3),
@@ -324,42 +328,53 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-#: the measured discretisation error of the default wall mesh (benchmarks/bench_shoulder_convergence.py)
-CONVERGENCE_FILE = Path("results/benchmarks/shoulder_convergence.json")
+#: the measured discretisation error of wall meshes at body and shoulder grasps
+#: (benchmarks/bench_shoulder_convergence.py; ``make bench-shoulder``), beside the experiments
+CONVERGENCE_FILE = (
+    Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "shoulder_convergence.json"
+)
 
 
 def mesh_error(mesh: list, path: Path = CONVERGENCE_FILE) -> dict:
-    """What is known of the stiffness error of wall ``mesh`` [around, along]: the error of that
-    mesh against the finest one measured, per region (body, below a shoulder, on a shoulder)
-    from the convergence benchmark's file, or a note that this mesh was not measured."""
+    """What is known of the stiffness error of wall ``mesh`` [around, along]: per region (body,
+    below a shoulder, on a shoulder) the range and median of its stiffness relative to the finest
+    mesh measured at the same grasps, from the convergence benchmark's file; or a note that this
+    mesh was not measured (or that the file is absent, e.g. in an installed wheel)."""
     import json
 
     try:
         data = json.loads(Path(path).read_text())
     except (OSError, ValueError):
-        return {"measured": False, "note": f"no convergence measurement at {path} (make reproduce writes it)"}
-    if list(mesh) != list(data.get("default_mesh", [])):
         return {
             "measured": False,
-            "note": f"mesh {list(mesh)} not measured; {path} measures {data.get('default_mesh')} "
-            "against the finest mesh that fits (benchmarks/bench_shoulder_convergence.py)",
+            "note": f"no convergence measurement at {path} (make bench-shoulder writes it)",
         }
-    plain = [k for k in data["per_mesh"] if "/" not in k]  # "48x24/g2" is a graded variant
-    finest = max(plain, key=lambda k: int(k.split("x")[0]) * int(k.split("x")[1]))
+    key = "x".join(str(int(v)) for v in mesh)
+    by_region: dict[str, list[float]] = {}
+    for loc in data.get("locations", []):
+        rel = loc.get("rel_to_finest", {}).get(key)
+        if rel is not None:
+            by_region.setdefault(loc["region"], []).append(float(rel))
+    measured = sorted({k for loc in data.get("locations", []) for k in loc.get("rel_to_finest", {})})
+    if not by_region:
+        return {"measured": False, "note": f"mesh {list(mesh)} not measured (measured: {measured}; {path})"}
+    finest = data["locations"][0]["finest"]
     regions = {
-        name: {k: r["default_rel_to_finest"][k] for k in ("min", "median", "max")}
-        for name, r in data["regions"].items()
+        name: {"n": len(v), "min": min(v), "median": float(np.median(v)), "max": max(v)}
+        for name, v in by_region.items()
     }
     text = "; ".join(
-        f"{name.replace('_', ' ')} {r['min']:+.0%}..{r['max']:+.0%} (median {r['median']:+.0%})"
+        f"{name.replace('_', ' ')} {r['min']:+.0%}..{r['max']:+.0%} "
+        f"(median {r['median']:+.0%}, {r['n']} grasps)"
         for name, r in regions.items()
     )
     return {
         "measured": True,
         "reference_mesh": finest,
         "rel_to_reference": regions,
-        "note": f"stiffness of mesh {list(mesh)} vs {finest}: {text}; a jaw edge on a shoulder is not "
-        f"converged even on the finest meshes (results/benchmarks/shoulder_convergence.json)",
+        "note": f"stiffness of mesh {list(mesh)} vs {finest} on the benchmark's bottles: {text}; a jaw "
+        "edge on a shoulder is not converged even on the finest meshes "
+        "(results/benchmarks/shoulder_convergence.json)",
     }
 
 
@@ -414,6 +429,14 @@ def check_config(config: dict) -> None:
         check_key(key, KEYS[key], config[key])
     if len(config["jaw"]) != 2:
         raise ValueError(f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}")
+    for key in ("mesh", *(["convergence_meshes"] if not config["object"] else [])):
+        meshes = [config[key]] if key == "mesh" else config[key]
+        for m in meshes:
+            if len(m) != 2 or min(m) < 1:
+                raise ValueError(
+                    f"{key} must give [hexes around, hexes along the height], two integers >= 1, e.g. "
+                    f"[48, 24]; got {m!r}"
+                )
     check_workers(config["workers"], config["scheduler"])
     if config["locations"] and not config["object"]:
         raise ValueError(

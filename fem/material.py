@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,10 @@ class Material:
     nu: float = 0.45
 
     def __post_init__(self) -> None:
+        if isinstance(self.E, (bool, np.bool_)) or not isinstance(self.E, numbers.Real):
+            raise ValueError(
+                f"E must be a Young's modulus [Pa], a number; got {self.E!r} ({type(self.E).__name__})"
+            )
         if not (np.isfinite(self.E) and self.E > 0):
             raise ValueError(f"E must be a positive Young's modulus [Pa]; got {self.E}")
         from workbench.plausible import check

@@ -66,7 +66,7 @@ def test_physical_keys_carry_their_quantity(name):
         ("minimal-work", "E", "wall_modulus", 1.0),  # the object's wall
         ("wall-nonlinear", "E", "wall_modulus", 1.0),
         ("fem-fitting", "mu", "mu", 1.0),  # normalised away, still a friction coefficient
-        ("fem-fitting", "deltas_mm", "closing", 1e-3),
+        ("fem-fitting", "deltas_mm", "compression", 1e-3),
         ("minimal-work", "mass_kg", "mass", 1.0),
         ("sensitivity", "force_range", "jaw_force", 1.0),
         ("fem-validation", "winkler_h", "pad_thickness", 1.0),
@@ -182,7 +182,7 @@ def test_help_shows_unit_and_range_of_every_physical_key_and_the_words_of_every_
         ("fem-fitting", "nu", "pad Poisson ratio; plausible (-1, 0.5)"),
         ("fem-fitting", "code_frame", "one of object, jaw"),
         ("fem-fitting", "fine_level", "one of -1, 0, 1, 2, 3, 4, 5, 6"),
-        ("fem-fitting", "deltas_mm", "[mm]; plausible [0, 100] mm"),
+        ("fem-fitting", "deltas_mm", "[mm]; plausible [0, 20] mm"),
         (
             "peers",
             "pad_mm",
@@ -198,7 +198,7 @@ def test_help_shows_unit_and_range_of_every_physical_key_and_the_words_of_every_
         ("sensitivity", "force_range", "[N]; plausible (0, 500] N"),
         ("minimal-work", "profiles", "one of reach, fem"),
         ("minimal-work", "thickness", "wall thickness [m]; plausible [1e-05, 0.05] m"),
-        ("minimal-work", "reach_closing_mm", "[mm]; plausible [0, 100] mm"),
+        ("minimal-work", "reach_closing_mm", "[mm]; plausible [0, 20] mm"),
         ("ls-fitting", "wrench_source", "one of continuous, mesh"),
         ("ls-fitting", "surfaces", "one of S1, S2, S3, S4, S5, S6"),
         ("parametric-surfaces", "example_mu", "plausible [0, 2]"),
@@ -278,7 +278,11 @@ CARELESS = [
     # keys in mm: the slip and the value to pass in the key's unit (metres given to an mm key)
     ("peers", {"pad_mm": [0.016, 0.02, 0.005]}, ["pad_mm[0] [mm]", "probably in metres — pass 16 [mm]"]),
     ("fem-fitting", {"deltas_mm": [1000.0]}, ["deltas_mm[0] [mm]", "probably in micrometres — pass 1 [mm]"]),
-    ("minimal-work", {"reach_closing_mm": 1000}, ["jaw closing", "probably in micrometres — pass 1 [mm]"]),
+    (
+        "minimal-work",
+        {"reach_closing_mm": 1000},
+        ["pad compression", "probably in micrometres — pass 1 [mm]"],
+    ),
     # words
     (
         "wall-stiffness",

@@ -299,7 +299,7 @@ def test_careless_inputs_name_the_fix():
         evaluate_grasp(box, {"p1": g["p1"], "p2": g["p2"]}, mu=MU, mass=0.3, com=[0, 0, 0])
     with pytest.raises(ValueError, match="another unit"):
         evaluate_grasp(box, g, mu=MU, mass=0.3, com=[0, 10.0, 0])  # COM in mm on a metre mesh
-    with pytest.raises(ValueError, match="into the object"):
+    with pytest.raises(ValueError, match="p1 and p2 swapped"):
         evaluate_grasp(box, {**g, "axis": -g["axis"]}, mu=MU, mass=0.3, com=[0, 0, 0])
     for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)
         with pytest.raises(

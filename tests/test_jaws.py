@@ -62,9 +62,14 @@ def test_check_pad_takes_two_finite_positive_sizes():
 
 
 def test_check_grasp_normalises_the_axis_and_names_what_is_missing():
-    p1, p2, axis = check_grasp({"p1": [0.03, 0, 0], "p2": [-0.03, 0, 0], "axis": [-3.0, 0.0, 4.0]})
-    np.testing.assert_allclose(axis, [-0.6, 0.0, 0.8], rtol=1e-15)  # (−3, 0, 4) / 5
-    assert p1.tolist() == [0.03, 0, 0] and p2.tolist() == [-0.03, 0, 0]
+    p1, p2, axis = check_grasp({"p1": [0.03, 0, 0.04], "p2": [-0.03, 0, 0.12], "axis": [-3.0, 0.0, 4.0]})
+    np.testing.assert_allclose(axis, [-0.6, 0.0, 0.8], rtol=1e-15)  # (−3, 0, 4) / 5, along p2 − p1
+    assert p1.tolist() == [0.03, 0, 0.04] and p2.tolist() == [-0.03, 0, 0.12]
+    # an axis 45 deg off the line through both contacts: a hand-made grasp dict (new-user trial)
+    with pytest.raises(ValueError, match=r"45.0 deg from the line p1 → p2 .* pass axis = \(p2 - p1\)"):
+        check_grasp({"p1": [0, -0.02, 0], "p2": [0, 0.02, 0], "axis": [0, 1, 1]})
+    with pytest.raises(ValueError, match="p1 and p2 swapped"):
+        check_grasp({"p1": [0.03, 0, 0], "p2": [-0.03, 0, 0], "axis": [1, 0, 0]})
     with pytest.raises(ValueError, match=r"'p1', 'p2'.*and 'axis'.*got \['p1', 'p2'\]"):
         check_grasp({"p1": [0, 0, 0], "p2": [1, 0, 0]})
     with pytest.raises(ValueError, match="got list"):

@@ -5,6 +5,7 @@ asked for is a WARNING naming the reasons, and a progress bar can be asked for."
 import copy
 import logging
 import pickle
+import re
 import sys
 
 import numpy as np
@@ -63,8 +64,25 @@ def test_every_candidate_too_wide_is_counted_and_warned(caplog):
 
 def test_every_candidate_near_the_table():
     cube = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
-    g = antipodal_grasps(cube, 3, 0.0, table_z=1.0, max_samples=25, pad=None)
+    g = antipodal_grasps(cube, 3, 0.0, table_z=0.0249, max_samples=25, pad=None)  # just under its top
     assert len(g) == 0 and g.dropped == {**dict.fromkeys(DROP_REASONS, 0), "near_table": 25}
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"table_z": 1.0}, "at or above the object's top"),  # a table over the object
+        ({"max_width": 100}, "probably in millimetres — pass 0.1"),  # 100 mm meant
+        ({"min_width": 0.05, "max_width": 0.02}, "min_width must be < max_width"),
+        ({"max_width": -0.1}, "must be a gripper opening"),
+        ({"up": (0, 0, 0)}, "up must be a non-zero"),
+    ],
+)
+def test_arguments_that_would_drop_every_candidate_are_refused(kwargs, words):
+    """A new user's trial: these returned 0 grasps, blaming too_wide / pad_edge, not the argument."""
+    cube = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
+    with pytest.raises(ValueError, match=re.escape(words)):
+        antipodal_grasps(cube, 3, 0.5, max_samples=25, **kwargs)
 
 
 def test_n_reached_stops_early_and_logs_no_warning(caplog):

@@ -291,6 +291,11 @@ class Tolerances:
     # payload (a few kg; 10 N per jaw at mu 0.5 holds 1 kg), so a larger number is taken for
     # grams — a filled 0.27 kg bottle given as 270, a 50 g cup as 50.  Raise it for heavy parts.
     max_plausible_mass_kg: float = 20.0
+
+    # Largest angle [deg] between a grasp's axis and the line p1 -> p2 (check_grasp): parallel
+    # jaws close along the line through both contacts; a grasp dict whose axis points elsewhere
+    # was put together by hand (the sampler's axes are that line to round-off).
+    grasp_axis_max_deg: float = 1.0
     # (the other physical inputs' plausible ranges: workbench.plausible.RANGES)
 
     # issue 44: model round-off / profile checks
@@ -678,6 +683,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "min_plausible_stiffness": _NONNEG,
     "antipodal_max_deg": _real(0.0, hi=180.0),
     "max_plausible_mass_kg": _POS,
+    "grasp_axis_max_deg": _real(0.0, hi=180.0),
     # issue 44: model round-off / profile checks
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max
     "jaw_profile_plane_rtol": _NONNEG,  # 0: exactly the footprint's circumscribed circle

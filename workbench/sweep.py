@@ -122,7 +122,8 @@ def expand_grid(grid: dict[str, list], zipped: dict[str, list] | None = None) ->
         for key, values in lists.items():
             if not isinstance(values, list):
                 raise SweepError(
-                    f"{kind} {key}=...: expected a JSON list of values, e.g. {key}=[0.3, 0.5]; "
+                    f"{kind} {key}=...: expected a JSON list of values, each as --set {key}= takes it "
+                    f"(e.g. {key}=[{json.dumps(values, default=repr)}] for that one value); "
                     f"got {json.dumps(values, default=repr)}"
                 )
             if not values:

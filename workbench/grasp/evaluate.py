@@ -37,7 +37,7 @@ from .contacts import ContactSet
 from .gws import check_mu, check_wrench
 from .models import MODELS, contact_sets
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
-from .robust import Perturbation, gravity_wrench, q_robust
+from .robust import Perturbation, check_object_mass, gravity_wrench, q_robust
 
 log = logging.getLogger(__name__)
 
@@ -148,6 +148,7 @@ def evaluate_grasp(
                     f"com {c.tolist()} lies far outside the object's bounding box "
                     f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
                 )
+        check_object_mass(mass, mesh)
         w = gravity_wrench(mass, com, down=down)
     else:
         if mass is not None or com is not None:

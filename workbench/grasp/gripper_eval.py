@@ -25,7 +25,7 @@ from ..limit_surface import LimitSurfaceCache
 from .models import MODELS, check_model, contact_sets
 from .pose_robust import PoseNoise, check_pose, pose_samples
 from .resistance import CutStore, min_grasp_force, resists
-from .robust import check_mass, gravity_wrench
+from .robust import check_object_mass, gravity_wrench
 from .settle import SettledContact, settle_contact
 
 log = logging.getLogger(__name__)
@@ -83,26 +83,7 @@ def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
     from ..sources.gripper import check_pad_mu
 
     check_pad_mu(mu)
-    check_mass(mass)
-    if mesh is not None and getattr(mesh, "is_volume", False):
-        rho = mass / float(mesh.volume)
-        from ..plausible import RANGES
-
-        lo, hi = RANGES["density"].lo, RANGES["density"].hi  # the one rule of a density
-        if rho > hi:
-            raise ValueError(
-                f"mass {mass!r} kg in a {mesh.volume * 1e6:.3g} cm³ object is a mean density of "
-                f"{rho:.3g} kg/m³, "
-                f"denser than any solid (osmium: 22,600): a mass in grams? pass {mass / 1e3:g}"
-            )
-        if rho < lo:
-            log.warning(
-                "mass %g kg in a %.3g cm³ object: a mean density of %.3g kg/m³, lighter than a paper cup — "
-                "a mass in tonnes or a mesh in millimetres?",
-                mass,
-                mesh.volume * 1e6,
-                rho,
-            )
+    check_object_mass(mass, mesh)
     d = np.asarray(down, dtype=float)
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(

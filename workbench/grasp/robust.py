@@ -12,6 +12,7 @@ at once from one seeded generator (same seed ⇒ same q_robust).
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,8 @@ from scipy.spatial.transform import Rotation
 
 from .gws import check_contacts, check_mu
 from .resistance import REPRESENTATIONS, CutStore, resists
+
+log = logging.getLogger(__name__)
 
 G_ACC = 9.81  # m/s²
 
@@ -39,10 +42,20 @@ class Perturbation:
     def __post_init__(self) -> None:
         if isinstance(self.n_samples, bool) or int(self.n_samples) != self.n_samples or self.n_samples < 1:
             raise ValueError(f"n_samples must be an integer >= 1; got {self.n_samples!r}")
-        for name in ("sigma_trans", "sigma_rot", "sigma_mu", "sigma_mass", "sigma_com"):
+        from workbench.plausible import check
+
+        quantity = {
+            "sigma_trans": "pose_noise_trans",
+            "sigma_rot": "pose_noise_rot",
+            "sigma_mu": "relative_noise",
+            "sigma_mass": "relative_noise",
+            "sigma_com": "pose_noise_trans",
+        }
+        for name, q in quantity.items():
             v = getattr(self, name)
-            if not (np.isscalar(v) and np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be a finite standard deviation >= 0; got {v!r}")
+            if isinstance(v, (np.integer, np.floating)):
+                v = v.item()
+            check(q, v, f"Perturbation.{name}")
 
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -66,6 +79,40 @@ def check_mass(mass) -> float:
     if isinstance(mass, (np.integer, np.floating)):
         mass = mass.item()
     return check("mass", mass, "mass")
+
+
+def check_object_mass(mass, mesh=None) -> float:
+    """``mass`` [kg] by :func:`check_mass`, and against the volume ``mesh`` encloses (its convex
+    hull's: a hollow object's mesh may hold only its wall, while its mass counts the content): a
+    mean density above the plausible range (:data:`workbench.plausible.RANGES` ``"density"``) is
+    refused as a mass in grams (8 kg in a 240 mL box), one below it warned (a mesh in another
+    unit, or a mass in tonnes).  The one rule of an object's mass: :func:`~.evaluate.evaluate_grasp`
+    and the gripper tasks (:func:`~.gripper_eval.check_task`) call it."""
+    from workbench.plausible import RANGES
+
+    m = check_mass(mass)
+    if mesh is None or not getattr(mesh, "is_volume", False):
+        return m
+    volume = float(mesh.convex_hull.volume)
+    if not volume > 0:
+        return m
+    rho = m / volume
+    lo, hi = RANGES["density"].lo, RANGES["density"].hi
+    cm3 = volume * 1e6
+    if rho > hi:
+        raise ValueError(
+            f"mass {mass!r} kg in a {cm3:.3g} cm³ object is a mean density of {rho:.3g} kg/m³, denser "
+            f"than any solid (osmium: 22,600): a mass in grams? pass {m / 1e3:g}"
+        )
+    if rho < lo:
+        log.warning(
+            "mass %g kg in a %.3g cm³ object: a mean density of %.3g kg/m³, lighter than a paper cup — "
+            "a mass in tonnes or a mesh in millimetres?",
+            m,
+            cm3,
+            rho,
+        )
+    return m
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:

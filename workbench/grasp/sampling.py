@@ -118,6 +118,28 @@ def check_edge_args(pad, edge_depth) -> None:
     check_press_closing(edge_depth, "edge_depth")
 
 
+def _check_sampler_args(mesh, min_width, max_width, table_z, up) -> None:
+    """ValueError for arguments that would make every candidate fail and blame the geometry:
+    widths that are not a gripper's opening (:mod:`workbench.plausible`, e.g. 100 for 0.1 m) or
+    out of order, a table above the object, a zero ``up``."""
+    from ..plausible import check
+
+    lo = check("opening", min_width, "min_width (the narrowest jaw opening [m])") if min_width else 0.0
+    hi = check("opening", max_width, "max_width (the gripper's opening [m])")
+    if not lo < hi:
+        raise ValueError(f"min_width must be < max_width; got {min_width!r} >= {max_width!r}")
+    u = np.asarray(up, dtype=float)
+    if u.shape != (3,) or not np.isfinite(u).all() or np.linalg.norm(u) == 0:
+        raise ValueError(f"up must be a non-zero (3,) direction; got {up!r}")
+    if table_z is not None:
+        z_lo, z_hi = mesh.bounds[:, 2]
+        if not np.isfinite(table_z) or table_z >= z_hi:
+            raise ValueError(
+                f"table_z = {table_z!r} m is at or above the object's top ({z_hi:.4g} m): the table is "
+                f"under the object, usually at its bottom z = {z_lo:.4g} m (None: no table)"
+            )
+
+
 def _subdivide_once(mesh, presses: int, pad) -> None:
     """Cache the whole mesh refined for the pad-edge check (:func:`~workbench.sources.reach.fine_surface`)
     so that each :func:`edge_touch` takes the faces under its pad from it instead of refining
@@ -207,6 +229,7 @@ def antipodal_grasps(
             raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
     if pad is not None:
         check_edge_args(pad, edge_depth)
+    _check_sampler_args(mesh, min_width, max_width, table_z, up)
     rng = np.random.default_rng(seed)
     half = np.arctan(mu)
     m = max_samples or 20 * n

@@ -133,7 +133,11 @@ def fem_jaw_profile(
         raise ValueError(f"point must be a finite (3,) position [m]; got {point!r}")
     R = jaw_rotation(approach, up)
     if pad is None:
-        pad = condense_pad(geometry or PadGeometry(), material or Material(), cache_dir=cache_dir)
+        pad = condense_pad(
+            check_pad_geometry(geometry or PadGeometry()), material or Material(), cache_dir=cache_dir
+        )
+    else:
+        check_pad_geometry(pad.geometry)
     h = pad.geometry.thickness
     obstacle = MeshObstacle(mesh, allow_scale=True, facing=-R[:, 2])  # checked by closed_mesh above
     X = np.column_stack([pad.face_xy, np.full(len(pad.face_xy), h)])
@@ -178,6 +182,20 @@ def fem_jaw_profile(
     return with_axis_force(prof.transformed(R, posed.t), R[:, 2], force).with_source(source)
 
 
+def check_pad_geometry(geometry: PadGeometry) -> PadGeometry:
+    """``geometry`` if it is a gripper pad's — face (width, length) and layer thickness in their
+    plausible ranges (:mod:`workbench.plausible`: a pad in millimetres, 20 for 0.02, is refused
+    before the minutes a 4 m² pad takes to condense) — else ValueError."""
+    from ..plausible import check
+
+    if not isinstance(geometry, PadGeometry):
+        raise ValueError(f"geometry must be a PadGeometry; got {type(geometry).__name__}")
+    check("pad_size", geometry.width, "PadGeometry.width")
+    check("pad_size", geometry.length, "PadGeometry.length")
+    check("pad_thickness", geometry.thickness, "PadGeometry.thickness")
+    return geometry
+
+
 def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfile]:
     """Both jaws' FEM profiles of an antipodal ``grasp`` (``p1``, ``p2`` [m], ``axis`` from
     jaw 1 into the object, as :func:`workbench.grasp.sampling.horizontal_grasps` gives):
@@ -186,7 +204,7 @@ def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfi
     p1, p2, axis = check_grasp(grasp)
     if kw.get("pad") is None:
         kw["pad"] = condense_pad(
-            kw.pop("geometry", None) or PadGeometry(),
+            check_pad_geometry(kw.pop("geometry", None) or PadGeometry()),
             kw.pop("material", None) or Material(),
             cache_dir=kw.pop("cache_dir", None),
         )

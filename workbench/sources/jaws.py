@@ -65,7 +65,9 @@ def check_pad(pad) -> None:
 
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(p1, p2, unit axis)``, each (3,), of a grasp dict, or a ValueError naming what is missing."""
+    """``(p1, p2, unit axis)``, each (3,), of a grasp dict, or a ValueError naming what is missing —
+    or an axis more than ``config.TOL.grasp_axis_max_deg`` from the line p1 → p2 (parallel jaws
+    close along the line through both contact points)."""
     if not isinstance(grasp, dict) or any(k not in grasp for k in ("p1", "p2", "axis")):
         got = sorted(grasp) if isinstance(grasp, dict) else type(grasp).__name__
         raise ValueError(
@@ -75,7 +77,19 @@ def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     p1, p2, axis = (np.asarray(grasp[k], float) for k in ("p1", "p2", "axis"))
     if p1.shape != (3,) or p2.shape != (3,) or axis.shape != (3,) or not np.linalg.norm(axis) > 0:
         raise ValueError(f"grasp p1, p2, axis must be (3,) vectors, axis non-zero; got {p1}, {p2}, {axis}")
-    return p1, p2, axis / np.linalg.norm(axis)
+    from ..config import TOL
+
+    u, d = axis / np.linalg.norm(axis), p2 - p1
+    if np.linalg.norm(d) > 0:
+        angle = float(np.degrees(np.arccos(np.clip(u @ d / np.linalg.norm(d), -1.0, 1.0))))
+        if angle > TOL.grasp_axis_max_deg:
+            raise ValueError(
+                f"grasp axis {u.round(4).tolist()} is {angle:.1f} deg from the line p1 → p2 (at most "
+                f"{TOL.grasp_axis_max_deg:g}, config.TOL.grasp_axis_max_deg): parallel jaws close along "
+                "the line through both contact points — pass axis = (p2 - p1) / |p2 - p1|"
+                + (" (p1 and p2 swapped?)" if angle > 90 else "")
+            )
+    return p1, p2, u
 
 
 def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

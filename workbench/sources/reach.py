@@ -32,11 +32,12 @@ log = logging.getLogger(__name__)
 
 
 def check_press_closing(closing, what: str = "closing") -> float:
-    """``closing`` [m] past first touch as a float if it is a plausible jaw closing
-    (:mod:`workbench.plausible`) and > 0 (a pad pressed by 0 carries no pressure), else
-    ValueError — the rule of every REACH press (:func:`reach_profile`, :func:`pad_profile`,
-    the samplers' pad-edge check)."""
-    c = check("closing", closing, f"{what} (past first touch [m])")
+    """``closing`` [m] past first touch as a float if it is a plausible compression of a pad
+    (:mod:`workbench.plausible` ``"compression"``: no pad layer is 20 mm deep, so a 30 mm press is
+    refused) and > 0 (a pad pressed by 0 carries no pressure), else ValueError — the rule of every
+    REACH press (:func:`reach_profile`, :func:`pad_profile`, :func:`jaw_profiles`, the samplers'
+    pad-edge check)."""
+    c = check("compression", closing, f"{what} (past first touch [m])")
     if c <= 0:
         raise ValueError(f"{what} must be a closing > 0 [m] past first touch, e.g. 1e-3; got {closing!r}")
     return c
