@@ -117,6 +117,8 @@ def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, 
         counts, dist = cached["counts"], cached["dist"]
         return counts, np.split(dist, np.cumsum(counts)[:-1])
     locs, ray_idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=True)
+    # no hit at all comes back as a (0,) array, not (0, 3)
+    locs, ray_idx = np.asarray(locs, float).reshape(-1, 3), np.asarray(ray_idx, int)
     dist = np.einsum("ij,ij->i", locs - origins[ray_idx], dirs[ray_idx])
     order = np.lexsort((dist, ray_idx))
     ray_idx, dist = ray_idx[order], dist[order]

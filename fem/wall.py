@@ -35,6 +35,8 @@ from functools import cached_property
 import numpy as np
 from skfem import Basis, ElementHex2, ElementVector, MeshHex
 
+from workbench import config as _config
+
 from .contact import solve_lcp
 from .material import Material
 from .sparse_factor import factor_spd
@@ -485,6 +487,15 @@ def squeeze(
             delta,
             force,
             width,
+        )
+    elif delta > _config.TOL.linear_closing_max_fraction * width:  # possible, but not small strain
+        log.warning(
+            "squeeze: the jaws close by %.3g mm at %g N, %.0f%% of the object's %.3g mm width: beyond "
+            "the small deflections of the linear wall model (workbench.fem.wall_nonlinear follows them)",
+            delta * 1e3,
+            force,
+            100 * delta / width,
+            width * 1e3,
         )
     return {
         "width": width,

@@ -150,3 +150,17 @@ def test_ray_hits_are_cached_by_content_and_a_bad_file_is_cast_again(tmp_path, m
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", "off")
     radial_surface(_cylinder(sections=66))
     assert len(casts) == 3 and len(list(tmp_path.glob("rays-*.npz"))) == 2
+
+
+def test_rays_that_hit_nothing_count_zero():
+    """trimesh returns no hit as a (0,) array, not (0, 3): a torus's axis ray (a new user's
+    object) crashed with 'operands could not be broadcast'."""
+    import trimesh
+
+    from workbench.fem.mesh_wall import _ray_hits
+
+    box = trimesh.creation.box((0.02, 0.02, 0.02))
+    counts, dists = _ray_hits(box, np.array([[0.0, 0.0, 0.05]]), np.array([[0.0, 0.0, 1.0]]))
+    assert counts.tolist() == [0] and [d.size for d in dists] == [0]
+    counts, dists = _ray_hits(box, np.array([[0.0, 0.0, 0.05]]), np.array([[0.0, 0.0, -1.0]]))
+    assert counts.tolist() == [2] and np.allclose(dists[0], [0.04, 0.06])

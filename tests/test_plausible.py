@@ -255,3 +255,30 @@ def test_the_trials_silent_accepts_are_refused():
         antipodal_grasps(box, 5, mu=0.5, max_width=100)
     with pytest.raises(ValueError, match="E must be a Young's modulus .* got '1e6' \\(str\\)"):
         Material("1e6", 0.45)
+
+
+@pytest.mark.jit_only(
+    "~40 s as pure Python (three walls' sparse factors); the factor's kernels run JIT-off in test_fem_wall"
+)
+def test_a_closing_beyond_small_deflections_is_warned(caplog):
+    """The linear wall squeezed by more than a tenth of the object's width (a new user's 400 N on a
+    70 mm bottle: 19 mm) logs that the small-deflection model is stretched — exactly then."""
+    import logging
+
+    from workbench.fem.material import Material
+    from workbench.fem.wall import build_wall, circle_surface, squeeze
+
+    kw = {"n_theta": 16, "n_z": 6, "z_range": (0.0, 0.06), "clamp_top": True}
+    c, ax = np.array([0.0, 0.0, 0.03]), np.array([1.0, 0.0, 0.0])
+    seen = []
+    for E in (2.5e9, 5e7, 1e7):  # 1e7 Pa: a rubber-soft wall, warned as unusual
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ImplausibleWarning)
+            wall = build_wall(circle_surface(0.03), Material(E, 0.4), **kw)
+        caplog.clear()
+        with caplog.at_level(logging.WARNING, logger="workbench.fem.wall"):
+            r = squeeze(wall, c, ax, force=10.0)
+        warned = any("beyond the small deflections" in m for m in caplog.messages)
+        assert warned == (0.1 * r["width"] < r["delta"] < r["width"]), (E, r["delta"])
+        seen.append(warned)
+    assert seen[0] is False and any(seen)  # PET is small; a soft enough wall is not

@@ -292,6 +292,11 @@ class Tolerances:
     # grams — a filled 0.27 kg bottle given as 270, a 50 g cup as 50.  Raise it for heavy parts.
     max_plausible_mass_kg: float = 20.0
 
+    # Largest closing of a linear wall squeeze, as a fraction of the object's width, before a
+    # warning that the small-deflection model is stretched (fem.wall.squeeze; the nonlinear
+    # wall follows larger ones).
+    linear_closing_max_fraction: float = 0.1
+
     # Largest angle [deg] between a grasp's axis and the line p1 -> p2 (check_grasp): parallel
     # jaws close along the line through both contacts; a grasp dict whose axis points elsewhere
     # was put together by hand (the sampler's axes are that line to round-off).
@@ -683,6 +688,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "min_plausible_stiffness": _NONNEG,
     "antipodal_max_deg": _real(0.0, hi=180.0),
     "max_plausible_mass_kg": _POS,
+    "linear_closing_max_fraction": _POS,
     "grasp_axis_max_deg": _real(0.0, hi=180.0),
     # issue 44: model round-off / profile checks
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max
