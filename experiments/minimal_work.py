@@ -180,8 +180,8 @@ KEYS = {
         "truth: larger jaw closings crease the wall or dislodge the content", "mm", "closing", 1e-3
     ),
     "noise_samples": Key("truth: friction and force samples per grasp"),
-    "sigma_mu": Key("truth: relative standard deviation of the friction coefficient"),
-    "sigma_force": Key("truth: relative standard deviation of the jaw force"),
+    "sigma_mu": Key("truth: relative standard deviation of the friction coefficient", "", "relative_noise"),
+    "sigma_force": Key("truth: relative standard deviation of the jaw force", "", "relative_noise"),
     "sigma": Key("quality threshold, < 1 (thesis §4.3.4: 0.5)"),
     "train_fraction": Key("fraction of the grasps the normalisers are fitted on, in (0, 1)"),
     "nl_work_objects": Key("objects (of objects) whose W also comes from the nonlinear wall; [] skips it"),

@@ -66,8 +66,8 @@ KEYS = {
     "mu": Key("friction coefficient; 0 = the gripper's own (YuMi: 0.3)", "", "mu"),
     "models": Key("contact models judged, at least one", choices=lambda: MODELS),
     "n_robust": Key("pose samples N_r per grasp, >= 1 (6DFC Fig. 3's best: 10)"),
-    "sigma_trans": Key("pose noise per axis, translation (6DFC's sigma_r)", "m"),
-    "sigma_rot": Key("pose noise per axis, rotation", "rad"),
+    "sigma_trans": Key("pose noise per axis, translation (6DFC's sigma_r)", "m", "pose_noise_trans"),
+    "sigma_rot": Key("pose noise per axis, rotation", "rad", "pose_noise_rot"),
     "robust_seeds": Key("robustness seeds: mAP +- std over them, >= 1 (6DFC Table I: 5)"),
     "grasps": Key("grasp indices to run; [] = all"),
 }

@@ -429,6 +429,20 @@ def check_config(config: dict) -> None:
         check_key(key, KEYS[key], config[key])
     if len(config["jaw"]) != 2:
         raise ValueError(f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}")
+    if not config["object"]:
+        if config["n_angles"] < 1:
+            raise ValueError(f"n_angles must be >= 1 (grasp axes per height); got {config['n_angles']!r}")
+        bad = [h for h in config["height_fractions"] if not 0 <= h <= 1]
+        if bad or not config["height_fractions"]:
+            hint = (
+                f" — per cent? pass {[h / 100 for h in config['height_fractions']]}"
+                if bad and all(0 <= h <= 100 for h in config["height_fractions"])
+                else ""
+            )
+            raise ValueError(
+                f"height_fractions must be fractions of the wall's height in [0, 1], at least one; "
+                f"got {config['height_fractions']!r}{hint}"
+            )
     for key in ("mesh", *(["convergence_meshes"] if not config["object"] else [])):
         meshes = [config[key]] if key == "mesh" else config[key]
         for m in meshes:

@@ -19,6 +19,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .contact import ContactSolution, solve_contact, solve_contact_full
 from .material import Material
 from .pad import PadFace, PadGeometry, condense_pad
@@ -82,7 +84,8 @@ def press(
         raise ValueError(f"fidelity must be one of {FIDELITIES}; got {fidelity!r}")
     from workbench.plausible import check_each
 
-    deltas = sorted(float(d) for d in check_each("closing", list(deltas), "deltas (jaw displacements [m])"))
+    given = np.atleast_1d(np.asarray(deltas, dtype=object)).tolist()  # one displacement or several
+    deltas = sorted(float(d) for d in check_each("compression", given, "deltas (jaw displacements [m])"))
     if not deltas:
         raise ValueError("deltas is empty: give at least one jaw displacement [m]")
     if deltas[-1] >= geometry.thickness:

@@ -188,6 +188,10 @@ def condense_pad(
     from workbench.plausible import check
 
     check("pad_modulus", material.E, "material.E (the pad's Young's modulus [Pa])")
+    # hard limits only: validation blocks (an 80 mm half-space) are condensed here too
+    check("pad_size", geometry.width, "PadGeometry.width", warn=False)
+    check("pad_size", geometry.length, "PadGeometry.length", warn=False)
+    check("pad_thickness", geometry.thickness, "PadGeometry.thickness", warn=False)
     mesh = geometry.mesh()
     x, y, z = mesh.p
     face = top_face_nodes(mesh.p, geometry.thickness)

@@ -114,8 +114,8 @@ def test_linear_levels_press_a_layer_uniaxially_at_nu_0(fidelity):
         ([0.5], {"fidelity": "nonlinear"}, "probably in millimetres — pass 0.0005"),  # 0.5 mm meant
         ([1e-4], {"fidelity": "Condensed"}, "fidelity must be one of"),
         ([1e-4], {"fidelity": "condensed", "step": 1e-5}, "unknown options"),
-        ([-1e-5], {"fidelity": "linear"}, r"jaw closing in \[0, 0.1\] m; got -1e-05"),
-        ([np.nan], {"fidelity": "linear"}, r"jaw closing in \[0, 0.1\] m; got nan"),
+        ([-1e-5], {"fidelity": "linear"}, r"pad compression in \[0, 0.02\] m; got -1e-05"),
+        ([np.nan], {"fidelity": "linear"}, r"pad compression in \[0, 0.02\] m; got nan"),
     ],
 )
 def test_press_rejects_careless_input(deltas, kw, match):

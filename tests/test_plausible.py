@@ -237,7 +237,7 @@ def test_the_trials_silent_accepts_are_refused():
 
     box = trimesh.creation.box((0.06, 0.04, 0.1))  # 240 mL
     g = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
-    with pytest.raises(ValueError, match="mean density of 3.33e\\+04 kg/m³.*grams\\? pass 0.008"):
+    with pytest.raises(ValueError, match="240 cm³ object: its mean density.*got 33333.*grams\\? pass 0.008"):
         evaluate_grasp(box, g, model="soft_point", force=10.0, mu=0.5, mass=8.0, com=[0, 0, 0])
     with pytest.raises(ValueError, match="PadGeometry.width .* millimetres — pass 0.02"):
         fem_jaw_profiles(box, g, 10.0, geometry=PadGeometry(width=20, length=40))
@@ -282,3 +282,52 @@ def test_a_closing_beyond_small_deflections_is_warned(caplog):
         assert warned == (0.1 * r["width"] < r["delta"] < r["width"]), (E, r["delta"])
         seen.append(warned)
     assert seen[0] is False and any(seen)  # PET is small; a soft enough wall is not
+
+
+def test_the_second_trials_silent_accepts_are_refused_or_warned():
+    """A density in the unusual band warns; a 25 kN scene, a 20 cm pose noise, a centre of mass
+    20 cm off a 3 cm cube, a 20 m pad condensed directly are refused (issue 44's second trial)."""
+    import trimesh
+
+    from workbench.fem.material import Material
+    from workbench.fem.pad import PadGeometry, condense_pad
+    from workbench.grasp.pose_robust import PoseNoise
+    from workbench.grasp.robust import check_com, check_object_mass
+    from workbench.sources.scenes import elliptic_cylinder_grasp
+
+    box = trimesh.creation.box((0.06, 0.04, 0.1))  # 240 mL
+    with pytest.warns(ImplausibleWarning, match="above the usual 20000 kg/m³"):
+        check_object_mass(5.0, box)  # 20,800 kg/m³
+    with pytest.warns(ImplausibleWarning, match="below the usual 30 kg/m³"):
+        check_object_mass(0.005, box)  # 21 kg/m³
+    with pytest.raises(ValueError, match="lighter than any object"):
+        check_object_mass(0.0011, box)  # 4.6 kg/m³
+    with pytest.raises(ValueError, match=r"jaw force in \(0, 500\] N; got 25000"):
+        elliptic_cylinder_grasp(force=25000.0)
+    with pytest.raises(ValueError, match=r"PoseNoise.sigma_trans .* got 0.2"):
+        PoseNoise(3, 0.2, 0.003)
+    cube = trimesh.creation.box((0.03, 0.03, 0.03))
+    with pytest.raises(ValueError, match="far outside the object's bounding box"):
+        check_com([0.2, 0, 0], cube)
+    np.testing.assert_array_equal(check_com([0.01, 0, 0], cube), [0.01, 0, 0])
+    with pytest.raises(ValueError, match=r"PadGeometry.width .* millimetres — pass 0.02"):
+        condense_pad(PadGeometry(width=20, length=40, nx=2, ny=2, nz=1), Material(), cache_dir=False)
+
+
+@pytest.mark.parametrize(
+    "sets, words",
+    [
+        ({"height_fractions": [30, 70]}, "per cent? pass [0.3, 0.7]"),
+        ({"n_angles": 0}, "n_angles must be >= 1"),
+        ({"mesh": [48]}, "two integers >= 1"),
+    ],
+)
+def test_wall_stiffness_refuses_map_settings_before_any_work(tmp_path, sets, words):
+    """These crashed after partial outputs (n_angles=0: 'zero-size array') or blamed the geometry
+    ('the grasp axis misses the object' for heights in per cent) — second trial of issue 44."""
+    from workbench.experiment_config import build_config
+
+    with pytest.raises(SystemExit) as exc:
+        build_config("wall-stiffness", True, str(tmp_path / "o"), None, sets)
+    assert words in str(exc.value.code)
+    assert not (tmp_path / "o").exists()

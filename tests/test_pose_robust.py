@@ -48,17 +48,20 @@ def test_defaults_come_from_config():
 
 
 @pytest.mark.parametrize(
-    ("noise", "match"),
+    ("args", "match"),
     [
-        (PoseNoise(10, 3.0, 0.003), "millimetres"),
-        (PoseNoise(10, 0.003, 5.0), "degrees"),
-        (PoseNoise(0, 0.003, 0.003), "n_samples"),
-        (PoseNoise(10, -0.003, 0.003), "sigma_trans"),
+        ((10, 3.0, 0.003), "millimetres — pass 0.003"),
+        ((10, 0.2, 0.003), r"position noise .* in \[0, 0.05\] m; got 0.2"),  # 20 cm: a new user's slip
+        ((10, 0.003, 5.0), "degrees"),
+        ((10, 0.003, 1.0), r"rotation noise .* in \[0, 0.5\] rad; got 1.0"),  # 57 deg
+        ((0, 0.003, 0.003), "n_samples"),
+        ((10, -0.003, 0.003), "sigma_trans"),
+        ((10, float("nan"), 0.003), "sigma_trans"),
     ],
 )
-def test_careless_noise_is_refused(noise, match):
+def test_careless_noise_is_refused_when_made(args, match):
     with pytest.raises(ValueError, match=match):
-        pose_samples(_pose(), noise)
+        PoseNoise(*args)
 
 
 def test_careless_poses_are_refused():

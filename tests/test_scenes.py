@@ -72,7 +72,7 @@ def test_the_second_jaw_is_the_first_turned_about_z_and_the_grasp_balances(jaws)
         ({"half_angle": np.nan}, "half_angle must be > 0"),
         ({"half_angle": np.pi / 2}, "half_angle must be < π/2"),
         ({"length": np.inf}, "length must be > 0"),
-        ({"force": 0.0}, "force must be > 0"),
+        ({"force": 0.0}, r"jaw force in \(0, 500\] N"),
     ],
 )
 def test_bad_parameters_are_refused(kw, match):

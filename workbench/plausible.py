@@ -209,6 +209,24 @@ RANGES: dict[str, Range] = {
         "friction, mass or force known to 5-30 %; s >= 0.5 makes negative factors common",
         lo_open=False,
     ),
+    "weight": Range(
+        "weight (a load in newtons)",
+        "N",
+        0.0,
+        200.0,
+        (0.01, 100.0),
+        (("grams-force", 9.80665e-3), ("millinewtons", 1e-3)),
+        "a 10 g part 0.1 N, a full 0.5 L bottle 5 N, a power drill 15 N",
+    ),
+    "lever": Range(
+        "lever arm (an offset on the object)",
+        "m",
+        0.0,
+        1.0,
+        (1e-3, 0.3),
+        (_MM, _CM),
+        "a centre of mass 1-100 mm off the grasp axis",
+    ),
     "mass": Range(
         "object mass",
         "kg",
@@ -277,7 +295,13 @@ def _likely(r: Range, v: float, scale: float, unit: str) -> str:
 
 
 def check(
-    key: str, value: Any, what: str | None = None, *, scale: float = 1.0, unit: str | None = None
+    key: str,
+    value: Any,
+    what: str | None = None,
+    *,
+    scale: float = 1.0,
+    unit: str | None = None,
+    warn: bool = True,
 ) -> float:
     """``value`` as a float if it is a plausible ``key`` quantity (see :data:`RANGES`), else
     ``ValueError`` naming the range, the likely unit slip and the value to pass; a value
@@ -290,6 +314,8 @@ def check(
         quantity's name.
     scale, unit : ``value`` is in units of ``scale`` SI named ``unit`` (a config key in mm:
         1e-3, "mm"); messages then speak that unit.  Returns the value as given (not SI).
+    warn : False: only the hard range (a generic solver that also takes validation blocks,
+        e.g. an 80 mm deep elastic half-space, judges only what no real body is).
     """
     r = RANGES[key]
     name = what or r.name
@@ -313,7 +339,7 @@ def check(
             + f"{over}; got {value!r}{hint} (real values: {r.examples})"
         )
     # the closed lower limit itself is a deliberate idealisation (mu = 0: frictionless), not a slip
-    if not r.usual[0] <= x <= r.usual[1] and not (x == r.lo and not r.lo_open):
+    if warn and not r.usual[0] <= x <= r.usual[1] and not (x == r.lo and not r.lo_open):
         hint = _likely(r, given, scale, unit)
         side = "below" if x < r.usual[0] else "above"
         bound = (r.usual[0] if x < r.usual[0] else r.usual[1]) / scale
@@ -327,7 +353,7 @@ def check(
     return given
 
 
-def check_each(key: str, values: Any, what: str | None = None) -> np.ndarray:
+def check_each(key: str, values: Any, what: str | None = None, *, warn: bool = True) -> np.ndarray:
     """Every number of ``values`` (a scalar, sequence or array) checked by :func:`check`;
     returns them as a float array of the same shape."""
     arr = np.asarray(values, dtype=object)
@@ -335,7 +361,7 @@ def check_each(key: str, values: Any, what: str | None = None) -> np.ndarray:
     for idx, v in np.ndenumerate(arr):
         if isinstance(v, (np.floating, np.integer)):
             v = v.item()
-        out[idx] = check(key, v, what)
+        out[idx] = check(key, v, what, warn=warn)
     return out
 
 

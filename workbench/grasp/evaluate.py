@@ -37,7 +37,7 @@ from .contacts import ContactSet
 from .gws import check_mu, check_wrench
 from .models import MODELS, contact_sets
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
-from .robust import Perturbation, check_object_mass, gravity_wrench, q_robust
+from .robust import Perturbation, check_com, check_object_mass, gravity_wrench, q_robust
 
 log = logging.getLogger(__name__)
 
@@ -139,15 +139,7 @@ def evaluate_grasp(
     if w_ext is None:
         if mass is None or com is None:
             raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")
-        if mesh is not None:  # before gravity_wrench's generic check: the object's box says more
-            lo, hi = np.asarray(mesh.bounds, float)
-            ext = float((hi - lo).max())
-            c = np.asarray(com, float)
-            if c.shape == (3,) and ((c < lo - ext) | (c > hi + ext)).any():
-                raise ValueError(
-                    f"com {c.tolist()} lies far outside the object's bounding box "
-                    f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
-                )
+        check_com(com, mesh)  # before gravity_wrench's generic check: the object's box says more
         check_object_mass(mass, mesh)
         w = gravity_wrench(mass, com, down=down)
     else:

@@ -25,7 +25,7 @@ from ..limit_surface import LimitSurfaceCache
 from .models import MODELS, check_model, contact_sets
 from .pose_robust import PoseNoise, check_pose, pose_samples
 from .resistance import CutStore, min_grasp_force, resists
-from .robust import check_object_mass, gravity_wrench
+from .robust import check_com, check_object_mass, gravity_wrench
 from .settle import SettledContact, settle_contact
 
 log = logging.getLogger(__name__)
@@ -224,7 +224,7 @@ def evaluate_models(
         raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")
     d = check_task(mesh, mass, mu, down)
     check_down(check_pose(pose, "gripper pose"), d)
-    c = np.asarray(mesh.center_mass if com is None else com, float)
+    c = check_com(mesh.center_mass if com is None else com, mesh)
     cache = LimitSurfaceCache() if cache is None else cache
     cuts = CutStore() if cuts is None else cuts
     task = {"mu": mu, "mass": mass, "com": c, "down": d, "cache": cache, "cuts": cuts, "seed": seed}

@@ -44,18 +44,20 @@ class PoseNoise:
         n = d.pose_samples if self.n_samples is None else self.n_samples
         st = d.pose_sigma_trans if self.sigma_trans is None else self.sigma_trans
         sr = d.pose_sigma_rot if self.sigma_rot is None else self.sigma_rot
-        config.check_value("pose_samples", n, "PoseNoise.n_samples")
-        config.check_value("pose_sigma_trans", st, "PoseNoise.sigma_trans [m]")
-        config.check_value("pose_sigma_rot", sr, "PoseNoise.sigma_rot [rad]")
-        if st > config.TOL.max_object_extent_m / 10:
-            raise ValueError(
-                f"PoseNoise.sigma_trans must be metres; got {st!r} — in millimetres? pass {st / 1e3:g}"
-            )
-        if sr > np.pi / 2:
-            raise ValueError(
-                f"PoseNoise.sigma_rot must be radians; got {sr!r} — in degrees? pass {np.radians(sr):.4g}"
-            )
-        return PoseNoise(int(n), float(st), float(sr))
+        return PoseNoise(int(n), float(st), float(sr))  # checked by __post_init__
+
+    def __post_init__(self) -> None:
+        # refuse a careless noise when it is made, not when it is first used; the one rule of a
+        # pose noise (workbench.plausible), as Perturbation's
+        from .. import config
+        from ..plausible import check
+
+        if self.n_samples is not None:
+            config.check_value("pose_samples", self.n_samples, "PoseNoise.n_samples")
+        if self.sigma_trans is not None:
+            check("pose_noise_trans", self.sigma_trans, "PoseNoise.sigma_trans")
+        if self.sigma_rot is not None:
+            check("pose_noise_rot", self.sigma_rot, "PoseNoise.sigma_rot")
 
 
 def check_pose(pose, what: str = "pose") -> np.ndarray:

@@ -12,7 +12,6 @@ at once from one seeded generator (same seed ⇒ same q_robust).
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,8 +19,6 @@ from scipy.spatial.transform import Rotation
 
 from .gws import check_contacts, check_mu
 from .resistance import REPRESENTATIONS, CutStore, resists
-
-log = logging.getLogger(__name__)
 
 G_ACC = 9.81  # m/s²
 
@@ -88,7 +85,7 @@ def check_object_mass(mass, mesh=None) -> float:
     refused as a mass in grams (8 kg in a 240 mL box), one below it warned (a mesh in another
     unit, or a mass in tonnes).  The one rule of an object's mass: :func:`~.evaluate.evaluate_grasp`
     and the gripper tasks (:func:`~.gripper_eval.check_task`) call it."""
-    from workbench.plausible import RANGES
+    from workbench.plausible import RANGES, check
 
     m = check_mass(mass)
     if mesh is None or not getattr(mesh, "is_volume", False):
@@ -97,22 +94,40 @@ def check_object_mass(mass, mesh=None) -> float:
     if not volume > 0:
         return m
     rho = m / volume
-    lo, hi = RANGES["density"].lo, RANGES["density"].hi
     cm3 = volume * 1e6
-    if rho > hi:
-        raise ValueError(
-            f"mass {mass!r} kg in a {cm3:.3g} cm³ object is a mean density of {rho:.3g} kg/m³, denser "
-            f"than any solid (osmium: 22,600): a mass in grams? pass {m / 1e3:g}"
+    what = f"mass {mass!r} kg in a {cm3:.3g} cm³ object: its mean density [kg/m³]"
+    try:
+        check("density", rho, what)  # warns (ImplausibleWarning) in the unusual bands
+    except ValueError as exc:
+        fix = (
+            f"denser than any solid (osmium: 22,600): a mass in grams? pass {m / 1e3:g}"
+            if rho > RANGES["density"].hi
+            else "lighter than any object a gripper lifts: a mass in tonnes, or a mesh in millimetres?"
         )
-    if rho < lo:
-        log.warning(
-            "mass %g kg in a %.3g cm³ object: a mean density of %.3g kg/m³, lighter than a paper cup — "
-            "a mass in tonnes or a mesh in millimetres?",
-            m,
-            cm3,
-            rho,
-        )
+        raise ValueError(f"{exc} — {fix}") from None
     return m
+
+
+def check_com(com, mesh=None) -> np.ndarray:
+    """``com`` (3,) [m] as a float array, refused when it is not three finite numbers or lies
+    farther than the object's own size outside ``mesh``'s bounding box (a centre in millimetres,
+    or 20 cm off a 3 cm cube) — the one rule of a centre of mass for :func:`~.evaluate.evaluate_grasp`
+    and :func:`~.gripper_eval.evaluate_models`."""
+    try:
+        c = np.asarray(com, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"com must be the centre of mass, (3,) numbers [m]; got {com!r}") from None
+    if c.shape != (3,) or not np.isfinite(c).all():
+        raise ValueError(f"com must be the centre of mass, (3,) finite numbers [m]; got {com!r}")
+    if mesh is not None:
+        lo, hi = np.asarray(mesh.bounds, float)
+        ext = float((hi - lo).max())
+        if ((c < lo - ext) | (c > hi + ext)).any():
+            raise ValueError(
+                f"com {c.tolist()} lies far outside the object's bounding box "
+                f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
+            )
+    return c
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:

@@ -21,7 +21,10 @@ def elliptic_cylinder_contact(
     a: float, b: float, half_angle: float, length: float, k: float, force: float, n_elements: int = 400
 ) -> ContactProfile:
     """The +x jaw's contact: ``[a cos u, b sin u, z]``, ``|u| <= half_angle``, ``|z| <= length/2``."""
-    for name, v in (("a", a), ("b", b), ("half_angle", half_angle), ("length", length), ("force", force)):
+    from .jaws import check_jaw_force
+
+    check_jaw_force(force)  # the jaw's reading: the one rule of a jaw force
+    for name, v in (("a", a), ("b", b), ("half_angle", half_angle), ("length", length)):
         if not (np.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be > 0; got {v}")
     if half_angle >= np.pi / 2:
