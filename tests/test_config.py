@@ -89,8 +89,8 @@ def test_every_field_has_a_rule_and_every_default_passes_it():
     [
         ({"normal_unit_atol": "1e-4"}, r"normal_unit_atol must be a finite number >= 0; got '1e-4' \(str\)"),
         ({"normal_unit_atol": -1.0}, r"normal_unit_atol must be a finite number >= 0; got -1.0"),
-        ({"resist_rtol": float("nan")}, r"resist_rtol must be a finite number > 0; got nan"),
-        ({"resist_rtol": 0.0}, r"resist_rtol must be a finite number > 0; got 0.0"),
+        ({"resist_rtol": float("nan")}, r"resist_rtol must be a finite number > 0 and <= 0.1; got nan"),
+        ({"resist_rtol": 0.0}, r"resist_rtol must be a finite number > 0 and <= 0.1; got 0.0"),
         ({"max_cut_rounds": 2.5}, r"max_cut_rounds must be an int >= 0; got 2.5 \(float\)"),
         ({"quadrature_max_cells": True}, r"quadrature_max_cells must be an int >= 1; got True \(bool\)"),
         ({"quadrature_rtol": None}, r"quadrature_rtol must be a finite number > 0; got None \(NoneType\)"),
@@ -118,6 +118,6 @@ def test_a_value_its_field_does_not_accept_is_refused_at_set_time(values, messag
 
 
 def test_an_int_for_a_float_field_is_stored_as_that_float():
-    with config.override(resist_rtol=1, pitch_range=[-2, 2]):
-        assert config.TOL.resist_rtol == 1.0 and isinstance(config.TOL.resist_rtol, float)
+    with config.override(cut_rtol=1, pitch_range=[-2, 2]):
+        assert config.TOL.cut_rtol == 1.0 and isinstance(config.TOL.cut_rtol, float)
         assert config.DEFAULTS.pitch_range == (-2.0, 2.0)

@@ -331,3 +331,24 @@ def test_wall_stiffness_refuses_map_settings_before_any_work(tmp_path, sets, wor
         build_config("wall-stiffness", True, str(tmp_path / "o"), None, sets)
     assert words in str(exc.value.code)
     assert not (tmp_path / "o").exists()
+
+
+def test_press_pad_stiffness_offset_and_task_load_are_judged():
+    """A Winkler modulus in Pa/m given as 200, a refinement length of 1 m, a pad offset in mm and
+    a 1 MN task load ran silently (second trial of issue 44)."""
+    import trimesh
+
+    from workbench.grasp.evaluate import evaluate_grasp
+    from workbench.sources.gripper import PadShape
+    from workbench.sources.reach import reach_profile
+
+    box = trimesh.creation.box((0.06, 0.04, 0.1))
+    with pytest.raises(ValueError, match=r"stiffness \(the pad's Winkler modulus \[Pa/m\]\)"):
+        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], stiffness=200.0)
+    with pytest.raises(ValueError, match=r"max_edge .* got 1.0"):
+        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], max_edge=1.0)
+    with pytest.raises(ValueError, match="pad offset .* millimetres — pass 0.01"):
+        PadShape.rectangle(0.02, 0.008, offset=(10.0, 0.0))
+    g = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
+    with pytest.raises(ValueError, match=r"w_ext's force \|f\| \[N\] must be a weight"):
+        evaluate_grasp(box, g, model="point", w_ext=[0, 0, -1e6, 0, 0, 0], mu=0.5)

@@ -71,7 +71,9 @@ def test_every_candidate_near_the_table():
 @pytest.mark.parametrize(
     "kwargs, words",
     [
-        ({"table_z": 1.0}, "at or above the object's top"),  # a table over the object
+        ({"table_z": 1.0}, "is above the object's top"),  # a table over the object
+        ({"table_z": -50.0}, "farther below its bottom than its height"),  # mm
+        ({"table_z": -0.025, "clearance": 10}, "probably in millimetres — pass 0.01"),
         ({"max_width": 100}, "probably in millimetres — pass 0.1"),  # 100 mm meant
         ({"min_width": 0.05, "max_width": 0.02}, "min_width must be < max_width"),
         ({"max_width": -0.1}, "must be a gripper opening"),
@@ -207,3 +209,15 @@ def test_reach_profile_is_the_same_from_the_cached_fine_surface(monkeypatch):
     assert sum(not isinstance(c, str) for c in cold) >= 8
     for c, w in zip(cold, warm, strict=True):
         assert c == w if isinstance(c, str) else all(np.array_equal(x, y) for x, y in zip(c, w, strict=True))
+
+
+def test_horizontal_grasps_refuse_a_centre_off_the_object_and_no_heights(caplog):
+    """A centre in mm and an empty height list returned 0 grasps without a word (second trial)."""
+    bottle = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=32)
+    with pytest.raises(ValueError, match="centre must be .* inside the mesh's box"):
+        horizontal_grasps(bottle, [0.0], 2, mu=0.5, centre=(10.0, 0.0))
+    with pytest.raises(ValueError, match="at least one height"):
+        horizontal_grasps(bottle, [], 2, mu=0.5)
+    with caplog.at_level(logging.WARNING, logger="workbench.grasp.sampling"):
+        g = horizontal_grasps(bottle, [0.0], 2, mu=0.01, pad=None)  # a cone too narrow for any
+    assert len(g) == 0 and any("0 kept" in m for m in caplog.messages)

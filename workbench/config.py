@@ -669,7 +669,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "given_wmax_rtol": _NONNEG,
     "ellipsoid_eig_floor": _POS,  # the projection must be positive definite
     "translation_omega_atol": _NONNEG,
-    "resist_rtol": _POS,  # a solver's residual is never exactly 0
+    "resist_rtol": _real(0.0, lo_open=True, hi=0.1),  # a residual is never exactly 0; 0.1 of F is no verdict
     "known_force_rtol": _real(0.0, hi=1.0, hi_open=True),  # [F(1 - r), F] with F(1 - r) > 0
     "group_min_net_push": _FRACTION,
     "cut_rtol": _POS,

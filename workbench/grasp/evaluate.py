@@ -146,6 +146,10 @@ def evaluate_grasp(
         if mass is not None or com is not None:
             raise ValueError("give the task either as w_ext or as mass and com, not both")
         w = check_wrench(w_ext)
+        from ..plausible import check
+
+        if np.linalg.norm(w[:3]) > 0:  # a task's force is a load a gripper could hold (1 MN is a slip)
+            check("weight", float(np.linalg.norm(w[:3])), "w_ext's force |f| [N]")
     cache = LimitSurfaceCache() if cache is None else cache
     cuts = CutStore() if cuts is None else cuts
     t = {}

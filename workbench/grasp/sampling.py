@@ -118,7 +118,7 @@ def check_edge_args(pad, edge_depth) -> None:
     check_press_closing(edge_depth, "edge_depth")
 
 
-def _check_sampler_args(mesh, min_width, max_width, table_z, up) -> None:
+def _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance=0.0) -> None:
     """ValueError for arguments that would make every candidate fail and blame the geometry:
     widths that are not a gripper's opening (:mod:`workbench.plausible`, e.g. 100 for 0.1 m) or
     out of order, a table above the object, a zero ``up``."""
@@ -128,15 +128,18 @@ def _check_sampler_args(mesh, min_width, max_width, table_z, up) -> None:
     hi = check("opening", max_width, "max_width (the gripper's opening [m])")
     if not lo < hi:
         raise ValueError(f"min_width must be < max_width; got {min_width!r} >= {max_width!r}")
+    if clearance:
+        check("lever", clearance, "clearance (the contacts' height above the table [m])")
     u = np.asarray(up, dtype=float)
     if u.shape != (3,) or not np.isfinite(u).all() or np.linalg.norm(u) == 0:
         raise ValueError(f"up must be a non-zero (3,) direction; got {up!r}")
     if table_z is not None:
         z_lo, z_hi = mesh.bounds[:, 2]
-        if not np.isfinite(table_z) or table_z >= z_hi:
+        if not np.isfinite(table_z) or table_z >= z_hi or table_z < z_lo - (z_hi - z_lo):
             raise ValueError(
-                f"table_z = {table_z!r} m is at or above the object's top ({z_hi:.4g} m): the table is "
-                f"under the object, usually at its bottom z = {z_lo:.4g} m (None: no table)"
+                f"table_z = {table_z!r} m is above the object's top ({z_hi:.4g} m) or farther below its "
+                f"bottom than its height: the table is under the object, usually at its bottom z = "
+                f"{z_lo:.4g} m (None: no table; another unit than the mesh?)"
             )
 
 
@@ -229,7 +232,7 @@ def antipodal_grasps(
             raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
     if pad is not None:
         check_edge_args(pad, edge_depth)
-    _check_sampler_args(mesh, min_width, max_width, table_z, up)
+    _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance)
     rng = np.random.default_rng(seed)
     half = np.arctan(mu)
     m = max_samples or 20 * n
@@ -389,9 +392,17 @@ def horizontal_grasps(
         check_edge_args(pad, edge_depth)
     z = np.atleast_1d(np.asarray(heights, float))
     lo, hi = mesh.bounds
-    if z.ndim != 1 or not np.isfinite(z).all() or ((z <= lo[2]) | (z >= hi[2])).any():
-        raise ValueError(f"heights must be finite and inside the mesh z extent ({lo[2]:.4g}, {hi[2]:.4g}) m")
+    if z.size == 0 or z.ndim != 1 or not np.isfinite(z).all() or ((z <= lo[2]) | (z >= hi[2])).any():
+        raise ValueError(
+            f"heights must be at least one height [m], finite and inside the mesh z extent "
+            f"({lo[2]:.4g}, {hi[2]:.4g}) m; got {np.asarray(heights).tolist()}"
+        )
     c = (lo[:2] + hi[:2]) / 2 if centre is None else np.asarray(centre, float)
+    if c.shape != (2,) or not np.isfinite(c).all() or ((c < lo[:2]) | (c > hi[:2])).any():
+        raise ValueError(
+            f"centre must be the vertical axis's (x, y) [m] inside the mesh's box {lo[:2].tolist()}–"
+            f"{hi[:2].tolist()}; got {np.asarray(centre).tolist()} (in another unit than the mesh?)"
+        )
     half = np.arctan(mu)
     phis = np.pi * np.arange(n_angles) / n_angles
     Z, P = np.meshgrid(z, phis, indexing="ij")
@@ -413,7 +424,7 @@ def horizontal_grasps(
         ),
         bar,
     )
-    log.info("horizontal_grasps: %s", result.summary())
+    log.log(logging.WARNING if not result else logging.INFO, "horizontal_grasps: %s", result.summary())
     return result
 
 

@@ -308,6 +308,9 @@ class PadShape:
         w = check("pad_size", width, "pad width")
         h = check("pad_size", length, "pad length")
         ox, oy = np.asarray(offset, float)
+        for v in (ox, oy):  # the pad's place on the finger: an offset in mm (10 for 0.01) is refused
+            if v:
+                check("lever", abs(float(v)), "pad offset (in the tooltip frame [m])")
         pts = [
             (ox - h / 2, oy - w / 2),
             (ox + h / 2, oy - w / 2),
@@ -391,7 +394,7 @@ class Jaw:
             )
         object.__setattr__(self, "outline", as_polygon(self.outline, "Jaw.outline"))
         object.__setattr__(self, "stroke", _positive("Jaw.stroke [m]", self.stroke))
-        object.__setattr__(self, "stiffness", _positive("Jaw.stiffness [Pa/m]", self.stiffness))
+        object.__setattr__(self, "stiffness", check("winkler_stiffness", self.stiffness, "Jaw.stiffness"))
 
     def turned(self, rotation: np.ndarray, pivot: np.ndarray) -> Jaw:
         """This jaw turned by ``rotation`` (3, 3) about ``pivot`` (3,) [m] (a rigid motion of the

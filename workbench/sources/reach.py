@@ -43,6 +43,15 @@ def check_press_closing(closing, what: str = "closing") -> float:
     return c
 
 
+def check_press_pad(stiffness, max_edge) -> bool:
+    """True if a press's pad ``stiffness`` [Pa/m] (modulus / layer thickness) and refinement length
+    ``max_edge`` [m] are plausible (:mod:`workbench.plausible`: 200 for 2e8 Pa/m, or 1.0 for 1e-3 m,
+    is refused), else ValueError."""
+    check("winkler_stiffness", stiffness, "stiffness (the pad's Winkler modulus [Pa/m])")
+    check("element_size", max_edge, "max_edge (the refinement length [m])")
+    return True
+
+
 def reach_profile(
     mesh,
     center,
@@ -88,7 +97,7 @@ def reach_profile(
         check_pad(pad)
     win = _check_window(window, depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
-    if not (check_press_closing(closing) > 0 and stiffness > 0 and max_edge > 0):
+    if not (check_press_closing(closing) > 0 and check_press_pad(stiffness, max_edge)):
         raise ValueError(
             f"closing, stiffness and max_edge must be > 0; got {closing!r}, {stiffness!r}, {max_edge!r}"
         )
@@ -111,7 +120,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
     if not isinstance(jaw, Jaw):
         raise ValueError(f"jaw must be a Jaw (Gripper.jaws(pose)); got {type(jaw).__name__}")
     k = jaw.stiffness if stiffness is None else stiffness
-    if not (check_press_closing(closing) > 0 and k > 0 and max_edge > 0):
+    if not (check_press_closing(closing) > 0 and check_press_pad(k, max_edge)):
         raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
     cen, normal, area = fine_surface(mesh, float(max_edge))
     # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
