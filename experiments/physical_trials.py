@@ -93,6 +93,14 @@ def check_config(config: dict) -> None:
             f"{config['n_robust']!r}, {config['robust_seeds']!r}"
         )
     PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"]).resolved()
+    if config["grasps"]:  # indices of the trial file's grasps: checked against the file itself
+        known = set(_inputs(config)[0].grasp_index.tolist())
+        unknown = sorted(set(config["grasps"]) - known)
+        if unknown:
+            raise ValueError(
+                f"grasps {unknown} are not grasp indices of the trial file (it has "
+                f"{min(known)}-{max(known)}, {len(known)} grasps); [] runs all"
+            )
 
 
 def _inputs(config: dict):

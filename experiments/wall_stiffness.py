@@ -430,6 +430,12 @@ def check_config(config: dict) -> None:
     if len(config["jaw"]) != 2:
         raise ValueError(f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}")
     if not config["object"]:
+        bad = [i for i in config["bottles"] if not 0 <= i < 24]
+        if bad or not config["bottles"]:
+            raise ValueError(
+                "bottles must be indices into the thesis's bottle family, 0-23, at least one; "
+                f"got {config['bottles']!r}"
+            )
         if config["n_angles"] < 1:
             raise ValueError(f"n_angles must be >= 1 (grasp axes per height); got {config['n_angles']!r}")
         bad = [h for h in config["height_fractions"] if not 0 <= h <= 1]

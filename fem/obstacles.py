@@ -29,11 +29,15 @@ def _frozen(a, dtype) -> np.ndarray:
     return out
 
 
-def _point(name: str, p) -> None:
+def _point(name: str, p, allow_scale: bool = False) -> None:
     """Refuse a point that is not a finite 3-vector (a NaN would silently mean "no contact")."""
     v = np.asarray(p, dtype=float)
     if v.shape != (3,) or not np.isfinite(v).all():
         raise ValueError(f"{name} must be a finite (3,) point [m]; got {p!r}")
+    if np.linalg.norm(v) > 0 and not allow_scale:  # within reach of the pad (25 for 0.025 is a slip)
+        from workbench.plausible import check
+
+        check("lever", float(np.linalg.norm(v)), f"{name}'s distance from the pad [m]", warn=False)
 
 
 @dataclass(frozen=True)
@@ -60,7 +64,7 @@ class Sphere:
     allow_scale: bool = False  # accept a radius outside the plausible object sizes
 
     def __post_init__(self) -> None:
-        _point("center", self.center)
+        _point("center", self.center, self.allow_scale)
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
         from workbench.units import check_extent
@@ -90,7 +94,7 @@ class Cylinder:
     _a: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _point("point", self.point)
+        _point("point", self.point, self.allow_scale)
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius must be > 0; got {self.radius}")
         from workbench.units import check_extent
@@ -131,7 +135,7 @@ class EllipticCylinder:
     _frame: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _point("point", self.point)
+        _point("point", self.point, self.allow_scale)
         for name in ("a", "b"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
@@ -266,7 +270,9 @@ class MeshObstacle:
         )
         mesh.apply_scale(factor)
         if transform is not None:
-            mesh.apply_transform(np.asarray(transform, dtype=float))
+            from workbench.sources.gripper import check_rigid
+
+            mesh.apply_transform(check_rigid(transform, "transform (a rigid 4×4 in metres)"))
         self.mesh = mesh
         self.facing = None if facing is None else _unit(facing)
         # what the queries read, as plain read-only arrays (the same numbers as trimesh's)

@@ -196,6 +196,7 @@ def condense_pad(
     x, y, z = mesh.p
     face = top_face_nodes(mesh.p, geometry.thickness)
     if patch_radius is not None:
+        check("pad_size", patch_radius, "patch_radius (the contact zone's radius [m])", warn=False)
         face = face[np.hypot(x[face], y[face]) <= patch_radius]
     tag = scheme if patch_radius is None else f"{scheme};patch={patch_radius!r}"
     folder = pad_cache_dir(cache_dir)

@@ -274,9 +274,21 @@ def turn_matrix(angle: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
+def _check_ring(radius, thickness) -> None:
+    """ValueError unless ``radius`` [m] is a plausible object radius (35 for 0.035 is refused) and
+    the ring's ``thickness`` [m] a plausible wall thinner than it."""
+    from workbench.plausible import check
+
+    check("lever", radius, "radius (the ring's mid-surface radius [m])")
+    check("wall_thickness", thickness, "thickness")
+    if thickness >= radius:
+        raise ValueError(f"thickness {thickness!r} m must be below the radius {radius!r} m: a thin ring")
+
+
 def ring_wall(radius: float, thickness: float, material: Material = PET, n_theta: int = 64) -> Wall:
     """A plane-strain slab (one element, ``thickness`` long) of a tube with mid-surface
     ``radius`` — the thin ring of Roark's formulas."""
+    _check_ring(radius, thickness)
     return build_wall(
         circle_surface(radius + thickness / 2),
         material,
@@ -298,6 +310,7 @@ def ring_pinch(
     the measured quantity is the growth of the perpendicular (y) mid-surface
     diameter, away from the load points.  ``radius`` is the mid-surface radius.
     """
+    _check_ring(radius, thickness)
     slab = thickness
     wall = ring_wall(radius, thickness, material, n_theta)
     b = wall.basis
@@ -376,7 +389,17 @@ def squeeze(
     from workbench.sources.jaws import check_jaw_force
 
     check_jaw_force(force)
+    from workbench.sources.jaws import check_pad
+
+    check_pad(jaw)  # (width, length) [m]: (20, 40) for 0.02 m is refused
     axis = np.asarray(axis, float)
+    if axis.shape != (3,) or not np.isfinite(axis).all() or not np.linalg.norm(axis) > 0:
+        raise ValueError(f"axis must be a non-zero (3,) grasp axis; got {axis.tolist()}")
+    if abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3 deg: the jaws' faces are vertical
+        raise ValueError(
+            f"axis {axis.tolist()} is not horizontal: the squeeze's jaws close along a horizontal axis "
+            "(their faces vertical, their length along z)"
+        )
     axis = axis / np.linalg.norm(axis)
     up = np.array([0.0, 0.0, 1.0])
     side = np.cross(up, axis)

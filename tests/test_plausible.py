@@ -352,3 +352,46 @@ def test_press_pad_stiffness_offset_and_task_load_are_judged():
     g = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
     with pytest.raises(ValueError, match=r"w_ext's force \|f\| \[N\] must be a weight"):
         evaluate_grasp(box, g, model="point", w_ext=[0, 0, -1e6, 0, 0, 0], mu=0.5)
+
+
+def test_the_third_trials_silent_accepts_are_refused():
+    """FEM-level calls a researcher also uses: jaws in mm and a vertical axis in squeeze, a ring
+    radius in mm or negative, a non-rigid obstacle transform, a negative condensation patch, an
+    obstacle placed 25 m away, a 50 m jaw stroke (issue 44's third trial)."""
+    import trimesh
+
+    from workbench.fem.material import Material
+    from workbench.fem.obstacles import MeshObstacle, Sphere
+    from workbench.fem.pad import PadGeometry, condense_pad
+    from workbench.fem.wall import build_wall, circle_surface, ring_pinch, ring_wall, squeeze
+    from workbench.sources.gripper import Jaw
+
+    wall = build_wall(circle_surface(0.03), n_theta=16, n_z=6, z_range=(0.0, 0.06))
+    c = np.array([0.0, 0.0, 0.03])
+    with pytest.raises(ValueError, match="millimetres — pass 0.02"):
+        squeeze(wall, c, np.array([1.0, 0, 0]), jaw=(20, 40))
+    with pytest.raises(ValueError, match="is not horizontal"):
+        squeeze(wall, c, np.array([0, 0, 1.0]))
+    with pytest.raises(
+        ValueError, match=r"radius \(the ring's mid-surface radius \[m\]\).*millimetres — pass 0.035"
+    ):
+        ring_pinch(35.0, 0.0005, n_theta=16)
+    with pytest.raises(ValueError, match="radius"):
+        ring_wall(-0.035, 0.0005, n_theta=16)
+    with pytest.raises(ValueError, match="not orthonormal|scaled|reflection"):
+        MeshObstacle(trimesh.creation.box((0.04, 0.04, 0.04)), transform=np.diag([1000.0, 1000, 1000, 1]))
+    with pytest.raises(ValueError, match="patch_radius"):
+        condense_pad(PadGeometry(nx=2, ny=2, nz=1), Material(), patch_radius=-0.01, cache_dir=False)
+    with pytest.raises(ValueError, match="center's distance from the pad .* millimetres — pass 0.025"):
+        Sphere((0, 0, 25.0), 0.02)
+    outline = np.array([[-0.01, -0.004], [0.01, -0.004], [0.01, 0.004], [-0.01, 0.004]])
+    with pytest.raises(ValueError, match=r"Jaw.stroke .* got 50.0"):
+        Jaw(
+            np.zeros(3),
+            np.array([1.0, 0, 0]),
+            np.array([0, 1.0, 0]),
+            np.array([0, 0, 1.0]),
+            outline,
+            50.0,
+            3e8,
+        )

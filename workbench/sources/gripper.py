@@ -393,7 +393,7 @@ class Jaw:
                 "build it with workbench.sources.jaws.jaw_frame(closing, e2)"
             )
         object.__setattr__(self, "outline", as_polygon(self.outline, "Jaw.outline"))
-        object.__setattr__(self, "stroke", _positive("Jaw.stroke [m]", self.stroke))
+        object.__setattr__(self, "stroke", check("opening", self.stroke, "Jaw.stroke (half the opening) [m]"))
         object.__setattr__(self, "stiffness", check("winkler_stiffness", self.stiffness, "Jaw.stiffness"))
 
     def turned(self, rotation: np.ndarray, pivot: np.ndarray) -> Jaw:
