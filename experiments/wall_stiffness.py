@@ -650,12 +650,9 @@ def _render(out: Path, family, maps: dict) -> Path:
     return save_screenshot(pl, out / "stiffness_render.png")
 
 
-#: Peak memory of one run against its walls' factors (issue 44), fitted by
-#: benchmarks/bench_memory.py on 2026-11-29 to one-bottle --quick runs at meshes [24, 12] ..
-#: [96, 48] (0.72 .. 5.6 GiB, within 6 % of the fit); three bottles at [48, 24] and a
-#: convergence study up to [64, 32] came out 3 % and 1 % above the estimate; [144, 72] reads
-#: ~14.0 GiB (it was killed at an 11.8 GiB worker limit).  The measurements:
-#: results/benchmarks/memory_model.json.  peak = base_bytes + bytes_per_nnz * nnz, with the
+#: Peak memory of one run against its walls' factors, fitted by benchmarks/bench_memory.py to
+#: one-bottle --quick runs (the measurements, the fit's error and its checks:
+#: results/benchmarks/memory_model.json).  peak = base_bytes + bytes_per_nnz * nnz, with the
 #: factor's non-zeros nnz = nnz_coefficient * free_dofs ** nnz_exponent.
 MEMORY_MODEL = {
     "measured_on": "2026-11-29",

@@ -303,12 +303,10 @@ class Tolerances:
     grasp_axis_max_deg: float = 1.0
     # (the other physical inputs' plausible ranges: workbench.plausible.RANGES)
 
-    # issue 44: model round-off / profile checks
     # Round-off of a computed friction-wrench component, relative to the largest w_max: the wrench
     # kernel resolves an element's slip direction from |v_t| > tangential_velocity_rtol |v|, where
     # the rounding of v - (v.n)n turns it by up to eps/1e-12 = 2.2e-4, so a component that is 0 in
-    # exact arithmetic (a flat contact's f_n) can come out at ~1e-4 mu F (seen: 3.2e-5, and w_max
-    # entries down to -3.5e-7, on planar REACH/FEM profiles).  w_max entries down to -this x
+    # exact arithmetic (a flat contact's f_n) can come out at ~1e-4 mu F.  w_max entries down to -this x
     # max(w_max) are set to 0, further below refused (the author's +xi sign); wrenches may exceed
     # a given exact w_max by this much (normalize.prepare).
     wrench_roundoff_rtol: float = 1e-3
@@ -690,7 +688,6 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "max_plausible_mass_kg": _POS,
     "linear_closing_max_fraction": _POS,
     "grasp_axis_max_deg": _real(0.0, hi=180.0),
-    # issue 44: model round-off / profile checks
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max
     "jaw_profile_plane_rtol": _NONNEG,  # 0: exactly the footprint's circumscribed circle
     "jaw_profile_depth_rtol": _POS,  # 0 refuses every curved contact

@@ -26,7 +26,7 @@ checkpoint line finds the result on re-run.  The driver releases each result as 
 recorded (a result still referenced when its worker dies is computed again by Dask — what
 made a restarted worker recompute finished points).
 
-Memory (issue 44).  An experiment module may define ``memory_estimate(config) -> bytes`` (the
+Memory.  An experiment module may define ``memory_estimate(config) -> bytes`` (the
 peak resident memory of one run; e.g. wall-stiffness's, fitted by
 ``benchmarks/bench_memory.py``); a sweep compares it, before any point runs, with its workers'
 ``memory_limit`` — on the local cluster each worker's share of this machine's memory, one of

@@ -243,16 +243,6 @@ def points_in_polygon(points, polygon) -> np.ndarray:
 # ---------------------------------------------------------------- pad, jaw, gripper
 
 
-def _positive(name: str, value, limit: float | None = None, hint: str = "") -> float:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-        raise ValueError(f"{name} must be a finite number; got {value!r}")
-    if not value > 0:
-        raise ValueError(f"{name} must be > 0; got {value!r}")
-    if limit is not None and value > limit:
-        raise ValueError(f"{name} = {value!r} is more than {limit:g}: {hint}")
-    return float(value)
-
-
 @dataclass(frozen=True)
 class PadShape:
     """A flat compliant pad: its contact face and its Winkler stiffness.
