@@ -43,7 +43,7 @@ from workbench.fem.extract import extract_profile, face_grid, nodal_pressures
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Cylinder, EllipticCylinder, MeshObstacle, Sphere
 from workbench.fem.pad import PadGeometry, condense_pad
-from workbench.grasp.margin import MARGIN_SPAN
+from workbench.grasp.margin import MARGIN_SPAN, check_steps
 from workbench.parallel import check_workers, run_rows
 from workbench.pareto import at_equal
 from workbench.peers import metrics
@@ -264,10 +264,10 @@ def check_config(config: dict) -> None:
         "ellipse_sections",
         "ls_twists",
         "ls_directions",
-        "margin_steps",
     ):
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
+    check_steps(config["margin_steps"], "margin_steps")  # the margin's own rule
     if not config["cases"]:
         raise ValueError(f"cases must name at least one of {CASES}; got []")
     if not config["deltas_mm"] or not all(0 < d < h for d in config["deltas_mm"]):

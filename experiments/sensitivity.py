@@ -46,14 +46,14 @@ from workbench.config import SAMPLER_KINDS
 from workbench.experiment_keys import Key, check_key
 from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
-from workbench.grasp.margin import margin_vs_truth, resistance_margin
+from workbench.grasp.margin import check_steps, margin_vs_truth, resistance_margin
 from workbench.grasp.models import MODELS, contact_sets
 from workbench.grasp.precision import check_levels, matched_precision, recall_at_least, scores
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
-from workbench.sources.scenes import elliptic_cylinder_grasp
+from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_grasp
 from workbench.sources.surfaces import check_n_elements
 
 NAME = "sensitivity"
@@ -112,9 +112,11 @@ DEFAULT_CONFIG = {
 KEYS = {
     "mu": Key("true friction coefficient, > 0 (thesis §4.1.3: 0.3)", "", "mu"),
     "k_true": Key("true pressure exponent k of Eq. (4.3)"),
-    "a": Key("elliptic cylinder semi-axis along the grasp axis", "m"),
-    "b": Key("elliptic cylinder semi-axis across the grasp axis", "m"),
-    "half_angle": Key("the contact's angular half-width, < pi/2", "rad"),
+    # the semi-axes are the contacts' offsets from the cylinder's axis: judged as lever arms
+    # (a = 30 is "probably in millimetres"), the half-width as a wrapped contact's (34 is degrees)
+    "a": Key("elliptic cylinder semi-axis along the grasp axis", "m", "lever"),
+    "b": Key("elliptic cylinder semi-axis across the grasp axis", "m", "lever"),
+    "half_angle": Key("the contact's angular half-width, < pi/2", "rad", "half_angle"),
     # the flat pad's length pressed along the cylinder: judged as a pad size
     "length": Key(
         "true contact length along the cylinder axis (the pad's length in contact)", "m", "pad_size"
@@ -170,7 +172,8 @@ def check_config(config: dict) -> None:
     would refuse only after minutes of rows: implausible physical numbers, unknown models and
     sampler kinds (:data:`KEYS`: the library's own lists), μ = 0 (frictionless: the truth resists
     none of the disturbances, so every recall is undefined and the μ offsets, relative to μ, all
-    collapse to 0), a mesh of < 2 elements, more robust disturbances than disturbances and
+    collapse to 0), a scene the elliptic-cylinder grasp refuses (half_angle >= pi/2), fewer than
+    one bisection step, a mesh of < 2 elements, more robust disturbances than disturbances and
     precision levels outside (0, 1].  Each check is the rule of the function that would raise
     later, called early."""
     for key, spec in KEYS.items():  # also for run(config) called directly
@@ -181,6 +184,9 @@ def check_config(config: dict) -> None:
             "so every recall is undefined, and the mu offsets (relative to mu) all collapse to 0; "
             "give mu > 0, e.g. --set mu=0.3 (the default)"
         )
+    # the scene's own rule (half_angle < pi/2 too), before the cluster starts
+    check_elliptic_cylinder(config["a"], config["b"], config["half_angle"], config["length"])
+    check_steps(config["margin_steps"], "margin_steps")  # resistance_margin's rule
     check_n_elements(config["n_elements"])
     for key in ("models", "training_models"):
         if not config[key]:

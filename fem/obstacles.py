@@ -247,17 +247,13 @@ class MeshObstacle:
     ) -> None:
         import trimesh
 
-        from workbench.units import check_extent, length_factor
+        from workbench.units import check_closed, check_extent, length_factor
 
         if isinstance(mesh, (str, bytes)) or hasattr(mesh, "__fspath__"):
             mesh = trimesh.load(mesh, force="mesh")
         if not isinstance(mesh, trimesh.Trimesh):
             raise ValueError(f"mesh must be a trimesh.Trimesh or a path to one; got {type(mesh).__name__}")
-        if not mesh.is_watertight:
-            raise ValueError(
-                "mesh is not watertight, so inside/outside is undefined — repair it first "
-                "(trimesh.repair.fill_holes / fix_normals) or use an analytic obstacle"
-            )
+        check_closed(mesh, "mesh passed to MeshObstacle")  # watertight and outward, or refused
         # rebuild from vertices/faces: vertex normals then come from the faces, not
         # from the file (some thesis OBJs carry inward vertex normals)
         mesh = trimesh.Trimesh(np.array(mesh.vertices), np.array(mesh.faces), process=False)

@@ -71,13 +71,15 @@ def grasp_pairs(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(n, 3) first and (n, 3) second jaw points of ``locations`` (2n, 3) [m].
 
-    Raises ``ValueError`` for a malformed or odd-length array, a point outside the
+    surface : a :class:`RadialSurface` or a :class:`~workbench.fem.object_wall.WallGeometry`
+    (its ``surface``).  Raises ``ValueError`` for a malformed or odd-length array, a point outside the
     mesh's box, or more than ``max_offset`` [m] off the surface (radially) where the
     surface is defined — the mark of another object, frame or unit.  With ``mesh`` (the
     object's, in metres) points at other heights (a lip, cap, neck or base, which the
     side wall leaves out) must lie within ``max_offset`` of it too.
     """
     L = _as_locations(locations, "locations")
+    surface = _surface_of(surface, None)[0]  # a WallGeometry's side wall, or a ValueError
     fix = "the locations must lie on this mesh, in its frame and in metres"
     beyond = np.maximum(surface.bounds[0] - L, L - surface.bounds[1]).max(axis=1)
     if (beyond > max_offset).any():
@@ -152,9 +154,39 @@ def axis_normal_angles(surface: RadialSurface, a: np.ndarray, b: np.ndarray) -> 
     return np.maximum(*out)
 
 
+def _surface_of(
+    geometry: Any, z_range: tuple[float, float] | None
+) -> tuple[RadialSurface, tuple[float, float]]:
+    """The outer surface and the modelled heights of ``geometry``: a :class:`RadialSurface`
+    (heights ``z_range`` or its own), or a :class:`~workbench.fem.object_wall.WallGeometry`
+    (its ``surface``; heights ``z_range`` or its own, side wall plus lip); ``ValueError`` else."""
+    from .object_wall import WallGeometry
+
+    if isinstance(geometry, WallGeometry):
+        surface = geometry.surface
+        default = geometry.z_range
+    elif isinstance(geometry, RadialSurface):
+        surface, default = geometry, geometry.z_range
+    else:
+        raise ValueError(
+            "surface must be the object's outer surface, a RadialSurface (radial_surface(mesh)) or the "
+            f"WallGeometry that object_wall / wall_geometry return; got {type(geometry).__name__} — "
+            "pass geo (or geo.surface) from geo, wall = object_wall(mesh)"
+        )
+    if z_range is None:
+        return surface, (float(default[0]), float(default[1]))
+    try:
+        lo, hi = (float(z) for z in z_range)
+    except (TypeError, ValueError):
+        raise ValueError(f"z_range must be two heights (lo, hi) [m]; got {z_range!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise ValueError(f"z_range must be two finite heights lo < hi [m]; got {z_range!r}")
+    return surface, (lo, hi)
+
+
 def stiffness_at(
     wall: Wall,
-    surface: RadialSurface,
+    surface: RadialSurface | Any,
     locations: Any,
     *,
     force: float = 10.0,
@@ -169,11 +201,15 @@ def stiffness_at(
     docstring), ``reason``, ``fem_stiffness``
     (the squeeze's value, also for a grasp flagged rigid by its closing), ``seconds``.
 
-    wall : the wall built on ``surface`` (:func:`workbench.fem.wall.build_wall`); force : jaw
-    force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
+    wall : the wall built on ``surface`` (:func:`workbench.fem.wall.build_wall`);
+    surface : the object's outer surface, a :class:`RadialSurface`, or the
+    :class:`workbench.fem.object_wall.WallGeometry` that ``object_wall`` returns with the wall
+    (``geo, wall = object_wall(mesh)``: its ``surface`` is used, and its ``z_range`` — side wall
+    plus lip — is the default heights); anything else is a ``ValueError``;
+    force : jaw force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
     rigid_closing : closings [m] below this are reported rigid (0: never);
     z_range : heights [m] of the modelled wall (default the side wall's,
-    ``surface.z_range``; :class:`workbench.fem.object_wall.WallGeometry` adds the lip);
+    ``surface.z_range``, or the WallGeometry's, which adds the lip);
     grasp_ids : (n,) the grasps' numbers in the caller's list, used in log messages
     (default 0 … n − 1).
     """
@@ -181,8 +217,13 @@ def stiffness_at(
         raise ValueError(f"rigid_closing must be a closing >= 0 [m]; got {rigid_closing}")
     from workbench.config import TOL
 
+    if not isinstance(wall, Wall):
+        raise ValueError(
+            f"wall must be the Wall built on the surface (build_wall, or object_wall's second value); got "
+            f"{type(wall).__name__} — geo, wall = object_wall(mesh); stiffness_at(wall, geo, locations)"
+        )
+    surface, (lo, hi) = _surface_of(surface, z_range)
     p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
-    lo, hi = surface.z_range if z_range is None else z_range
     angles = axis_normal_angles(surface, p1, p2)
     limit = TOL.antipodal_max_deg  # read at call time
     ids = np.arange(len(p1)) if grasp_ids is None else np.asarray(grasp_ids)

@@ -253,19 +253,21 @@ def test_a_non_convex_mesh_torus():
     assert rho.min() > Rt - r and rho.max() < Rt + r and (prof.normals[:, 2] < 0).all()
 
 
-def test_an_inward_or_one_sided_mesh_gives_the_same_contact():
+def test_an_inward_mesh_is_refused_and_a_one_sided_one_gives_the_same_contact():
     pytest.importorskip("pydrake.geometry")
-    # Drake finds no contact with inward-wound triangles: the pad turns such a mesh outward; a
-    # one-sided obstacle (facing) registers only its kept faces, the same ones at the bottom
+    # an inside-out mesh is refused where every mesh enters (workbench.units.check_closed), so
+    # Drake never sees inward-wound triangles; a one-sided obstacle (facing) registers only its
+    # kept faces, the same ones at the bottom
     d = 1e-3
     outward = _icosphere(3)
     inward_mesh = outward.mesh.copy()
     inward_mesh.invert()
     assert inward_mesh.volume < 0
+    with pytest.raises(ValueError, match="inside out"):
+        MeshObstacle(inward_mesh)
     ref = DrakeHydroPad(outward, H_LAYER, E_HYDRO).profile(d)
-    for obstacle in (MeshObstacle(inward_mesh), outward.transformed(np.eye(4), facing=(0.0, 0.0, -1.0))):
-        prof = DrakeHydroPad(obstacle, H_LAYER, E_HYDRO).profile(d)
-        assert prof.F == pytest.approx(ref.F, rel=1e-12) and (prof.normals[:, 2] < 0).all()
+    prof = DrakeHydroPad(outward.transformed(np.eye(4), facing=(0.0, 0.0, -1.0)), H_LAYER, E_HYDRO).profile(d)
+    assert prof.F == pytest.approx(ref.F, rel=1e-12) and (prof.normals[:, 2] < 0).all()
 
 
 def test_no_contact_gives_none(pad):

@@ -54,9 +54,9 @@ def test_margin_counts_the_deciders_calls_it_needs():
             {"w": np.array([np.nan, 0, 0, 0, 0, 0]), "steps": 3},
             r"w must be a finite \(6,\) wrench; got non-finite entries: \[nan, 0.0,",
         ),
-        ({"w": np.ones(6), "steps": -1}, "steps must be an integer >= 0 .*got -1"),
-        ({"w": np.ones(6), "steps": 2.5}, "steps must be an integer >= 0 .*got 2.5"),
-        ({"w": np.ones(6), "steps": True}, "steps must be an integer >= 0 .*got True"),
+        ({"w": np.ones(6), "steps": -1}, "steps must be an integer >= 1 .*got -1"),
+        ({"w": np.ones(6), "steps": 2.5}, "steps must be an integer >= 1 .*got 2.5"),
+        ({"w": np.ones(6), "steps": True}, "steps must be an integer >= 1 .*got True"),
         ({"w": np.ones(6), "steps": 3, "span": 1.0}, r"span must be a number > 1 .*got 1.0"),
         (
             {"w": np.ones(6), "steps": 3, "span": "64"},

@@ -162,7 +162,8 @@ def test_against_mujoco_itself_on_the_torsional_axis():
         (lambda: in_cone(np.zeros(5), MU5), r"\(K, 6\)"),
         (lambda: in_cone([np.nan] * 6, MU5), "finite"),
         (lambda: cone_support(np.zeros(6), MU5, -1.0), ">= 0"),
-        (lambda: cone_friction_wrenches(np.zeros(6), [0, 0, 0], MU5), "non-zero"),
+        (lambda: cone_friction_wrenches([0, 0, 1.0, 0, 0, 0], [0, 0, 0], MU5), "non-zero"),  # zero normal
+        (lambda: cone_friction_wrenches(np.zeros(6), [0, 0, 1], MU5), "nonzero slip"),  # zero twist
         (lambda: mujoco_coefficients_from_profile("profile", 0.5), "ContactProfile"),
         (lambda: mujoco_coefficients_from_profile(_flat_disc(), 0.0), "friction"),
         (lambda: mujoco_coefficients_from_profile(_flat_disc(), 0.5, rolling="yes"), "rolling"),

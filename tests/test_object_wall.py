@@ -19,7 +19,7 @@ def _cup(lip: bool) -> trimesh.Trimesh:
     r, t, h = 0.030, 0.5e-3, 0.080
     top = [(r, h), (r + 3e-3, h), (r + 3e-3, h + 3e-3), (r - t, h + 3e-3)] if lip else [(r, h), (r - t, h)]
     section = np.array([(0.0, 0.0), (r, 0.0), *top, (r - t, t), (0.0, t)])
-    m = trimesh.creation.revolve(section[::-1], sections=96)
+    m = trimesh.creation.revolve(section, sections=96)  # this order winds it outward
     assert m.is_watertight
     return m
 

@@ -2,7 +2,7 @@
 the likely unit and the fix; thesis-size inputs pass untouched."""
 
 import dataclasses
-import logging
+import warnings
 
 import numpy as np
 import pytest
@@ -10,6 +10,7 @@ import trimesh
 
 from workbench import ContactProfile, config
 from workbench.grasp.sampling import antipodal_grasps
+from workbench.plausible import ImplausibleWarning
 from workbench.sources.reach import reach_profile
 from workbench.units import check_extent, length_factor
 
@@ -132,34 +133,44 @@ def test_from_mesh_units_fix_the_guard():
     assert prof.length_scale == pytest.approx(0.02, rel=1e-12)
 
 
-def test_half_flipped_normals_warn(caplog):
+def test_half_flipped_normals_warn():
     c, nrm, a, p = _patch(0.02)
     flipped = nrm.copy()
     flipped[::2] *= -1  # 61 of 121 elements wound the other way
-    with caplog.at_level(logging.WARNING, logger="workbench.profile"):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         ContactProfile(c, nrm, a, p)
-        assert not caplog.records
+        assert not caught
         ContactProfile(c, flipped, a, p)
-    assert len(caplog.records) == 1
-    msg = caplog.records[0].getMessage()
+    assert len(caught) == 1 and caught[0].category is ImplausibleWarning
+    msg = str(caught[0].message)
     # 61 flipped outnumber 60 right ones: the mean follows the majority, the 60 are reported
     assert "60 of 121 elements" in msg and "50%" in msg and "fix_normals" in msg
 
 
-def test_flip_detection_limits(caplog):
+def test_normals_that_cancel_warn():
+    # two equal triangles, one wound the other way: Σ f_i n_i is exactly zero, so there is no
+    # mean normal to be "against" — the profile's net normal force is 0 N for a 1 N contact
+    V = np.array([[0.0, 0, 0], [0.01, 0, 0], [0.01, 0.01, 0], [0.0, 0.01, 0]])
+    with pytest.warns(ImplausibleWarning, match=r"normal forces cancel .*wound both ways.*fix_normals"):
+        prof = ContactProfile.from_mesh(V, [[0, 1, 2], [0, 3, 2]], 1e4)
+    assert np.linalg.norm((prof.forces[:, None] * prof.normals).sum(axis=0)) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_flip_detection_limits():
     # below the force fraction: 10 of 121 elements (8 %) flipped is not flagged; and a
     # profile whose normals are all flipped is self-consistent, so it cannot be (documented)
     c, nrm, a, p = _patch(0.02)
     few = nrm.copy()
     few[:10] *= -1
-    with caplog.at_level(logging.WARNING, logger="workbench.profile"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleWarning)
         ContactProfile(c, few, a, p)
         ContactProfile(c, -nrm, a, p)
         # a cylinder wrap of ±60° (the sensitivity scene's 0.6 rad is narrower) never warns
         t = np.linspace(-np.pi / 3, np.pi / 3, 41)
         ring = np.column_stack([np.sin(t), np.cos(t), np.zeros_like(t)])
         ContactProfile(0.02 * ring, ring, np.full(41, 1e-6), np.ones(41))
-    assert not caplog.records
 
 
 @pytest.mark.jit_only("over 15 s as pure Python")

@@ -43,7 +43,7 @@ def _no_assembly(monkeypatch):
 
 def _cup() -> trimesh.Trimesh:
     section = np.array([(0.0, 0.0), (R, 0.0), (R, H), (R - T, H), (R - T, T), (0.0, T)])
-    m = trimesh.creation.revolve(section[::-1], sections=32)
+    m = trimesh.creation.revolve(section, sections=32)  # this order winds it outward
     assert m.is_watertight
     return m
 

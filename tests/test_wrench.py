@@ -102,8 +102,12 @@ def test_zero_tangential_velocity_contributes_exactly_zero():
     ref = naive.fw_loop(c, n, prof.areas, prof.pressures, xi, 1.0)
     assert np.all(np.isfinite(got))
     np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-18)
-    # the zero twist is not a unit twist, but must not produce NaN either
-    assert np.all(frictional_wrenches(prof, np.zeros(6)) == 0.0)
+    # the zero twist is no slip direction (its friction is undefined): refused by name, and a
+    # batch with one zero row says which
+    with pytest.raises(ValueError, match=r"row 0 is all zeros .*sample unit twists"):
+        frictional_wrenches(prof, np.zeros(6))
+    with pytest.raises(ValueError, match="row 1 is all zeros"):
+        frictional_wrenches(prof, [[0, 0, 1.0, 0, 0, 0], [0.0] * 6])
 
 
 def test_zero_pressure_elements_contribute_nothing(rng):

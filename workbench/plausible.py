@@ -48,6 +48,7 @@ class Range:
         probably given in, tried in order: the first that makes it a usual value is named.
     examples : real values, quoted in every message (where the range comes from).
     limit_field : a ``config.TOL`` field that replaces ``hi`` (read at call time).
+    lo_field : a ``config.TOL`` field that replaces ``lo`` (read at call time).
     hi_open : ``hi`` itself refused too (a Poisson ratio of 0.5 makes the stiffness singular).
     """
 
@@ -61,6 +62,15 @@ class Range:
     lo_open: bool = True
     limit_field: str | None = None
     hi_open: bool = False
+    lo_field: str | None = None
+
+    def lower(self) -> float:
+        """``lo``, or the config tolerance that sets it."""
+        if self.lo_field is None:
+            return self.lo
+        from . import config
+
+        return float(getattr(config.TOL, self.lo_field))
 
     def upper(self) -> float:
         """``hi``, or the config tolerance that sets it."""
@@ -72,7 +82,7 @@ class Range:
 
     def interval(self, scale: float = 1.0) -> str:
         """The accepted values as an interval, in units of ``scale`` SI ("(0, 500]")."""
-        return _interval(self.lo / scale, self.upper() / scale, self.lo_open, self.hi_open)
+        return _interval(self.lower() / scale, self.upper() / scale, self.lo_open, self.hi_open)
 
 
 _MM, _CM = ("millimetres", 1e-3), ("centimetres", 1e-2)
@@ -264,6 +274,38 @@ RANGES: dict[str, Range] = {
         (("g/cm³", 1e3),),
         "an empty bottle ~30 kg/m³ (mass over enclosed volume), wood 500, water 1000, steel 7850",
     ),
+    "stiffness": Range(
+        "object stiffness (jaw force per closing)",
+        "N/m",
+        10.0,
+        1e12,
+        (100.0, 1e8),
+        (("N/mm", 1e3), ("N/cm", 1e2)),
+        "the softest measured grasp ~140 N/m (a mustard wall), thin PET bottles 1e3-3e4 N/m, "
+        "a rigid part under a pad 1e5-1e7 N/m; np.inf for a rigid contact",
+        lo_open=False,  # TOL.min_plausible_stiffness itself is accepted
+        lo_field="min_plausible_stiffness",
+    ),
+    "torque": Range(
+        "torque (a moment on the object)",
+        "N·m",
+        0.0,
+        200.0,
+        (0.0, 10.0),
+        (("N·mm", 1e-3), ("N·cm", 1e-2)),
+        "a 0.5 kg bottle held 50 mm off its centre of mass 0.25 N·m, a power drill 2-5 N·m",
+        lo_open=False,
+    ),
+    "half_angle": Range(
+        "half-angle of a wrapped contact",
+        "rad",
+        0.0,
+        np.pi,
+        (0.0, np.pi / 2),
+        (("degrees", 0.017453292519943295),),
+        "a pad wrapping a cylinder by 0.3-1.0 rad (17-57 deg); pi wraps it all round",
+        lo_open=False,
+    ),
     "opening": Range(
         "gripper opening",
         "m",
@@ -280,9 +322,10 @@ def _a(noun: str) -> str:
     return ("an " if noun[0] in "aeiou" else "a ") + noun
 
 
-def _interval(lo: float, hi: float | str, lo_open: bool, hi_open: bool) -> str:
+def _interval(lo: float | str, hi: float | str, lo_open: bool, hi_open: bool) -> str:
+    lo_text = lo if isinstance(lo, str) else f"{lo:g}"
     hi_text = hi if isinstance(hi, str) else f"{hi:g}"
-    return f"{'(' if lo_open else '['}{lo:g}, {hi_text}{')' if hi_open else ']'}"
+    return f"{'(' if lo_open else '['}{lo_text}, {hi_text}{')' if hi_open else ']'}"
 
 
 def _fmt(x: float, unit: str) -> str:
@@ -342,12 +385,16 @@ def check(
         raise ValueError(f"{name} must be a number [{unit or '-'}]; got {value!r} ({type(value).__name__})")
     given = float(value)
     x = given * scale
-    hi = r.upper()
-    low = x <= r.lo if r.lo_open else x < r.lo
+    lo, hi = r.lower(), r.upper()
+    low = x <= lo if r.lo_open else x < lo
     high = x >= hi if r.hi_open else x > hi
     if not np.isfinite(x) or low or high:
         over = (
-            f" (config.TOL.{r.limit_field}: raise it for an unusual case)" if r.limit_field and x > hi else ""
+            f" (config.TOL.{r.limit_field}: raise it for an unusual case)"
+            if r.limit_field and x > hi
+            else f" (config.TOL.{r.lo_field} sets the limit)"
+            if r.lo_field and x < lo
+            else ""
         )
         hint = _likely(r, given, scale, unit) if np.isfinite(x) else ""
         if not hint and np.isfinite(x) and x > hi:
@@ -357,7 +404,7 @@ def check(
             + f"{over}; got {value!r}{hint} (real values: {r.examples})"
         )
     # the closed lower limit itself is a deliberate idealisation (mu = 0: frictionless), not a slip
-    if warn and not r.usual[0] <= x <= r.usual[1] and not (x == r.lo and not r.lo_open):
+    if warn and not r.usual[0] <= x <= r.usual[1] and not (x == lo and not r.lo_open):
         hint = _likely(r, given, scale, unit)
         side = "below" if x < r.usual[0] else "above"
         bound = (r.usual[0] if x < r.usual[0] else r.usual[1]) / scale
@@ -392,9 +439,10 @@ def markdown_table() -> str:
     ]
     for key, r in RANGES.items():
         hi = f"{r.hi:g}" if r.limit_field is None else f"TOL.{r.limit_field} ({r.hi:g})"
+        lo = f"{r.lo:g}" if r.lo_field is None else f"TOL.{r.lo_field} ({r.lo:g})"
         slips = ", ".join(u for u, _ in r.slips) or "-"
         lines.append(
-            f"| `{key}`: {r.name} | {r.unit or '-'} | {_interval(r.lo, hi, r.lo_open, r.hi_open)} "
+            f"| `{key}`: {r.name} | {r.unit or '-'} | {_interval(lo, hi, r.lo_open, r.hi_open)} "
             f"| [{r.usual[0]:g}, {r.usual[1]:g}] "
             f"| {slips} | {r.examples} |"
         )

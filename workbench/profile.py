@@ -223,9 +223,9 @@ class ContactProfile:
 
     Normals: elements carrying more than ``config.TOL.flipped_normal_force_fraction``
     of ``F`` with normals pointing away from the force-weighted mean normal
-    (``n_i · n̄ < 0``) log a warning — the mark of a mesh with part of its faces
-    wound the other way.  What cannot be seen here: a profile whose normals are
-    *all* flipped (into the object) is a consistent surface that only the object
+    (``n_i · n̄ < 0``), or normal forces that cancel, warn (``ImplausibleWarning``) — the
+    mark of a mesh with part of its faces wound the other way.  What cannot be seen here:
+    a profile whose normals are *all* flipped (into the object) is a consistent surface that only the object
     could contradict, indistinguishable from a contact on the other side of a
     thin shell; the grasp layer checks that each jaw pushes rather than pulls.
     A contact genuinely wrapping more than about ±100° around the object also
@@ -325,23 +325,36 @@ class ContactProfile:
         self._warn_flipped_normals()
 
     def _warn_flipped_normals(self) -> None:
-        """Log a warning if normals disagreeing with the force-weighted mean normal
-        carry more than ``config.TOL.flipped_normal_force_fraction`` of ``F``."""
+        """Warn (:class:`~workbench.plausible.ImplausibleWarning`) if normals disagreeing with
+        the force-weighted mean normal carry more than ``config.TOL.flipped_normal_force_fraction``
+        of ``F``, or if the normal forces cancel (``|Σ f_i n_i|`` at round-off of ``F``: equal
+        faces wound both ways, so no direction is "the" mean normal)."""
+        import warnings
+
+        from .plausible import ImplausibleWarning
+
         mean = (self.forces[:, None] * self.normals).sum(axis=0)
         norm = float(np.linalg.norm(mean))
-        if norm == 0:
+        fix = "fix the winding (trimesh.repair.fix_normals) or pass the normals outward from the object"
+        if norm <= 64 * np.finfo(float).eps * self.F:  # zero up to summation round-off
+            warnings.warn(
+                f"ContactProfile: the normal forces cancel (|Σ p_i a_i n_i| = {norm:.3g} N for "
+                f"F = Σ p_i a_i = {self.F:.4g} N): the faces are wound both ways, or the contact wraps "
+                f"all round the object — {fix}",
+                ImplausibleWarning,
+                stacklevel=3,
+            )
             return
         against = self.normals @ (mean / norm) < 0
         fraction = float(self.forces[against].sum()) / self.F
         if fraction > config.TOL.flipped_normal_force_fraction:
-            log.warning(
-                "ContactProfile: %d of %d elements, carrying %.0f%% of the force, have normals pointing "
-                "away from the force-weighted mean normal (n_i . n_mean < 0): part of the mesh is probably "
-                "wound the other way — fix the winding (trimesh.repair.fix_normals) or pass the normals "
-                "outward from the object; ignore this only if the contact wraps more than ~±100° around it",
-                int(against.sum()),
-                len(self),
-                100 * fraction,
+            warnings.warn(
+                f"ContactProfile: {int(against.sum())} of {len(self)} elements, carrying "
+                f"{100 * fraction:.0f}% of the force, have normals pointing away from the force-weighted "
+                "mean normal (n_i . n_mean < 0): part of the mesh is probably wound the other way — "
+                f"{fix}; ignore this only if the contact wraps more than ~±100° around it",
+                ImplausibleWarning,
+                stacklevel=3,
             )
 
     # ------------------------------------------------------------------ basics

@@ -121,14 +121,30 @@ def _count(name: str, n: Any, minimum: int) -> int:
 
 
 def _length(length_scale: Any) -> float:
-    ls = getattr(length_scale, "length_scale", length_scale)
-    if isinstance(ls, bool) or not isinstance(ls, numbers.Real):
+    """``length_scale`` [m] (a number, or the ``length_scale`` of a profile or surface) as a
+    positive float.  A number is judged by the rule of a contact's size
+    (:func:`workbench.units.check_extent`, as a ``ContactProfile``'s ``l_s`` is: 20 given for a
+    20 mm contact reads as 20 m and is refused); a profile's own ``l_s`` was judged when it was
+    built (with its ``allow_scale``)."""
+    from .units import check_extent
+
+    given = not hasattr(length_scale, "length_scale")
+    ls = length_scale if given else length_scale.length_scale
+    if isinstance(ls, (bool, np.bool_)) or not isinstance(ls, numbers.Real):
         raise ValueError(
             f"length_scale must be a positive length [m] (a number) or a ContactProfile; got {length_scale!r}"
         )
     ls = float(ls)
     if not np.isfinite(ls) or ls <= 0:
         raise ValueError(f"length_scale must be a positive length [m] or a ContactProfile; got {ls}")
+    if given:
+        check_extent(
+            ls,
+            "length_scale (the contact's l_s, the longest side of its PCA box)",
+            check_lower=False,
+            fix=f"pass it in metres (length_scale={ls:g} x {{factor:g}}), or the profile itself",
+            override=None,
+        )
     return ls
 
 

@@ -154,6 +154,19 @@ def closed_mesh(
     """A watertight ``trimesh.Trimesh`` in metres, or a ``ValueError`` that says which
     and how to fix it — the one gate of every mesh input (``what`` names the caller's
     argument in the message).  Metres: :func:`mesh_in_metres` (``fix`` as there)."""
+    check_closed(mesh, what)
+    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)
+
+
+def check_closed(mesh: Any, what: str) -> None:
+    """Refuse ``mesh`` unless it is a ``trimesh.Trimesh`` that is closed (watertight) and
+    outward-facing (a positive signed volume): the topology half of :func:`closed_mesh`,
+    for callers that convert units themselves (``MeshObstacle``).
+
+    An inside-out mesh (every face wound the other way, ``mesh.invert()``) is watertight
+    too, but its "outside" is the object's inside: a pad pressed on it finds no surface
+    (0 N) and REACH finds no face towards the jaw, so it is refused here by name.
+    """
     import trimesh
 
     if not isinstance(mesh, trimesh.Trimesh):
@@ -171,4 +184,10 @@ def closed_mesh(
             f"{what} is not watertight: it must be closed (inside and outside defined) but has "
             f"{got} — repair it first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
         )
-    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)
+    volume = float(mesh.volume)  # signed: negative when the faces are wound inwards
+    if not volume > 0:
+        raise ValueError(
+            f"{what} is inside out: its faces are wound so that their normals point into the "
+            f"object (signed volume {volume:.4g} in its units^3, not positive) — flip it with "
+            "mesh.invert() (or trimesh.repair.fix_normals(mesh)) before passing it"
+        )

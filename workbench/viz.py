@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import io
+import numbers
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +13,7 @@ import numpy as np
 
 from .profile import ContactProfile
 from .results import save_png
-from .wrench import friction_directions
+from .wrench import check_twists, friction_directions
 
 
 def _pyvista():
@@ -47,6 +49,29 @@ def profile_polydata(profile: ContactProfile) -> Any:
     return poly
 
 
+def _check_twist_panels(twists: Any) -> None:
+    """ValueError unless ``twists`` is a non-empty ``{label: (6,) finite twist}`` mapping."""
+    if not isinstance(twists, Mapping):
+        shape = f" of shape {np.shape(twists)}" if isinstance(twists, np.ndarray) else ""
+        raise ValueError(
+            f"twists must be a dict {{label: (6,) twist [v; ω]}}, one panel each; got "
+            f"{type(twists).__name__}{shape} — for the rows of a (K, 6) array pass "
+            "{f'twist {i}': xi for i, xi in enumerate(array)}"
+        )
+    if not twists:
+        raise ValueError("twists is empty: give at least one {label: (6,) twist} to draw a panel")
+    for label, xi in twists.items():
+        try:  # the one rule of a twist array (numeric, finite, 6 components)
+            arr, single = check_twists(xi)
+        except ValueError as exc:
+            raise ValueError(f"twists[{label!r}]: {exc}") from None
+        if not single:
+            raise ValueError(
+                f"twists[{label!r}] must be one (6,) twist [v_x, v_y, v_z, ω_x, ω_y, ω_z]; got shape "
+                f"{arr.shape} — one panel per twist: split a (K, 6) array into K entries"
+            )
+
+
 def render_friction_arrows(
     profile: ContactProfile,
     twists: dict[str, np.ndarray],
@@ -57,7 +82,20 @@ def render_friction_arrows(
     window_size: tuple[int, int] = (520, 460),
 ) -> Path:
     """One panel per twist: the surface and the local friction-force
-    directions on the object (green), like thesis Fig 3.3."""
+    directions on the object (green), like thesis Fig 3.3.
+
+    profile : a meshed ContactProfile (``from_mesh``).  twists : ``{label: (6,) twist}``, one
+    panel each, in order (labels as panel titles).  ValueError for anything else, before
+    anything is rendered.
+    """
+    _check_twist_panels(twists)
+    if not isinstance(profile, ContactProfile):
+        raise ValueError(
+            f"profile must be a ContactProfile; got {type(profile).__name__} — build one with "
+            "ContactProfile.from_mesh(vertices, faces, pressures)"
+        )
+    if isinstance(max_arrows, bool) or not isinstance(max_arrows, numbers.Integral) or max_arrows < 1:
+        raise ValueError(f"max_arrows must be an integer >= 1 (arrows per panel); got {max_arrows!r}")
     pv = _pyvista()
     poly = profile_polydata(profile)
     n_panels = len(twists)

@@ -17,8 +17,8 @@ from .twists import canonical_twists
 
 
 def check_twists(twists: Any) -> tuple[np.ndarray, bool]:
-    """Validate twists; returns a C-contiguous (K, 6) float64 array and whether
-    the input was a single (6,) twist."""
+    """Validate twists (finite, nonzero rows); returns a C-contiguous (K, 6) float64 array
+    and whether the input was a single (6,) twist."""
     try:
         xi = np.asarray(twists, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -37,6 +37,14 @@ def check_twists(twists: Any) -> tuple[np.ndarray, bool]:
     if bad.any():
         row = int(np.argwhere(bad)[0][0])
         raise ValueError(f"twists must be finite; row {row} has NaN/inf")
+    zero = ~xi.any(axis=1)
+    if zero.any():
+        # a twist is a slip direction: all zeros is no motion, whose friction is undefined
+        row = int(np.argmax(zero))
+        raise ValueError(
+            f"twists must be nonzero slip directions; row {row} is all zeros (no motion has no "
+            "friction wrench) — drop it, or sample unit twists (workbench.twists.sample_twists_thesis)"
+        )
     return np.ascontiguousarray(xi), single
 
 

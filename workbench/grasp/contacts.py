@@ -196,6 +196,16 @@ class ContactSet:
         return other
 
 
+def _vector(v, name: str, what: str) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {what}, (3,) numbers; got {v!r}") from None
+    if a.shape != (3,) or not np.isfinite(a).all():
+        raise ValueError(f"{name} must be {what}, (3,) finite numbers; got {v!r}")
+    return a
+
+
 def _point_like(
     point, normal_out, f_max: float, n_edges: int, kind: str, name: str, torsion_length: float | None
 ) -> ContactSet:
@@ -204,6 +214,27 @@ def _point_like(
     at μ = 1, unit force; as vertices and as half-spaces (``s_j = 0`` rows as ± pairs)."""
     if n_edges < 3:
         raise ValueError(f"n_edges must be >= 3; got {n_edges}")
+    point, normal_out = (
+        _vector(point, "point", "the contact point [m]"),
+        _vector(normal_out, "normal_out", "the outward surface normal"),
+    )
+    if not np.linalg.norm(normal_out) > 0:
+        raise ValueError(
+            "normal_out must be the outward surface normal at the contact, a nonzero (3,) vector; "
+            "got [0, 0, 0] — pass the surface's normal there (e.g. mesh.face_normals[face])"
+        )
+    f_max = float(np.asarray(f_max, dtype=float))
+    if not (np.isfinite(f_max) and f_max >= 0):
+        raise ValueError(f"f_max must be a finite normal force >= 0 [N]; got {f_max}")
+    if torsion_length is not None:
+        from workbench.plausible import check
+
+        # a torsion length is a lever on the contact (the patch's radius scale: 1-10 mm);
+        # 13.3 given in mm is 13.3 m and resists N·m of torsion from a 10 N grip
+        # (refused only: a small patch's sub-millimetre length is real, not unusual)
+        torsion_length = (
+            0.0 if torsion_length == 0 else check("lever", torsion_length, "torsion_length", warn=False)
+        )
     if kind not in ("inner", "outer"):
         raise ValueError(f"kind must be 'inner' or 'outer'; got {kind!r}")
     r = 1.0 if kind == "inner" else 1.0 / np.cos(np.pi / n_edges)
@@ -232,8 +263,8 @@ def _point_like(
         fr,
         eye[2].copy(),  # unit normal force along the local z (the inward normal)
         normal_frame(normal_out),
-        np.asarray(point, float),
-        float(f_max),
+        point,
+        f_max,
         True,
         np.vstack(A),
         np.concatenate(b),

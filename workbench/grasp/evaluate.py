@@ -34,10 +34,10 @@ from ..profile import ContactProfile
 from ..sources.jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile
 from ..sources.reach import jaw_profiles
 from .contacts import ContactSet
-from .gws import check_mu, check_wrench
+from .gws import check_mu
 from .models import MODELS, contact_sets
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
-from .robust import Perturbation, check_com, check_object_mass, gravity_wrench, q_robust
+from .robust import Perturbation, check_com, check_object_mass, check_task_wrench, gravity_wrench, q_robust
 
 log = logging.getLogger(__name__)
 
@@ -136,6 +136,12 @@ def evaluate_grasp(
     check_mu(mu)
     check_jaw_force(force)
     check_pad(pad)  # before the mesh step: a bad pad is not "a footprint that covers nothing"
+    if mesh is not None:
+        # metres first: the mass and com checks below read the mesh's volume and box
+        from ..units import closed_mesh
+
+        mesh = closed_mesh(mesh, "mesh passed to evaluate_grasp", units=units, allow_scale=allow_scale)
+        units = None
     if w_ext is None:
         if mass is None or com is None:
             raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")
@@ -145,11 +151,7 @@ def evaluate_grasp(
     else:
         if mass is not None or com is not None:
             raise ValueError("give the task either as w_ext or as mass and com, not both")
-        w = check_wrench(w_ext)
-        from ..plausible import check
-
-        if np.linalg.norm(w[:3]) > 0:  # a task's force is a load a gripper could hold (1 MN is a slip)
-            check("weight", float(np.linalg.norm(w[:3])), "w_ext's force |f| [N]")
+        w = check_task_wrench(w_ext)
     cache = LimitSurfaceCache() if cache is None else cache
     cuts = CutStore() if cuts is None else cuts
     t = {}

@@ -162,16 +162,22 @@ def judge_contact(
 
 
 def check_down(pose, down) -> None:
-    """Log a warning when gravity points against the gripper's approach (its z axis): a grasp
-    from below the object is possible but unusual — ``down`` given as an up vector?  (A table-top
-    grasp approaches along gravity or across it.)"""
+    """Warn (:class:`~workbench.plausible.ImplausibleWarning`) when gravity points against the
+    gripper's approach (its z axis): a grasp from below the object is possible but unusual —
+    ``down`` given as an up vector?  (A table-top grasp approaches along gravity or across it.)"""
+    import warnings
+
+    from ..plausible import ImplausibleWarning
+
     approach = np.asarray(pose, float)[:3, 2]
     d = np.asarray(down, float) / np.linalg.norm(down)
     if approach @ d < -0.5:
-        log.warning(
-            "the gripper approaches against gravity (approach · down = %.2f): a grasp from below the "
-            "object — is down an up vector? (down is gravity's direction in the object frame)",
-            approach @ d,
+        warnings.warn(
+            f"the gripper approaches against gravity (approach · down = {approach @ d:.2f}): a grasp "
+            "from below the object — is down an up vector? (down is gravity's direction in the object "
+            "frame)",
+            ImplausibleWarning,
+            stacklevel=3,
         )
 
 
@@ -217,6 +223,11 @@ def evaluate_models(
     1 on every grasp that touches and its differences come from the torque the weight puts on
     the contact; ``verdict.scale`` (``f_min / f``) says the same unclipped.
     """
+    if isinstance(models, str):  # one model by name: ("6dls",), not the characters of "6dls"
+        models = (models,)
+    models = tuple(models)
+    if not models:
+        raise ValueError(f"models must name at least one contact model of {MODELS}; got none")
     for m in models:
         check_model(m)
     mu = gripper.mu if mu is None else mu

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.spatial import ConvexHull
@@ -224,16 +225,37 @@ class WrenchHull:
         return float(-(self.equations[:, :-1] @ y0 + self.equations[:, -1]).max())
 
 
+def check_torque_length(torque_length: Any) -> float:
+    """``torque_length`` [m] as a float if it is a positive, finite, plausible length, else
+    ``ValueError``: judged as a ``"lever"`` of :data:`workbench.plausible.RANGES` (hard range
+    only: the default 1 m, "no scaling", is no slip), so 30 given for 30 mm is named
+    "probably in millimetres — pass 0.03" and 0 (every torque divided by zero) is refused."""
+    from ..plausible import check
+
+    try:
+        return check("lever", torque_length, "torque_length", warn=False)
+    except ValueError as exc:
+        raise ValueError(
+            f"{exc} — torques are divided by it to share units with forces: pass the grasp's size in "
+            "metres (e.g. its largest contact distance from the origin), or 1.0 for no scaling"
+        ) from None
+
+
 def build_gws(contacts, mu: float, norm: str = "linf", torque_length: float = 1.0) -> WrenchHull:
     """GWS hull; torques are divided by ``torque_length`` [m] first (so the ε-metric
-    mixes N and N·m consistently); query with :func:`scale_torque` applied likewise."""
+    mixes N and N·m consistently); query with :func:`scale_torque` applied likewise.
+    torque_length : a positive length in metres (:func:`check_torque_length`)."""
+    length = check_torque_length(torque_length)
     pts = gws_points(contacts, mu, norm)
-    return WrenchHull.from_points(scale_torque(pts, torque_length))
+    return WrenchHull.from_points(scale_torque(pts, length))
 
 
 def scale_torque(w: np.ndarray, torque_length: float) -> np.ndarray:
+    """Copy of wrenches ``w`` (..., 6) with the torques divided by ``torque_length`` [m]
+    (:func:`check_torque_length`)."""
+    length = check_torque_length(torque_length)
     w = np.array(w, dtype=float, copy=True)
-    w[..., 3:] /= torque_length
+    w[..., 3:] /= length
     return w
 
 
@@ -243,6 +265,7 @@ __all__ = [
     "capacity_scaling",
     "check_contacts",
     "check_mu",
+    "check_torque_length",
     "check_wrench",
     "grasp_map",
     "gws_points",

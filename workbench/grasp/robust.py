@@ -130,6 +130,32 @@ def check_com(com, mesh=None) -> np.ndarray:
     return c
 
 
+def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:
+    """``w_ext`` (6,) = ``[f; τ]`` [N, N·m] about the object origin as a float array, judged
+    as a load a gripper could hold — the one rule of a given task wrench for
+    :func:`~.evaluate.evaluate_grasp`: ``|f|`` by the plausible "weight" range, ``|τ|`` by the
+    "torque" range and, with a force, the lever ``|τ|/|f|`` it implies (the load's line of action
+    at least that far from the origin) by the "lever" range — a torque in N·mm beside a force
+    in N puts a 2.9 N load 10 m away.  A lower-level call (``resists``, ``min_grasp_force``)
+    takes any finite wrench (a normalised direction, a unit test's)."""
+    from workbench.plausible import RANGES, check
+
+    from .gws import check_wrench
+
+    w = check_wrench(w_ext, name)
+    f, tau = float(np.linalg.norm(w[:3])), float(np.linalg.norm(w[3:]))
+    if f > 0:  # a task's force is a load a gripper could hold (1 MN is a slip)
+        check("weight", f, f"{name}'s force |f| [N]")
+    if f > 0 and tau / f > RANGES["lever"].hi:
+        raise ValueError(
+            f"{name}'s torque |τ| = {tau:g} N·m with a force |f| = {f:g} N puts the load at least "
+            f"{tau / f:.3g} m from the object origin (a lever above {RANGES['lever'].hi:g} m): the "
+            f"torque is probably in N·mm — pass {w[3:] * 1e-3} N·m — or the origin is not on the object"
+        )
+    check("torque", tau, f"{name}'s torque |τ| [N·m]")
+    return w
+
+
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
 

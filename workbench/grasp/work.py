@@ -82,7 +82,8 @@ def displacements(forces, stiffness, eps: float | None = None) -> np.ndarray:
     """
     f = _check_forces(forces)
     s = _check_stiffness(stiffness, len(f))
-    return f / s + _eps(eps)
+    d = f / s
+    return d + _eps(eps)
 
 
 def work(forces, stiffness, eps: float | None = None) -> float:
@@ -93,8 +94,7 @@ def work(forces, stiffness, eps: float | None = None) -> float:
         for a rigid contact (its displacement is ε).
     eps : ε [m], >= 0; None reads ``config.DEFAULTS.work_eps``.
     """
-    f = _check_forces(forces)
-    return float(f @ displacements(f, stiffness, eps))
+    return float(np.asarray(forces, dtype=float) @ displacements(forces, stiffness, eps))
 
 
 def _quality(x, x_max, name: str, max_name: str):

@@ -9,7 +9,11 @@ description) to compare with our FEM (issue 16):
 
 Import the modules themselves (``from workbench.peers.hertz import hertz_profile``): this package
 only holds the validators they share, each returning a plain float (or int) or raising
-``ValueError`` naming what was expected, what came and the fix (STYLE.md).
+``ValueError`` naming what was expected, what came and the fix (STYLE.md).  Each physical
+quantity is judged by the library's one rule of it, so a peer and the core answer alike: μ by
+:func:`workbench.wrench.check_mu`; a pad's modulus, Poisson ratio, thickness, side, element size
+and compression by :func:`workbench.plausible.check`; an object's size by
+:func:`workbench.units.check_extent` (the rule of a ``ContactProfile``'s size).
 """
 
 from __future__ import annotations
@@ -20,15 +24,15 @@ import numpy as np
 
 from ..units import check_extent
 
-__all__ = ["MODULUS_RANGE_PA", "count", "depth", "friction", "length", "modulus", "poisson", "real"]
-
-#: plausible Young's / hydroelastic moduli [Pa]: soft gels (~1 kPa) to steel (2e11 Pa).  A
-#: modulus outside was almost surely given in another unit (1 MPa passed as 1.0).
-MODULUS_RANGE_PA = (1.0e2, 1.0e12)
+__all__ = ["count", "depth", "friction", "length", "modulus", "poisson", "real"]
 
 
 def real(name: str, value: Any, unit: str) -> float:
-    """``value`` as a finite float, or ValueError."""
+    """``value`` as a finite float (a numeric string too, not a bool), or ValueError."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(
+            f"{name} must be a real number [{unit}]; got {value!r} (a bool is a slip, not a number)"
+        )
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -38,12 +42,32 @@ def real(name: str, value: Any, unit: str) -> float:
     return x
 
 
-def length(name: str, value: Any) -> float:
-    """A positive length [m] of an object or pad (radius, thickness, side), with the unit check
-    of :func:`workbench.units.check_extent` on it (a radius of 20 reads as 20 m, not 20 mm)."""
+def _plausible(key: str, name: str, x: float, note: str = "") -> float:
+    """``x`` judged by :func:`workbench.plausible.check` as a ``key`` quantity named ``name``;
+    ``note`` (a reminder of the unit) is added to its message."""
+    from ..plausible import check
+
+    try:
+        return check(key, x, name)
+    except ValueError as exc:
+        if not note:
+            raise
+        raise ValueError(f"{exc} — {note}") from None
+
+
+def length(name: str, value: Any, quantity: str | None = None) -> float:
+    """A positive length [m].
+
+    quantity : the :data:`workbench.plausible.RANGES` quantity it is (``"pad_thickness"`` for a
+        layer's thickness, ``"pad_size"`` for a pad's side, ``"element_size"`` for a grid's
+        spacing): judged by that rule.  None: the size of an object or of a contact patch (a
+        sphere's radius, a cylinder's length), judged by :func:`workbench.units.check_extent`
+        as a ``ContactProfile``'s size is (a radius of 20 reads as 20 m, not 20 mm)."""
     x = real(name, value, "m")
     if x <= 0:
         raise ValueError(f"{name} must be a positive length [m]; got {x}")
+    if quantity is not None:
+        return _plausible(quantity, name, x)
     check_extent(
         x,
         name,
@@ -56,7 +80,8 @@ def length(name: str, value: Any) -> float:
 
 def depth(name: str, value: Any, *, below: float, below_name: str) -> float:
     """A penetration / approach depth [m]: finite, > 0 and < ``below`` [m] (a length it must stay
-    under, e.g. the sphere radius or the layer thickness, named ``below_name``)."""
+    under, e.g. the sphere radius or the layer thickness, named ``below_name``), and a plausible
+    pad compression (:func:`compression`)."""
     x = real(name, value, "m")
     if x <= 0:
         raise ValueError(
@@ -68,7 +93,13 @@ def depth(name: str, value: Any, *, below: float, below_name: str) -> float:
             f"{name} = {x!r} m is not below {below_name} = {below!r} m: depths are in metres "
             f"(1 mm = 1e-3) and must stay small against {below_name}"
         )
-    return x
+    return compression(name, x)
+
+
+def compression(name: str, x: float) -> float:
+    """A depth ``x`` [m] >= 0 a pad is pressed by, judged as the ``"compression"`` quantity of
+    :data:`workbench.plausible.RANGES` (a pad pressed 20 mm deep was given in another unit)."""
+    return _plausible("compression", name, x, "depths are in metres (1 mm = 1e-3)")
 
 
 def sphere(R: Any, delta: Any, delta_name: str) -> tuple[float, float]:
@@ -79,23 +110,16 @@ def sphere(R: Any, delta: Any, delta_name: str) -> tuple[float, float]:
 
 
 def modulus(name: str, value: Any) -> float:
-    """An elastic modulus [Pa] within :data:`MODULUS_RANGE_PA`."""
-    x = real(name, value, "Pa")
-    lo, hi = MODULUS_RANGE_PA
-    if not lo <= x <= hi:
-        raise ValueError(
-            f"{name} must be a modulus in Pa within [{lo:g}, {hi:g}]; got {x!r} — moduli are in "
-            "pascals (1 MPa = 1e6, silicone ~0.1-5e6)"
-        )
-    return x
+    """An elastic modulus [Pa] of a pad (a Young's or a hydroelastic modulus), judged as the
+    ``"pad_modulus"`` quantity of :data:`workbench.plausible.RANGES`."""
+    return _plausible(
+        "pad_modulus", name, real(name, value, "Pa"), "moduli are in pascals (1 MPa = 1e6, silicone ~0.1-5e6)"
+    )
 
 
 def poisson(name: str, value: Any) -> float:
-    """A Poisson ratio in (-1, 0.5)."""
-    x = real(name, value, "-")
-    if not -1.0 < x < 0.5:
-        raise ValueError(f"{name} must be a Poisson ratio in (-1, 0.5); got {x} — for silicone use e.g. 0.45")
-    return x
+    """A Poisson ratio in (-1, 0.5): the ``"poisson"`` quantity of :data:`workbench.plausible.RANGES`."""
+    return _plausible("poisson", name, real(name, value, "-"))
 
 
 def count(name: str, value: Any, minimum: int) -> int:
@@ -107,9 +131,10 @@ def count(name: str, value: Any, minimum: int) -> int:
     return int(value)
 
 
-def friction(name: str, value: Any) -> float:
-    """A Coulomb friction coefficient, finite and > 0."""
-    x = real(name, value, "-")
-    if x <= 0:
-        raise ValueError(f"{name} must be a friction coefficient > 0; got {x}")
-    return x
+def friction(value: Any, result: str) -> float:
+    """A Coulomb friction coefficient > 0 by the one rule of μ (:func:`workbench.wrench.check_mu`:
+    its plausible range, 50 refused as a percentage); ``result``: what needs friction, named when
+    μ = 0 ("a torsion capacity")."""
+    from ..wrench import check_mu
+
+    return check_mu(value, what=result)

@@ -91,9 +91,9 @@ def foundation_depth(h: float, width: float, length: float, box: str = "doubled"
     """Drake's foundation depth ``H`` [m] of the pad box: half its smallest side, which is ``h``
     for ``box="doubled"`` (height 2h) and ``h/2`` for ``box="layer"``; ValueError if a lateral side
     is the smallest (then the field's medial axis is not under the face)."""
-    t = _checks.length("h (layer thickness)", h)
-    w = _checks.length("width", width)
-    ln = _checks.length("length", length)
+    t = _checks.length("h (layer thickness)", h, "pad_thickness")
+    w = _checks.length("width", width, "pad_size")
+    ln = _checks.length("length", length, "pad_size")
     if box not in BOXES:
         raise ValueError(f"box must be one of {BOXES}; got {box!r}")
     height = 2.0 * t if box == "doubled" else t
@@ -128,7 +128,7 @@ def sphere_force_law(R: float, delta: float, E_hydro: float, H: float) -> tuple[
     r = _checks.length("R (sphere radius)", R)
     d = _checks.depth("delta", delta, below=r, below_name="the sphere radius R")
     e = _checks.modulus("E_hydro", E_hydro)
-    fd = _checks.length("H (foundation depth)", H)
+    fd = _checks.length("H (foundation depth)", H, "pad_thickness")
     V = np.pi * d * d * (3.0 * r - d) / 3.0
     return e * V / fd, np.pi * r * d * d * e / fd
 
@@ -289,7 +289,9 @@ class DrakeHydroPad:
             self.resolution: float | None = None
         else:
             self.resolution = (
-                self.R / 80.0 if resolution is None else _checks.length("resolution", resolution)
+                self.R / 80.0
+                if resolution is None
+                else _checks.length("resolution", resolution, "element_size")
             )
         self.cylinder_length: float | None = None
         if self.kind == "cylinder":
@@ -390,6 +392,7 @@ class DrakeHydroPad:
                 f"delta must be a jaw displacement in [0, h = {self.h:g}) m; got {d!r} — displacements are "
                 "in metres (1 mm = 1e-3)"
             )
+        _checks.compression("delta (jaw displacement)", d)
         self._pose(d)
         t0 = time.perf_counter()
         query = self._sg.get_query_output_port().Eval(self._ctx)

@@ -54,7 +54,7 @@ def foundation_modulus(E: float, h: float, nu: float | None = None, kind: str = 
     """Foundation modulus ``k`` [Pa/m] of a layer of Young's modulus ``E`` [Pa] and thickness
     ``h`` [m]: ``E/h`` (``kind="simple"``) or ``(1-ν)E/((1+ν)(1-2ν)h)`` (``"confined"``, needs ``nu``)."""
     e = _checks.modulus("E (Young's modulus)", E)
-    t = _checks.length("h (layer thickness)", h)
+    t = _checks.length("h (layer thickness)", h, "pad_thickness")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
     if kind == "simple":
@@ -80,14 +80,16 @@ def foundation_force(
 ) -> float:
     """Winkler force ``k V`` [N], ``V = π δ² (3R - δ) / 3`` the overlapped cap's volume [m³].
     ``delta`` must stay within the layer (``< h``, as :func:`foundation_profile` requires)."""
-    r, d = _sphere_case(R, delta)
-    k = foundation_modulus(E, h, nu, kind)
-    t = _checks.length("h (layer thickness)", h)
-    if d >= t:
+    _checks.length("R (sphere radius)", R)
+    t = _checks.length("h (layer thickness)", h, "pad_thickness")
+    d = _checks.real("delta (penetration)", delta, "m")
+    if d >= t:  # before the depth's own checks: through the layer is refused, not warned as deep
         raise ValueError(
             f"delta = {d!r} m reaches through the layer of h = {t!r} m: a Winkler layer holds only "
-            "depths below its thickness (delta < h)"
+            "depths below its thickness (delta < h; depths are in metres, 1 mm = 1e-3)"
         )
+    r, d = _sphere_case(R, delta)
+    k = foundation_modulus(E, h, nu, kind)
     return k * np.pi * d * d * (3.0 * r - d) / 3.0
 
 
@@ -206,12 +208,13 @@ def foundation_profile(
             f"delta = {dlt!r} m is not below the layer thickness h = {t!r} m: displacements are in "
             "metres (1 mm = 1e-3)"
         )
+    _checks.compression("delta (jaw displacement)", dlt)
     if edge not in ("warn", "cut"):
         raise ValueError(
             f"edge must be 'warn' or 'cut' (the pad's border cuts the contact on purpose); got {edge!r}"
         )
-    w = _checks.length("width", width)
-    ln = _checks.length("length", length)
+    w = _checks.length("width", width, "pad_size")
+    ln = _checks.length("length", length, "pad_size")
     cx = _checks.count("nx", nx, 1)
     cy = _checks.count("ny", ny, 1)
     if not hasattr(obstacle, "signed_distance"):

@@ -83,7 +83,7 @@ def hertz_pressure(r: np.ndarray, R: float, delta: float, E: float, nu: float) -
 
 def hertz_torsion_capacity(R: float, delta: float, E: float, nu: float, mu: float) -> float:
     """Maximal friction torque about the normal ``τ_max = 3π μ F a / 16`` [N m]."""
-    m = _checks.friction("mu", mu)
+    m = _checks.friction(mu, "torsion capacity")
     return 3.0 * np.pi * m * hertz_force(R, delta, E, nu) * hertz_contact_radius(R, delta) / 16.0
 
 

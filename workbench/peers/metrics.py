@@ -99,7 +99,8 @@ def _pushing(profile: Any) -> tuple[ContactProfile, float]:
 def face_grid_points(width: float, length_: float, spacing: float) -> tuple[np.ndarray, float]:
     """Cell centres (m, 2) [m] of a regular grid of spacing ~``spacing`` [m] over the pad face
     ``|x| <= width/2``, ``|y| <= length_/2``, and the cell area [m²]."""
-    w, ln, s = length("width", width), length("length", length_), length("spacing", spacing)
+    w, ln = length("width", width, "pad_size"), length("length", length_, "pad_size")
+    s = length("spacing", spacing, "element_size")
     if s >= min(w, ln):
         raise ValueError(
             f"spacing {s!r} m is not below the face's sides ({w!r} x {ln!r} m): lengths are in metres "
@@ -169,7 +170,7 @@ def torsion_length(profile: ContactProfile, mu: float) -> float:
     Hertz's pressure and ``8a/15`` for a Winkler paraboloid; on a curved one the jaw force is below
     ``F = Σ p a`` by the elements' tilt, so the length is above those by ``F / f_n = 1 + O(a²/R²)``
     (MuJoCo's coefficient is per unit normal force too).  Times ``μ f_n``: the torque capacity."""
-    m = friction("mu", mu)
+    m = friction(mu, "torsion length")
     p, f = _pushing(profile)
     return float(w_max(p, m)[5] / (m * f))
 
@@ -178,7 +179,7 @@ def supports(profile: ContactProfile, mu: float) -> np.ndarray:
     """(6,) the 6DFW set's support along the six axis twists about the pressure centre (the exact
     ``w_max``, Eq. 3.10's normaliser) per unit jaw force: [N/N] for translations, [N m/N] for
     rotations."""
-    m = friction("mu", mu)
+    m = friction(mu, "6DFW support")
     p, f = _pushing(profile)
     return w_max(p, m) / f
 
@@ -279,7 +280,7 @@ def fitted_ls_error(
     from ..limit_surface.fit_score import fit_model, min_wrenches
     from ..limit_surface.normalize import prepare
 
-    m = friction("mu", mu)
+    m = friction(mu, "fitted 6DLS to score")
     ref, f_ref = _pushing(reference)
     p, f_p = _pushing(profile)
     need = min_twists(model)

@@ -179,7 +179,7 @@ def torsion_coefficient(a: float, mu: float, pressure: str = "hertz") -> float:
     (``"foundation"``) or 2/3 (``"uniform"``).  (MuJoCo's documentation reads the coefficient as
     "the diameter of the contact patch", ``2a``: that is the scale, not the Coulomb value.)"""
     r = _checks.length("a (patch radius)", a)
-    m = _checks.friction("mu", mu)
+    m = _checks.friction(mu, "torsional coefficient")
     if pressure not in TORSION_FACTORS:
         raise ValueError(f"pressure must be one of {sorted(TORSION_FACTORS)}; got {pressure!r}")
     return TORSION_FACTORS[pressure] * m * r
@@ -230,7 +230,7 @@ def mujoco_coefficients_from_profile(
     """
     if not isinstance(profile, ContactProfile):
         raise ValueError(f"profile must be a ContactProfile; got {type(profile).__name__}")
-    m = _checks.friction("mu", mu)
+    m = _checks.friction(mu, "set of MuJoCo coefficients")
     if rolling not in ("zero", "profile"):
         raise ValueError(f"rolling must be 'zero' or 'profile'; got {rolling!r}")
     wn = normal_wrench(profile)[:3]  # = -Σ p a n, on the object

@@ -10,25 +10,66 @@ Fig 4.2), scaled so the grasp-axis component of the normal force is ``F``
 
 from __future__ import annotations
 
+import numbers
+from typing import Any
+
 import numpy as np
 
 from ..pressure import power_law
 from ..profile import ContactProfile
 from .surfaces import ParametricSurface, mesh_profile
 
+#: the scene's lengths and angle: (argument, what a message calls it, plausible quantity)
+_GEOMETRY = (
+    ("a", "a (ellipse semi-axis along the grasp axis)", "lever"),
+    ("b", "b (ellipse semi-axis across the grasp axis)", "lever"),
+    ("half_angle", "half_angle (the contact's angular half-width)", "half_angle"),
+    ("length", "length (the contact's length along the cylinder axis)", "pad_size"),
+)
+
+
+def check_elliptic_cylinder(
+    a: Any, b: Any, half_angle: Any, length: Any
+) -> tuple[float, float, float, float]:
+    """``(a, b, half_angle, length)`` as floats if they describe the scene, else ``ValueError``:
+    each > 0 and finite, then a plausible value of its quantity
+    (:func:`workbench.plausible.check`: the semi-axes as offsets on the object, ``"lever"``;
+    ``half_angle`` as ``"half_angle"``; ``length`` as a pad's size — so ``a=30`` is named as
+    "probably in millimetres — pass 0.03" and ``half_angle=34`` as "probably in degrees"),
+    and ``half_angle < π/2`` (one jaw's side).  Lengths in metres, the angle in radians.  The
+    experiments call it to refuse a config before any work."""
+    from ..plausible import check
+
+    values = {"a": a, "b": b, "half_angle": half_angle, "length": length}
+    for name, v in values.items():
+        if (
+            isinstance(v, (bool, np.bool_))
+            or not isinstance(v, numbers.Real)
+            or not (np.isfinite(v) and v > 0)
+        ):
+            raise ValueError(f"{name} must be > 0 and finite; got {v!r}")
+    # beyond π the angle was given in degrees (the plausible rule names it); up to π it is in
+    # radians but not one jaw's side
+    if np.pi / 2 <= half_angle <= np.pi:
+        raise ValueError(
+            f"half_angle must be < π/2 (one jaw's side of the cylinder) [rad]; got {half_angle!r} — "
+            "a jaw wrapping a quarter of the section or more is not this scene"
+        )
+    out = {name: check(key, values[name], what) for name, what, key in _GEOMETRY}
+    return out["a"], out["b"], out["half_angle"], out["length"]
+
 
 def elliptic_cylinder_contact(
     a: float, b: float, half_angle: float, length: float, k: float, force: float, n_elements: int = 400
 ) -> ContactProfile:
-    """The +x jaw's contact: ``[a cos u, b sin u, z]``, ``|u| <= half_angle``, ``|z| <= length/2``."""
+    """The +x jaw's contact: ``[a cos u, b sin u, z]``, ``|u| <= half_angle``, ``|z| <= length/2``.
+
+    a, b : semi-axes [m]; half_angle [rad]; length [m]; each checked by
+    :func:`check_elliptic_cylinder`.  force : the jaw's reading [N]."""
     from .jaws import check_jaw_force
 
     check_jaw_force(force)  # the jaw's reading: the one rule of a jaw force
-    for name, v in (("a", a), ("b", b), ("half_angle", half_angle), ("length", length)):
-        if not (np.isfinite(v) and v > 0):
-            raise ValueError(f"{name} must be > 0; got {v}")
-    if half_angle >= np.pi / 2:
-        raise ValueError(f"half_angle must be < π/2 (one jaw's side); got {half_angle}")
+    a, b, half_angle, length = check_elliptic_cylinder(a, b, half_angle, length)
     r_max = b * np.sin(half_angle)
 
     def pressure(u, v, xyz):
@@ -55,7 +96,8 @@ def elliptic_cylinder_grasp(
     force: float = 25.0,
     n_elements: int = 400,
 ) -> list[ContactProfile]:
-    """Both jaws' profiles (the −x jaw is the +x one turned by π about z)."""
+    """Both jaws' profiles (the −x jaw is the +x one turned by π about z); arguments as
+    :func:`elliptic_cylinder_contact` (lengths in metres, ``half_angle`` in radians)."""
     right = elliptic_cylinder_contact(a, b, half_angle, length, k, force, n_elements)
     left = right.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))
     return [right, left]

@@ -25,6 +25,7 @@ from .. import _kernels, config
 from ..kernel_launch import launch
 from ..profile import ContactProfile, pca_box_longest_side
 from ..twists import canonical_twists
+from ..units import check_extent
 from ..wrench import check_mu, check_twists
 
 Array = np.ndarray
@@ -51,6 +52,11 @@ class ParametricSurface:
         None.  ``pressure_scale`` multiplies it.  Its values must be finite and >= 0, and
         not zero at every quadrature point (ValueError where they are evaluated).
     flip : flip ``σ_u × σ_v`` so normals point outward from the object.
+    allow_scale : accept a surface longer than ``config.TOL.max_object_extent_m`` (2 m, the
+        thesis's S1-S6 up to rounding).  Without it such a surface raises ``ValueError`` where
+        it is first integrated or meshed (:func:`surface_moments`, :func:`mesh_surface`): it is
+        almost surely in millimetres — the rule of a ``ContactProfile``'s size
+        (:func:`workbench.units.check_extent` on ``length_scale``), read at call time.
     """
 
     name: str
@@ -63,6 +69,7 @@ class ParametricSurface:
     pressure_scale: float = 1.0
     flip: bool = False
     description: str = field(default="", compare=False)
+    allow_scale: bool = field(default=False, kw_only=True)
 
     def __post_init__(self) -> None:
         for rng_name in ("u_range", "v_range"):
@@ -430,6 +437,7 @@ def surface_moments(surface: ParametricSurface, rtol: float | None = None) -> Su
     is integrated to ``max(rtol, CENTRAL_DIFFERENCE_RTOL)``: its central differences are no
     more accurate (module constant).  ValueError for a pressure that is zero at every point
     of the initial quadrature cells."""
+    check_size(surface)
     if rtol is None:
         rtol, setting = config.TOL.moments_rtol, f"config.TOL.moments_rtol = {config.TOL.moments_rtol:g}"
     else:
@@ -573,6 +581,26 @@ def _length_scale(surface: ParametricSurface) -> float:
     return pca_box_longest_side(P.reshape(-1, 3))
 
 
+def check_size(surface: ParametricSurface) -> float:
+    """``surface.length_scale`` [m] if it is a plausible contact size, else ``ValueError`` naming
+    the likely unit and the fix: the rule of a ``ContactProfile``'s size
+    (:func:`workbench.units.check_extent`, upper limit ``config.TOL.max_object_extent_m``; no lower
+    one: contacts can be tiny), waived by ``ParametricSurface(..., allow_scale=True)``."""
+    if not isinstance(surface, ParametricSurface):
+        raise ValueError(
+            f"surface must be a ParametricSurface; got {type(surface).__name__} — build one with "
+            "ParametricSurface(name, sigma, u_range, v_range, ...)"
+        )
+    return check_extent(
+        _length_scale(surface),
+        f"surface {surface.name!r} (l_s, the longest side of its PCA box)",
+        allow_scale=surface.allow_scale,
+        check_lower=False,
+        fix="give sigma in metres (scale its points by {factor:g}: a 10 mm disc has radius 0.01)",
+        override="ParametricSurface(..., allow_scale=True)",
+    )
+
+
 def _collapsed_edges(surface: ParametricSurface) -> tuple[bool, bool, bool, bool]:
     """Which parameter-domain edges map to a single point (u0, u1, v0, v1)."""
     _, _, P = _grid(surface, 16, 16)
@@ -623,6 +651,7 @@ def mesh_surface(surface: ParametricSurface, n_elements: int) -> tuple[Array, Ar
     faces (T, 3) int and the parametric centroid of each face (T, 2).
     """
     check_n_elements(n_elements)
+    check_size(surface)
     nu, nv = _grid_size(surface, int(n_elements))
     U, V, P = _grid(surface, nu, nv)
     idx = np.arange((nu + 1) * (nv + 1)).reshape(nu + 1, nv + 1)
@@ -652,7 +681,7 @@ def mesh_profile(
     triangle's parametric centroid (flat triangles: centroid, face normal, area)."""
     verts, faces, uv = mesh_surface(surface, n_elements)
     _, _, _, p = surface.evaluate(uv[:, 0], uv[:, 1])
-    return ContactProfile.from_mesh(verts, faces, p * pressure_scale)
+    return ContactProfile.from_mesh(verts, faces, p * pressure_scale, allow_scale=surface.allow_scale)
 
 
 def project_to_plane(surface: ParametricSurface, normal: Any, name: str | None = None) -> ParametricSurface:
@@ -686,6 +715,7 @@ def project_to_plane(surface: ParametricSurface, normal: Any, name: str | None =
         1.0,
         False,
         f"projection of {surface.name} onto the plane normal to {nrm.tolist()}",
+        allow_scale=surface.allow_scale,
     )
     _, n_plane, _, _ = plane.evaluate(np.array([um]), np.array([vm]))
     if float(n_plane[0] @ nrm) * float(n_orig[0] @ nrm) < 0:

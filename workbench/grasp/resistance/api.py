@@ -233,8 +233,10 @@ def min_grasp_force(
                     raise RuntimeError(f"HiGHS and Clarabel failed on the minimal-force LP: {status}")
         if y is None:
             nan = np.full(len(contacts), np.nan)
+            # no scale of the jaws' force resists it: inf, as the total (NaN: "sum" has no scale)
+            s = float("inf") if objective == "scale" else float("nan")
             return MinimalForce(
-                float("inf"), nan, float("nan"), objective, solver, representation, rounds, tuple(fallbacks)
+                float("inf"), nan, s, objective, solver, representation, rounds, tuple(fallbacks)
             )
         viol = contact_violations(prog, contacts, y, mu)
         if viol and rounds < config.TOL.max_cut_rounds:

@@ -49,7 +49,8 @@ class MinimalForce:
     forces : (N,) per-contact normal forces [N] (NaN when infeasible).
     scale : for ``objective="scale"``, the factor on every contact's current force
         (``contacts[i].force * scale``: the jaws keep their force ratio, as a
-        parallel-jaw gripper squeezing with one grasp force does); NaN for "sum".
+        parallel-jaw gripper squeezing with one grasp force does); ``inf`` when no force
+        resists, NaN for "sum".
     objective : "scale" or "sum" (independent contact forces, Eq. 4.4 as published).
     solver, representation, cut_rounds, fallbacks : as in :class:`Resistance`.
     converged : False when the cutting planes ran out (the value is then a lower bound).
