@@ -22,6 +22,7 @@ from scipy.optimize import nnls
 from workbench.kernel_launch import launch
 
 from ._kernels import _normal_block, _normal_rows
+from .obstacles import Plane
 from .pad import CondensedPad, PadGeometry, top_face_nodes
 
 
@@ -125,11 +126,44 @@ def solve_lcp(
 SCHUR_FRACTION = 0.3
 
 
+def check_plane_faces_pad(obstacle) -> None:
+    """Refuse a :class:`~.obstacles.Plane` whose solid side contains the pad: the pad's face
+    looks along +z (the jaw moves that way), so the plane's outward normal must have a
+    component along −z.  A flipped normal puts the pad inside the solid and its face "outside"
+    by δ, and every press returns 0 N without a word — the plane counterpart of the overlap
+    check of :func:`face_gaps` (an obstacle deeper than the layer), which calls this."""
+    # by name too: fem/ imports as both `fem` and `workbench.fem`, two Plane classes
+    if not (
+        isinstance(obstacle, Plane) or (type(obstacle).__name__ == "Plane" and hasattr(obstacle, "normal"))
+    ):
+        return
+    n = np.asarray(obstacle.normal, dtype=float)
+    if n[2] < 0:
+        return
+    shown = "(" + ", ".join(f"{v:g}" for v in n) + ")"
+    if n[2] > 0:
+        flipped = "(" + ", ".join(f"{-v + 0.0:g}" for v in n) + ")"
+        raise ValueError(
+            f"Plane normal {shown} does not face the pad: the solid side (x - point)·normal <= 0 "
+            "contains the pad, whose face looks along +z (the jaw's motion), so the pad would press "
+            f"into nothing (0 N) — the normal points out of the obstacle, towards the pad: pass {flipped}"
+        )
+    raise ValueError(
+        f"Plane normal {shown} is parallel to the press axis +z: the jaw slides along the plane and "
+        "never presses into it — the normal points out of the obstacle, towards the pad (the face looks "
+        "along +z): pass e.g. (0, 0, -1), or a tilted plane with normal[2] < 0"
+    )
+
+
 def face_gaps(geometry: PadGeometry, face_xy: np.ndarray, obstacle, delta: float) -> tuple:
-    """Face positions after the jaw motion (n, 3), their gaps (n,) and obstacle normals (n, 3)."""
+    """Face positions after the jaw motion (n, 3), their gaps (n,) and obstacle normals (n, 3).
+
+    Refuses an obstacle that overlaps the pad deeper than the layer and a :class:`~.obstacles.Plane`
+    whose solid side contains the pad (its normal not facing the pad's face, −z)."""
     h = geometry.thickness
     if not (np.isfinite(delta) and delta >= 0):
         raise ValueError(f"delta must be a non-negative jaw displacement [m]; got {delta}")
+    check_plane_faces_pad(obstacle)
     X = np.column_stack([face_xy, np.full(face_xy.shape[0], h + delta)])
     d, nrm = obstacle.signed_distance(X)
     if (d < -h).any():

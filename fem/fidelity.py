@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from .contact import ContactSolution, solve_contact, solve_contact_full
+from .contact import ContactSolution, check_plane_faces_pad, solve_contact, solve_contact_full
 from .material import Material
 from .pad import PadFace, PadGeometry, condense_pad
 
@@ -79,6 +79,10 @@ def press(
         ``None`` the default user cache, a path, or ``False`` for none).
     options : passed to the level's solver (e.g. ``scheme`` for the linear levels,
         ``stabilization``/``step`` for the nonlinear one).
+
+    Raises ``ValueError`` before any pad is built for displacements that are not plausible
+    compressions below the layer thickness and for a :class:`~.obstacles.Plane` whose normal does
+    not face the pad (:func:`~.contact.check_plane_faces_pad`).
     """
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity must be one of {FIDELITIES}; got {fidelity!r}")
@@ -96,6 +100,7 @@ def press(
             f"jaw displacement {deltas[-1]!r} m is not below the layer thickness h = "
             f"{geometry.thickness} m: displacements are in metres (1 mm = 1e-3)"
         )
+    check_plane_faces_pad(obstacle)  # before a pad is built: a flipped plane presses nothing
     if fidelity == "nonlinear":
         from .nonlinear import NonlinearPad
 

@@ -40,9 +40,42 @@ def _point(name: str, p, allow_scale: bool = False) -> None:
         check("lever", float(np.linalg.norm(v)), f"{name}'s distance from the pad [m]", warn=False)
 
 
+def _length(name: str, value) -> float:
+    """``value`` as a float if it is a finite number > 0 (a 0-d array too; not a bool or a
+    string), else a ValueError naming ``name``."""
+    ok = not isinstance(value, (bool, np.bool_, str, bytes)) and np.ndim(value) == 0
+    try:
+        x = float(value) if ok else np.nan
+    except (TypeError, ValueError):
+        x = np.nan
+    if not (np.isfinite(x) and x > 0):
+        raise ValueError(f"{name} must be > 0, a length in metres; got {value!r}")
+    return x
+
+
+def _radius(obstacle, where: str) -> None:
+    """Refuse ``obstacle.radius`` [m] unless it is a number > 0 and, unless ``allow_scale``, a
+    plausible object size by the mesh extent rule (:func:`workbench.units.check_extent` on the
+    diameter, as :class:`MeshObstacle`: a radius of 20 reads as 20 m, "probably millimetres").
+    ``where``: the obstacle's position field, named in the fix."""
+    r = _length("radius", obstacle.radius)
+    if not obstacle.allow_scale:
+        from workbench.units import check_extent
+
+        check_extent(
+            2.0 * float(r),
+            f"{type(obstacle).__name__}'s diameter (2 × radius {obstacle.radius})",
+            fix=f"give the radius and the {where} in metres (scale both by {{factor:g}}: 20 mm = 0.02)",
+        )
+
+
 @dataclass(frozen=True)
 class Plane:
-    """Half-space ``(x - point)·normal <= 0``; ``normal`` points out of the obstacle."""
+    """Half-space ``(x - point)·normal <= 0``; ``normal`` points out of the obstacle.
+
+    Pressed by a pad (:func:`workbench.fem.press`; the pad's face looks along +z), the normal
+    must face the pad, ``normal[2] < 0`` (default ``(0, 0, -1)``): a flipped one puts the pad
+    inside the solid and is refused there (:func:`workbench.fem.contact.face_gaps`)."""
 
     point: tuple = (0.0, 0.0, 0.0)
     normal: tuple = (0.0, 0.0, -1.0)
@@ -64,18 +97,10 @@ class Sphere:
     allow_scale: bool = False  # accept a radius outside the plausible object sizes
 
     def __post_init__(self) -> None:
+        # the size first: a sphere given in millimetres is named by its radius, not by a centre
+        # "too far from the pad" that follows from the same slip
+        _radius(self, "center")
         _point("center", self.center, self.allow_scale)
-        if not (np.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"radius must be > 0; got {self.radius}")
-        from workbench.units import check_extent
-
-        # the same plausibility check as MeshObstacle: a radius of 20 reads as 20 m
-        if not self.allow_scale:
-            check_extent(
-                2.0 * float(self.radius),
-                f"{type(self).__name__} of radius {self.radius} (diameter)",
-                fix="give the radius and centre in metres (20 mm = 0.02), or allow_scale=True",
-            )
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r = x - np.asarray(self.center, float)
@@ -94,18 +119,8 @@ class Cylinder:
     _a: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        _radius(self, "point")  # the size first, as Sphere
         _point("point", self.point, self.allow_scale)
-        if not (np.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"radius must be > 0; got {self.radius}")
-        from workbench.units import check_extent
-
-        # the same plausibility check as MeshObstacle: a radius of 20 reads as 20 m
-        if not self.allow_scale:
-            check_extent(
-                2.0 * float(self.radius),
-                f"{type(self).__name__} of radius {self.radius} (diameter)",
-                fix="give the radius and centre in metres (20 mm = 0.02), or allow_scale=True",
-            )
         object.__setattr__(self, "_a", _unit(self.axis))
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -135,25 +150,23 @@ class EllipticCylinder:
     _frame: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _point("point", self.point, self.allow_scale)
-        for name in ("a", "b"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"semi-axis {name} must be > 0 [m]; got {v}")
-        ax = _unit(self.axis)
-        u = _unit(self.major)
-        u = u - (u @ ax) * ax
-        if np.linalg.norm(u) < 1e-9:
-            raise ValueError(f"major {self.major} is parallel to axis {self.axis}: give one across it")
-        u /= np.linalg.norm(u)
+        for name in ("a", "b"):  # the size first, as Sphere
+            _length(f"semi-axis {name}", getattr(self, name))
         if not self.allow_scale:
             from workbench.units import check_extent
 
             check_extent(
                 2.0 * max(self.a, self.b),
                 f"{type(self).__name__} of semi-axes {self.a}, {self.b} (largest diameter)",
-                fix="give the semi-axes and point in metres (20 mm = 0.02), or allow_scale=True",
+                fix="give the semi-axes and the point in metres (scale them by {factor:g}: 20 mm = 0.02)",
             )
+        _point("point", self.point, self.allow_scale)
+        ax = _unit(self.axis)
+        u = _unit(self.major)
+        u = u - (u @ ax) * ax
+        if np.linalg.norm(u) < 1e-9:
+            raise ValueError(f"major {self.major} is parallel to axis {self.axis}: give one across it")
+        u /= np.linalg.norm(u)
         object.__setattr__(self, "_frame", np.stack([u, np.cross(ax, u), ax]))
 
     def signed_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

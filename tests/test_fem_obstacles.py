@@ -214,7 +214,10 @@ def test_mesh_obstacle_loads_a_file_path(tmp_path):
         (lambda: Cylinder((0, 0, 0), (0, 1, 0), -0.01), "radius must be > 0"),
         (lambda: Cylinder((0, 0, 0), (0, 0, 0), 0.01), "finite non-zero 3-vector"),
         (lambda: Cylinder((0, 0, 0), (0, np.nan, 1), 0.01), "finite non-zero 3-vector"),
-        (lambda: Cylinder((0, 0, 20), (0, 1, 0), 20.0), "millimetres — pass 0.02"),  # in mm
+        (
+            lambda: Cylinder((0, 0, 20), (0, 1, 0), 20.0),
+            r"radius 20.0\) spans 40 m .*probably in millimetres",
+        ),  # in mm
         (lambda: Plane((0, 0, 0), (0, 0, 0)).signed_distance(np.zeros((2, 3))), "finite non-zero 3-vector"),
         (lambda: MeshObstacle(np.zeros((4, 3))), "must be a trimesh.Trimesh or a path"),
         (lambda: MeshObstacle(__import__("trimesh").creation.box(), units="furlong"), "unit"),

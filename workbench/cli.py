@@ -276,7 +276,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="write results/REPORT.md: every reproduced thesis number beside ours, from the summaries",
         description="Compare the thesis's printed numbers with ours, read from the committed summaries "
         "(DIR/*/summary.json, DIR/benchmarks/*.json) only, and write them as Markdown. Runs nothing; "
-        "a missing key gives its row 'missing: <file>:<key path>' and a warning.",
+        "a missing key gives its row 'missing: <file>:<key path>' and a warning; a DIR that does not "
+        "exist or holds no summary is an error (make results with `make reproduce` or `workbench run NAME`).",
         formatter_class=fmt,
     )
     rep.add_argument(
@@ -308,7 +309,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "report":
         from .report import write_report
 
-        print(f"report: wrote {write_report(args.results, args.out)}")
+        try:
+            written = write_report(args.results, args.out)
+        except ValueError as exc:  # no results to report (a mistyped --results): one clean line, exit 2
+            if args.verbose:
+                raise
+            parser.exit(2, f"workbench report: error: {exc}\n")
+        print(f"report: wrote {written}")
         return 0
     sets = args.sets + getattr(args, "sets_after", [])
     try:

@@ -455,7 +455,8 @@ class ContactProfile:
     def transformed(self, rotation: Any = None, translation: Any = None) -> ContactProfile:
         """Rigidly moved copy: ``x' = R x + t``, ``n' = R n``.
 
-        rotation : (3, 3) float, proper orthogonal; translation : (3,) float.
+        rotation : (3, 3) float, proper orthogonal; translation : (3,) float [m], at most
+        ``config.TOL.max_object_extent_m`` long unless the profile allows any scale.
         """
         R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
         t = np.zeros(3) if translation is None else np.asarray(translation, dtype=np.float64)
@@ -464,8 +465,16 @@ class ContactProfile:
             raise ValueError(f"rotation must be a (3, 3) orthogonal matrix; got shape {R.shape}")
         if np.linalg.det(R) < 0:
             raise ValueError("rotation must be proper (det = +1); a reflection flips the normals' side")
-        if t.shape != (3,):
-            raise ValueError(f"translation must have shape (3,); got {t.shape}")
+        if t.shape != (3,) or not np.isfinite(t).all():
+            raise ValueError(f"translation must be (3,) finite numbers [m]; got {translation!r}")
+        limit = config.TOL.max_object_extent_m
+        if not self.allow_scale and np.linalg.norm(t) > limit:
+            # a move farther than any object is large: a translation in millimetres
+            raise ValueError(
+                f"translation {t.tolist()} moves the profile {np.linalg.norm(t):.4g} m, more than "
+                f"TOL.max_object_extent_m = {limit:g} m: it is probably in millimetres — pass "
+                f"{(t * 1e-3).tolist()} [m] (or build the profile with allow_scale=True)"
+            )
         verts = None if self.vertices is None else self.vertices @ R.T + t
         return ContactProfile(
             self.centers @ R.T + t,

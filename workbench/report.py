@@ -12,7 +12,8 @@ does both and writes the file atomically.
 No number in this module is ours: every literal below is the thesis's, quoted as printed
 next to its citation; our numbers come from the summaries by key path.  A missing file or key
 gives the row ``missing: <file>:<key path>`` (and a logged warning), never an exception, so a
-partial ``results/`` still gives a report.
+partial ``results/`` still gives a report; a results directory that does not exist or holds no
+summary at all is refused (:func:`check_results_dir`).
 """
 
 from __future__ import annotations
@@ -1260,12 +1261,37 @@ def _anchor(item: str) -> str:
     return re.sub(r"[^\w\- ]", "", item.lower()).replace(" ", "-")
 
 
+_MAKE_RESULTS = (
+    "results are made by `make reproduce` (every experiment) or `workbench run NAME` (one; "
+    "`workbench list` names them), written to results/NAME/summary.json"
+)
+
+
+def check_results_dir(results_dir: str | os.PathLike[str]) -> Path:
+    """``results_dir`` as a Path if it is a directory holding at least one summary the report
+    reads (``*/summary.json`` or ``benchmarks/*.json``), else ``ValueError`` naming the path and
+    how results are made.  A partial directory passes (its absent keys become missing rows); a
+    directory that does not exist or holds no summary at all would give a report of nothing but
+    missing rows — almost always a mistyped path."""
+    root = Path(results_dir)
+    if not root.is_dir():
+        what = "is a file, not a directory" if root.exists() else "does not exist"
+        raise ValueError(f"results directory {str(root)!r} {what}; {_MAKE_RESULTS}")
+    if not any(root.glob("*/summary.json")) and not any(root.glob("benchmarks/*.json")):
+        raise ValueError(
+            f"results directory {str(root)!r} holds no summary (no */summary.json, no benchmarks/*.json) "
+            f"— nothing to report; {_MAKE_RESULTS}"
+        )
+    return root
+
+
 def write_report(
     results_dir: str | os.PathLike[str] = "results", out: str | os.PathLike[str] | None = None
 ) -> Path:
     """Evaluate :data:`CLAIMS` on ``results_dir`` and write the Markdown atomically to ``out``
-    (default ``results_dir/REPORT.md``).  Returns the path written."""
-    results_dir = Path(results_dir)
+    (default ``results_dir/REPORT.md``).  Returns the path written.  Raises ``ValueError`` for
+    a ``results_dir`` that does not exist or holds no summary (:func:`check_results_dir`)."""
+    results_dir = check_results_dir(results_dir)
     out = Path(out) if out is not None else results_dir / "REPORT.md"
     from .report_peers import render_peers_sections
 
@@ -1287,6 +1313,7 @@ __all__ = [
     "Row",
     "Summaries",
     "Verdict",
+    "check_results_dir",
     "evaluate",
     "printed_half_unit",
     "printed_numbers",

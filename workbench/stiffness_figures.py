@@ -19,6 +19,8 @@ nothing needs a display.  Stiffness is in N/m, lengths in metres.
 from __future__ import annotations
 
 import logging
+import numbers
+import os
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -41,6 +43,32 @@ def _threshold(rigid_threshold: float | None) -> float:
     return config.TOL.rigid_stiffness_threshold if rigid_threshold is None else float(rigid_threshold)
 
 
+def _positive(x) -> bool:
+    return (
+        isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_)) and bool(np.isfinite(x) and x > 0)
+    )
+
+
+def _check_options(path, band, rigid_threshold, model) -> None:
+    """The figure options of :func:`plot_stiffness_validation`, before anything is drawn."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise ValueError(
+            f"path must be the output PNG, a str or Path; got {type(path).__name__} {path!r:.60}"
+        )
+    if not _positive(band):
+        raise ValueError(
+            f"band must be a finite width > 0 in |log(predicted / measured)| (natural log), e.g. {LOG_BAND}; "
+            f"got {band!r}"
+        )
+    if rigid_threshold is not None and not _positive(rigid_threshold):
+        raise ValueError(
+            f"rigid_threshold must be a stiffness > 0 [N/m] (None: config.TOL.rigid_stiffness_threshold); "
+            f"got {rigid_threshold!r}"
+        )
+    if not isinstance(model, str):
+        raise ValueError(f"model must be a str naming the prediction (the y label); got {model!r}")
+
+
 def _check_grasps(
     measured,
     predicted,
@@ -51,8 +79,8 @@ def _check_grasps(
     rigid_threshold: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Validated (n,) float measured, (n,) float predicted, (n,) bool train, (n,) bool test."""
-    s = np.asarray(measured, dtype=float)
-    p = np.asarray(predicted, dtype=float)
+    s = _numbers(measured, f"{where}: measured")
+    p = _numbers(predicted, f"{where}: predicted")
     if s.ndim != 1 or len(s) == 0:
         raise ValueError(
             f"{where}: measured must be (n,) stiffness [N/m], one per grasp; got shape {s.shape}"
@@ -63,6 +91,7 @@ def _check_grasps(
             f"{where}: predicted must be (n,) = ({n},) like measured, one per grasp [N/m] (NaN for a failed "
             f"model); got shape {p.shape}"
         )
+    _check_values(s, p, where)
     masks = []
     for label, m in (("train", train), ("test", test)):
         m = np.zeros(n, dtype=bool) if m is None else np.asarray(m)
@@ -86,6 +115,32 @@ def _check_grasps(
             "both masks"
         )
     return s, p, tr, te
+
+
+def _numbers(values, what: str) -> np.ndarray:
+    """``values`` as a float array, or a ``ValueError`` naming ``what`` (not numpy's)."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{what} must be an array of stiffness values [N/m], one per grasp; got {type(values).__name__} "
+            f"{values!r:.60}"
+        ) from None
+
+
+def _check_values(s: np.ndarray, p: np.ndarray, where: str) -> None:
+    """Measured ``s`` (n,) and predicted ``p`` (n,) stiffness [N/m] by the one stiffness rule
+    (:func:`~workbench.grasp.stiffness_map.check_stiffness`: > 0, inf for rigid, the softest and
+    stiffest finite value plausible — 5 is "probably in N/mm"); a NaN prediction is a failed model
+    and is not judged."""
+    from .grasp.stiffness_map import check_stiffness
+
+    fix = "one value per grasp, in the order of the grasps"
+    for label, v in (("measured", s), ("predicted", np.where(np.isnan(p), np.inf, p))):
+        try:
+            check_stiffness(v, len(v), "grasp", fix=fix)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {label} {exc}") from None
 
 
 def _pyplot():
@@ -128,16 +183,29 @@ def plot_stiffness_validation(
     rigid_threshold : [N/m]; None: ``config.TOL.rigid_stiffness_threshold``.
     model : what ``predicted`` is, for the y label.
 
-    Returns ``path``.  Raises ``ValueError`` when an object's arrays disagree in length,
-    a mask is not boolean, the masks overlap, or a masked grasp is rigid or non-finite.
+    Returns ``path``.  Raises ``ValueError``, before anything is drawn, when ``panels`` is not
+    a dict of dicts, an option has the wrong type, an object's arrays disagree in length, a
+    stiffness is not one by :func:`~workbench.grasp.stiffness_map.check_stiffness` (<= 0, or the
+    softest below ``config.TOL.min_plausible_stiffness``: N/mm given as N/m), a mask is not
+    boolean, the masks overlap, or a masked grasp is rigid or non-finite.
     """
     from .results import save_figure
 
-    if not panels:
-        raise ValueError("panels must name at least one object: {name: {measured, predicted, train, test}}")
+    if not isinstance(panels, Mapping) or not panels:
+        raise ValueError(
+            "panels must be a dict naming at least one object: {name: {'measured': (n,), 'predicted': (n,), "
+            f"'train': (n,) bool, 'test': (n,) bool}}; got {type(panels).__name__} {panels!r:.60} — for one "
+            "object pass {'object': {...}}"
+        )
+    _check_options(path, band, rigid_threshold, model)
     thr = _threshold(rigid_threshold)
     data = {}
     for name, d in panels.items():
+        if not isinstance(d, Mapping):
+            raise ValueError(
+                f"panels[{name!r}] must be a dict with measured, predicted, train, test; got "
+                f"{type(d).__name__} {d!r:.60}"
+            )
         missing = {"measured", "predicted", "train", "test"} - set(d)
         if missing:
             raise ValueError(
@@ -272,7 +340,7 @@ def render_stiffness_maps(
         )
     if Fc.min() < 0 or Fc.max() >= len(V):
         raise ValueError(f"faces index vertices 0..{len(V) - 1}; got indices {Fc.min()}..{Fc.max()}")
-    s = np.asarray(measured, dtype=float)
+    s = _numbers(measured, "measured")
     if s.ndim != 1 or len(s) == 0:
         raise ValueError(f"measured must be (n,) stiffness [N/m], one per grasp; got shape {s.shape}")
     n = len(s)
@@ -281,9 +349,10 @@ def render_stiffness_maps(
             f"locations must be (2n, 3) = ({2 * n}, 3) for n = {n} measured grasps (points i and i + n are "
             f"one grasp's jaws); got shape {L.shape}"
         )
-    p = np.asarray(predicted, dtype=float)
+    p = _numbers(predicted, "predicted")
     if p.shape != (n,):
         raise ValueError(f"predicted must be (n,) = ({n},) like measured [N/m]; got shape {p.shape}")
+    _check_values(s, p, title or "render_stiffness_maps")
     if np.any(~np.isfinite(V)) or np.any(~np.isfinite(L)):
         raise ValueError("vertices and locations must be finite")
     thr = _threshold(rigid_threshold)

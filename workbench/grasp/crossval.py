@@ -14,10 +14,12 @@ threshold.  mAP / mAR are these per object, averaged over objects by the caller;
 from __future__ import annotations
 
 import numbers
+import warnings
 from collections.abc import Callable, Hashable, Sequence
 
 import numpy as np
 
+from ..plausible import ImplausibleWarning
 from .precision import scores
 from .threshold import _bools, balanced_accuracy
 
@@ -164,17 +166,61 @@ def average_recall(quality, success, thresholds: Sequence[float] = RECALL_THRESH
 
     A quality that says "success" everywhere (constant 1) has AR 1 only at t <= 1; a constant
     0 is recalled at t = 0 only (AR 1/11).  quality : (n,) float (±inf allowed, no NaN);
-    success : (n,) bool; thresholds : the grid (non-empty, finite).
+    success : (n,) bool; thresholds : the grid (non-empty, finite), fractions in [0, 1]
+    (:func:`_check_thresholds`: a grid in per cent is refused when the qualities lie in [0, 1]).
 
     NaN without any success.
     """
     q, s = _check(quality, success)
-    t = np.asarray(thresholds, dtype=float)
-    if t.ndim != 1 or t.size == 0 or not np.isfinite(t).all():
-        raise ValueError(f"thresholds must be a non-empty (k,) array of finite numbers; got {thresholds!r}")
+    t = _check_thresholds(thresholds, q)
     if not s.any():
         return float("nan")
     return float(np.mean([(q[s] >= ti).mean() for ti in t]))
+
+
+def _fractions(t: np.ndarray) -> str:
+    return ", ".join(repr(round(float(x), 12)) for x in t)
+
+
+def _check_thresholds(thresholds, q: np.ndarray) -> np.ndarray:
+    """``thresholds`` (k,) as a float array: finite fractions in [0, 1], the scale of the
+    qualities they cut (a robust quality is a success rate).  Outside [0, 1] — a grid in per
+    cent, 0-100 — the grid is refused when the finite qualities ``q`` lie in [0, 1] (a threshold
+    above them all recalls nothing and silently drags the average down) and passes with an
+    :class:`~workbench.plausible.ImplausibleWarning` for a quality on another scale (this module
+    scores any quality, so such a grid may be meant)."""
+    try:
+        t = np.asarray(thresholds, dtype=float)
+    except (TypeError, ValueError):
+        t = np.asarray([np.nan])
+    if isinstance(thresholds, str) or t.ndim != 1 or t.size == 0 or not np.isfinite(t).all():
+        single = f" (a single threshold: pass [{thresholds!r}])" if t.ndim == 0 else ""
+        raise ValueError(
+            f"thresholds must be a non-empty (k,) array of finite fractions in [0, 1], e.g. "
+            f"{_fractions(np.asarray(RECALL_THRESHOLDS))}; got {thresholds!r}{single}"
+        )
+    outside = (t < 0) | (t > 1)
+    if not outside.any():
+        return t
+    if t.min() >= 0 and t.max() <= 100:
+        fix = f"per cent? pass {_fractions(t / 100)}"
+    else:
+        fix = f"pass fractions in [0, 1], e.g. the default {_fractions(np.asarray(RECALL_THRESHOLDS))}"
+    finite = q[np.isfinite(q)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    got = f"got {_fractions(t)} ({int(outside.sum())} outside [0, 1])"
+    if 0 <= lo and hi <= 1:
+        raise ValueError(
+            f"thresholds must be fractions in [0, 1], the scale of the qualities they cut (here all in "
+            f"[{lo:g}, {hi:g}]: a threshold outside recalls every success or none); {got} — {fix}"
+        )
+    warnings.warn(
+        f"thresholds are meant as fractions in [0, 1] (a robust quality's scale); {got} for qualities "
+        f"in [{lo:g}, {hi:g}] — kept for a quality on another scale; otherwise {fix}",
+        ImplausibleWarning,
+        stacklevel=3,
+    )
+    return t
 
 
 def _cut(a: float, b: float) -> float:

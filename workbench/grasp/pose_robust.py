@@ -16,7 +16,6 @@ recomputed, so a pad that would slide off the object still holds there.
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,9 +73,9 @@ def pose_samples(pose, noise: PoseNoise | None = None, seed: int | np.random.Gen
     perturbed in the gripper's frame (module docstring).  Same seed ⇒ same samples."""
     T = check_pose(pose)
     p = (PoseNoise() if noise is None else noise).resolved()
-    if not isinstance(seed, (numbers.Integral, np.random.Generator)) or isinstance(seed, bool):
-        raise ValueError(f"seed must be an int or a numpy Generator; got {seed!r}")
-    rng = np.random.default_rng(seed)
+    from .robust import check_seed
+
+    rng = np.random.default_rng(check_seed(seed))
     xi = rng.normal(0.0, p.sigma_rot, (p.n_samples, 3))
     t = rng.normal(0.0, p.sigma_trans, (p.n_samples, 3))
     D = np.tile(np.eye(4), (p.n_samples, 1, 1))

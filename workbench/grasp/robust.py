@@ -130,6 +130,19 @@ def check_com(com, mesh=None) -> np.ndarray:
     return c
 
 
+def check_seed(seed) -> int | np.random.Generator:
+    """``seed`` of a Monte-Carlo draw: an int >= 0 or a ``numpy.random.Generator``, else a
+    ValueError (numpy's own says "SeedSequence expects int or sequence of ints")."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(
+            f"seed must be an integer >= 0 or a numpy.random.Generator; got {seed!r} — "
+            "the same seed gives the same samples (e.g. seed=0)"
+        )
+    return int(seed)
+
+
 def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:
     """``w_ext`` (6,) = ``[f; τ]`` [N, N·m] about the object origin as a float array, judged
     as a load a gripper could hold — the one rule of a given task wrench for
@@ -223,7 +236,7 @@ def q_robust(
     if not isinstance(p, Perturbation):
         raise ValueError(f"perturbation must be a Perturbation (or None: defaults); got {type(p).__name__}")
     cuts = CutStore() if cuts is None else cuts
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     K = p.n_samples
     Rs = Rotation.from_rotvec(rng.normal(0.0, p.sigma_rot, (K, 3))).as_matrix()
     ts = rng.normal(0.0, p.sigma_trans, (K, 3))

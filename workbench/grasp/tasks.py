@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..plausible import check
 from .robust import G_ACC, cross3, gravity_wrench
 
 #: task -> rotation angles [deg] about the grasp axis of its poses
@@ -50,6 +51,22 @@ def task_wrenches(task: str, mass: float, com, axis) -> np.ndarray:
 __all__ = ["TASKS", "lever_disturbances", "task_wrenches"]
 
 
+def _check_weight_range(weight_range) -> tuple[float, float]:
+    """``(lo, hi)`` [N] of ``weight_range``: two plausible weights with ``lo <= hi``."""
+    if isinstance(weight_range, (str, bytes)) or np.ndim(weight_range) != 1 or len(weight_range) != 2:
+        raise ValueError(
+            f"weight_range must be (lo, hi), two weights m g [N] with lo <= hi, e.g. (1.0, 14.0); "
+            f"got {weight_range!r}"
+        )
+    lo, hi = (check("weight", v, f"weight_range[{i}] [N]") for i, v in enumerate(weight_range))
+    if lo > hi:
+        raise ValueError(
+            f"weight_range must be (lo, hi) with lo <= hi [N]; got ({lo!r}, {hi!r}): the ends are "
+            f"swapped — pass ({hi!r}, {lo!r})"
+        )
+    return lo, hi
+
+
 def lever_disturbances(
     rng: np.random.Generator, n: int, weight_range=(1.0, 14.0), lever_x: float = 0.06, lever_z: float = 0.08
 ) -> np.ndarray:
@@ -58,8 +75,16 @@ def lever_disturbances(
     ``m g`` in ``weight_range`` [N] (along −y) hung at lever arms ``|r_x| <= lever_x``,
     ``|r_z| <= lever_z`` [m] (``τ_x = r_z m g``, ``τ_z = −r_x m g``), plus small f_z, τ_y
     noise; nothing along the grasp axis x, which those setups never load and a planar
-    3DLS cannot resist by construction (§4.1.3.4)."""
-    mg = rng.uniform(*weight_range, n)
+    3DLS cannot resist by construction (§4.1.3.4).
+
+    ``lever_x``/``lever_z`` are judged by the plausible "lever" range and the ends of
+    ``weight_range`` by the "weight" range (:func:`workbench.plausible.check`, the rule of the
+    sensitivity experiment's keys of the same names: 60 is "probably in millimetres", 1400 in
+    grams-force); a ``weight_range`` whose ends are swapped is refused, not left to numpy."""
+    lo, hi = _check_weight_range(weight_range)
+    check("lever", lever_x, "lever_x [m]")
+    check("lever", lever_z, "lever_z [m]")
+    mg = rng.uniform(lo, hi, n)
     rx = rng.uniform(-lever_x, lever_x, n)
     rz = rng.uniform(-lever_z, lever_z, n)
     w = np.zeros((n, 6))

@@ -10,6 +10,8 @@ physical data"; :func:`fit_normaliser` makes that choice on training grasps, as 
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 __all__ = ["balanced_accuracy", "fit_normaliser", "held_out_accuracy"]
@@ -80,10 +82,18 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
         raise ValueError(f"values must be >= 0 (np.inf: unresisted); got {x[k]} at grasp {k}")
     if (
         isinstance(sigma, (bool, np.bool_))
-        or not np.isscalar(sigma)
+        or not isinstance(sigma, numbers.Real)
         or not (np.isfinite(sigma) and sigma < 1)
     ):
-        raise ValueError(f"sigma must be a finite quality threshold < 1 (0.5 in the thesis); got {sigma!r}")
+        # a threshold in per cent (50 for 0.5) is the likely slip above 1
+        percent = (
+            f" — per cent? pass {float(sigma) / 100:g}"
+            if isinstance(sigma, numbers.Real) and 1 < sigma <= 100
+            else ""
+        )
+        raise ValueError(
+            f"sigma must be a finite quality threshold < 1 (0.5 in the thesis); got {sigma!r}{percent}"
+        )
     v = np.unique(x[np.isfinite(x)])
     if v.size == 0 or v[-1] <= 0:
         raise ValueError(

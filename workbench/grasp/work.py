@@ -47,7 +47,10 @@ def _eps(eps) -> float:
             f"eps must be a finite displacement >= 0 [m] (Eq. 4.5); got {e!r} — "
             f"None uses config.DEFAULTS.work_eps = {config.DEFAULTS.work_eps:g} m"
         )
-    return float(e)
+    from ..plausible import check
+
+    # ε is a jaw displacement (a rigid region's pad compression): the closing range's hard limits
+    return check("closing", float(e), "eps (a displacement [m], Eq. 4.5)", warn=False)
 
 
 def _check_stiffness(stiffness, n: int) -> np.ndarray:

@@ -36,7 +36,7 @@ import numpy as np
 
 from .. import peers as _checks
 from ..profile import ContactProfile
-from ..wrench import check_twists, frictional_wrenches, normal_wrench
+from ..wrench import check_mu, check_twists, frictional_wrenches, normal_wrench
 
 __all__ = [
     "MujocoCoefficients",
@@ -61,7 +61,9 @@ TORSION_FACTORS = {"hertz": 3.0 * np.pi / 16.0, "foundation": 8.0 / 15.0, "unifo
 def check_coefficients(mu: Any) -> np.ndarray:
     """Friction coefficients as a (5,) float array ``(μ_slide, μ_slide, μ_torsion [m], μ_roll [m],
     μ_roll [m])``, all finite and >= 0; a (3,) ``(slide, torsion, roll)`` (MJCF's geom ``friction``)
-    is expanded as MuJoCo does."""
+    is expanded as MuJoCo does.  The sliding coefficients are judged by
+    :func:`workbench.wrench.check_mu` (μ = 50 refused as a percentage, above 1.5 warned), the
+    torsional and rolling ones, lengths, refused above 1 m (millimetres)."""
     try:
         m = np.asarray(mu, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
@@ -75,6 +77,11 @@ def check_coefficients(mu: Any) -> np.ndarray:
         )
     if not np.isfinite(m).all() or (m < 0).any():
         raise ValueError(f"mu must be finite coefficients >= 0; got {m.tolist()}")
+    for i in (0,) if m[1] == m[0] else (0, 1):
+        try:  # the sliding ones are Coulomb coefficients: the one rule of μ (50 is per cent)
+            check_mu(float(m[i]))
+        except ValueError as exc:
+            raise ValueError(f"mu[{i}] (a sliding coefficient, Coulomb's μ): {exc}") from None
     if (m[2:] > 1.0).any():
         raise ValueError(
             f"the torsional and rolling coefficients are lengths in metres; got {m[2:].tolist()} — "

@@ -92,11 +92,27 @@ def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return p1, p2, u
 
 
+def check_direction(vector, name: str, meaning: str) -> np.ndarray:
+    """``vector`` as a unit (3,) direction, or a ValueError naming ``name`` (``meaning``: what it
+    is and an example) — a zero or non-finite one has no direction to normalise."""
+    try:
+        v = np.asarray(vector, dtype=float)
+    except (TypeError, ValueError):
+        v = np.full(0, np.nan)
+    norm = float(np.linalg.norm(v)) if v.shape == (3,) and np.isfinite(v).all() else 0.0
+    if not norm > 0:
+        raise ValueError(
+            f"{name} must be a non-zero finite (3,) direction ({meaning}); got {vector!r}"
+            + (" — a zero vector has no direction" if v.shape == (3,) and np.isfinite(v).all() else "")
+        )
+    return v / norm
+
+
 def jaw_frame(approach, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Unit (approach a, width axis e1, length axis e2), each (3,), with e2 the part of ``up`` ⟂ a."""
-    a = np.asarray(approach, float)
-    a = a / np.linalg.norm(a)
-    e2 = np.asarray(up, float) - (np.asarray(up, float) @ a) * a
+    a = check_direction(approach, "approach", "the jaw's closing direction, into the object")
+    u = check_direction(up, "up", "the pad's length direction, across the approach")
+    e2 = u - (u @ a) * a
     # e2 is a cross product of unit vectors: below 1e-9 they are parallel (pick another axis)
     if np.linalg.norm(e2) < 1e-9:
         raise ValueError("up must not be parallel to the approach direction")

@@ -24,6 +24,7 @@ import numpy as np
 from ..plausible import check
 from ..profile import ContactProfile
 from .gripper import Jaw, as_polygon, points_in_polygon
+from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 
 __all__ = ["fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
@@ -86,12 +87,20 @@ def reach_profile(
     copy by 1e-3): ``center`` and every other length are in metres, as returned by
     ``antipodal_grasps(mesh, ..., units=...)``.
 
-    Raises ``ValueError`` for a non-watertight mesh, when the pad touches nothing, or
-    for a mesh spanning more than ``TOL.max_object_extent_m`` or less than
+    Raises ``ValueError`` for a zero or non-finite ``approach`` or ``up`` (before anything is
+    divided by its length), an ``up`` parallel to ``approach``, a non-watertight mesh, when the
+    pad touches nothing, or for a mesh spanning more than ``TOL.max_object_extent_m`` or less than
     ``TOL.min_object_extent_m`` (a likely unit mistake; ``allow_scale=True`` accepts it).
     """
     from ..units import closed_mesh
 
+    a = _check_direction(
+        approach, "approach", "the jaw's closing direction, into the object, e.g. (0, 0, -1)"
+    )
+    u = _check_direction(up, "up", "the pad's length direction, not parallel to approach, e.g. (0, 0, 1)")
+    c = np.asarray(center, float) if np.ndim(center) == 1 else np.full(3, np.nan)
+    if c.shape != (3,) or not np.isfinite(c).all():
+        raise ValueError(f"center must be a finite (3,) point [m], where the jaw approaches; got {center!r}")
     poly = None if outline is None else as_polygon(outline, "outline (the pad in jaw coordinates e1, e2)")
     if poly is None:
         check_pad(pad)
@@ -100,6 +109,13 @@ def reach_profile(
     if not (check_press_closing(closing) > 0 and check_press_pad(stiffness, max_edge)):
         raise ValueError(
             f"closing, stiffness and max_edge must be > 0; got {closing!r}, {stiffness!r}, {max_edge!r}"
+        )
+    if np.linalg.norm(np.cross(a, u)) < 1e-9:
+        across = tuple(int(k == np.argmin(np.abs(a))) for k in range(3))  # the axis least along a
+        raise ValueError(
+            f"up must not be parallel to the approach direction (it sets the pad's length axis e2, the "
+            f"part of up normal to approach); got up {np.asarray(up, float).tolist()} and approach "
+            f"{np.asarray(approach, float).tolist()} — pass an up across the approach, e.g. {across}"
         )
     out = _reach(mesh, center, approach, up, pad, poly, win, window is not None, closing, stiffness, max_edge)
     if isinstance(out, str):
