@@ -172,6 +172,11 @@ _TESTED_ELSEWHERE = {
         "test_resistance.py",
         "one concept (the resistance QP) split by stage, tested through its entry point and per stage",
     ),
+    "workbench.engine_trials": (
+        "test_engine_trials.py",
+        "one concept (a grasp trial on MuJoCo) split into settings, pad, trial and the probes that "
+        "validate them, tested together against closed forms",
+    ),
     "workbench.experiments": (
         "test_experiments.py",
         "every experiment runs in quick mode there and its headline numbers are asserted "

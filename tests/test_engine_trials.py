@@ -1,0 +1,106 @@
+"""The engine-trial simulator (MuJoCo) validated against closed forms before it judges any
+grasp: Coulomb friction of a pulled block and a tilted plane, the creep of a held block, the
+torsion of a flat flex pad (μ Σ N_i |r_i| of its own contact forces), and a box held squarely
+by two flex pads, which must hold above the Coulomb load 2 μ F = m (g + a) and drop below it."""
+
+import numpy as np
+import pytest
+import trimesh
+
+mujoco = pytest.importorskip("mujoco")
+
+from workbench.engine_trials import TrialPhases, probes, simulate_grasp  # noqa: E402
+
+G_ACC = 9.81
+
+
+@pytest.mark.parametrize(("mu", "angle"), [(0.2, 0.0), (0.5, 45.0), (1.0, 0.0)])
+def test_a_pulled_block_slides_at_mu_m_g(mu, angle):
+    # a slowly ramped pull (any direction: elliptic cones are isotropic) starts the block at
+    # μ m g; the onset is late by the ramp's threshold bias (≤ 3.2 % here), never early
+    r = probes.pulled_block(mu, angle_deg=angle)
+    assert r["coulomb"] == pytest.approx(mu * 0.2 * G_ACC)
+    assert 1.0 <= r["ratio"] <= 1.05
+
+
+@pytest.mark.parametrize("mu", [0.2, 0.5, 1.0])
+def test_a_tilted_plane_starts_the_block_at_atan_mu(mu):
+    r = probes.tilted_block(mu)
+    assert r["coulomb"] == pytest.approx(np.degrees(np.arctan(mu)))
+    assert 1.0 <= r["ratio"] <= 1.05
+
+
+def test_a_block_held_below_its_slip_load_creeps_less_than_a_tenth_of_a_millimetre_per_second():
+    # MuJoCo's soft contacts let a held object creep (no true stiction); the default settings
+    # (elliptic cone, impratio 100, stiff contacts) bound it — at half and at 90 % of the load
+    for fraction in (0.5, 0.9):
+        assert abs(probes.held_block_creep(0.5, fraction)["speed"]) < 1e-4
+
+
+def test_a_flat_flex_pad_spins_at_its_contact_forces_torsion_capacity():
+    # τ = μ Σ N_i |r_i| (μ∫p|r|dA of the engine's own pressure) within 10 %; for a flat pad that
+    # pressure is near uniform, so μ F mean|r| (11.86 mm for 20 x 40 mm) is within 10 % too
+    # the closed form of a 20 x 40 mm face's mean radius against a midpoint-rule integral
+    x = (np.arange(400) + 0.5) / 400 * 0.02 - 0.01
+    y = (np.arange(800) + 0.5) / 800 * 0.04 - 0.02
+    r_mean = float(np.hypot(*np.meshgrid(x, y)).mean())
+    assert probes.rectangle_mean_radius(0.02, 0.04) == pytest.approx(r_mean, rel=1e-5)
+    r = probes.spun_pad(0.5)
+    assert r["uniform"] == pytest.approx(0.5 * 10.0 * r_mean, rel=1e-5)
+    assert abs(r["ratio"] - 1.0) < 0.10
+    assert abs(r["measured"] / r["uniform"] - 1.0) < 0.10
+    assert r["penetration"] < 1e-4  # the tips' contacts are stiff: < 0.1 mm into the plane
+
+
+BOX = trimesh.creation.box(extents=(0.05, 0.04, 0.06))
+GRASP = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
+
+
+def _peak_lift_acceleration(phases: TrialPhases) -> float:
+    return 6.0 * phases.lift_height / phases.lift**2  # smoothstep's peak
+
+
+def test_a_box_held_at_ten_times_its_weight_holds_and_a_slippery_heavy_one_drops():
+    light = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1)  # 2 μ F = 10 m g
+    assert light.held and light.drift < 2e-4 and light.turn_deg < 0.5
+    heavy = simulate_grasp(BOX, GRASP, force=10.0, mu=0.05, mass=2.0)  # 2 μ F = m g / 20
+    assert not heavy.held and heavy.drift > 0.1
+
+
+def test_the_box_drops_where_coulomb_says():
+    # friction 2 μ F against m (g + a_max), a_max the lift's peak acceleration: held with a 10 %
+    # margin, dropped 5 % short of it
+    a = _peak_lift_acceleration(TrialPhases())
+    for ratio, held in ((1.10, True), (0.95, False)):
+        mass = 2 * 0.5 * 10.0 / (G_ACC + a) / ratio
+        assert simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=mass).held is held
+
+
+def test_lift_and_rotate_turns_the_gripper_and_a_held_box_with_it():
+    r = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, task="lift_and_rotate")
+    assert r.held and r.turn_deg < 0.5
+    assert r.times[-1] == pytest.approx(0.3 + 0.2 + 0.1 + 1.0 + 1.0 + 0.5, abs=2e-3)
+
+
+def test_careless_trial_input_is_refused():
+    with pytest.raises(ValueError, match="probably in grams"):
+        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=100.0)
+    with pytest.raises(ValueError, match="task must be one of"):
+        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, task="lift")
+    inside_out = BOX.copy()
+    inside_out.invert()
+    with pytest.raises(ValueError, match="inside out"):
+        simulate_grasp(inside_out, GRASP, force=10.0, mu=0.5, mass=0.1)
+
+
+def test_careless_engine_settings_are_refused():
+    from workbench.engine_trials import EngineSettings
+
+    for kwargs, match in (
+        ({"cone": "pyr"}, "cone must be"),
+        ({"tip_radius": 0.3}, r"in metres \(0.3 mm = 3e-4\)"),
+        ({"pad_grid": (5, 9, 1)}, "three integers >= 2"),
+        ({"timestep": 0}, "timestep must be a positive"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            EngineSettings(**kwargs)
