@@ -184,3 +184,13 @@ def test_planar_model_keeps_allow_scale():
     mm = ContactProfile(p.centers * 1e3, p.normals, p.areas * 1e6, p.pressures * 1e-6, allow_scale=True)
     (c,) = contact_sets(mm, "planar")
     assert c.force == pytest.approx(p.F, rel=1e-12)
+
+
+def test_a_flat_mesh_is_refused():
+    # a 40 x 40 x 1e-9 m "box" held 0.3 kg: its convex hull had no volume to judge the mass by
+    from workbench.units import closed_mesh
+
+    with pytest.raises(ValueError, match=r"is flat: .*thinnest side 2.5e-08 of the longest"):
+        closed_mesh(trimesh.creation.box(extents=(0.04, 0.04, 1e-9)), "mesh")
+    card = closed_mesh(trimesh.creation.box(extents=(0.085, 0.054, 0.00076)), "a credit card")
+    assert card.volume == pytest.approx(0.085 * 0.054 * 0.00076)

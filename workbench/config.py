@@ -245,6 +245,10 @@ class Tolerances:
 
     # Smallest accepted largest side [m] (0.1 mm): below it, a double mm -> m scaling is assumed.
     min_object_extent_m: float = 1e-4
+    # An object mesh whose thinnest bounding-box side is below this fraction of its longest is
+    # flat (no volume to grasp; its convex hull's volume, which judges a mass, is ~0): refused.
+    # A sheet of paper is 3e-4 of its length, a credit card 9e-3.
+    min_mesh_aspect: float = 1e-4
 
     # Relative slack of both extent limits (workbench.units.check_extent): a size
     # at a limit passes even with rounding on top — the thesis's surfaces S1-S6
@@ -678,6 +682,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "qp_ridge": _POS,  # quadprog and DAQP need a strictly convex objective
     "max_object_extent_m": _POS,
     "min_object_extent_m": _NONNEG,  # 0: no lower limit
+    "min_mesh_aspect": _FRACTION,
     "extent_limit_rtol": _NONNEG,
     "point_triangle_zero": _NONNEG,
     "pca_degenerate_rtol": _NONNEG,

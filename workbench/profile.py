@@ -460,9 +460,30 @@ class ContactProfile:
         """
         R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
         t = np.zeros(3) if translation is None else np.asarray(translation, dtype=np.float64)
-        # a float64 rotation is orthogonal to ~1e-15; 1e-9 admits one composed or read from text
-        if R.shape != (3, 3) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9):
+        if R.shape != (3, 3):
             raise ValueError(f"rotation must be a (3, 3) orthogonal matrix; got shape {R.shape}")
+        if not np.isfinite(R).all():
+            raise ValueError(
+                f"rotation must be a (3, 3) orthogonal matrix of finite numbers; got {R.tolist()}"
+            )
+        gram = R @ R.T
+        # a float64 rotation is orthogonal to ~1e-15; 1e-9 admits one composed or read from text
+        if not np.allclose(gram, np.eye(3), atol=1e-9):
+            # say what is wrong: a rotation times a factor s (R Rᵀ = s² I) has a fix, others not
+            head = (
+                "rotation must be orthogonal (R Rᵀ = I); got R Rᵀ differing from I by up to "
+                f"{np.abs(gram - np.eye(3)).max():.3g}"
+            )
+            s2 = float(np.trace(gram)) / 3.0
+            if s2 > 0 and np.allclose(gram / s2, np.eye(3), atol=1e-9):
+                raise ValueError(
+                    f"{head}: a rotation scaled by {np.sqrt(s2):.6g}? pass rotation / {np.sqrt(s2):.6g} "
+                    "(a profile moves rigidly)"
+                )
+            raise ValueError(
+                f"{head}: not a rotation — build it with scipy.spatial.transform.Rotation (e.g. "
+                "Rotation.from_euler('z', 30, degrees=True).as_matrix()) or orthonormalise it"
+            )
         if np.linalg.det(R) < 0:
             raise ValueError("rotation must be proper (det = +1); a reflection flips the normals' side")
         if t.shape != (3,) or not np.isfinite(t).all():

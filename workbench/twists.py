@@ -24,12 +24,14 @@ from typing import Any
 import numpy as np
 
 from . import config
+from .seeds import check_seed
 
 SeedLike = int | np.random.Generator | None
 
 
 def _rng(seed: SeedLike) -> np.random.Generator:
-    return seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    """The generator of ``seed`` (an int >= 0 or a Generator, :func:`workbench.seeds.check_seed`)."""
+    return np.random.default_rng(check_seed(seed))
 
 
 def _unit_rows(name: str, e: Any) -> np.ndarray:

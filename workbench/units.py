@@ -184,6 +184,16 @@ def check_closed(mesh: Any, what: str) -> None:
             f"{what} is not watertight: it must be closed (inside and outside defined) but has "
             f"{got} — repair it first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
         )
+    from . import config
+
+    ext = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
+    if ext.max() > 0 and ext.min() < config.TOL.min_mesh_aspect * ext.max():
+        raise ValueError(
+            f"{what} is flat: its bounding box is {ext.tolist()} (its units), the thinnest side "
+            f"{ext.min() / ext.max():.2g} of the longest (below config.TOL.min_mesh_aspect = "
+            f"{config.TOL.min_mesh_aspect:g}) — an object a gripper holds has a volume; check the "
+            "export (a surface instead of a solid?) or the scale of one axis"
+        )
     volume = float(mesh.volume)  # signed: negative when the faces are wound inwards
     if not volume > 0:
         raise ValueError(

@@ -83,15 +83,39 @@ def _check_group(group, n: int) -> tuple[np.ndarray, np.ndarray]:
     return labels, inverse.reshape(-1)
 
 
+def _warn_one_class(s: np.ndarray, what: str) -> None:
+    """Warn (:class:`~workbench.plausible.ImplausibleWarning`, at the caller of the public scorer)
+    when the outcomes ``s`` (n,) bool hold one class only: every trial a success, or every one a
+    failure, leaves nothing to tell apart — ``what`` says what the score is then."""
+    n_pos = int(s.sum())
+    if 0 < n_pos < s.size:
+        return
+    cls = "successes" if n_pos else "failures"
+    warnings.warn(
+        f"all {s.size} trials are {cls}: {what} — a score of one class says nothing about telling "
+        "successes from failures; score trials with both outcomes (e.g. pool objects or add the "
+        "grasps that failed)",
+        ImplausibleWarning,
+        stacklevel=3,
+    )
+
+
 def roc_auc(quality, success) -> float:
     """Area under the ROC curve: the Mann–Whitney statistic, the probability that a random
     success has a higher quality than a random failure, ties counting 1/2.
 
     quality : (n,) float (±inf allowed, no NaN); success : (n,) bool.
 
-    NaN when ``success`` holds one class only.
+    NaN when ``success`` holds one class only, with an
+    :class:`~workbench.plausible.ImplausibleWarning` (:func:`_warn_one_class`).
     """
     q, s = _check(quality, success)
+    _warn_one_class(s, "roc_auc is NaN: there is no pair of a success and a failure to rank")
+    return _roc_auc(q, s)
+
+
+def _roc_auc(q: np.ndarray, s: np.ndarray) -> float:
+    """:func:`roc_auc` of checked arrays, without the one-class warning."""
     n_pos = int(s.sum())
     n_neg = s.size - n_pos
     if n_pos == 0 or n_neg == 0:
@@ -144,9 +168,21 @@ def average_precision(quality, success) -> float:
 
     quality : (n,) float (±inf allowed, no NaN); success : (n,) bool.
 
-    NaN without any success (recall undefined); 1 without any failure.
+    NaN without any success (recall undefined); 1 without any failure — either with an
+    :class:`~workbench.plausible.ImplausibleWarning` (:func:`_warn_one_class`).
     """
     q, s = _check(quality, success)
+    _warn_one_class(
+        s,
+        "average_precision is 1 whatever the quality (every precision is 1)"
+        if s.any()
+        else "average_precision is NaN (no success to recall)",
+    )
+    return _average_precision(q, s)
+
+
+def _average_precision(q: np.ndarray, s: np.ndarray) -> float:
+    """:func:`average_precision` of checked arrays, without the one-class warning."""
     if not s.any():
         return float("nan")
     precision, recall = _pr_curve(q, s)
@@ -169,10 +205,23 @@ def average_recall(quality, success, thresholds: Sequence[float] = RECALL_THRESH
     success : (n,) bool; thresholds : the grid (non-empty, finite), fractions in [0, 1]
     (:func:`_check_thresholds`: a grid in per cent is refused when the qualities lie in [0, 1]).
 
-    NaN without any success.
+    NaN without any success; without a failure, a quality that says "success" everywhere has
+    AR 1 — either with an :class:`~workbench.plausible.ImplausibleWarning`
+    (:func:`_warn_one_class`).
     """
     q, s = _check(quality, success)
     t = _check_thresholds(thresholds, q)
+    _warn_one_class(
+        s,
+        "average_recall counts the recalled successes only (a quality constant 1 scores 1)"
+        if s.any()
+        else "average_recall is NaN (no success to recall)",
+    )
+    return _average_recall(q, s, t)
+
+
+def _average_recall(q: np.ndarray, s: np.ndarray, t: np.ndarray) -> float:
+    """:func:`average_recall` of checked arrays and thresholds, without the one-class warning."""
     if not s.any():
         return float("nan")
     return float(np.mean([(q[s] >= ti).mean() for ti in t]))
@@ -333,6 +382,10 @@ def crossval_scores(quality, success, group, fit: Fit = best_threshold) -> dict:
       ``thresholds`` ``{group: t}`` and ``threshold_median`` / ``_min`` / ``_max`` over groups;
       ``roc_auc``, ``average_precision``, ``average_recall`` of the quality (no threshold);
       ``predicted`` (n,) bool.
+
+    When every trial is a success (or every one a failure) the values are as documented —
+    balanced accuracy the recall of that class alone, ``roc_auc`` NaN — and an
+    :class:`~workbench.plausible.ImplausibleWarning` says so (one warning, not one per score).
     """
     q, s = _check(quality, success)
     labels, inverse = _check_group(group, q.size)
@@ -344,8 +397,14 @@ def crossval_scores(quality, success, group, fit: Fit = best_threshold) -> dict:
     fn = int((~predicted & s).sum())
     tn = int((~predicted & ~s).sum())
     pr = scores(predicted, s)
+    ba = balanced_accuracy(predicted, s)
+    _warn_one_class(
+        s,
+        f"balanced_accuracy {ba:g} is the recall of the {'successes' if s.any() else 'failures'} alone "
+        "and roc_auc is NaN",
+    )
     return {
-        "balanced_accuracy": balanced_accuracy(predicted, s),
+        "balanced_accuracy": ba,
         "accuracy": (tp + tn) / q.size,
         "precision": pr["precision"],
         "recall": pr["recall"],
@@ -361,9 +420,9 @@ def crossval_scores(quality, success, group, fit: Fit = best_threshold) -> dict:
         "threshold_median": float(np.median(t)),
         "threshold_min": float(t.min()),
         "threshold_max": float(t.max()),
-        "roc_auc": roc_auc(q, s),
-        "average_precision": average_precision(q, s),
-        "average_recall": average_recall(q, s),
+        "roc_auc": _roc_auc(q, s),
+        "average_precision": _average_precision(q, s),
+        "average_recall": _average_recall(q, s, np.asarray(RECALL_THRESHOLDS)),
         "predicted": predicted,
     }
 

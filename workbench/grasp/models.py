@@ -83,7 +83,9 @@ def planar_profile(profile: ContactProfile) -> ContactProfile:
 
     c = profile.centers - profile.pressure_center
     nn = net_normal(profile)
-    _, s, Vt = np.linalg.svd(c * np.sqrt(profile.areas)[:, None], full_matrices=True)
+    # the right singular vectors only: full U would be (n, n) (29 GiB at 62,000 elements); with
+    # fewer than 3 elements the reduced Vt lacks the rows completing the basis, so ask for them
+    _, s, Vt = np.linalg.svd(c * np.sqrt(profile.areas)[:, None], full_matrices=len(c) < 3)
     s = np.r_[s, np.zeros(3 - len(s))]
     if s[1] <= config.TOL.planar_collinear_rtol * s[0] or s[0] == 0:
         line = Vt[0] if s[0] > 0 else np.zeros(3)

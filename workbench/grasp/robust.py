@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from ..seeds import check_seed
 from .gws import check_contacts, check_mu
 from .resistance import REPRESENTATIONS, CutStore, resists
 
@@ -128,19 +129,6 @@ def check_com(com, mesh=None) -> np.ndarray:
                 f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
             )
     return c
-
-
-def check_seed(seed) -> int | np.random.Generator:
-    """``seed`` of a Monte-Carlo draw: an int >= 0 or a ``numpy.random.Generator``, else a
-    ValueError (numpy's own says "SeedSequence expects int or sequence of ints")."""
-    if isinstance(seed, np.random.Generator):
-        return seed
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(
-            f"seed must be an integer >= 0 or a numpy.random.Generator; got {seed!r} — "
-            "the same seed gives the same samples (e.g. seed=0)"
-        )
-    return int(seed)
 
 
 def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:

@@ -187,7 +187,7 @@ def antipodal_grasps(
     min_width: float = 0.005,
     table_z: float | None = None,
     clearance: float = 0.01,
-    seed: int = 0,
+    seed: int | np.random.Generator = 0,
     max_samples: int | None = None,
     units: str | float | None = None,
     allow_scale: bool = False,
@@ -217,9 +217,11 @@ def antipodal_grasps(
         :func:`edge_touch`); ``pad=None`` keeps every antipodal pair.
     progress : True shows a progress bar of the candidates on stderr, False never, None
         (default) when stderr is a terminal and the call runs longer than a few seconds.
+    seed : an int >= 0 or a ``numpy.random.Generator`` (:func:`workbench.seeds.check_seed`).
     """
     import trimesh
 
+    from ..seeds import check_seed
     from ..units import mesh_in_metres
     from .gws import check_mu
 
@@ -233,7 +235,7 @@ def antipodal_grasps(
     if pad is not None:
         check_edge_args(pad, edge_depth)
     _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     half = np.arctan(mu)
     m = max_samples or 20 * n
     bar = _progress_bar(progress, m, "antipodal_grasps")

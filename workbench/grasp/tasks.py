@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..plausible import check
+from ..seeds import check_seed
 from .robust import G_ACC, cross3, gravity_wrench
 
 #: task -> rotation angles [deg] about the grasp axis of its poses
@@ -68,7 +69,11 @@ def _check_weight_range(weight_range) -> tuple[float, float]:
 
 
 def lever_disturbances(
-    rng: np.random.Generator, n: int, weight_range=(1.0, 14.0), lever_x: float = 0.06, lever_z: float = 0.08
+    rng: int | np.random.Generator,
+    n: int,
+    weight_range=(1.0, 14.0),
+    lever_x: float = 0.06,
+    lever_z: float = 0.08,
 ) -> np.ndarray:
     """(n, 6) disturbances of the thesis's §4.1.3.1 kind for the elliptic-cylinder grasp
     (:func:`workbench.sources.scenes.elliptic_cylinder_grasp`, grasp axis x): weights
@@ -80,7 +85,10 @@ def lever_disturbances(
     ``lever_x``/``lever_z`` are judged by the plausible "lever" range and the ends of
     ``weight_range`` by the "weight" range (:func:`workbench.plausible.check`, the rule of the
     sensitivity experiment's keys of the same names: 60 is "probably in millimetres", 1400 in
-    grams-force); a ``weight_range`` whose ends are swapped is refused, not left to numpy."""
+    grams-force); a ``weight_range`` whose ends are swapped is refused, not left to numpy.
+    ``rng`` : a ``numpy.random.Generator`` (drawn from) or an int seed >= 0
+    (:func:`workbench.seeds.check_seed`)."""
+    rng = np.random.default_rng(check_seed(rng, "rng"))
     lo, hi = _check_weight_range(weight_range)
     check("lever", lever_x, "lever_x [m]")
     check("lever", lever_z, "lever_z [m]")

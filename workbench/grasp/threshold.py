@@ -52,6 +52,31 @@ def balanced_accuracy(predicted, truth) -> float:
     return float(np.mean(recalls))
 
 
+def _check_sigma(sigma) -> float:
+    """The quality threshold σ as a float in [0, 1), else a ValueError naming the fix: the
+    quality ``q = 1 − x / X_max`` is at most 1, so σ >= 1 predicts nothing a success (50: a
+    threshold in per cent), and a negative σ counts grasps needing more than ``X_max`` as
+    successes — ``X_max`` is then no longer the largest work or force a success may need."""
+    if (
+        isinstance(sigma, (bool, np.bool_))
+        or not isinstance(sigma, numbers.Real)
+        or not (np.isfinite(sigma) and 0 <= sigma < 1)
+    ):
+        number = isinstance(sigma, numbers.Real) and not isinstance(sigma, (bool, np.bool_))
+        if number and 1 < sigma <= 100:
+            fix = f" — per cent? pass {float(sigma) / 100:g}"  # a threshold in per cent (50 for 0.5)
+        elif number and -1 < sigma < 0:
+            fix = f" — a negative threshold predicts success beyond X_max; sign slip? pass {-float(sigma):g}"
+        elif number and np.isfinite(sigma):
+            fix = " — pass e.g. 0.5 (the thesis's)"
+        else:
+            fix = ""
+        raise ValueError(
+            f"sigma must be a finite quality threshold < 1 and >= 0 (0.5 in the thesis); got {sigma!r}{fix}"
+        )
+    return float(sigma)
+
+
 def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     """``X_max`` (``W_max`` or ``f⊥max``) that best predicts ``truth`` from ``values``
     by ``q = 1 − x / X_max >= sigma``.
@@ -59,7 +84,7 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     values : (n,) float — the training grasps' W [J] or f⊥ [N], >= 0; ``np.inf`` for
         an unresisted grasp, always predicted to fail (``q = −inf``).
     truth : (n,) bool — their real success.
-    sigma : the quality threshold σ < 1 (0.5 in the thesis, §4.3.4).
+    sigma : the quality threshold σ in [0, 1) (0.5 in the thesis, §4.3.4; :func:`_check_sigma`).
 
     Success is predicted iff ``x <= t`` with ``t = (1 − σ) X_max``.  Candidate ``t``:
     the midpoints between consecutive distinct finite values, ``v_1 / 2`` (every grasp
@@ -80,20 +105,7 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     if bad.any():
         k = int(np.argmax(bad))
         raise ValueError(f"values must be >= 0 (np.inf: unresisted); got {x[k]} at grasp {k}")
-    if (
-        isinstance(sigma, (bool, np.bool_))
-        or not isinstance(sigma, numbers.Real)
-        or not (np.isfinite(sigma) and sigma < 1)
-    ):
-        # a threshold in per cent (50 for 0.5) is the likely slip above 1
-        percent = (
-            f" — per cent? pass {float(sigma) / 100:g}"
-            if isinstance(sigma, numbers.Real) and 1 < sigma <= 100
-            else ""
-        )
-        raise ValueError(
-            f"sigma must be a finite quality threshold < 1 (0.5 in the thesis); got {sigma!r}{percent}"
-        )
+    sigma = _check_sigma(sigma)
     v = np.unique(x[np.isfinite(x)])
     if v.size == 0 or v[-1] <= 0:
         raise ValueError(
@@ -106,7 +118,7 @@ def fit_normaliser(values, truth, sigma: float = 0.5) -> float:
     # scores are ratios of counts: equal ones differ by round-off only
     best = np.flatnonzero(score >= score.max() - 1e-12)
     t = float(cand[best[(len(best) - 1) // 2]])
-    return t / (1.0 - float(sigma))
+    return t / (1.0 - sigma)
 
 
 def held_out_accuracy(predicted, truth, train, groups, names) -> dict:

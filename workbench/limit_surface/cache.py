@@ -24,6 +24,7 @@ from .. import config
 from ..config import SAMPLER_KINDS
 from ..profile import ContactProfile
 from ..results import atomic_write_bytes
+from ..seeds import check_seed
 from ..twists import sample_twists_6dfc, sample_twists_thesis
 from ..twists_author import AUTHOR_LEVELS
 from ..wrench import check_mu, frictional_wrenches, w_max
@@ -59,6 +60,7 @@ class SamplerSpec:
             raise ValueError(f"sampler kind must be one of {SAMPLER_KINDS}; got {self.kind!r}")
         if self.fine_level not in AUTHOR_LEVELS:
             raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {self.fine_level!r}")
+        check_seed(self.seed, generator=False)  # part of the cache key: the same draw every time
 
     def twists(self, profile: ContactProfile) -> np.ndarray:
         """(K, 6) twists of the "thesis" or "6dfc" sampler (the grid kinds choose

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..seeds import check_seed
 from ..timing import median_runtime
 from .base import LimitSurfaceModel
 from .ellipsoid import fit_ellipsoid
@@ -150,6 +151,8 @@ def fit_and_score(
         test = check_wrenches(test, "test")
     if isinstance(repeats, bool) or not (isinstance(repeats, int) and repeats >= 1):
         raise ValueError(f"repeats must be an integer >= 1 (fits timed, median kept); got {repeats!r}")
+    if wrenches_of is not None:  # before the fit: a bad seed would only show after it
+        check_seed(support_seed, "support_seed")
     if wrenches_of is not None and not callable(wrenches_of):
         raise ValueError(
             "wrenches_of must map (n, 6) twists to the contact's exact (n, 6) wrenches, e.g. "

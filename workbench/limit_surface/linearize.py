@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..seeds import check_seed
+
 
 @dataclass(frozen=True)
 class Linearization:
@@ -41,7 +43,7 @@ def sample_directions(M: int, dim: int, kind: str = "cube", seed: int = 0) -> np
     on the unit sphere; seeded."""
     if M < 1:
         raise ValueError(f"M must be >= 1; got {M}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     if kind == "sphere":
         s = rng.standard_normal((M, dim))
         return s / np.linalg.norm(s, axis=1, keepdims=True)

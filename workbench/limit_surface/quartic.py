@@ -125,7 +125,9 @@ class QuarticLS(LimitSurfaceModel):
     def min_hessian_eigenvalue(self, n_points: int = 10_000, seed: int = 0) -> float:
         """Smallest Hessian eigenvalue over random directions of the subspace,
         relative to the largest |eigenvalue| (>= -1e-12 means convex there)."""
-        y = np.random.default_rng(seed).standard_normal((n_points, self.dim))
+        from ..seeds import check_seed
+
+        y = np.random.default_rng(check_seed(seed)).standard_normal((n_points, self.dim))
         lam = np.linalg.eigvalsh(self.hessian_subspace(y))
         return float(lam.min() / np.abs(lam).max())
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import config
+from ..seeds import check_seed
 from .base import LimitSurfaceModel
 
 log = logging.getLogger(__name__)
@@ -53,7 +54,7 @@ def uniform_normals(model: LimitSurfaceModel, n: int, seed: int = 0) -> np.ndarr
     if isinstance(n, bool) or not (isinstance(n, int | np.integer) and n > 0):
         raise ValueError(f"n must be a positive integer number of directions; got {n!r}")
     B = model.subspace.basis  # (6, r), orthonormal
-    u = np.random.default_rng(seed).standard_normal((int(n), B.shape[1]))
+    u = np.random.default_rng(check_seed(seed)).standard_normal((int(n), B.shape[1]))
     d = u if B.shape[1] == 6 else u @ B.T
     return d / np.linalg.norm(d, axis=1, keepdims=True)
 

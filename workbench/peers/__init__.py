@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import config
 from ..units import check_extent
 
 __all__ = ["count", "depth", "friction", "length", "modulus", "poisson", "real"]
@@ -55,6 +56,35 @@ def _plausible(key: str, name: str, x: float, note: str = "") -> float:
         raise ValueError(f"{exc} — {note}") from None
 
 
+def _swap_hint(x: float, role: str) -> str:
+    """A clause for the message of a refused length ``x`` [m] the size of a modulus (at or above
+    the smallest plausible pad modulus, 1 kPa — as a length 1 km) or a refused modulus [Pa] the
+    size of a length (at most ``TOL.max_object_extent_m``): the arguments may be swapped
+    (``hertz_force(E, nu, R, delta)`` for ``hertz_force(R, delta, E, nu)``), which the unit
+    reading alone would not say.  "" otherwise."""
+    from ..plausible import RANGES
+
+    lo, limit = RANGES["pad_modulus"].lower(), config.TOL.max_object_extent_m
+    if (role == "length" and x >= lo) or (role == "modulus" and 0 < x <= limit):
+        kind = "a modulus [Pa]" if role == "length" else "a length [m]"
+        return (
+            f" — or arguments swapped: {x:g} is the size of {kind}; the peers take lengths in metres "
+            "and moduli in pascals in the order of their signature"
+        )
+    return ""
+
+
+def _with_swap_hint(x: float, role: str, check, *args, **kwargs):
+    """``check(*args, **kwargs)``, its ValueError extended by :func:`_swap_hint`."""
+    try:
+        return check(*args, **kwargs)
+    except ValueError as exc:
+        hint = _swap_hint(x, role)
+        if not hint:
+            raise
+        raise ValueError(f"{exc}{hint}") from None
+
+
 def length(name: str, value: Any, quantity: str | None = None) -> float:
     """A positive length [m].
 
@@ -62,13 +92,19 @@ def length(name: str, value: Any, quantity: str | None = None) -> float:
         layer's thickness, ``"pad_size"`` for a pad's side, ``"element_size"`` for a grid's
         spacing): judged by that rule.  None: the size of an object or of a contact patch (a
         sphere's radius, a cylinder's length), judged by :func:`workbench.units.check_extent`
-        as a ``ContactProfile``'s size is (a radius of 20 reads as 20 m, not 20 mm)."""
+        as a ``ContactProfile``'s size is (a radius of 20 reads as 20 m, not 20 mm).
+
+    A refused length the size of a modulus also names a swap of arguments (:func:`_swap_hint`),
+    a depth's too (:func:`depth`)."""
     x = real(name, value, "m")
     if x <= 0:
         raise ValueError(f"{name} must be a positive length [m]; got {x}")
     if quantity is not None:
-        return _plausible(quantity, name, x)
-    check_extent(
+        return _with_swap_hint(x, "length", _plausible, quantity, name, x)
+    _with_swap_hint(
+        x,
+        "length",
+        check_extent,
         x,
         name,
         check_lower=False,
@@ -91,7 +127,7 @@ def depth(name: str, value: Any, *, below: float, below_name: str) -> float:
     if x >= below:
         raise ValueError(
             f"{name} = {x!r} m is not below {below_name} = {below!r} m: depths are in metres "
-            f"(1 mm = 1e-3) and must stay small against {below_name}"
+            f"(1 mm = 1e-3) and must stay small against {below_name}" + _swap_hint(x, "length")
         )
     return compression(name, x)
 
@@ -111,9 +147,17 @@ def sphere(R: Any, delta: Any, delta_name: str) -> tuple[float, float]:
 
 def modulus(name: str, value: Any) -> float:
     """An elastic modulus [Pa] of a pad (a Young's or a hydroelastic modulus), judged as the
-    ``"pad_modulus"`` quantity of :data:`workbench.plausible.RANGES`."""
-    return _plausible(
-        "pad_modulus", name, real(name, value, "Pa"), "moduli are in pascals (1 MPa = 1e6, silicone ~0.1-5e6)"
+    ``"pad_modulus"`` quantity of :data:`workbench.plausible.RANGES`; a length passed in its
+    place is refused naming a swap of arguments as well as the unit (:func:`_swap_hint`)."""
+    x = real(name, value, "Pa")
+    return _with_swap_hint(
+        x,
+        "modulus",
+        _plausible,
+        "pad_modulus",
+        name,
+        x,
+        "moduli are in pascals (1 MPa = 1e6, silicone ~0.1-5e6)",
     )
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from .. import config
 from ..limit_surface.base import LimitSurfaceModel
 from ..profile import ContactProfile
+from ..seeds import check_seed
 from ..twists import sample_twists_thesis
 from ..wrench import frictional_wrenches, w_max
 from . import count, friction, length
@@ -289,8 +290,8 @@ def fitted_ls_error(
             f"n_twists must be an integer >= {need} for {model!r} (2 n_twists wrenches, with the "
             f"translations, against its {min_wrenches(model)} unknowns); got {n_twists!r}"
         )
-    if isinstance(seed, bool) or not (isinstance(seed, int | np.integer) and seed >= 0):
-        raise ValueError(f"seed must be an integer >= 0 (the twists and the truth's points); got {seed!r}")
+    # an int, not a Generator: the truth's points must be the same for every peer compared
+    seed = check_seed(seed, generator=False)
     p = p.with_pressures(p.pressures * (f_ref / f_p))
     # a peer without capacity along an axis the truth has (a flat or nearly flat patch: no rolling
     # torque; a few elements) has no 6DLS of the truth to compare: its fit's scale there is round-off
