@@ -69,6 +69,8 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) bench-sweep -- $(BIN)/python benchmarks/bench_sweep.py
 	$(TIMED) bench-pareto -- $(BIN)/python benchmarks/bench_pareto.py
 	$(TIMED) bench-physical-trials -- $(BIN)/python benchmarks/bench_physical_trials.py
+	: the same real trials judged by MuJoCo (workbench.engine_trials), no model of ours in it
+	$(TIMED) bench-engine-trials -- $(BIN)/python benchmarks/bench_engine_trials.py
 	$(TIMED) bench-memory -- $(BIN)/python benchmarks/bench_memory.py
 	$(BIN)/workbench report
 
@@ -97,6 +99,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_sweep.py
 	$(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/python benchmarks/bench_physical_trials.py
+	$(BIN)/python benchmarks/bench_engine_trials.py
 	$(BIN)/python benchmarks/bench_memory.py
 
 # The wall mesh's convergence at shoulder grasps (~20 min on one thread, meshes up to [120, 60]:

@@ -19,7 +19,15 @@ the fix.
 
 from . import probes
 from .settings import EngineSettings
-from .trial import TASKS, TrialOutcome, TrialPhases, build_model, simulate_grasp
+from .trial import (
+    TASKS,
+    TrialOutcome,
+    TrialPhases,
+    build_model,
+    build_scene,
+    simulate_grasp,
+    simulate_gripper,
+)
 
 __all__ = [
     "TASKS",
@@ -27,6 +35,8 @@ __all__ = [
     "TrialOutcome",
     "TrialPhases",
     "build_model",
+    "build_scene",
     "probes",
     "simulate_grasp",
+    "simulate_gripper",
 ]

@@ -62,6 +62,13 @@ class EngineSettings:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and v < float("inf")):
                 raise ValueError(f"{name} must be a positive finite number; got {v!r}")
+        if self.timestep > 2e-3:
+            # the probes validated 1e-3; at 0.1 s the flex's stiffness is ill-conditioned (MuJoCo
+            # warns) and the pads' contacts are no longer resolved
+            raise ValueError(
+                f"timestep {self.timestep!r} s is above 2e-3 s: the engine's settings are validated "
+                "at 1e-3 s (a timestep in ms? 1 ms = 1e-3)"
+            )
         if self.tip_radius > 2e-3:
             raise ValueError(
                 f"tip_radius {self.tip_radius!r} m is larger than a pad's grid spacing: give it in "

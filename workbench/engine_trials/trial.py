@@ -26,9 +26,12 @@ class TrialPhases:
     robot's pace (5 cm in 1 s)."""
 
     gap: float = 5e-4  # pad face to the object before closing [m]
-    close: float = 0.3  # the jaws' force ramps from 0 to its value
-    settle: float = 0.2  # the force held, still without gravity
-    gravity_ramp: float = 0.1  # gravity switched on (the object lifted off a support)
+    gravity_ramp: float = 0.1  # gravity switched on: the object settles on the table
+    close: float = 0.3  # the jaws' force ramps from 0 to its value, the object on the table
+    settle: float = 0.2  # the force held before lifting
+    # the table's friction with the object (it holds the object while the jaws close, as a
+    # real table does; the pads do not touch it)
+    table_mu: float = 0.5
     # the gripper rises by `lift_height` along a smoothstep: peak acceleration 6 h / T² =
     # 0.3 m/s² (3 % of g on top of the weight) at the defaults
     lift: float = 1.0
@@ -38,6 +41,24 @@ class TrialPhases:
     # held: the object moved less than this relative to the gripper from the end of settling
     max_drift: float = 5e-3  # [m]
     max_turn_deg: float = 5.0  # [deg]
+
+    def __post_init__(self) -> None:
+        from ..plausible import check
+
+        for name in ("close", "settle", "gravity_ramp", "lift", "rotate", "hold"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):
+                raise ValueError(f"TrialPhases.{name} must be a duration in (0, 60] s; got {v!r}")
+        check("compression", self.gap, "TrialPhases.gap (pad face to object [m])", warn=False)
+        check("mu", self.table_mu, "TrialPhases.table_mu")
+        check("lever", self.lift_height, "TrialPhases.lift_height [m]", warn=False)
+        check("closing", self.max_drift, "TrialPhases.max_drift (held below this drift [m])", warn=False)
+        if not self.max_drift > 0:
+            raise ValueError(f"TrialPhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
+        if isinstance(self.max_turn_deg, bool) or not (0 < self.max_turn_deg <= 90):
+            raise ValueError(
+                f"TrialPhases.max_turn_deg must be an angle in (0, 90] degrees; got {self.max_turn_deg!r}"
+            )
 
 
 @dataclass(frozen=True)
@@ -51,6 +72,9 @@ class TrialOutcome:
     times : (T,) [s]; rel_pos : (T, 3) the object's origin in the gripper frame [m];
     rel_turn_deg : (T,) its rotation from the settled pose [deg].
     seconds : wall time of the simulation; steps : engine steps.
+    reason : why it was not held ("" when held): a jaw that touched nothing after closing, or
+        the drift or turn beyond the limits.
+    engine_warnings : MuJoCo's warnings during the trial {name: count} (empty when none).
     """
 
     held: bool
@@ -62,6 +86,8 @@ class TrialOutcome:
     rel_turn_deg: np.ndarray = field(repr=False)
     seconds: float = 0.0
     steps: int = 0
+    reason: str = ""
+    engine_warnings: dict = field(default_factory=dict)
 
 
 def _check_grasp(grasp: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -109,25 +135,53 @@ def build_model(
     settings: EngineSettings | None = None,
     phases: TrialPhases | None = None,
 ):
-    """(MjModel, info) of a trial scene: the object (frame = world at the start), a mocap
-    gripper at the origin with two jaws on slide joints along the grasp axis, each with a flex
-    pad whose face is ``phases.gap`` from its contact point; ``info`` holds ids and the pads'
-    tip counts."""
+    """(MjModel, info) of a trial of ``grasp``: :func:`build_scene` with each pad's face
+    ``phases.gap`` before its contact point."""
+    phases = TrialPhases() if phases is None else phases
+    p1, p2, axis = _check_grasp(grasp)
+    faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
+    return build_scene(
+        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E,
+        pad_nu=pad_nu, up=up, down=down, settings=settings, phases=phases,
+    )  # fmt: skip
+
+
+def build_scene(
+    mesh,
+    faces,
+    axis,
+    *,
+    force: float,
+    mu: float,
+    mass: float,
+    com=None,
+    pad=(0.02, 0.04, 0.005),
+    pad_E: float = 1e6,
+    pad_nu: float = 0.45,
+    up=(0.0, 0.0, 1.0),
+    down=(0.0, 0.0, -1.0),
+    settings: EngineSettings | None = None,
+    phases: TrialPhases | None = None,
+):
+    """(MjModel, info) of a trial scene: the object (frame = world at the start), a gripper
+    (a lifting carriage and a turning wrist) with two jaws on slide joints along ``axis`` (3,;
+    jaw 1 closes along it, jaw 2 against it), each with a flex pad whose face centre starts at
+    ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip counts."""
     mujoco = import_mujoco()
     settings = EngineSettings() if settings is None else settings
     phases = TrialPhases() if phases is None else phases
-    p1, p2, axis = _check_grasp(grasp)
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)
     asset, body = _object_xml(mesh, mass, com, mu, settings)
     jaws = []
-    for k, (p, a) in enumerate(((p1, axis), (p2, -axis)), start=1):
-        face = p - phases.gap * a
+    for k, (face, a) in enumerate(((f1, axis), (f2, -axis)), start=1):
         pad_xml = flexcomp_xml(f"pad{k}", tuple(pad), pad_E, pad_nu, face, a, np.asarray(up, float), settings)
         ax = " ".join(f"{x:.12g}" for x in a)
         back = face - (pad[2] + 1e-3) * a
         bp = " ".join(f"{x:.9g}" for x in back)
         jaws.append(
-            f'<body name="jaw{k}"><joint name="jaw{k}" type="slide" axis="{ax}" damping="200" '
+            f'<body name="jaw{k}" gravcomp="1"><joint name="jaw{k}" type="slide" axis="{ax}" damping="200" '
             f'range="-0.01 0.05"/>'
             f'<geom type="sphere" size="0.002" pos="{bp}" mass="0.05" contype="0" conaffinity="0"/>'
             f"{pad_xml}</body>"
@@ -136,14 +190,21 @@ def build_model(
     # through the grasp's centre, each a stiff position servo (flex pads cannot ride a mocap body)
     lift_dir = -np.asarray(down, float) / np.linalg.norm(down)
     ld = " ".join(f"{x:.12g}" for x in lift_dir)
+    # the table: a plane under the object's lowest point along gravity, touching the object only
+    base = float(np.min(np.asarray(mesh.vertices, float) @ lift_dir))
+    tp = " ".join(f"{x:.9g}" for x in base * lift_dir)
+    table = (
+        f'<geom name="table" type="plane" size="0 0 1" pos="{tp}" zaxis="{ld}" contype="1" '
+        f'conaffinity="1" {settings.contact_attrs(phases.table_mu)}/>'
+    )
     ax = " ".join(f"{x:.12g}" for x in axis)
-    ctr = " ".join(f"{x:.9g}" for x in 0.5 * (p1 + p2))
+    ctr = " ".join(f"{x:.9g}" for x in 0.5 * (f1 + f2))
     xml = (
         f"<mujoco>{settings.option_xml()}<size memory='200M'/><asset>{asset}</asset><worldbody>"
-        f"{body}"
-        f'<body name="carriage"><joint name="lift" type="slide" axis="{ld}"/>'
+        f"{table}{body}"
+        f'<body name="carriage" gravcomp="1"><joint name="lift" type="slide" axis="{ld}"/>'
         f'<geom type="sphere" size="0.002" mass="0.5" contype="0" conaffinity="0"/>'
-        f'<body name="hand"><joint name="turn" type="hinge" axis="{ax}" pos="{ctr}"/>'
+        f'<body name="hand" gravcomp="1"><joint name="turn" type="hinge" axis="{ax}" pos="{ctr}"/>'
         f'<geom type="sphere" size="0.002" pos="{ctr}" mass="0.5" contype="0" conaffinity="0"/>'
         f"{''.join(jaws)}</body></body>"
         "</worldbody><actuator>"
@@ -200,7 +261,7 @@ def simulate_grasp(
     Returns a :class:`TrialOutcome`; its verdict, ``held``, is the engine's: no contact model of
     this package is used.
     """
-    mujoco = import_mujoco()
+    import_mujoco()  # the extra's ImportError before any other message
     from ..plausible import check
     from ..units import closed_mesh
     from ..wrench import check_mu
@@ -210,34 +271,66 @@ def simulate_grasp(
     mesh = closed_mesh(mesh, "mesh passed to simulate_grasp")
     check("jaw_force", force, "force")
     mu = check_mu(mu)
-    check("mass", mass, "mass")
+    from ..grasp.robust import check_com, check_object_mass
+    from ..sources.jaws import check_direction
+
+    check_object_mass(mass, mesh)
+    com = check_com(mesh.center_mass if com is None else com, mesh)
+    if not (isinstance(pad, (tuple, list, np.ndarray)) and len(pad) == 3):
+        raise ValueError(f"pad must be (width, length, thickness) [m]; got {pad!r}")
+    check("pad_size", pad[0], "pad width [m]")
+    check("pad_size", pad[1], "pad length [m]")
+    check("pad_thickness", pad[2], "pad thickness [m]")
+    check("pad_modulus", pad_E, "pad_E")
+    check("poisson", pad_nu, "pad_nu")
+    check_direction(up, "up", "the pads' length direction, across the grasp axis")
+    check_direction(down, "down", "gravity's direction in the object frame")
     phases = TrialPhases() if phases is None else phases
     settings = EngineSettings() if settings is None else settings
+    if not isinstance(phases, TrialPhases) or not isinstance(settings, EngineSettings):
+        raise ValueError(
+            f"phases must be a TrialPhases and settings an EngineSettings; got "
+            f"{type(phases).__name__}, {type(settings).__name__}"
+        )
     model, info = build_model(
         mesh, grasp, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
         up=up, down=down, settings=settings, phases=phases,
     )  # fmt: skip
+    return _run(model, info, force, down, task, phases, record_every)
+
+
+def _run(
+    model, info: dict, force: float, down, task: str, phases: TrialPhases, record_every: int = 10
+) -> TrialOutcome:
+    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold)."""
+    mujoco = import_mujoco()
     data = mujoco.MjData(model)
     dt = model.opt.timestep
     g_dir = np.asarray(down, float) / np.linalg.norm(down)
     obj, hand = info["object"], info["hand"]
-    t_close, t_settle = phases.close, phases.close + phases.settle
-    t_grav = t_settle + phases.gravity_ramp
-    t_lift = t_grav + phases.lift
+    t_grav = phases.gravity_ramp
+    t_close = t_grav + phases.close
+    t_settle = t_close + phases.settle
+    t_lift = t_settle + phases.lift
     turn = np.radians(TASKS[task])
     t_turn = t_lift + (phases.rotate if turn else 0.0)
     t_end = t_turn + phases.hold
     n = int(round(t_end / dt))
     times, rel_p, rel_turn = [], [], []
     ref = None
+    # each pad's tip geoms: after closing, a jaw whose tips touch nothing holds nothing
+    tips = [
+        {g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.startswith(f"pad{k}_")}
+        for k in (1, 2)
+    ]
+    touching = None
     t0 = time.perf_counter()
     for i in range(n):
         t = (i + 1) * dt
-        data.ctrl[:2] = force * min(1.0, t / t_close)
-        s = np.clip((t - t_settle) / phases.gravity_ramp, 0.0, 1.0)
-        model.opt.gravity[:] = G * s * g_dir
+        model.opt.gravity[:] = G * min(1.0, t / t_grav) * g_dir
+        data.ctrl[:2] = force * np.clip((t - t_grav) / phases.close, 0.0, 1.0)
         # the gripper's motion: a smooth rise, then a smooth turn about the grasp axis
-        u = np.clip((t - t_grav) / phases.lift, 0.0, 1.0)
+        u = np.clip((t - t_settle) / phases.lift, 0.0, 1.0)
         data.ctrl[2] = phases.lift_height * (3 * u**2 - 2 * u**3)
         if turn:
             v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
@@ -251,6 +344,8 @@ def simulate_grasp(
             Rrel = Rh.T @ Ro
             if ref is None:
                 ref = (po.copy(), Rrel.copy())
+                geoms = {int(g) for c in data.contact[: data.ncon] for g in c.geom}
+                touching = [bool(t_k & geoms) for t_k in tips]
             times.append(t)
             rel_p.append(po)
             rel_turn.append(_rotvec_deg(ref[1].T @ Rrel))
@@ -261,6 +356,21 @@ def simulate_grasp(
     span = times[last][-1] - times[last][0]
     slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
     held = bool(drift.max() <= phases.max_drift and rel_turn.max() <= phases.max_turn_deg)
+    reason = ""
+    if touching is not None and not all(touching):
+        held = False
+        missed = " and ".join(f"jaw {k + 1}" for k, t_k in enumerate(touching) if not t_k)
+        reason = f"{missed} touched nothing after closing (the grasp misses the object?)"
+    elif drift.max() > phases.max_drift:
+        reason = f"the object slid {drift.max() * 1e3:.3g} mm (limit {phases.max_drift * 1e3:g} mm)"
+    elif rel_turn.max() > phases.max_turn_deg:
+        reason = f"the object turned {rel_turn.max():.3g} deg (limit {phases.max_turn_deg:g} deg)"
+    engine_warnings = {
+        mujoco.mjtWarning(k).name: int(w.number) for k, w in enumerate(data.warning) if w.number > 0
+    }
+    if engine_warnings:
+        # an instability (bad qacc, a solver that ran out of iterations) makes a verdict unreliable
+        log.warning("engine trial: MuJoCo warned %s; the verdict may not be reliable", engine_warnings)
     log.info(
         "engine trial: %s, drift %.2f mm, turn %.2f deg, %d steps in %.1f s",
         "held" if held else "slipped",
@@ -270,5 +380,73 @@ def simulate_grasp(
         seconds,
     )
     return TrialOutcome(
-        held, float(drift.max()), float(rel_turn.max()), slip, times, rel_p, rel_turn, seconds, n
+        held,
+        float(drift.max()),
+        float(rel_turn.max()),
+        slip,
+        times,
+        rel_p,
+        rel_turn,
+        seconds,
+        n,
+        reason,
+        engine_warnings,
     )
+
+
+def simulate_gripper(
+    mesh,
+    gripper,
+    pose,
+    *,
+    mass: float,
+    down=(0.0, 0.0, -1.0),
+    com=None,
+    mu: float | None = None,
+    task: str = "vertical_lifting",
+    pad_nu: float = 0.45,
+    settings: EngineSettings | None = None,
+    phases: TrialPhases | None = None,
+    record_every: int = 10,
+) -> TrialOutcome:
+    """Simulate one trial of ``gripper`` (a :class:`~workbench.sources.gripper.Gripper`, e.g.
+    ``yumi()``) at ``pose`` (4, 4: the gripper frame in the object frame [m], e.g. a physical
+    trial's :attr:`~workbench.sources.trials.Trials.gripper_pose`), open by its opening, closing
+    each jaw with ``gripper.force`` [N] until its pad meets whatever it meets — as the robot did.
+
+    Each pad is the rectangle that bounds the gripper's pad outline (in its tooltip frame, the
+    outline's centre offset kept), ``gripper.pad.thickness`` thick, of ``gripper.pad.modulus``
+    and ``pad_nu``.  ``mu`` defaults to ``gripper.mu``; ``mass`` [kg] at ``com`` (3,) [m], gravity
+    along ``down`` (3,; the object frame's, e.g. the trial's); ``task`` as :func:`simulate_grasp`.
+    """
+    import_mujoco()
+    from ..grasp.robust import check_com, check_object_mass
+    from ..plausible import check
+    from ..sources.gripper import Gripper
+    from ..sources.jaws import check_direction
+    from ..units import closed_mesh
+    from ..wrench import check_mu
+
+    if not isinstance(gripper, Gripper):
+        raise ValueError(
+            f"gripper must be a workbench.sources.gripper.Gripper (e.g. yumi()); got {gripper!r}"
+        )
+    if task not in TASKS:
+        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
+    mesh = closed_mesh(mesh, "mesh passed to simulate_gripper")
+    mu = check_mu(gripper.mu if mu is None else mu)
+    check_object_mass(mass, mesh)
+    com = check_com(mesh.center_mass if com is None else com, mesh)
+    check("poisson", pad_nu, "pad_nu")
+    down = check_direction(down, "down", "gravity's direction in the object frame")
+    phases = TrialPhases() if phases is None else phases
+    jaws = gripper.jaws(pose)  # checks the pose
+    lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
+    c, size = (lo + hi) / 2, hi - lo
+    faces = [j.origin + c[0] * j.e1 + c[1] * j.e2 for j in jaws]
+    model, info = build_scene(
+        mesh, faces, jaws[0].closing, force=gripper.force, mu=mu, mass=mass, com=com,
+        pad=(float(size[0]), float(size[1]), gripper.pad.thickness), pad_E=gripper.pad.modulus,
+        pad_nu=pad_nu, up=jaws[0].e2, down=down, settings=settings, phases=phases,
+    )  # fmt: skip
+    return _run(model, info, gripper.force, down, task, phases, record_every)
