@@ -55,6 +55,16 @@ def _block_model(mu: float, settings: EngineSettings, mass: float, gravity: tupl
     return mujoco.MjModel.from_xml_string(xml)
 
 
+def _settled_block(mu: float, settings: EngineSettings | None, mass: float):
+    """(model, data, block body id) of the block resting on the plane under gravity for 0.2 s."""
+    mujoco = import_mujoco()
+    m = _block_model(mu, EngineSettings() if settings is None else settings, mass, (0.0, 0.0, -G))
+    d = mujoco.MjData(m)
+    for _ in range(int(0.2 / m.opt.timestep)):
+        mujoco.mj_step(m, d)
+    return m, d, m.body("block").id
+
+
 def pulled_block(
     mu: float,
     settings: EngineSettings | None = None,
@@ -68,13 +78,8 @@ def pulled_block(
     x axis by a force ramped from 0 to 2 μ m g over ``duration`` [s] (applied at its centre):
     ``{"measured": F_onset [N], "coulomb": μ m g, "ratio", "bias"}``."""
     mujoco = import_mujoco()
-    settings = EngineSettings() if settings is None else settings
-    m = _block_model(mu, settings, mass, (0.0, 0.0, -G))
-    d = mujoco.MjData(m)
-    bid = m.body("block").id
+    m, d, bid = _settled_block(mu, settings, mass)
     dt = m.opt.timestep
-    for _ in range(int(0.2 / dt)):  # settle on the plane
-        mujoco.mj_step(m, d)
     fc = mu * mass * G
     e = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg)), 0.0])
     n = int(round(duration / dt))
@@ -139,13 +144,8 @@ def held_block_creep(
     """The block held by a constant horizontal force of ``fraction`` of μ m g (reached in 0.5 s):
     ``{"speed": its mean speed over the last ``duration`` − 1 s [m/s]}`` — zero for Coulomb."""
     mujoco = import_mujoco()
-    settings = EngineSettings() if settings is None else settings
-    m = _block_model(mu, settings, mass, (0.0, 0.0, -G))
-    d = mujoco.MjData(m)
-    bid = m.body("block").id
+    m, d, bid = _settled_block(mu, settings, mass)
     dt = m.opt.timestep
-    for _ in range(int(0.2 / dt)):
-        mujoco.mj_step(m, d)
     fc = mu * mass * G
     n = int(round(duration / dt))
     x0 = None
