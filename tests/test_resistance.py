@@ -292,3 +292,43 @@ def test_cut_store_rows_handed_out_never_change():
         np.testing.assert_array_equal(A, A0)
         np.testing.assert_array_equal(B, B0)
     assert len(store) == 40
+
+
+def test_a_qp_answer_just_outside_the_band_is_redecided_by_the_exact_lp(monkeypatch):
+    """An active-set QP stopping at its own tolerance can leave a residual a few times the band on
+    a wrench the contacts resist (DAQP: 4.2x on a thesis-bottle grasp that quadprog, proxqp,
+    Clarabel and HiGHS all resist).  Simulated here by moving the QP's answer so it leaves 4x the
+    band: the residual LP re-decides (resisted, residual at round-off) and the fallback is recorded;
+    a QP answer 1000x outside the band is kept (not resisted, no second solve)."""
+    from workbench import config
+    from workbench.grasp import resists
+    from workbench.grasp.contacts import soft_point_contact
+    from workbench.grasp.resistance import api
+
+    sets = [
+        soft_point_contact([0.0, -0.02, 0], [0, -1.0, 0], 10.0, 0.005),
+        soft_point_contact([0.0, 0.02, 0], [0, 1.0, 0], 10.0, 0.005),
+    ]
+    w = np.array([0.0, 0.0, -2.0, 0.0, 0.0, 0.0])  # 2 N down against 2 μ F = 10 N: resisted
+    tol = config.TOL.resist_rtol
+    honest = resists(sets, w, 0.5, representation="outer")
+    assert honest.resisted and not honest.fallbacks
+    original = api.solve_l2_qp
+
+    def off_by(factor):
+        def solve(prog, solver):
+            y = original(prog, solver)
+            # a step whose residual is factor * tol: along A6's first column, scaled
+            col = prog.A6[:, 0]
+            return y + factor * tol / np.linalg.norm(col) * np.eye(len(y))[0]
+
+        return solve
+
+    monkeypatch.setattr(api, "solve_l2_qp", off_by(4.0))
+    redecided = resists(sets, w, 0.5, representation="outer")
+    assert redecided.resisted and redecided.residual <= 1e-9 and redecided.solver == "highs"
+    assert any("the residual LP (HiGHS) decides" in f for f in redecided.fallbacks)
+    monkeypatch.setattr(api, "solve_l2_qp", off_by(1000.0))
+    kept = resists(sets, w, 0.5, representation="outer")
+    assert not kept.resisted and kept.residual == pytest.approx(1000.0 * tol, rel=1e-6)
+    assert not kept.fallbacks

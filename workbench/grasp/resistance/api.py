@@ -93,9 +93,14 @@ def resists(
 wrench_resistance = resists
 
 
-def _solve_polyhedral(prog: Program, solver, fallbacks) -> tuple[np.ndarray, str, str, float | None]:
+def _solve_polyhedral(
+    prog: Program, solver, fallbacks, tol: float | None = None
+) -> tuple[np.ndarray, str, str, float | None]:
     """(y, solver, norm, residual or None): the L1 LP for vertex sets (6DFW, inner
-    linearisations: large and sparse), the dense L2 QP otherwise."""
+    linearisations: large and sparse), the dense L2 QP otherwise.  A QP answer just outside the
+    residual band ``tol`` (within ``config.TOL.qp_recheck_factor`` of it) is re-decided by the
+    exact residual LP (HiGHS): an active-set QP stopping at its own tolerance can leave a residual
+    a few times ``tol`` on a wrench the contacts do resist."""
     if "vertex" in prog.kinds:
         y, resid = solve_l1_lp(prog)
         if y is None:
@@ -114,6 +119,17 @@ def _solve_polyhedral(prog: Program, solver, fallbacks) -> tuple[np.ndarray, str
         if y is None:
             raise RuntimeError("every solver failed on the grasp-resistance program")
         return y, "highs", "l1", resid
+    if tol is not None:
+        resid = float(np.linalg.norm(prog.A6 @ y + prog.w))
+        if tol < resid <= config.TOL.qp_recheck_factor * tol:
+            y_lp, resid_lp = solve_l1_lp(prog)
+            if y_lp is not None:
+                _fallback(
+                    fallbacks,
+                    f"QP solver {name!r} left a residual {resid:.3g}, within "
+                    f"{config.TOL.qp_recheck_factor:g}x the band {tol:.3g}; the residual LP (HiGHS) decides",
+                )
+                return y_lp, "highs", "l1", resid_lp
     return y, name, "l2", None
 
 
@@ -126,7 +142,7 @@ def _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, pro
     while True:
         if prog is None:
             prog = assemble(contacts, w, mu, representation, cuts, cone_as_cuts=cone_as_cuts)
-        y, name, norm, resid = _solve_polyhedral(prog, solver, fallbacks)
+        y, name, norm, resid = _solve_polyhedral(prog, solver, fallbacks, tol)
         res = _result(prog, contacts, y, tol, name, representation, norm, rounds, fallbacks, resid)
         if "cuts" not in prog.kinds or not res.resisted:
             return res  # the outer set fails to resist: the model inside it fails too
