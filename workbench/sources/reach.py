@@ -262,8 +262,8 @@ def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing
         cen, normal, area, _ = _fine_faces(mesh.vertices, faces, max_edge)
     else:
         # the near faces' sub-triangles from the cached whole-mesh subdivision: the same triangles
-        # in the same order as subdividing the near faces alone (subdivide_to_size splits an
-        # edge by its own length and keeps each pass's order), so the profile is the same
+        # in the same order as refining the near faces alone (_fine_faces cuts each face on its
+        # own, in face order), so the profile is the same
         sel = near[fine[3]]
         cen, normal, area = fine[0][sel], fine[1][sel], fine[2][sel]
     return _press(
@@ -272,19 +272,138 @@ def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing
 
 
 def _fine_faces(vertices: np.ndarray, faces: np.ndarray, max_edge: float):
-    """Centres (m, 3), unit normals (m, 3) and areas (m,) of ``faces`` subdivided to ``max_edge``,
-    and the index (m,) of each sub-triangle's face in ``faces``."""
-    import trimesh
+    """Centres (m, 3), unit normals (m, 3) and areas (m,) of ``faces`` cut into sub-triangles
+    with no edge longer than ``max_edge`` (:func:`_cut_to_size`), and the index (m,) of each
+    sub-triangle's face in ``faces`` (non-decreasing).
 
-    sub_v, sub_f, parent = trimesh.remesh.subdivide_to_size(
-        vertices, faces, max_edge=max_edge, return_index=True
-    )
-    tri = sub_v[sub_f]
-    cen = tri.mean(axis=1)
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    area = 0.5 * np.linalg.norm(cross, axis=1)
-    normal = cross / np.maximum(2 * area, 1e-300)[:, None]
-    return cen, normal, area, parent
+    A sub-triangle has its face's normal and its exact share of the face's area (closed form),
+    so the areas of a face's sub-triangles sum to the face's to round-off.  A face's
+    sub-triangles depend on that face alone, in a fixed order: refining a subset of the faces
+    gives the subset's rows of refining them all (the cache of :func:`_fine_surface`).
+    """
+    tri0 = np.asarray(vertices, float)[np.asarray(faces, dtype=np.int64).reshape(-1, 3)]
+    cross = np.cross(tri0[:, 1] - tri0[:, 0], tri0[:, 2] - tri0[:, 0])
+    face_area = 0.5 * np.linalg.norm(cross, axis=1)
+    face_normal = cross / np.maximum(2 * face_area, 1e-300)[:, None]
+    tri, parent, share = _cut_to_size(tri0, max_edge)
+    return tri.mean(axis=1), face_normal[parent], face_area[parent] * share, parent
+
+
+def _cut_to_size(tri: np.ndarray, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Triangles ``tri`` (k, 3, 3) cut into sub-triangles whose edges are all ``<= max_edge``:
+    ``(sub (m, 3, 3), parent (m,), share (m,))`` — ``parent`` the row of ``tri`` each lies in
+    (non-decreasing), ``share`` its exact fraction of the parent's area; each keeps the parent's
+    orientation.  A triangle with no edge over ``max_edge`` is returned as it is.
+
+    Each triangle ``(A, B, C)``, ``BC`` its shortest edge (length ``w``, the longest ``ell``),
+    is cut one of two ways, whichever gives fewer pieces:
+
+    * *similar*: ``k >= ell / max_edge`` equal parts along every edge, ``k²`` triangles
+      similar to it (a well-shaped triangle);
+    * *strips* (a sliver, ``w`` well below ``ell``): lines parallel to ``BC`` cut it into ``n``
+      strips of equal height, strip ``i`` of ``n`` into ``ceil((i+1) q / n)`` equal trapezoids
+      (``q`` in the last) and each trapezoid along its shorter diagonal into two triangles.  A
+      trapezoid's legs are ``<= ell / n`` and its parallel sides ``<= w / q``, so its shorter
+      diagonal is ``<= sqrt(leg² + side²)``: ``n >= ell / sqrt(max_edge² - (w/q)²)``.  A
+      sliver narrower than ``max_edge`` is cut across only (``q = 1``).
+
+    ``k`` and ``n`` are multiples of 3 (``k = 1`` for a triangle that fits): the centres of a cut
+    triangle's pieces then lie at ``(3i+1)/(3k)`` or ``(3i+2)/(3k)`` of the way across it (the
+    strip cut: from ``A`` to ``BC``), never at a fraction ``p/r`` with ``r`` not a multiple of 9 —
+    1/2, 1/3, 1/4, 2/5 …  A pad edge at such a round place (a 10 mm pad centred on a 30 mm face)
+    would otherwise pass through pieces' centres and leave round-off to decide, unevenly, which
+    side they are on (the pad's area and centre off by a row of pieces).
+
+    An 80 mm × 0.6 mm cylinder side at 1 mm becomes ~200 triangles (102 strips ~0.8 mm long),
+    where halving every edge until the longest fits (``trimesh.remesh.subdivide_to_size``) made
+    4**7 pieces 4.7 µm across, as the similar cut or longest-edge bisection (it keeps a
+    sliver's shape) would.  The pieces do not conform across faces (hanging vertices), which
+    nothing here needs: only centres, normals, areas and parents are used.
+    """
+    tri = np.asarray(tri, float)
+    # a budget shrunk by 1e-9 so that round-off cannot push an edge past max_edge
+    h = float(max_edge) * (1.0 - 1e-9)
+    edge = np.linalg.norm(tri[:, [1, 2, 0]] - tri, axis=2)  # edge j from vertex j to j+1
+    rows = np.arange(len(tri))
+    jw = edge.argmin(axis=1)
+    A, B, C = tri[rows, (jw + 2) % 3], tri[rows, jw], tri[rows, (jw + 1) % 3]  # a cyclic shift
+    w, ell = edge[rows, jw], edge.max(axis=1)
+    # parts along the edges: multiples of 3 (the docstring says why)
+    k = np.where(ell <= h, 1, 3 * np.ceil(ell / (3 * h)))
+    # strips: q from a few candidates — the fewest with w/q < h, one more, about w/q = h/√2 —
+    # by the pieces they give, ~ q (n + 1) + n - 1
+    q0 = np.floor(w / h) + 1
+    qb = np.maximum(q0, np.ceil(np.sqrt(2) * w / h))
+    qs = np.stack([q0, q0 + 1, qb, qb + 1])
+    ns = 3 * np.ceil(ell / (3 * h * np.sqrt(1.0 - (w / (qs * h)) ** 2)))
+    cost = qs * (ns + 1) + ns - 1
+    pick = cost.argmin(axis=0)
+    strips = cost[pick, rows] < k * k
+    whole, u, s = np.flatnonzero(k == 1), np.flatnonzero((k > 1) & ~strips), np.flatnonzero(strips)
+    n, q = ns[pick, rows][s].astype(np.int64), qs[pick, rows][s].astype(np.int64)
+    parts = [
+        (tri[whole], np.arange(len(whole)), np.ones(len(whole))),  # as they are, vertices and all
+        _similar_cut(A[u], B[u], C[u], k[u].astype(np.int64)),
+        _strip_cut(A[s], B[s], C[s], n, q),
+    ]
+    sub = np.concatenate([p[0] for p in parts])
+    parent = np.concatenate([idx[p[1]] for idx, p in zip((whole, u, s), parts, strict=True)])
+    share = np.concatenate([p[2] for p in parts])
+    order = np.argsort(parent, kind="stable")
+    return sub[order], parent[order], share[order]
+
+
+def _strip_rows(n: np.ndarray, per_strip) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """For triangles cut into ``n`` (t,) strips each: ``(triangle, strip i, piece j, count)`` per
+    piece, strip ``i`` of a triangle holding ``count = per_strip(i, triangle)`` pieces."""
+    f = np.repeat(np.arange(len(n)), n)
+    i = np.arange(len(f)) - np.repeat(np.cumsum(n) - n, n)
+    count = per_strip(i, f)
+    piece = np.repeat(np.arange(len(f)), count)
+    j = np.arange(len(piece)) - np.repeat(np.cumsum(count) - count, count)
+    return f[piece], i[piece], j, count[piece]
+
+
+def _similar_cut(A, B, C, k):
+    """``k²`` similar triangles of each ``(A, B, C)`` (t, 3): strip ``i`` of ``k`` holds
+    ``2i + 1``, alternately pointing away from and towards ``A``; lattice point
+    ``P(i, j) = A + (i/k)(B - A) + (j/k)(C - B)``."""
+    f, i, r, _ = _strip_rows(k, lambda i, f: 2 * i + 1)
+    j, down = r // 2, (r % 2 == 1)[:, None]
+    kf = k[f][:, None]
+    a, ab, bc = A[f], (B - A)[f], (C - B)[f]
+
+    def P(ii, jj):
+        return a + (ii[:, None] / kf) * ab + (jj[:, None] / kf) * bc
+
+    p_ij, p_i1j1 = P(i, j), P(i + 1, j + 1)
+    # away from A: (P(i,j), P(i+1,j), P(i+1,j+1)); towards A: (P(i,j), P(i+1,j+1), P(i,j+1))
+    sub = np.stack([p_ij, np.where(down, p_i1j1, P(i + 1, j)), np.where(down, P(i, j + 1), p_i1j1)], axis=1)
+    return sub, f, 1.0 / (k[f].astype(float) ** 2)
+
+
+def _strip_cut(A, B, C, n, q):
+    """Each ``(A, B, C)`` (t, 3) cut into ``n`` strips parallel to ``BC`` of ``ceil((i+1) q / n)``
+    trapezoids each, every trapezoid into two triangles along its shorter diagonal (the first
+    strip's are triangles already); ``X(t, s) = A + t (B - A) + t s (C - B)``."""
+    f, i, j, m = _strip_rows(n, lambda i, f: -(-(i + 1) * q[f] // n[f]))
+    nf = n[f]
+    t0, t1 = (i / nf)[:, None], ((i + 1) / nf)[:, None]
+    s0, s1 = (j / m)[:, None], ((j + 1) / m)[:, None]
+    a, ab, bc = A[f], (B - A)[f], (C - B)[f]
+    p00, p01 = a + t0 * (ab + s0 * bc), a + t0 * (ab + s1 * bc)
+    p10, p11 = a + t1 * (ab + s0 * bc), a + t1 * (ab + s1 * bc)
+    short = (np.linalg.norm(p11 - p00, axis=1) <= np.linalg.norm(p10 - p01, axis=1))[:, None, None]
+    # the triangle with its base on the side away from A, then the one with its base on the
+    # side towards A (empty in the first strip, whose side towards A is A); both turn like
+    # (A, B, C), and their areas are t1 and t0 parts of the trapezoid's (t1² - t0²)
+    outer = np.where(short, np.stack([p00, p10, p11], axis=1), np.stack([p01, p10, p11], axis=1))
+    inner = np.where(short, np.stack([p00, p11, p01], axis=1), np.stack([p00, p10, p01], axis=1))
+    dt_ds = 1.0 / (nf * m)
+    sub = np.stack([outer, inner], axis=1).reshape(-1, 3, 3)
+    share = np.column_stack([dt_ds * t1[:, 0], dt_ds * t0[:, 0]]).ravel()
+    keep = np.column_stack([np.ones(len(i), dtype=bool), i > 0]).ravel()
+    return sub[keep], np.repeat(f, 2)[keep], share[keep]
 
 
 def _press(cen, normal, area, c, frame, pad, poly, window, filter_window, closing, stiffness, max_edge):
