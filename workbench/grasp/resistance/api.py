@@ -98,9 +98,10 @@ def _solve_polyhedral(
 ) -> tuple[np.ndarray, str, str, float | None]:
     """(y, solver, norm, residual or None): the L1 LP for vertex sets (6DFW, inner
     linearisations: large and sparse), the dense L2 QP otherwise.  A QP answer just outside the
-    residual band ``tol`` (within ``config.TOL.qp_recheck_factor`` of it) is re-decided by the
-    exact residual LP (HiGHS): an active-set QP stopping at its own tolerance can leave a residual
-    a few times ``tol`` on a wrench the contacts do resist."""
+    residual band ``tol`` (within ``config.TOL.qp_recheck_factor`` of it) is checked by the exact
+    residual LP (HiGHS), which decides (a recorded fallback) when it resists: an active-set QP
+    stopping at its own tolerance can leave a residual a few times ``tol`` on a wrench the
+    contacts do resist.  Confirmed answers stay the QP's."""
     if "vertex" in prog.kinds:
         y, resid = solve_l1_lp(prog)
         if y is None:
@@ -123,13 +124,15 @@ def _solve_polyhedral(
         resid = float(np.linalg.norm(prog.A6 @ y + prog.w))
         if tol < resid <= config.TOL.qp_recheck_factor * tol:
             y_lp, resid_lp = solve_l1_lp(prog)
-            if y_lp is not None:
+            if y_lp is not None and resid_lp <= tol:  # the QP stopped short: the LP resists it
                 _fallback(
                     fallbacks,
                     f"QP solver {name!r} left a residual {resid:.3g}, within "
-                    f"{config.TOL.qp_recheck_factor:g}x the band {tol:.3g}; the residual LP (HiGHS) decides",
+                    f"{config.TOL.qp_recheck_factor:g}x the band {tol:.3g}, where the residual LP (HiGHS) "
+                    f"resists it ({resid_lp:.3g}): the LP decides",
                 )
                 return y_lp, "highs", "l1", resid_lp
+            log.debug("QP residual %.3g confirmed by the residual LP (%s)", resid, resid_lp)
     return y, name, "l2", None
 
 
