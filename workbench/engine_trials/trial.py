@@ -119,33 +119,6 @@ def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings) -> 
     return asset, body
 
 
-def build_model(
-    mesh,
-    grasp: dict,
-    *,
-    force: float,
-    mu: float,
-    mass: float,
-    com=None,
-    pad=(0.02, 0.04, 0.005),
-    pad_E: float = 1e6,
-    pad_nu: float = 0.45,
-    up=(0.0, 0.0, 1.0),
-    down=(0.0, 0.0, -1.0),
-    settings: EngineSettings | None = None,
-    phases: TrialPhases | None = None,
-):
-    """(MjModel, info) of a trial of ``grasp``: :func:`build_scene` with each pad's face
-    ``phases.gap`` before its contact point."""
-    phases = TrialPhases() if phases is None else phases
-    p1, p2, axis = _check_grasp(grasp)
-    faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
-    return build_scene(
-        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E,
-        pad_nu=pad_nu, up=up, down=down, settings=settings, phases=phases,
-    )  # fmt: skip
-
-
 def build_scene(
     mesh,
     faces,
@@ -233,6 +206,35 @@ def _rotvec_deg(R: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
+def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, settings):
+    """The inputs both simulators share, checked: ``(mesh, mu, com, down, phases, settings)``
+    (the mesh watertight, outward, in metres; μ; the mass by the density rule; the centre of mass
+    near the object; the pad's ν; gravity a direction; the phases and settings of their types)."""
+    import_mujoco()  # the extra's ImportError before any other message
+    from ..grasp.robust import check_com, check_object_mass
+    from ..plausible import check
+    from ..sources.jaws import check_direction
+    from ..units import closed_mesh
+    from ..wrench import check_mu
+
+    if task not in TASKS:
+        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
+    mesh = closed_mesh(mesh, f"mesh passed to {caller}")
+    mu = check_mu(mu)
+    check_object_mass(mass, mesh)
+    com = check_com(mesh.center_mass if com is None else com, mesh)
+    check("poisson", pad_nu, "pad_nu")
+    down = check_direction(down, "down", "gravity's direction in the object frame")
+    phases = TrialPhases() if phases is None else phases
+    settings = EngineSettings() if settings is None else settings
+    if not isinstance(phases, TrialPhases) or not isinstance(settings, EngineSettings):
+        raise ValueError(
+            f"phases must be a TrialPhases and settings an EngineSettings; got "
+            f"{type(phases).__name__}, {type(settings).__name__}"
+        )
+    return mesh, mu, com, down, phases, settings
+
+
 def simulate_grasp(
     mesh,
     grasp: dict,
@@ -261,39 +263,24 @@ def simulate_grasp(
     Returns a :class:`TrialOutcome`; its verdict, ``held``, is the engine's: no contact model of
     this package is used.
     """
-    import_mujoco()  # the extra's ImportError before any other message
     from ..plausible import check
-    from ..units import closed_mesh
-    from ..wrench import check_mu
-
-    if task not in TASKS:
-        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
-    mesh = closed_mesh(mesh, "mesh passed to simulate_grasp")
-    check("jaw_force", force, "force")
-    mu = check_mu(mu)
-    from ..grasp.robust import check_com, check_object_mass
     from ..sources.jaws import check_direction
 
-    check_object_mass(mass, mesh)
-    com = check_com(mesh.center_mass if com is None else com, mesh)
+    mesh, mu, com, down, phases, settings = _check_trial(
+        mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down, phases, settings
+    )
+    check("jaw_force", force, "force")
     if not (isinstance(pad, (tuple, list, np.ndarray)) and len(pad) == 3):
         raise ValueError(f"pad must be (width, length, thickness) [m]; got {pad!r}")
     check("pad_size", pad[0], "pad width [m]")
     check("pad_size", pad[1], "pad length [m]")
     check("pad_thickness", pad[2], "pad thickness [m]")
     check("pad_modulus", pad_E, "pad_E")
-    check("poisson", pad_nu, "pad_nu")
     check_direction(up, "up", "the pads' length direction, across the grasp axis")
-    check_direction(down, "down", "gravity's direction in the object frame")
-    phases = TrialPhases() if phases is None else phases
-    settings = EngineSettings() if settings is None else settings
-    if not isinstance(phases, TrialPhases) or not isinstance(settings, EngineSettings):
-        raise ValueError(
-            f"phases must be a TrialPhases and settings an EngineSettings; got "
-            f"{type(phases).__name__}, {type(settings).__name__}"
-        )
-    model, info = build_model(
-        mesh, grasp, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
+    p1, p2, axis = _check_grasp(grasp)
+    faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
+    model, info = build_scene(
+        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
         up=up, down=down, settings=settings, phases=phases,
     )  # fmt: skip
     return _run(model, info, force, down, task, phases, record_every)
@@ -419,27 +406,24 @@ def simulate_gripper(
     and ``pad_nu``.  ``mu`` defaults to ``gripper.mu``; ``mass`` [kg] at ``com`` (3,) [m], gravity
     along ``down`` (3,; the object frame's, e.g. the trial's); ``task`` as :func:`simulate_grasp`.
     """
-    import_mujoco()
-    from ..grasp.robust import check_com, check_object_mass
-    from ..plausible import check
     from ..sources.gripper import Gripper
-    from ..sources.jaws import check_direction
-    from ..units import closed_mesh
-    from ..wrench import check_mu
 
     if not isinstance(gripper, Gripper):
         raise ValueError(
             f"gripper must be a workbench.sources.gripper.Gripper (e.g. yumi()); got {gripper!r}"
         )
-    if task not in TASKS:
-        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
-    mesh = closed_mesh(mesh, "mesh passed to simulate_gripper")
-    mu = check_mu(gripper.mu if mu is None else mu)
-    check_object_mass(mass, mesh)
-    com = check_com(mesh.center_mass if com is None else com, mesh)
-    check("poisson", pad_nu, "pad_nu")
-    down = check_direction(down, "down", "gravity's direction in the object frame")
-    phases = TrialPhases() if phases is None else phases
+    mesh, mu, com, down, phases, settings = _check_trial(
+        mesh,
+        "simulate_gripper",
+        task,
+        gripper.mu if mu is None else mu,
+        mass,
+        com,
+        pad_nu,
+        down,
+        phases,
+        settings,
+    )
     jaws = gripper.jaws(pose)  # checks the pose
     lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
     c, size = (lo + hi) / 2, hi - lo
