@@ -103,6 +103,10 @@ def test_discretization_fig_3_8(discretization):
         ),
         # a sweep trial's values that failed only inside the run (the same rules, called early)
         ("sensitivity", {"n_elements": 0}, "n_elements must be >= 2"),
+        ("sensitivity-engine", {"seeds": []}, "seeds must be distinct integers"),
+        ("sensitivity-engine", {"seeds": [0, 0]}, "seeds must be distinct integers"),
+        ("sensitivity-engine", {"pad_E": 1.0}, r"--set pad_E=1.0: .*probably in MPa"),
+        ("sensitivity-engine", {"half_angle": 34.0}, r"--set half_angle=34.0: .*probably in degrees"),
         ("sensitivity", {"n_elements": 1}, "n_elements must be >= 2"),
         (
             "sensitivity",
@@ -341,6 +345,31 @@ def test_wall_stiffness_quick(tmp_path):
 
 
 @EXPERIMENT_RUN
+def test_sensitivity_engine_quick(tmp_path):
+    pytest.importorskip("mujoco")
+    argv = ["run", "sensitivity-engine", "--quick", "--out", str(tmp_path), "--set", "n_disturbances=3"]
+    assert main([*argv, "--set", "workers=1"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
+    held = np.array([rows[f"engine/0/{i}"]["held"] for i in range(3)])
+    exact = np.array(rows["exact/0"]["pred"])
+    with open(tmp_path / "trials.csv") as fh:
+        trials = list(csv.DictReader(fh))
+    assert [t["held"] == "True" for t in trials] == held.tolist()
+    # each score is the rows' own predictions against the engine's verdicts
+    assert s["exact_6dfw_vs_engine"]["accuracy"]["mean"] == pytest.approx(np.mean(exact == held))
+    for m in ("point", "planar", "6dls"):
+        pred = np.array(rows[f"model/0/{m}"]["pred"])
+        assert s["models"][m]["vs_engine"]["accuracy"]["mean"] == pytest.approx(np.mean(pred == held)), m
+        assert s["models"][m]["vs_exact_6dfw"]["accuracy"]["mean"] == pytest.approx(np.mean(pred == exact))
+    assert s["engine_positive_fraction"]["mean"] == pytest.approx(held.mean())
+    assert 0 < s["engine_seconds_per_trial"]["median"] <= s["engine_seconds_per_trial"]["worst"]
+    assert set(s["thesis_claims"]) == {"6dls_over_planar"}
+    # a rerun resumes every row: no trial runs twice
+    assert main([*argv, "--set", "workers=1"]) == 0
+    assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(rows)
+
+
 def test_sensitivity_quick(tmp_path):
     assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())

@@ -11,7 +11,17 @@ from workbench.grasp.precision import matched_precision, recall_at_least, scores
 def test_scores_by_hand():
     pred = np.array([True, True, False, False, True])
     truth = np.array([True, False, True, False, True])
-    assert scores(pred, truth) == {"precision": 2 / 3, "recall": 2 / 3, "positives": 3}
+    # tp 2, fp 1, fn 1, tn 1: F1 = 2·(2/3)(2/3)/(4/3) = 2/3, accuracy 3/5
+    assert scores(pred, truth) == {
+        "precision": 2 / 3,
+        "recall": 2 / 3,
+        "f1": 2 / 3,
+        "accuracy": 3 / 5,
+        "positives": 3,
+    }
+    # precision 1/2, recall 1: F1 = 2·(1/2)·1/(3/2) = 2/3 as the harmonic mean
+    lopsided = scores(np.array([True, True, False]), np.array([True, False, False]))
+    assert lopsided["f1"] == pytest.approx(2 * 0.5 * 1.0 / 1.5) and lopsided["accuracy"] == pytest.approx(2 / 3)
     none = scores(np.zeros(3, bool), np.zeros(3, bool))
     assert np.isnan(none["precision"]) and np.isnan(none["recall"]) and none["positives"] == 0
     with pytest.raises(ValueError, match="boolean"):

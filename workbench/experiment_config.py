@@ -22,6 +22,7 @@ EXPERIMENTS = {
     "fem-fitting": "workbench.experiments.fem_fitting",
     "wall-stiffness": "workbench.experiments.wall_stiffness",
     "sensitivity": "workbench.experiments.sensitivity",
+    "sensitivity-engine": "workbench.experiments.sensitivity_engine",
     "minimal-work": "workbench.experiments.minimal_work",
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
     "peers": "workbench.experiments.peers",

@@ -3,21 +3,23 @@
 A parallel-jaw gripper whose silicone pads are MuJoCo deformable bodies (3D flex, its own
 finite elements and elasticity) closes on an object by force control, lifts it against gravity
 (and turns it, for the thesis's "lifting and 90° rotation" task), and holds it; the verdict is
-read from the object's pose relative to the gripper.  Contact, friction and deformation are the
-engine's own: no contact profile, 6DFW, limit surface or resistance program of this package
-takes part, so a model scored against these trials is scored against something it does not
-feed.  What the trials share with the models is stated where they are scored: the object's
-mesh, μ, the grasp pose, the pad's size and material.
+read from the object's pose relative to the gripper. A disturbance trial
+(:func:`simulate_disturbance`) asks the thesis's §4.1.3 question instead: the object floats
+free between the closed jaws and a wrench is applied to it and held. Contact, friction and
+deformation are the engine's own: no contact profile, 6DFW, limit surface or resistance program
+of this package takes part, so a model scored against these trials is scored against something
+it does not feed. What the trials share with the models is stated where they are scored: the
+object's mesh, μ, the grasp pose, the pad's size and material.
 
 Engine settings (:class:`EngineSettings`) are measured choices — cone, impratio, contact
-stiffness, time step, the pad's contact points — validated before the simulator judges
-anything (:mod:`.probes`: friction of a pulled block, a tilted plane, the creep of a held
-block, the torsion of a flat pad), each a test (``tests/test_engine_trials.py``).
-MuJoCo comes with the ``peers`` extra; without it every call raises ``ImportError`` naming
-the fix.
+stiffness, time step, the pad's contact points — validated before the simulator judges anything
+(:mod:`.probes`: friction of a pulled block, a tilted plane, the creep of a held block, the
+torsion of a flat pad), each a test (``tests/test_engine_trials.py``). MuJoCo comes with the
+``peers`` extra; without it every call raises ``ImportError`` naming the fix.
 """
 
 from . import probes
+from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
     TASKS,
@@ -26,15 +28,19 @@ from .trial import (
     build_scene,
     simulate_grasp,
     simulate_gripper,
+    step_trial,
 )
 
 __all__ = [
     "TASKS",
+    "DisturbancePhases",
     "EngineSettings",
     "TrialOutcome",
     "TrialPhases",
     "build_scene",
     "probes",
+    "simulate_disturbance",
     "simulate_grasp",
     "simulate_gripper",
+    "step_trial",
 ]

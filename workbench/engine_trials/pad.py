@@ -66,20 +66,76 @@ def flexcomp_xml(
     )
 
 
-def add_tips(spec: Any, name: str, approach: np.ndarray, mu: float, settings: EngineSettings) -> int:
-    """Give the face vertices of pad ``name`` (the flex bodies nearest the object along
-    ``approach``) a sphere of ``settings.tip_radius`` that carries their contacts (contype 2,
-    touching only geoms of conaffinity 2), and gravity compensation to every vertex body (the
-    engine's pad mass is a numerical choice, its weight must not act).  Returns the tips' count."""
-    mujoco = __import__("mujoco")
+def pad_bodies(spec: Any, name: str, approach: np.ndarray) -> tuple[list, np.ndarray, np.ndarray]:
+    """(bodies, along, face) of pad ``name`` in an uncompiled spec: its vertex bodies (the
+    pinned back layer has none), each one's position along ``approach`` (N,) [m], and which
+    are on the face — the layer nearest the object (N,) bool."""
     a = np.asarray(approach, float) / np.linalg.norm(approach)
     bodies = [b for b in spec.bodies if b.name.startswith(f"{name}_")]
     along = np.array([np.asarray(b.pos, float) @ a for b in bodies])
+    return bodies, along, along >= along.max() - 1e-9
+
+
+def conform_pad(spec: Any, name: str, approach: np.ndarray, thickness: float, mesh: Any, gap: float) -> float:
+    """Mould pad ``name`` (uncompiled, flat, of ``thickness`` [m]) to ``mesh``: each face vertex
+    moves along ``approach`` (3,) until it is ``gap`` [m] from the mesh's surface (a ray along
+    the approach), its column's inner vertices by the same shift times their height above the
+    pinned back (0 at the back, 1 at the face) — a jaw shaped to the object at rest, as the
+    thesis's fin-ray jaws are by a grasp force above 20 N (§4.1.3.2).  A face vertex whose ray
+    misses the mesh takes the shift of the nearest one that hits.  Returns the largest shift
+    [m]; raises ValueError when no ray hits or a shift would leave < 1/4 of the thickness."""
+    a = np.asarray(approach, float) / np.linalg.norm(approach)
+    bodies, along, face = pad_bodies(spec, name, a)
+    pos = np.array([np.asarray(b.pos, float) for b in bodies])
+    lateral = pos - np.outer(along, a)
+    fpos = pos[face]
+    # rays start a body-length behind the face so a surface already past it is found too
+    back_off = float(np.ptp(np.asarray(mesh.vertices, float) @ a)) + thickness
+    hits, idx, _ = mesh.ray.intersects_location(fpos - back_off * a, np.tile(a, (len(fpos), 1)))
+    dist = np.full(len(fpos), np.inf)
+    for h, i in zip(hits, idx, strict=True):
+        dist[i] = min(dist[i], float((h - fpos[i]) @ a))  # the first surface along the ray
+    ok = np.isfinite(dist)
+    if not ok.any():
+        raise ValueError(
+            f"no face vertex of {name} looks at the mesh along the approach: nothing to mould it to"
+        )
+    flat = lateral[face]
+    if not ok.all():
+        near = np.argmin(np.linalg.norm(flat[~ok][:, None] - flat[ok][None], axis=2), axis=1)
+        dist[~ok] = dist[ok][near]
+    shift_face = dist - gap
+    if shift_face.min() < -0.75 * thickness:
+        raise ValueError(
+            f"moulding {name} to the mesh would compress it by {-shift_face.min() * 1e3:.3g} mm of its "
+            f"{thickness * 1e3:.3g} mm: the grasp point is not the surface's nearest point to the jaw"
+        )
+    # each vertex's column: the face vertex with the same lateral position
+    col = np.argmin(np.linalg.norm(lateral[:, None] - flat[None], axis=2), axis=1)
+    back = along[face].max() - thickness
+    height = (along - back) / thickness
+    for b, p, c, t in zip(bodies, pos, col, height, strict=True):
+        b.pos = list(p + shift_face[c] * t * a)
+    return float(np.abs(shift_face).max())
+
+
+def add_tips(
+    spec: Any, name: str, approach: np.ndarray, mu: float, settings: EngineSettings, face=None
+) -> int:
+    """Give the face vertices of pad ``name`` (the flex bodies nearest the object along
+    ``approach``, or the mask ``face`` from :func:`pad_bodies` taken before moulding) a sphere
+    of ``settings.tip_radius`` that carries their contacts (contype 2, touching only geoms of
+    conaffinity 2), and gravity compensation to every vertex body (the engine's pad mass is a
+    numerical choice, its weight must not act).  Returns the tips' count."""
+    mujoco = __import__("mujoco")
+    a = np.asarray(approach, float) / np.linalg.norm(approach)
+    bodies, _, on_face = pad_bodies(spec, name, a)
+    on_face = on_face if face is None else face
     r = settings.tip_radius
     n = 0
-    for b, s in zip(bodies, along, strict=True):
+    for b, f in zip(bodies, on_face, strict=True):
         b.gravcomp = 1.0
-        if s < along.max() - 1e-9:
+        if not f:
             continue
         g = b.add_geom()
         g.type = mujoco.mjtGeom.mjGEOM_SPHERE

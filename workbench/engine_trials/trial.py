@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .pad import add_tips, compile_spec, flexcomp_xml
+from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies
 from .settings import EngineSettings, import_mujoco
 
 log = logging.getLogger(__name__)
@@ -135,11 +135,15 @@ def build_scene(
     down=(0.0, 0.0, -1.0),
     settings: EngineSettings | None = None,
     phases: TrialPhases | None = None,
+    table: bool = True,
+    conform: bool = False,
 ):
     """(MjModel, info) of a trial scene: the object (frame = world at the start), a gripper
     (a lifting carriage and a turning wrist) with two jaws on slide joints along ``axis`` (3,;
     jaw 1 closes along it, jaw 2 against it), each with a flex pad whose face centre starts at
-    ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip counts."""
+    ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip counts.  ``table``: a plane
+    under the object (False: the object floats free); ``conform``: each pad moulded to the
+    object at ``phases.gap`` (:func:`~.pad.conform_pad`), not flat."""
     mujoco = import_mujoco()
     settings = EngineSettings() if settings is None else settings
     phases = TrialPhases() if phases is None else phases
@@ -169,6 +173,8 @@ def build_scene(
     table = (
         f'<geom name="table" type="plane" size="0 0 1" pos="{tp}" zaxis="{ld}" contype="1" '
         f'conaffinity="1" {settings.contact_attrs(phases.table_mu)}/>'
+        if table
+        else ""
     )
     ax = " ".join(f"{x:.12g}" for x in axis)
     ctr = " ".join(f"{x:.9g}" for x in 0.5 * (f1 + f2))
@@ -189,7 +195,12 @@ def build_scene(
     spec = mujoco.MjSpec.from_string(xml)
     for f in spec.flexes:
         f.contype, f.conaffinity = 0, 0
-    tips = [add_tips(spec, f"pad{k}", a, mu, settings) for k, a in ((1, axis), (2, -axis))]
+    tips = []
+    for k, a in ((1, axis), (2, -axis)):
+        _, _, face = pad_bodies(spec, f"pad{k}", a)
+        if conform:
+            conform_pad(spec, f"pad{k}", a, float(pad[2]), mesh, phases.gap)
+        tips.append(add_tips(spec, f"pad{k}", a, mu, settings, face=face))
     model = compile_spec(spec)
     info = {
         "object": model.body("object").id,
@@ -235,6 +246,22 @@ def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, s
     return mesh, mu, com, down, phases, settings
 
 
+def _check_pad(force, pad, pad_E, up) -> None:
+    """The jaw force [N] and the pads' size (width, length, thickness) [m], modulus [Pa] and
+    length direction ``up``, checked by their plausible ranges."""
+    from ..plausible import check
+    from ..sources.jaws import check_direction
+
+    check("jaw_force", force, "force")
+    if not (isinstance(pad, (tuple, list, np.ndarray)) and len(pad) == 3):
+        raise ValueError(f"pad must be (width, length, thickness) [m]; got {pad!r}")
+    check("pad_size", pad[0], "pad width [m]")
+    check("pad_size", pad[1], "pad length [m]")
+    check("pad_thickness", pad[2], "pad thickness [m]")
+    check("pad_modulus", pad_E, "pad_E")
+    check_direction(up, "up", "the pads' length direction, across the grasp axis")
+
+
 def simulate_grasp(
     mesh,
     grasp: dict,
@@ -263,20 +290,11 @@ def simulate_grasp(
     Returns a :class:`TrialOutcome`; its verdict, ``held``, is the engine's: no contact model of
     this package is used.
     """
-    from ..plausible import check
-    from ..sources.jaws import check_direction
 
     mesh, mu, com, down, phases, settings = _check_trial(
         mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down, phases, settings
     )
-    check("jaw_force", force, "force")
-    if not (isinstance(pad, (tuple, list, np.ndarray)) and len(pad) == 3):
-        raise ValueError(f"pad must be (width, length, thickness) [m]; got {pad!r}")
-    check("pad_size", pad[0], "pad width [m]")
-    check("pad_size", pad[1], "pad length [m]")
-    check("pad_thickness", pad[2], "pad thickness [m]")
-    check("pad_modulus", pad_E, "pad_E")
-    check_direction(up, "up", "the pads' length direction, across the grasp axis")
+    _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
     model, info = build_scene(
@@ -290,18 +308,39 @@ def _run(
     model, info: dict, force: float, down, task: str, phases: TrialPhases, record_every: int = 10
 ) -> TrialOutcome:
     """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold)."""
-    mujoco = import_mujoco()
-    data = mujoco.MjData(model)
-    dt = model.opt.timestep
     g_dir = np.asarray(down, float) / np.linalg.norm(down)
-    obj, hand = info["object"], info["hand"]
     t_grav = phases.gravity_ramp
     t_close = t_grav + phases.close
     t_settle = t_close + phases.settle
     t_lift = t_settle + phases.lift
     turn = np.radians(TASKS[task])
     t_turn = t_lift + (phases.rotate if turn else 0.0)
-    t_end = t_turn + phases.hold
+
+    def control(t: float, model, data) -> None:
+        model.opt.gravity[:] = G * min(1.0, t / t_grav) * g_dir
+        data.ctrl[:2] = force * np.clip((t - t_grav) / phases.close, 0.0, 1.0)
+        # the gripper's motion: a smooth rise, then a smooth turn about the grasp axis
+        u = np.clip((t - t_settle) / phases.lift, 0.0, 1.0)
+        data.ctrl[2] = phases.lift_height * (3 * u**2 - 2 * u**3)
+        if turn:
+            v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
+            data.ctrl[3] = turn * (3 * v**2 - 2 * v**3)
+
+    return step_trial(model, info, control, t_settle, t_turn + phases.hold, phases, record_every)
+
+
+def step_trial(
+    model, info: dict, control, t_ref: float, t_end: float, phases, record_every: int = 10
+) -> TrialOutcome:
+    """Step a scene of :func:`build_scene` to ``t_end`` [s], calling ``control(t, model, data)``
+    before each step, and judge it: the object's pose relative to the gripper (the ``hand``
+    body) is recorded from ``t_ref`` [s] on, and it is held iff it stays within
+    ``phases.max_drift`` [m] and ``phases.max_turn_deg`` of its pose at ``t_ref`` and both jaws
+    touch something at ``t_ref``; the slip speed is measured over the last ``phases.hold``."""
+    mujoco = import_mujoco()
+    data = mujoco.MjData(model)
+    dt = model.opt.timestep
+    obj, hand = info["object"], info["hand"]
     n = int(round(t_end / dt))
     times, rel_p, rel_turn = [], [], []
     ref = None
@@ -314,16 +353,9 @@ def _run(
     t0 = time.perf_counter()
     for i in range(n):
         t = (i + 1) * dt
-        model.opt.gravity[:] = G * min(1.0, t / t_grav) * g_dir
-        data.ctrl[:2] = force * np.clip((t - t_grav) / phases.close, 0.0, 1.0)
-        # the gripper's motion: a smooth rise, then a smooth turn about the grasp axis
-        u = np.clip((t - t_settle) / phases.lift, 0.0, 1.0)
-        data.ctrl[2] = phases.lift_height * (3 * u**2 - 2 * u**3)
-        if turn:
-            v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
-            data.ctrl[3] = turn * (3 * v**2 - 2 * v**3)
+        control(t, model, data)
         mujoco.mj_step(model, data)
-        if t >= t_settle and (i % record_every == 0 or i == n - 1):
+        if t >= t_ref and (i % record_every == 0 or i == n - 1):
             Rh = data.xmat[hand].reshape(3, 3)
             ph = data.xpos[hand]
             Ro = data.xmat[obj].reshape(3, 3)

@@ -13,8 +13,9 @@ __all__ = ["check_levels", "matched_precision", "recall_at_least", "scores"]
 
 
 def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
-    """Precision, recall and the number of positives of boolean predictions (n,) against the
-    truth (n,); NaN where undefined (no positive prediction, no positive truth)."""
+    """Precision, recall, F1 (their harmonic mean, thesis §4.1.3.4), accuracy (the fraction
+    predicted right) and the number of positives of boolean predictions (n,) against the truth
+    (n,); NaN where undefined (no positive prediction, no positive truth, no grasp)."""
     pred, truth = np.asarray(pred), np.asarray(truth)
     if pred.shape != truth.shape or pred.dtype != bool or truth.dtype != bool:
         raise ValueError(
@@ -24,9 +25,13 @@ def scores(pred: np.ndarray, truth: np.ndarray) -> dict:
     tp = int((pred & truth).sum())
     fp = int((pred & ~truth).sum())
     fn = int((~pred & truth).sum())
+    precision = tp / (tp + fp) if tp + fp else float("nan")
+    recall = tp / (tp + fn) if tp + fn else float("nan")
     return {
-        "precision": tp / (tp + fp) if tp + fp else float("nan"),
-        "recall": tp / (tp + fn) if tp + fn else float("nan"),
+        "precision": precision,
+        "recall": recall,
+        "f1": 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else float("nan"),
+        "accuracy": float((pred == truth).mean()) if len(pred) else float("nan"),
         "positives": int(pred.sum()),
     }
 

@@ -101,3 +101,24 @@ def elliptic_cylinder_grasp(
     right = elliptic_cylinder_contact(a, b, half_angle, length, k, force, n_elements)
     left = right.transformed(np.diag([-1.0, -1.0, 1.0]), np.zeros(3))
     return [right, left]
+
+
+def elliptic_cylinder_solid(
+    a: float = 0.03, b: float = 0.02, half_angle: float = 0.6, length: float = 0.03, n_arc: int = 25
+) -> Any:
+    """The scene's object as a closed trimesh [m]: the convex hull of both jaws' contact
+    patches (``[±a cos u, b sin u, z]``, ``|u| <= half_angle``, ``|z| <= length/2``) — an
+    elliptic cylinder cut so that a jaw wrapping it touches exactly the patch, as the thesis's
+    3D-printed type I objects are (§4.1.3.2).  ``n_arc`` points per patch arc (an odd count
+    keeps the apex ``u = 0``, where the grasp points are); arguments
+    checked by :func:`check_elliptic_cylinder`."""
+    import trimesh
+
+    a, b, half_angle, length = check_elliptic_cylinder(a, b, half_angle, length)
+    if isinstance(n_arc, bool) or not isinstance(n_arc, numbers.Integral) or n_arc < 2:
+        raise ValueError(f"n_arc must be an integer >= 2 (points per arc); got {n_arc!r}")
+    u = np.linspace(-half_angle, half_angle, int(n_arc))
+    arc = np.c_[a * np.cos(u), b * np.sin(u)]
+    ring = np.r_[arc, -arc]
+    pts = np.concatenate([np.c_[ring, np.full(len(ring), z)] for z in (-length / 2, length / 2)])
+    return trimesh.convex.convex_hull(pts)

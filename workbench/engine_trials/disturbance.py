@@ -1,0 +1,134 @@
+"""A held object loaded by a disturbance wrench: does the grasp resist it?
+
+The question the thesis's §4.1.3 experiments ask with weight plates hung on an assembly at
+lever arms, asked of the engine: the jaws close by force on an object floating free (no
+gravity: the disturbance carries the load, as the thesis's frame at the object's centre of
+mass does), the wrench then rises smoothly to its value and is held; the grasp resists it iff
+the object stays within the phases' drift and turn of its pose relative to the gripper.  The
+wrench is fixed in the world, as a hung weight's is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .settings import EngineSettings
+from .trial import (
+    TrialOutcome,
+    TrialPhases,
+    _check_grasp,
+    _check_pad,
+    _check_trial,
+    build_scene,
+    step_trial,
+)
+
+
+@dataclass(frozen=True)
+class DisturbancePhases:
+    """Durations [s] of a disturbance trial and its verdict's limits."""
+
+    gap: float = 5e-4  # pad face to the object before closing [m]
+    close: float = 0.3  # the jaws' force ramps from 0 to its value
+    settle: float = 0.2  # the force held before the wrench is applied
+    # the wrench rises from 0 to its value along a smoothstep: slow against the grasp's own
+    # dynamics (pad and object oscillate at ~100 Hz), so the load is quasi-static
+    ramp: float = 0.5
+    hold: float = 0.3  # the full wrench held
+    # resisted: the object moved less than this relative to the gripper from the end of
+    # settling; an unresisted wrench accelerates the free object away, far past both limits
+    max_drift: float = 5e-3  # [m]
+    max_turn_deg: float = 5.0  # [deg]
+
+    def __post_init__(self) -> None:
+        from ..plausible import check
+
+        for name in ("close", "settle", "ramp", "hold"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):
+                raise ValueError(f"DisturbancePhases.{name} must be a duration in (0, 60] s; got {v!r}")
+        check("compression", self.gap, "DisturbancePhases.gap (pad face to object [m])", warn=False)
+        what = "DisturbancePhases.max_drift (held below this drift [m])"
+        check("closing", self.max_drift, what, warn=False)
+        if not self.max_drift > 0:
+            raise ValueError(f"DisturbancePhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
+        if isinstance(self.max_turn_deg, bool) or not (0 < self.max_turn_deg <= 90):
+            raise ValueError(
+                "DisturbancePhases.max_turn_deg must be an angle in (0, 90] degrees; got "
+                f"{self.max_turn_deg!r}"
+            )
+
+
+def _check_wrench(wrench) -> np.ndarray:
+    from ..grasp.robust import check_task_wrench
+
+    w = np.asarray(wrench, float) if not isinstance(wrench, (str, bytes, dict)) else None
+    if w is None or w.shape != (6,) or not np.all(np.isfinite(w)):
+        raise ValueError(
+            f"wrench must be 6 finite numbers (f_x, f_y, f_z [N], tau_x, tau_y, tau_z [N m]) about the "
+            f"object frame's origin; got {wrench!r}"
+        )
+    check_task_wrench(w)
+    return w
+
+
+def simulate_disturbance(
+    mesh,
+    grasp: dict,
+    wrench,
+    *,
+    force: float,
+    mu: float,
+    mass: float,
+    com=None,
+    pad=(0.02, 0.04, 0.005),
+    pad_E: float = 1e6,
+    pad_nu: float = 0.45,
+    up=(0.0, 0.0, 1.0),
+    conform: bool = False,
+    settings: EngineSettings | None = None,
+    phases: DisturbancePhases | None = None,
+    record_every: int = 10,
+) -> TrialOutcome:
+    """Does the grasp ``grasp`` (``p1``, ``p2``, ``axis`` in the frame of the watertight
+    ``mesh`` [m]) with jaw force ``force`` [N] and pad–object friction ``mu`` resist
+    ``wrench`` (6,: force [N] and torque [N m] about the mesh frame's origin, in that frame)?
+    The object (``mass`` [kg] at ``com`` (3,) [m]) floats free, without gravity; ``pad`` =
+    (width, length, thickness) [m], ``pad_E`` [Pa], ``pad_nu``, its length along ``up`` (3,);
+    ``conform``: the pads moulded to the object (:func:`~.pad.conform_pad`), else flat.
+
+    Returns a :class:`~.trial.TrialOutcome` whose ``held`` is the engine's verdict: no contact
+    model of this package is used."""
+    phases = DisturbancePhases() if phases is None else phases
+    if not isinstance(phases, DisturbancePhases):
+        raise ValueError(f"phases must be a DisturbancePhases; got {type(phases).__name__}")
+    mesh, mu, com, _, _, settings = _check_trial(
+        mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1), None, settings
+    )
+    w = _check_wrench(wrench)
+    _check_pad(force, pad, pad_E, up)
+    p1, p2, axis = _check_grasp(grasp)
+    faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
+    model, info = build_scene(
+        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
+        up=up, settings=settings, table=False, conform=conform,
+        phases=TrialPhases(gap=phases.gap),
+    )  # fmt: skip
+    obj = info["object"]
+    t_settle = phases.close + phases.settle
+    t_load = t_settle + phases.ramp
+
+    def control(t: float, model, data) -> None:
+        model.opt.gravity[:] = 0.0
+        data.ctrl[:2] = force * np.clip(t / phases.close, 0.0, 1.0)
+        u = np.clip((t - t_settle) / phases.ramp, 0.0, 1.0)
+        s = 3 * u**2 - 2 * u**3
+        # the wrench about the object frame's origin, moved to the body's centre of mass
+        lever = data.xpos[obj] - data.xipos[obj]
+        data.xfrc_applied[obj, :3] = s * w[:3]
+        data.xfrc_applied[obj, 3:] = s * (w[3:] + np.cross(lever, w[:3]))
+
+    return step_trial(model, info, control, t_settle, t_load + phases.hold, phases, record_every)
+
