@@ -25,7 +25,7 @@ from workbench import (
 from workbench.experiment_keys import Key, check_key
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
-from workbench.sources.surfaces import mesh_profile
+from workbench.sources.surfaces import check_rtol, mesh_profile
 from workbench.timing import median_runtime
 from workbench.wrench import check_mu
 
@@ -62,8 +62,7 @@ def check_config(config: dict) -> None:
     if not config["n_elements"] or min(config["n_elements"]) < 2:  # mesh_profile's own minimum
         raise ValueError(f"n_elements must be mesh sizes >= 2, e.g. [25, 100]; got {config['n_elements']!r}")
     for key in ("timing_rtol", "truth_rtol"):
-        if not config[key] > 0:
-            raise ValueError(f"{key} must be a relative tolerance > 0, e.g. 1e-4; got {config[key]!r}")
+        check_rtol(config[key], key)
     for key in ("timing_twists", "timing_repeats"):
         if config[key] < 1:
             raise ValueError(f"{key} must be >= 1 (a count); got {config[key]!r}")

@@ -51,6 +51,7 @@ from workbench.limit_surface.thesis_code import check_protocol_config, thesis_co
 from workbench.parallel import check_workers, run_rows
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
+from workbench.sources.surfaces import check_rtol
 from workbench.twists_author import AUTHOR_LEVELS, box_sides, sample_twists_author
 from workbench.wrench import check_mu
 
@@ -99,6 +100,7 @@ def check_config(config: dict) -> None:
     for key, spec in KEYS.items():  # μ, the surface names, the words (also for run(config))
         check_key(key, spec, config[key])
     check_mu(config["mu"], what="limit surface")  # and not 0 (the Key's range takes it)
+    check_rtol(config["quad_rtol"], "quad_rtol")  # by its key, before any work
     if not config["surfaces"] or len(set(config["surfaces"])) < len(config["surfaces"]):
         raise ValueError(
             f"surfaces must name at least one thesis surface, each once; got {config['surfaces']}"

@@ -20,7 +20,7 @@ from workbench.experiment_keys import Key, check_key
 from workbench.limit_surface.normalize import explained_variance_ratio
 from workbench.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
-from workbench.sources.surfaces import mesh_profile
+from workbench.sources.surfaces import check_rtol, mesh_profile
 from workbench.twists import twists_from_plucker
 from workbench.wrench import check_mu
 
@@ -58,12 +58,14 @@ COMPONENTS = ["f_x", "f_y", "f_z", "tau_x", "tau_y", "tau_z"]
 
 
 def check_config(config: dict) -> None:
-    """What the defaults cannot tell, before any work (``build_config``): μ > 0 and known
-    figure surfaces."""
+    """What the defaults cannot tell, before any work (``build_config``): μ > 0, known
+    figure surfaces and quadrature tolerances > 0."""
     for key, spec in KEYS.items():  # μ and the surface names (also for run(config))
         check_key(key, spec, config[key])
     check_mu(config["mu"], what="Table 3.2's w_max")  # and not 0 (the Key's range takes it)
     check_mu(config["example_mu"], what="Example 3.2.5's wrench")
+    for key in ("quad_rtol", "pca_rtol"):  # named by the key, not as the quadrature's rtol mid-run
+        check_rtol(config[key], key)
 
 
 def example(config: dict) -> dict:

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.engine_trials.trial import check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
@@ -93,7 +94,7 @@ QUICK_CONFIG = {
 def check_config(config: dict) -> None:
     """Refuse, before any trial runs, what the run would refuse later: implausible numbers
     (:data:`KEYS`), the scene's geometry (:func:`check_elliptic_cylinder`), no model, no seed,
-    fewer than one disturbance, μ = 0, a turn limit outside (0, 90] degrees."""
+    fewer than one disturbance, μ = 0, a turn limit outside [1, 90] degrees."""
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
     check_elliptic_cylinder(config["a"], config["b"], config["half_angle"], config["length"])
@@ -106,8 +107,7 @@ def check_config(config: dict) -> None:
         raise ValueError(f"n_disturbances must be >= 1; got {config['n_disturbances']}")
     if config["mu"] == 0:
         raise ValueError("mu = 0 is a frictionless grasp: give mu > 0, e.g. --set mu=0.3 (the default)")
-    if not 0 < config["max_turn_deg"] <= 90:
-        raise ValueError(f"max_turn_deg must be in (0, 90] degrees; got {config['max_turn_deg']!r}")
+    check_turn_limit(config["max_turn_deg"], "max_turn_deg")  # the trials' own rule
     check_workers(config["workers"], config["scheduler"])
 
 

@@ -159,7 +159,10 @@ def face_gaps(geometry: PadGeometry, face_xy: np.ndarray, obstacle, delta: float
     """Face positions after the jaw motion (n, 3), their gaps (n,) and obstacle normals (n, 3).
 
     Refuses an obstacle that overlaps the pad deeper than the layer and a :class:`~.obstacles.Plane`
-    whose solid side contains the pad (its normal not facing the pad's face, −z)."""
+    whose solid side contains the pad (its normal not facing the pad's face, −z).  The overlap's
+    message says where it comes from: mostly from the obstacle's placement (it reaches into the
+    pad before the jaw moves — ``Plane()``'s default point is the pad's back, z = 0, not its face,
+    z = h) or from ``delta``."""
     h = geometry.thickness
     if not (np.isfinite(delta) and delta >= 0):
         raise ValueError(f"delta must be a non-negative jaw displacement [m]; got {delta}")
@@ -167,9 +170,22 @@ def face_gaps(geometry: PadGeometry, face_xy: np.ndarray, obstacle, delta: float
     X = np.column_stack([face_xy, np.full(face_xy.shape[0], h + delta)])
     d, nrm = obstacle.signed_distance(X)
     if (d < -h).any():
+        # how far the obstacle reaches into the pad with the jaw not yet moved (delta = 0)
+        before = -float(obstacle.signed_distance(X - [0.0, 0.0, delta])[0].min())
+        overlap = f"the obstacle penetrates {-d.min():.3g} m into the undeformed pad at delta = {delta:.3g} m"
+        if before <= delta:
+            raise ValueError(
+                f"{overlap}, deeper than the layer (h = {h:.3g} m): the jaw would hit the object; "
+                "reduce delta"
+            )
+        # a Plane facing the pad straight on (normal along -z, checked above): its point's z is its face
+        plane = type(obstacle).__name__ == "Plane" and not np.any(np.asarray(obstacle.normal, float)[:2])
+        example = f"Plane(point=(0, 0, {h:g}))" if plane else f"its surface at z = h = {h:g} m"
         raise ValueError(
-            f"the obstacle penetrates {-d.min():.3g} m into the undeformed pad, deeper than the layer "
-            f"(h = {h:.3g} m): the jaw would hit the object; reduce delta"
+            f"{overlap}, deeper than the layer (h = {h:.3g} m), and {before:.3g} m of it before the jaw "
+            "moves (delta = 0): the obstacle is placed inside the pad, not at its face — in the pad frame "
+            f"the rigid back is at z = 0 and the face at z = h = {h:g} m, and delta moves the jaw on from "
+            f"there; place the obstacle touching the face (e.g. {example}), then delta is the compression"
         )
     return X, d, nrm
 

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from .contact import ContactSolution, check_plane_faces_pad, solve_contact, solve_contact_full
+from .contact import ContactSolution, face_gaps, solve_contact, solve_contact_full
 from .material import Material
 from .pad import PadFace, PadGeometry, condense_pad
 
@@ -81,8 +81,10 @@ def press(
         ``stabilization``/``step`` for the nonlinear one).
 
     Raises ``ValueError`` before any pad is built for displacements that are not plausible
-    compressions below the layer thickness and for a :class:`~.obstacles.Plane` whose normal does
-    not face the pad (:func:`~.contact.check_plane_faces_pad`).
+    compressions below the layer thickness, for a :class:`~.obstacles.Plane` whose normal does
+    not face the pad (:func:`~.contact.check_plane_faces_pad`) and for an obstacle reaching deeper
+    than the layer at the largest displacement (:func:`~.contact.face_gaps`; the pad's face is at
+    ``z = h``: a plane pressed from first touch is ``Plane(point=(0, 0, h))``).
     """
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity must be one of {FIDELITIES}; got {fidelity!r}")
@@ -100,7 +102,10 @@ def press(
             f"jaw displacement {deltas[-1]!r} m is not below the layer thickness h = "
             f"{geometry.thickness} m: displacements are in metres (1 mm = 1e-3)"
         )
-    check_plane_faces_pad(obstacle)  # before a pad is built: a flipped plane presses nothing
+    # before a pad is built: a flipped plane presses nothing, an obstacle placed inside the layer
+    # (Plane()'s default point, the pad's back) would hit the rigid back
+    x, y, _ = geometry.axes()
+    face_gaps(geometry, np.array(np.meshgrid(x, y)).reshape(2, -1).T, obstacle, deltas[-1])
     if fidelity == "nonlinear":
         from .nonlinear import NonlinearPad
 

@@ -75,7 +75,10 @@ class Plane:
 
     Pressed by a pad (:func:`workbench.fem.press`; the pad's face looks along +z), the normal
     must face the pad, ``normal[2] < 0`` (default ``(0, 0, -1)``): a flipped one puts the pad
-    inside the solid and is refused there (:func:`workbench.fem.contact.face_gaps`)."""
+    inside the solid and is refused there (:func:`workbench.fem.contact.face_gaps`).  The pad's
+    frame has its rigid back at z = 0 and its face at z = h (the layer thickness), so a plane
+    pressed from first touch is ``Plane(point=(0, 0, h))``; the default point, the origin, lies at
+    the back and is refused there as an obstacle placed inside the layer."""
 
     point: tuple = (0.0, 0.0, 0.0)
     normal: tuple = (0.0, 0.0, -1.0)

@@ -31,6 +31,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from skfem import Basis, ElementHex2, ElementVector, MeshHex
@@ -337,6 +338,28 @@ def ring_pinch(
     return {"fe": grow, "exact": exact, "rel_err": grow / exact - 1, "dofs": b.N}
 
 
+def check_wall(wall: Any, usage: str = "squeeze(wall, centre, axis)") -> Wall:
+    """``wall`` if it is a :class:`Wall`, else a ValueError naming what to pass — the one rule of
+    every function that takes a wall (``usage``: how that function is called with it, quoted in
+    the fix).  The wall is built from the object: :func:`build_wall` on a surface, or
+    ``geo, wall = object_wall(mesh)`` (:func:`workbench.fem.object_wall.object_wall`) from a mesh;
+    the mesh itself, that ``(geometry, wall)`` pair or the geometry alone is not one."""
+    # by name too: fem/ imports as both `fem` and `workbench.fem`, two Wall classes
+    if isinstance(wall, Wall) or (type(wall).__name__ == "Wall" and hasattr(wall, "outer_xyz")):
+        return wall
+    name = type(wall).__name__
+    build = "geo, wall = object_wall(mesh)"
+    hint = {
+        "Trimesh": f"a mesh is the object's surface, not its wall: {build}; {usage}",
+        "tuple": f"object_wall returns the pair (geometry, wall): {build}; {usage}",
+        "WallGeometry": f"{build}; {usage} (or wall = geo.build(material))",
+    }.get(name, f"{build} (or build_wall(surface, material)); {usage}")
+    raise ValueError(
+        f"wall must be the Wall built on the surface (build_wall, or object_wall's second value); "
+        f"got {name} — {hint}"
+    )
+
+
 def squeeze(
     wall: Wall,
     centre: np.ndarray,
@@ -388,6 +411,7 @@ def squeeze(
     """
     from workbench.sources.jaws import check_jaw_force
 
+    check_wall(wall)
     check_jaw_force(force)
     from workbench.sources.jaws import check_pad
 

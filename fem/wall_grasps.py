@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .mesh_wall import RadialSurface
-from .wall import Wall, squeeze
+from .wall import Wall, check_wall, squeeze
 
 log = logging.getLogger(__name__)
 
@@ -217,11 +217,7 @@ def stiffness_at(
         raise ValueError(f"rigid_closing must be a closing >= 0 [m]; got {rigid_closing}")
     from workbench.config import TOL
 
-    if not isinstance(wall, Wall):
-        raise ValueError(
-            f"wall must be the Wall built on the surface (build_wall, or object_wall's second value); got "
-            f"{type(wall).__name__} — geo, wall = object_wall(mesh); stiffness_at(wall, geo, locations)"
-        )
+    check_wall(wall, "stiffness_at(wall, geo, locations)")
     surface, (lo, hi) = _surface_of(surface, z_range)
     p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
     angles = axis_normal_angles(surface, p1, p2)

@@ -37,7 +37,7 @@ import numpy as np
 
 from .sparse_factor import Refactor, nested_dissection, restrict_order
 from .svk import svk_tangent
-from .wall import Wall, turn_matrix
+from .wall import Wall, check_wall, turn_matrix
 
 log = logging.getLogger(__name__)
 
@@ -66,6 +66,7 @@ def squeeze_nonlinear(
     ``lu_fallbacks``: Newton steps whose tangent was not positive definite (factored by
     SuperLU instead of Cholesky: :class:`workbench.fem.sparse_factor.Refactor`).
     """
+    check_wall(wall, "squeeze_nonlinear(wall, centre) with wall, centre = grasp_frame_wall(...)")
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be a positive jaw force [N]; got {force}")
     if not (0 < step < max_closing):

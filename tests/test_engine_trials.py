@@ -106,6 +106,12 @@ def test_careless_engine_settings_are_refused():
         ({"tip_radius": 0.3}, r"in metres \(0.3 mm = 3e-4\)"),
         ({"pad_grid": (5, 9, 1)}, "three integers >= 2"),
         ({"timestep": 0}, "timestep must be a positive"),
+        # trial 7: 0 iterations read as "both jaws touched nothing"; a mixed-sign solref fell
+        # back to MuJoCo's own (0.02, 1) with 170k console lines and no warning in the outcome
+        ({"iterations": 0}, r"iterations must be an integer in \[1, 100000\]"),
+        ({"contact_solref": (-0.002, 1.0)}, r"contact_solref must be \(time constant"),
+        ({"contact_solref": (0.001, 1.0)}, "below 2 time steps"),
+        ({"contact_solimp": (0.99, 0.999, 1e-4, 0.5, 0.0)}, "contact_solimp must be"),
     ):
         with pytest.raises(ValueError, match=match):
             EngineSettings(**kwargs)
@@ -133,6 +139,47 @@ def test_careless_pads_phases_and_timesteps_are_refused():
         TrialPhases(lift=-1)
     with pytest.raises(ValueError, match="validated at 1e-3 s"):
         EngineSettings(timestep=0.1)
+
+
+def test_a_turn_limit_in_radians_and_record_every_zero_are_refused():
+    from workbench.engine_trials import DisturbancePhases
+
+    # trial 7: 5 degrees given as 0.0873 rad failed a held grasp "turned 0.358 deg (limit 0.0873)"
+    with pytest.raises(ValueError, match=r"probably in radians — pass 5 \[deg\]"):
+        TrialPhases(max_turn_deg=0.0873)
+    with pytest.raises(ValueError, match="probably in radians"):
+        DisturbancePhases(max_turn_deg=0.0873)
+    # trial 7: record_every=0 was a ZeroDivisionError seconds into the run
+    with pytest.raises(ValueError, match="record_every must be an integer >= 1"):
+        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, record_every=0)
+
+
+def test_open_pads_that_start_inside_the_object_are_a_miss_not_a_hold():
+    """Trial 7: a 74 mm cup in a 50 mm YuMi opening was 'held' by the engine (the open pads
+    started inside it); the same pose judged by evaluate_gripper was a miss."""
+    from workbench.engine_trials import simulate_gripper
+    from workbench.engine_trials.trial import open_pad_depth
+    from workbench.sources.gripper import yumi
+
+    wide = trimesh.creation.cylinder(radius=0.037, height=0.09)
+    pose = np.eye(4)
+    pose[:3, :3] = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1.0]]).T
+    pose[:3, 3] = [0.0, 0.0, 0.160098]  # the tooltips at the cylinder's mid-height
+    r = simulate_gripper(wide, yumi(), pose, mass=0.2)
+    assert not r.held and r.steps == 0 and "inside the object" in r.reason
+    # the depth is the cylinder's radius beyond the half-opening (25 mm), ~12 mm on each side
+    jaws = yumi().jaws(pose)
+    lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
+    c, size = (lo + hi) / 2, hi - lo
+    faces = [j.origin + c[0] * j.e1 + c[1] * j.e2 for j in jaws]
+    depth = open_pad_depth(wide, faces, jaws[0].closing, jaws[0].e2, (size[0], size[1], 3e-3))
+    half_open = 0.5 * abs((jaws[1].origin - jaws[0].origin) @ jaws[0].closing)
+    # the faces' corners sit at the pad's half-width off the axis: deepest at the face centre
+    assert depth == pytest.approx(np.full(2, 0.037 - half_open), abs=2e-4)
+    # the box's squarely placed pads start clear of it
+    assert np.all(
+        open_pad_depth(BOX, ([0, -0.0205, 0], [0, 0.0205, 0]), [0, 1, 0], [0, 0, 1], (0.02, 0.04, 5e-3)) == 0
+    )
 
 
 def test_a_trial_says_why_it_failed():

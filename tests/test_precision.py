@@ -21,7 +21,8 @@ def test_scores_by_hand():
     }
     # precision 1/2, recall 1: F1 = 2·(1/2)·1/(3/2) = 2/3 as the harmonic mean
     lopsided = scores(np.array([True, True, False]), np.array([True, False, False]))
-    assert lopsided["f1"] == pytest.approx(2 * 0.5 * 1.0 / 1.5) and lopsided["accuracy"] == pytest.approx(2 / 3)
+    assert lopsided["f1"] == pytest.approx(2 * 0.5 * 1.0 / 1.5)
+    assert lopsided["accuracy"] == pytest.approx(2 / 3)
     none = scores(np.zeros(3, bool), np.zeros(3, bool))
     assert np.isnan(none["precision"]) and np.isnan(none["recall"]) and none["positives"] == 0
     with pytest.raises(ValueError, match="boolean"):

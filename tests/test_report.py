@@ -128,6 +128,19 @@ def test_a_partial_results_dir_gives_a_report_with_missing_rows(tmp_path, caplog
     assert "rows missing their summary keys" in caplog.text
 
 
+def test_a_truncated_summary_is_named_unreadable_not_missing(tmp_path, caplog):
+    """``summary.json`` cut off mid-write (a killed run before atomic writes, a full disk): its
+    rows say the file cannot be read and to rerun it, not that a key is missing."""
+    path = tmp_path / "parametric-surfaces" / "summary.json"
+    path.parent.mkdir(parents=True)
+    path.write_text('{"example_3_2_5": {"pressure_center": [0.0, 0.01')
+    with caplog.at_level(logging.WARNING, logger="workbench.report"):
+        text = write_report(tmp_path).read_text()
+    assert "parametric-surfaces/summary.json (unreadable — JSONDecodeError" in text
+    assert "missing: parametric-surfaces/summary.json:example_3_2_5" not in text
+    assert "exists but cannot be read" in caplog.text
+
+
 def test_the_cli_writes_the_report(tmp_path, capsys):
     _write(tmp_path / "res" / "discretization" / "summary.json", {"max_error_rate_at_300": 0.0081})
     out = tmp_path / "docs" / "R.md"

@@ -281,6 +281,17 @@ class Tolerances:
     # uniform pressure ((α - 90°)/α at half-angle α), so real contacts pass.
     flipped_normal_force_fraction: float = 0.1
 
+    # A ContactProfile's total area may be at most this multiple of the surface area of the
+    # box its element centres span (their PCA box, each side grown by the centres' mean
+    # spacing: an element reaches past its centre): a patch of a convex surface is part of
+    # the boundary of its own convex hull, which lies in the box, so its area is at most the
+    # box's surface (surface area is monotone under inclusion of convex bodies; a flat patch
+    # reaches half of it).  10 leaves room for ridged (non-convex) surfaces, graded meshes
+    # whose coarse edge elements reach past the box, and synthetic clouds of overlapping
+    # elements (tests/naive.py's reach 5); areas in mm² or cm² beside centres in m are 1e6 or
+    # 1e4 over.
+    profile_area_box_ratio: float = 10.0
+
     # --- minimal work (workbench.grasp.stiffness_map, thesis §4.3) ----------
     # A stiffness >= this [N/m] means "rigid: no measurable deflection" (the
     # measured maps write 8e10).  Their largest finite value is 1.9e5 N/m (shampoo,
@@ -300,6 +311,14 @@ class Tolerances:
     # payload (a few kg; 10 N per jaw at mu 0.5 holds 1 kg), so a larger number is taken for
     # grams — a filled 0.27 kg bottle given as 270, a 50 g cup as 50.  Raise it for heavy parts.
     max_plausible_mass_kg: float = 20.0
+
+    # A centre of mass lies in the convex hull of the object's mass (a weighted mean of its
+    # points), so a com outside the mesh's convex hull by more than this fraction of the
+    # object's largest bounding-box side is refused (grasp.robust.check_com).  The slack is for
+    # a mesh whose facets cut inside the real surface (a 16-gon's flats lie 2 % of the radius
+    # inside its circle, an 8-gon's 8 %) and a measured com known to a few mm; a com in
+    # millimetres, or on the wrong side of an 80 mm box, is far beyond it.
+    com_hull_rtol: float = 0.05
 
     # Largest closing of a linear wall squeeze, as a fraction of the object's width, before a
     # warning that the small-deflection model is stretched (fem.wall.squeeze; the nonlinear
@@ -693,10 +712,12 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "point_triangle_zero": _NONNEG,
     "pca_degenerate_rtol": _NONNEG,
     "flipped_normal_force_fraction": _FRACTION,
+    "profile_area_box_ratio": _real(1.0),  # below 1 refuses a patch on a convex surface
     "rigid_stiffness_threshold": _POS,
     "min_plausible_stiffness": _NONNEG,
     "antipodal_max_deg": _real(0.0, hi=180.0),
     "max_plausible_mass_kg": _POS,
+    "com_hull_rtol": _NONNEG,  # 0: exactly inside the mesh's hull
     "linear_closing_max_fraction": _POS,
     "grasp_axis_max_deg": _real(0.0, hi=180.0),
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max

@@ -221,6 +221,10 @@ class ContactProfile:
         element has zero extent), so no lower bound tells a unit mistake from a
         small patch.  A millimetre profile smaller than 2 mm is not caught either.
 
+    Areas: a total area beyond ``config.TOL.profile_area_box_ratio`` times the surface of the
+    box the centres span is refused (areas in mm² beside centres in m); a single element or a
+    single row of centres is not judged.
+
     Normals: elements carrying more than ``config.TOL.flipped_normal_force_fraction``
     of ``F`` with normals pointing away from the force-weighted mean normal
     (``n_i · n̄ < 0``), or normal forces that cancel, warn (``ImplausibleWarning``) — the
@@ -322,7 +326,55 @@ class ContactProfile:
             fix="build it with ContactProfile.from_mesh(..., units={units!r}), or scale centers and "
             "vertices by {factor:g} and areas by {area_factor:g}",
         )
+        self._check_area_fits_extent()
         self._warn_flipped_normals()
+
+    def _check_area_fits_extent(self) -> None:
+        """Refuse a total area far beyond what the centres' extent allows (areas in mm² beside
+        centres in m): ``Σ a_i`` above ``config.TOL.profile_area_box_ratio`` times the surface
+        area of the box the centres span.
+
+        The box is the centres' PCA box, each side grown by their mean spacing ``h`` (an element
+        reaches past its centre), where ``h`` is the cell of ``n`` centres tiling the two longest
+        sides ``s1 >= s2``: ``(s1 + h)(s2 + h) = n h²`` (exact for a grid, ``s1/(n-1)`` for a
+        strip) — from the centres alone, as the areas are what is judged.  A patch of a convex
+        surface is part of the boundary of its convex hull, which lies in the box: its area is at
+        most the box's surface (a flat patch about half of it).  One element, centres at one point
+        and centres in one row (less than a spacing across: how wide its elements reach across
+        the row the centres do not say) have no extent to judge by."""
+        n = len(self)
+        c = self.centers - self.centers.mean(axis=0)
+        _, _, axes = np.linalg.svd(c, full_matrices=False)
+        sides = np.sort(np.ptp(c @ axes.T, axis=0))[::-1]
+        sides = np.r_[sides, np.zeros(3 - sides.size)]
+        if n < 2 or not sides[0] > 0:
+            return
+        s1, s2 = float(sides[0]), float(sides[1])
+        h = ((s1 + s2) + np.sqrt((s1 + s2) ** 2 + 4 * (n - 1) * s1 * s2)) / (2 * (n - 1))
+        if s2 < h:
+            return
+        a, b, d = sides + h
+        box = 2 * (a * b + b * d + a * d)
+        total = float(self.areas.sum())
+        ratio = config.TOL.profile_area_box_ratio
+        if total <= ratio * box:
+            return
+        # the area unit that puts the patch nearest a tiling (half the box's surface)
+        units = (("mm²", 1e-6), ("cm²", 1e-4))
+        name, k = min(units, key=lambda u: abs(np.log(total * u[1] / (0.5 * box))))
+        hint = (
+            f"areas in {name} beside centres in metres? pass areas x {k:g} (a 1 {name} element is "
+            f"{k:g} m²), or build it with ContactProfile.from_mesh(vertices, faces, pressures, units=...)"
+            if total * k <= ratio * box
+            else "check how the areas were computed (one element's area, in m², each)"
+        )
+        raise ValueError(
+            f"areas: the {n} elements' total area {total:.4g} m² is {total / box:.3g} x the surface "
+            f"area {box:.4g} m² of the box their centres span ({s1 * 1e3:.4g} x {s2 * 1e3:.4g} x "
+            f"{sides[2] * 1e3:.4g} mm, each side grown by their spacing {h * 1e3:.3g} mm), more than "
+            f"config.TOL.profile_area_box_ratio = {ratio:g}: a contact patch has at most about its "
+            f"box's surface area (a patch of a convex surface at most exactly that) — {hint}"
+        )
 
     def _warn_flipped_normals(self) -> None:
         """Warn (:class:`~workbench.plausible.ImplausibleWarning`) if normals disagreeing with

@@ -175,8 +175,16 @@ def sample_twists_thesis(
     n = _count("n", n, 1)
     d = config.DEFAULTS
     seed = d.seed if seed is None else seed
-    radius_factor = d.twist_radius_factor if radius_factor is None else radius_factor
-    pitch_range = d.pitch_range if pitch_range is None else pitch_range
+    # the rules of the config fields they default to (a reversed range, a negative radius)
+    radius_factor = (
+        d.twist_radius_factor
+        if radius_factor is None
+        else config.check_value("twist_radius_factor", radius_factor, "radius_factor")
+    )
+    if pitch_range is None:
+        pitch_range = d.pitch_range
+    else:
+        pitch_range = config.check_value("pitch_range", pitch_range, "pitch_range")
     rng = _rng(seed)
     ls = _length(length_scale)
     e = fibonacci_sphere(n)
@@ -204,7 +212,11 @@ def sample_twists_6dfc(
     """
     k1, k2 = _count("k1", k1, 0), _count("k2", k2, 0)
     seed = config.DEFAULTS.seed if seed is None else seed
-    radius_factor = config.DEFAULTS.twist_radius_factor if radius_factor is None else radius_factor
+    radius_factor = (
+        config.DEFAULTS.twist_radius_factor
+        if radius_factor is None
+        else config.check_value("twist_radius_factor", radius_factor, "radius_factor")
+    )
     rng = _rng(seed)
     w = _uniform_sphere(rng, k1)
     c = _uniform_ball(rng, k1, radius_factor * _length(length_scale))

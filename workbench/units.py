@@ -7,7 +7,9 @@ than ``TOL.max_object_extent_m`` (2 m) or less than ``TOL.min_object_extent_m``
 (0.1 mm) was almost certainly given in another unit — a 150 mm bottle exported
 in millimetres reads as 150 m.  :func:`check_extent` raises a ``ValueError``
 naming the likely unit and the fix; ``allow_scale=True`` accepts an unusual
-size on purpose.
+size on purpose.  :func:`closed_mesh` is the one gate of every mesh input (finite,
+watertight, not flat, outward, a plausible size); :func:`far_from_object` says when a
+point given with a mesh lies too far from it to be on it (a point in millimetres).
 """
 
 from __future__ import annotations
@@ -122,24 +124,17 @@ def mesh_in_metres(
     fix: str | None = None,
     override: str | None = "allow_scale=True",
 ) -> Any:
-    """``mesh`` (a ``trimesh.Trimesh``) in metres, after :func:`check_extent` on the
-    longest side of its axis-aligned bounding box (``fix``: its remedy text, when the
-    caller cannot pass ``units``, e.g. a CLI reading a file).
+    """``mesh`` (a ``trimesh.Trimesh``) in metres, after :func:`check_closed` and
+    :func:`check_extent` on the longest side of its axis-aligned bounding box (``fix``: its
+    remedy text, when the caller cannot pass ``units``, e.g. a CLI reading a file).
 
     ``units`` is the unit of ``mesh.vertices`` (``None`` or "m": metres); any other
-    unit is applied to a *copy*, the caller's mesh is never modified.
+    unit is applied to a *copy*, the caller's mesh is never modified.  The same gate as
+    :func:`closed_mesh` (the name its callers read best): no mesh is taken in metres without
+    being checked finite, closed and outward — an inside-out mesh given to a sampler is refused
+    by name, not found to have "no far side" on every candidate.
     """
-    factor = 1.0 if units is None else length_factor(units)
-    extents = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
-    opts = {} if fix is None else {"fix": fix}
-    check_extent(
-        float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, override=override, **opts
-    )
-    if factor == 1.0:
-        return mesh
-    scaled = mesh.copy()
-    scaled.apply_scale(factor)
-    return scaled
+    return closed_mesh(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)
 
 
 def closed_mesh(
@@ -153,15 +148,30 @@ def closed_mesh(
 ) -> Any:
     """A watertight ``trimesh.Trimesh`` in metres, or a ``ValueError`` that says which
     and how to fix it — the one gate of every mesh input (``what`` names the caller's
-    argument in the message).  Metres: :func:`mesh_in_metres` (``fix`` as there)."""
+    argument in the message): :func:`check_closed`, then :func:`check_extent` on the longest
+    side of its bounding box (``fix``: the remedy text of a unit slip, when the caller cannot
+    pass ``units``).  ``units`` is applied to a copy."""
     check_closed(mesh, what)
-    return mesh_in_metres(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)
+    factor = 1.0 if units is None else length_factor(units)
+    extents = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
+    opts = {} if fix is None else {"fix": fix}
+    check_extent(
+        float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, override=override, **opts
+    )
+    if factor == 1.0:
+        return mesh
+    scaled = mesh.copy()
+    scaled.apply_scale(factor)
+    return scaled
 
 
 def check_closed(mesh: Any, what: str) -> None:
-    """Refuse ``mesh`` unless it is a ``trimesh.Trimesh`` that is closed (watertight) and
-    outward-facing (a positive signed volume): the topology half of :func:`closed_mesh`,
-    for callers that convert units themselves (``MeshObstacle``).
+    """Refuse ``mesh`` unless it is a ``trimesh.Trimesh`` with finite vertices that is closed
+    (watertight) and outward-facing (a positive signed volume): the topology half of
+    :func:`closed_mesh`, for callers that convert units themselves (``MeshObstacle``).
+
+    Finiteness comes first: a NaN vertex makes the volume NaN, which would read as "inside out"
+    and send the user to ``mesh.invert()``, a fix that cannot work.
 
     An inside-out mesh (every face wound the other way, ``mesh.invert()``) is watertight
     too, but its "outside" is the object's inside: a pad pressed on it finds no surface
@@ -173,6 +183,14 @@ def check_closed(mesh: Any, what: str) -> None:
         raise ValueError(f"{what} must be a trimesh.Trimesh; got {type(mesh).__name__}")
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} must be a closed triangle mesh; got one without faces")
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
+    if bad.size:
+        raise ValueError(
+            f"{what} must have finite vertex coordinates; got {bad.size} of {len(vertices)} vertices with "
+            f"NaN/inf (first: vertex {bad[0]}, {vertices[bad[0]].tolist()}) — fix the export or the "
+            "computation that made them (a transform or scale with NaN?) before passing the mesh"
+        )
     if not mesh.is_watertight:
         open_edges = len(trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1))
         got = (
@@ -186,7 +204,7 @@ def check_closed(mesh: Any, what: str) -> None:
         )
     from . import config
 
-    ext = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
+    ext = np.ptp(vertices, axis=0)
     if ext.max() > 0 and ext.min() < config.TOL.min_mesh_aspect * ext.max():
         raise ValueError(
             f"{what} is flat: its bounding box is {ext.tolist()} (its units), the thinnest side "
@@ -201,3 +219,44 @@ def check_closed(mesh: Any, what: str) -> None:
             f"object (signed volume {volume:.4g} in its units^3, not positive) — flip it with "
             "mesh.invert() (or trimesh.repair.fix_normals(mesh)) before passing it"
         )
+
+
+def far_from_object(point: Any, bounds: Any) -> str | None:
+    """Why ``point`` (3,) [m] cannot be a point on or near the object whose axis-aligned
+    bounding box is ``bounds`` (2, 3) [m] — it lies farther outside that box, along some axis,
+    than the object's own size (the box's longest side; a contact point in millimetres reads
+    as metres and lands there) — or None when it is within that reach.
+
+    The sentence names the distance and, when the point lies more than ten sizes off and a common
+    unit turns it into one on or near the box (a millimetre point scaled by 1e-3), that unit and
+    the point in metres.  Callers refuse with it (an FEM jaw's point,
+    :func:`workbench.sources.fem_jaw.check_jaw_reaches`) or append it to the message of what
+    failed (a REACH pad that covers no part of the object).
+    """
+    p = np.asarray(point, dtype=np.float64)
+    lo, hi = (np.asarray(b, dtype=np.float64) for b in bounds)
+    size = float((hi - lo).max())
+    if p.shape != (3,) or not np.isfinite(p).all():
+        return None
+
+    def outside(q: np.ndarray) -> float:  # how far q lies outside the box (0 inside), per axis max
+        return max(float(np.max(np.maximum(lo - q, q - hi))), 0.0)
+
+    off = outside(p)
+    if not off > size:
+        return None
+    box = f"{np.round(lo, 4).tolist()}–{np.round(hi, 4).tolist()} m"
+    where = (
+        f"{np.round(p, 4).tolist()} lies {off:.4g} m outside the object's bounding box {box}, "
+        f"farther than the object's own size ({size:.3g} m)"
+    )
+    # a point on the object read in centimetres or millimetres lands tens to thousands of its sizes
+    # away; only then is a unit named (a point 1-10 sizes off is more likely another object's)
+    for u in ("mm", "cm") if off > 10 * size else ():
+        q = p * _UNITS[u]
+        if outside(q) <= size:
+            return (
+                f"{where}: it is probably in {_UNIT_NAMES[u]} — pass metres "
+                f"(× {_UNITS[u]:g}: {np.round(q, 6).tolist()}, which lies on or near the object)"
+            )
+    return f"{where}: is it in another unit than the mesh (metres), or another object's point?"

@@ -21,7 +21,10 @@ from .trial import (
     _check_grasp,
     _check_pad,
     _check_trial,
+    _miss,
+    _starts_inside,
     build_scene,
+    check_turn_limit,
     step_trial,
 )
 
@@ -54,11 +57,7 @@ class DisturbancePhases:
         check("closing", self.max_drift, what, warn=False)
         if not self.max_drift > 0:
             raise ValueError(f"DisturbancePhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
-        if isinstance(self.max_turn_deg, bool) or not (0 < self.max_turn_deg <= 90):
-            raise ValueError(
-                "DisturbancePhases.max_turn_deg must be an angle in (0, 90] degrees; got "
-                f"{self.max_turn_deg!r}"
-            )
+        check_turn_limit(self.max_turn_deg, "DisturbancePhases.max_turn_deg")
 
 
 def _check_wrench(wrench) -> np.ndarray:
@@ -111,6 +110,9 @@ def simulate_disturbance(
     _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
+    inside = "" if conform else _starts_inside(mesh, faces, axis, up, pad)
+    if inside:
+        return _miss(inside)
     model, info = build_scene(
         mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
         up=up, settings=settings, table=False, conform=conform,
@@ -131,4 +133,3 @@ def simulate_disturbance(
         data.xfrc_applied[obj, 3:] = s * (w[3:] + np.cross(lever, w[:3]))
 
     return step_trial(model, info, control, t_settle, t_load + phases.hold, phases, record_every)
-

@@ -74,6 +74,36 @@ class EngineSettings:
                 f"tip_radius {self.tip_radius!r} m is larger than a pad's grid spacing: give it in "
                 "metres (0.3 mm = 3e-4)"
             )
+        if (
+            isinstance(self.iterations, bool)
+            or not isinstance(self.iterations, int)
+            or not (1 <= self.iterations <= 100_000)
+        ):
+            # 0 iterations leave every constraint unsolved: the pads pass through the object and
+            # a trial reads as a miss
+            raise ValueError(f"iterations must be an integer in [1, 100000]; got {self.iterations!r}")
+        sr = self.contact_solref
+        if len(sr) != 2 or not all(isinstance(v, (int, float)) and 0 < v < float("inf") for v in sr):
+            # MuJoCo reads mixed signs as an error and silently falls back to its own (0.02, 1);
+            # negative pairs are its direct (stiffness, damping) form, which these probes never used
+            raise ValueError(
+                f"contact_solref must be (time constant [s] > 0, damping ratio > 0); got {sr!r} "
+                "(the validated setting is (0.002, 1.0))"
+            )
+        if sr[0] < 2 * self.timestep:
+            raise ValueError(
+                f"contact_solref's time constant {sr[0]!r} s is below 2 time steps "
+                f"({2 * self.timestep:g} s): MuJoCo would raise it to that floor unannounced; give "
+                ">= 2 * timestep"
+            )
+        si = self.contact_solimp
+        if len(si) != 5 or not (
+            0 < si[0] < 1 and 0 < si[1] < 1 and si[2] > 0 and 0 < si[3] < 1 and si[4] >= 1
+        ):
+            raise ValueError(
+                "contact_solimp must be (d0, d_width in (0, 1), width [m] > 0, midpoint in (0, 1), "
+                f"power >= 1); got {si!r} (the validated setting is (0.99, 0.999, 1e-4, 0.5, 2.0))"
+            )
         if len(self.pad_grid) != 3 or any(int(n) != n or n < 2 for n in self.pad_grid):
             raise ValueError(
                 f"pad_grid must be three integers >= 2 (points along x, y, z); got {self.pad_grid!r}"

@@ -55,10 +55,20 @@ class TrialPhases:
         check("closing", self.max_drift, "TrialPhases.max_drift (held below this drift [m])", warn=False)
         if not self.max_drift > 0:
             raise ValueError(f"TrialPhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
-        if isinstance(self.max_turn_deg, bool) or not (0 < self.max_turn_deg <= 90):
-            raise ValueError(
-                f"TrialPhases.max_turn_deg must be an angle in (0, 90] degrees; got {self.max_turn_deg!r}"
-            )
+        check_turn_limit(self.max_turn_deg, "TrialPhases.max_turn_deg")
+
+
+def check_turn_limit(value, what: str) -> None:
+    """A trial's turn limit ``value`` [deg], in [1, 90]: below one degree the verdict would judge
+    the pads' own compliance (a held object turns by 0.3-3 degrees with them), and the value was
+    most likely given in radians (the thesis's 5° is 0.0873 rad)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (0 < value <= 90):
+        raise ValueError(f"{what} must be an angle in [1, 90] degrees; got {value!r}")
+    if value < 1.0:
+        raise ValueError(
+            f"{what} = {value!r} deg is below one degree, where the pads' own compliance turns a held "
+            f"object: probably in radians — pass {np.degrees(value):.3g} [deg] (the thesis's limit is 5 deg)"
+        )
 
 
 @dataclass(frozen=True)
@@ -117,6 +127,51 @@ def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings) -> 
         "</body>"
     )
     return asset, body
+
+
+def open_pad_depth(mesh, faces, axis, up, pad, grid: tuple[int, int] = (5, 9)) -> np.ndarray:
+    """(2,) how deep [m] each open pad's face starts inside ``mesh`` (0 when clear): the largest
+    signed distance into the object of a ``grid`` of points over each face (width across ``up``,
+    length along it), face ``k`` centred at ``faces[k]`` (3,) looking along ``±axis``."""
+    import trimesh
+
+    from .pad import pad_rotation
+
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    out = []
+    for face, a in zip(faces, (axis, -axis), strict=True):
+        R = pad_rotation(a, np.asarray(up, float))
+        u = np.linspace(-pad[0] / 2, pad[0] / 2, grid[0])
+        v = np.linspace(-pad[1] / 2, pad[1] / 2, grid[1])
+        U, V = np.meshgrid(u, v, indexing="ij")
+        pts = np.asarray(face, float) + np.outer(U.ravel(), R[:, 0]) + np.outer(V.ravel(), R[:, 1])
+        depth = trimesh.proximity.signed_distance(mesh, pts)  # > 0 inside
+        out.append(max(0.0, float(depth.max())))
+    return np.array(out)
+
+
+def _miss(reason: str) -> TrialOutcome:
+    """The outcome of a trial that cannot start: not held, nothing simulated."""
+    log.info("engine trial: not run — %s", reason)
+    empty = np.zeros(0)
+    nan = float("nan")
+    return TrialOutcome(False, nan, nan, nan, empty, np.zeros((0, 3)), empty, 0.0, 0, reason, {})
+
+
+def _starts_inside(mesh, faces, axis, up, pad) -> str:
+    """Why the open pads cannot close on the object ("" when they can): a face that starts
+    deeper inside it than the pad is thick (an object wider than the opening, a grasp point
+    inside the object)."""
+    depth = open_pad_depth(mesh, faces, axis, up, pad)
+    deep = [k for k in (0, 1) if depth[k] > pad[2]]
+    if not deep:
+        return ""
+    which = " and ".join(f"jaw {k + 1}" for k in deep)
+    return (
+        f"the open pad of {which} starts {depth[deep].max() * 1e3:.3g} mm inside the object (its "
+        f"thickness {pad[2] * 1e3:.3g} mm): the object is wider than the opening, or the grasp is "
+        "inside it"
+    )
 
 
 def build_scene(
@@ -297,6 +352,9 @@ def simulate_grasp(
     _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
+    inside = _starts_inside(mesh, faces, axis, up, pad)
+    if inside:
+        return _miss(inside)
     model, info = build_scene(
         mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
         up=up, down=down, settings=settings, phases=phases,
@@ -337,6 +395,10 @@ def step_trial(
     body) is recorded from ``t_ref`` [s] on, and it is held iff it stays within
     ``phases.max_drift`` [m] and ``phases.max_turn_deg`` of its pose at ``t_ref`` and both jaws
     touch something at ``t_ref``; the slip speed is measured over the last ``phases.hold``."""
+    if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
+        raise ValueError(
+            f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
+        )
     mujoco = import_mujoco()
     data = mujoco.MjData(model)
     dt = model.opt.timestep
@@ -438,12 +500,9 @@ def simulate_gripper(
     and ``pad_nu``.  ``mu`` defaults to ``gripper.mu``; ``mass`` [kg] at ``com`` (3,) [m], gravity
     along ``down`` (3,; the object frame's, e.g. the trial's); ``task`` as :func:`simulate_grasp`.
     """
-    from ..sources.gripper import Gripper
+    from ..sources.gripper import check_gripper
 
-    if not isinstance(gripper, Gripper):
-        raise ValueError(
-            f"gripper must be a workbench.sources.gripper.Gripper (e.g. yumi()); got {gripper!r}"
-        )
+    gripper = check_gripper(gripper)
     mesh, mu, com, down, phases, settings = _check_trial(
         mesh,
         "simulate_gripper",
@@ -460,6 +519,10 @@ def simulate_gripper(
     lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
     c, size = (lo + hi) / 2, hi - lo
     faces = [j.origin + c[0] * j.e1 + c[1] * j.e2 for j in jaws]
+    pad = (float(size[0]), float(size[1]), gripper.pad.thickness)
+    inside = _starts_inside(mesh, faces, jaws[0].closing, jaws[0].e2, pad)
+    if inside:
+        return _miss(inside)
     model, info = build_scene(
         mesh, faces, jaws[0].closing, force=gripper.force, mu=mu, mass=mass, com=com,
         pad=(float(size[0]), float(size[1]), gripper.pad.thickness), pad_E=gripper.pad.modulus,

@@ -116,8 +116,8 @@ class ContactSet:
             raise ValueError(f"{self.name}: friction must be (M, 6) with M >= 1; got {self.friction.shape}")
         if not (np.isfinite(self.force) and self.force >= 0):
             raise ValueError(f"{self.name}: the normal force must be finite and >= 0; got {self.force}")
-        if self.force_rtol is not None and not (0 <= self.force_rtol < 1):
-            raise ValueError(f"{self.name}: force_rtol must be in [0, 1); got {self.force_rtol}")
+        if self.force_rtol is not None:  # the rule of config.TOL.known_force_rtol
+            config.check_value("known_force_rtol", self.force_rtol, f"{self.name}: force_rtol")
         if self.group is not None and self.cone:
             raise ValueError(
                 f"{self.name}: a force group shares one known force reading; a cone contact "
@@ -206,6 +206,25 @@ def _vector(v, name: str, what: str) -> np.ndarray:
     return a
 
 
+def check_object_point(v, name: str, what: str) -> np.ndarray:
+    """(3,) a point of the object in its frame [m] — a contact point, a centre of mass — as a
+    float array, refused when it is not three finite numbers or lies farther from the object
+    origin than ``config.TOL.max_object_extent_m`` (the largest object: farther is a point in
+    millimetres).  The one rule of such a point: :func:`point_contact`,
+    :func:`soft_point_contact` and :func:`~.robust.gravity_wrench` call it (``what`` names the
+    point in the message)."""
+    a = _vector(v, name, what)
+    limit = config.TOL.max_object_extent_m
+    dist = float(np.linalg.norm(a))
+    if dist > limit * (1 + config.TOL.extent_limit_rtol):
+        raise ValueError(
+            f"{name} must be in metres, in the object's frame; got {a.tolist()}, {dist:.3g} m from the "
+            f"origin, beyond the largest object (config.TOL.max_object_extent_m = {limit:g} m) — in "
+            f"millimetres? pass {np.round(a / 1e3, 12).tolist()}"
+        )
+    return a
+
+
 def _point_like(
     point, normal_out, f_max: float, n_edges: int, kind: str, name: str, torsion_length: float | None
 ) -> ContactSet:
@@ -215,7 +234,7 @@ def _point_like(
     if n_edges < 3:
         raise ValueError(f"n_edges must be >= 3; got {n_edges}")
     point, normal_out = (
-        _vector(point, "point", "the contact point [m]"),
+        check_object_point(point, "point", "the contact point [m]"),
         _vector(normal_out, "normal_out", "the outward surface normal"),
     )
     if not np.linalg.norm(normal_out) > 0:

@@ -136,6 +136,7 @@ def evaluate_grasp(
     check_mu(mu)
     check_jaw_force(force)
     check_pad(pad)  # before the mesh step: a bad pad is not "a footprint that covers nothing"
+    cache = LimitSurfaceCache.check(cache)  # before the profiles are made: a path is not a cache
     if mesh is not None:
         # metres first: the mass and com checks below read the mesh's volume and box
         from ..units import closed_mesh
@@ -152,7 +153,6 @@ def evaluate_grasp(
         if mass is not None or com is not None:
             raise ValueError("give the task either as w_ext or as mass and com, not both")
         w = check_task_wrench(w_ext)
-    cache = LimitSurfaceCache() if cache is None else cache
     cuts = CutStore() if cuts is None else cuts
     t = {}
     t0 = time.perf_counter()

@@ -74,12 +74,16 @@ def resists_exact(
     with ``tol`` (``config.TOL.resist_rtol``).
     """
     from .. import config
-    from .gws import capacity_scaling, check_mu
+    from .gws import capacity_scaling, check_mu, check_resist_tol
 
     w = check_wrench(w_ext)
     check_mu(mu)
-    tol = config.TOL.resist_rtol if tol is None else float(tol)
-    r = config.TOL.known_force_rtol if force_rtol is None else float(force_rtol)
+    tol = check_resist_tol(tol)
+    r = (
+        config.TOL.known_force_rtol
+        if force_rtol is None
+        else config.check_value("known_force_rtol", force_rtol, "force_rtol")
+    )
     F = contacts.F if forces is None else np.asarray(forces, float)
     N = len(F)
     lo, hi = F * (1 - r), F

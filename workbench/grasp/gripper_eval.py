@@ -99,8 +99,10 @@ def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float
     each pad pressed alone at the pose as given).  A pad that touches nothing within its
     stroke is a miss (``contact.touches`` False, ``contact.reason`` says which), not an error.
     """
+    from ..sources.gripper import check_gripper
     from ..sources.reach import pad_profile
 
+    gripper = check_gripper(gripper)
     T = check_pose(pose, "gripper pose")
     jaws = gripper.jaws(T)
     k = gripper.pad.stiffness  # Winkler modulus [Pa/m]
@@ -142,7 +144,7 @@ def judge_contact(
         return Verdict(model, False, 0.0, np.inf, f"no contact: {contact.reason}")
     d = contact.rotation @ np.asarray(down, float)  # the object turned as it settled
     w = gravity_wrench(mass, com, down=d)
-    cache = LimitSurfaceCache() if cache is None else cache
+    cache = LimitSurfaceCache.check(cache)
     cuts = CutStore() if cuts is None else cuts
     sets = [c for p in contact.profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
     held = resists(sets, w, mu, cuts=cuts)
@@ -230,13 +232,16 @@ def evaluate_models(
         raise ValueError(f"models must name at least one contact model of {MODELS}; got none")
     for m in models:
         check_model(m)
+    from ..sources.gripper import check_gripper
+
+    gripper = check_gripper(gripper)  # a preset's name is refused with the call to make
     mu = gripper.mu if mu is None else mu
     if mu is None:
         raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")
     d = check_task(mesh, mass, mu, down)
     check_down(check_pose(pose, "gripper pose"), d)
     c = check_com(mesh.center_mass if com is None else com, mesh)
-    cache = LimitSurfaceCache() if cache is None else cache
+    cache = LimitSurfaceCache.check(cache)
     cuts = CutStore() if cuts is None else cuts
     task = {"mu": mu, "mass": mass, "com": c, "down": d, "cache": cache, "cuts": cuts, "seed": seed}
     t0 = time.perf_counter()

@@ -33,7 +33,14 @@ NORMS = ("linf", "l1")
 
 def check_wrench(w, name: str = "w_ext") -> np.ndarray:
     """(6,) finite float wrench or a ValueError saying what was wrong."""
-    arr = np.asarray(w, dtype=float)
+    try:
+        arr = np.asarray(w, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{name} must be a (6,) wrench [f_x, f_y, f_z, τ_x, τ_y, τ_z] of numbers [N, N·m]; got "
+            f"{type(w).__name__} {w!r} — pass an array, e.g. np.array([0, 0, -2.9, 0, 0, 0]) for 2.9 N "
+            "along -z"
+        ) from None
     if arr.shape != (6,):
         raise ValueError(
             f"{name} must be a (6,) wrench [f_x, f_y, f_z, τ_x, τ_y, τ_z]; got shape {arr.shape}"
@@ -41,6 +48,22 @@ def check_wrench(w, name: str = "w_ext") -> np.ndarray:
     if not np.isfinite(arr).all():
         raise ValueError(f"{name} must be finite; got {arr.tolist()} (NaN/inf from an upstream computation?)")
     return arr
+
+
+def check_resist_tol(tol) -> float:
+    """The residual band of "resisted" (``tol`` of :func:`~.resistance.resists` and the other
+    entry points): ``config.TOL.resist_rtol`` for None, else checked by that field's own rule
+    (:func:`workbench.config.check_value`: a relative residual in (0, 0.1], not newtons) — the
+    one rule of the band, whether set in the config or passed to a call."""
+    from .. import config
+
+    if tol is None:
+        return config.TOL.resist_rtol
+    return config.check_value(
+        "resist_rtol",
+        tol,
+        "tol (the residual band of 'resisted': relative to the contacts' capacity, not in newtons)",
+    )
 
 
 def check_contacts(contacts) -> list[ContactSet]:

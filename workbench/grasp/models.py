@@ -140,6 +140,28 @@ def check_model(name: str) -> str:
     return name
 
 
+def _check_n_wrenches(n_wrenches) -> int:
+    """``n_wrenches`` of the 6DFW sample: an even integer >= 2, since the thesis sampler
+    (§3.3.2, :func:`~workbench.twists.sample_twists_thesis`) draws ``n`` screw motions about
+    Fibonacci axes and the ``n`` translations along the same axes, ``2n`` wrenches."""
+    import numbers
+
+    if (
+        isinstance(n_wrenches, bool)
+        or not isinstance(n_wrenches, numbers.Integral)
+        or n_wrenches < 2
+        or n_wrenches % 2
+    ):
+        odd = isinstance(n_wrenches, numbers.Integral) and not isinstance(n_wrenches, bool) and n_wrenches > 2
+        even = f" — pass {n_wrenches - 1} or {n_wrenches + 1}" if odd else " — pass e.g. the default 600"
+        raise ValueError(
+            "n_wrenches must be an even integer >= 2 (the number of 6DFW samples: the thesis sampler "
+            "draws n screw motions and the n translations along the same axes, 2n wrenches, so an odd "
+            f"count cannot be met); got {n_wrenches!r}{even}"
+        )
+    return int(n_wrenches)
+
+
 def contact_sets(
     profile: ContactProfile,
     name: str,
@@ -161,13 +183,26 @@ def contact_sets(
     no 6DFW sampling except for ``6dfw``/``3dls_nonplanar``, no quartic unless asked.
     cache : limit surfaces of the same normalised profile are reused (and scaled by F).
     M : linearisation directions of 6DLS/6DFC/3DLS (their ``representation="inner"|"outer"``);
-    n_edges : friction-cone polygon of point-like contacts; n_wrenches : 6DFW samples;
+    n_edges : friction-cone polygon of point-like contacts; n_wrenches : 6DFW samples of
+    ``6dfw``/``3dls_nonplanar``, an even number >= 2 (n screw motions + n translations);
     reach_triangles : REACH element clusters; quartic : the quartic limit surface for
     ``6dls``/``planar``; seed : sampler seed; sampler : training wrenches of the limit
     surfaces (6DLS, 6DFC, planar; default ``SamplerSpec()``, see its kinds).
     """
     check_model(name)
-    cache = cache if cache is not None else LimitSurfaceCache()
+    if not isinstance(profile, ContactProfile):
+        fix = (
+            "ContactProfile(**profile)"
+            if isinstance(profile, dict) and {"centers", "normals", "areas", "pressures"} <= set(profile)
+            else "ContactProfile(centers, normals, areas, pressures) or a source in workbench.sources"
+        )
+        raise ValueError(
+            f"profile must be a ContactProfile (one jaw's contact: element centres, normals, areas and "
+            f"pressures); got {type(profile).__name__} — build one with {fix}"
+        )
+    cache = LimitSurfaceCache.check(cache)
+    if name in ("6dfw", "3dls_nonplanar"):
+        _check_n_wrenches(n_wrenches)
     if name == "6dls_quartic":
         quartic = True
     spec = ModelSpec(model="quartic") if quartic else ModelSpec(method="sdp")

@@ -18,6 +18,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..seeds import check_seed
+from .contacts import check_object_point
 from .gws import check_contacts, check_mu
 from .resistance import REPRESENTATIONS, CutStore, resists
 
@@ -111,23 +112,44 @@ def check_object_mass(mass, mesh=None) -> float:
 
 def check_com(com, mesh=None) -> np.ndarray:
     """``com`` (3,) [m] as a float array, refused when it is not three finite numbers or lies
-    farther than the object's own size outside ``mesh``'s bounding box (a centre in millimetres,
-    or 20 cm off a 3 cm cube) — the one rule of a centre of mass for :func:`~.evaluate.evaluate_grasp`
-    and :func:`~.gripper_eval.evaluate_models`."""
+    outside ``mesh``'s convex hull by more than ``config.TOL.com_hull_rtol`` of the object's
+    largest bounding-box side: a centre of mass is a weighted mean of the object's points, so it
+    lies in their convex hull (a com in millimetres, or 30 mm off an 80 mm box, cannot be) — the
+    one rule of a centre of mass for :func:`~.evaluate.evaluate_grasp`,
+    :func:`~.gripper_eval.evaluate_models` and the engine trials.  The distance outside is
+    measured to the hull's facet planes (the largest signed offset: exact off a facet, a lower
+    bound off an edge or corner, so the rule errs towards accepting)."""
+    from workbench import config
+
     try:
         c = np.asarray(com, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"com must be the centre of mass, (3,) numbers [m]; got {com!r}") from None
     if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"com must be the centre of mass, (3,) finite numbers [m]; got {com!r}")
-    if mesh is not None:
-        lo, hi = np.asarray(mesh.bounds, float)
-        ext = float((hi - lo).max())
-        if ((c < lo - ext) | (c > hi + ext)).any():
-            raise ValueError(
-                f"com {c.tolist()} lies far outside the object's bounding box "
-                f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)?"
-            )
+    if mesh is None:
+        return c
+    lo, hi = np.asarray(mesh.bounds, float)
+    ext = float((hi - lo).max())
+    if ((c < lo - ext) | (c > hi + ext)).any():  # farther than the object's own size: a unit
+        raise ValueError(
+            f"com {c.tolist()} lies far outside the object's bounding box "
+            f"{lo.tolist()}–{hi.tolist()} [m]: is it in another unit than the mesh (metres)? "
+            f"A centre of mass lies inside the object (pass e.g. mesh.center_mass = "
+            f"{np.round(np.asarray(mesh.center_mass, float), 6).tolist()} for a uniform density)"
+        )
+    hull = mesh.convex_hull
+    outside = float(np.max(np.einsum("ij,ij->i", hull.face_normals, c - hull.triangles[:, 0])))
+    slack = config.TOL.com_hull_rtol * ext
+    if outside > slack:
+        raise ValueError(
+            f"com {c.tolist()} lies {outside * 1e3:.3g} mm outside the object's convex hull (its "
+            f"bounding box {np.round(lo, 6).tolist()}–{np.round(hi, 6).tolist()} m), more than "
+            f"config.TOL.com_hull_rtol = {config.TOL.com_hull_rtol:g} x its size {ext * 1e3:.3g} mm: a "
+            f"centre of mass is a weighted mean of the object's points and lies inside their hull — "
+            f"check the com's frame (the mesh's) and its coordinates, or pass mesh.center_mass = "
+            f"{np.round(np.asarray(mesh.center_mass, float), 6).tolist()} for a uniform density"
+        )
     return c
 
 
@@ -137,7 +159,9 @@ def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:
     :func:`~.evaluate.evaluate_grasp`: ``|f|`` by the plausible "weight" range, ``|τ|`` by the
     "torque" range and, with a force, the lever ``|τ|/|f|`` it implies (the load's line of action
     at least that far from the origin) by the "lever" range — a torque in N·mm beside a force
-    in N puts a 2.9 N load 10 m away.  A lower-level call (``resists``, ``min_grasp_force``)
+    in N puts a 2.9 N load 10 m away (refused above the range, warned with an
+    :class:`~workbench.plausible.ImplausibleWarning` above its usual 0.3 m: a load half a metre
+    off a hand-held object).  A lower-level call (``resists``, ``min_grasp_force``)
     takes any finite wrench (a normalised direction, a unit test's)."""
     from workbench.plausible import RANGES, check
 
@@ -153,6 +177,13 @@ def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:
             f"{tau / f:.3g} m from the object origin (a lever above {RANGES['lever'].hi:g} m): the "
             f"torque is probably in N·mm — pass {w[3:] * 1e-3} N·m — or the origin is not on the object"
         )
+    if f > 0 and tau / f > RANGES["lever"].usual[1]:  # within the range, above its usual part: warns
+        check(
+            "lever",
+            tau / f,
+            f"{name}'s lever |τ|/|f| (|τ| = {tau:g} N·m over |f| = {f:g} N: a torque in N·mm, or an "
+            "origin off the object?)",
+        )
     check("torque", tau, f"{name}'s torque |τ| [N·m]")
     return w
 
@@ -164,20 +195,8 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     taken for grams); com : (3,) centre of mass [m], within ``TOL.max_object_extent_m`` of
     the origin (farther is taken for millimetres); down : (3,) gravity direction.
     """
-    from workbench import config
-
-    tol = config.TOL  # read at call time
     check_mass(mass)
-    c = np.asarray(com, float)
-    if c.shape != (3,) or not np.isfinite(c).all():
-        raise ValueError(f"com must be a finite (3,) point [m]; got shape {c.shape}: {c.tolist()}")
-    if np.linalg.norm(c) > tol.max_object_extent_m:
-        raise ValueError(
-            f"com must be in metres, in the object's frame; got {c.tolist()}, "
-            f"{np.linalg.norm(c):.3g} m from the origin, beyond the largest object "
-            f"(config.TOL.max_object_extent_m = {tol.max_object_extent_m:g} m) — in millimetres? "
-            f"pass {np.round(c / 1e3, 12).tolist()}"
-        )
+    c = check_object_point(com, "com", "the centre of mass [m]")
     d = np.asarray(down, float)
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(f"down must be a non-zero (3,) direction; got {d.tolist()}")

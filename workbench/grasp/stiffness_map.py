@@ -53,7 +53,13 @@ def check_stiffness(values, n: int, where: str, *, fix: str, rigid: str = "np.in
     """(n,) float stiffness [N/m], one per ``where`` ("point", "contact"), each > 0 (``rigid``
     says how a rigid one is written), or a ``ValueError`` naming the shape or the value
     and ``fix`` (how to get the right shape)."""
-    s = np.asarray(values, dtype=float)
+    try:
+        s = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"stiffness must be (n,) = ({n},) numbers, one value per {where} [N/m]; got "
+            f"{type(values).__name__} ({fix})"
+        ) from None
     if s.shape != (n,):
         raise ValueError(
             f"stiffness must be (n,) = ({n},), one value per {where} [N/m]; got shape {s.shape} ({fix})"

@@ -33,7 +33,7 @@ from .resistance import CutStore, min_grasp_force
 from .resistance.api import _check as _check_question
 from .resistance.program import assemble
 from .resistance.solvers import MinLP
-from .stiffness_map import check_stiffness
+from .stiffness_map import StiffnessMap, check_stiffness
 
 log = logging.getLogger(__name__)
 
@@ -63,7 +63,11 @@ def _check_stiffness(stiffness, n: int) -> np.ndarray:
 
 
 def _check_forces(forces) -> np.ndarray:
-    f = np.asarray(forces, dtype=float)
+    """(N,) normal forces [N]: finite, >= 0 (a contact may carry none)."""
+    try:
+        f = np.asarray(forces, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"forces must be (N,) normal forces [N], numbers; got {forces!r}") from None
     if f.ndim != 1:
         raise ValueError(f"forces must be (N,) normal forces [N]; got shape {f.shape}")
     bad = ~np.isfinite(f) | (f < 0)
@@ -92,12 +96,21 @@ def displacements(forces, stiffness, eps: float | None = None) -> np.ndarray:
 def work(forces, stiffness, eps: float | None = None) -> float:
     """``W = Σ_i f_i (f_i / s_i + ε)`` [J] (thesis Eq. 4.5).
 
-    forces : (N,) float — normal forces [N], finite, >= 0.
+    forces : (N,) float — normal forces [N], finite, >= 0; the largest judged by the jaw-force
+        range (:data:`workbench.plausible.RANGES` ``"jaw_force"``, hard limits only: a contact may
+        carry a few mN), so 5000 given for 5 N is refused as millinewtons.
+        (:func:`displacements` takes any such forces: the building block of a computed answer.)
     stiffness : (N,) float — object stiffness at each contact [N/m], > 0; ``np.inf``
         for a rigid contact (its displacement is ε).
     eps : ε [m], >= 0; None reads ``config.DEFAULTS.work_eps``.
     """
-    return float(np.asarray(forces, dtype=float) @ displacements(forces, stiffness, eps))
+    f = _check_forces(forces)
+    if f.size and f.max() > 0:
+        from ..plausible import check
+
+        k = int(np.argmax(f))
+        check("jaw_force", float(f[k]), f"forces[{k}] (a contact's normal force [N])", warn=False)
+    return float(f @ displacements(f, stiffness, eps))
 
 
 def _quality(x, x_max, name: str, max_name: str):
@@ -189,8 +202,9 @@ def minimal_work(
         a 6DLS of each jaw's REACH profile).
     w_ext : (6,) disturbance wrench [N, N·m], object frame.
     mu : friction coefficient.
-    stiffness : (N,) float — object stiffness at each contact [N/m], ``np.inf`` rigid
-        (e.g. a :class:`~.stiffness_map.StiffnessMap` at the contacts' points).
+    stiffness : (N,) float — object stiffness at each contact [N/m], ``np.inf`` rigid; or a
+        :class:`~.stiffness_map.StiffnessMap`, evaluated at the contacts' points ``c.t`` (each
+        contact's origin: the pressure centre of a 6DLS).
     eps : ε of Eq. 4.5 [m]; None reads ``config.DEFAULTS.work_eps``.
     representation : "outer" (default: the thesis's ``C_outer``, Eq. 3.28, an LP) or
         "model" (the limit surfaces themselves: an ellipsoid as a second-order cone);
@@ -263,7 +277,7 @@ def _minimal_work_many(contacts, wrenches, mu, stiffness, eps, representation, c
     so nothing is reused there)."""
     e = _eps(eps)
     contacts = check_contacts(contacts)
-    s = _check_stiffness(stiffness, len(contacts)).copy()
+    s = _check_stiffness(_at_contacts(stiffness, contacts), len(contacts)).copy()
     out: list[MinimalWork] = []
     seen: dict[bytes, MinimalWork] = {}
     lp: _MinForceLP | None = None
@@ -291,6 +305,17 @@ def _minimal_work_many(contacts, wrenches, mu, stiffness, eps, representation, c
         out.append(_result(lp.forces(w), s.copy(), e, "highs", representation, (), True))
         seen[key] = out[-1]
     return out
+
+
+def _at_contacts(stiffness, contacts) -> np.ndarray:
+    """``stiffness`` as given, or a :class:`~.stiffness_map.StiffnessMap` evaluated at the
+    contacts' origins ``c.t`` (N,)."""
+    if not isinstance(stiffness, StiffnessMap):
+        return stiffness
+    points = np.array([c.t for c in contacts])
+    s = stiffness(points)
+    log.debug("minimal work: the stiffness map at the %d contact points: %s N/m", len(points), s)
+    return s
 
 
 def _result(forces, s, e, solver, representation, fallbacks, converged) -> MinimalWork:

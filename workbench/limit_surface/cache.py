@@ -14,9 +14,11 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import os
 from collections import Counter
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -113,12 +115,52 @@ def _hash_arrays(*arrays: np.ndarray) -> hashlib._Hash:
 
 
 class LimitSurfaceCache:
-    """In-memory (and optionally on-disk) cache of fitted limit surfaces."""
+    """In-memory (and optionally on-disk) cache of fitted limit surfaces.
+
+    directory : where fitted surfaces are kept as ``<key>.npz`` (made when the first is
+        written); None: in memory only.  A path that exists as a file is refused here.
+    """
 
     def __init__(self, directory: str | Path | None = None) -> None:
         self._mem: dict[str, LimitSurfaceModel] = {}
+        if directory is not None and not isinstance(directory, (str, os.PathLike)):
+            raise ValueError(
+                f"directory must be a path (str or pathlib.Path) or None; got {type(directory).__name__}"
+            )
         self.directory = None if directory is None else Path(directory)
+        if self.directory is not None:
+            # the first fit would fail on writing (FileExistsError) after the work is done
+            blocked = next((q for q in (self.directory, *self.directory.parents) if q.exists()), None)
+            if blocked is not None and not blocked.is_dir():
+                what = (
+                    "is a file"
+                    if blocked == self.directory
+                    else f"cannot be made: {str(blocked)!r} is a file"
+                )
+                raise ValueError(
+                    f"LimitSurfaceCache directory must be a directory path; got {str(self.directory)!r}, "
+                    f"which {what}, not a directory — pass a directory (it is made when the first "
+                    "surface is written), e.g. the file's folder"
+                )
         self.stats: Counter = Counter()
+
+    @staticmethod
+    def check(cache: Any, name: str = "cache") -> LimitSurfaceCache:
+        """``cache`` if it is a :class:`LimitSurfaceCache`, a fresh in-memory one for None, else a
+        ValueError naming the class (a path is not a cache: ``LimitSurfaceCache(path)`` keeps the
+        surfaces there) — the one rule of a ``cache=`` argument."""
+        if cache is None:
+            return LimitSurfaceCache()
+        if isinstance(cache, LimitSurfaceCache):
+            return cache
+        fix = (
+            f"pass LimitSurfaceCache({str(cache)!r}) to keep the limit surfaces in that directory"
+            if isinstance(cache, (str, os.PathLike))
+            else "pass a LimitSurfaceCache() (shared across calls) or None"
+        )
+        raise ValueError(
+            f"{name} must be a LimitSurfaceCache or None; got {type(cache).__name__} {cache!r} — {fix}"
+        )
 
     @staticmethod
     def key(profile: ContactProfile, mu: float, sampler: SamplerSpec, spec: ModelSpec) -> str:

@@ -39,29 +39,24 @@ from workbench.fem.pad import CondensedPad, PadGeometry, condense_pad
 
 from ..profile import ContactProfile, ProfileSource
 from ..units import closed_mesh
-from .jaws import check_grasp, check_jaw_force, jaw_frame, with_axis_force
+from .jaws import check_direction, check_grasp, check_jaw_force, jaw_frame, with_axis_force
 
 log = logging.getLogger(__name__)
 
-__all__ = ["fem_jaw_profile", "fem_jaw_profiles", "jaw_rotation"]
+__all__ = ["check_jaw_reaches", "fem_jaw_profile", "fem_jaw_profiles", "jaw_rotation"]
 
 
 def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
     """(3, 3) rotation whose columns are the pad's x, y, z axes in the object frame:
     z = ``approach`` (unit), y = ``up`` made perpendicular to it, x = y × z.
 
-    Raises ``ValueError`` for a zero or non-finite approach, or ``up`` parallel to it.
+    Raises ``ValueError`` for a zero or non-finite approach or up (:func:`~.jaws.check_direction`),
+    or ``up`` parallel to the approach.
     """
-    a = np.asarray(approach, float)
-    u = np.asarray(up, float)
-    if a.shape != (3,) or u.shape != (3,) or not (np.isfinite(a).all() and np.isfinite(u).all()):
-        raise ValueError(f"approach and up must be finite (3,) vectors; got {approach!r}, {up!r}")
-    na = float(np.linalg.norm(a))
-    if not na > 0:
-        raise ValueError(f"approach must be a non-zero direction (into the object); got {approach!r}")
-    ez = a / na
-    # up within 1e-6 rad of the approach cannot orient the jaw (1e-300: a zero up-vector is refused too)
-    if not np.linalg.norm(u - (u @ ez) * ez) > 1e-6 * max(float(np.linalg.norm(u)), 1e-300):
+    ez = check_direction(approach, "approach", "the jaw's closing direction, into the object")
+    u = check_direction(up, "up", "the pad's length direction, across the approach")
+    # up within 1e-6 rad of the approach cannot orient the jaw
+    if not np.linalg.norm(u - (u @ ez) * ez) > 1e-6:
         raise ValueError(
             f"up {up!r} is parallel to the approach {approach!r}: the pad's long side is undefined — "
             "give an up direction across the approach"
@@ -122,7 +117,9 @@ def fem_jaw_profile(
     for readings up to what the layer reaches on this contact (grasp analysis refuses to scale
     it beyond, and warns when it is scaled far from ``force``: the contact grows with force).
     Raises ``ValueError`` for a bad mesh, a non-positive force, a jaw that touches
-    nothing, or a force the layer cannot reach before its rigid back meets the object.
+    nothing (:func:`check_jaw_reaches`: a point far outside the object, e.g. in millimetres, or an
+    approach pointing away from the object at the point), or a force the layer cannot reach before
+    its rigid back meets the object.
     """
     from scipy.optimize import brentq
 
@@ -132,6 +129,7 @@ def fem_jaw_profile(
     if p.shape != (3,) or not np.isfinite(p).all():
         raise ValueError(f"point must be a finite (3,) position [m]; got {point!r}")
     R = jaw_rotation(approach, up)
+    check_jaw_reaches(mesh, p, R[:, 2])  # before the pad is condensed
     if pad is None:
         pad = condense_pad(
             check_pad_geometry(geometry or PadGeometry()), material or Material(), cache_dir=cache_dir
@@ -180,6 +178,41 @@ def fem_jaw_profile(
     # the pad reaches f_hi here: beyond it a linearly scaled profile describes no real contact
     source = ProfileSource("fem_pad", force, (0.0, f_hi), linear=False)
     return with_axis_force(prof.transformed(R, posed.t), R[:, 2], force).with_source(source)
+
+
+def check_jaw_reaches(mesh, point: np.ndarray, approach: np.ndarray) -> None:
+    """ValueError unless a jaw moving along ``approach`` (3,) unit can meet the object ``mesh``
+    [m] at ``point`` (3,) [m]: ``point`` lies within the object's own size of its bounding box
+    (:func:`workbench.units.far_from_object`: a point in millimetres is named as one), and the
+    object's surface nearest to it faces the jaw, not away from it.
+
+    The jaw sees only faces whose outward normal ``n`` has ``n · approach < 0`` (the one-sided
+    :class:`~workbench.fem.obstacles.MeshObstacle` it presses); a point whose nearest face has
+    ``n · approach > 0`` is on the object's far side from the jaw — an approach reversed, pointing
+    out of the object there — and the pad, started outside the object, would press the opposite
+    face instead, a profile at another place than the one asked for.
+    """
+    from ..units import far_from_object
+
+    far = far_from_object(point, mesh.bounds)
+    if far is not None:
+        raise ValueError(f"point {far}")
+    _, _, face = mesh.nearest.on_surface(point[None, :])
+    n = np.asarray(mesh.face_normals[int(face[0])], float)
+    # a face along the approach (n · approach = 0: a box's side at the edge of the face pressed)
+    # is round-off away from 0; only a face turned away from the jaw is refused
+    if float(n @ approach) > 1e-9:
+
+        def shown(v: np.ndarray) -> list:  # rounded, without negative zeros
+            return (np.round(v, 3) + 0.0).tolist()
+
+        raise ValueError(
+            f"approach {shown(approach)} points away from the object at point "
+            f"{np.round(point, 4).tolist()}: the surface there faces {shown(n)} (its outward "
+            "normal), so a jaw at the point moving along the approach touches nothing on this side (the "
+            "pad would press the object's far side) — pass the direction from the jaw into the object, "
+            f"e.g. approach = -normal = {shown(-n)} (jaw 2 of a grasp approaches along -axis)"
+        )
 
 
 def check_pad_geometry(geometry: PadGeometry) -> PadGeometry:

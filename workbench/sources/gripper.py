@@ -39,6 +39,7 @@ __all__ = [
     "PadShape",
     "SILICONE_MODULUS_PA",
     "as_polygon",
+    "check_gripper",
     "check_rigid",
     "gripper_from_yaml",
     "points_in_polygon",
@@ -519,6 +520,23 @@ class Gripper:
 # ---------------------------------------------------------------- YAML (Dex-Net / REACH format)
 
 
+def check_gripper(gripper) -> Gripper:
+    """``gripper`` if it is a :class:`Gripper`, else a ValueError naming what to pass — the one
+    rule of every call that takes a gripper (``evaluate_gripper``, ``evaluate_models``,
+    ``simulate_gripper``).  A preset's name is not taken for it: the presets are functions that
+    build one (``yumi()``), and another gripper comes from its yaml (:func:`gripper_from_yaml`)."""
+    if isinstance(gripper, Gripper):
+        return gripper
+    name = type(gripper).__name__
+    fix = (
+        f"pass {gripper}() (workbench.sources.gripper.{gripper}), the preset it names"
+        if isinstance(gripper, str) and gripper in _PRESETS
+        else "build one: yumi(), gripper_from_yaml(path) or Gripper(...)"
+    )
+    got = f"{gripper!r} ({name})" if isinstance(gripper, (str, int, float)) else f"a {name}"
+    raise ValueError(f"gripper must be a workbench.sources.gripper.Gripper (e.g. yumi()); got {got} — {fix}")
+
+
 def _read_yaml(path) -> dict:
     import yaml
 
@@ -643,3 +661,7 @@ def yumi(pad: str = "polygon") -> Gripper:
             f"pad must be 'polygon' (REACH's area-contact polygon) or 'mesh' (round_pad.obj); got {pad!r}"
         )
     return g
+
+
+#: the gripper presets, by the name a user might pass instead of calling one
+_PRESETS = {"yumi": yumi}

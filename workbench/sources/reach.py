@@ -252,10 +252,13 @@ def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing
     faces = mesh.faces[near]
     what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
     if len(faces) == 0:
+        from ..units import far_from_object
+
+        far = far_from_object(c, mesh.bounds)
         return (
             f"{what} around {np.round(c, 4).tolist()} covers no part of the object "
-            f"within [{lo:.4g}, {hi:.4g}] m along the approach {np.round(a, 3).tolist()}: check center, "
-            "approach (into the object) and units"
+            f"within [{lo:.4g}, {hi:.4g}] m along the approach {np.round(a, 3).tolist()}: "
+            + ("check center, approach (into the object) and units" if far is None else f"center {far}")
         )
     fine = _fine_surface(mesh, max_edge, build=False)
     if fine is None:

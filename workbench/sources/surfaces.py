@@ -14,6 +14,8 @@ cell's Gauss points *are* a tiny contact profile.
 from __future__ import annotations
 
 import logging
+import math
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
@@ -425,9 +427,18 @@ def _effective_tol(surface: ParametricSurface, tol: float, setting: str) -> tupl
     )
 
 
-def _check_rtol(rtol: Any, default: str) -> float:
-    if isinstance(rtol, bool) or not (np.isscalar(rtol) and np.isfinite(rtol) and rtol > 0):
-        raise ValueError(f"rtol must be a finite number > 0 (or None: config.TOL.{default}); got {rtol!r}")
+def check_rtol(rtol: Any, what: str = "rtol", default: str | None = None) -> float:
+    """``rtol`` as a float if it is a relative tolerance of the surface quadrature, a finite number
+    > 0, else ValueError naming ``what`` (an argument, or an experiment's config key) — the one
+    rule of that quantity (``default``: the ``config.TOL`` field that None stands for, named in
+    the message).  0 can never be met: every integral would refine to its cell cap."""
+    ok = isinstance(rtol, numbers.Real) and not isinstance(rtol, bool)
+    if not (ok and math.isfinite(rtol) and rtol > 0):
+        none = "" if default is None else f" (or None: config.TOL.{default})"
+        raise ValueError(
+            f"{what} must be a relative tolerance > 0{none}, a finite number such as 1e-6 (0 can never be "
+            f"met: the quadrature would refine to its cell cap); got {rtol!r}"
+        )
     return float(rtol)
 
 
@@ -441,7 +452,7 @@ def surface_moments(surface: ParametricSurface, rtol: float | None = None) -> Su
     if rtol is None:
         rtol, setting = config.TOL.moments_rtol, f"config.TOL.moments_rtol = {config.TOL.moments_rtol:g}"
     else:
-        rtol = _check_rtol(rtol, "moments_rtol")
+        rtol = check_rtol(rtol, default="moments_rtol")
         setting = f"surface_moments(rtol={rtol:g})"
     # resolved before the cache: a changed tolerance is another entry, never a stale one
     return _surface_moments(surface, *_effective_tol(surface, rtol, setting))
@@ -502,7 +513,7 @@ def surface_wrenches(
     if rtol is None:
         rtol, setting = config.TOL.quadrature_rtol, "config.TOL.quadrature_rtol"
     else:
-        rtol, setting = _check_rtol(rtol, "quadrature_rtol"), "surface_wrenches(rtol=...)"
+        rtol, setting = check_rtol(rtol, default="quadrature_rtol"), "surface_wrenches(rtol=...)"
     safety = config.TOL.quadrature_safety
     target, setting = _effective_tol(
         surface, safety * rtol, f"{setting} = {rtol:g} x config.TOL.quadrature_safety = {safety:g}"

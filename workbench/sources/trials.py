@@ -185,15 +185,28 @@ def read_trials(path, *, repair_atol: float = 0.02) -> Trials:
     repair_atol : a ``pose`` or ``grasp`` rotation with ``max |RᵀR − I|`` up to this is made
         orthonormal keeping its world-z row (logged as a warning); beyond it, ValueError.
 
-    Raises ValueError for a missing file or key, a pose that is not 4×4 or not rigid, a
-    non-boolean ``result`` or several objects in one file.  Logs a warning if the trials are not
-    listed in blocks of one grasp's repeats or one grasp's gripper poses differ.
+    Raises ValueError for a missing file, one that is not JSON text (a mesh given by mistake), a
+    missing key, a pose that is not 4×4 or not rigid, a non-boolean ``result`` or several objects
+    in one file.  Logs a warning if the trials are not listed in blocks of one grasp's repeats or
+    one grasp's gripper poses differ.
     """
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"no such trial file: {path}")
-    with path.open() as f:
-        rows = json.load(f)
+    try:
+        with path.open(encoding="utf-8") as f:
+            rows = json.load(f)
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        got = (
+            "a binary file (not UTF-8 text: a mesh or an archive?)"
+            if isinstance(exc, UnicodeDecodeError)
+            else f"text that is not JSON ({exc.msg} at line {exc.lineno}, column {exc.colno}; truncated?)"
+        )
+        raise ValueError(
+            f"{path} is not a trial file: expected the REACH format, a JSON list of trials (dicts with "
+            f"keys {list(_KEYS)}; e.g. default_trials_path()); got {got} — pass the trials' .json file "
+            "(the object's mesh goes to trimesh.load)"
+        ) from None
     if not isinstance(rows, list) or not rows:
         raise ValueError(f"{path}: expected a non-empty JSON list of trials (dicts with keys {list(_KEYS)})")
     objs, grasp, rep, success, stable, P, G = [], [], [], [], [], [], []

@@ -17,7 +17,7 @@ import logging
 import numpy as np
 
 from ... import config
-from ..gws import check_contacts, check_mu, check_wrench, squeeze_check
+from ..gws import check_contacts, check_mu, check_resist_tol, check_wrench, squeeze_check
 from .cuts import CutStore
 from .program import REPRESENTATIONS, Program, add_cuts, assemble, contact_violations
 from .result import MinimalForce, Resistance
@@ -67,14 +67,18 @@ def resists(
         the thesis's QP); "inner" — the vertices (Eq. 3.27, the GWS of Eq. 4.2).
     cuts : a :class:`CutStore` shared between calls (cuts of a model are valid for
         every pose, μ and force); a fresh one per call if None.
-    solver : dense QP solver for polyhedral programs (``config.DEFAULTS.qp_solver``).
-    tol : residual threshold (``config.TOL.resist_rtol``).
+    solver : dense QP solver for polyhedral programs (``config.DEFAULTS.qp_solver``): "auto" or
+        one of ``qpsolvers.available_solvers`` (another name is refused before solving).
+    tol : residual threshold, relative to the contacts' capacity, in (0, 0.1]
+        (``config.TOL.resist_rtol``; the same rule as that field).
 
     Known-force contacts take their force from the interval of
     :meth:`ContactSet.force_bounds` (a sensor reading's accuracy), cones from ``[0, f_max]``.
     """
     contacts, w, mu = _check(contacts, w_ext, mu, representation)
-    tol = config.TOL.resist_rtol if tol is None else float(tol)
+    tol = check_resist_tol(tol)
+    if solver is not None:  # a misspelt name would fail as a solver and fall back: refuse it by name
+        config.check_value("qp_solver", solver, "solver (the dense QP solver of polyhedral programs)")
     cuts = CutStore() if cuts is None else cuts
     fallbacks: list[str] = []
     prog = assemble(contacts, w, mu, representation, cuts)
@@ -199,7 +203,8 @@ def min_grasp_force(
         and "sum" this is the thesis's program over ``C_outer``.
     representation : as in :func:`resists` ("model": second-order cones for
         ellipsoids, cutting planes for quartics).
-    f_max : per-contact force cap for "sum" [N].
+    f_max : per-contact force cap for "sum" [N]; refused with "scale", whose answer is a factor
+        on the contacts' given forces (compare ``result.forces`` with a cap there).
 
     The balance is accepted to the residual band of :func:`resists`
     (``config.TOL.resist_rtol`` of the capacity at the contacts' given forces), so
@@ -215,6 +220,13 @@ def min_grasp_force(
         raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
     if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
         raise ValueError(f"f_max must be a positive force [N] or None; got {f_max}")
+    if f_max is not None and objective == "scale":
+        raise ValueError(
+            f"f_max caps each contact's force under objective='sum' only (every force a free variable "
+            f"in [0, f_max]); got f_max={f_max!r} with objective='scale', whose answer is a factor on "
+            "the contacts' given forces and takes no cap — pass objective='sum' to cap them, or drop "
+            "f_max and compare result.forces with your cap"
+        )
     cuts = CutStore() if cuts is None else cuts
     fallbacks: list[str] = []
     rounds = 0

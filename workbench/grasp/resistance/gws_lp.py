@@ -7,8 +7,15 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from ... import config
-from ..gws import NORMS, capacity_scaling, check_contacts, check_mu, check_wrench, vertex_blocks
+from ..gws import (
+    NORMS,
+    capacity_scaling,
+    check_contacts,
+    check_mu,
+    check_resist_tol,
+    check_wrench,
+    vertex_blocks,
+)
 from .api import resists
 from .result import Resistance
 
@@ -33,7 +40,7 @@ def resists_lp(contacts, w_ext, mu: float, norm: str = "linf", tol: float | None
     w = check_wrench(w_ext)
     contacts = check_contacts(contacts)
     check_mu(mu)
-    tol = config.TOL.resist_rtol if tol is None else float(tol)
+    tol = check_resist_tol(tol)
     V = np.vstack(vertex_blocks(contacts, mu))  # the union of the contacts' sets
     D = capacity_scaling(V)
     n = len(V)
