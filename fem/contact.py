@@ -166,6 +166,13 @@ def face_gaps(geometry: PadGeometry, face_xy: np.ndarray, obstacle, delta: float
     h = geometry.thickness
     if not (np.isfinite(delta) and delta >= 0):
         raise ValueError(f"delta must be a non-negative jaw displacement [m]; got {delta}")
+    if not callable(getattr(obstacle, "signed_distance", None)):
+        # a name ("sphere") or a mesh where an obstacle object is expected
+        raise ValueError(
+            "obstacle must be an obstacle of workbench.fem.obstacles (Plane, Sphere, Cylinder, "
+            f"EllipticCylinder, MeshObstacle(mesh) for a trimesh); got {type(obstacle).__name__} "
+            f"{obstacle!r:.60}"
+        )
     check_plane_faces_pad(obstacle)
     X = np.column_stack([face_xy, np.full(face_xy.shape[0], h + delta)])
     d, nrm = obstacle.signed_distance(X)

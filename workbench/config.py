@@ -320,6 +320,12 @@ class Tolerances:
     # millimetres, or on the wrong side of an 80 mm box, is far beyond it.
     com_hull_rtol: float = 0.05
 
+    # An engine trial's grasp points p1, p2 must lie on the object's surface within this [m]
+    # (engine_trials: the pads start a 0.5 mm gap before them and close by force; a point 10 mm
+    # off the surface leaves a jaw closing on nothing, judged "touched nothing" only after the
+    # whole simulation).  A mesh's facets may cut a few tenths of a mm inside a round surface.
+    engine_grasp_point_max_offset_m: float = 2e-3
+
     # Largest closing of a linear wall squeeze, as a fraction of the object's width, before a
     # warning that the small-deflection model is stretched (fem.wall.squeeze; the nonlinear
     # wall follows larger ones).
@@ -718,6 +724,7 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "antipodal_max_deg": _real(0.0, hi=180.0),
     "max_plausible_mass_kg": _POS,
     "com_hull_rtol": _NONNEG,  # 0: exactly inside the mesh's hull
+    "engine_grasp_point_max_offset_m": _POS,
     "linear_closing_max_fraction": _POS,
     "grasp_axis_max_deg": _real(0.0, hi=180.0),
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max

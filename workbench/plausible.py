@@ -50,6 +50,9 @@ class Range:
     limit_field : a ``config.TOL`` field that replaces ``hi`` (read at call time).
     lo_field : a ``config.TOL`` field that replaces ``lo`` (read at call time).
     hi_open : ``hi`` itself refused too (a Poisson ratio of 0.5 makes the stiffness singular).
+    slip_margin : a slip is named only when it brings the value this factor inside the usual
+        range at both ends (1: anywhere in it) — a μ of 5 is a typo more often than 5 %, whose
+        0.05 sits at the usual range's edge.
     """
 
     name: str
@@ -63,6 +66,7 @@ class Range:
     limit_field: str | None = None
     hi_open: bool = False
     lo_field: str | None = None
+    slip_margin: float = 1.0
 
     def lower(self) -> float:
         """``lo``, or the config tolerance that sets it."""
@@ -130,6 +134,7 @@ RANGES: dict[str, Range] = {
         (("per cent", 1e-2),),
         "rubber on plastic or metal 0.3-1.2, silicone on glass up to ~1.5",
         lo_open=False,
+        slip_margin=2.0,
     ),
     "wall_thickness": Range(
         "wall thickness",
@@ -350,7 +355,7 @@ def _likely(r: Range, v: float, scale: float, unit: str) -> str:
     for slip, si in (*si_unit, *r.slips):
         if si == scale:  # the declared unit itself is no slip
             continue
-        if r.usual[0] <= v * si <= r.usual[1]:
+        if r.usual[0] * r.slip_margin <= v * si <= r.usual[1] / r.slip_margin:
             return f": probably in {slip} — pass {v * si / scale:.6g}" + (f" [{unit}]" if unit else "")
     return ""
 

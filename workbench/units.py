@@ -191,6 +191,18 @@ def check_closed(mesh: Any, what: str) -> None:
             f"NaN/inf (first: vertex {bad[0]}, {vertices[bad[0]].tolist()}) — fix the export or the "
             "computation that made them (a transform or scale with NaN?) before passing the mesh"
         )
+    from . import config
+
+    # flatness first: a solid squashed onto a plane (one axis scaled by 0) also fails the
+    # watertight test through its degenerate faces, which would hide the cause
+    ext = np.ptp(vertices, axis=0)
+    if ext.max() > 0 and ext.min() < config.TOL.min_mesh_aspect * ext.max():
+        raise ValueError(
+            f"{what} is flat: its bounding box is {ext.tolist()} (its units), the thinnest side "
+            f"{ext.min() / ext.max():.2g} of the longest (below config.TOL.min_mesh_aspect = "
+            f"{config.TOL.min_mesh_aspect:g}) — an object a gripper holds has a volume; check the "
+            "export (a surface instead of a solid?) or the scale of one axis"
+        )
     if not mesh.is_watertight:
         open_edges = len(trimesh.grouping.group_rows(mesh.edges_sorted, require_count=1))
         got = (
@@ -201,16 +213,6 @@ def check_closed(mesh: Any, what: str) -> None:
         raise ValueError(
             f"{what} is not watertight: it must be closed (inside and outside defined) but has "
             f"{got} — repair it first (trimesh.repair.fill_holes / fix_normals) or pass a closed mesh"
-        )
-    from . import config
-
-    ext = np.ptp(vertices, axis=0)
-    if ext.max() > 0 and ext.min() < config.TOL.min_mesh_aspect * ext.max():
-        raise ValueError(
-            f"{what} is flat: its bounding box is {ext.tolist()} (its units), the thinnest side "
-            f"{ext.min() / ext.max():.2g} of the longest (below config.TOL.min_mesh_aspect = "
-            f"{config.TOL.min_mesh_aspect:g}) — an object a gripper holds has a volume; check the "
-            "export (a surface instead of a solid?) or the scale of one axis"
         )
     volume = float(mesh.volume)  # signed: negative when the faces are wound inwards
     if not volume > 0:

@@ -14,11 +14,13 @@ object's mesh, μ, the grasp pose, the pad's size and material.
 Engine settings (:class:`EngineSettings`) are measured choices — cone, impratio, contact
 stiffness, time step, the pad's contact points — validated before the simulator judges anything
 (:mod:`.probes`: friction of a pulled block, a tilted plane, the creep of a held block, the
-torsion of a flat pad), each a test (``tests/test_engine_trials.py``). MuJoCo comes with the
+torsion of a flat pad; :mod:`.indentation`: the pad indented by a flat and spheres against our
+neo-Hookean FEM pad, on MuJoCo and on Drake), each a test (``tests/test_engine_trials.py``,
+``tests/test_engine_indentation.py``). MuJoCo comes with the
 ``peers`` extra; without it every call raises ``ImportError`` naming the fix.
 """
 
-from . import probes
+from . import indentation, probes
 from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
@@ -38,6 +40,7 @@ __all__ = [
     "TrialOutcome",
     "TrialPhases",
     "build_scene",
+    "indentation",
     "probes",
     "simulate_disturbance",
     "simulate_grasp",

@@ -108,7 +108,7 @@ def simulate_disturbance(
     )
     w = _check_wrench(wrench)
     _check_pad(force, pad, pad_E, up)
-    p1, p2, axis = _check_grasp(grasp)
+    p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
     inside = "" if conform else _starts_inside(mesh, faces, axis, up, pad)
     if inside:

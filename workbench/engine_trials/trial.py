@@ -100,10 +100,26 @@ class TrialOutcome:
     engine_warnings: dict = field(default_factory=dict)
 
 
-def _check_grasp(grasp: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _check_grasp(grasp: dict, mesh=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(p1, p2, axis) of ``grasp`` (``sources.jaws.check_grasp``'s rule), each point on the
+    surface of ``mesh`` within ``config.TOL.engine_grasp_point_max_offset_m``."""
+    import trimesh
+
+    from .. import config
     from ..sources.jaws import check_grasp
 
-    return check_grasp(grasp)
+    p1, p2, axis = check_grasp(grasp)
+    if mesh is not None:
+        _, dist, _ = trimesh.proximity.closest_point(mesh, np.array([p1, p2]))
+        tol = config.TOL.engine_grasp_point_max_offset_m
+        for name, d in zip(("p1", "p2"), dist, strict=True):
+            if d > tol:
+                raise ValueError(
+                    f"grasp point {name} is {d * 1e3:.3g} mm from the object's surface (at most "
+                    f"{tol * 1e3:g} mm, config.TOL.engine_grasp_point_max_offset_m): give the contact points "
+                    "on the surface, as antipodal_grasps does (a point in other units or off the object?)"
+                )
+    return p1, p2, axis
 
 
 def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings) -> tuple[str, str]:
@@ -350,7 +366,7 @@ def simulate_grasp(
         mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down, phases, settings
     )
     _check_pad(force, pad, pad_E, up)
-    p1, p2, axis = _check_grasp(grasp)
+    p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
     inside = _starts_inside(mesh, faces, axis, up, pad)
     if inside:

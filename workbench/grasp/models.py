@@ -201,8 +201,16 @@ def contact_sets(
             f"pressures); got {type(profile).__name__} — build one with {fix}"
         )
     cache = LimitSurfaceCache.check(cache)
-    if name in ("6dfw", "3dls_nonplanar"):
-        _check_n_wrenches(n_wrenches)
+    _check_n_wrenches(n_wrenches)  # refused whatever the model: a bad value is never right
+    if name not in ("6dfw", "3dls_nonplanar") and n_wrenches != 600:
+        # one set of keyword arguments for every model is a common loop, so no warning; the log
+        # says where the setting does not apply
+        log.info(
+            "n_wrenches=%d has no effect on %r: it sets the 6DFW samples of '6dfw' and "
+            "'3dls_nonplanar' only; a limit surface's training wrenches are sampler=SamplerSpec(n=...)",
+            n_wrenches,
+            name,
+        )
     if name == "6dls_quartic":
         quartic = True
     spec = ModelSpec(model="quartic") if quartic else ModelSpec(method="sdp")

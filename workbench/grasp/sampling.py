@@ -34,8 +34,11 @@ DROP_REASONS: dict[str, tuple[str, str]] = {
         "the line along the axis finds no far side to grasp",
         "check that the mesh is closed and its normals point outward",
     ),
-    "too_narrow": ("the jaw opening is below min_width", "a smaller min_width"),
-    "too_wide": ("the jaw opening exceeds max_width", "a larger max_width if the gripper opens that far"),
+    "too_narrow": ("the object is narrower across the grasp than min_width", "a smaller min_width"),
+    "too_wide": (
+        "the object is wider across the grasp than max_width",
+        "a larger max_width if the gripper opens that far",
+    ),
     "outside_cone": (
         "a contact normal lies outside the friction cone of the axis",
         "more candidates (max_samples), or a larger mu only if the materials' friction allows it",
