@@ -105,7 +105,14 @@ def press(
     # before a pad is built: a flipped plane presses nothing, an obstacle placed inside the layer
     # (Plane()'s default point, the pad's back) would hit the rigid back
     x, y, _ = geometry.axes()
-    face_gaps(geometry, np.array(np.meshgrid(x, y)).reshape(2, -1).T, obstacle, deltas[-1])
+    _, gaps, _ = face_gaps(geometry, np.array(np.meshgrid(x, y)).reshape(2, -1).T, obstacle, deltas[-1])
+    if gaps.min() > 0:
+        # the face advanced by the largest delta still misses the obstacle: every force is 0 N
+        raise ValueError(
+            f"the obstacle is {gaps.min():.3g} m beyond the pad's face even at the largest jaw "
+            f"displacement {deltas[-1]:.3g} m: nothing is pressed (0 N) — place it touching the face "
+            f"(in the pad frame the face is at z = h = {geometry.thickness:g} m) or give larger deltas"
+        )
     if fidelity == "nonlinear":
         from .nonlinear import NonlinearPad
 

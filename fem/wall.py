@@ -280,7 +280,13 @@ def _check_ring(radius, thickness) -> None:
     the ring's ``thickness`` [m] a plausible wall thinner than it."""
     from workbench.plausible import check
 
-    check("lever", radius, "radius (the ring's mid-surface radius [m])")
+    check(
+        "lever",
+        radius,
+        "radius (the ring's mid-surface radius [m])",
+        examples="bottles and cups 20-50 mm in radius",
+        named="ring radius",
+    )
     check("wall_thickness", thickness, "thickness")
     if thickness >= radius:
         raise ValueError(f"thickness {thickness!r} m must be below the radius {radius!r} m: a thin ring")

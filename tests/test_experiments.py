@@ -377,6 +377,29 @@ def test_sensitivity_engine_quick(tmp_path):
     assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(rows)
 
 
+def test_engine_validation_quick(tmp_path):
+    pytest.importorskip("mujoco")
+    assert main(["run", "engine-validation", "--quick", "--out", str(tmp_path), "--set", "workers=1"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    b = s["b_friction"]
+    # (b): Coulomb within 5 % (the ramp's own onset bias is a few per cent, never early)
+    assert 1.0 <= b["pulled_block"]["0.5/0.0"]["ratio"] < 1.05
+    assert b["tilted_block"]["0.5"]["ratio"] == pytest.approx(1.0, abs=0.05)
+    assert 0 <= b["creep_mm_per_s"]["0.5"] < 0.1  # held at half the slip load: creeps < 0.1 mm/s
+    # (c): the pad's spin onset against μ Σ N_i |r_i| of its own contact forces
+    assert s["c_torsion"]["ratio"] == pytest.approx(1.0, abs=0.1)
+    # (a): the sphere R 10 mm at 0.25 mm within 10 % of our neo-Hookean pad, its settings recorded
+    run = s["a_indentation"]["runs"]["sphere10/mujoco"]
+    assert s["a_indentation"]["passes"]["sphere10/mujoco"] and run["max_abs_error"] <= 0.10
+    assert s["d_shells"]["run"] is False
+    # (e): grasp 0 held in all 5 real repeats, 19 dropped in all 5; the scores are the rows'
+    e = s["e_reality"]
+    assert e["n_trials"] == 10 and e["real_failures"] == 5
+    held = {r["grasp"]: r["held"] for r in e["rows"]}
+    assert e["true_positive_rate"] == float(held[0]) and e["true_negative_rate"] == float(not held[19])
+    assert s["settings"]["cone"] == "elliptic"
+
+
 def test_sensitivity_quick(tmp_path):
     assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())

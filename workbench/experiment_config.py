@@ -23,6 +23,7 @@ EXPERIMENTS = {
     "wall-stiffness": "workbench.experiments.wall_stiffness",
     "sensitivity": "workbench.experiments.sensitivity",
     "sensitivity-engine": "workbench.experiments.sensitivity_engine",
+    "engine-validation": "workbench.experiments.engine_validation",
     "minimal-work": "workbench.experiments.minimal_work",
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
     "peers": "workbench.experiments.peers",

@@ -368,6 +368,8 @@ def check(
     scale: float = 1.0,
     unit: str | None = None,
     warn: bool = True,
+    examples: str | None = None,
+    named: str | None = None,
 ) -> float:
     """``value`` as a float if it is a plausible ``key`` quantity (see :data:`RANGES`), else
     ``ValueError`` naming the range, the likely unit slip and the value to pass; a value
@@ -382,8 +384,15 @@ def check(
         1e-3, "mm"); messages then speak that unit.  Returns the value as given (not SI).
     warn : False: only the hard range (a generic solver that also takes validation blocks,
         e.g. an 80 mm deep elastic half-space, judges only what no real body is).
+    examples, named : real values of this input to quote, and what it is, instead of the
+        quantity's own (a ring's radius judged by the "lever" range is not "a lever arm ... a centre
+        of mass off the grasp axis").
     """
     r = RANGES[key]
+    if examples is not None or named is not None:
+        from dataclasses import replace
+
+        r = replace(r, examples=r.examples if examples is None else examples, name=named or r.name)
     name = what or r.name
     unit = r.unit if unit is None else unit
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):

@@ -16,6 +16,7 @@ import numpy as np
 
 from .settings import EngineSettings
 from .trial import (
+    _DRIFT_EXAMPLES,
     TrialOutcome,
     TrialPhases,
     _check_grasp,
@@ -54,7 +55,7 @@ class DisturbancePhases:
                 raise ValueError(f"DisturbancePhases.{name} must be a duration in (0, 60] s; got {v!r}")
         check("compression", self.gap, "DisturbancePhases.gap (pad face to object [m])", warn=False)
         what = "DisturbancePhases.max_drift (held below this drift [m])"
-        check("closing", self.max_drift, what, warn=False)
+        check("closing", self.max_drift, what, warn=False, examples=_DRIFT_EXAMPLES, named="drift limit")
         if not self.max_drift > 0:
             raise ValueError(f"DisturbancePhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
         check_turn_limit(self.max_turn_deg, "DisturbancePhases.max_turn_deg")
@@ -106,6 +107,10 @@ def simulate_disturbance(
     mesh, mu, com, _, _, settings = _check_trial(
         mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1), None, settings
     )
+    if not isinstance(conform, (bool, np.bool_)):
+        raise ValueError(
+            f"conform must be True or False (the pads moulded to the object, or flat); got {conform!r}"
+        )
     w = _check_wrench(wrench)
     _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp, mesh)

@@ -14,6 +14,9 @@ from .settings import EngineSettings, import_mujoco
 
 log = logging.getLogger(__name__)
 
+#: real values quoted when a trial's drift limit is refused (a drift, not a pad's indentation)
+_DRIFT_EXAMPLES = "the thesis labels a grasp failed beyond 9 mm and 5 deg of object motion (§4.1.3.1)"
+
 #: task -> the gripper's turn about the grasp axis [deg] after lifting (thesis §4.3.3.3)
 TASKS = {"vertical_lifting": 0.0, "lift_and_rotate": 90.0}
 
@@ -51,8 +54,22 @@ class TrialPhases:
                 raise ValueError(f"TrialPhases.{name} must be a duration in (0, 60] s; got {v!r}")
         check("compression", self.gap, "TrialPhases.gap (pad face to object [m])", warn=False)
         check("mu", self.table_mu, "TrialPhases.table_mu")
-        check("lever", self.lift_height, "TrialPhases.lift_height [m]", warn=False)
-        check("closing", self.max_drift, "TrialPhases.max_drift (held below this drift [m])", warn=False)
+        check(
+            "lever",
+            self.lift_height,
+            "TrialPhases.lift_height [m]",
+            warn=False,
+            examples="a robot lifts an object 20-200 mm (the thesis: 5 cm)",
+            named="lift height",
+        )
+        check(
+            "closing",
+            self.max_drift,
+            "TrialPhases.max_drift (held below this drift [m])",
+            warn=False,
+            examples=_DRIFT_EXAMPLES,
+            named="drift limit",
+        )
         if not self.max_drift > 0:
             raise ValueError(f"TrialPhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
         check_turn_limit(self.max_turn_deg, "TrialPhases.max_turn_deg")
@@ -218,6 +235,9 @@ def build_scene(
     mujoco = import_mujoco()
     settings = EngineSettings() if settings is None else settings
     phases = TrialPhases() if phases is None else phases
+    if not isinstance(table, (bool, np.bool_)) or not isinstance(conform, (bool, np.bool_)):
+        # a string ("no") would read as True
+        raise ValueError(f"table and conform must be True or False; got {table!r}, {conform!r}")
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)

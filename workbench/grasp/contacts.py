@@ -252,7 +252,16 @@ def _point_like(
         # 13.3 given in mm is 13.3 m and resists N·m of torsion from a 10 N grip
         # (refused only: a small patch's sub-millimetre length is real, not unusual)
         torsion_length = (
-            0.0 if torsion_length == 0 else check("lever", torsion_length, "torsion_length", warn=False)
+            0.0
+            if torsion_length == 0
+            else check(
+                "lever",
+                torsion_length,
+                "torsion_length",
+                warn=False,
+                examples="a pad patch's torsion length (2/3 of a disc's radius) 1-20 mm",
+                named="torsion length",
+            )
         )
     if kind not in ("inner", "outer"):
         raise ValueError(f"kind must be 'inner' or 'outer'; got {kind!r}")

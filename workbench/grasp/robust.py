@@ -101,11 +101,21 @@ def check_object_mass(mass, mesh=None) -> float:
     try:
         check("density", rho, what)  # warns (ImplausibleWarning) in the unusual bands
     except ValueError as exc:
+        ext = np.ptp(np.asarray(mesh.vertices, float), axis=0)
+        thin = ext.min() / ext.max()
         fix = (
             f"denser than any solid (osmium: 22,600): a mass in grams? pass {m / 1e3:g}"
             if rho > RANGES["density"].hi
             else "lighter than any object a gripper lifts: a mass in tonnes, or a mesh in millimetres?"
         )
+        if rho > RANGES["density"].hi and thin < 0.01:
+            # the volume, not the mass, is what is off: a sheet with next to no volume
+            fix = (
+                f"the mesh is nearly flat (its thinnest side {thin:.2g} of its longest: "
+                f"{ext.min() * 1e3:.3g} mm of {ext.max() * 1e3:.3g} mm), so it holds next to no volume — "
+                "check its export or the scale of one axis; if the mesh is right, a mass in grams? "
+                f"pass {m / 1e3:g}"
+            )
         raise ValueError(f"{exc} — {fix}") from None
     return m
 

@@ -55,7 +55,19 @@ def check_elliptic_cylinder(
             f"half_angle must be < π/2 (one jaw's side of the cylinder) [rad]; got {half_angle!r} — "
             "a jaw wrapping a quarter of the section or more is not this scene"
         )
-    out = {name: check(key, values[name], what) for name, what, key in _GEOMETRY}
+    # the semi-axes are judged as lengths on an object, quoted as what they are
+    examples = {"a": "objects a parallel jaw grips are 10-100 mm across their grasp axis (semi-axis 5-50 mm)"}
+    examples["b"] = examples["a"]
+    out = {
+        name: check(
+            key,
+            values[name],
+            what,
+            examples=examples.get(name),
+            named="semi-axis" if name in examples else None,
+        )
+        for name, what, key in _GEOMETRY
+    }
     return out["a"], out["b"], out["half_angle"], out["length"]
 
 
