@@ -81,3 +81,28 @@ def test_ranges_are_quoted_with_the_inputs_own_examples(call, match):
     with pytest.raises(ValueError, match=match) as exc:
         calls[call]()
     assert "centre of mass 1-100 mm" not in str(exc.value) and "pad pressed 0.1-5 mm" not in str(exc.value)
+
+
+def test_trial10_save_png_seed_and_wrench_name():
+    """Trial 10: save_png(path, "not bytes") was a bare TypeError from atomic_write_bytes;
+    evaluate_grasp(model="soft_point", seed=-3) was accepted where model="6dls" refused it;
+    simulate_disturbance's torque check named the argument w_ext, not wrench."""
+    from workbench.grasp.models import contact_sets
+    from workbench.results import save_png
+    from workbench.sources.scenes import elliptic_cylinder_grasp
+
+    with pytest.raises(ValueError, match=r"data must be the PNG's bytes; got str"):
+        save_png("/tmp/never_written.png", "not bytes")
+    with pytest.raises(ValueError, match=r"data must be a PNG image"):
+        save_png("/tmp/never_written.png", b"GIF89a")
+    prof = elliptic_cylinder_grasp(n_elements=60)[0]
+    for model in ("soft_point", "6dls"):
+        with pytest.raises(ValueError, match=r"seed must be an integer >= 0"):
+            contact_sets(prof, model, seed=-3)
+    pytest.importorskip("mujoco")
+    from workbench.engine_trials import simulate_disturbance
+
+    box = trimesh.creation.box(extents=(0.05, 0.04, 0.06))
+    g = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
+    with pytest.raises(ValueError, match=r"^wrench's "):
+        simulate_disturbance(box, g, [0.0, 0.0, -0.1, 0.0, 0.0, 500.0], force=5.0, mu=0.5, mass=0.1)

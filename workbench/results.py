@@ -123,7 +123,12 @@ def save_figure(fig: Any, path: Path, dpi: int = 130) -> Path:
 
 
 def save_png(path: Path, data: bytes) -> Path:
-    """Write PNG bytes atomically."""
+    """Write the PNG image ``data`` (its bytes, e.g. a plotter's screenshot) to ``path``
+    atomically."""
+    if not isinstance(data, (bytes, bytearray, memoryview)):
+        raise ValueError(f"data must be the PNG's bytes; got {type(data).__name__} {data!r:.40}")
+    if not bytes(data[:4]) == b"\x89PNG":
+        raise ValueError(f"data must be a PNG image (its bytes start with \\x89PNG); got {bytes(data[:8])!r}")
     return atomic_write_bytes(path, data)
 
 

@@ -70,7 +70,7 @@ def _check_wrench(wrench) -> np.ndarray:
             f"wrench must be 6 finite numbers (f_x, f_y, f_z [N], tau_x, tau_y, tau_z [N m]) about the "
             f"object frame's origin; got {wrench!r}"
         )
-    check_task_wrench(w)
+    check_task_wrench(w, name="wrench")
     return w
 
 

@@ -202,6 +202,9 @@ def contact_sets(
         )
     cache = LimitSurfaceCache.check(cache)
     _check_n_wrenches(n_wrenches)  # refused whatever the model: a bad value is never right
+    from ..seeds import check_seed
+
+    seed = check_seed(seed, "seed", generator=False)  # every model, not only those that sample
     if name not in ("6dfw", "3dls_nonplanar") and n_wrenches != 600:
         # one set of keyword arguments for every model is a common loop, so no warning; the log
         # says where the setting does not apply
