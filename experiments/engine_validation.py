@@ -18,11 +18,10 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from workbench.experiment_keys import Key, check_key
-from workbench.parallel import check_workers, run_rows
-from workbench.results import Checkpoint, write_summary
+from workbench.parallel import check_workers, run_checkpointed
+from workbench.results import write_summary
 
 NAME = "engine-validation"
 
@@ -144,15 +143,9 @@ def run(config: dict) -> dict:
 
     t_start = time.perf_counter()
     out = Path(config["out"])
-    ckpt = Checkpoint(
-        out / "rows.jsonl", {k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")}
+    ckpt, n_resumed, ran_on = run_checkpointed(
+        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME, unit="probe"
     )
-    n_resumed = len(ckpt.rows)
-    todo = [t for t in _tasks(config) if _key(t) not in ckpt]
-    with tqdm(total=len(todo), desc=NAME, unit="probe") as bar:
-        _, ran_on = run_rows(
-            partial(_row, config=config), todo, lambda t, row: ckpt.add(_key(t), row), config, progress=bar
-        )
     rows = {_key(t): ckpt.rows[_key(t)] for t in _tasks(config)}
 
     def strip(r: dict) -> dict:

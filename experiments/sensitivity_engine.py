@@ -31,7 +31,6 @@ from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from workbench.engine_trials.trial import check_turn_limit
 from workbench.experiment_keys import Key, check_key
@@ -42,7 +41,7 @@ from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.models import MODELS
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
-from workbench.parallel import check_workers, run_rows
+from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import Checkpoint, save_figure, write_csv, write_summary
 from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_solid
 
@@ -188,19 +187,9 @@ def _tasks(config: dict) -> list[tuple]:
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
-    ckpt = Checkpoint(
-        out / "rows.jsonl", {k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")}
+    ckpt, n_resumed, ran_on = run_checkpointed(
+        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME
     )
-    n_resumed = len(ckpt.rows)
-    todo = [t for t in _tasks(config) if _key(t) not in ckpt]
-    with tqdm(total=len(todo), desc=NAME, unit="row") as bar:
-        _, ran_on = run_rows(
-            partial(_row, config=config),
-            todo,
-            lambda task, row: ckpt.add(_key(task), row),
-            config,
-            progress=bar,
-        )
     seeds, n = config["seeds"], config["n_disturbances"]
     engine = {s: [ckpt.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}
     held = {s: np.array([r["held"] for r in engine[s]], dtype=bool) for s in seeds}

@@ -36,6 +36,7 @@ __all__ = [
     "map_rows",
     "pin_numba_threads_env",
     "row_client",
+    "run_checkpointed",
     "run_rows",
 ]
 
@@ -326,3 +327,33 @@ def run_rows(
         )
         where = "serial" if client is None else f"dask ({len(client.scheduler_info()['workers'])} workers)"
     return extra, where
+
+
+def run_checkpointed(
+    fn: Callable[[Any], Any],
+    tasks: list,
+    key: Callable[[Any], str],
+    out: Any,
+    config: dict,
+    *,
+    desc: str,
+    unit: str = "row",
+) -> tuple[Any, int, str]:
+    """Every task of ``tasks`` whose ``key(task)`` is not yet in ``out``/rows.jsonl run by
+    :func:`run_rows` (``fn(task)`` on the experiment's workers, a tqdm bar named ``desc``),
+    each result checkpointed under its key as it arrives.  The checkpoint's key is ``config``
+    without where the rows run (``out``, ``workers``, ``scheduler``), so a killed run resumes
+    with no row lost or run twice.  Returns ``(checkpoint, rows resumed, where they ran)``."""
+    from pathlib import Path
+
+    from tqdm import tqdm
+
+    from .results import Checkpoint
+
+    where = ("out", "workers", "scheduler")  # change no number
+    ckpt = Checkpoint(Path(out) / "rows.jsonl", {k: v for k, v in config.items() if k not in where})
+    n_resumed = len(ckpt.rows)
+    todo = [t for t in tasks if key(t) not in ckpt]
+    with tqdm(total=len(todo), desc=desc, unit=unit) as bar:
+        _, ran_on = run_rows(fn, todo, lambda t, row: ckpt.add(key(t), row), config, progress=bar)
+    return ckpt, n_resumed, ran_on
