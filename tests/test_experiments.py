@@ -377,6 +377,10 @@ def test_sensitivity_engine_quick(tmp_path):
     assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(rows)
 
 
+@pytest.mark.jit_only(
+    "(a)'s reference is our nonlinear pad FEM, minutes as pure Python (~5 min here); its kernels run "
+    "without JIT in tests/test_fem_nonlinear.py"
+)
 def test_engine_validation_quick(tmp_path):
     pytest.importorskip("mujoco")
     assert main(["run", "engine-validation", "--quick", "--out", str(tmp_path), "--set", "workers=1"]) == 0
@@ -400,6 +404,7 @@ def test_engine_validation_quick(tmp_path):
     assert s["settings"]["cone"] == "elliptic"
 
 
+@EXPERIMENT_RUN
 def test_sensitivity_quick(tmp_path):
     assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
