@@ -20,7 +20,7 @@ from pathlib import Path
 
 from bench_wrench import machine_roofline
 
-from workbench.engine_trials.reality import _reach_inputs, reach_trial, score_reach
+from workbench.engine_trials.reality import reach_cube_inputs, reach_trial, score_reach
 from workbench.results import code_hash, code_revision, versions, write_json
 
 OUT = Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "engine_trials.json"
@@ -37,7 +37,7 @@ def run(quick: bool) -> dict:
         s = json.loads(VALIDATION.read_text())
         if s.get("code", {}).get("hash") == code_hash() and s["e_reality"]["n_grasps"] == 25:
             return {**s["e_reality"], "from": str(VALIDATION.relative_to(OUT.parents[2]))}
-    trials, _ = _reach_inputs()
+    trials, _ = reach_cube_inputs()
     grasps = sorted(set(trials.grasp_index.tolist()))[:: 5 if quick else 1]
     return score_reach([reach_trial(k) for k in grasps])
 

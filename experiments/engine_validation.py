@@ -1,4 +1,4 @@
-"""The engine judge validated before it judges anything (issue 45 (a)–(e)), in one summary.
+"""The engine judge validated before it judges anything (items (a)–(e)), in one summary.
 
 Each probe of :mod:`workbench.engine_trials` against its closed form or our own FEM, run as a
 Dask task and checkpointed: (a) the pad indented by a flat and by spheres against our
@@ -31,7 +31,7 @@ DEFAULT_CONFIG = {
     "creep_fractions": [0.5, 0.9],  # held loads as fractions of the slip load
     "indenters": ["flat", "sphere10", "sphere25"],  # (a): a rigid flat, spheres of R 10 / 25 mm
     "depths_mm": [0.25, 0.5, 1.0],  # (a): indentations
-    "drake": False,  # (a) also on Drake (peers extra; 2-10 min an indenter)
+    "drake": False,  # (a) also on Drake (peers extra; far slower than MuJoCo)
     "reach_grasps": [],  # (e): REACH cube grasp indices; [] = all 25
     "workers": 0,
     "scheduler": "",
@@ -121,20 +121,8 @@ def _row(task: tuple, config: dict) -> dict:
         row = probes.held_block_creep(0.5, task[1])  # μ 0.5, as the tests' creep
     else:
         row = probes.spun_pad(0.5)  # μ 0.5 on a 20 x 40 mm pad pressed by 10 N
-    return {**_plain(row), "seconds": time.perf_counter() - t0}
-
-
-def _plain(x):
-    """``x`` with numpy scalars and arrays as JSON values."""
-    if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_plain(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _plain(x.tolist())
-    if isinstance(x, np.generic):
-        return x.item()
-    return x
+    # the checkpoint turns numpy values into JSON ones (results.Checkpoint.add)
+    return {**row, "seconds": time.perf_counter() - t0}
 
 
 def run(config: dict) -> dict:

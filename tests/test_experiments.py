@@ -378,7 +378,7 @@ def test_sensitivity_engine_quick(tmp_path):
 
 
 @pytest.mark.jit_only(
-    "(a)'s reference is our nonlinear pad FEM, minutes as pure Python (~5 min here); its kernels run "
+    "(a)'s reference is our nonlinear pad FEM, minutes as pure Python; its kernels run "
     "without JIT in tests/test_fem_nonlinear.py"
 )
 def test_engine_validation_quick(tmp_path):

@@ -1,4 +1,4 @@
-"""Careless inputs of the seventh new-user trial (issue 44, "no silent nonsense") to the contact
+"""Careless inputs of the seventh new-user trial ("no silent nonsense") to the contact
 profile, the contact models, grasp resistance, the evaluation and the minimal work: each was
 accepted without a word (a wrong verdict, a meaningless number) or crashed with an exception
 naming something the user never passed.  Each is refused now (a ValueError saying what was

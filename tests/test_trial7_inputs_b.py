@@ -1,4 +1,4 @@
-"""Careless inputs of a new-user trial (issue 44, "no silent nonsense") to the mesh gate, the FEM
+"""Careless inputs of a new-user trial ("no silent nonsense") to the mesh gate, the FEM
 pad and wall, the trial reader, the gripper check and the experiments' configs: each was accepted
 silently, crashed with an AttributeError / UnicodeDecodeError, or was refused naming the wrong
 cause.  Each is refused now naming what was expected, what came and the fix; where the right

@@ -1,4 +1,4 @@
-"""Careless inputs of the eighth new-user trial (issue 44, "no silent nonsense"): each was
+"""Careless inputs of the eighth new-user trial ("no silent nonsense"): each was
 accepted silently, crashed, or was refused with a misleading hint.  Each is refused or warned
 now, naming what was expected and the fix."""
 

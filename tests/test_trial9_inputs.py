@@ -1,4 +1,4 @@
-"""Careless inputs of the ninth new-user trial (issue 44, "no silent nonsense"): two accepted
+"""Careless inputs of the ninth new-user trial ("no silent nonsense"): two accepted
 silently (an FEM obstacle the pad never reaches, pressed at 0 N; ``conform="no"`` read as True),
 a thin mesh whose density refusal blamed the mass, and ranges quoted with another quantity's
 examples.  Each is refused now, naming what was expected and the fix."""

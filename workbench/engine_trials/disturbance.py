@@ -107,10 +107,6 @@ def simulate_disturbance(
     mesh, mu, com, _, _, settings = _check_trial(
         mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1), None, settings
     )
-    if not isinstance(conform, (bool, np.bool_)):
-        raise ValueError(
-            f"conform must be True or False (the pads moulded to the object, or flat); got {conform!r}"
-        )
     w = _check_wrench(wrench)
     _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp, mesh)

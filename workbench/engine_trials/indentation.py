@@ -1,4 +1,4 @@
-"""Validation item (a) of the engines (issue 45): a pad indented by a flat or a sphere, the
+"""Validation item (a) of the engines: a pad indented by a flat or a sphere, the
 engine's force against our own neo-Hookean pad FEM, for δ ≤ 1 mm.
 
 :func:`indent_pad` presses a rigid indenter into a 20 × 40 × 5 mm silicone pad (the trials' pad:
@@ -455,7 +455,7 @@ def _flex_xml(mesh, reference, material, settings: EngineSettings) -> str:
 
 def _run_mujoco(indenter, R, depths, mesh, reference, material, settings: EngineSettings, protocol) -> dict:
     mujoco = import_mujoco()
-    from .pad import add_tips, compile_spec
+    from .pad import add_tips, compile_spec, pad_spec
 
     w, ln, h = reference.width, reference.length, reference.thickness
     if indenter == "flat":  # a plate 5 mm wider than the face all round, its lower face at z = h
@@ -471,9 +471,7 @@ def _run_mujoco(indenter, R, depths, mesh, reference, material, settings: Engine
         f'<geom name="indenter" {geom} {contact}/></body>'
         "</worldbody></mujoco>"
     )
-    spec = mujoco.MjSpec.from_string(xml)
-    for f in spec.flexes:
-        f.contype, f.conaffinity = 0, 0
+    spec = pad_spec(xml)
     add_tips(spec, "pad", np.array([0.0, 0.0, 1.0]), 0.0, settings)
     model = compile_spec(spec)
     data = mujoco.MjData(model)

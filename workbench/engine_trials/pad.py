@@ -151,6 +151,16 @@ def add_tips(
     return n
 
 
+def pad_spec(xml: str) -> Any:
+    """The ``mujoco.MjSpec`` of a scene's MJCF ``xml`` with every flex's own element contacts
+    off: its pads touch through the tips :func:`add_tips` gives their face vertices."""
+    mujoco = __import__("mujoco")
+    spec = mujoco.MjSpec.from_string(xml)
+    for f in spec.flexes:
+        f.contype, f.conaffinity = 0, 0
+    return spec
+
+
 def compile_spec(spec: Any) -> Any:
     """``spec.compile()`` without MuJoCo's "flex ... has no equality constraints or passive
     forces" warning, which it gives for every elastic 3D flex (its elasticity is active: a pad

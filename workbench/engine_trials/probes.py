@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .pad import add_tips, compile_spec, flexcomp_xml
+from .pad import add_tips, compile_spec, flexcomp_xml, pad_spec
 from .settings import EngineSettings, import_mujoco
 
 G = 9.81
@@ -191,9 +191,7 @@ def spun_pad(
         f'contype="0" conaffinity="0"/>{pad}</body>'
         "</worldbody></mujoco>"
     )
-    spec = mujoco.MjSpec.from_string(xml)
-    for f in spec.flexes:
-        f.contype, f.conaffinity = 0, 0
+    spec = pad_spec(xml)
     add_tips(spec, "pad", np.array([0, 0, -1.0]), mu, settings)
     m = compile_spec(spec)
     d = mujoco.MjData(m)

@@ -13,7 +13,8 @@ import numpy as np
 
 
 @lru_cache(maxsize=1)
-def _reach_inputs():
+def reach_cube_inputs():
+    """(trials, mesh) of the packaged REACH cube trials, read once per process."""
     import trimesh
 
     from ..sources.trials import default_mesh_path, default_trials_path, read_trials
@@ -28,7 +29,7 @@ def reach_trial(grasp: int) -> dict:
     from ..sources.gripper import yumi
     from .trial import simulate_gripper
 
-    trials, mesh = _reach_inputs()
+    trials, mesh = reach_cube_inputs()
     known = sorted(set(trials.grasp_index.tolist()))
     if isinstance(grasp, bool) or grasp not in known:
         raise ValueError(
@@ -55,7 +56,7 @@ def score_reach(rows: list[dict]) -> dict:
     """The verdicts of :func:`reach_trial` rows against every real trial of their grasps:
     balanced accuracy, true-positive and true-negative rates, real failures predicted, seconds
     per trial (median, worst) and simulated seconds per wall second."""
-    trials, _ = _reach_inputs()
+    trials, _ = reach_cube_inputs()
     held = {row["grasp"]: row["held"] for row in rows}
     mask = np.isin(trials.grasp_index, list(held))
     pred = np.array([held[k] for k in trials.grasp_index[mask]], dtype=bool)

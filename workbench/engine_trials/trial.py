@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies
+from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies, pad_spec
 from .settings import EngineSettings, import_mujoco
 
 log = logging.getLogger(__name__)
@@ -232,12 +232,16 @@ def build_scene(
     ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip counts.  ``table``: a plane
     under the object (False: the object floats free); ``conform``: each pad moulded to the
     object at ``phases.gap`` (:func:`~.pad.conform_pad`), not flat."""
-    mujoco = import_mujoco()
+    import_mujoco()  # the extra's ImportError before any work
     settings = EngineSettings() if settings is None else settings
     phases = TrialPhases() if phases is None else phases
-    if not isinstance(table, (bool, np.bool_)) or not isinstance(conform, (bool, np.bool_)):
-        # a string ("no") would read as True
-        raise ValueError(f"table and conform must be True or False; got {table!r}, {conform!r}")
+    # a string ("no") would read as True
+    for name, flag, meaning in (
+        ("table", table, "a table under the object, or none"),
+        ("conform", conform, "the pads moulded to the object, or flat"),
+    ):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ValueError(f"{name} must be True or False ({meaning}); got {flag!r}")
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)
@@ -283,9 +287,7 @@ def build_scene(
         '<position name="turn" joint="turn" kp="2e3" dampratio="1"/>'
         "</actuator></mujoco>"
     )
-    spec = mujoco.MjSpec.from_string(xml)
-    for f in spec.flexes:
-        f.contype, f.conaffinity = 0, 0
+    spec = pad_spec(xml)
     tips = []
     for k, a in ((1, axis), (2, -axis)):
         _, _, face = pad_bodies(spec, f"pad{k}", a)
