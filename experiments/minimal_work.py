@@ -462,6 +462,8 @@ def run(config: dict) -> dict:
     objs = np.array([r["object"] for r in rows])
     summary = {
         "table_4_6": {t: {m: table[t][m] for m in METRICS} for t in TASKS},
+        # percentile bootstrap over the held-out grasps (workbench.grasp.threshold)
+        "table_4_6_interval_95": {t: {m: table[t]["interval_95"][m] for m in METRICS} for t in TASKS},
         "thesis_table_4_6": THESIS_TABLE_4_6,
         "beyond_thesis_q_work_fem": {t: table[t]["q_work_fem"] for t in TASKS},
         "beyond_thesis_nonlinear_work": nonlinear,
@@ -577,30 +579,33 @@ def _inf_for_nan(rows: list[dict], task: str, key: str) -> np.ndarray:
 
 def _table_4_6(rows: list[dict], split: np.ndarray, config: dict) -> tuple[dict, dict, dict]:
     """Table 4.6 per task: normalisers fitted on the training grasps (``split``), balanced
-    accuracy of each metric on the held-out ones; (table, normalisers, class balance)."""
-    from workbench.grasp.threshold import fit_normaliser, held_out_accuracy
+    accuracy of each metric on the held-out ones (:func:`~workbench.grasp.quality_table.quality_table`);
+    (table, normalisers, class balance).  ``table[task]["interval_95"]``: each metric's bootstrap
+    interval of its overall balanced accuracy."""
+    from workbench.grasp.quality_table import quality_table
 
     objs = np.array([r["object"] for r in rows])
-    sigma = config["sigma"]
     table, normalisers, class_balance = {}, {}, {}
     for task in TASKS:
         truth = np.array([r[task]["truth"] for r in rows])
-        qr = np.array([r[task]["q_robust"] for r in rows])
         f, W, W_fem = (_inf_for_nan(rows, task, key) for key in ("f_sum", "W", "W_fem"))
-        f_max = fit_normaliser(f[split], truth[split], sigma)
-        W_max = fit_normaliser(W[split], truth[split], sigma)
-        Wf_max = fit_normaliser(W_fem[split], truth[split], sigma)
-        normalisers[task] = {"f_max_N": f_max, "W_max_J": W_max, "W_fem_max_J": Wf_max}
-        q = {
-            "q_robust": qr,
-            "q_force": 1 - f / f_max,
-            "q_work": 1 - W / W_max,
-            "q_work_fem": 1 - W_fem / Wf_max,
+        scored = quality_table(
+            truth,
+            split,
+            objs,
+            config["objects"],
+            qualities={"q_robust": np.array([r[task]["q_robust"] for r in rows])},
+            costs={"q_force": f, "q_work": W, "q_work_fem": W_fem},
+            sigma=config["sigma"],
+            seed=config["seed"],
+        )
+        fitted = scored["normalisers"]
+        normalisers[task] = {
+            "f_max_N": fitted["q_force"],
+            "W_max_J": fitted["q_work"],
+            "W_fem_max_J": fitted["q_work_fem"],
         }
-        table[task] = {
-            metric: held_out_accuracy(values >= sigma, truth, split, objs, config["objects"])
-            for metric, values in q.items()
-        }
+        table[task] = {**scored["accuracy"], "interval_95": scored["interval_95"]}
         class_balance[task] = {"success": int(truth.sum()), "failure": int((~truth).sum())}
         # per object on the held-out grasps: with one class only, balanced accuracy is that
         # class's recall (0 or 1 for a constant prediction)
@@ -614,10 +619,16 @@ def _table_4_6(rows: list[dict], split: np.ndarray, config: dict) -> tuple[dict,
 def _write_grasps_csv(out: Path, rows: list[dict]) -> None:
     cols = ["object", "grasp", "z", "angle_deg", "s_map_1", "s_map_2", "s_fem"]
     per_task = ("truth", "q_robust", "f_sum", "W", "f_required")
+    xyz = [f"{v}_{c}" for v in ("p1", "p2", "axis") for c in "xyz"]
     write_csv(
         out / "grasps.csv",
-        [*cols, *(f"{t}_{m}" for t in TASKS for m in per_task)],
-        [[r[c] for c in cols] + [r[t][m] for t in TASKS for m in per_task] for r in rows],
+        [*cols, *xyz, *(f"{t}_{m}" for t in TASKS for m in per_task)],
+        [
+            [r[c] for c in cols]
+            + [*r["p1"], *r["p2"], *r["axis"]]
+            + [r[t][m] for t in TASKS for m in per_task]
+            for r in rows
+        ],
     )
 
 
@@ -864,6 +875,10 @@ def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: 
         "s_map_1": float(s_map[0]),
         "s_map_2": float(s_map[1]),
         "s_fem": float(s_fem),
+        # the grasp itself (object frame [m]), for judges that re-run it (minimal-work-engine)
+        "p1": [float(x) for x in g["p1"]],
+        "p2": [float(x) for x in g["p2"]],
+        "axis": [float(x) for x in g["axis"]],
     }
     poses = {task: task_wrenches(task, mass, com, g["axis"]) for task in TASKS}
     q_robust_of: dict[bytes, float] = {}  # the tasks share the 0° pose: its q_robust once

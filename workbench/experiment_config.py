@@ -25,6 +25,7 @@ EXPERIMENTS = {
     "sensitivity-engine": "workbench.experiments.sensitivity_engine",
     "engine-validation": "workbench.experiments.engine_validation",
     "minimal-work": "workbench.experiments.minimal_work",
+    "minimal-work-engine": "workbench.experiments.minimal_work_engine",
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
     "peers": "workbench.experiments.peers",
     "physical-trials": "workbench.experiments.physical_trials",

@@ -14,7 +14,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["balanced_accuracy", "fit_normaliser", "held_out_accuracy"]
+__all__ = ["balanced_accuracy", "balanced_accuracy_interval", "fit_normaliser", "held_out_accuracy"]
 
 
 def _bools(a, name: str) -> np.ndarray:
@@ -50,6 +50,52 @@ def balanced_accuracy(predicted, truth) -> float:
         if sel.any():
             recalls.append(float((p[sel] == c).mean()))
     return float(np.mean(recalls))
+
+
+def balanced_accuracy_interval(
+    predicted, truth, *, level: float = 0.95, n_resamples: int = 2000, seed: int = 0
+) -> tuple[float, float] | None:
+    """Percentile bootstrap interval of :func:`balanced_accuracy` over the grasps (each
+    resample draws ``n`` grasps with replacement, keeping prediction and truth paired;
+    ``scipy.stats.bootstrap``), at confidence ``level`` in (0, 1).
+
+    predicted, truth : (n,) bool.  Returns ``(low, high)``, or ``None`` when ``truth`` holds
+    fewer than two grasps of either class (a resample would often lack that class, and the
+    statistic would change meaning between resamples).
+    """
+    from scipy.stats import bootstrap
+
+    from ..seeds import check_seed
+
+    p, t = _bools(predicted, "predicted"), _bools(truth, "truth")
+    if p.shape != t.shape:
+        raise ValueError(f"predicted and truth must have one shape; got {p.shape} and {t.shape}")
+    if isinstance(level, bool) or not isinstance(level, numbers.Real) or not 0 < level < 1:
+        raise ValueError(f"level must be a confidence in (0, 1), e.g. 0.95; got {level!r}")
+    if isinstance(n_resamples, bool) or not isinstance(n_resamples, numbers.Integral) or n_resamples < 100:
+        raise ValueError(f"n_resamples must be an integer >= 100 (e.g. 2000); got {n_resamples!r}")
+    if min(int(t.sum()), int((~t).sum())) < 2:
+        return None
+
+    def stat(pp: np.ndarray, tt: np.ndarray, axis: int = -1) -> np.ndarray:
+        pos, neg = tt.sum(axis), (~tt).sum(axis)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            tpr = (pp & tt).sum(axis) / pos
+            tnr = (~pp & ~tt).sum(axis) / neg
+        # a resample without one class: the other class's recall, as balanced_accuracy says
+        return np.where(pos == 0, tnr, np.where(neg == 0, tpr, 0.5 * (tpr + tnr)))
+
+    res = bootstrap(
+        (p, t),
+        stat,
+        paired=True,
+        vectorized=True,
+        confidence_level=float(level),
+        n_resamples=int(n_resamples),
+        method="percentile",
+        rng=np.random.default_rng(check_seed(seed, generator=False)),
+    )
+    return float(res.confidence_interval.low), float(res.confidence_interval.high)
 
 
 def _check_sigma(sigma) -> float:
