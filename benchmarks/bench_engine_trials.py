@@ -8,6 +8,10 @@ jaws closing by 20 N, lifting) — the simulator's verdict against the 125 real 
 verdict is binary).  Seconds per trial (median, worst) beside this machine's measured FMA
 throughput, and the simulated seconds per wall second.
 
+Then the cost against the pads' vertex count (``scaling``): one trial of a box squarely gripped
+(vertical lifting, 2.1 simulated seconds) at three pad grids, wall seconds per trial and per
+simulated second (issue 45's goal: <= 30 s a trial on one core).
+
 Writes results/benchmarks/engine_trials.json.  Run: python benchmarks/bench_engine_trials.py [--quick]
 """
 
@@ -42,11 +46,49 @@ def run(quick: bool) -> dict:
     return score_reach([reach_trial(k) for k in grasps])
 
 
+#: pad grids (width, length, thickness points) of the scaling runs; the first is the default
+GRIDS = ((5, 9, 3), (7, 13, 3), (9, 17, 4))
+
+
+def scaling(quick: bool) -> list[dict]:
+    """Wall seconds of one trial per pad grid: a 60 x 40 x 80 mm box of 0.2 kg gripped across
+    its 40 mm faces at 10 N per jaw (μ 0.5: held at 5x its weight), lifted and held."""
+    import time
+
+    import numpy as np
+    import trimesh
+
+    from workbench.engine_trials import EngineSettings, simulate_grasp
+
+    box = trimesh.creation.box((0.06, 0.04, 0.08))
+    grasp = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
+    rows = []
+    for grid in GRIDS[:2] if quick else GRIDS:
+        settings = EngineSettings(pad_grid=grid)
+        t0 = time.perf_counter()
+        o = simulate_grasp(box, grasp, force=10.0, mu=0.5, mass=0.2, settings=settings)
+        wall = time.perf_counter() - t0
+        sim = o.steps * settings.timestep
+        rows.append(
+            {
+                "pad_grid": list(grid),
+                "flex_vertices": 2 * int(np.prod(grid)),
+                "held": o.held,
+                "wall_s": wall,  # scene build and stepping: what a user pays per trial
+                "stepping_s": o.seconds,
+                "simulated_s": sim,
+                "wall_s_per_simulated_s": wall / sim,
+            }
+        )
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="every fifth grasp only")
     args = ap.parse_args(argv)
     out = run(args.quick)
+    out["scaling"] = scaling(args.quick)
     out["machine"] = machine_roofline(args.quick)
     out["code"] = {"revision": code_revision(), "versions": versions()}
     out["quick"] = args.quick
@@ -56,7 +98,8 @@ def main(argv: list[str] | None = None) -> int:
         f"(TPR {out['true_positive_rate']:.3f}, TNR {out['true_negative_rate']:.3f}; "
         f"{out['failures_predicted']} of {out['real_failures']} real failures predicted), "
         f"{out['seconds_per_trial']['median']:.1f} s per trial "
-        f"(worst {out['seconds_per_trial']['worst']:.1f})"
+        f"(worst {out['seconds_per_trial']['worst']:.1f}); by pad vertices: "
+        + ", ".join(f"{r['flex_vertices']}: {r['wall_s']:.1f} s" for r in out["scaling"])
     )
     return 0
 

@@ -35,11 +35,11 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import check_turn_limit
+from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import minimal_work as _mw
 from workbench.parallel import check_workers, run_checkpointed
-from workbench.results import save_figure, write_csv, write_summary
+from workbench.results import content_hash, save_figure, sources_hash, write_csv, write_summary
 
 NAME = "minimal-work-engine"
 TASKS = _mw.TASKS
@@ -90,7 +90,7 @@ KEYS = {
     "max_turn_deg": Key("engine verdict: largest turn of a completed task [deg]"),
     "n_bootstrap": Key("bootstrap resamples of each interval, >= 100"),
 }
-QUICK_CONFIG = {"n_grasps": 3, "n_heights": 3, "n_angles": 2, "robust_samples": 8, "n_bootstrap": 200}
+QUICK_CONFIG = {"n_grasps": 2, "n_heights": 3, "n_angles": 2, "robust_samples": 8, "n_bootstrap": 200}
 #: the keys a trial's outcome (or a candidate's index) depends on: its checkpoint's key
 TRIAL_KEYS = (
     "data_dir",
@@ -172,11 +172,13 @@ def _cost(text: str) -> float:
 def _sample(grasps: list[dict], config: dict) -> list[dict]:
     """``n_grasps`` of each object's candidates (seeded, without replacement; all when fewer),
     in candidate order."""
-    rng = np.random.default_rng(config["seed"])
     out = []
     for name in config["objects"]:
         mine = [g for g in grasps if g["object"] == name]
-        pick = np.sort(rng.choice(len(mine), min(config["n_grasps"], len(mine)), replace=False))
+        # a prefix of one permutation: a smaller sample is part of a larger one (its trials resume)
+        pick = np.sort(
+            np.random.default_rng([config["seed"], len(mine)]).permutation(len(mine))[: config["n_grasps"]]
+        )
         out += [mine[i] for i in pick]
     return out
 
@@ -219,7 +221,26 @@ def _trial(job: tuple, config: dict) -> dict:
 
 
 def _key(job: tuple) -> str:
-    return f"{job[0]}/{job[1]}/{job[2]}"
+    """``object/grasp/task/pose``: the pose's digest, so a candidate index that names another
+    pose (a changed candidate sampler) is never read as this trial."""
+    return f"{job[0]}/{job[1]}/{job[2]}/{content_hash([job[3], job[4], job[5]], 10)}"
+
+
+def _trial_code() -> str:
+    """What a trial's outcome depends on besides its config: the engine trials' package, the
+    tolerances, this module's trial function and MuJoCo's version (rows keyed by it survive
+    edits elsewhere in the package)."""
+    import inspect
+    from importlib.metadata import version
+
+    return content_hash(
+        [
+            sources_hash("workbench.engine_trials", "workbench.config", "workbench.sources.jaws"),
+            inspect.getsource(_trial),
+            inspect.getsource(_mesh),
+            version("mujoco"),
+        ]
+    )
 
 
 def _hull_gap(grasps: list[dict], config: dict) -> np.ndarray:
@@ -252,26 +273,28 @@ def run(config: dict) -> dict:
     grasps = _sample(_read_grasps(Path(mw_config["out"]) / "grasps.csv"), config)
     # 2. the engine trials
     jobs = [(g["object"], g["grasp"], t, g["p1"], g["p2"], g["axis"]) for g in grasps for t in TASKS]
-    # the rows' key: what changes a trial's outcome or a candidate's index, so a larger sample, a
-    # new split or more resamples resume every trial already run
+    # the rows' key: what changes a trial's outcome, so another sample, candidate grid, split or
+    # number of resamples resumes every trial already run
     engine_config = {k: config[k] for k in (*TRIAL_KEYS, "workers", "scheduler")}
     ckpt, n_resumed, ran_on = run_checkpointed(
-        partial(_trial, config=config), jobs, _key, out, engine_config, desc=NAME, unit="trial"
+        partial(_trial, config=config),
+        jobs,
+        _key,
+        out,
+        engine_config,
+        desc=NAME,
+        unit="trial",
+        code=_trial_code(),
     )
-    trial = {
-        (g["object"], g["grasp"], t): ckpt.rows[_key((g["object"], g["grasp"], t))]
-        for g in grasps
-        for t in TASKS
-    }
+    trial = {(j[0], j[1], j[2]): ckpt.rows[_key(j)] for j in jobs}
     # 3. Table 4.6 against the engine, on the training split's normalisers
     objs = np.array([g["object"] for g in grasps])
     split = np.random.default_rng(config["seed"] + 1).random(len(grasps)) < config["train_fraction"]
     gap = _hull_gap(grasps, config)
     table, old, balance = {}, {}, {}
-    for t in TASKS:
-        held = np.array([trial[g["object"], g["grasp"], t]["held"] for g in grasps], dtype=bool)
-        truth = np.array([g[t]["truth"] for g in grasps], dtype=bool)
-        scored = quality_table(
+
+    def score(held: np.ndarray, t: str, n_resamples: int) -> dict:
+        return quality_table(
             held,
             split,
             objs,
@@ -282,10 +305,14 @@ def run(config: dict) -> dict:
                 "q_work": np.array([g[t]["W"] for g in grasps]),
             },
             sigma=config["sigma"],
-            n_resamples=config["n_bootstrap"],
+            n_resamples=n_resamples,
             seed=config["seed"],
         )
-        table[t] = scored
+
+    for t in TASKS:
+        held = np.array([trial[g["object"], g["grasp"], t]["held"] for g in grasps], dtype=bool)
+        truth = np.array([g[t]["truth"] for g in grasps], dtype=bool)
+        table[t] = score(held, t, config["n_bootstrap"])
         balance[t] = {
             "engine_success": int(held.sum()),
             "engine_failure": int((~held).sum()),
@@ -299,6 +326,20 @@ def run(config: dict) -> dict:
             "balanced_accuracy": balanced_accuracy(truth, held),
             "old_success": int(truth.sum()),
         }
+    # the verdict at other limits, re-read from each trial's largest drift and turn (a NaN of a
+    # trial that could not start compares False: not held)
+    limits = {}
+    for d_mm, t_deg in VERDICT_LIMITS:
+        at = {}
+        for t in TASKS:
+            rs = [trial[g["object"], g["grasp"], t] for g in grasps]
+            held = np.array([r["drift_mm"] <= d_mm and r["turn_deg"] <= t_deg for r in rs], dtype=bool)
+            if held.all() or not held.any():  # one class: no normaliser to fit
+                at[t] = {"held_fraction": float(held.mean())}
+                continue
+            acc = score(held, t, 100)["accuracy"]
+            at[t] = {"held_fraction": float(held.mean()), **{m: acc[m]["All"] for m in METRICS}}
+        limits[f"{d_mm:g}mm_{t_deg:g}deg"] = at
     secs = np.array([r["seconds"] for r in trial.values() if r["steps"]])
     rows_out = [
         [
@@ -350,6 +391,7 @@ def run(config: dict) -> dict:
         "normalisers": {t: table[t]["normalisers"] for t in TASKS},
         "class_balance": balance,
         "old_truth_vs_engine": old,
+        "verdict_thresholds": limits,
         # the same metrics against the old truth on all candidates (minimal-work's own table)
         "table_4_6_old_truth": mw_summary["table_4_6"],
         "thesis_table_4_6": _mw.THESIS_TABLE_4_6,

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import check_turn_limit
+from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
@@ -247,11 +247,6 @@ def run(config: dict) -> dict:
     summary["figures"] = [_figure(out, per_model)]
     summary["headline"] = _headline(summary, config)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
-
-
-#: the verdict's limits re-read from the recorded trials (largest drift [mm], turn [deg]): the
-#: thesis chose 9 mm / 5 deg so that half its grasps succeeded (§4.1.3.1)
-VERDICT_LIMITS = ((2.0, 2.0), (5.0, 5.0), (9.0, 5.0), (9.0, 10.0))
 
 
 def _threshold_sensitivity(ckpt: Checkpoint, engine: dict, config: dict) -> dict:

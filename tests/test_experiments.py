@@ -582,6 +582,66 @@ def test_minimal_work_quick(tmp_path):
 
 
 @EXPERIMENT_RUN
+def test_minimal_work_engine_quick(tmp_path):
+    """Issue 45: Table 4.6's candidates judged by MuJoCo; the scores are the trials' own (skips
+    without the CC BY-NC data folder or MuJoCo)."""
+    pytest.importorskip("mujoco")
+    from workbench.experiments.minimal_work import DEFAULT_CONFIG
+
+    if not (Path(DEFAULT_CONFIG["data_dir"]) / "stiffness_maps" / "plastic_cup.json").exists():
+        pytest.skip("deformable_objects data not present")
+    argv = ["run", "minimal-work-engine", "--quick", "--out", str(tmp_path), "--set", "workers=1"]
+    assert main(argv) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    with open(tmp_path / "trials.csv") as fh:
+        trials = list(csv.DictReader(fh))
+    with open(tmp_path / "metrics" / "grasps.csv") as fh:
+        metrics = {(r["object"], r["grasp"]): r for r in csv.DictReader(fh)}
+    assert len(trials) == 2 * s["n_grasps_judged"] == 2 * 3 * 2  # 3 objects x 2 grasps x 2 tasks
+    held = {
+        t: np.array([r["engine_held"] == "True" for r in trials if r["task"] == t])
+        for t in ("vertical_lifting", "lift_and_rotate")
+    }
+    # turning the object 90 deg about the grasp axis adds the weight's torque: never easier
+    assert held["lift_and_rotate"].sum() <= held["vertical_lifting"].sum()
+    assert held["lift_and_rotate"].sum() < len(held["lift_and_rotate"])  # some turned grasp fails
+    for t in ("vertical_lifting", "lift_and_rotate"):
+        rows = [r for r in trials if r["task"] == t]
+        truth = held[t]
+        old = np.array([r["old_truth"] == "True" for r in rows])
+        assert s["old_truth_vs_engine"][t]["agreement"] == pytest.approx(np.mean(old == truth))
+        # q_robust on the held-out grasps (minimal-work's split rule), by hand
+        split = np.random.default_rng(1).random(len(rows)) < 0.5
+        q = np.array([float(metrics[r["object"], r["grasp"]][f"{t}_q_robust"]) for r in rows])
+        p, y = q[~split] >= 0.5, truth[~split]
+        ba = np.mean([np.mean(p[y == c] == c) for c in (True, False) if (y == c).any()])
+        assert s["table_4_6_engine"][t]["q_robust"]["All"] == pytest.approx(ba)
+    assert 0 < s["engine_seconds_per_trial"]["median"] <= s["engine_seconds_per_trial"]["worst"] < 60
+    assert "rigid" in s["cannot_judge"] and "REACH profiles" in s["does_not_share"]
+    # a larger sample or a new split resumes every trial already run
+    assert main([*argv, "--set", "n_bootstrap=300"]) == 0
+    assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(trials)
+
+
+@pytest.mark.parametrize(
+    "sets, match",
+    [
+        ({"n_grasps": 1}, "n_grasps must be an integer >= 2"),
+        ({"n_bootstrap": 10}, "n_bootstrap must be an integer >= 100"),
+        ({"max_turn_deg": 0.5}, "max_turn_deg"),
+        ({"engine_force": 10_000.0}, "engine_force"),
+    ],
+)
+def test_minimal_work_engine_refuses_before_any_trial(sets, match):
+    from workbench.experiments.minimal_work import DEFAULT_CONFIG
+
+    if not (Path(DEFAULT_CONFIG["data_dir"]) / "meshes" / "mustard.obj").exists():
+        pytest.skip("deformable_objects data not present")
+    with pytest.raises(SystemExit, match=match):
+        build_config("minimal-work-engine", True, None, None, sets)
+
+
+@EXPERIMENT_RUN
 def test_wall_nonlinear_quick(tmp_path):
     """Issue 13 scope 1: the quick run's headline numbers — at the calibrated E and the
     closings the cup is measured at, the nonlinear wall is softer than the linear one

@@ -338,12 +338,14 @@ def run_checkpointed(
     *,
     desc: str,
     unit: str = "row",
+    code: str | None = None,
 ) -> tuple[Any, int, str]:
     """Every task of ``tasks`` whose ``key(task)`` is not yet in ``out``/rows.jsonl run by
     :func:`run_rows` (``fn(task)`` on the experiment's workers, a tqdm bar named ``desc``),
     each result checkpointed under its key as it arrives.  The checkpoint's key is ``config``
     without where the rows run (``out``, ``workers``, ``scheduler``), so a killed run resumes
-    with no row lost or run twice.  Returns ``(checkpoint, rows resumed, where they ran)``."""
+    with no row lost or run twice; ``code`` keys the rows instead of the whole package's hash
+    (:class:`~workbench.results.Checkpoint`).  Returns ``(checkpoint, rows resumed, where they ran)``."""
     from pathlib import Path
 
     from tqdm import tqdm
@@ -351,7 +353,9 @@ def run_checkpointed(
     from .results import Checkpoint
 
     where = ("out", "workers", "scheduler")  # change no number
-    ckpt = Checkpoint(Path(out) / "rows.jsonl", {k: v for k, v in config.items() if k not in where})
+    ckpt = Checkpoint(
+        Path(out) / "rows.jsonl", {k: v for k, v in config.items() if k not in where}, code=code
+    )
     n_resumed = len(ckpt.rows)
     todo = [t for t in tasks if key(t) not in ckpt]
     with tqdm(total=len(todo), desc=desc, unit=unit) as bar:

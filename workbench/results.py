@@ -163,6 +163,29 @@ def code_hash(n: int = 16) -> str:
     return _sources_digest()[:n]
 
 
+def sources_hash(*modules: str, n: int = 16) -> str:
+    """The first ``n`` hex digits of the SHA-256 of the named modules' Python sources (a package:
+    every ``.py`` file under it), each file's module path and bytes: a narrower key than
+    :func:`code_hash` for rows that only these modules can change (e.g. engine trials), so an
+    edit elsewhere does not recompute them."""
+    import hashlib
+    from importlib.util import find_spec
+
+    h = hashlib.sha256()
+    for mod in sorted(modules):
+        spec = find_spec(mod)
+        if spec is None or spec.origin is None and not spec.submodule_search_locations:
+            raise ValueError(f"sources_hash: no module {mod!r} to hash")
+        if spec.submodule_search_locations:
+            root = Path(spec.submodule_search_locations[0])
+            files = sorted((f"{mod}:{f.relative_to(root).as_posix()}", f) for f in root.rglob("*.py"))
+        else:
+            files = [(mod, Path(spec.origin))]
+        for name, f in files:
+            h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:n]
+
+
 @lru_cache(maxsize=1)
 def _sources_digest() -> str:
     """The full hex digest of :func:`code_hash`, read once per process."""
@@ -311,18 +334,20 @@ class Checkpoint:
     Each row carries a ``key``; a row is appended (flushed and fsynced) only
     when complete, so a killed run loses at most the row in progress and a
     torn last line is ignored on reload.  Rows are kept only if their
-    ``config_hash`` matches — a hash of ``config`` and of the code (:func:`code_hash`) — so
+    ``config_hash`` matches — a hash of ``config`` and of the code (:func:`code_hash`, or
+    ``code``: a narrower digest such as :func:`sources_hash` of what the rows depend on) — so
     changing the sweep's settings or the code that computes its rows starts afresh instead of
     mixing results.  Resuming never duplicates a key.  ``keep_other=True`` keeps the other
     rows in the file as history (a sweep's ``points.jsonl``: every point ever finished),
     never resumed; otherwise they are dropped.
     """
 
-    def __init__(self, path: Path, config: dict, *, keep_other: bool = False) -> None:
-
+    def __init__(
+        self, path: Path, config: dict, *, keep_other: bool = False, code: str | None = None
+    ) -> None:
         self.path = Path(path)
-        self.config_hash = content_hash({"config": config, "code": code_hash()})
-        self.rows: dict[str, dict] = Checkpoint.peek(self.path, config)
+        self.config_hash = content_hash({"config": config, "code": code_hash() if code is None else code})
+        self.rows: dict[str, dict] = Checkpoint.peek(self.path, config, code=code)
         # rewrite only the whole rows (all of them, or the valid ones), so a torn line never
         # precedes new ones
         kept = Checkpoint.history(self.path) if keep_other else list(self.rows.values())
@@ -345,10 +370,10 @@ class Checkpoint:
         return rows
 
     @staticmethod
-    def peek(path: Path, config: dict) -> dict[str, dict]:
-        """The rows a ``Checkpoint(path, config)`` would resume, read without writing
+    def peek(path: Path, config: dict, *, code: str | None = None) -> dict[str, dict]:
+        """The rows a ``Checkpoint(path, config, code=code)`` would resume, read without writing
         anything (no file or directory is created)."""
-        config_hash = content_hash({"config": config, "code": code_hash()})
+        config_hash = content_hash({"config": config, "code": code_hash() if code is None else code})
         # a torn last line of a killed run is left out; the last row of a key wins
         return {r["key"]: r for r in Checkpoint.history(path) if r.get("config_hash") == config_hash}
 

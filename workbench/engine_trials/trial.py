@@ -75,6 +75,11 @@ class TrialPhases:
         check_turn_limit(self.max_turn_deg, "TrialPhases.max_turn_deg")
 
 
+#: other verdict limits an experiment re-reads from its recorded trials (largest drift [mm],
+#: turn [deg]): the thesis chose 9 mm / 5 deg so that half its grasps succeeded (§4.1.3.1)
+VERDICT_LIMITS = ((2.0, 2.0), (5.0, 5.0), (9.0, 5.0), (9.0, 10.0))
+
+
 def check_turn_limit(value, what: str) -> None:
     """A trial's turn limit ``value`` [deg], in [1, 90]: below one degree the verdict would judge
     the pads' own compliance (a held object turns by 0.3-3 degrees with them), and the value was
