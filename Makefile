@@ -50,8 +50,10 @@ reproduce: $(PEERS_STAMP)
 	  $(TIMED) minimal-work -- $(BIN)/workbench run minimal-work --set 'nl_work_objects=["mustard","shampoo"]'; \
 	  $(TIMED) minimal-work-fem-pads -- $(BIN)/workbench run minimal-work --set profiles=fem \
 	    --out results/minimal-work-fem-pads; \
+	  : Table 4.6 judged by MuJoCo trials, slip only; the thesis-size run: --set n_grasps=100 --set n_heights=20 --set n_angles=12; \
+	  $(TIMED) minimal-work-engine -- $(BIN)/workbench run minimal-work-engine; \
 	else \
-	  echo "wall-nonlinear, minimal-work: skipped - $(OBJECTS) (meshes/, stiffness_maps/) not found"; \
+	  echo "wall-nonlinear, minimal-work, minimal-work-engine: skipped - $(OBJECTS) (meshes/, stiffness_maps/) not found"; \
 	fi
 	$(TIMED) peers -- $(BIN)/workbench run peers
 	: the REACH dataset's real YuMi trials on a 3 cm cube, packaged under their MIT notice

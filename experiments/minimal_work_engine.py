@@ -138,7 +138,7 @@ def _mw_config(config: dict) -> dict:
         "nl_work_objects": [],
         "seed": config["seed"],
         "quick": bool(config.get("quick")),
-        "out": str(Path(config["out"]) / "metrics"),
+        "out": str(Path(config.get("out") or f"results/{NAME}") / "metrics"),
         "workers": config["workers"],
         "scheduler": config["scheduler"],
     }

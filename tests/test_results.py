@@ -175,3 +175,37 @@ def test_cache_npz_round_trip_and_an_unreadable_file_is_none(tmp_path, caplog):
         path.write_bytes(path.read_bytes()[:40])
         assert results.read_cache_npz(path, lambda d: None, "test cache", "again") is None
     assert caplog.text.count("test cache") == 2 and "shape (3, 4)" in caplog.text
+
+
+def test_a_checkpoint_keyed_by_its_own_code_resumes_under_that_code_only(tmp_path):
+    from workbench.results import Checkpoint
+
+    path = tmp_path / "rows.jsonl"
+    ck = Checkpoint(path, {"a": 1}, code="engine-v1")
+    ck.add("r1", {"x": 1.5})
+    assert Checkpoint(path, {"a": 1}, code="engine-v1").rows["r1"]["x"] == 1.5
+    assert Checkpoint.peek(path, {"a": 1}, code="engine-v2") == {}
+    assert Checkpoint.peek(path, {"a": 1}) == {}  # the whole package's hash is another key
+
+
+def test_sources_hash_follows_the_named_modules_bytes(tmp_path, monkeypatch):
+    import importlib
+    import sys
+
+    from workbench.results import sources_hash
+
+    pkg = tmp_path / "hashme_pkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("X = 1\n")
+    (tmp_path / "hashme_mod.py").write_text("Y = 2\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    importlib.invalidate_caches()
+    h1 = sources_hash("hashme_pkg", "hashme_mod")
+    assert h1 == sources_hash("hashme_mod", "hashme_pkg")  # order-free
+    (pkg / "a.py").write_text("X = 2\n")
+    assert sources_hash("hashme_pkg", "hashme_mod") != h1
+    assert sources_hash("hashme_mod") != sources_hash("hashme_pkg")
+    with pytest.raises(ValueError, match="no module 'no_such_module_here'"):
+        sources_hash("no_such_module_here")
+    sys.modules.pop("hashme_pkg", None)
