@@ -52,6 +52,9 @@ class EngineSettings:
     pad_mass: float = 0.1
     # pad grid points along its width, length, thickness (a 5 x 9 x 3 grid: 5 mm x 5 mm x 2.5 mm)
     pad_grid: tuple[int, int, int] = (5, 9, 3)
+    # a non-convex object collides as convex slabs this thick [m] across gravity (MuJoCo collides
+    # each mesh as its hull: a bottle's waist would be bridged); 0: as its hull (.collision)
+    object_slab: float = 5e-3
 
     def __post_init__(self) -> None:
         if self.cone not in ("elliptic", "pyramidal"):
@@ -103,6 +106,12 @@ class EngineSettings:
             raise ValueError(
                 "contact_solimp must be (d0, d_width in (0, 1), width [m] > 0, midpoint in (0, 1), "
                 f"power >= 1); got {si!r} (the validated setting is (0.99, 0.999, 1e-4, 0.5, 2.0))"
+            )
+        sl = self.object_slab
+        if isinstance(sl, bool) or not isinstance(sl, (int, float)) or not (0 <= sl <= 0.05):
+            raise ValueError(
+                f"object_slab must be a thickness in [0, 0.05] m (0: the object's convex hull); got {sl!r} "
+                "(5 mm = 5e-3)"
             )
         if len(self.pad_grid) != 3 or any(int(n) != n or n < 2 for n in self.pad_grid):
             raise ValueError(

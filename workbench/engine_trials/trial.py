@@ -144,14 +144,21 @@ def _check_grasp(grasp: dict, mesh=None) -> tuple[np.ndarray, np.ndarray, np.nda
     return p1, p2, axis
 
 
-def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings) -> tuple[str, str]:
-    """(asset, body) MJCF of the rigid object: its mesh (MuJoCo collides with its convex hull),
-    ``mass`` [kg] with the mesh's inertia scaled to it about ``com`` (3,) [m]."""
-    v = np.asarray(mesh.vertices, float)
-    f = np.asarray(mesh.faces, int)
-    vs = " ".join(f"{x:.9g}" for x in v.ravel())
-    fs = " ".join(str(i) for i in f.ravel())
-    asset = f'<mesh name="object" vertex="{vs}" face="{fs}"/>'
+def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings, down) -> tuple[str, str]:
+    """(asset, body) MJCF of the rigid object: its convex pieces (:func:`.collision.collision_pieces`:
+    the hull of a convex mesh, else slabs across gravity ``down``), ``mass`` [kg] with the mesh's
+    inertia scaled to it about ``com`` (3,) [m]."""
+    from .collision import collision_pieces
+
+    assets, geoms = [], []
+    for k, piece in enumerate(collision_pieces(mesh, down, settings.object_slab)):
+        vs = " ".join(f"{x:.9g}" for x in np.asarray(piece.vertices, float).ravel())
+        fs = " ".join(str(i) for i in np.asarray(piece.faces, int).ravel())
+        assets.append(f'<mesh name="object{k}" vertex="{vs}" face="{fs}"/>')
+        geoms.append(
+            f'<geom type="mesh" mesh="object{k}" mass="0" contype="1" conaffinity="3" '
+            f"{settings.contact_attrs(mu)}/>"
+        )
     # the solid's inertia about its centroid, scaled to the given mass, moved to com
     I = np.asarray(mesh.moment_inertia, float) * (mass / mesh.mass)
     d = np.asarray(com, float) - np.asarray(mesh.center_mass, float)
@@ -160,11 +167,9 @@ def _object_xml(mesh, mass: float, com, mu: float, settings: EngineSettings) -> 
     c = " ".join(f"{x:.9g}" for x in com)
     body = (
         '<body name="object"><freejoint/>'
-        f'<inertial pos="{c}" mass="{mass:g}" fullinertia="{full}"/>'
-        f'<geom type="mesh" mesh="object" mass="0" contype="1" conaffinity="3" {settings.contact_attrs(mu)}/>'
-        "</body>"
+        f'<inertial pos="{c}" mass="{mass:g}" fullinertia="{full}"/>{"".join(geoms)}</body>'
     )
-    return asset, body
+    return "".join(assets), body
 
 
 def open_pad_depth(mesh, faces, axis, up, pad, grid: tuple[int, int] = (5, 9)) -> np.ndarray:
@@ -250,7 +255,7 @@ def build_scene(
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)
-    asset, body = _object_xml(mesh, mass, com, mu, settings)
+    asset, body = _object_xml(mesh, mass, com, mu, settings, down)
     jaws = []
     for k, (face, a) in enumerate(((f1, axis), (f2, -axis)), start=1):
         pad_xml = flexcomp_xml(f"pad{k}", tuple(pad), pad_E, pad_nu, face, a, np.asarray(up, float), settings)
