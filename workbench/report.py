@@ -1208,7 +1208,7 @@ MWE = "minimal-work-engine/summary.json"
 RUN_MWE = "workbench run minimal-work-engine"
 TRUTH_MWE = (
     "simulated on an existing engine (MuJoCo: silicone flex pads close with a fixed force on the rigid "
-    "object's convex hull, lift, turn, hold); it shares the mesh, mu, mass, grasp pose, force and pad size "
+    "object as convex slabs, lift, turn, hold); it shares the mesh, mu, mass, grasp pose, force and pad size "
     "with the metrics, not the REACH profiles, 6DLS, exact 6DFW, stiffness map or wall FEM — and it judges "
     "slip only (no validated shell: engine-validation (d))"
 )
