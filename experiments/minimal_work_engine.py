@@ -280,7 +280,7 @@ def run(config: dict) -> dict:
     grasps = _sample(_read_grasps(Path(mw_config["out"]) / "grasps.csv"), config)
     # 2. the engine trials
     jobs = [(g["object"], g["grasp"], t, g["p1"], g["p2"], g["axis"]) for g in grasps for t in TASKS]
-    # the rows' key: what changes a trial's outcome, so another sample, candidate grid, split or
+    # the rows' key: what changes a trial's outcome or a candidate's index, so another sample, split or
     # number of resamples resumes every trial already run
     engine_config = {k: config[k] for k in (*TRIAL_KEYS, "workers", "scheduler")}
     ckpt, n_resumed, ran_on = run_checkpointed(
