@@ -210,15 +210,7 @@ def _trial(job: tuple, config: dict) -> dict:
         pad_nu=config["pad_nu"],
         phases=TrialPhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
     )
-    return {
-        "held": outcome.held,
-        "drift_mm": outcome.drift * 1e3,
-        "turn_deg": outcome.turn_deg,
-        "seconds": outcome.seconds,
-        "steps": outcome.steps,
-        "reason": outcome.reason,
-        "engine_warnings": outcome.engine_warnings,
-    }
+    return outcome.row()
 
 
 def _key(job: tuple) -> str:

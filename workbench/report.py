@@ -1223,6 +1223,13 @@ def _ba_interval(task: str, metric: str) -> Callable[[Summaries], Any]:
     return ours
 
 
+def _show_ba_interval(v: Any) -> str:
+    """``BA [low, high]``, or the reason there is no interval (one class among the judged grasps)."""
+    if v[1] != v[1]:  # NaN: quality_table gives no interval with fewer than two grasps of a class
+        return f"{v[0]:.3f} (one outcome class: no interval)"
+    return f"{v[0]:.3f} [{v[1]:.2f}, {v[2]:.2f}]"
+
+
 def _engine_table_4_6_claims(printed46: dict) -> list[Claim]:
     """Table 4.6's All row and its q_work claim against MuJoCo trials (``minimal-work-engine``)."""
     c = []
@@ -1239,7 +1246,7 @@ def _engine_table_4_6_claims(printed46: dict) -> list[Claim]:
                     printed,
                     f"Table 4.6, row All, {TASKS[task]}",
                     _ba_interval(task, metric),
-                    not_comparable(printed, show=lambda v: f"{v[0]:.3f} [{v[1]:.2f}, {v[2]:.2f}]"),
+                    not_comparable(printed, show=_show_ba_interval),
                     RULE_NOT_COMPARABLE,
                     RUN_MWE,
                     why=why,
