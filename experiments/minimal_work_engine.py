@@ -210,7 +210,15 @@ def _trial(job: tuple, config: dict) -> dict:
         pad_nu=config["pad_nu"],
         phases=TrialPhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
     )
-    return outcome.row()
+    return {
+        "held": outcome.held,
+        "drift_mm": outcome.drift * 1e3,
+        "turn_deg": outcome.turn_deg,
+        "seconds": outcome.seconds,
+        "steps": outcome.steps,
+        "reason": outcome.reason,
+        "engine_warnings": outcome.engine_warnings,
+    }
 
 
 def _key(job: tuple) -> str:
@@ -332,7 +340,11 @@ def run(config: dict) -> dict:
         at = {}
         for t in TASKS:
             rs = [trial[g["object"], g["grasp"], t] for g in grasps]
-            held = np.array([r["drift_mm"] <= d_mm and r["turn_deg"] <= t_deg for r in rs], dtype=bool)
+            # a trial that could not start has no drift (null): not held at any limit
+            held = np.array(
+                [r["drift_mm"] is not None and r["drift_mm"] <= d_mm and r["turn_deg"] <= t_deg for r in rs],
+                dtype=bool,
+            )
             if held.all() or not held.any():  # one class: no normaliser to fit
                 at[t] = {"held_fraction": float(held.mean())}
                 continue
