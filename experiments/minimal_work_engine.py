@@ -333,8 +333,7 @@ def run(config: dict) -> dict:
             "balanced_accuracy": balanced_accuracy(truth, held),
             "old_success": int(truth.sum()),
         }
-    # the verdict at other limits, re-read from each trial's largest drift and turn (a NaN of a
-    # trial that could not start compares False: not held)
+    # the verdict at other limits, re-read from each trial's largest drift and turn
     limits = {}
     for d_mm, t_deg in VERDICT_LIMITS:
         at = {}

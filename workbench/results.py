@@ -163,47 +163,49 @@ def code_hash(n: int = 16) -> str:
     return _sources_digest()[:n]
 
 
+def _module_files(mod: str) -> list[tuple[str, Path]]:
+    """``(name, path)`` of a module's Python sources, sorted by name: a package's every ``.py``
+    under it (``mod:relative/path.py``), a plain module's own file (``mod``)."""
+    from importlib.util import find_spec
+
+    spec = find_spec(mod)
+    if spec is None or not spec.submodule_search_locations and spec.origin is None:
+        raise ValueError(f"sources_hash: no module {mod!r} to hash")
+    if not spec.submodule_search_locations:
+        return [(mod, Path(spec.origin))]
+    root = Path(spec.submodule_search_locations[0])
+    return sorted((f"{mod}:{f.relative_to(root).as_posix()}", f) for f in root.rglob("*.py"))
+
+
+def _files_digest(files: list[tuple[str, Path]]) -> str:
+    """SHA-256 hex digest of each file's name and bytes, in the given order."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for name, f in files:
+        h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def sources_hash(*modules: str, n: int = 16) -> str:
     """The first ``n`` hex digits of the SHA-256 of the named modules' Python sources (a package:
     every ``.py`` file under it), each file's module path and bytes: a narrower key than
     :func:`code_hash` for rows that only these modules can change (e.g. engine trials), so an
     edit elsewhere does not recompute them."""
-    import hashlib
-    from importlib.util import find_spec
-
-    h = hashlib.sha256()
-    for mod in sorted(modules):
-        spec = find_spec(mod)
-        if spec is None or spec.origin is None and not spec.submodule_search_locations:
-            raise ValueError(f"sources_hash: no module {mod!r} to hash")
-        if spec.submodule_search_locations:
-            root = Path(spec.submodule_search_locations[0])
-            files = sorted((f"{mod}:{f.relative_to(root).as_posix()}", f) for f in root.rglob("*.py"))
-        else:
-            files = [(mod, Path(spec.origin))]
-        for name, f in files:
-            h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
-    return h.hexdigest()[:n]
+    return _files_digest([f for mod in sorted(modules) for f in _module_files(mod)])[:n]
 
 
 @lru_cache(maxsize=1)
 def _sources_digest() -> str:
     """The full hex digest of :func:`code_hash`, read once per process."""
-    import hashlib
-    from importlib.util import find_spec
-
-    h = hashlib.sha256()
+    files = []
     for pkg in ("workbench", "workbench.fem", "workbench.experiments"):
-        root = Path(find_spec(pkg).submodule_search_locations[0])
-        files = []
-        for f in root.rglob("*.py"):
-            rel = f.relative_to(root)
-            if pkg == "workbench" and rel.parts[0] in ("fem", "experiments"):
-                continue  # an installed wheel nests them; they are hashed as their own packages
-            files.append((f"{pkg}:{rel.as_posix()}", f))
-        for name, f in sorted(files):
-            h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
-    return h.hexdigest()
+        for name, f in _module_files(pkg):
+            # an installed wheel nests fem/ and experiments/ in workbench/: hashed as their own packages
+            if pkg == "workbench" and name.split(":", 1)[1].split("/")[0] in ("fem", "experiments"):
+                continue
+            files.append((name, f))
+    return _files_digest(files)
 
 
 #: the checkout's paths whose changes make a run's code differ from its revision (results/ does
@@ -346,7 +348,7 @@ class Checkpoint:
         self, path: Path, config: dict, *, keep_other: bool = False, code: str | None = None
     ) -> None:
         self.path = Path(path)
-        self.config_hash = content_hash({"config": config, "code": code_hash() if code is None else code})
+        self.config_hash = Checkpoint._config_hash(config, code)
         self.rows: dict[str, dict] = Checkpoint.peek(self.path, config, code=code)
         # rewrite only the whole rows (all of them, or the valid ones), so a torn line never
         # precedes new ones
@@ -370,10 +372,15 @@ class Checkpoint:
         return rows
 
     @staticmethod
+    def _config_hash(config: dict, code: str | None) -> str:
+        """The rows' key: ``config`` and ``code`` (default: the whole package's :func:`code_hash`)."""
+        return content_hash({"config": config, "code": code_hash() if code is None else code})
+
+    @staticmethod
     def peek(path: Path, config: dict, *, code: str | None = None) -> dict[str, dict]:
         """The rows a ``Checkpoint(path, config, code=code)`` would resume, read without writing
         anything (no file or directory is created)."""
-        config_hash = content_hash({"config": config, "code": code_hash() if code is None else code})
+        config_hash = Checkpoint._config_hash(config, code)
         # a torn last line of a killed run is left out; the last row of a key wins
         return {r["key"]: r for r in Checkpoint.history(path) if r.get("config_hash") == config_hash}
 
