@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import csv
 import time
-from functools import lru_cache, partial
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -184,19 +184,12 @@ def _sample(grasps: list[dict], config: dict) -> list[dict]:
     return out
 
 
-@lru_cache(maxsize=4)
-def _mesh(path: str):
-    import trimesh
-
-    return trimesh.load(path, force="mesh")
-
-
 def _trial(job: tuple, config: dict) -> dict:
     """One engine trial (driver or Dask worker): ``(object, grasp, task, p1, p2, axis)``."""
     from workbench.engine_trials import TrialPhases, simulate_grasp
 
     name, _, task, p1, p2, axis = job
-    mesh = _mesh(str(_mw._paths(config, name)[0]))
+    mesh = _mw._mesh(str(_mw._paths(config, name)[0]))
     outcome = simulate_grasp(
         mesh,
         {"p1": p1, "p2": p2, "axis": axis},
@@ -210,15 +203,7 @@ def _trial(job: tuple, config: dict) -> dict:
         pad_nu=config["pad_nu"],
         phases=TrialPhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
     )
-    return {
-        "held": outcome.held,
-        "drift_mm": outcome.drift * 1e3,
-        "turn_deg": outcome.turn_deg,
-        "seconds": outcome.seconds,
-        "steps": outcome.steps,
-        "reason": outcome.reason,
-        "engine_warnings": outcome.engine_warnings,
-    }
+    return outcome.row()
 
 
 def _key(job: tuple) -> str:
@@ -238,7 +223,7 @@ def _trial_code() -> str:
         [
             sources_hash("workbench.engine_trials", "workbench.config", "workbench.sources.jaws"),
             inspect.getsource(_trial),
-            inspect.getsource(_mesh),
+            inspect.getsource(_mw._mesh),
             version("mujoco"),
         ]
     )
@@ -258,7 +243,7 @@ def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
         idx = [i for i, g in enumerate(grasps) if g["object"] == name]
         if not idx:
             continue
-        mesh = _mesh(str(_mw._paths(config, name)[0]))
+        mesh = _mw._mesh(str(_mw._paths(config, name)[0]))
         pts = np.array([p for i in idx for p in (grasps[i]["p1"], grasps[i]["p2"])])
         pieces = collision_pieces(mesh, (0.0, 0.0, -1.0), EngineSettings().object_slab)
         depth = np.max([trimesh.proximity.signed_distance(p, pts) for p in pieces], axis=0)  # > 0 inside

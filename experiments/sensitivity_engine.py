@@ -147,15 +147,7 @@ def _row(task: tuple, config: dict) -> dict:
             conform=True,
             phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
         )
-        return {
-            "held": outcome.held,
-            "drift_mm": outcome.drift * 1e3,
-            "turn_deg": outcome.turn_deg,
-            "seconds": outcome.seconds,
-            "steps": outcome.steps,
-            "reason": outcome.reason,
-            "engine_warnings": outcome.engine_warnings,
-        }
+        return outcome.row()
     profiles = _scene._profiles(config, config["k_true"], config["length"])
     if kind == "exact":  # the sensitivity experiment's ground truth, for the same grasps
         exact = ExactContacts(profiles, n_start=config["truth_start_wrenches"], seed=1)

@@ -39,6 +39,7 @@ def convex_slabs(mesh, axis, thickness: float) -> list:
     where the surface crosses its two planes; hulls of less than :data:`MIN_PIECE_VOLUME` are
     dropped."""
     import trimesh
+    from scipy.spatial import QhullError
 
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     v = np.asarray(mesh.vertices, float)
@@ -56,7 +57,7 @@ def convex_slabs(mesh, axis, thickness: float) -> list:
             continue
         try:
             hull = trimesh.convex.convex_hull(pts)
-        except Exception:  # noqa: BLE001 - qhull refuses coplanar points: no volume to collide
+        except QhullError:  # coplanar points even after trimesh's joggle: no volume to collide
             continue
         if hull.volume > MIN_PIECE_VOLUME:
             pieces.append(hull)

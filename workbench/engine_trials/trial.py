@@ -121,6 +121,18 @@ class TrialOutcome:
     reason: str = ""
     engine_warnings: dict = field(default_factory=dict)
 
+    def row(self) -> dict:
+        """The verdict and its measures as a checkpoint row (drift in mm)."""
+        return {
+            "held": self.held,
+            "drift_mm": self.drift * 1e3,
+            "turn_deg": self.turn_deg,
+            "seconds": self.seconds,
+            "steps": self.steps,
+            "reason": self.reason,
+            "engine_warnings": self.engine_warnings,
+        }
+
 
 def _check_grasp(grasp: dict, mesh=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(p1, p2, axis) of ``grasp`` (``sources.jaws.check_grasp``'s rule), each point on the
