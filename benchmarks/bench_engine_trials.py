@@ -10,7 +10,7 @@ throughput, and the simulated seconds per wall second.
 
 Then the cost against the pads' vertex count (``scaling``): one trial of a box squarely gripped
 (vertical lifting, 2.1 simulated seconds) at three pad grids, wall seconds per trial and per
-simulated second (issue 45's goal: <= 30 s a trial on one core).
+simulated second.
 
 Writes results/benchmarks/engine_trials.json.  Run: python benchmarks/bench_engine_trials.py [--quick]
 """

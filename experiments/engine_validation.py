@@ -169,7 +169,7 @@ def run(config: dict) -> dict:
                 "t 0.5 mm) by -30/-25/-19 % at 32x22/48x33/96x65 vertices (its hinge bending depends on "
                 "the triangles' shape); Drake 1.51 has no shells and its linear tets lock in bending: a "
                 "free 10 mm PET ring is within 15 % of Roark only at 8 layers x 1024 around (49,152 tets, "
-                "5.9 GB, 48 s to settle), every tube mesh that fits in this machine's memory is +208 to "
+                "5.9 GB), every tube mesh that fits in this machine's memory is +208 to "
                 "+272 % too stiff. Blocked on both engines; README, 'Thin-walled objects'"
             ),
         },

@@ -583,7 +583,7 @@ def test_minimal_work_quick(tmp_path):
 
 @EXPERIMENT_RUN
 def test_minimal_work_engine_quick(tmp_path):
-    """Issue 45: Table 4.6's candidates judged by MuJoCo; the scores are the trials' own (skips
+    """Table 4.6's candidates judged by MuJoCo; the scores are the trials' own (skips
     without the CC BY-NC data folder or MuJoCo)."""
     pytest.importorskip("mujoco")
     from workbench.experiments.minimal_work import DEFAULT_CONFIG
