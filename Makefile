@@ -36,6 +36,8 @@ reproduce: $(PEERS_STAMP)
 		--out results/sensitivity-wrapped
 	: the same scene judged by MuJoCo (workbench.engine_trials), not by our exact 6DFW
 	$(TIMED) sensitivity-engine -- $(BIN)/workbench run sensitivity-engine
+	: the same question on side grasps of the bottle family, FEM pad profiles, judged by MuJoCo
+	$(TIMED) sensitivity-engine-bottles -- $(BIN)/workbench run sensitivity-engine-bottles
 	: the engine judge validated: indentation, friction, torsion, the REACH cube trials (bench-engine-trials reads them)
 	$(TIMED) engine-validation -- $(BIN)/workbench run engine-validation
 	# the measured objects (CC BY-NC 4.0, read by path beside the repository): skipped, and said

@@ -38,12 +38,14 @@ from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
 from workbench.grasp.crossval import seed_summary
 from workbench.grasp.exact import ExactContacts, resists_exact
+from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
 from workbench.grasp.models import MODELS
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.parallel import check_workers, run_checkpointed
-from workbench.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.results import write_csv, write_summary
 from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_solid
+from workbench.trial_figures import judged_figure
 
 NAME = "sensitivity-engine"
 
@@ -187,17 +189,15 @@ def run(config: dict) -> dict:
     held = {s: np.array([r["held"] for r in engine[s]], dtype=bool) for s in seeds}
     exact = {s: np.array(ckpt.rows[f"exact/{s}"]["pred"], dtype=bool) for s in seeds}
 
-    def table(pred_of, truth_of) -> dict:
-        return seed_summary([scores(pred_of(s), truth_of(s)) for s in seeds])
-
-    per_model = {}
-    for m in config["models"]:
-        pred = {s: np.array(ckpt.rows[f"model/{s}/{m}"]["pred"], dtype=bool) for s in seeds}
-        per_model[m] = {
-            "vs_engine": table(pred.get, held.get),
-            "vs_exact_6dfw": table(pred.get, exact.get),
-            "ms_per_grasp": float(np.median([ckpt.rows[f"model/{s}/{m}"]["ms_per_grasp"] for s in seeds])),
-        }
+    pred = {
+        m: {s: np.array(ckpt.rows[f"model/{s}/{m}"]["pred"], dtype=bool) for s in seeds}
+        for m in config["models"]
+    }
+    ms = {
+        m: float(np.median([ckpt.rows[f"model/{s}/{m}"]["ms_per_grasp"] for s in seeds]))
+        for m in config["models"]
+    }
+    per_model = model_tables(pred, held, exact, seeds, ms)
     trials = [r for s in seeds for r in engine[s]]
     secs = np.array([r["seconds"] for r in trials])
     warned = sum(bool(r["engine_warnings"]) for r in trials)
@@ -217,10 +217,10 @@ def run(config: dict) -> dict:
         "engine_positive_fraction": seed_summary([{"f": float(held[s].mean())} for s in seeds])["f"],
         "exact_positive_fraction": seed_summary([{"f": float(exact[s].mean())} for s in seeds])["f"],
         # the old truth scored as a predictor of the engine's verdicts
-        "exact_6dfw_vs_engine": table(exact.get, held.get),
+        "exact_6dfw_vs_engine": seed_summary([scores(exact[s], held[s]) for s in seeds]),
         "models": per_model,
-        "thesis_claims": _claims(per_model),
-        "verdict_thresholds": _threshold_sensitivity(ckpt, engine, config),
+        "thesis_claims": recall_gain_claims(per_model),
+        "verdict_thresholds": verdict_limit_tables(pred, engine, seeds, VERDICT_LIMITS),
         "engine_seconds_per_trial": {"median": float(np.median(secs)), "worst": float(secs.max())},
         "engine_trials_warned": warned,
         "n_resumed": n_resumed,
@@ -236,122 +236,12 @@ def run(config: dict) -> dict:
             for i, r in enumerate(engine[s])
         ],
     )
-    summary["figures"] = [_figure(out, per_model)]
-    summary["headline"] = _headline(summary, config)
-    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
-
-
-def _threshold_sensitivity(ckpt: Checkpoint, engine: dict, config: dict) -> dict:
-    """The engine's verdict at other drift / turn limits (:data:`VERDICT_LIMITS`), re-read from
-    each trial's recorded largest drift and turn (no new simulation; a limit looser than the
-    run's own reads trials that ran on after crossing the run's limit, which only moves them
-    further): the held fraction, each model's recall and accuracy, and the models ranked by
-    accuracy, per pair of limits."""
-    seeds = config["seeds"]
-    out = {}
-    for drift_mm, turn_deg in VERDICT_LIMITS:
-        held = {
-            s: np.array([r["drift_mm"] <= drift_mm and r["turn_deg"] <= turn_deg for r in engine[s]])
-            for s in seeds
-        }
-        models = {}
-        for m in config["models"]:
-            got = seed_summary(
-                [scores(np.array(ckpt.rows[f"model/{s}/{m}"]["pred"], dtype=bool), held[s]) for s in seeds]
-            )
-            models[m] = {k: got[k]["mean"] for k in ("recall", "accuracy", "precision")}
-        out[f"{drift_mm:g}mm_{turn_deg:g}deg"] = {
-            "held_fraction": float(np.mean([held[s].mean() for s in seeds])),
-            "models": models,
-            "ranking_by_accuracy": sorted(models, key=lambda m: -models[m]["accuracy"]),
-        }
-    return out
-
-
-#: thesis §4.1.3.4 (Table 4.1): the 6DLS models' recall above each baseline's, "while
-#: maintaining a comparable precision" — up to 26 / 12 / 9 points over 3DLS-planar, 6DFW and
-#: 3DLS-nonplanar; F1 up to 16 and accuracy up to 7 points over the rest
-THESIS_RECALL_GAIN = {"planar": 26.0, "6dfw": 12.0, "3dls_nonplanar": 9.0}
-
-
-def _claims(per_model: dict) -> dict:
-    """Each of the thesis's Table 4.1 claims against the engine: the best 6DLS variant's gain
-    in recall, F1 and accuracy over each baseline [percentage points], and whether it holds
-    (gain > 0 with precision within 5 points: "comparable")."""
-    six = [m for m in ("6dls", "6dls_quartic") if m in per_model]
-    out = {}
-    if not six:
-        return out
-    for base, thesis in THESIS_RECALL_GAIN.items():
-        if base not in per_model:
-            continue
-        got = {}
-        for metric in ("recall", "f1", "accuracy", "precision"):
-            best = max(per_model[m]["vs_engine"][metric]["mean"] for m in six)
-            got[metric] = 100 * (best - per_model[base]["vs_engine"][metric]["mean"])
-        holds = bool(got["recall"] > 0 and got["precision"] > -5)
-        out[f"6dls_over_{base}"] = {
-            "thesis_recall_gain_pts": thesis,
-            "engine_gain_pts": got,
-            "reproduced": holds,
-        }
-    return out
-
-
-def _figure(out: Path, per_model: dict) -> str:
-    """Precision, recall, F1, accuracy of each model against the engine and the exact truth."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    metrics = ("precision", "recall", "f1", "accuracy")
-    models = list(per_model)
-    fig, axes = plt.subplots(1, 4, figsize=(14, 3.6), sharey=True)
-    x = np.arange(len(models))
-    for ax, metric in zip(axes, metrics, strict=True):
-        for k, (truth, colour) in enumerate((("vs_engine", "C0"), ("vs_exact_6dfw", "C7"))):
-            mean = [per_model[m][truth][metric]["mean"] for m in models]
-            std = [per_model[m][truth][metric]["std"] for m in models]
-            ax.bar(x + (k - 0.5) * 0.38, mean, 0.38, yerr=np.nan_to_num(std), color=colour,
-                   label="engine (MuJoCo)" if k == 0 else "exact 6DFW truth")  # fmt: skip
-        ax.set_xticks(x, models, rotation=60, fontsize=8)
-        ax.set_title(metric)
-        ax.set_ylim(0, 1.05)
-    axes[0].legend(fontsize=8, loc="lower left")
-    fig.suptitle("Table 4.1's scene: each model against the engine's verdicts and against the exact 6DFW")
-    fig.tight_layout()
-    name = "table_4_1_engine.png"
-    save_figure(fig, out / name)
-    plt.close(fig)
-    return name
-
-
-def _headline(summary: dict, config: dict) -> list[str]:
-    """The summary's headline lines: the truths' positive fractions, each model's scores."""
-
-    def pm(d: dict) -> str:
-        return f"{d['mean']:.2f}±{d['std']:.2f}" if np.isfinite(d["std"]) else f"{d['mean']:.2f}"
-
-    parts = [
-        f"{len(config['seeds'])} seeds x {config['n_disturbances']} grasps on MuJoCo: engine holds "
-        f"{pm(summary['engine_positive_fraction'])}, exact 6DFW {pm(summary['exact_positive_fraction'])}; "
-        f"exact truth vs engine accuracy {pm(summary['exact_6dfw_vs_engine']['accuracy'])}"
-    ]
-    for m, r in summary["models"].items():
-        e, x = r["vs_engine"], r["vs_exact_6dfw"]
-        keys = ("precision", "recall", "f1", "accuracy")
-        parts.append(
-            f"{m} P/R/F1/acc vs engine {'/'.join(pm(e[k]) for k in keys)} "
-            f"(vs exact 6DFW {'/'.join(pm(x[k]) for k in keys)})"
+    summary["figures"] = [
+        judged_figure(
+            per_model,
+            out / "table_4_1_engine.png",
+            "Table 4.1's scene: each model against the engine's verdicts and against the exact 6DFW",
         )
-    vt = summary["verdict_thresholds"]
-    parts.append(
-        "verdict limits (mm, deg) -> engine holds, best model by accuracy: "
-        + "; ".join(f"{k}: {v['held_fraction']:.2f}, {v['ranking_by_accuracy'][0]}" for k, v in vt.items())
-    )
-    claims = summary["thesis_claims"]
-    if claims:
-        held = sum(c["reproduced"] for c in claims.values())
-        parts.append(f"thesis's 6DLS recall gains reproduced {held}/{len(claims)}")
-    return parts
+    ]
+    summary["headline"] = judged_headline(summary, f"{len(seeds)} seeds x {n} grasps on MuJoCo")
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)

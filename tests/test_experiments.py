@@ -377,6 +377,41 @@ def test_sensitivity_engine_quick(tmp_path):
     assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(rows)
 
 
+@EXPERIMENT_RUN
+def test_sensitivity_engine_bottles_quick(tmp_path):
+    pytest.importorskip("mujoco")
+    argv = ["run", "sensitivity-engine-bottles", "--quick", "--out", str(tmp_path), "--set", "n_grasps=3"]
+    assert main([*argv, "--set", "workers=1"]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
+    held = np.array([rows[f"engine/0/{i}"]["held"] for i in range(3)])
+    exact = np.array([rows[f"models/0/{i}"]["exact"] for i in range(3)])
+    # the engine and the models judged the same grasps, three distinct ones of the pool
+    idx = [rows[f"engine/0/{i}"]["pool_index"] for i in range(3)]
+    assert idx == [rows[f"models/0/{i}"]["pool_index"] for i in range(3)] and len(set(idx)) == 3
+    assert s["pool"]["grasps"] > 3 and s["pool"]["grasps_used"] == 3
+    for m in ("point", "planar", "6dls"):
+        pred = np.array([rows[f"models/0/{i}"]["pred"][m] for i in range(3)])
+        assert s["models"][m]["vs_engine"]["accuracy"]["mean"] == pytest.approx(np.mean(pred == held)), m
+        assert s["models"][m]["vs_exact_6dfw"]["accuracy"]["mean"] == pytest.approx(np.mean(pred == exact))
+    # a point contact resists no torsion: none of the lever disturbances (all carry tau_x)
+    assert not any(rows[f"models/0/{i}"]["pred"]["point"] for i in range(3))
+    # each FEM pad touches the bottle over a patch of the pad's size order (20 x 40 mm pad)
+    areas = np.array([rows[f"models/0/{i}"]["contact_area_mm2"] for i in range(3)])
+    assert ((areas > 20) & (areas < 800)).all()
+    assert s["engine_positive_fraction"]["mean"] == pytest.approx(held.mean())
+    assert s["engine_trials_not_simulated"] == 0
+    with open(tmp_path / "trials.csv") as fh:
+        assert [t["held"] == "True" for t in csv.DictReader(fh)] == held.tolist()
+    # more grasps than the pool holds is refused before any trial
+    from workbench.experiments.sensitivity_engine_bottles import run
+
+    big = build_config("sensitivity-engine-bottles", True, str(tmp_path / "big"), None, {"n_grasps": 10000})
+    with pytest.raises(ValueError, match="more than the 10 grasps in the pool"):
+        run(big)
+    assert not (tmp_path / "big" / "rows.jsonl").exists()
+
+
 @pytest.mark.jit_only(
     "(a)'s reference is our nonlinear pad FEM, minutes as pure Python; its kernels run "
     "without JIT in tests/test_fem_nonlinear.py"

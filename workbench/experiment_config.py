@@ -23,6 +23,7 @@ EXPERIMENTS = {
     "wall-stiffness": "workbench.experiments.wall_stiffness",
     "sensitivity": "workbench.experiments.sensitivity",
     "sensitivity-engine": "workbench.experiments.sensitivity_engine",
+    "sensitivity-engine-bottles": "workbench.experiments.sensitivity_engine_bottles",
     "engine-validation": "workbench.experiments.engine_validation",
     "minimal-work": "workbench.experiments.minimal_work",
     "minimal-work-engine": "workbench.experiments.minimal_work_engine",

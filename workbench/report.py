@@ -45,6 +45,7 @@ ITEMS: dict[str, str] = {
     "Table 4.6": "balanced accuracy of q_robust, q_force, q_work (§4.3.4)",
     "Table 4.1": "prediction of physical grasps by each contact model (§4.1.3.4)",
     "Table 4.1 (engine)": "Table 4.1's scene judged by MuJoCo instead of our exact 6DFW (§4.1.3.4)",
+    "Table 4.1 (engine, bottle family)": "Table 4.1's question on the bottle family's side grasps (MuJoCo)",
     "Table 4.6 (engine)": "Table 4.6's candidates judged by MuJoCo trials, slip only (§4.3.4)",
     "6DFC Table I": "mAP and mAR of physical grasps, robust qualities (6DFC §V-B)",
 }
@@ -1041,7 +1042,8 @@ def _claims() -> list[Claim]:
             )
         )
     c.extend(_physical_claims())
-    c.extend(_engine_claims())
+    for scene in ENGINE_SCENES:
+        c.extend(_engine_claims(scene))
     c.extend(_engine_table_4_6_claims(printed46))
     c.append(
         Claim(
@@ -1143,52 +1145,87 @@ def _physical_claims() -> list[Claim]:
     return c
 
 
-SE = "sensitivity-engine/summary.json"
-RUN_SE = "workbench run sensitivity-engine"
 TRUTH_SE = (
     "simulated on an existing engine (MuJoCo: the scene's object between silicone pads moulded to it, "
     "the disturbance applied and held); it shares the patch geometry, mu, force and disturbance with the "
     "models, not their pressure law, fixed normal forces or resistance program"
 )
-FIG_SE = ("sensitivity-engine/table_4_1_engine.png",)
+TRUTH_SEB = (
+    "simulated on an existing engine (MuJoCo: the rigid bottle mesh between flat silicone pads, the "
+    "disturbance applied and held); it shares the mesh, grasp, mu, force, disturbance and pad size with the "
+    "models, not our FEM pad's contact profile, fixed normal forces or resistance program"
+)
 
 
-def _engine_claims() -> list[Claim]:
-    """Table 4.1's rows and its 6DLS claim against the engine's verdicts (``sensitivity-engine``)."""
+@dataclass(frozen=True)
+class _EngineScene:
+    """One engine-judged Table 4.1 scene: its summary, section, command, what it is, its truth."""
+
+    file: str
+    section: str
+    run: str
+    what: str
+    truth: str
+    figures: tuple[str, ...]
+
+
+ENGINE_SCENES = (
+    _EngineScene(
+        "sensitivity-engine/summary.json",
+        "Table 4.1 (engine)",
+        "workbench run sensitivity-engine",
+        "the elliptic-cylinder scene's grasps",
+        TRUTH_SE,
+        ("sensitivity-engine/table_4_1_engine.png",),
+    ),
+    _EngineScene(
+        "sensitivity-engine-bottles/summary.json",
+        "Table 4.1 (engine, bottle family)",
+        "workbench run sensitivity-engine-bottles",
+        "side grasps of the bottle family (FEM pad profiles)",
+        TRUTH_SEB,
+        ("sensitivity-engine-bottles/table_4_1_engine_bottles.png",),
+    ),
+)
+
+
+def _engine_claims(scene: _EngineScene) -> list[Claim]:
+    """Table 4.1's rows and its 6DLS claim against the engine's verdicts on one ``scene``."""
     c = []
+    f = scene.file
     why = (
-        "the thesis's 1,035 physical grasps of ten 3D-printed objects; here the elliptic-cylinder scene's "
-        "grasps judged by MuJoCo, mean ± std over {{sensitivity-engine/summary.json|n_seeds|.0f}} seeds"
+        f"the thesis's 1,035 physical grasps of ten 3D-printed objects; here {scene.what} judged by MuJoCo, "
+        f"mean ± std over {{{{{f}|n_seeds|.0f}}}} seeds"
     )
     for name, (model, printed) in TABLE_4_1.items():
         c.append(
             Claim(
-                "Table 4.1 (engine)",
+                scene.section,
                 f"{name} (`{model}`), recall against the engine's verdicts (%)",
                 printed,
                 f"Table 4.1, row {name}",
                 lambda s, m=model: (
-                    100 * s.num(SE, f"models.{m}.vs_engine.recall.mean"),
-                    100 * s.num(SE, f"models.{m}.vs_engine.recall.std"),
+                    100 * s.num(f, f"models.{m}.vs_engine.recall.mean"),
+                    100 * s.num(f, f"models.{m}.vs_engine.recall.std"),
                 ),
                 _mean_std_not_comparable(printed),
                 RULE_NOT_COMPARABLE,
-                RUN_SE,
+                scene.run,
                 why=why,
-                truth=TRUTH_SE,
-                figures=FIG_SE,
+                truth=scene.truth,
+                figures=scene.figures,
             )
         )
 
     def gains(s: Summaries) -> dict:
         def get(m):
-            return s.num(SE, f"models.{m}.vs_engine.recall.mean")
+            return s.num(f, f"models.{m}.vs_engine.recall.mean")
 
         return {m: (get("6dls"), get(m)) for m in ("planar", "6dfw", "3dls_nonplanar")}
 
     c.append(
         Claim(
-            "Table 4.1 (engine)",
+            scene.section,
             "6DLS recall above 3DLS-planar, 6DFW and 3DLS-nonplanar, against the engine",
             "the proposed 6DLS models outperform the 3DLS-planar, the 6DFW, and the 3DLS-nonplanar by up to "
             "26%, 12%, and 9% in recall",
@@ -1196,11 +1233,11 @@ def _engine_claims() -> list[Claim]:
             gains,
             trend(_check_gain("6dls")),
             "match if 6dls's mean recall against the engine exceeds each of the three's",
-            RUN_SE,
-            why="the engine's jaws are force-controlled and its pads moulded to the patch: a load that "
-            "wedges the curved patch is held by normal forces the models' fixed pressure does not have",
-            truth=TRUTH_SE,
-            figures=FIG_SE,
+            scene.run,
+            why="the engine's jaws are force-controlled and its pads deform: a load that wedges the curved "
+            "contact is held by normal forces the models' fixed pressure does not have",
+            truth=scene.truth,
+            figures=scene.figures,
         )
     )
     return c

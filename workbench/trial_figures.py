@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-__all__ = ["facing_surface", "fig_3", "fig_3_figure", "grasp_panel", "jaw_coordinates"]
+__all__ = ["facing_surface", "fig_3", "fig_3_figure", "grasp_panel", "jaw_coordinates", "judged_figure"]
 
 
 def jaw_coordinates(jaw, points: np.ndarray) -> np.ndarray:
@@ -129,3 +129,37 @@ def fig_3_figure(tables: dict[str, str], models, quality: str = "robust_held"):
     axes[0, 0].legend(fontsize=7)
     fig.suptitle("6DFC Fig. 3 on the REACH YuMi trials: mean ± std over robustness seeds", fontsize=9)
     return fig
+
+
+def judged_figure(per_model: Mapping[str, dict], path, title: str) -> str:
+    """Bars of each model's precision, recall, F1 and accuracy against the engine and against the
+    exact-6DFW truth, mean ± std over seeds (``per_model`` from
+    :func:`workbench.grasp.judged.model_tables`), saved to ``path``; returns its file name."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .results import save_figure
+
+    models = list(per_model)
+    fig, axes = plt.subplots(1, 4, figsize=(14, 3.6), sharey=True)
+    x = np.arange(len(models))
+    for ax, metric in zip(axes, ("precision", "recall", "f1", "accuracy"), strict=True):
+        for k, (truth, colour, label) in enumerate(
+            (("vs_engine", "C0", "engine (MuJoCo)"), ("vs_exact_6dfw", "C7", "exact 6DFW truth"))
+        ):
+            mean = [per_model[m][truth][metric]["mean"] for m in models]
+            std = [per_model[m][truth][metric]["std"] for m in models]
+            ax.bar(x + (k - 0.5) * 0.38, mean, 0.38, yerr=np.nan_to_num(std), color=colour, label=label)
+        ax.set_xticks(x, models, rotation=60, fontsize=8)
+        ax.set_title(metric)
+        ax.set_ylim(0, 1.05)
+    axes[0].legend(fontsize=8, loc="lower left")
+    fig.suptitle(title)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+    from pathlib import Path
+
+    return Path(path).name

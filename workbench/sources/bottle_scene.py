@@ -1,0 +1,112 @@
+"""Side grasps of the thesis's bottle family (§3.5.2, Fig 3.11(a)) as a grasp scene.
+
+The Fig 4.4 / Table 4.1 scene (:mod:`.scenes`) is one elliptic-cylinder patch; the bottle family
+(:mod:`workbench.fem.bottle`) gives the curved, tapered, twisted and leaning walls a parallel-jaw
+gripper meets on real bottles.  A grasp here is horizontal, through the centre of the bottle's
+cross-section at its height, at an angle to the section's axes, kept when both wall normals lie
+inside the friction cone of the grasp axis and neither pad first meets the wall at its edge
+(:func:`workbench.grasp.sampling.horizontal_grasps`).
+
+The scene's disturbances are written in the *grasp frame* (:func:`grasp_frame`: x the grasp axis,
+z the bottle's up made perpendicular to it, origin the grasp centre) — the frame of
+:func:`workbench.grasp.tasks.lever_disturbances` — and moved to the bottle's own frame by
+:func:`wrenches_to_object` for the models and the engine, which both work in the mesh's frame.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections import Counter
+from functools import lru_cache
+
+import numpy as np
+
+from workbench.fem.bottle import Bottle, BottleParams, bottle_family
+
+log = logging.getLogger(__name__)
+
+__all__ = ["bottle_grasp_pool", "bottle_mesh", "grasp_frame", "wrenches_to_object"]
+
+#: the triangle mesh of a bottle wall: (points around, rings up); ~1.5 mm edges on a 35 mm
+#: bottle, finer than the pad's 1 mm-deep contact needs for the FEM pad and the engine alike
+MESH_RESOLUTION = (128, 160)
+
+
+@lru_cache(maxsize=32)
+def bottle_mesh(params: BottleParams, resolution: tuple[int, int] = MESH_RESOLUTION):
+    """Watertight mesh (``trimesh.Trimesh``, metres, base at z = 0) of ``params``'s bottle; cached
+    per process (treat it as read-only)."""
+    return Bottle(params).to_trimesh(*resolution)
+
+
+def bottle_grasp_pool(
+    n_bottles: int,
+    n_asymmetric: int,
+    family_seed: int,
+    height_fractions,
+    n_angles: int,
+    mu: float,
+    pad: tuple[float, float] = (0.02, 0.04),
+) -> list[dict]:
+    """Every kept side grasp of the first ``n_bottles`` of the bottle family
+    (:func:`~workbench.fem.bottle.bottle_family` with ``n_asymmetric`` leaning, seed
+    ``family_seed``) at each of ``height_fractions`` of the bottle's height × ``n_angles`` axis
+    angles in [0, π) from the section's major axis, the line through the section's centre.
+
+    ``pad`` (width, length) [m] is the jaw's pad, its length vertical.  Returns dicts with
+    ``bottle`` (index in the family), ``height_fraction``, and :func:`horizontal_grasps`'s
+    ``p1``, ``p2``, ``axis``, ``center``, ``width`` in the bottle's frame [m]; an empty pool
+    raises ``ValueError`` (the friction cone too narrow for every wall: raise ``mu``)."""
+    from workbench.grasp.sampling import horizontal_grasps
+
+    fr = np.atleast_1d(np.asarray(height_fractions, float))
+    if fr.size == 0 or fr.ndim != 1 or not ((fr > 0) & (fr < 1)).all():
+        raise ValueError(
+            f"height_fractions must be fractions of the bottle's height in (0, 1), e.g. [0.3, 0.5, 0.7]; "
+            f"got {np.asarray(height_fractions).tolist()}"
+        )
+    family = bottle_family(n_bottles, n_asymmetric, family_seed)
+    pool, dropped = [], Counter()
+    sampler_log = logging.getLogger(horizontal_grasps.__module__)
+    level = sampler_log.level
+    sampler_log.setLevel(logging.ERROR)  # one line below for the pool, not one per empty height
+    try:
+        for j, params in enumerate(family):
+            bottle, mesh = Bottle(params), bottle_mesh(params)
+            for f in fr:
+                z = float(f) * params.height
+                centre = bottle.section(z)[0]
+                kept = horizontal_grasps(mesh, [z], n_angles, mu, centre=centre, pad=pad, progress=False)
+                dropped.update(kept.dropped)
+                pool += [{"bottle": j, "height_fraction": float(f), **g} for g in kept]
+    finally:
+        sampler_log.setLevel(level)
+    if not pool:
+        raise ValueError(
+            f"no side grasp of the {n_bottles} bottles has both walls inside the friction cone "
+            f"(mu = {mu}) with a pad clear of its edges: raise mu or add heights / angles"
+        )
+    log.info("bottle grasp pool: %d grasps on %d bottles; dropped %s", len(pool), n_bottles, dict(dropped))
+    return pool
+
+
+def grasp_frame(axis, up=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """(3, 3) rotation whose rows are the grasp frame's x (``axis``), y = z × x and z (``up``
+    made perpendicular to the axis) in the object frame: ``v_grasp = R @ v_object``."""
+    x = np.asarray(axis, float)
+    x = x / np.linalg.norm(x)
+    z = np.asarray(up, float) - (np.asarray(up, float) @ x) * x
+    if not np.linalg.norm(z) > 1e-9:
+        raise ValueError(f"up {up!r} is parallel to the grasp axis {axis!r}: the grasp frame is undefined")
+    z = z / np.linalg.norm(z)
+    return np.vstack([x, np.cross(z, x), z])
+
+
+def wrenches_to_object(W_grasp, R: np.ndarray, centre) -> np.ndarray:
+    """Wrenches (n, 6) given in the grasp frame (force, torque about the grasp centre) as the
+    same loads in the object frame about its origin: ``f_o = Rᵀ f``, ``τ_o = Rᵀ τ + c × f_o``
+    (``R`` from :func:`grasp_frame`, ``centre`` c (3,) the grasp centre in the object frame)."""
+    W = np.atleast_2d(np.asarray(W_grasp, float))
+    f = W[:, :3] @ R
+    tau = W[:, 3:] @ R + np.cross(np.asarray(centre, float), f)
+    return np.hstack([f, tau])
