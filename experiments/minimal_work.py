@@ -15,7 +15,11 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    — and the ellipsoidal 6DLS of each;
 4. the metrics per task (vertical lifting: one pose; lifting and 90° rotation: three
    poses about the grasp axis; quality = minimum over poses): ``q_robust`` (Eq. 2.101),
-   ``q_force = 1 − f⊥/f⊥max`` and ``q_work = 1 − W/W_max`` (Eq. 4.4–4.6 over ``C_outer``);
+   ``q_force = 1 − f⊥/f⊥max`` and ``q_work = 1 − W/W_max`` (Eq. 4.4–4.6) over the 6DLS itself
+   (``work_representation="model"``: each ellipsoid as its second-order cone) — or over the
+   thesis's ``C_outer`` of ``M`` tangent half-spaces (``"outer"``), an outer approximation whose
+   minimal forces on these curved jaws are several times below the 6DLS's (and finite where the
+   6DLS and the exact 6DFW resist at no force): a lower bound, not the metric;
 5. **simulated ground truth** (no robot data here): the gripper closes to
    ``safety ×`` the force the *exact* 6DFW sets of the profiles need (capped at the
    gripper's ``force_cap``), with friction and force noise; the grasp succeeds iff
@@ -94,7 +98,10 @@ DEFAULT_CONFIG = {
     "grasp_force": 10.0,  # N per jaw: the force the profiles and q_robust use (§4.3.3.1)
     "profiles": "reach",  # jaw profiles: "reach" (§4.3.2.1) or "fem" (the FEM pad, workbench.sources.fem_jaw)
     "reach_closing_mm": 1.0,  # REACH pad compression past first touch
-    "M": 200,  # linearisation directions of C_outer (Eq. 3.28)
+    "M": 200,  # linearisation directions of the 6DLS (C_outer, Eq. 3.28; q_robust's polytope)
+    # the minimal-force program of q_force / q_work: "model" = the 6DLS itself (Eq. 4.4 exactly),
+    # "outer" = the thesis's C_outer of M half-spaces (optimistic: forces below the 6DLS's)
+    "work_representation": "model",
     "robust_samples": 30,  # N_r of q_robust
     "E": 2.5e9,  # wall FEM before calibration (PET)
     "nu": 0.4,
@@ -168,7 +175,10 @@ KEYS = {
     "grasp_force": Key("force per jaw of the profiles and q_robust (thesis §4.3.3.1)", "N", "jaw_force"),
     "profiles": Key("jaw contact profiles: REACH (§4.3.2.1) or the FEM pad", choices=PROFILE_SOURCES),
     "reach_closing_mm": Key("REACH pad compression past first touch", "mm", "compression", 1e-3),
-    "M": Key("linearisation directions of C_outer (Eq. 3.28)"),
+    "M": Key("linearisation directions of the 6DLS (C_outer, Eq. 3.28)"),
+    "work_representation": Key(
+        "q_force / q_work program: the 6DLS itself or the thesis's C_outer", choices=("model", "outer")
+    ),
     "robust_samples": Key("pose samples N_r of q_robust"),
     "E": Key("wall Young's modulus before calibration (PET)", "Pa", "wall_modulus"),
     "nu": Key("wall Poisson ratio", "", "poisson"),
@@ -891,7 +901,10 @@ def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: 
         return q_robust_of[key]
 
     # every pose of both tasks on one LP (the 0° pose they share is solved once)
-    mw_all, k0 = minimal_work_poses(contacts, np.vstack(list(poses.values())), mu, s_map), 0
+    mw_all = minimal_work_poses(
+        contacts, np.vstack(list(poses.values())), mu, s_map, representation=config["work_representation"]
+    )
+    k0 = 0
     for task, ws in poses.items():
         mw, k0 = mw_all[k0 : k0 + len(ws)], k0 + len(ws)
         f_sum = max(m.f_sum for m in mw)

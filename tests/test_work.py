@@ -18,7 +18,9 @@ from workbench.grasp import (
     q_work,
     work,
 )
+from workbench.grasp.models import contact_sets
 from workbench.grasp.work import displacements
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 G = 9.81  # workbench.grasp.robust.G_ACC
 F_NOM = 10.0  # the contacts' nominal force bound [N]: sets the residual band's scale
@@ -196,3 +198,23 @@ def test_minimal_work_rejects_bad_input():
         minimal_work(grasp, w, 0.5, [500.0, 500.0], representation="exact")
     with pytest.raises(ValueError, match="ContactSet"):
         minimal_work(grasp[0], w, 0.5, [500.0])
+
+
+@pytest.mark.parametrize("half_angle", [0.6, 1.0])
+def test_minimal_force_of_a_curved_jaw_obeys_coulomb_and_outer_is_only_a_lower_bound(half_angle):
+    """Two elliptic-cylinder patches (normals horizontal) hold a vertical weight: friction alone
+    carries it, at most μ f per jaw, so any Coulomb contact needs Σ f >= m g / μ (by hand).  The
+    default program (the 6DLS itself) honours that to the 6DLS's fitting error (a few per cent,
+    thesis Fig 3.9); the thesis's C_outer of 200 tangent half-spaces lies outside the ellipsoid,
+    so its Σ f is below the 6DLS's, here below the physical bound."""
+    mass, mu = 0.3, 0.5
+    profiles = elliptic_cylinder_grasp(0.03, 0.02, half_angle, 0.03, 2.4, 10.0, 300)
+    assert max(np.abs(p.normals[:, 2]).max() for p in profiles) < 1e-12  # no normal carries weight
+    contacts = [contact_sets(p, "6dls", M=200, seed=0)[0] for p in profiles]
+    w, s = gravity_wrench(mass, [0.0, 0.0, 0.0]), np.array([1e3, 1e3])
+    bound = mass * G / mu
+    model = minimal_work(contacts, w, mu, s)
+    outer = minimal_work(contacts, w, mu, s, representation="outer")
+    assert model.representation == "model" and model.feasible
+    assert model.f_sum >= 0.95 * bound
+    assert outer.f_sum < model.f_sum

@@ -193,7 +193,7 @@ def minimal_work(
     stiffness,
     *,
     eps: float | None = None,
-    representation: str = "outer",
+    representation: str = "model",
     cuts: CutStore | None = None,
 ) -> MinimalWork:
     """Minimal grasp forces against ``w_ext`` and the work they do (Eq. 4.4-4.5).
@@ -206,8 +206,8 @@ def minimal_work(
         :class:`~.stiffness_map.StiffnessMap`, evaluated at the contacts' points ``c.t`` (each
         contact's origin: the pressure centre of a 6DLS).
     eps : ε of Eq. 4.5 [m]; None reads ``config.DEFAULTS.work_eps``.
-    representation : "outer" (default: the thesis's ``C_outer``, Eq. 3.28, an LP) or
-        "model" (the limit surfaces themselves: an ellipsoid as a second-order cone);
+    representation : "model" (default: the limit surfaces themselves, an ellipsoid as its
+        second-order cone) or "outer" (the thesis's ``C_outer``, Eq. 3.28, an LP: a lower bound);
         passed to :func:`~.resistance.min_grasp_force` with ``objective="sum"`` (each
         contact's force free, ``Σ f`` minimised: Eq. 4.4 as published).
     cuts : cut store for quartic models under "model" (shared across calls).
@@ -219,11 +219,12 @@ def minimal_work(
     * The balance is accepted to ``config.TOL.resist_rtol`` of the capacity at the
       contacts' *given* forces (``ContactSet.force``), so give them forces of the
       order of the answer: at 1e4 times the minimal force the band is ~10 % of it.
-    * "outer" lies outside a 6DLS ellipsoid, so its forces are lower bounds, loose at
-      the usual M (a point or soft-point contact is polyhedral already: its ``kind``,
-      inner or outer polygon, decides): on the elliptic-cylinder scene (0.3 kg, μ = 0.5) Σ f was 3.2 N at
-      M = 100, 3.7 N at 200, 4.5 N at 1000 against 5.8 N for "model", with the two
-      jaws' forces split unequally (which W then weighs by stiffness).
+    * "outer" lies outside a 6DLS ellipsoid, so its forces are lower bounds that converge
+      slowly with M in six dimensions (a point or soft-point contact is polyhedral already:
+      its ``kind``, inner or outer polygon, decides).  On a curved jaw's ill-conditioned
+      ellipsoid they can be several times too low, and finite where the ellipsoid resists at
+      no force (``tests/test_work.py`` has such a case): use "outer" only to reproduce the
+      thesis's program.
     * Stiffness is per contact: a jaw made of many contacts (REACH elements) would
       count each element's force in its own ``f (f / s + ε)``; pass one contact per
       jaw (the thesis: the 6DLS of the jaw's REACH profile).
@@ -241,7 +242,7 @@ def minimal_work_poses(
     stiffness,
     *,
     eps: float | None = None,
-    representation: str = "outer",
+    representation: str = "model",
     cuts: CutStore | None = None,
 ) -> list[MinimalWork]:
     """:func:`minimal_work` at each of k disturbances — a task's poses
