@@ -12,16 +12,22 @@ recorded poses against the 125 real outcomes.  Each entry carries the engine and
 
 from __future__ import annotations
 
+import json
+import shlex
 import time
 from dataclasses import asdict
 from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import write_summary
+
+if TYPE_CHECKING:
+    from workbench.fem.pad import PadGeometry
 
 NAME = "engine-validation"
 
@@ -57,10 +63,36 @@ QUICK_CONFIG = {
 _RADIUS = {"flat": None, "sphere10": 0.01, "sphere25": 0.025}
 
 
+#: the probe lists of (a) and (b): each must name at least one probe (an empty one ran the
+#: other items for minutes and then failed, or left its item's criterion judged on nothing)
+_NON_EMPTY = ("mus", "pull_angles_deg", "creep_fractions", "indenters", "depths_mm")
+
+
+def _pad_mesh(radius: float | None) -> PadGeometry:
+    """(a)'s engine pad under an indenter of ``radius`` [m] (None: the flat): a graded mesh
+    under a sphere (indentation's tests), a uniform one under the flat."""
+    from workbench.fem.pad import PadGeometry
+
+    return PadGeometry(nx=10, ny=20, nz=5) if radius is None else PadGeometry(grading=(0.004, 0.001, 1.5))
+
+
 def check_config(config: dict) -> None:
-    """Every key by :data:`KEYS`; creep fractions in (0, 1); grasp indices of the 25."""
+    """Every key by :data:`KEYS`; no empty probe list (``reach_grasps``: [] = all 25); creep
+    fractions in (0, 1); indentations shallower than (a)'s pad; grasp indices of the 25."""
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
+    for key in _NON_EMPTY:
+        if not config[key]:
+            example = shlex.quote(f"{key}={json.dumps(DEFAULT_CONFIG[key])}")
+            raise ValueError(f"{key} is empty ({KEYS[key].doc}): give at least one, e.g. --set {example}")
+    h_mm = min(_pad_mesh(_RADIUS[i]).thickness for i in config["indenters"]) * 1e3
+    deep = [d for d in config["depths_mm"] if d >= h_mm]
+    if deep:  # in mm as asked, only deeper than the pad (the FEM's own refusal blames the unit)
+        example = shlex.quote(f"depths_mm={json.dumps(DEFAULT_CONFIG['depths_mm'])}")
+        raise ValueError(
+            f"depths_mm {deep} reach (a)'s pad thickness of {h_mm:g} mm: an indenter pressed that deep "
+            f"would hit the pad's rigid back — give indentations below {h_mm:g} mm, e.g. --set {example}"
+        )
     if not all(0 < f < 1 for f in config["creep_fractions"]):
         raise ValueError(f"creep_fractions must lie in (0, 1); got {config['creep_fractions']}")
     if not all(isinstance(g, int) and 0 <= g < 25 for g in config["reach_grasps"]):
@@ -93,12 +125,10 @@ def _row(task: tuple, config: dict) -> dict:
     t0 = time.perf_counter()
     if kind == "indent":
         from workbench.engine_trials.indentation import STIFF_CONTACT, indent_pad
-        from workbench.fem.pad import PadGeometry
 
         name, engine = task[1], task[2]
         radius = _RADIUS[name]
-        # the pad's nodes: a graded mesh under a sphere, a uniform one under the flat
-        mesh = PadGeometry(nx=10, ny=20, nz=5) if radius is None else PadGeometry(grading=(0.004, 0.001, 1.5))
+        mesh = _pad_mesh(radius)
         depths = tuple(d * 1e-3 for d in config["depths_mm"])
         r = indent_pad(
             "flat" if radius is None else "sphere",

@@ -952,7 +952,7 @@ def _figures(out: Path, rows: list[dict], config: dict) -> list[str]:
         sel = [r for r in rows if r["object"] == name]
         z = np.array([r["z"] for r in sel]) * 1e3
         a = np.array([r["angle_deg"] for r in sel])
-        W = np.array([r["lift_and_rotate"]["W"] for r in sel])
+        W = np.array([_num(r["lift_and_rotate"]["W"]) for r in sel])
         ok = np.array([r["lift_and_rotate"]["truth"] for r in sel])
         sc = ax.scatter(a, z, c=np.log10(np.where(np.isfinite(W), W, np.nan)), cmap="RdYlGn_r", s=60)
         ax.scatter(a[~ok], z[~ok], marker="x", c="k", s=30, label="truth: fails")

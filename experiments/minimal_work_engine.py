@@ -36,9 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import minimal_work as _mw
+from workbench.grasp.judged import moved_within
 from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import content_hash, save_figure, sources_hash, write_csv, write_summary
 
@@ -87,7 +88,13 @@ KEYS = {
     "pad_E": Key("engine pad Young's modulus", "Pa", "pad_modulus"),
     "pad_nu": Key("engine pad Poisson ratio", "", "poisson"),
     "pad_thickness": Key("engine pad thickness", "m", "pad_thickness"),
-    "max_drift": Key("engine verdict: largest drift of a completed task", "m", "closing"),
+    "max_drift": Key(
+        "engine verdict: a completed task's largest drift of the object relative to the gripper",
+        "m",
+        "closing",  # the trials' own rule for their drift limit, in their words
+        named="limit on the object's drift in the gripper",
+        examples=_DRIFT_EXAMPLES,
+    ),
     "max_turn_deg": Key("engine verdict: largest turn of a completed task [deg]"),
     "n_bootstrap": Key("bootstrap resamples of each interval, >= 100"),
 }
@@ -115,10 +122,11 @@ SURFACE_GAP = 1e-3
 
 def check_config(config: dict) -> None:
     """Refuse before any work what minimal-work or a trial would refuse later (:data:`KEYS`,
-    the objects' files), fewer than two grasps per object, a turn limit outside [1, 90] deg."""
+    the objects' files), fewer than two grasps per object, a turn limit outside [1, 90] deg.
+    This experiment's own keys first: their refusal needs no data (minimal-work's check reads
+    the objects' files, and a missing data_dir would hide a bad n_grasps behind it)."""
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
-    _mw.check_config(_mw_config(config))
     n = config["n_grasps"]
     if isinstance(n, bool) or not isinstance(n, int) or n < 2:
         raise ValueError(f"n_grasps must be an integer >= 2 (a training and a held-out grasp); got {n!r}")
@@ -127,6 +135,7 @@ def check_config(config: dict) -> None:
         raise ValueError(f"n_bootstrap must be an integer >= 100 (e.g. 2000); got {b!r}")
     check_turn_limit(config["max_turn_deg"], "max_turn_deg")
     check_workers(config["workers"], config["scheduler"])
+    _mw.check_config(_mw_config(config))
 
 
 def _mw_config(config: dict) -> dict:
@@ -293,8 +302,8 @@ def run(config: dict) -> dict:
             config["objects"],
             qualities={"q_robust": np.array([g[t]["q_robust"] for g in grasps])},
             costs={
-                "q_force": np.array([g[t]["f_sum"] for g in grasps]),
-                "q_work": np.array([g[t]["W"] for g in grasps]),
+                "q_force": np.array([_mw._num(g[t]["f_sum"]) for g in grasps]),
+                "q_work": np.array([_mw._num(g[t]["W"]) for g in grasps]),
             },
             sigma=config["sigma"],
             n_resamples=n_resamples,
@@ -326,7 +335,7 @@ def run(config: dict) -> dict:
             rs = [trial[g["object"], g["grasp"], t] for g in grasps]
             # a trial that could not start has no drift (null): not held at any limit
             held = np.array(
-                [r["drift_mm"] is not None and r["drift_mm"] <= d_mm and r["turn_deg"] <= t_deg for r in rs],
+                [moved_within(r, d_mm, t_deg) for r in rs],
                 dtype=bool,
             )
             if held.all() or not held.any():  # one class: no normaliser to fit

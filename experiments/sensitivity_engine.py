@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
@@ -80,7 +80,13 @@ KEYS = {
     "pad_nu": Key("engine pad Poisson ratio", "", "poisson"),
     "pad_thickness": Key("engine pad thickness at the patch centre", "m", "pad_thickness"),
     "object_mass": Key("the object's mass (inertia only: no gravity acts)", "kg", "mass"),
-    "max_drift": Key("engine verdict: largest drift of a resisted grasp", "m", "closing"),
+    "max_drift": Key(
+        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
+        "m",
+        "closing",  # the trials' own rule for their drift limit, in their words
+        named="limit on the object's drift in the gripper",
+        examples=_DRIFT_EXAMPLES,
+    ),
     "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
 }
 QUICK_CONFIG = {
@@ -109,6 +115,8 @@ def check_config(config: dict) -> None:
     if config["mu"] == 0:
         raise ValueError("mu = 0 is a frictionless grasp: give mu > 0, e.g. --set mu=0.3 (the default)")
     check_turn_limit(config["max_turn_deg"], "max_turn_deg")  # the trials' own rule
+    if not config["max_drift"] > 0:
+        raise ValueError(f"max_drift must be > 0 [m] (9 mm is 0.009); got {config['max_drift']!r}")
     check_workers(config["workers"], config["scheduler"])
 
 

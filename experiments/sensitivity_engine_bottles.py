@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore, resists
@@ -41,7 +41,7 @@ from workbench.grasp.models import MODELS, contact_sets
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.parallel import check_workers, run_checkpointed
-from workbench.results import write_csv, write_summary
+from workbench.results import content_hash, sources_hash, write_csv, write_summary
 from workbench.trial_figures import judged_figure
 
 NAME = "sensitivity-engine-bottles"
@@ -95,7 +95,13 @@ KEYS = {
     "pad_E": Key("pad Young's modulus (our FEM pad and the engine's)", "Pa", "pad_modulus"),
     "pad_nu": Key("pad Poisson ratio", "", "poisson"),
     "object_mass": Key("the bottle's mass (inertia only: no gravity acts)", "kg", "mass"),
-    "max_drift": Key("engine verdict: largest drift of a resisted grasp", "m", "closing"),
+    "max_drift": Key(
+        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
+        "m",
+        "closing",  # the trials' own rule for their drift limit, in their words
+        named="limit on the object's drift in the gripper",
+        examples=_DRIFT_EXAMPLES,
+    ),
     "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
 }
 QUICK_CONFIG = {
@@ -138,6 +144,8 @@ def check_config(config: dict) -> None:
     if config["mu"] == 0:
         raise ValueError("mu = 0 is a frictionless grasp: give mu > 0, e.g. --set mu=0.3 (the default)")
     check_turn_limit(config["max_turn_deg"], "max_turn_deg")
+    if not config["max_drift"] > 0:
+        raise ValueError(f"max_drift must be > 0 [m] (9 mm is 0.009); got {config['max_drift']!r}")
     check_workers(config["workers"], config["scheduler"])
 
 
@@ -257,10 +265,32 @@ def _key(task: tuple) -> str:
     return "/".join(map(str, task))
 
 
-def _tasks(config: dict) -> list[tuple]:
-    """Every row: the engine trials first (the longest), then the models' rows."""
-    n = config["n_grasps"]
-    return [(kind, s, i) for kind in ("engine", "models") for s in config["seeds"] for i in range(n)]
+def _tasks(config: dict, kind: str) -> list[tuple]:
+    """The rows of one ``kind`` ("engine" or "models"), every seed's grasps."""
+    return [(kind, s, i) for s in config["seeds"] for i in range(config["n_grasps"])]
+
+
+def _engine_code() -> str:
+    """What an engine row depends on besides its config: the engine trials' package, the bottle
+    scene and family, the grasp sampler, the disturbance draw, this module's row, pool and input
+    functions, MuJoCo's version — rows keyed by it survive edits elsewhere in the package."""
+    import inspect
+    from importlib.metadata import version
+
+    return content_hash(
+        [
+            sources_hash(
+                "workbench.engine_trials",
+                "workbench.config",
+                "workbench.sources.bottle_scene",
+                "workbench.fem.bottle",
+                "workbench.grasp.sampling",
+                "workbench.grasp.tasks",
+            ),  # fmt: skip
+            *(inspect.getsource(f) for f in (_row, _inputs, _pool, pool_of, _mesh, _scene._inputs)),
+            version("mujoco"),
+        ]
+    )
 
 
 def run(config: dict) -> dict:
@@ -269,12 +299,19 @@ def run(config: dict) -> dict:
     pool = pool_of(config)  # refuses an empty pool before any trial
     if config["n_grasps"] > len(pool):
         _inputs(config, config["seeds"][0])  # its refusal, before any row
-    ckpt, n_resumed, ran_on = run_checkpointed(
-        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME
+    row = partial(_row, config=config)
+    # the trials keyed by what they depend on (an edit of a contact model keeps them), the
+    # models' rows by the whole package; both resumable
+    trials, n_resumed, ran_on = run_checkpointed(
+        row, _tasks(config, "engine"), _key, out, config, desc=f"{NAME} trials", code=_engine_code()
     )
+    models, n_resumed_m, _ = run_checkpointed(
+        row, _tasks(config, "models"), _key, out / "models", config, desc=f"{NAME} models"
+    )
+    n_resumed += n_resumed_m
     seeds, n = config["seeds"], config["n_grasps"]
-    engine = {s: [ckpt.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}
-    rows = {s: [ckpt.rows[f"models/{s}/{i}"] for i in range(n)] for s in seeds}
+    engine = {s: [trials.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}
+    rows = {s: [models.rows[f"models/{s}/{i}"] for i in range(n)] for s in seeds}
     held = {s: np.array([r["held"] for r in engine[s]], dtype=bool) for s in seeds}
     exact = {s: np.array([r["exact"] for r in rows[s]], dtype=bool) for s in seeds}
     pred = {

@@ -60,3 +60,19 @@ def test_pool_refuses_bad_heights_and_an_empty_cone():
         bottle_grasp_pool(2, 0, 0, [0.5, 30.0], 4, 0.3)
     with pytest.raises(ValueError, match="raise mu"):
         bottle_grasp_pool(2, 0, 0, [0.5], 2, 1e-4)
+
+
+def test_careless_frames_wrenches_and_families_are_refused():
+    R = grasp_frame([1.0, 0, 0])
+    with pytest.raises(ValueError, match="must be a rotation"):
+        wrenches_to_object(np.zeros((1, 6)), 2 * np.eye(3), [0, 0, 0.1])  # a scaled frame
+    with pytest.raises(ValueError, match=r"\(n, 6\)"):
+        wrenches_to_object(np.zeros((2, 3)), R, [0, 0, 0.1])  # forces without torques
+    with pytest.raises(ValueError, match="centre"):
+        wrenches_to_object(np.zeros((1, 6)), R, [0, 120.0, 0])  # millimetres: 120 m from the origin
+    with pytest.raises(ValueError, match="axis must be a finite non-zero"):
+        grasp_frame([0.0, 0, 0])
+    with pytest.raises(ValueError, match="family_seed"):
+        bottle_grasp_pool(2, 0, -1, [0.5], 4, 0.3)
+    with pytest.raises(ValueError, match="n_asymmetric"):
+        bottle_grasp_pool(2, 3, 0, [0.5], 4, 0.3)

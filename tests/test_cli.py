@@ -68,3 +68,30 @@ def test_list_and_option_order_unchanged(capsys, monkeypatch, tmp_path):
     assert seen["quick"] is True and seen["out"] == str(tmp_path) and seen["seed"] == 4
     assert seen["timing_repeats"] == 2 and seen["mu"] == 0.5
     assert seen["n_elements"] == module.QUICK_CONFIG["n_elements"]
+
+
+def test_seed_is_refused_for_an_experiment_without_a_seed_key(capsys, monkeypatch, tmp_path):
+    """``--seed 5`` on sensitivity-engine (whose grasps come from its ``seeds`` list) ran the
+    seed-0 trials while summary.json recorded seed 5; ``--seed -3`` passed too.  Both are refused
+    before ``run``, naming the experiment's own seed key and a pasteable --set."""
+    ran = []
+    for name in ("sensitivity-engine", "engine-validation"):
+        monkeypatch.setattr(importlib.import_module(EXPERIMENTS[name]), "run", ran.append)
+    out = tmp_path / "out"
+    for seed, given in (("5", "[5]"), ("-3", "[0]")):  # a negative seed is not suggested back
+        err = _error(capsys, ["run", "sensitivity-engine", "--quick", "--out", str(out), "--seed", seed])
+        assert f"error: --seed {seed}: sensitivity-engine has no `seed` key" in err, err
+        assert "`seeds` (seeds of the disturbances and noise, one set of grasps each; a list)" in err
+        assert err.rstrip().endswith(f"use --set 'seeds={given}'"), err
+    err = _error(capsys, ["run", "engine-validation", "--quick", "--seed", "5"])
+    assert "engine-validation has no `seed` key" in err and "it takes no seed — drop --seed" in err
+    assert ran == [] and not out.exists()
+
+
+def test_sweep_refuses_a_seed_the_experiment_does_not_read(capsys, tmp_path):
+    out = tmp_path / "sweep"
+    argv = ["sweep", "sensitivity-engine", "--quick", "--grid", "n_disturbances=[2,3]", "--seed", "5"]
+    err = _error(capsys, [*argv, "--out", str(out)])
+    assert err.startswith("workbench sweep sensitivity-engine: error: --seed 5: sensitivity-engine has no")
+    assert "use --set 'seeds=[5]'" in err and "point" not in err  # the option, not a grid point
+    assert not out.exists()

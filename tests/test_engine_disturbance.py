@@ -41,6 +41,34 @@ def test_a_torsion_about_the_grasp_axis_is_resisted_below_the_pads_friction_torq
     above = _trial([0.0, 0.0, 0.0, 0.0, 1.2 * tau, 0.0])
     assert below.held and below.turn_deg < 2.0
     assert not above.held and above.turn_deg > 10 * DisturbancePhases().max_turn_deg
+    assert above.reason.startswith("the object turned") and _first_crossed(above) == "turned"
+
+
+def _first_crossed(r) -> str:
+    """Which limit the recorded poses of ``r`` cross first ("slid" on a tie, as the reason)."""
+    p = DisturbancePhases()
+    drift = np.linalg.norm(r.rel_pos - r.rel_pos[0], axis=1)
+    i_slid = np.flatnonzero(drift > p.max_drift)
+    i_turn = np.flatnonzero(r.rel_turn_deg > p.max_turn_deg)
+    i_slid = i_slid[0] if i_slid.size else len(r.times)
+    i_turn = i_turn[0] if i_turn.size else len(r.times)
+    return "slid" if i_slid <= i_turn else "turned"
+
+
+def test_a_spin_that_throws_the_object_out_is_reported_as_a_turn():
+    """Trial 11 G14: 5 N m about the grasp axis was reported as "the object slid 2.8e+03 mm":
+    the object spins about the axis through its origin (which barely moves), then, loose, leaves
+    the jaws and travels metres; the reason names the turn first, the numbers stay as recorded."""
+    r = _trial([0.0, 0.0, 0.0, 0.0, 5.0, 0.0])
+    drift = np.linalg.norm(r.rel_pos - r.rel_pos[0], axis=1)
+    assert not r.held and r.drift == drift.max() and r.turn_deg == r.rel_turn_deg.max()
+    assert r.drift > 100 * DisturbancePhases().max_drift and _first_crossed(r) == "turned"
+    i = int(np.argmax(r.rel_turn_deg > DisturbancePhases().max_turn_deg))
+    assert drift[i] < DisturbancePhases().max_drift  # the origin had not moved when it turned
+    assert r.reason.startswith(
+        f"the object turned {r.turn_deg:.3g} deg (limit 5 deg) first, past its limit at "
+    )
+    assert f"then slid {r.drift * 1e3:.3g} mm (limit 5 mm)" in r.reason
 
 
 def test_a_moulded_pad_starts_at_the_gap_from_a_curved_object():
@@ -82,3 +110,6 @@ def test_careless_disturbance_input_is_refused():
     # a torque in N mm (a 1 N weight on a 40 mm lever given as 40): the lever it implies is 40 m
     with pytest.raises(ValueError, match="lever"):
         simulate_disturbance(BOX, GRASP, [0.0, 0.0, -1.0, 40.0, 0.0, 0.0], force=F, mu=MU, mass=0.1)
+    # trial 11: a record_every that leaves the 0.3 s hold fewer than 20 recorded poses
+    with pytest.raises(ValueError, match=r"DisturbancePhases.hold \(0.3 s = 300 steps.*record_every <= 15"):
+        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, mu=MU, mass=0.1, record_every=10**7)

@@ -112,9 +112,23 @@ def test_careless_engine_settings_are_refused():
         ({"contact_solref": (-0.002, 1.0)}, r"contact_solref must be \(time constant"),
         ({"contact_solref": (0.001, 1.0)}, "below 2 time steps"),
         ({"contact_solimp": (0.99, 0.999, 1e-4, 0.5, 0.0)}, "contact_solimp must be"),
+        # trial 11 E17-E19: accepted, then MuJoCo's XML parser said "invalid keyword: 'rk4'"
+        ({"integrator": "rk4"}, r"integrator must be one of MuJoCo's .*got 'rk4' — pass 'RK4'"),
+        ({"integrator": "bogus"}, r"integrator must be one of MuJoCo's .*got 'bogus' \(the probes"),
     ):
         with pytest.raises(ValueError, match=match):
             EngineSettings(**kwargs)
+
+
+def test_every_integrator_engine_settings_accept_is_one_mujocos_parser_takes():
+    # the neighbours of 'rk4': each accepted spelling compiles in MuJoCo itself, and its enum has
+    # no integrator the settings would refuse
+    from workbench.engine_trials.settings import INTEGRATORS, EngineSettings
+
+    for name in INTEGRATORS:
+        m = mujoco.MjModel.from_xml_string(f"<mujoco>{EngineSettings(integrator=name).option_xml()}</mujoco>")
+        assert mujoco.mjtIntegrator(m.opt.integrator).name.lower() == f"mjint_{name.lower()}"
+    assert len(INTEGRATORS) == len([k for k in dir(mujoco.mjtIntegrator) if k.startswith("mjINT_")])
 
 
 def test_careless_pads_phases_and_timesteps_are_refused():
@@ -154,6 +168,76 @@ def test_a_turn_limit_in_radians_and_record_every_zero_are_refused():
         simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, record_every=0)
 
 
+def test_a_record_every_too_coarse_for_the_verdict_is_refused_and_the_bound_holds():
+    """Trial 11 D17-D19: record_every=10**7 recorded one pose, and a box that slid the whole
+    lift height read held=True, drift 0; 1000 read a 50 mm slide as 32.7 mm."""
+    from workbench.engine_trials import DisturbancePhases, check_record_every, simulate_disturbance
+    from workbench.engine_trials.trial import _judged
+
+    kw = {"force": 10.0, "mu": 0.05, "mass": 2.0}  # slides: 2 μ F = m g / 20
+    coarse = r"TrialPhases.hold \(0.5 s = 500 steps.*at least 20 of them — pass record_every <= 25"
+    for every in (10**7, 1000, 26):
+        with pytest.raises(ValueError, match=coarse):
+            simulate_grasp(BOX, GRASP, **kw, record_every=every)
+    with pytest.raises(ValueError, match=r"DisturbancePhases.hold .* pass record_every <= 15"):
+        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=10.0, mu=0.5, mass=0.1, record_every=16)
+    # the bound: the shortest judged phase over 20 records, counted in steps (round, not floor,
+    # so 0.3 s / 1 ms is 300 steps); lift_and_rotate adds its 1 s turn, not a shorter phase
+    p = TrialPhases()
+    assert check_record_every(25, _judged(p, "lift_and_rotate"), 1e-3) == 25
+    assert check_record_every(10, {"hold": DisturbancePhases().hold}, 1e-3) == 10
+    # a phase under 20 steps still takes record_every=1: every step is all there is to read
+    assert check_record_every(1, {"hold": 0.01}, 1e-3) == 1
+    with pytest.raises(ValueError, match="TrialPhases.hold"):
+        check_record_every(10, _judged(TrialPhases(hold=0.1), "vertical_lifting"), 1e-3)
+    # the neighbour at the bound judges the slide as the default does: the box stays on the
+    # table while the gripper rises the lift height
+    r = simulate_grasp(BOX, GRASP, **kw, record_every=25)
+    assert not r.held and r.drift == pytest.approx(p.lift_height, rel=0.05)
+    assert r.reason.startswith("the object slid")
+    assert np.diff(r.times)[:-1] == pytest.approx(0.025)
+
+
+def test_gravity_along_the_pads_up_is_refused_and_across_or_against_it_runs():
+    """Trial 11 C11: down=(0, 0, 1) with up=(0, 0, 1) was simulated as an ordinary lift."""
+    from workbench.engine_trials.trial import _check_up_down
+
+    kw = {"force": 10.0, "mu": 0.5, "mass": 0.1}
+    along = (
+        r"down \[0.0, 0.0, 1.0\] \(gravity\) is 0 deg from up .*at least 90 deg"
+        r".*pass down = \[0.0, 0.0, -1.0\], or.* up = \[0.0, 0.0, -1.0\]"
+    )
+    with pytest.raises(ValueError, match=along):
+        simulate_grasp(BOX, GRASP, **kw, down=(0.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match="is 80 deg from up"):
+        _check_up_down((0.0, 0.0, 1.0), np.array([np.cos(np.radians(10)), 0.0, np.sin(np.radians(10))]))
+    # across the pads (a pad lying flat under gravity) and against up pass
+    for down in ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.6, 0.0, -0.8)):
+        _check_up_down((0.0, 0.0, 1.0), np.array(down))
+    # an object upside down in its frame, the pads' up flipped with it: the box is held as upright
+    r = simulate_grasp(BOX, GRASP, **kw, down=(0.0, 0.0, 1.0), up=(0.0, 0.0, -1.0))
+    assert r.held and r.drift < 2e-4 and r.turn_deg < 0.5
+
+
+def test_a_zero_axis_is_named_by_the_pad_and_scene_builders():
+    """Trial 11 K02: a zero axis read as "up is parallel to the grasp axis (0, 0, 0)", with a
+    numpy divide warning (an error under this suite's filterwarnings)."""
+    from workbench.engine_trials.pad import pad_rotation
+    from workbench.engine_trials.trial import open_pad_depth
+
+    with pytest.raises(
+        ValueError, match=r"approach must be a non-zero finite \(3,\) direction .*zero vector"
+    ):
+        pad_rotation(np.zeros(3), np.array([0.0, 0.0, 1.0]))
+    with pytest.raises(ValueError, match=r"axis must be a non-zero finite \(3,\) direction"):
+        open_pad_depth(BOX, ([0, -0.0205, 0], [0, 0.0205, 0]), [0, 0, 0], [0, 0, 1], (0.02, 0.04, 5e-3))
+    with pytest.raises(ValueError, match=r"up .* is parallel to the jaw's approach"):
+        pad_rotation(np.array([0.0, 0.0, 2.0]), np.array([0.0, 0.0, 1.0]))
+    # the neighbour: the pad frame of a y-axis grasp, its face along −y, its length along z
+    R = pad_rotation(np.array([0.0, 2.0, 0.0]), np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(R, [[1, 0, 0], [0, 0, -1], [0, 1, 0]], atol=1e-15)  # x = y × z
+
+
 def test_open_pads_that_start_inside_the_object_are_a_miss_not_a_hold():
     """Trial 7: a 74 mm cup in a 50 mm YuMi opening was 'held' by the engine (the open pads
     started inside it); the same pose judged by evaluate_gripper was a miss."""
@@ -183,10 +267,29 @@ def test_open_pads_that_start_inside_the_object_are_a_miss_not_a_hold():
 
 
 def test_a_trial_says_why_it_failed():
+    import warnings
+
+    from workbench.engine_trials import EngineWarning
+
     slip = simulate_grasp(BOX, GRASP, force=10.0, mu=0.05, mass=2.0)
     assert not slip.held and slip.reason.startswith("the object slid")
-    ok = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ok = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1)
     assert ok.held and ok.reason == "" and ok.engine_warnings == {}
+    assert not [w for w in caught if issubclass(w.category, EngineWarning)]
+
+
+@pytest.mark.filterwarnings("ignore::workbench.plausible.ImplausibleWarning")  # the 50 mm pad, on purpose
+def test_mujocos_warnings_are_recorded_and_raised_as_an_engine_warning():
+    """Trial 11 C14: a 50 mm pad made MuJoCo warn (mjWARN_INERTIA) 1921 times and the library
+    only logged 'the verdict may not be reliable'."""
+    from workbench.engine_trials import EngineWarning
+
+    with pytest.warns(EngineWarning, match=r"MuJoCo warned \{'mjWARN_INERTIA': \d+\} .*may not be reliable"):
+        r = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, pad=(0.02, 0.04, 0.05))
+    assert r.engine_warnings.get("mjWARN_INERTIA", 0) > 0
+    assert r.row()["engine_warnings"] == r.engine_warnings
 
 
 def test_a_yumi_trial_at_its_recorded_pose_and_a_gripper_that_misses():

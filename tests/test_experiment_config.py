@@ -4,11 +4,13 @@ the defaults, unknown keys and an experiment's own checks refused before any wor
 ``config_help``'s listing (the real experiments, and a toy one with known defaults)."""
 
 import importlib
+import re
+import shlex
 
 import pytest
 import sweep_toy
 
-from workbench.experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help
+from workbench.experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help, seed_refusal
 
 
 @pytest.mark.parametrize(
@@ -268,3 +270,31 @@ def test_a_bad_value_carries_its_parts_for_another_option():
     with pytest.raises(ConfigValueError) as exc:
         build_config("discretization", False, None, -1, {})
     assert exc.value.flag == "--seed" and exc.value.example() == "--seed 0"
+
+
+@pytest.mark.parametrize(
+    "name, own",
+    [
+        ("sensitivity-engine", {"seeds": [5]}),
+        ("sensitivity-engine-bottles", {"seeds": [5], "family_seed": 5}),
+        ("engine-validation", {}),
+    ],
+)
+def test_seed_flag_is_refused_where_no_seed_key_reads_it(name, own):
+    """An experiment without a ``seed`` key ran unchanged under ``--seed 5`` and recorded it; now
+    the refusal names each of its own seed keys with a --set that build_config takes as given."""
+    with pytest.raises(SystemExit) as exc:
+        build_config(name, True, None, 5, {})
+    msg = str(exc.value.code)
+    assert msg.startswith(f"--seed 5: {name} has no `seed` key"), msg
+    assert seed_refusal(name, 5) == msg
+    pasted = [shlex.split(arg)[0] for arg in re.findall(r"--set ('[^']*'|\S+)", msg)]
+    assert {arg.split("=")[0] for arg in pasted} == set(own), msg
+    cfg = build_config(name, True, None, None, _parse_sets(pasted))
+    assert {k: cfg[k] for k in own} == own
+
+
+@pytest.mark.parametrize("name", sorted(EXPERIMENTS))
+def test_every_experiment_with_a_seed_key_takes_the_seed_flag(name):
+    module = importlib.import_module(EXPERIMENTS[name])
+    assert (seed_refusal(name, 5) is None) == ("seed" in module.DEFAULT_CONFIG)

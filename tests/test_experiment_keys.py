@@ -352,3 +352,39 @@ def test_a_sweep_grid_is_judged_by_the_same_keys_before_any_work(tmp_path, capsy
     assert "workbench sweep wall-stiffness: error: point {'E': 1500}" in err
     assert "probably in MPa — pass 1.5e+09 [Pa]" in err
     assert not out.exists()  # no point started, no cluster, nothing written
+
+
+@pytest.mark.parametrize("name", ["sensitivity-engine", "minimal-work-engine"])
+def test_max_drift_is_refused_as_a_drift_not_a_jaw_closing(name, tmp_path):
+    """``--set max_drift=5`` was refused as "a jaw closing ... (real values: a pad pressed 0.1-5 mm
+    into an object ...)"; it is the trials' drift limit, worded as they word it."""
+    with pytest.raises(SystemExit) as exc:
+        build_config(name, True, str(tmp_path / "out"), None, {"max_drift": 5})
+    msg = str(exc.value.code)
+    assert "max_drift [m] must be a limit on the object's drift in the gripper in [0, 0.1] m" in msg, msg
+    assert "probably in millimetres — pass 0.005 [m]" in msg
+    assert "beyond 9 mm and 5 deg of object motion" in msg
+    assert "jaw closing" not in msg and "pad pressed" not in msg
+    assert not (tmp_path / "out").exists()
+    # the same range and words as the trials' own check of the limit (one rule)
+    from workbench.engine_trials.trial import TrialPhases
+
+    with pytest.raises(ValueError, match=r"must be a drift limit in \[0, 0\.1\] m; got 5.*9 mm"):
+        TrialPhases(max_drift=5)
+
+
+def test_a_key_names_its_quantity_in_its_own_words():
+    """``named`` / ``examples`` replace the range's name and real values in a refusal and in a
+    warning; the range (and its unit slips) stay the quantity's."""
+    from workbench.experiment_keys import Key
+
+    spec = Key("lift", "m", "lever", named="lift height", examples="robots lift 20-200 mm")
+    with pytest.raises(
+        ValueError, match=r"^h \[m\] must be a lift height in \(0, 1\] m; got 50.*robots lift"
+    ):
+        check_key("h", spec, 50)
+    with pytest.warns(ImplausibleWarning, match=r"above the usual 0\.3 m of a lift height \(robots lift"):
+        check_key("h", spec, 0.5)
+    plain = Key("lift", "m", "lever")
+    with pytest.raises(ValueError, match=r"must be a lever arm \(an offset on the object\) in \(0, 1\] m"):
+        check_key("h", plain, 50)

@@ -383,7 +383,11 @@ def test_sensitivity_engine_bottles_quick(tmp_path):
     argv = ["run", "sensitivity-engine-bottles", "--quick", "--out", str(tmp_path), "--set", "n_grasps=3"]
     assert main([*argv, "--set", "workers=1"]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
-    rows = {r["key"]: r for r in map(json.loads, (tmp_path / "rows.jsonl").read_text().splitlines())}
+    rows = {
+        r["key"]: r
+        for f in ("rows.jsonl", "models/rows.jsonl")
+        for r in map(json.loads, (tmp_path / f).read_text().splitlines())
+    }
     held = np.array([rows[f"engine/0/{i}"]["held"] for i in range(3)])
     exact = np.array([rows[f"models/0/{i}"]["exact"] for i in range(3)])
     # the engine and the models judged the same grasps, three distinct ones of the pool
@@ -403,6 +407,9 @@ def test_sensitivity_engine_bottles_quick(tmp_path):
     assert s["engine_trials_not_simulated"] == 0
     with open(tmp_path / "trials.csv") as fh:
         assert [t["held"] == "True" for t in csv.DictReader(fh)] == held.tolist()
+    # a rerun resumes every row of both checkpoints: no trial runs twice
+    assert main([*argv, "--set", "workers=1"]) == 0
+    assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(rows)
     # more grasps than the pool holds is refused before any trial
     from workbench.experiments.sensitivity_engine_bottles import run
 
@@ -929,3 +936,49 @@ def test_physical_trials_quick(tmp_path):
     # AUC of the robust quality by hand: successes 5 x g0, 1 x g2, 5 x g5 against failures
     # 4 x g2, 5 x g19, with q(g19) < q(g2) < q(g0) < q(g5): (45 + 45 + 5 + 4 / 2) / 99
     assert abs(s["scores"]["6dls"]["robust_seed0"]["roc_auc"] - 97 / 99) < 1e-12
+
+
+@pytest.mark.parametrize(
+    "sets, match",
+    [
+        ({"n_grasps": 1}, r"^minimal-work-engine: n_grasps must be an integer >= 2 .*; got 1$"),
+        ({"n_bootstrap": 10}, r"^minimal-work-engine: n_bootstrap must be an integer >= 100 .*; got 10$"),
+        ({"max_turn_deg": 0.1}, r"^minimal-work-engine: max_turn_deg .*0\.1"),
+        ({}, r"^minimal-work-engine: plastic_cup: .*nowhere.* not found — set data_dir"),  # the control
+    ],
+)
+def test_minimal_work_engine_checks_its_own_keys_before_the_data(sets, match, tmp_path):
+    """n_grasps=1, n_bootstrap=10 and max_turn_deg=0.1 were hidden behind "data_dir ... not
+    found" where the CC BY-NC data is absent: the experiment's own keys are judged first."""
+    sets = {"data_dir": str(tmp_path / "nowhere"), **sets}
+    with pytest.raises(SystemExit, match=match):
+        build_config("minimal-work-engine", True, str(tmp_path / "out"), None, sets)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("key", ["mus", "pull_angles_deg", "creep_fractions", "indenters", "depths_mm"])
+def test_engine_validation_refuses_an_empty_probe_list_before_any_work(key, tmp_path):
+    """``mus=[]`` ran ~25 s of probes and REACH trials, then failed with "min() arg is an empty
+    sequence"; ``reach_grasps=[]`` means all 25 and stays accepted."""
+    with pytest.raises(SystemExit, match=rf"^engine-validation: {key} is empty \(.*\): give at least one"):
+        build_config("engine-validation", True, str(tmp_path / "out"), None, {key: []})
+    assert not (tmp_path / "out").exists()
+    assert build_config("engine-validation", True, None, None, {"reach_grasps": []})["reach_grasps"] == []
+
+
+def test_engine_validation_refuses_depths_deeper_than_its_pad_without_blaming_the_unit(tmp_path):
+    """``depths_mm=[6]`` (in mm, deeper than the 5 mm pad) was told "displacements are in metres"."""
+    import warnings
+
+    from workbench.fem.pad import PadGeometry
+    from workbench.plausible import ImplausibleWarning
+
+    assert PadGeometry().thickness == 0.005  # both of (a)'s pads: the default layer
+    for depths in ([6.0], [0.5, 5.0]):
+        with pytest.raises(SystemExit) as exc, warnings.catch_warnings():
+            warnings.simplefilter("ignore", ImplausibleWarning)  # 6 mm: above a usual compression
+            build_config("engine-validation", True, str(tmp_path / "out"), None, {"depths_mm": depths})
+        msg = str(exc.value.code)
+        assert f"depths_mm {depths[-1:]} reach (a)'s pad thickness of 5 mm" in msg, msg
+        assert "metres" not in msg and "below 5 mm" in msg
+    assert build_config("engine-validation", True, None, None, {"depths_mm": [4.9]})["depths_mm"] == [4.9]

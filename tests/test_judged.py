@@ -50,3 +50,21 @@ def test_recall_gain_claim_needs_comparable_precision():
     assert got["6dls_over_planar"]["reproduced"]  # precision 4 points below: comparable
     assert not got["6dls_over_6dfw"]["reproduced"]  # 10 points below: not
     assert "6dls_over_3dls_nonplanar" not in got
+
+
+def test_careless_tables_are_refused():
+    with pytest.raises(ValueError, match="boolean"):
+        model_tables(
+            {"6dls": {0: np.array([1, 0, 2])}}, {0: HELD[0][:3]}, {0: EXACT[0][:3]}, [0], {"6dls": 1.0}
+        )
+    trials = {0: [{"drift_mm": 1.0, "turn_deg": 1.0}] * 5}
+    with pytest.raises(ValueError, match="probably in radians"):
+        verdict_limit_tables(PRED, trials, [0], [(5.0, 0.0873)])  # the turn in radians
+    with pytest.raises(ValueError, match="millimetres"):
+        verdict_limit_tables(PRED, trials, [0], [(0.005, 5.0)])  # the drift in metres
+    with pytest.raises(ValueError, match="percentage points"):
+        recall_gain_claims({}, {"planar": 0.26})
+    # a trial not simulated (no motion recorded, None from JSON) is held at no limit
+    got = verdict_limit_tables({"6dls": {0: np.array([True])}}, {0: [{"drift_mm": None, "turn_deg": None}]},
+                               [0], [(9.0, 10.0)])  # fmt: skip
+    assert got["9mm_10deg"]["held_fraction"] == 0.0

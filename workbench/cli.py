@@ -59,7 +59,12 @@ def _add_run_options(p: argparse.ArgumentParser, *, suppress: bool) -> None:
 
     p.add_argument("--quick", action="store_true", default=d(False), help="small, fast configuration")
     p.add_argument("--out", default=d(None), help="output directory (default results/<experiment>)")
-    p.add_argument("--seed", type=int, default=d(None))
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=d(None),
+        help="the experiment's `seed` key (refused for one without it: NAME --help lists its keys)",
+    )
     p.add_argument(
         "--set",
         dest="sets_after" if suppress else "sets",
@@ -127,7 +132,11 @@ def _add_sweep_parser(sub: Any, fmt: Any) -> None:
         help="a fixed config value for every point",
     )
     sw.add_argument(
-        "--seed", type=int, default=None, help="seed of every point (or sweep it with --grid seed=[...])"
+        "--seed",
+        type=int,
+        default=None,
+        help="seed of every point (or sweep it with --grid seed=[...]); refused for an experiment "
+        "without a `seed` key",
     )
     sw.add_argument(
         "--out",

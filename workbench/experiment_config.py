@@ -259,12 +259,13 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         config.update(module.QUICK_CONFIG)
     config["quick"] = quick
     config["out"] = str(Path(out) if out else Path("results") / name)
+    refusal = None if seed is None else seed_refusal(name, seed)
+    if refusal is not None:  # a seed the experiment does not read: the run would ignore it silently
+        raise SystemExit(refusal)
     if seed is not None and "seed" in sets:  # one of them would be ignored silently
         raise SystemExit(f"seed is given by --seed ({seed}) and by --set seed={sets['seed']}: give it once")
-    default_seed = module.DEFAULT_CONFIG.get("seed")
     if seed is not None:  # checked like --set seed=... (a negative seed fails in numpy otherwise)
-        # an experiment without a seed key of its own takes it as given
-        config["seed"] = seed if default_seed is None else _coerce("seed", seed, default_seed, "--seed")
+        config["seed"] = _coerce("seed", seed, module.DEFAULT_CONFIG["seed"], "--seed")
     reserved = sorted({"quick", "out"} & set(sets))
     if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
         raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")
@@ -293,6 +294,34 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         except ValueError as exc:
             raise SystemExit(f"{name}: {exc}") from None
     return config
+
+
+def seed_refusal(name: str, seed: Any, flag: str = "--seed") -> str | None:
+    """Why ``flag SEED`` cannot seed experiment ``name``, or None if it can: an experiment with
+    no ``seed`` key would run unchanged while its summary recorded the seed, so the option is
+    refused, naming the experiment's own seed keys (``seeds``, a list) and how to set them."""
+    if name not in EXPERIMENTS:  # build_config names the unknown experiment
+        return None
+    module = importlib.import_module(EXPERIMENTS[name])
+    defaults = module.DEFAULT_CONFIG
+    if "seed" in defaults:
+        return None
+    # a negative or non-integer seed is not suggested back (the key's own check would refuse it)
+    good = isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0
+    example = seed if good else 0
+    keys = key_specs(module)
+    own = []
+    for k, default in defaults.items():
+        if "seed" not in k:
+            continue
+        value = [example] if isinstance(default, list) else example
+        what = "a list" if isinstance(default, list) else _describe(_schema(default))
+        doc = f"{keys[k].doc}; " if k in keys else ""
+        own.append(f"`{k}` ({doc}{what}): use --set {shlex.quote(f'{k}={_dumps(value)}')}")
+    head = f"{flag} {seed}: {name} has no `seed` key: {flag} would change no number, yet be recorded"
+    if not own:
+        return f"{head}; it takes no seed — drop {flag}"
+    return f"{head}; its draws are seeded by " + " and by ".join(own)
 
 
 def key_specs(module: Any) -> dict[str, Key]:

@@ -37,6 +37,9 @@ class Key:
         stored read-only.
     unset : a value meaning "not given, use the data's own" (e.g. a mass of 0 read from the
         trial file): not judged.
+    named, examples : what ``quantity`` is called in a refusal or warning, and the real values
+        quoted there, instead of the range's own (:func:`workbench.plausible.check`'s): a drift
+        limit judged by the "closing" range is not "a jaw closing ... a pad pressed 0.1-5 mm".
     """
 
     doc: str
@@ -46,6 +49,8 @@ class Key:
     choices: Sequence[Any] | Callable[[], Sequence[Any]] | None = None
     fields: Mapping[str | int, tuple[str, float]] = field(default_factory=dict)
     unset: Any = None
+    named: str | None = None
+    examples: str | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "fields", MappingProxyType(dict(self.fields)))
@@ -102,7 +107,15 @@ def check_key(name: str, key: Key, value: Any) -> None:
     if key.quantity is not None:
         for place, x in _numbers(value, maps=not key.fields):
             what = f"{name}{place} [{key.unit}]" if key.unit else f"{name}{place}"
-            plausible.check(key.quantity, x, what, scale=key.scale, unit=key.unit or None)
+            plausible.check(
+                key.quantity,
+                x,
+                what,
+                scale=key.scale,
+                unit=key.unit or None,
+                examples=key.examples,
+                named=key.named,
+            )
     for f, (q, scale) in key.fields.items():
         if isinstance(value, dict):
             v = value.get(f) if isinstance(f, str) else None

@@ -463,8 +463,11 @@ def _point_configs(
     so ``mu=[1, 1.0]`` repeats a point and ``mu=1`` resumes a point written as ``mu=1.0``."""
     import importlib
 
-    from .experiment_config import EXPERIMENTS, ConfigValueError, build_config
+    from .experiment_config import EXPERIMENTS, ConfigValueError, build_config, seed_refusal
 
+    refusal = None if seed is None else seed_refusal(experiment, seed)
+    if refusal is not None:  # before any point: no point's config could take it
+        raise SweepError(refusal)
     both = sorted(set(sets) & set(points[0]))
     if both:
         raise SweepError(f"{both} are given both as --set and in the grid: give each key in one of them")

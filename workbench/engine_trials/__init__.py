@@ -24,22 +24,28 @@ from . import indentation, probes
 from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
+    MIN_SAMPLES_PER_PHASE,
     TASKS,
+    EngineWarning,
     TrialOutcome,
     TrialPhases,
     build_scene,
+    check_record_every,
     simulate_grasp,
     simulate_gripper,
     step_trial,
 )
 
 __all__ = [
+    "MIN_SAMPLES_PER_PHASE",
     "TASKS",
     "DisturbancePhases",
     "EngineSettings",
+    "EngineWarning",
     "TrialOutcome",
     "TrialPhases",
     "build_scene",
+    "check_record_every",
     "indentation",
     "probes",
     "simulate_disturbance",

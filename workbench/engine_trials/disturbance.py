@@ -25,6 +25,7 @@ from .trial import (
     _miss,
     _starts_inside,
     build_scene,
+    check_record_every,
     check_turn_limit,
     step_trial,
 )
@@ -32,7 +33,9 @@ from .trial import (
 
 @dataclass(frozen=True)
 class DisturbancePhases:
-    """Durations [s] of a disturbance trial and its verdict's limits."""
+    """Durations [s] of a disturbance trial and its verdict's limits.  The verdict reads the
+    poses recorded over ramp and hold: each must span at least
+    :data:`~.trial.MIN_SAMPLES_PER_PHASE` records (:func:`~.trial.check_record_every`)."""
 
     gap: float = 5e-4  # pad face to the object before closing [m]
     close: float = 0.3  # the jaws' force ramps from 0 to its value
@@ -99,8 +102,13 @@ def simulate_disturbance(
     (width, length, thickness) [m], ``pad_E`` [Pa], ``pad_nu``, its length along ``up`` (3,);
     ``conform``: the pads moulded to the object (:func:`~.pad.conform_pad`), else flat.
 
+    ``record_every``: engine steps between the recorded poses the verdict reads; ramp and hold
+    must each span at least :data:`~.trial.MIN_SAMPLES_PER_PHASE` of them
+    (:func:`~.trial.check_record_every`): at most 15 at the default phases and 1 ms step, 10 by
+    default.
+
     Returns a :class:`~.trial.TrialOutcome` whose ``held`` is the engine's verdict: no contact
-    model of this package is used."""
+    model of this package is used; its reason names the limit crossed first."""
     phases = DisturbancePhases() if phases is None else phases
     if not isinstance(phases, DisturbancePhases):
         raise ValueError(f"phases must be a DisturbancePhases; got {type(phases).__name__}")
@@ -108,6 +116,8 @@ def simulate_disturbance(
         mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1), None, settings
     )
     w = _check_wrench(wrench)
+    judged = {"DisturbancePhases.ramp": phases.ramp, "DisturbancePhases.hold": phases.hold}
+    check_record_every(record_every, judged, settings.timestep)
     _check_pad(force, pad, pad_E, up)
     p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
@@ -133,4 +143,4 @@ def simulate_disturbance(
         data.xfrc_applied[obj, :3] = s * w[:3]
         data.xfrc_applied[obj, 3:] = s * (w[3:] + np.cross(lever, w[:3]))
 
-    return step_trial(model, info, control, t_settle, t_load + phases.hold, phases, record_every)
+    return step_trial(model, info, control, t_settle, t_load + phases.hold, phases, record_every, judged)

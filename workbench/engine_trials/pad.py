@@ -14,6 +14,11 @@ from .settings import EngineSettings
 def pad_rotation(approach: np.ndarray, up: np.ndarray) -> np.ndarray:
     """(3, 3) rotation of the pad's grid frame: local −z along ``approach`` (its face looks
     at the object), local y along the part of ``up`` ⟂ approach (the pad's length), x = y × z."""
+    from ..sources.jaws import check_direction
+
+    # a zero vector first, by its own name: it would otherwise read as "up parallel to the approach"
+    check_direction(approach, "approach", "the jaw's closing direction, the grasp axis")
+    check_direction(up, "up", "the pad's length direction, across the grasp axis")
     a = np.asarray(approach, float) / np.linalg.norm(approach)
     z = -a
     y = np.asarray(up, float) - (np.asarray(up, float) @ a) * a

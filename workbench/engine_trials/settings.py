@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: MuJoCo's spellings of ``<option integrator=...>`` (its enum mjtIntegrator, MuJoCo 4): the XML
+#: parser takes these exactly, case included, and reads any other word as an "invalid keyword"
+INTEGRATORS = ("discrete", "Euler", "RK4", "implicit", "implicitfast")
+
 
 def import_mujoco():
     """The ``mujoco`` module, or an ImportError naming the extra that installs it."""
@@ -61,6 +65,15 @@ class EngineSettings:
             raise ValueError(f"cone must be 'elliptic' or 'pyramidal'; got {self.cone!r}")
         if self.solver not in ("Newton", "CG", "PGS"):
             raise ValueError(f"solver must be 'Newton', 'CG' or 'PGS'; got {self.solver!r}")
+        if self.integrator not in INTEGRATORS:
+            word = self.integrator.lower() if isinstance(self.integrator, str) else None
+            case = [k for k in INTEGRATORS if k.lower() == word]
+            raise ValueError(
+                f"integrator must be one of MuJoCo's {INTEGRATORS}, spelled as its XML takes them (case "
+                f"included); got {self.integrator!r}"
+                + (f" — pass {case[0]!r}" if case else "")
+                + " (the probes validated the default, 'discrete')"
+            )
         for name in ("impratio", "timestep", "tolerance", "tip_radius", "pad_mass"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and v < float("inf")):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -22,11 +23,48 @@ TASKS = {"vertical_lifting": 0.0, "lift_and_rotate": 90.0}
 
 G = 9.81  # m/s², the magnitude MuJoCo's gravity is given
 
+#: the fewest recorded poses the verdict may read in each judged phase (lift, turn, hold; a
+#: disturbance's ramp and hold): held, drift and turn are read from the recorded poses only, so a
+#: ``record_every`` that leaves a phase a handful of them (or none) judges what it did not see
+MIN_SAMPLES_PER_PHASE = 20
+
+
+class EngineWarning(UserWarning):
+    """MuJoCo warned during a trial (its warnings are in ``TrialOutcome.engine_warnings``): an
+    instability — bad accelerations, a solver out of iterations, a degenerate inertia — can make
+    the verdict unreliable."""
+
+
+def check_record_every(record_every, judged: dict, timestep: float) -> int:
+    """``record_every`` (engine steps between the poses a trial records and its verdict reads) if
+    it is an integer >= 1 that leaves every judged phase (``judged``: {name: duration [s]}) at
+    least :data:`MIN_SAMPLES_PER_PHASE` recorded poses at ``timestep`` [s] — at most
+    ``max(1, round(shortest / timestep) // 20)``, 25 for the default phases (hold 0.5 s) and 15 for
+    a disturbance's (hold 0.3 s) at 1 ms — else a ValueError saying the bound."""
+    if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
+        raise ValueError(
+            f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
+        )
+    name, shortest = min(judged.items(), key=lambda kv: kv[1])
+    steps = int(round(shortest / timestep))
+    limit = max(1, steps // MIN_SAMPLES_PER_PHASE)
+    if record_every > limit:
+        raise ValueError(
+            f"record_every = {record_every} records the object's pose every {record_every * timestep:.3g} s, "
+            f"but the verdict (held, drift, turn) reads only the recorded poses: the shortest judged "
+            f"phase, {name} ({shortest:g} s = {steps} steps of {timestep:g} s), must hold at least "
+            f"{MIN_SAMPLES_PER_PHASE} of them — pass record_every <= {limit} (the default, 10, records "
+            f"every {10 * timestep:g} s), or lengthen {name}"
+        )
+    return int(record_every)
+
 
 @dataclass(frozen=True)
 class TrialPhases:
     """Durations [s] and motions of a trial; the defaults are the thesis's tasks at a
-    robot's pace (5 cm in 1 s)."""
+    robot's pace (5 cm in 1 s).  The verdict reads the poses recorded over lift, rotate (the
+    lift_and_rotate task) and hold: each must span at least :data:`MIN_SAMPLES_PER_PHASE`
+    records (:func:`check_record_every`)."""
 
     gap: float = 5e-4  # pad face to the object before closing [m]
     gravity_ramp: float = 0.1  # gravity switched on: the object settles on the table
@@ -190,8 +228,10 @@ def open_pad_depth(mesh, faces, axis, up, pad, grid: tuple[int, int] = (5, 9)) -
     length along it), face ``k`` centred at ``faces[k]`` (3,) looking along ``±axis``."""
     import trimesh
 
+    from ..sources.jaws import check_direction
     from .pad import pad_rotation
 
+    check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     out = []
     for face, a in zip(faces, (axis, -axis), strict=True):
@@ -264,6 +304,9 @@ def build_scene(
     ):
         if not isinstance(flag, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False ({meaning}); got {flag!r}")
+    from ..sources.jaws import check_direction
+
+    check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
     axis = np.asarray(axis, float) / np.linalg.norm(axis)
     f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)
@@ -377,6 +420,24 @@ def _check_pad(force, pad, pad_E, up) -> None:
     check_direction(up, "up", "the pads' length direction, across the grasp axis")
 
 
+def _check_up_down(up, down: np.ndarray) -> None:
+    """ValueError unless gravity ``down`` (3,, unit) points away from the pads' ``up`` (3,): at
+    least 90 deg from it (a pad lying across gravity at 90, the upright side grasp at 180).  A
+    gravity with a component along ``up`` contradicts the name — a sign slip in one of them."""
+    u = np.asarray(up, float) / np.linalg.norm(np.asarray(up, float))
+    flip = (np.round(-u, 4) + 0.0).tolist()  # + 0.0: no "-0.0" in the message
+    angle = float(np.degrees(np.arccos(np.clip(u @ down, -1.0, 1.0))))
+    # 1e-6 deg: a perpendicular pair computed from a rotation is 90 deg only to rounding
+    if angle < 90.0 - 1e-6:
+        raise ValueError(
+            f"down {np.round(down, 4).tolist()} (gravity) is {angle:.3g} deg from up "
+            f"{np.round(u, 4).tolist()} (the pads' length direction): it must be at least 90 deg from it "
+            "(90: pads lying across gravity; 180: the upright side grasp) — gravity along up is a sign "
+            f"slip: pass down = {flip}, or, for an object meant upside down in its frame, up = {flip} "
+            "(the same pad, turned end over end)"
+        )
+
+
 def simulate_grasp(
     mesh,
     grasp: dict,
@@ -400,16 +461,26 @@ def simulate_grasp(
     ``mass`` [kg] at ``com`` (3,) [m; default the mesh's centroid], gravity along ``down`` (3,,
     the object frame's) and ``task`` ("vertical_lifting" or "lift_and_rotate": the gripper then
     turns by 90° about the grasp axis).  ``pad`` = (width, length, thickness) [m], ``pad_E``
-    [Pa], ``pad_nu``: the silicone of each jaw, its length along ``up`` (3,).
+    [Pa], ``pad_nu``: the silicone of each jaw, its length along ``up`` (3,), which must be at
+    least 90 deg from ``down`` (gravity may lie across the pads or along their length against
+    ``up``, never along ``up``: a sign slip).
+
+    ``record_every``: engine steps between the recorded poses the verdict reads; each judged
+    phase (lift, the turn of lift_and_rotate, hold) must span at least
+    :data:`MIN_SAMPLES_PER_PHASE` of them (:func:`check_record_every`): at most 25 at the default
+    phases and 1 ms step, 10 by default.
 
     Returns a :class:`TrialOutcome`; its verdict, ``held``, is the engine's: no contact model of
-    this package is used.
+    this package is used.  MuJoCo's own warnings during the trial are recorded in its
+    ``engine_warnings`` and raised as an :class:`EngineWarning`.
     """
 
     mesh, mu, com, down, phases, settings = _check_trial(
         mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down, phases, settings
     )
     _check_pad(force, pad, pad_E, up)
+    _check_up_down(up, down)
+    check_record_every(record_every, _judged(phases, task), settings.timestep)
     p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
     inside = _starts_inside(mesh, faces, axis, up, pad)
@@ -420,6 +491,14 @@ def simulate_grasp(
         up=up, down=down, settings=settings, phases=phases,
     )  # fmt: skip
     return _run(model, info, force, down, task, phases, record_every)
+
+
+def _judged(phases: TrialPhases, task: str) -> dict:
+    """{name: duration [s]} of the phases a trial's verdict reads (after settling)."""
+    judged = {"TrialPhases.lift": phases.lift, "TrialPhases.hold": phases.hold}
+    if TASKS[task]:
+        judged["TrialPhases.rotate"] = phases.rotate
+    return judged
 
 
 def _run(
@@ -444,21 +523,35 @@ def _run(
             v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
             data.ctrl[3] = turn * (3 * v**2 - 2 * v**3)
 
-    return step_trial(model, info, control, t_settle, t_turn + phases.hold, phases, record_every)
+    return step_trial(
+        model, info, control, t_settle, t_turn + phases.hold, phases, record_every, _judged(phases, task)
+    )
 
 
 def step_trial(
-    model, info: dict, control, t_ref: float, t_end: float, phases, record_every: int = 10
+    model,
+    info: dict,
+    control,
+    t_ref: float,
+    t_end: float,
+    phases,
+    record_every: int = 10,
+    judged: dict | None = None,
 ) -> TrialOutcome:
     """Step a scene of :func:`build_scene` to ``t_end`` [s], calling ``control(t, model, data)``
     before each step, and judge it: the object's pose relative to the gripper (the ``hand``
     body) is recorded from ``t_ref`` [s] on, and it is held iff it stays within
     ``phases.max_drift`` [m] and ``phases.max_turn_deg`` of its pose at ``t_ref`` and both jaws
-    touch something at ``t_ref``; the slip speed is measured over the last ``phases.hold``."""
-    if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
-        raise ValueError(
-            f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
-        )
+    touch something at ``t_ref``; the slip speed is measured over the last ``phases.hold``.
+
+    The pose is recorded every ``record_every`` steps, and the verdict reads only those: each
+    phase of ``judged`` ({name: duration [s]}; default the recorded window and ``phases.hold``)
+    must span at least :data:`MIN_SAMPLES_PER_PHASE` records (:func:`check_record_every`).  The
+    reason of a failure names the limit crossed first (a spin that then throws the object out
+    is a turn).  MuJoCo's warnings are recorded in ``engine_warnings`` and raised as an
+    :class:`EngineWarning`."""
+    judged = {"the recorded window": t_end - t_ref, "phases.hold": phases.hold} if judged is None else judged
+    check_record_every(record_every, judged, model.opt.timestep)
     mujoco = import_mujoco()
     data = mujoco.MjData(model)
     dt = model.opt.timestep
@@ -498,20 +591,40 @@ def step_trial(
     slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
     held = bool(drift.max() <= phases.max_drift and rel_turn.max() <= phases.max_turn_deg)
     reason = ""
+    # the first recorded pose beyond each limit (len(times): never): a spin that then throws the
+    # object out of the jaws slides it far, but it failed by turning
+    slid, turned = drift > phases.max_drift, rel_turn > phases.max_turn_deg
+    i_slid = int(np.argmax(slid)) if slid.any() else len(times)
+    i_turn = int(np.argmax(turned)) if turned.any() else len(times)
+    slid_by = f"slid {drift.max() * 1e3:.3g} mm (limit {phases.max_drift * 1e3:g} mm)"
+    turned_by = f"turned {rel_turn.max():.3g} deg (limit {phases.max_turn_deg:g} deg)"
     if touching is not None and not all(touching):
         held = False
         missed = " and ".join(f"jaw {k + 1}" for k, t_k in enumerate(touching) if not t_k)
         reason = f"{missed} touched nothing after closing (the grasp misses the object?)"
-    elif drift.max() > phases.max_drift:
-        reason = f"the object slid {drift.max() * 1e3:.3g} mm (limit {phases.max_drift * 1e3:g} mm)"
-    elif rel_turn.max() > phases.max_turn_deg:
-        reason = f"the object turned {rel_turn.max():.3g} deg (limit {phases.max_turn_deg:g} deg)"
+    elif slid.any() and i_slid <= i_turn:
+        reason = f"the object {slid_by}"
+    elif slid.any():
+        reason = (
+            f"the object {turned_by} first, past its limit at {times[i_turn]:.3g} s, then {slid_by} "
+            f"from {times[i_slid]:.3g} s"
+        )
+    elif turned.any():
+        reason = f"the object {turned_by}"
     engine_warnings = {
         mujoco.mjtWarning(k).name: int(w.number) for k, w in enumerate(data.warning) if w.number > 0
     }
     if engine_warnings:
         # an instability (bad qacc, a solver that ran out of iterations) makes a verdict unreliable
         log.warning("engine trial: MuJoCo warned %s; the verdict may not be reliable", engine_warnings)
+        warnings.warn(
+            f"MuJoCo warned {engine_warnings} during the trial (recorded in TrialOutcome.engine_warnings): "
+            f"the verdict ({'held' if held else 'not held'}) may not be reliable — an instability (bad "
+            "accelerations, a solver out of iterations, a degenerate inertia) usually comes from an input "
+            "far from the validated settings (a pad or object the 1 ms step cannot resolve)",
+            EngineWarning,
+            stacklevel=2,
+        )
     log.info(
         "engine trial: %s, drift %.2f mm, turn %.2f deg, %d steps in %.1f s",
         "held" if held else "slipped",
@@ -575,6 +688,7 @@ def simulate_gripper(
         phases,
         settings,
     )
+    check_record_every(record_every, _judged(phases, task), settings.timestep)
     jaws = gripper.jaws(pose)  # checks the pose
     lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
     c, size = (lo + hi) / 2, hi - lo

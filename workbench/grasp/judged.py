@@ -21,6 +21,7 @@ __all__ = [
     "THESIS_RECALL_GAIN",
     "judged_headline",
     "model_tables",
+    "moved_within",
     "recall_gain_claims",
     "verdict_limit_tables",
 ]
@@ -34,8 +35,20 @@ THESIS_RECALL_GAIN = {"planar": 26.0, "6dfw": 12.0, "3dls_nonplanar": 9.0}
 COMPARABLE_PRECISION_PTS = 5.0
 
 
+def _bools(x, what: str) -> np.ndarray:
+    a = np.asarray(x)
+    if a.dtype != bool:
+        raise ValueError(f"{what} must be a boolean array (resisted / held per grasp); got dtype {a.dtype}")
+    return a
+
+
 def _by_seed(pred: Mapping, truth: Mapping, seeds: Sequence) -> dict:
-    return seed_summary([scores(np.asarray(pred[s], bool), np.asarray(truth[s], bool)) for s in seeds])
+    return seed_summary(
+        [
+            scores(_bools(pred[s], f"predictions of seed {s}"), _bools(truth[s], f"verdicts of seed {s}"))
+            for s in seeds
+        ]
+    )
 
 
 def model_tables(
@@ -55,18 +68,35 @@ def model_tables(
     }
 
 
+def moved_within(trial: Mapping, drift_mm: float, turn_deg: float) -> bool:
+    """Whether a recorded trial (``drift_mm``, ``turn_deg``: its largest drift [mm] and turn [deg])
+    stayed within both limits; a trial that was not simulated (NaN, or None read back from JSON)
+    did not."""
+    d, t = trial["drift_mm"], trial["turn_deg"]
+    return d is not None and t is not None and bool(d <= drift_mm and t <= turn_deg)
+
+
 def verdict_limit_tables(pred: Mapping[str, Mapping], trials: Mapping, seeds: Sequence, limits) -> dict:
     """The engine's verdict at other (drift [mm], turn [deg]) ``limits``, re-read from each
     trial's recorded largest drift and turn (``trials[seed]``: rows with ``drift_mm``,
     ``turn_deg``; no new simulation: a limit looser than the run's own reads trials that ran on
     after crossing it, which only moves them further): the held fraction, each model's recall,
     accuracy and precision (means over the seeds), and the models ranked by accuracy."""
+    from workbench.engine_trials.trial import check_turn_limit
+
     out = {}
-    for drift_mm, turn_deg in limits:
-        held = {
-            s: np.array([r["drift_mm"] <= drift_mm and r["turn_deg"] <= turn_deg for r in trials[s]])
-            for s in seeds
-        }
+    for pair in limits:
+        if len(pair) != 2 or not pair[0] > 0:
+            raise ValueError(
+                f"limits must be (drift [mm] > 0, turn [deg]) pairs, e.g. (5.0, 5.0); got {pair!r}"
+            )
+        drift_mm, turn_deg = pair
+        check_turn_limit(turn_deg, "a limit's turn [deg]")
+        if drift_mm < 0.1:
+            raise ValueError(
+                f"a limit's drift is in millimetres (0.1 mm or more); got {drift_mm!r} (in metres?)"
+            )
+        held = {s: np.array([moved_within(r, drift_mm, turn_deg) for r in trials[s]]) for s in seeds}
         models = {}
         for m in pred:
             got = _by_seed(pred[m], held, seeds)
@@ -87,6 +117,9 @@ def recall_gain_claims(
     """Each Table 4.1 claim against the engine: the best 6DLS variant's gain in recall, F1,
     accuracy and precision over each baseline in ``gains`` [percentage points], and whether it
     holds (recall gain > 0 with precision at most :data:`COMPARABLE_PRECISION_PTS` below)."""
+    bad = {b: g for b, g in gains.items() if not (isinstance(g, (int, float)) and 1 <= g <= 100)}
+    if bad:
+        raise ValueError(f"gains are percentage points in [1, 100] (the thesis's 26, not 0.26); got {bad}")
     six = [m for m in ("6dls", "6dls_quartic") if m in per_model]
     out = {}
     for base, thesis in gains.items():
@@ -112,6 +145,10 @@ def judged_headline(summary: Mapping, what: str) -> list[str]:
     """Headline lines of an engine-judged summary (keys ``engine_positive_fraction``,
     ``exact_positive_fraction``, ``exact_6dfw_vs_engine``, ``models``, ``verdict_thresholds``,
     ``thesis_claims``), the first prefixed by ``what`` (e.g. "5 seeds x 40 grasps on MuJoCo")."""
+    need = ("engine_positive_fraction", "exact_positive_fraction", "exact_6dfw_vs_engine", "models")
+    missing = [k for k in (*need, "verdict_thresholds", "thesis_claims") if k not in summary]
+    if missing:
+        raise ValueError(f"summary lacks {missing}: give an engine-judged summary (model_tables and co.)")
     keys = ("precision", "recall", "f1", "accuracy")
     parts = [
         f"{what}: engine holds {_pm(summary['engine_positive_fraction'])}, exact 6DFW "

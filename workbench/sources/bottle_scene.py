@@ -58,7 +58,14 @@ def bottle_grasp_pool(
     ``p1``, ``p2``, ``axis``, ``center``, ``width`` in the bottle's frame [m]; an empty pool
     raises ``ValueError`` (the friction cone too narrow for every wall: raise ``mu``)."""
     from workbench.grasp.sampling import horizontal_grasps
+    from workbench.seeds import check_seed
 
+    for name, value, lo in (("n_bottles", n_bottles, 1), ("n_asymmetric", n_asymmetric, 0)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
+            raise ValueError(f"{name} must be an integer >= {lo}; got {value!r}")
+    if n_asymmetric > n_bottles:
+        raise ValueError(f"n_asymmetric ({n_asymmetric}) must be at most n_bottles ({n_bottles})")
+    check_seed(family_seed, "family_seed", generator=False)
     fr = np.atleast_1d(np.asarray(height_fractions, float))
     if fr.size == 0 or fr.ndim != 1 or not ((fr > 0) & (fr < 1)).all():
         raise ValueError(
@@ -93,9 +100,12 @@ def bottle_grasp_pool(
 def grasp_frame(axis, up=(0.0, 0.0, 1.0)) -> np.ndarray:
     """(3, 3) rotation whose rows are the grasp frame's x (``axis``), y = z × x and z (``up``
     made perpendicular to the axis) in the object frame: ``v_grasp = R @ v_object``."""
-    x = np.asarray(axis, float)
+    x, u = np.asarray(axis, float), np.asarray(up, float)
+    for name, v in (("axis", x), ("up", u)):
+        if v.shape != (3,) or not np.isfinite(v).all() or not np.linalg.norm(v) > 0:
+            raise ValueError(f"{name} must be a finite non-zero (3,) direction; got {v.tolist()}")
     x = x / np.linalg.norm(x)
-    z = np.asarray(up, float) - (np.asarray(up, float) @ x) * x
+    z = u - (u @ x) * x
     if not np.linalg.norm(z) > 1e-9:
         raise ValueError(f"up {up!r} is parallel to the grasp axis {axis!r}: the grasp frame is undefined")
     z = z / np.linalg.norm(z)
@@ -106,7 +116,25 @@ def wrenches_to_object(W_grasp, R: np.ndarray, centre) -> np.ndarray:
     """Wrenches (n, 6) given in the grasp frame (force, torque about the grasp centre) as the
     same loads in the object frame about its origin: ``f_o = Rᵀ f``, ``τ_o = Rᵀ τ + c × f_o``
     (``R`` from :func:`grasp_frame`, ``centre`` c (3,) the grasp centre in the object frame)."""
+    from workbench.plausible import check
+
     W = np.atleast_2d(np.asarray(W_grasp, float))
+    R = np.asarray(R, float)
+    c = np.asarray(centre, float)
+    if W.ndim != 2 or W.shape[1] != 6 or not np.isfinite(W).all():
+        raise ValueError(
+            f"W_grasp must be finite wrenches (n, 6): force [N], torque [N m]; got shape {W.shape}"
+        )
+    # a rotation to round-off: orthonormal rows, right-handed (grasp_frame gives one)
+    if R.shape != (3, 3) or not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise ValueError(
+            f"R must be a rotation (3, 3), e.g. grasp_frame(axis); got {np.round(R, 4).tolist()}"
+        )
+    if c.shape != (3,) or not np.isfinite(c).all():
+        raise ValueError(f"centre must be the grasp centre (3,) [m]; got {c.tolist()}")
+    check(
+        "lever", float(np.linalg.norm(c)), "|centre| [m] (the grasp centre's distance from the object origin)"
+    )
     f = W[:, :3] @ R
-    tau = W[:, 3:] @ R + np.cross(np.asarray(centre, float), f)
+    tau = W[:, 3:] @ R + np.cross(c, f)
     return np.hstack([f, tau])

@@ -21,6 +21,11 @@ import numpy as np
 from .. import config
 from ..profile import ContactProfile
 
+#: the narrowest grasp [m] between its two contact points: below 0.1 mm p1 and p2 are one point
+#: given twice, and the line p1 → p2 that the jaws close along (and the axis is checked against)
+#: is undefined
+MIN_GRASP_WIDTH = 1e-4
+
 __all__ = [
     "check_grasp",
     "check_jaw_force",
@@ -65,30 +70,57 @@ def check_pad(pad) -> None:
 
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(p1, p2, unit axis)``, each (3,), of a grasp dict, or a ValueError naming what is missing —
-    or an axis more than ``config.TOL.grasp_axis_max_deg`` from the line p1 → p2 (parallel jaws
-    close along the line through both contact points)."""
+    """``(p1, p2, unit axis)``, each (3,), of a grasp dict, or a ValueError naming what is missing
+    or not finite — or p1 and p2 less than :data:`MIN_GRASP_WIDTH` apart (no line for the jaws to
+    close along), a zero axis, or an axis more than ``config.TOL.grasp_axis_max_deg`` from the
+    line p1 → p2 (parallel jaws close along the line through both contact points)."""
     if not isinstance(grasp, dict) or any(k not in grasp for k in ("p1", "p2", "axis")):
         got = sorted(grasp) if isinstance(grasp, dict) else type(grasp).__name__
         raise ValueError(
             "grasp must be a dict with 'p1', 'p2' (contact points [m]) and 'axis' (unit vector from "
             f"jaw 1 into the object), as antipodal_grasps returns; got {got}"
         )
-    p1, p2, axis = (np.asarray(grasp[k], float) for k in ("p1", "p2", "axis"))
-    if p1.shape != (3,) or p2.shape != (3,) or axis.shape != (3,) or not np.linalg.norm(axis) > 0:
-        raise ValueError(f"grasp p1, p2, axis must be (3,) vectors, axis non-zero; got {p1}, {p2}, {axis}")
+    try:
+        p1, p2, axis = (np.asarray(grasp[k], float) for k in ("p1", "p2", "axis"))
+    except (TypeError, ValueError):
+        p1 = p2 = axis = np.full(0, np.nan)
+    if p1.shape != (3,) or p2.shape != (3,) or axis.shape != (3,):
+        raise ValueError(
+            f"grasp p1, p2, axis must be (3,) vectors, axis non-zero; got {grasp['p1']!r}, {grasp['p2']!r}, "
+            f"{grasp['axis']!r}"
+        )
+    for name, v in (("p1", p1), ("p2", p2), ("axis", axis)):
+        if not np.isfinite(v).all():
+            raise ValueError(
+                f"grasp {name} must be finite (3 numbers [m]{', a direction' if name == 'axis' else ''}); "
+                f"got {v.tolist()} — a NaN or inf from an upstream computation (a failed projection, "
+                "a division by a zero length?)"
+            )
+    width = float(np.linalg.norm(p2 - p1))
+    if width < MIN_GRASP_WIDTH:
+        raise ValueError(
+            f"grasp p1 and p2 must be two contact points at least {MIN_GRASP_WIDTH * 1e3:g} mm apart (the "
+            f"jaws close on the object between them); got a width of {width * 1e3:.3g} mm, p1 = "
+            f"{p1.tolist()}, p2 = {p2.tolist()} — pass the points where each jaw meets the object, as "
+            "antipodal_grasps does (p2 given as p1?)"
+        )
+    if not np.linalg.norm(axis) > 0:
+        d = (p2 - p1) / width
+        raise ValueError(
+            f"grasp axis must be a direction (axis non-zero); got {axis.tolist()}, a zero vector, which "
+            f"gives the jaws no closing direction — pass axis = (p2 - p1) / |p2 - p1| = {d.round(6).tolist()}"
+        )
     from ..config import TOL
 
     u, d = axis / np.linalg.norm(axis), p2 - p1
-    if np.linalg.norm(d) > 0:
-        angle = float(np.degrees(np.arccos(np.clip(u @ d / np.linalg.norm(d), -1.0, 1.0))))
-        if angle > TOL.grasp_axis_max_deg:
-            raise ValueError(
-                f"grasp axis {u.round(4).tolist()} is {angle:.1f} deg from the line p1 → p2 (at most "
-                f"{TOL.grasp_axis_max_deg:g}, config.TOL.grasp_axis_max_deg): parallel jaws close along "
-                "the line through both contact points — pass axis = (p2 - p1) / |p2 - p1|"
-                + (" (p1 and p2 swapped?)" if angle > 90 else "")
-            )
+    angle = float(np.degrees(np.arccos(np.clip(u @ d / np.linalg.norm(d), -1.0, 1.0))))
+    if angle > TOL.grasp_axis_max_deg:
+        raise ValueError(
+            f"grasp axis {u.round(4).tolist()} is {angle:.1f} deg from the line p1 → p2 (at most "
+            f"{TOL.grasp_axis_max_deg:g}, config.TOL.grasp_axis_max_deg): parallel jaws close along "
+            "the line through both contact points — pass axis = (p2 - p1) / |p2 - p1|"
+            + (" (p1 and p2 swapped?)" if angle > 90 else "")
+        )
     return p1, p2, u
 
 
