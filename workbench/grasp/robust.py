@@ -120,8 +120,8 @@ def check_object_mass(mass, mesh=None) -> float:
             # the density's own unit hint ("probably in g/cm³ — pass 902 [kg/m³]") is a fix for an
             # argument nobody passed: the input is the mass, so the message speaks of the mass
             raise ValueError(
-                f"mass {mass!r} kg is too light for its {cm3:.3g} cm³ object: a mean density of "
-                f"{rho:.3g} kg/m³, below the {RANGES['density'].lo:g} kg/m³ of any object a gripper lifts "
+                f"mass {mass!r} kg is lighter than any object a gripper lifts for its {cm3:.3g} cm³: a mean "
+                f"density of {rho:.3g} kg/m³, below the {RANGES['density'].lo:g} kg/m³ of the lightest "
                 f"(real values: {RANGES['density'].examples}) — pass the mass in kg (grams divided by 1000 "
                 f"twice? then {m * 1e3:g}); or is the mesh in millimetres?"
             ) from None
