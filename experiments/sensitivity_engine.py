@@ -71,6 +71,17 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
+#: the engine verdict's keys and the run's seeds and models, as every engine-judged Table 4.1 scene has them
+VERDICT_KEYS = {
+    "max_drift": Key(
+        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
+        "m",
+        "closing",  # the trials' own rule for their drift limit, in their words
+        named="limit on the object's drift in the gripper",
+        examples=_DRIFT_EXAMPLES,
+    ),
+    "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
+}
 KEYS = {
     **{k: _scene.KEYS[k] for k in _SCENE_KEYS},
     "seeds": Key("seeds of the disturbances and noise, one set of grasps each"),
@@ -80,14 +91,7 @@ KEYS = {
     "pad_nu": Key("engine pad Poisson ratio", "", "poisson"),
     "pad_thickness": Key("engine pad thickness at the patch centre", "m", "pad_thickness"),
     "object_mass": Key("the object's mass (inertia only: no gravity acts)", "kg", "mass"),
-    "max_drift": Key(
-        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
-        "m",
-        "closing",  # the trials' own rule for their drift limit, in their words
-        named="limit on the object's drift in the gripper",
-        examples=_DRIFT_EXAMPLES,
-    ),
-    "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
+    **VERDICT_KEYS,
 }
 QUICK_CONFIG = {
     "seeds": [0],
@@ -105,16 +109,23 @@ def check_config(config: dict) -> None:
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
     check_elliptic_cylinder(config["a"], config["b"], config["half_angle"], config["length"])
+    if config["n_disturbances"] < 1:
+        raise ValueError(f"n_disturbances must be >= 1; got {config['n_disturbances']}")
+    check_judged_run(config)
+
+
+def check_judged_run(config: dict) -> None:
+    """The rules every engine-judged Table 4.1 scene shares: at least one model, distinct seeds
+    >= 0, μ > 0, the verdict's turn limit in [1, 90] degrees (the trials' own rule) and drift
+    limit > 0, where the rows run."""
     if not config["models"]:
         raise ValueError('models must name at least one model, e.g. ["6dls"]; got []')
     seeds = config["seeds"]
     if not seeds or len(set(seeds)) != len(seeds) or any(not isinstance(s, int) or s < 0 for s in seeds):
         raise ValueError(f"seeds must be distinct integers >= 0, at least one; got {seeds!r}")
-    if config["n_disturbances"] < 1:
-        raise ValueError(f"n_disturbances must be >= 1; got {config['n_disturbances']}")
     if config["mu"] == 0:
         raise ValueError("mu = 0 is a frictionless grasp: give mu > 0, e.g. --set mu=0.3 (the default)")
-    check_turn_limit(config["max_turn_deg"], "max_turn_deg")  # the trials' own rule
+    check_turn_limit(config["max_turn_deg"], "max_turn_deg")
     if not config["max_drift"] > 0:
         raise ValueError(f"max_drift must be > 0 [m] (9 mm is 0.009); got {config['max_drift']!r}")
     check_workers(config["workers"], config["scheduler"])

@@ -30,9 +30,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
+from workbench.experiments import sensitivity_engine as _judged
 from workbench.grasp import CutStore, resists
 from workbench.grasp.crossval import seed_summary
 from workbench.grasp.exact import ExactContacts, resists_exact
@@ -40,7 +41,7 @@ from workbench.grasp.judged import judged_headline, model_tables, recall_gain_cl
 from workbench.grasp.models import MODELS, contact_sets
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
-from workbench.parallel import check_workers, run_checkpointed
+from workbench.parallel import run_checkpointed
 from workbench.results import content_hash, sources_hash, write_csv, write_summary
 from workbench.trial_figures import judged_figure
 
@@ -95,14 +96,7 @@ KEYS = {
     "pad_E": Key("pad Young's modulus (our FEM pad and the engine's)", "Pa", "pad_modulus"),
     "pad_nu": Key("pad Poisson ratio", "", "poisson"),
     "object_mass": Key("the bottle's mass (inertia only: no gravity acts)", "kg", "mass"),
-    "max_drift": Key(
-        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
-        "m",
-        "closing",  # the trials' own rule for their drift limit, in their words
-        named="limit on the object's drift in the gripper",
-        examples=_DRIFT_EXAMPLES,
-    ),
-    "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
+    **_judged.VERDICT_KEYS,
 }
 QUICK_CONFIG = {
     "seeds": [0],
@@ -124,11 +118,6 @@ def check_config(config: dict) -> None:
     limit outside [1, 90] degrees (the trials' own rule)."""
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
-    if not config["models"]:
-        raise ValueError('models must name at least one model, e.g. ["6dls"]; got []')
-    seeds = config["seeds"]
-    if not seeds or len(set(seeds)) != len(seeds) or any(not isinstance(s, int) or s < 0 for s in seeds):
-        raise ValueError(f"seeds must be distinct integers >= 0, at least one; got {seeds!r}")
     for key in ("n_grasps", "n_bottles", "n_angles"):
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
@@ -141,12 +130,7 @@ def check_config(config: dict) -> None:
         raise ValueError(
             f"height_fractions must be a list of fractions in (0, 1), e.g. [0.3, 0.6]; got {fr!r}"
         )
-    if config["mu"] == 0:
-        raise ValueError("mu = 0 is a frictionless grasp: give mu > 0, e.g. --set mu=0.3 (the default)")
-    check_turn_limit(config["max_turn_deg"], "max_turn_deg")
-    if not config["max_drift"] > 0:
-        raise ValueError(f"max_drift must be > 0 [m] (9 mm is 0.009); got {config['max_drift']!r}")
-    check_workers(config["workers"], config["scheduler"])
+    _judged.check_judged_run(config)
 
 
 @lru_cache(maxsize=4)
