@@ -305,7 +305,10 @@ RUN_MW = 'workbench run minimal-work --set \'nl_work_objects=["mustard","shampoo
 SURFACES = ("S1", "S2", "S3", "S4", "S5", "S6")
 TRUTH_SENS = "simulated, the exact resistance of the true profile's 6DFW set with friction/force noise"
 TRUTH_MW = (
-    "simulated, the exact 6DFW resistance of both REACH profiles and a jaw-closing limit on the wall FEM"
+    "simulated, the exact 6DFW resistance of both REACH profiles and a jaw-closing limit on the wall FEM; "
+    "it shares with q_force and q_work the REACH profiles at the pose of first touch (both call the same "
+    "grasps unresisted at any force, grasps an engine's settling object holds: Table 4.6 (engine)) and, "
+    "through the closing limit, q_work's stiffness"
 )
 PROTOCOL_TEXT = "thesis-text protocol (§3.3.2 sampler, held-out wrenches of it)"
 PROTOCOL_CODE = "thesis-code protocol (the author's twist grid)"
