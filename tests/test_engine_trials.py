@@ -309,3 +309,17 @@ def test_a_yumi_trial_at_its_recorded_pose_and_a_gripper_that_misses():
     away[:3, 3] += 0.1 * np.cross(down, pose[:3, 0])  # sideways, across gravity and the jaw axis
     miss = simulate_gripper(cube, yumi(), away, mass=trials.mass, down=down)
     assert not miss.held and "touched nothing" in miss.reason
+
+
+def test_a_mesh_in_millimetres_is_refused_with_a_remedy_the_trials_take():
+    """simulate_grasp has no units= argument: the refusal names the scaling, not an option
+    it would refuse as a TypeError."""
+    import trimesh
+
+    from workbench.engine_trials import simulate_grasp
+
+    box = trimesh.creation.box((40.0, 40.0, 80.0))  # a 40 x 40 x 80 mm block given in mm
+    grasp = {"p1": [-20.0, 0, 0], "p2": [20.0, 0, 0], "axis": [1.0, 0, 0]}
+    with pytest.raises(ValueError, match=r"apply_scale\(0.001\)") as err:
+        simulate_grasp(box, grasp, force=10.0, mu=0.5, mass=0.1)
+    assert "units=" not in str(err.value) and "allow_scale" not in str(err.value)

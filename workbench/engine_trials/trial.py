@@ -388,7 +388,13 @@ def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, s
 
     if task not in TASKS:
         raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
-    mesh = closed_mesh(mesh, f"mesh passed to {caller}")
+    # the trials take metres only (no units= argument): the remedy is to scale the mesh
+    mesh = closed_mesh(
+        mesh,
+        f"mesh passed to {caller}",
+        fix="scale it by {factor:g} first: mesh.apply_scale({factor:g})",
+        override=None,
+    )
     mu = check_mu(mu)
     check_object_mass(mass, mesh)
     com = check_com(mesh.center_mass if com is None else com, mesh)
