@@ -36,8 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
-from workbench.experiment_keys import Key, check_key
+from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import minimal_work as _mw
 from workbench.grasp.judged import moved_within
 from workbench.parallel import check_workers, run_checkpointed
@@ -88,14 +88,7 @@ KEYS = {
     "pad_E": Key("engine pad Young's modulus", "Pa", "pad_modulus"),
     "pad_nu": Key("engine pad Poisson ratio", "", "poisson"),
     "pad_thickness": Key("engine pad thickness", "m", "pad_thickness"),
-    "max_drift": Key(
-        "engine verdict: a completed task's largest drift of the object relative to the gripper",
-        "m",
-        "closing",  # the trials' own rule for their drift limit, in their words
-        named="limit on the object's drift in the gripper",
-        examples=_DRIFT_EXAMPLES,
-    ),
-    "max_turn_deg": Key("engine verdict: largest turn of a completed task [deg]"),
+    **verdict_keys("completed task"),
     "n_bootstrap": Key("bootstrap resamples of each interval, >= 100"),
 }
 QUICK_CONFIG = {"n_grasps": 2, "n_heights": 3, "n_angles": 2, "robust_samples": 8, "n_bootstrap": 200}

@@ -32,8 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.engine_trials.trial import _DRIFT_EXAMPLES, VERDICT_LIMITS, check_turn_limit
-from workbench.experiment_keys import Key, check_key
+from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
 from workbench.grasp.crossval import seed_summary
@@ -71,17 +71,8 @@ DEFAULT_CONFIG = {
     "workers": 0,
     "scheduler": "",
 }
-#: the engine verdict's keys and the run's seeds and models, as every engine-judged Table 4.1 scene has them
-VERDICT_KEYS = {
-    "max_drift": Key(
-        "engine verdict: a resisted grasp's largest drift of the object relative to the gripper",
-        "m",
-        "closing",  # the trials' own rule for their drift limit, in their words
-        named="limit on the object's drift in the gripper",
-        examples=_DRIFT_EXAMPLES,
-    ),
-    "max_turn_deg": Key("engine verdict: largest turn of a resisted grasp [deg]"),
-}
+#: the engine verdict's keys of every engine-judged Table 4.1 scene
+VERDICT_KEYS = verdict_keys("resisted grasp")
 KEYS = {
     **{k: _scene.KEYS[k] for k in _SCENE_KEYS},
     "seeds": Key("seeds of the disturbances and noise, one set of grasps each"),

@@ -159,3 +159,21 @@ def describe(key: Key) -> str:
     if allowed is not None:
         parts.append("one of " + ", ".join(map(str, allowed)))
     return "; ".join(parts)
+
+
+def verdict_keys(judged: str) -> dict[str, Key]:
+    """The keys ``max_drift`` [m] and ``max_turn_deg`` of an engine-judged experiment, ``judged``
+    naming what passes (e.g. "resisted grasp", "completed task"): the drift judged by the trials'
+    own rule for their drift limit (the "closing" range, in the trials' words)."""
+    from .engine_trials.trial import _DRIFT_EXAMPLES
+
+    return {
+        "max_drift": Key(
+            f"engine verdict: a {judged}'s largest drift of the object relative to the gripper",
+            "m",
+            "closing",
+            named="limit on the object's drift in the gripper",
+            examples=_DRIFT_EXAMPLES,
+        ),
+        "max_turn_deg": Key(f"engine verdict: largest turn of a {judged} [deg]"),
+    }
