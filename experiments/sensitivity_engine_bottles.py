@@ -150,6 +150,15 @@ def pool_of(config: dict) -> list[dict]:
     )  # fmt: skip
 
 
+def _check_pool_size(n: int, pool: list) -> None:
+    """n_grasps drawn without repeats: at most the pool's size."""
+    if n > len(pool):
+        raise ValueError(
+            f"n_grasps = {n} is more than the {len(pool)} grasps in the pool: lower n_grasps or add "
+            "bottles, heights or angles (n_bottles, height_fractions, n_angles)"
+        )
+
+
 def _inputs(config: dict, seed: int):
     """The seed's draw: pool indices (n,), disturbances in the object frame (n, 6), sensor
     forces, noisy true μ and forces (n,).  The disturbances, forces and noise are the
@@ -158,11 +167,7 @@ def _inputs(config: dict, seed: int):
     from workbench.sources.bottle_scene import grasp_frame, wrenches_to_object
 
     n, pool = config["n_grasps"], pool_of(config)
-    if n > len(pool):
-        raise ValueError(
-            f"n_grasps = {n} is more than the {len(pool)} grasps in the pool: lower n_grasps or add "
-            "bottles, heights or angles (n_bottles, height_fractions, n_angles)"
-        )
+    _check_pool_size(n, pool)
     W, forces, mu_true, f_true = _scene._inputs({**config, "seed": seed, "n_disturbances": n})
     idx = np.random.default_rng([seed, 1]).choice(len(pool), n, replace=False)
     W_obj = np.vstack(
@@ -281,8 +286,7 @@ def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     pool = pool_of(config)  # refuses an empty pool before any trial
-    if config["n_grasps"] > len(pool):
-        _inputs(config, config["seeds"][0])  # its refusal, before any row
+    _check_pool_size(config["n_grasps"], pool)  # and too small a one, before any row
     row = partial(_row, config=config)
     # the trials keyed by what they depend on (an edit of a contact model keeps them), the
     # models' rows by the whole package; both resumable

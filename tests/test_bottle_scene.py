@@ -70,7 +70,7 @@ def test_careless_frames_wrenches_and_families_are_refused():
         wrenches_to_object(np.zeros((2, 3)), R, [0, 0, 0.1])  # forces without torques
     with pytest.raises(ValueError, match="centre"):
         wrenches_to_object(np.zeros((1, 6)), R, [0, 120.0, 0])  # millimetres: 120 m from the origin
-    with pytest.raises(ValueError, match="axis must be a finite non-zero"):
+    with pytest.raises(ValueError, match="axis must be a non-zero finite"):
         grasp_frame([0.0, 0, 0])
     with pytest.raises(ValueError, match="family_seed"):
         bottle_grasp_pool(2, 0, -1, [0.5], 4, 0.3)

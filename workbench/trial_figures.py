@@ -135,6 +135,8 @@ def judged_figure(per_model: Mapping[str, dict], path, title: str) -> str:
     """Bars of each model's precision, recall, F1 and accuracy against the engine and against the
     exact-6DFW truth, mean ± std over seeds (``per_model`` from
     :func:`workbench.grasp.judged.model_tables`), saved to ``path``; returns its file name."""
+    from pathlib import Path
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -160,6 +162,4 @@ def judged_figure(per_model: Mapping[str, dict], path, title: str) -> str:
     fig.tight_layout()
     save_figure(fig, path)
     plt.close(fig)
-    from pathlib import Path
-
     return Path(path).name

@@ -231,8 +231,7 @@ def open_pad_depth(mesh, faces, axis, up, pad, grid: tuple[int, int] = (5, 9)) -
     from ..sources.jaws import check_direction
     from .pad import pad_rotation
 
-    check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    axis = check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
     out = []
     for face, a in zip(faces, (axis, -axis), strict=True):
         R = pad_rotation(a, np.asarray(up, float))
@@ -306,8 +305,7 @@ def build_scene(
             raise ValueError(f"{name} must be True or False ({meaning}); got {flag!r}")
     from ..sources.jaws import check_direction
 
-    check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    axis = check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
     f1, f2 = (np.asarray(f, float) for f in faces)
     com = np.asarray(mesh.center_mass if com is None else com, float)
     asset, body = _object_xml(mesh, mass, com, mu, settings, down)

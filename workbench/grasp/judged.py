@@ -35,20 +35,9 @@ THESIS_RECALL_GAIN = {"planar": 26.0, "6dfw": 12.0, "3dls_nonplanar": 9.0}
 COMPARABLE_PRECISION_PTS = 5.0
 
 
-def _bools(x, what: str) -> np.ndarray:
-    a = np.asarray(x)
-    if a.dtype != bool:
-        raise ValueError(f"{what} must be a boolean array (resisted / held per grasp); got dtype {a.dtype}")
-    return a
-
-
 def _by_seed(pred: Mapping, truth: Mapping, seeds: Sequence) -> dict:
-    return seed_summary(
-        [
-            scores(_bools(pred[s], f"predictions of seed {s}"), _bools(truth[s], f"verdicts of seed {s}"))
-            for s in seeds
-        ]
-    )
+    # scores refuses non-boolean arrays (an int prediction is not cast to a verdict)
+    return seed_summary([scores(np.asarray(pred[s]), np.asarray(truth[s])) for s in seeds])
 
 
 def model_tables(

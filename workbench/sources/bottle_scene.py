@@ -100,11 +100,10 @@ def bottle_grasp_pool(
 def grasp_frame(axis, up=(0.0, 0.0, 1.0)) -> np.ndarray:
     """(3, 3) rotation whose rows are the grasp frame's x (``axis``), y = z × x and z (``up``
     made perpendicular to the axis) in the object frame: ``v_grasp = R @ v_object``."""
-    x, u = np.asarray(axis, float), np.asarray(up, float)
-    for name, v in (("axis", x), ("up", u)):
-        if v.shape != (3,) or not np.isfinite(v).all() or not np.linalg.norm(v) > 0:
-            raise ValueError(f"{name} must be a finite non-zero (3,) direction; got {v.tolist()}")
-    x = x / np.linalg.norm(x)
+    from .jaws import check_direction
+
+    x = check_direction(axis, "axis", "the grasp axis, jaw 1 into the object")
+    u = check_direction(up, "up", "the object's up, across the grasp axis")
     z = u - (u @ x) * x
     if not np.linalg.norm(z) > 1e-9:
         raise ValueError(f"up {up!r} is parallel to the grasp axis {axis!r}: the grasp frame is undefined")
