@@ -110,6 +110,6 @@ def test_careless_disturbance_input_is_refused():
     # a torque in N mm (a 1 N weight on a 40 mm lever given as 40): the lever it implies is 40 m
     with pytest.raises(ValueError, match="lever"):
         simulate_disturbance(BOX, GRASP, [0.0, 0.0, -1.0, 40.0, 0.0, 0.0], force=F, mu=MU, mass=0.1)
-    # trial 11: a record_every that leaves the 0.3 s hold fewer than 20 recorded poses
+    # a record_every that leaves the 0.3 s hold fewer than 20 recorded poses
     with pytest.raises(ValueError, match=r"DisturbancePhases.hold \(0.3 s = 300 steps.*record_every <= 15"):
         simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, mu=MU, mass=0.1, record_every=10**7)

@@ -112,7 +112,7 @@ def test_careless_engine_settings_are_refused():
         ({"contact_solref": (-0.002, 1.0)}, r"contact_solref must be \(time constant"),
         ({"contact_solref": (0.001, 1.0)}, "below 2 time steps"),
         ({"contact_solimp": (0.99, 0.999, 1e-4, 0.5, 0.0)}, "contact_solimp must be"),
-        # trial 11 E17-E19: accepted, then MuJoCo's XML parser said "invalid keyword: 'rk4'"
+        # accepted, then MuJoCo's XML parser said "invalid keyword: 'rk4'"
         ({"integrator": "rk4"}, r"integrator must be one of MuJoCo's .*got 'rk4' — pass 'RK4'"),
         ({"integrator": "bogus"}, r"integrator must be one of MuJoCo's .*got 'bogus' \(the probes"),
     ):

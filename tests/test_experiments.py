@@ -958,7 +958,7 @@ def test_minimal_work_engine_checks_its_own_keys_before_the_data(sets, match, tm
 
 @pytest.mark.parametrize("key", ["mus", "pull_angles_deg", "creep_fractions", "indenters", "depths_mm"])
 def test_engine_validation_refuses_an_empty_probe_list_before_any_work(key, tmp_path):
-    """``mus=[]`` ran ~25 s of probes and REACH trials, then failed with "min() arg is an empty
+    """``mus=[]`` ran the probes and REACH trials, then failed with "min() arg is an empty
     sequence"; ``reach_grasps=[]`` means all 25 and stays accepted."""
     with pytest.raises(SystemExit, match=rf"^engine-validation: {key} is empty \(.*\): give at least one"):
         build_config("engine-validation", True, str(tmp_path / "out"), None, {key: []})

@@ -81,19 +81,19 @@ def test_check_grasp_normalises_the_axis_and_names_what_is_missing():
 
 def test_check_grasp_refuses_a_zero_axis_non_finite_points_and_a_zero_width_by_name():
     ok = {"p1": [-0.02, 0.0, 0.0], "p2": [0.02, 0.0, 0.0], "axis": [1.0, 0.0, 0.0]}
-    # trial 11 K02: a zero axis read as "up is parallel to the grasp axis (0, 0, 0)" with a numpy
+    # a zero axis read as "up is parallel to the grasp axis (0, 0, 0)" with a numpy
     # divide warning; it gets its own message, with the axis the points give
     with pytest.raises(
         ValueError, match=r"grasp axis must be a direction .* a zero vector.* = \[1.0, 0.0, 0.0\]"
     ):
         check_grasp({**ok, "axis": [0.0, 0.0, 0.0]})
-    # trial 11 D13: NaN in p1 failed deep in scipy's cKDTree; each vector is named
+    # NaN in p1 failed deep in scipy's cKDTree; each vector is named
     for name in ("p1", "p2", "axis"):
         bad = list(ok[name])
         bad[1] = np.nan if name != "axis" else np.inf
         with pytest.raises(ValueError, match=rf"grasp {name} must be finite .*got \["):
             check_grasp({**ok, name: bad})
-    # trial 11 D12: p1 == p2 was simulated for 8 s and reported as a jaw that touched nothing
+    # p1 == p2 was simulated and reported as a jaw that touched nothing
     for width in (0.0, 5e-5):
         with pytest.raises(ValueError, match=r"p1 and p2 must be two contact points at least 0.1 mm apart"):
             check_grasp({**ok, "p2": [-0.02 + width, 0.0, 0.0]})
