@@ -9,6 +9,7 @@ import trimesh
 
 mujoco = pytest.importorskip("mujoco")
 
+from workbench import config  # noqa: E402
 from workbench.engine_trials import TrialPhases, probes, simulate_grasp  # noqa: E402
 
 G_ACC = 9.81
@@ -190,6 +191,11 @@ def test_a_record_every_too_coarse_for_the_verdict_is_refused_and_the_bound_hold
     assert check_record_every(1, {"hold": 0.01}, 1e-3) == 1
     with pytest.raises(ValueError, match="TrialPhases.hold"):
         check_record_every(10, _judged(TrialPhases(hold=0.1), "vertical_lifting"), 1e-3)
+    # the fewest records a phase needs is config's, read at call time: at 10 the bound doubles
+    with config.override(engine_min_samples_per_phase=10):
+        assert check_record_every(50, _judged(p, "lift_and_rotate"), 1e-3) == 50
+        with pytest.raises(ValueError, match=r"at least 10 of them — pass record_every <= 50"):
+            check_record_every(51, _judged(p, "lift_and_rotate"), 1e-3)
     # the neighbour at the bound judges the slide as the default does: the box stays on the
     # table while the gripper rises the lift height
     r = simulate_grasp(BOX, GRASP, **kw, record_every=25)

@@ -5,7 +5,7 @@ reading along the grasp axis (thesis §4.1.3.2) and the checked jaw profile."""
 import numpy as np
 import pytest
 
-from workbench import ContactProfile
+from workbench import ContactProfile, config
 from workbench.sources.jaws import (
     check_grasp,
     check_jaw_force,
@@ -100,6 +100,10 @@ def test_check_grasp_refuses_a_zero_axis_non_finite_points_and_a_zero_width_by_n
     # the neighbours: a 0.2 mm grasp (a thin wall) passes with its axis as given
     p1, p2, axis = check_grasp({**ok, "p2": [-0.0198, 0.0, 0.0]})
     assert np.linalg.norm(p2 - p1) == pytest.approx(2e-4) and axis.tolist() == [1.0, 0.0, 0.0]
+    # the narrowest width is config's, read at call time
+    with config.override(min_grasp_width_m=5e-4):
+        with pytest.raises(ValueError, match=r"at least 0.5 mm apart"):
+            check_grasp({**ok, "p2": [-0.0198, 0.0, 0.0]})
 
 
 def test_jaw_frame_is_right_handed_with_the_length_axis_from_up():

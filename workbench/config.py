@@ -325,6 +325,13 @@ class Tolerances:
     # off the surface leaves a jaw closing on nothing, judged "touched nothing" only after the
     # whole simulation).  A mesh's facets may cut a few tenths of a mm inside a round surface.
     engine_grasp_point_max_offset_m: float = 2e-3
+    # The fewest recorded poses an engine trial's verdict may read in each judged phase (lift,
+    # turn, hold; a disturbance's ramp and hold): held, drift and turn are read from the recorded
+    # poses only, so a record_every that leaves a phase a handful of them judges what it did not see.
+    engine_min_samples_per_phase: int = 20
+    # The narrowest grasp [m] between its two contact points (sources.jaws.check_grasp): closer,
+    # p1 and p2 are one point given twice and the line the jaws close along is undefined.
+    min_grasp_width_m: float = 1e-4
 
     # Largest closing of a linear wall squeeze, as a fraction of the object's width, before a
     # warning that the small-deflection model is stretched (fem.wall.squeeze; the nonlinear
@@ -725,6 +732,8 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "max_plausible_mass_kg": _POS,
     "com_hull_rtol": _NONNEG,  # 0: exactly inside the mesh's hull
     "engine_grasp_point_max_offset_m": _POS,
+    "engine_min_samples_per_phase": _count(1),
+    "min_grasp_width_m": _POS,  # 0 would accept one point given twice
     "linear_closing_max_fraction": _POS,
     "grasp_axis_max_deg": _real(0.0, hi=180.0),
     "wrench_roundoff_rtol": _real(0.0, hi=1.0),  # 0: exact arithmetic; 1: any w_max down to -max

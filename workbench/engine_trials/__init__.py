@@ -24,7 +24,6 @@ from . import indentation, probes
 from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
-    MIN_SAMPLES_PER_PHASE,
     TASKS,
     EngineWarning,
     TrialOutcome,
@@ -37,7 +36,6 @@ from .trial import (
 )
 
 __all__ = [
-    "MIN_SAMPLES_PER_PHASE",
     "TASKS",
     "DisturbancePhases",
     "EngineSettings",

@@ -35,7 +35,7 @@ from .trial import (
 class DisturbancePhases:
     """Durations [s] of a disturbance trial and its verdict's limits.  The verdict reads the
     poses recorded over ramp and hold: each must span at least
-    :data:`~.trial.MIN_SAMPLES_PER_PHASE` records (:func:`~.trial.check_record_every`)."""
+    ``config.TOL.engine_min_samples_per_phase`` records (:func:`~.trial.check_record_every`)."""
 
     gap: float = 5e-4  # pad face to the object before closing [m]
     close: float = 0.3  # the jaws' force ramps from 0 to its value
@@ -103,7 +103,7 @@ def simulate_disturbance(
     ``conform``: the pads moulded to the object (:func:`~.pad.conform_pad`), else flat.
 
     ``record_every``: engine steps between the recorded poses the verdict reads; ramp and hold
-    must each span at least :data:`~.trial.MIN_SAMPLES_PER_PHASE` of them
+    must each span at least ``config.TOL.engine_min_samples_per_phase`` of them
     (:func:`~.trial.check_record_every`): at most 15 at the default phases and 1 ms step, 10 by
     default.
 

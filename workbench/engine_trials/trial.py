@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import config
 from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies, pad_spec
 from .settings import EngineSettings, import_mujoco
 
@@ -23,12 +24,6 @@ TASKS = {"vertical_lifting": 0.0, "lift_and_rotate": 90.0}
 
 G = 9.81  # m/s², the magnitude MuJoCo's gravity is given
 
-#: the fewest recorded poses the verdict may read in each judged phase (lift, turn, hold; a
-#: disturbance's ramp and hold): held, drift and turn are read from the recorded poses only, so a
-#: ``record_every`` that leaves a phase a handful of them (or none) judges what it did not see
-MIN_SAMPLES_PER_PHASE = 20
-
-
 class EngineWarning(UserWarning):
     """MuJoCo warned during a trial (its warnings are in ``TrialOutcome.engine_warnings``): an
     instability — bad accelerations, a solver out of iterations, a degenerate inertia — can make
@@ -38,22 +33,23 @@ class EngineWarning(UserWarning):
 def check_record_every(record_every, judged: dict, timestep: float) -> int:
     """``record_every`` (engine steps between the poses a trial records and its verdict reads) if
     it is an integer >= 1 that leaves every judged phase (``judged``: {name: duration [s]}) at
-    least :data:`MIN_SAMPLES_PER_PHASE` recorded poses at ``timestep`` [s] — at most
+    least ``config.TOL.engine_min_samples_per_phase`` recorded poses at ``timestep`` [s] — at most
     ``max(1, round(shortest / timestep) // 20)``, 25 for the default phases (hold 0.5 s) and 15 for
     a disturbance's (hold 0.3 s) at 1 ms — else a ValueError saying the bound."""
     if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
         raise ValueError(
             f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
         )
+    fewest = config.TOL.engine_min_samples_per_phase
     name, shortest = min(judged.items(), key=lambda kv: kv[1])
     steps = int(round(shortest / timestep))
-    limit = max(1, steps // MIN_SAMPLES_PER_PHASE)
+    limit = max(1, steps // fewest)
     if record_every > limit:
         raise ValueError(
             f"record_every = {record_every} records the object's pose every {record_every * timestep:.3g} s, "
             f"but the verdict (held, drift, turn) reads only the recorded poses: the shortest judged "
             f"phase, {name} ({shortest:g} s = {steps} steps of {timestep:g} s), must hold at least "
-            f"{MIN_SAMPLES_PER_PHASE} of them — pass record_every <= {limit} (the default, 10, records "
+            f"{fewest} of them — pass record_every <= {limit} (the default, 10, records "
             f"every {10 * timestep:g} s), or lengthen {name}"
         )
     return int(record_every)
@@ -63,7 +59,7 @@ def check_record_every(record_every, judged: dict, timestep: float) -> int:
 class TrialPhases:
     """Durations [s] and motions of a trial; the defaults are the thesis's tasks at a
     robot's pace (5 cm in 1 s).  The verdict reads the poses recorded over lift, rotate (the
-    lift_and_rotate task) and hold: each must span at least :data:`MIN_SAMPLES_PER_PHASE`
+    lift_and_rotate task) and hold: each must span at least ``config.TOL.engine_min_samples_per_phase``
     records (:func:`check_record_every`)."""
 
     gap: float = 5e-4  # pad face to the object before closing [m]
@@ -471,8 +467,8 @@ def simulate_grasp(
 
     ``record_every``: engine steps between the recorded poses the verdict reads; each judged
     phase (lift, the turn of lift_and_rotate, hold) must span at least
-    :data:`MIN_SAMPLES_PER_PHASE` of them (:func:`check_record_every`): at most 25 at the default
-    phases and 1 ms step, 10 by default.
+    ``config.TOL.engine_min_samples_per_phase`` of them (:func:`check_record_every`): at most 25 at
+    the default phases and 1 ms step, 10 by default.
 
     Returns a :class:`TrialOutcome`; its verdict, ``held``, is the engine's: no contact model of
     this package is used.  MuJoCo's own warnings during the trial are recorded in its
@@ -550,7 +546,7 @@ def step_trial(
 
     The pose is recorded every ``record_every`` steps, and the verdict reads only those: each
     phase of ``judged`` ({name: duration [s]}; default the recorded window and ``phases.hold``)
-    must span at least :data:`MIN_SAMPLES_PER_PHASE` records (:func:`check_record_every`).  The
+    must span at least ``config.TOL.engine_min_samples_per_phase`` records (:func:`check_record_every`).  The
     reason of a failure names the limit crossed first (a spin that then throws the object out
     is a turn).  MuJoCo's warnings are recorded in ``engine_warnings`` and raised as an
     :class:`EngineWarning`."""

@@ -21,11 +21,6 @@ import numpy as np
 from .. import config
 from ..profile import ContactProfile
 
-#: the narrowest grasp [m] between its two contact points: below 0.1 mm p1 and p2 are one point
-#: given twice, and the line p1 → p2 that the jaws close along (and the axis is checked against)
-#: is undefined
-MIN_GRASP_WIDTH = 1e-4
-
 __all__ = [
     "check_grasp",
     "check_jaw_force",
@@ -71,7 +66,7 @@ def check_pad(pad) -> None:
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(p1, p2, unit axis)``, each (3,), of a grasp dict, or a ValueError naming what is missing
-    or not finite — or p1 and p2 less than :data:`MIN_GRASP_WIDTH` apart (no line for the jaws to
+    or not finite — or p1 and p2 less than ``config.TOL.min_grasp_width_m`` apart (no line for the jaws to
     close along), a zero axis, or an axis more than ``config.TOL.grasp_axis_max_deg`` from the
     line p1 → p2 (parallel jaws close along the line through both contact points)."""
     if not isinstance(grasp, dict) or any(k not in grasp for k in ("p1", "p2", "axis")):
@@ -97,9 +92,10 @@ def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
                 "a division by a zero length?)"
             )
     width = float(np.linalg.norm(p2 - p1))
-    if width < MIN_GRASP_WIDTH:
+    narrowest = config.TOL.min_grasp_width_m
+    if width < narrowest:
         raise ValueError(
-            f"grasp p1 and p2 must be two contact points at least {MIN_GRASP_WIDTH * 1e3:g} mm apart (the "
+            f"grasp p1 and p2 must be two contact points at least {narrowest * 1e3:g} mm apart (the "
             f"jaws close on the object between them); got a width of {width * 1e3:.3g} mm, p1 = "
             f"{p1.tolist()}, p2 = {p2.tolist()} — pass the points where each jaw meets the object, as "
             "antipodal_grasps does (p2 given as p1?)"
