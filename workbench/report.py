@@ -1480,12 +1480,17 @@ def write_report(
     a ``results_dir`` that does not exist or holds no summary (:func:`check_results_dir`)."""
     results_dir = check_results_dir(results_dir)
     out = Path(out) if out is not None else results_dir / "REPORT.md"
+    from .report_judge import render_judge_sections
     from .report_peers import render_peers_sections
 
     rows = evaluate(results_dir)
     prefix = os.path.relpath(results_dir.resolve(), out.resolve().parent).replace(os.sep, "/")
     link = "" if prefix == "." else prefix + "/"
-    text = render_markdown(rows, link_prefix=link) + render_peers_sections(Summaries(results_dir), link)
+    text = (
+        render_markdown(rows, link_prefix=link)
+        + render_judge_sections(results_dir, link)
+        + render_peers_sections(Summaries(results_dir), link)
+    )
     n_missing = sum(r.verdict is None for r in rows)
     if n_missing:
         log.warning("report: %d of %d rows missing their summary keys", n_missing, len(rows))
