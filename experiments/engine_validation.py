@@ -224,7 +224,7 @@ def _headline(s: dict) -> list[str]:
     ]
     e = s["e_reality"]
     lines.append(
-        f"(e) REACH cube: balanced accuracy {e['balanced_accuracy']:.3f} over {e['n_trials']} real trials "
-        f"(TPR {e['true_positive_rate']:.3f}, TNR {e['true_negative_rate']:.3f})"
+        f"(e) REACH cube: balanced accuracy {e['balanced_accuracy']:.3f}, AUC {e['roc_auc']:.3f} over "
+        f"{e['n_trials']} real trials (TPR {e['true_positive_rate']:.3f}, TNR {e['true_negative_rate']:.3f})"
     )
     return lines

@@ -443,6 +443,9 @@ def test_engine_validation_quick(tmp_path):
     assert e["n_trials"] == 10 and e["real_failures"] == 5
     held = {r["grasp"]: r["held"] for r in e["rows"]}
     assert e["true_positive_rate"] == float(held[0]) and e["true_negative_rate"] == float(not held[19])
+    # the AUC ranks grasp 0's five real successes against grasp 19's five failures by excursion
+    moved = {r["grasp"]: max(r["drift_mm"] / 5.0, r["turn_deg"] / 5.0) for r in e["rows"]}
+    assert e["roc_auc"] == float(moved[0] < moved[19])
     assert s["settings"]["cone"] == "elliptic"
 
 

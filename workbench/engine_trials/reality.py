@@ -52,15 +52,30 @@ def reach_trial(grasp: int) -> dict:
     }
 
 
+def excursion(row: dict, max_drift_mm: float, max_turn_deg: float) -> float:
+    """How far a trial's object moved in the gripper, in units of the verdict's limits:
+    ``max(drift / max_drift, turn / max_turn)`` — held iff <= 1.  Its negative ranks the grasps
+    for an AUC: the limits scale it, they are not fitted to any outcome."""
+    return max(row["drift_mm"] / max_drift_mm, row["turn_deg"] / max_turn_deg)
+
+
 def score_reach(rows: list[dict]) -> dict:
     """The verdicts of :func:`reach_trial` rows against every real trial of their grasps:
-    balanced accuracy, true-positive and true-negative rates, real failures predicted, seconds
-    per trial (median, worst) and simulated seconds per wall second."""
+    balanced accuracy, true-positive and true-negative rates, real failures predicted, the ROC AUC
+    of the object's :func:`excursion` in the gripper (at :class:`~.trial.TrialPhases`' limits; each
+    real repeat scored by its grasp's trial), seconds per trial (median, worst) and simulated
+    seconds per wall second."""
+    from ..grasp.crossval import roc_auc
+    from .trial import TrialPhases
+
     trials, _ = reach_cube_inputs()
     held = {row["grasp"]: row["held"] for row in rows}
+    limits = TrialPhases()
+    moved = {row["grasp"]: excursion(row, limits.max_drift * 1e3, limits.max_turn_deg) for row in rows}
     mask = np.isin(trials.grasp_index, list(held))
     pred = np.array([held[k] for k in trials.grasp_index[mask]], dtype=bool)
     real = trials.success[mask].astype(bool)
+    score = -np.array([moved[k] for k in trials.grasp_index[mask]], dtype=float)
     tpr = float((pred & real).sum() / real.sum()) if real.any() else float("nan")
     tnr = float((~pred & ~real).sum() / (~real).sum()) if (~real).any() else float("nan")
     walls = [row["wall_s"] for row in rows]
@@ -73,6 +88,8 @@ def score_reach(rows: list[dict]) -> dict:
         "true_positive_rate": tpr,
         "true_negative_rate": tnr,
         "failures_predicted": int((~pred & ~real).sum()),
+        "roc_auc": roc_auc(score, real) if real.any() and (~real).any() else float("nan"),
+        "auc_score": "-(the object's excursion in the gripper / the verdict's limits), max of drift and turn",
         "seconds_per_trial": {"median": float(np.median(walls)), "worst": float(np.max(walls))},
         "simulated_seconds_per_wall_second": float(sum(r["simulated_s"] for r in rows) / sum(walls)),
         "rows": rows,
