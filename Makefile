@@ -85,7 +85,7 @@ test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -m "not jit_only" --check-kernels
 
 lint: $(STAMP)
-	$(BIN)/ruff check workbench fem experiments tests benchmarks
+	$(BIN)/ruff check workbench fem experiments tests benchmarks docs/generate_equations.py
 
 # bench-engine-trials reads results/engine-validation (make reproduce writes it)
 bench: $(PEERS_STAMP)

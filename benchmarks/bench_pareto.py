@@ -9,7 +9,7 @@ Families (the knobs and defaults as the library reads them):
 * ``twist count K (<model>)`` — K = 2n training wrenches of the thesis sampler (§3.3.2, n
   rotations + n translations; ``SamplerSpec.n`` = 300, i.e. K = 600) for the default 6DLS
   (``ellipsoid_sdp``: ``grasp.models.contact_sets("6dls")``) and the quartic with normals.
-  Error: Eq. (3.18) on held-out exact 6DFWs (the kernel's) — the model's own error, not its
+  Error: Eq. 3.18 on held-out exact 6DFWs (the kernel's) — the model's own error, not its
   distance from the largest K's model, which would hide the bias that more K cannot remove.
   Runtime: sampling, the K wrenches and the fit of one contact.
 * ``limit-surface model`` — the four fits of ``limit_surface.fit_score.MODELS`` on the same
@@ -140,7 +140,7 @@ def k_family(contacts: list[Contact], model: str, cfg: dict) -> dict:
         "knob": "SamplerSpec(kind='thesis').n (K = 2n training twists, thesis §3.3.2)",
         "reference": f"exact 6DFWs, {cfg['n_heldout']} held-out twists",
         "reference_setting": None,
-        "error_metric": "Eq. (3.18) on held-out exact 6DFWs (kernel), mean over "
+        "error_metric": "Eq. 3.18 on held-out exact 6DFWs (kernel), mean over "
         + ", ".join(c.name for c in contacts),
         "runtime_metric": "sample K twists + K wrenches + fit, one contact, mean over surfaces of medians",
         "note": "the grasp analysis default sampler 'mix' adds the author's downsampled grid to these "
@@ -175,7 +175,7 @@ def model_family(contacts: list[Contact], cfg: dict) -> dict:
         "knob": "limit-surface model (grasp.models.contact_sets: '6dls' / '6dls_quartic')",
         "reference": f"exact 6DFWs, {cfg['n_heldout']} held-out twists",
         "reference_setting": None,
-        "error_metric": f"Eq. (3.18) on held-out exact 6DFWs, K = {K} thesis wrenches, mean over surfaces",
+        "error_metric": f"Eq. 3.18 on held-out exact 6DFWs, K = {K} thesis wrenches, mean over surfaces",
         "runtime_metric": "the fit alone (wrenches given), mean over surfaces of medians",
         "points": points,
     }
@@ -209,7 +209,7 @@ def m_family(contacts: list[Contact], cfg: dict) -> dict:
         for M, v in per.items()
     ]
     return {
-        "knob": "config.DEFAULTS.linearization_M (model.linearize(M, 'inner'/'outer'), Eq. 3.19-3.24)",
+        "knob": "config.DEFAULTS.linearization_M (model.linearize(M, 'inner'/'outer'), Eqs. 3.19–3.24)",
         "reference": "none: the outer polytope against the inner (the exact model lies between)",
         "reference_setting": None,
         "error_metric": f"mean over {cfg['support_dirs']} random directions of h_outer / h_inner - 1 "

@@ -183,7 +183,7 @@ def main() -> None:
     roof = machine_roofline(args.quick)
     cont = continuous_benchmark(3 if args.quick else 7)
     result = {
-        "benchmark": "6D frictional wrench (thesis Eq. 3.6-3.8)",
+        "benchmark": "6D frictional wrench (thesis Eqs. 3.6–3.8)",
         "kernel_1000x600": kern,
         "machine": {**roof, "cpu_count": os.cpu_count()},
         "fraction_of_arith_limit": roof["arith_limit_ns_per_pair"] / kern["ns_per_pair"],

@@ -10,11 +10,11 @@ extracted on the bottle surface, and both 6DLS models are fitted and scored
 under two protocols (the fitters are the same; only the wrenches differ):
 
 * "thesis-text" (``ellipsoid_sdp_error_mean`` …): 600 frictional wrenches of the
-  sampler the thesis describes (§3.3.2), Eq. (3.18) on ``n_heldout`` held-out
+  sampler the thesis describes (§3.3.2), Eq. 3.18 on ``n_heldout`` held-out
   wrenches of the same sampler (and on the training ones, ``train_error``);
 * "thesis-code" (``thesis_protocol_error``): the author's code — the twist grid
   of ``fine_level`` (48 483 twists), trained on one wrench per occupied cell of a
-  coarse wrench grid (a few hundred), Eq. (3.18) on all 48 483
+  coarse wrench grid (a few hundred), Eq. 3.18 on all 48 483
   (:mod:`workbench.limit_surface.thesis_code`).
 
 The error to compare across protocols is the sampler-independent one
@@ -127,7 +127,7 @@ KEYS = {
     "nu": Key("pad Poisson ratio", "", "poisson"),
     "mu": Key("friction coefficient, > 0 (normalised wrenches do not depend on it)", "", "mu"),
     "n_wrenches": Key("thesis-text wrenches per profile, >= 126 (the quartic's unknowns; thesis: 600)"),
-    "n_heldout": Key("held-out wrenches per profile for Eq. (3.18), >= 1"),
+    "n_heldout": Key("held-out wrenches per profile for Eq. 3.18, >= 1"),
     "pitch_range": Key("thesis-text sampler: pitch h ~ U[lo, hi] x the length scale l_s"),
     "thesis_code": Key("also run the thesis-code protocol (the author's twist grid, downsampled training)"),
     "fine_level": Key(
@@ -229,7 +229,7 @@ ABLATION_VARIANTS = {
 def _code_errors(
     pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False, code=None
 ) -> dict:
-    """Thesis-code Eq. (3.18) errors {model: error} of one variant on profile ``pc``: the
+    """Thesis-code Eq. 3.18 errors {model: error} of one variant on profile ``pc``: the
     models of :data:`TABLE_MODELS`, or with ``author`` the author's objective in their place.
     ``code``: the thesis-code sample of ``pc`` when the caller has it (the same wrenches)."""
     if coarse:
@@ -248,7 +248,7 @@ def _code_errors(
 
 
 def _ablation(p_obj, p_jaw, config: dict, code_obj=None) -> dict:
-    """Row keys ``abl_<variant>_<model>``: the variant's Eq. (3.18) error in place of the
+    """Row keys ``abl_<variant>_<model>``: the variant's Eq. 3.18 error in place of the
     thesis-code protocol's ``<model>`` (module docstring), and ``abl_<variant>_n_train``.
     ``code_obj``: the row's thesis-code sample of ``p_obj`` if it has one (reused, not redrawn)."""
     pts = p_obj.vertices if p_obj.vertices is not None else p_obj.centers
@@ -435,7 +435,7 @@ def _examples(
 
 
 def _ablation_summary(rows: list[dict]) -> dict | None:
-    """Per variant and model of :data:`TABLE_MODELS`: the variant's mean Eq. (3.18) error
+    """Per variant and model of :data:`TABLE_MODELS`: the variant's mean Eq. 3.18 error
     beside the thesis-code row's on the same profiles (paired), and their ratio."""
     sub = [r for r in rows if "abl_jaw_frame_ellipsoid_sdp" in r]
     if not sub:
@@ -632,7 +632,7 @@ def _histogram(errors: dict, n_rows: int, out: Path) -> str:
                 histtype="stepfilled" if j == 0 else "step",
                 label=f"{m} {proto} {t[m].mean():.4f} (thesis {THESIS_TABLE_3_3[FAMILY[m]][0]})",
             )
-    ax[0].set_xlabel("fitting error Eq. (3.18)")
+    ax[0].set_xlabel("fitting error Eq. 3.18")
     ax[0].set_ylabel("profiles")
     ax[0].set_title(f"{n_rows} FEM contact profiles, two protocols")
     ax[0].legend(fontsize=7)

@@ -5,10 +5,10 @@ Thesis §3.5.1.3, under two sampling/scoring protocols:
 * ``"thesis-text"`` (``heldout_error``, always run): the sampler the thesis describes (§3.3.2:
   K/2 Fibonacci rotations + K/2 translations, pitch ``h ∈ [−1, 1]·l_s``) gives
   the K training wrenches, a separate seed the ``n_heldout`` held-out ones; the
-  error is Eq. (3.18) on the held-out wrenches.
+  error is Eq. 3.18 on the held-out wrenches.
 * ``"thesis-code"`` (``thesis_protocol_error``, ``thesis_code=True``): the author's code
   (:mod:`workbench.twists_author`, 48 483 twists at ``fine_level`` 0); Fig 3.9
-  trains on K wrenches drawn from that set and scores Eq. (3.18) on all of it;
+  trains on K wrenches drawn from that set and scores Eq. 3.18 on all of it;
   the code's own training set (grid downsampling, a few hundred wrenches) is
   scored the same way (``thesis_protocol_error.downsampled``).
 
@@ -18,12 +18,12 @@ compare across protocols is the sampler-independent one (``support_error``,
 :mod:`workbench.limit_surface.support_error`): radial distance at exact surface
 points of uniformly distributed normals.  The models are named as in
 :mod:`workbench.limit_surface.fit_score`: ``ellipsoid_sdp`` is the PSD-constrained
-least squares of Eq. (3.11) with ``A ⪰ 0`` (Eq. 3.12 without its log-det term, whose
+least squares of Eq. 3.11 with ``A ⪰ 0`` (Eq. 3.12 without its log-det term, whose
 effect ``sdp_log_det_effect`` measures: none at ``α = 1e-6·K``); the unconstrained
 least-squares ellipsoid ``ellipsoid_lsq`` (Eq. 3.13) and the SCS solver are reported
 next to it.  ``quartic_normals`` is fitted to the wrenches *and* their sampling twists
 (outward normals by maximum dissipation, as the author's code does with other weights,
-see :func:`workbench.fit_quartic`); ``quartic_values`` is Eq. (3.17) on the values
+see :func:`workbench.fit_quartic`); ``quartic_values`` is Eq. 3.17 on the values
 alone, as the thesis text writes it (fem-fitting's Table 3.3 quartic).
 """
 
@@ -81,7 +81,7 @@ DEFAULT_CONFIG = {
     "fine_level": 0,  # thesis-code: the author's twist grid (0: 48,483 twists)
     "downsample_steps": 2.5,  # thesis-code: grid cells per wrench range (downsamplewrench.m)
     "support_directions": 4000,  # sampler-independent error: normals per surface
-    "log_det_alphas": [0.0, 1e-6, 1e-3, 1e-2],  # α/K of Eq. (3.12) measured at solver_comparison_K
+    "log_det_alphas": [0.0, 1e-6, 1e-3, 1e-2],  # α/K of Eq. 3.12 measured at solver_comparison_K
     "solver_comparison_K": 600,  # K at which SCS is also run (and support errors measured)
     "section_surface": "S4",  # Fig 3.10
     "section_K": 600,
@@ -114,7 +114,7 @@ KEYS = {
     "mu": Key("friction coefficient, > 0 (normalised wrenches do not depend on it; thesis: 1)", "", "mu"),
     "surfaces": Key("thesis surfaces to fit, each once", choices=lambda: tuple(THESIS_SURFACES)),
     "K": Key("training wrenches per fit (the quartics need >= 126)"),
-    "n_heldout": Key("held-out wrenches per surface for Eq. (3.18)"),
+    "n_heldout": Key("held-out wrenches per surface for Eq. 3.18"),
     "wrench_source": Key(
         "the surfaces' wrenches: adaptive quadrature or a mesh", choices=("continuous", "mesh")
     ),
@@ -126,7 +126,7 @@ KEYS = {
     ),
     "downsample_steps": Key("thesis-code training grid: cell widths per wrench range, >= 2 (author: 2.5)"),
     "support_directions": Key("uniform normals per surface for the sampler-independent error"),
-    "log_det_alphas": Key("alpha / K of Eq. (3.12)'s log-det penalty, measured at solver_comparison_K"),
+    "log_det_alphas": Key("alpha / K of Eq. 3.12's log-det penalty, measured at solver_comparison_K"),
     "solver_comparison_K": Key("K at which SCS also runs and the support errors are measured"),
     "section_surface": Key("surface of Fig 3.10's cross-sections", choices=lambda: tuple(THESIS_SURFACES)),
     "section_K": Key("K of Fig 3.10's cross-sections"),
@@ -197,7 +197,7 @@ def _support(fs: FitScore) -> dict:
 def thesis_code_rows(contact: Contact, config: dict, seed: int) -> dict:
     """The thesis-code protocol on one surface: the author's twist grid, its
     wrenches; Fig 3.9 trains on K of them (drawn without replacement), the code's
-    own fit on the grid-downsampled ones; Eq. (3.18) over all of them."""
+    own fit on the grid-downsampled ones; Eq. 3.18 over all of them."""
     xi = sample_twists_author(contact.sides, config["fine_level"])
     W = contact.wrenches(xi)
     rng = np.random.default_rng(seed)
@@ -337,7 +337,7 @@ def _surface(job: tuple[int, str, str], config: dict) -> dict:
             for kind in SUPPORT_KINDS:
                 fs = _fit(kind, W, wm, xi, solver="SCS", test=W_test)
                 res["solver_rows"].append([name, K, kind, "SCS", fs.test_error, fs.fit_s, fs.fallback])
-            for a in config["log_det_alphas"]:  # Eq. (3.12)'s penalty, α = a·K
+            for a in config["log_det_alphas"]:  # Eq. 3.12's penalty, α = a·K
                 fs = fit_and_score("ellipsoid_sdp", W, w_max=wm, alpha=a * K, test=W_test, **support_of)
                 res["log_det"][f"{a:g}"] = {
                     "heldout_error": fs.test_error,

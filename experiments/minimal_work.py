@@ -1,4 +1,4 @@
-"""Minimal work (thesis §4.3, Eq. 4.4–4.6, Table 4.6) on the three measured hollow objects.
+"""Minimal work (thesis §4.3, Eqs. 4.4–4.6, Table 4.6) on the three measured hollow objects.
 
 Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; read by path):
 
@@ -15,7 +15,7 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    — and the ellipsoidal 6DLS of each;
 4. the metrics per task (vertical lifting: one pose; lifting and 90° rotation: three
    poses about the grasp axis; quality = minimum over poses): ``q_robust`` (Eq. 2.101),
-   ``q_force = 1 − f⊥/f⊥max`` and ``q_work = 1 − W/W_max`` (Eq. 4.4–4.6) over the 6DLS itself
+   ``q_force = 1 − f⊥/f⊥max`` and ``q_work = 1 − W/W_max`` (Eqs. 4.4–4.6) over the 6DLS itself
    (``work_representation="model"``: each ellipsoid as its second-order cone) — or over the
    thesis's ``C_outer`` of ``M`` tangent half-spaces (``"outer"``), an outer approximation whose
    minimal forces on these curved jaws are several times below the 6DLS's (and finite where the

@@ -2,7 +2,7 @@
 
 Issue 5 scope 8.  Scene: the thesis's §4.1.3 setting — a parallel-jaw grasp of
 an elliptic cylinder (grasp axis x, cylinder axis z), each jaw's contact an
-elliptic-cylinder patch with the power-law pressure of Eq. (4.3), μ = 0.3,
+elliptic-cylinder patch with the power-law pressure of Eq. 4.3, μ = 0.3,
 grasp forces 20–35 N read by a force sensor, and disturbances from weights hung
 at lever arms (``(f_y, τ_x, τ_z)`` plus small off-plane parts).
 
@@ -111,7 +111,7 @@ DEFAULT_CONFIG = {
 #: what each key means, its unit and plausible range (``workbench run sensitivity --help``)
 KEYS = {
     "mu": Key("true friction coefficient, > 0 (thesis §4.1.3: 0.3)", "", "mu"),
-    "k_true": Key("true pressure exponent k of Eq. (4.3)"),
+    "k_true": Key("true pressure exponent k of Eq. 4.3"),
     # the semi-axes are the contacts' offsets from the cylinder's axis: judged as lever arms
     # (a = 30 is "probably in millimetres"), the half-width as a wrapped contact's (34 is degrees)
     "a": Key("elliptic cylinder semi-axis along the grasp axis", "m", "lever"),

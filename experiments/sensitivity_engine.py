@@ -14,7 +14,7 @@ part in the verdict.
 What the engine's truth shares with the models it scores: the object's geometry (the patch
 each model's profile is meshed on), μ, the grasp force, the disturbance.  What it does not:
 the pressure distribution (the engine's pad makes its own; the models assume the power law
-of Eq. (4.3) with k = 2.4), a fixed normal force (the engine's jaws are force-controlled: a
+of Eq. 4.3 with k = 2.4), a fixed normal force (the engine's jaws are force-controlled: a
 load that wedges the curved patch pushes them apart, or is held by the wedge), rigid-body
 quasi-statics (the engine's pads deform and the object may creep).
 

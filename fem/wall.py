@@ -2,7 +2,7 @@
 
 Thesis §4.3.3.1 measures, per grasp location, ``s_i = f_⊥ / (l_s − l_e)`` — the
 jaw force over the closing of the gripper from first touch — and the minimal-work
-metric uses it in Eq. (4.5), ``d_i = f_⊥i / s_i + ε``.  Here the same quantity
+metric uses it in Eq. 4.5, ``d_i = f_⊥i / s_i + ε``.  Here the same quantity
 is simulated: the object's side wall (plastic bottle or cup) is a linear-elastic
 solid shell, one triquadratic hex (27 nodes, 3×3×3 Gauss points) through the
 thickness — quadratic elements because trilinear hexes shear-lock in bending at

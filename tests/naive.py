@@ -13,13 +13,13 @@ TANGENTIAL_RTOL = 1e-12  # same sticking rule as workbench.config (restated, not
 
 
 def pressure_center(centers, areas, pressures):
-    """Eq. (3.7)."""
+    """Eq. 3.7."""
     f = pressures * areas
     return (centers * f[:, None]).sum(0) / f.sum()
 
 
 def fw_loop(centers, normals, areas, pressures, twist, mu):
-    """One frictional wrench by an explicit loop over elements, Eq. (3.6)-(3.8)."""
+    """One frictional wrench by an explicit loop over elements, Eqs. 3.6–3.8."""
     o = pressure_center(centers, areas, pressures)
     v, w = np.asarray(twist[:3], float), np.asarray(twist[3:], float)
     f = np.zeros(3)
@@ -57,7 +57,7 @@ def fw_vectorized(centers, normals, areas, pressures, twists, mu):
 
 
 def normal_wrench(centers, normals, areas, pressures):
-    """Eq. (3.2) discretised."""
+    """Eq. 3.2 discretised."""
     o = pressure_center(centers, areas, pressures)
     g = (pressures * areas)[:, None] * normals
     return -np.concatenate([g.sum(0), np.cross(centers - o, g).sum(0)])

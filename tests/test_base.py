@@ -9,7 +9,7 @@ from workbench.limit_surface.base import LimitSurfaceModel
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_radial_error_is_the_geometric_distance(s4_data, s4_quartic):
     # points at radius rho times the surface: radial error |rho - 1| for both degrees,
-    # Eq. (3.18) |rho^d - 1|
+    # Eq. 3.18 |rho^d - 1|
     e = fit_ellipsoid(s4_data[1])
     for model in (e, s4_quartic):
         assert isinstance(model, LimitSurfaceModel)  # the error is the base class's, for either degree

@@ -91,7 +91,7 @@ def test_condensed_and_full_mesh_linear_solve_one_problem(result):
 
 
 def test_more_twists_fit_the_quartic_better(result):
-    # Eq. (3.18) on held-out wrenches falls from the fewest to the most training wrenches
+    # Eq. 3.18 on held-out wrenches falls from the fewest to the most training wrenches
     pts = result[1]["families"]["twist count K (quartic_normals)"]["points"]
     by_k = sorted(pts, key=lambda p: p["K"])
     assert by_k[-1]["error"] < by_k[0]["error"]

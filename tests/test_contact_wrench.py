@@ -1,5 +1,5 @@
 """workbench.limit_surface.contact_wrench: the contact-wrench model c = w + F ŵ⊥ (thesis
-Eq. 3.25-3.28) on an axis-aligned ellipsoidal limit surface, whose value, surface points
+Eqs. 3.25–3.28) on an axis-aligned ellipsoidal limit surface, whose value, surface points
 and support function are known in closed form."""
 
 import numpy as np

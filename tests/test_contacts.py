@@ -1,5 +1,5 @@
 """workbench.grasp.contacts: point and soft-point contact wrenches (Eq. 4.1), the 6DLS contact's
-inner vertices and outer half-spaces (Eq. 3.27-3.28), REACH clusters."""
+inner vertices and outer half-spaces (Eqs. 3.27–3.28), REACH clusters."""
 
 import numpy as np
 import pytest
@@ -17,7 +17,7 @@ from workbench.grasp import (
 
 
 def test_contact_wrenches_are_forces_at_the_contact_point():
-    """Independent reference for Eq. (4.1): a force f at p gives [f, p × f]."""
+    """Independent reference for Eq. 4.1: a force f at p gives [f, p × f]."""
     p = np.array([0.01, -0.02, 0.03])
     c = point_contact(p, [0.0, 0.6, 0.8], F, n_edges=5)
     V = c.vertices(MU)

@@ -1,4 +1,4 @@
-"""workbench.limit_surface.ellipsoid: LSQ and SDP ellipsoids (Eq. 3.11-3.12) on exact and sampled
+"""workbench.limit_surface.ellipsoid: LSQ and SDP ellipsoids (Eqs. 3.11–3.12) on exact and sampled
 wrenches, bad input, solver fallbacks, the SDP problem built once."""
 
 import numpy as np

@@ -215,7 +215,7 @@ def test_ls_fitting_headlines(ls_fitting):
             assert sup["quartic_normals"][name]["radial_mean"] < sup["ellipsoid_sdp"][name]["radial_mean"], (
                 proto
             )
-        # K = 200 (126 coefficients): the values-only quartic of Eq. (3.17) overfits; the twist
+        # K = 200 (126 coefficients): the values-only quartic of Eq. 3.17 overfits; the twist
         # normals (maximum dissipation) fix it — quartic below the ellipsoid from K = 200 on
         e2, q2 = (
             s["heldout_error"]["ellipsoid_sdp"][name]["200"],
@@ -223,7 +223,7 @@ def test_ls_fitting_headlines(ls_fitting):
         )
         assert q2 < e2, (name, q2, e2)
         assert q2 < s["heldout_error"]["quartic_values"][name]["200"], name
-    # Eq. (3.12)'s log-det penalty: inert at the former α = 1e-6·K, harmful at 1e-2·K
+    # Eq. 3.12's log-det penalty: inert at the former α = 1e-6·K, harmful at 1e-2·K
     change = s["sdp_log_det_effect"]["max_change_vs_alpha_0"]
     assert change["1e-06"] < 1e-4 < 1e-3 < change["0.01"]
     assert s["fig_3_9_vs_thesis"]["thesis-code"]["quartic_normals"]["thesis_as_low_as"] == 0.02

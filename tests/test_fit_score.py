@@ -68,7 +68,7 @@ def test_an_exact_ellipsoid_is_fitted_with_zero_error(case, model):
 
 
 def test_scores_match_a_slow_numpy_loop(case, rng):
-    """A model of a 10 % larger ellipsoid scored against the exact one: Eq. (3.18), the
+    """A model of a 10 % larger ellipsoid scored against the exact one: Eq. 3.18, the
     radial error and the support error recomputed point by point."""
     A, W, xi, W_test, wm = case
     A_big = A / 1.1**2

@@ -133,7 +133,7 @@ def test_min_grasp_force_of_the_sampled_6dfw_bounds_the_exact_one_from_above(sce
 
 
 def test_thesis_objective_sum_over_independent_forces():
-    """Eq. (4.4) as published (objective="sum", C_outer by name): per-contact forces are free;
+    """Eq. 4.4 as published (objective="sum", C_outer by name): per-contact forces are free;
     for two symmetric soft point contacts it equals the common-scale answer."""
     profiles = elliptic_cylinder_grasp(force=10.0, n_elements=150)
     sets = [c for p in profiles for c in contact_sets(p, "soft_point")]

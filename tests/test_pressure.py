@@ -1,4 +1,4 @@
-"""workbench.pressure: the power-law pressure of thesis Eq. 2.14 / 4.3 against its closed
+"""workbench.pressure: the power-law pressure of thesis Eqs. 2.14, 4.3 against its closed
 forms (Hertz k = 2, linear k = 1, uniform k -> inf), its total force on a disc, and bad
 parameters."""
 

@@ -2,7 +2,7 @@
 validation of the public wrappers: a clear ``ValueError`` or a correct result, never a
 traceback from deep inside.
 
-Covariances of the 6D frictional wrench, Eq. (3.6)-(3.8), about the pressure center:
+Covariances of the 6D frictional wrench, Eqs. 3.6–3.8, about the pressure center:
 * permutation of the elements: the same wrenches;
 * pressure scaling ``p -> s p``: wrenches times ``s``;
 * rigid motion ``x -> R x + t``: the twists and wrenches rotate with ``R`` (both are taken

@@ -1,4 +1,4 @@
-"""workbench.limit_surface.quartic: the SOS-convex quartic (Eq. 3.13-3.17), its certificates,
+"""workbench.limit_surface.quartic: the SOS-convex quartic (Eqs. 3.13–3.17), its certificates,
 gradients and Hessians, twists as normals, the reduced Gram fit and the solver fallback."""
 
 import naive
@@ -156,7 +156,7 @@ def test_quartic_with_normals_recovers_a_known_quartic_from_few_wrenches(rng):
 
 @pytest.mark.jit_only("its fixtures take over 15 s as pure Python")
 def test_normals_fix_the_quartic_at_small_k(s4_data):
-    """K = 200 on S4: Eq. (3.17) on values alone overfits the 126 coefficients;
+    """K = 200 on S4: Eq. 3.17 on values alone overfits the 126 coefficients;
     the sampling twists as normals bring the quartic below the ellipsoid."""
     prof, _, test = s4_data
     xi = sample_twists_thesis(100, prof, seed=7)

@@ -1,4 +1,4 @@
-"""Plücker conversions (Eq. 2.21-2.30) and the seeded samplers."""
+"""Plücker conversions (Eqs. 2.21–2.30) and the seeded samplers."""
 
 import numpy as np
 import pytest
@@ -34,7 +34,7 @@ def test_plucker_roundtrip(rng):
 
 
 def test_velocity_of_axis_points_is_along_axis(rng):
-    # a point q on the screw axis moves with v(q) = h e (Eq. 2.24-2.27)
+    # a point q on the screw axis moves with v(q) = h e (Eqs. 2.24–2.27)
     e = np.array([[0.0, 0.6, 0.8]])
     q = np.array([[0.3, -0.1, 0.2]])
     xi = twists_from_plucker(e, np.cross(q, e), [0.5])[0]

@@ -1,4 +1,4 @@
-"""Minimal work (thesis §4.3, Eq. 4.4-4.6): the work of analytic grasps against closed
+"""Minimal work (thesis §4.3, Eqs. 4.4–4.6): the work of analytic grasps against closed
 forms, q_work = q_force ranking on rigid objects, the defaults read at call time, and bad
 input.  The stiffness map is tested in test_stiffness_map.py, the fitted normaliser in
 test_threshold.py."""

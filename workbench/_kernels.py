@@ -40,7 +40,7 @@ def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):
 
 @njit(**NUMBA_FLAGS_PARALLEL)
 def _fw_segments(twists, seg_twist, seg_lo, seg_hi, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
-    """Frictional wrenches of segments, Eq. (3.6)-(3.8): segment j sums the
+    """Frictional wrenches of segments, Eqs. 3.6–3.8: segment j sums the
     elements ``seg_lo[j]:seg_hi[j]`` under twist ``twists[seg_twist[j]]``.
 
     A batch of K twists on N elements is K segments spanning ``0:N``; the
@@ -102,7 +102,7 @@ def _fw_segments(twists, seg_twist, seg_lo, seg_hi, rx, ry, rz, nx, ny, nz, wgt,
 
 @njit(**NUMBA_FLAGS)
 def _normal_wrench(rx, ry, rz, nx, ny, nz, wgt, out):
-    """Normal wrench Eq. (3.2) discretised: ``-sum p a [n; r x n]``.
+    """Normal wrench Eq. 3.2 discretised: ``-sum p a [n; r x n]``.
 
     rx..nz, wgt : (N,) float;  out : (6,) float, written in place.
     """

@@ -489,7 +489,7 @@ class Defaults:
     # 92.5 ms at 1 with the optimal residual the same to 7e-11 (relative), 67 ms at 0
     # (refinement off) but the residual up to 4.4e-6 off.
     quartic_kkt_refinement: int = 1
-    # Directions of the 6DLS/6DFC linearisation (Eq. 3.19-3.24) when a caller
+    # Directions of the 6DLS/6DFC linearisation (Eqs. 3.19–3.24) when a caller
     # asks for representation="inner" or "outer".
     linearization_M: int = 200
 

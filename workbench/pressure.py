@@ -1,4 +1,4 @@
-"""Pressure models: power law (thesis Eq. 2.14 / 4.3, Xydas et al.)."""
+"""Pressure models: power law (thesis Eqs. 2.14, 4.3, Xydas et al.)."""
 
 from __future__ import annotations
 

@@ -431,7 +431,7 @@ class ContactProfile:
 
     @cached_property
     def pressure_center(self) -> np.ndarray:
-        """(3,) float: pressure center ``o``, Eq. (3.7)."""
+        """(3,) float: pressure center ``o``, Eq. 3.7."""
         o = (self.forces[:, None] * self.centers).sum(axis=0) / self.F
         o.flags.writeable = False
         return o
@@ -443,7 +443,7 @@ class ContactProfile:
 
     @cached_property
     def normal_wrench(self) -> np.ndarray:
-        """(6,) float: normal wrench ``w⊥`` about ``o``, Eq. (3.2) (the kernel of
+        """(6,) float: normal wrench ``w⊥`` about ``o``, Eq. 3.2 (the kernel of
         :func:`workbench.wrench.normal_wrench`, called here so that this module, which the
         wrench module builds on, does not import it)."""
         from . import _kernels

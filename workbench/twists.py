@@ -45,7 +45,7 @@ def _unit_rows(name: str, e: Any) -> np.ndarray:
 
 
 def twists_from_plucker(e: Any, m: Any, h: Any) -> np.ndarray:
-    """Unit twists with rotation, Eq. (2.28)/(2.30) with ``|ω| = 1``.
+    """Unit twists with rotation, Eqs. 2.28, 2.30 with ``|ω| = 1``.
 
     e : (K, 3) axis directions (normalised here); m : (K, 3) moments about the
     reference point, must satisfy ``e·m = 0`` (Eq. 2.22); h : (K,) pitches.
@@ -89,9 +89,9 @@ def plucker_from_twists(twists: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray
         trans[:, None], v / np.where(vn > 0, vn, 1.0)[:, None], w / np.where(wn > 0, wn, 1.0)[:, None]
     )
     safe_wn = np.where(trans, 1.0, wn)
-    h = np.where(trans, np.inf, np.einsum("ij,ij->i", v, w) / safe_wn**2)  # h = v·ω/|ω|², Eq. (2.26)
+    h = np.where(trans, np.inf, np.einsum("ij,ij->i", v, w) / safe_wn**2)  # h = v·ω/|ω|², Eq. 2.26
     v_unit = v / safe_wn[:, None]
-    m = np.where(trans[:, None], 0.0, v_unit - np.where(trans, 0.0, h)[:, None] * e)  # Eq. (2.27)
+    m = np.where(trans[:, None], 0.0, v_unit - np.where(trans, 0.0, h)[:, None] * e)  # Eq. 2.27
     return e, m, h, trans
 
 
@@ -232,7 +232,7 @@ def canonical_twists() -> np.ndarray:
     Why they give ``w_max`` exactly: the set ``W`` of transmissible frictional
     wrenches is the Minkowski sum over elements of ``μ p_i a_i [t; r_i × t]``
     with ``t`` in the element's tangent unit disc, so ``W = -W``.  Maximum
-    dissipation selects ``w(ξ) = argmin_{w∈W} ξ·w`` — exactly Eq. (3.6)-(3.8),
+    dissipation selects ``w(ξ) = argmin_{w∈W} ξ·w`` — exactly Eqs. 3.6–3.8,
     each element opposing its own slip.  Hence ``ξ·w(ξ) = -h_W(ξ)`` with
     ``h_W`` the support function, and for ``ξ = e_i``
     ``max_{w∈W} |w_i| = h_W(e_i) = -w(e_i)_i``.  Sampled maxima can only

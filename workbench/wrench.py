@@ -80,7 +80,7 @@ def _check_profile(profile: Any) -> ContactProfile:
 
 
 def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -> np.ndarray:
-    """6D frictional wrenches for a batch of twists, Eq. (3.6)-(3.8).
+    """6D frictional wrenches for a batch of twists, Eqs. 3.6–3.8.
 
     profile : ContactProfile with N elements.
     twists : (K, 6) float, ``[v; ω]`` about ``profile.pressure_center``
@@ -109,7 +109,7 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
 
 
 def normal_wrench(profile: ContactProfile) -> np.ndarray:
-    """(6,) normal wrench ``w⊥ = -Σ p a [n; (c - o) × n]`` about ``o``, Eq. (3.2)."""
+    """(6,) normal wrench ``w⊥ = -Σ p a [n; (c - o) × n]`` about ``o``, Eq. 3.2."""
     prof = _check_profile(profile)
     out = np.empty(6)
     _kernels._normal_wrench(*prof._soa, out)
@@ -128,7 +128,7 @@ def w_max(profile: ContactProfile, mu: float = 1.0) -> np.ndarray:
 
 def friction_directions(profile: ContactProfile, twist: Any) -> np.ndarray:
     """(n, 3) unit directions ``-v̂_r`` of the local friction force on the object
-    for one twist (Eq. 3.4), zero at sticking elements.  For plotting (Fig 3.3);
+    for one twist (Eq. 3.6), zero at sticking elements.  For plotting (Fig 3.3);
     ``-μ Σ p a d`` equals the force part of :func:`frictional_wrenches`."""
     prof = _check_profile(profile)
     xi, single = check_twists(twist)

@@ -4,7 +4,7 @@ contacts.py — contact models as wrench sets; models.py — every model of a pr
 by name; gws.py — grasp map, GWS, hull, ε-metric;
 resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp force
 (Eq. 4.4); robust.py — q_robust; stiffness_map.py — measured object stiffness on the
-surface; work.py — minimal work and q_work / q_force (Eq. 4.5-4.6); threshold.py —
+surface; work.py — minimal work and q_work / q_force (Eqs. 4.5–4.6); threshold.py —
 balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py — the
 resistance margin by bisection; precision.py — precision, recall, matched precision;
 simulated_truth.py — the minimal-work study's simulated outcome (exact 6DFW sets, noise,

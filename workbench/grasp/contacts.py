@@ -1,6 +1,6 @@
 """Contact models as polytopes of contact wrenches (thesis §2.3.5, §3.4, §4.1.2).
 
-Every model — hard point (Eq. 2.44/2.47), soft point (Eq. 2.50), planar and
+Every model — hard point (Eqs. 2.44, 2.47), soft point (Eq. 2.50), planar and
 nonplanar 3DLS, raw 6DFW, REACH triangles, 6DLS and 6DFC — is reduced to one
 representation, :class:`ContactSet`:
 
@@ -8,14 +8,14 @@ representation, :class:`ContactSet`:
   frame), the frictional wrench vertices **at unit normal force and μ = 1**,
   ``friction`` (M, 6), and the normal wrench at unit force, ``normal`` (6,);
 * a contact wrench at friction coefficient μ is then ``F (μ s + ŵ⊥)`` — all
-  these models scale linearly with the normal force and with μ (Eq. 3.20,
+  these models scale linearly with the normal force and with μ (Eqs. 3.20,
   3.25–3.27), which is what lets the robust metric perturb μ without refitting;
 * ``cone=False``: the force ``F = force`` is known (a force-sensor reading,
   §4.1.3.2): the set is ``conv{F (μ s_m + ŵ⊥)}`` (6DLS, 6DFW, 3DLS, REACH);
   ``cone=True``: the normal force is a variable in ``[0, force]`` (hard and soft
   point with ``f⊥ <= f_max``, the 6DFC of Eq. 3.30): ``conv({0} ∪ {f_max (μ s_m + ŵ⊥)})``.
 
-The contact map ``G_n = [[R, 0], [t̂ R, R]]`` (Eq. 2.79 / 4.1) takes local wrenches
+The contact map ``G_n = [[R, 0], [t̂ R, R]]`` (Eqs. 2.79, 4.1) takes local wrenches
 to the object frame (origin at the object's COM by convention, §4.1.3.1).
 Wrench order ``[f, τ]``; normals point out of the object, so a jaw pushes the
 object along ``−n`` (CONVENTIONS.md).
@@ -58,7 +58,7 @@ def skew(t: np.ndarray) -> np.ndarray:
 
 
 def contact_map(R: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """(6, 6) ``G_n = [[R, 0], [t̂ R, R]]``, Eq. (2.79) with the identity wrench basis."""
+    """(6, 6) ``G_n = [[R, 0], [t̂ R, R]]``, Eq. 2.79 with the identity wrench basis."""
     G = np.zeros((6, 6))
     G[:3, :3] = R
     G[3:, 3:] = R
@@ -94,7 +94,7 @@ class ContactSet:
     force: float
     cone: bool
     #: outer H-representation of the frictional set (μ = 1, unit force): ``A s <= b``
-    #: (m, 6), (m,) in frame C — the QP's constraints (Eq. 3.28 / 3.30); None: use vertices
+    #: (m, 6), (m,) in frame C — the QP's constraints (Eqs. 3.28, 3.30); None: use vertices
     A: np.ndarray | None = None
     b: np.ndarray | None = None
     #: the limit-surface model itself (6DLS/6DFC/3DLS contacts; frame C, μ = 1, unit
@@ -162,7 +162,7 @@ class ContactSet:
 
     @cached_property
     def G(self) -> np.ndarray:
-        """(6, 6) contact map of this contact's frame, Eq. (2.79)."""
+        """(6, 6) contact map of this contact's frame, Eq. 2.79."""
         return contact_map(self.R, self.t)
 
     def local_vertices(self, mu: float) -> np.ndarray:
@@ -170,7 +170,7 @@ class ContactSet:
         return self.force * (mu * self.friction + self.normal)
 
     def vertices(self, mu: float) -> np.ndarray:
-        """(M, 6) contact wrench vertices in the object frame, Eq. (4.1)."""
+        """(M, 6) contact wrench vertices in the object frame, Eq. 4.1."""
         return self.local_vertices(mu) @ self.G.T
 
     def moved(self, R: np.ndarray, t: np.ndarray, *, group: str | None | object = ...) -> ContactSet:
@@ -302,7 +302,7 @@ def _point_like(
 def point_contact(
     point, normal_out, f_max: float, *, n_edges: int = 8, kind: str = "inner", name: str = "point"
 ) -> ContactSet:
-    """Hard point contact: the linearised friction cone (Eq. 2.44/2.47) with ``f⊥ <= f_max``."""
+    """Hard point contact: the linearised friction cone (Eqs. 2.44, 2.47) with ``f⊥ <= f_max``."""
     return _point_like(point, normal_out, f_max, n_edges, kind, name, None)
 
 
@@ -339,8 +339,8 @@ def limit_surface_contact(
     with object-frame axes (CONVENTIONS.md), so ``R = I``, ``t = origin`` — or, for a
     model fitted on the profile expressed in a frame turned by ``R`` (3, 3) (the planar
     model's plane frame), with that frame's axes: ``object = R @ local``.  The inner
-    linearisation (Eq. 3.19–3.21, 3.27) gives the vertices (GWS, LP), the outer
-    tangent half-spaces at the same points (Eq. 3.22–3.24, 3.28/3.30) the QP's constraints.
+    linearisation (Eqs. 3.19–3.21, 3.27) gives the vertices (GWS, LP), the outer
+    tangent half-spaces at the same points (Eqs. 3.22–3.24, 3.28, 3.30) the QP's constraints.
     """
     ls = model.limit_surface
     outer = ls.linearize(M, "outer", seed=seed)  # its vertices are the inner ones (same directions)

@@ -1,13 +1,13 @@
 """Grasp map, grasp wrench spaces and membership (thesis §2.4.2–2.4.3, §2.5.3.1, §4.1.2.1).
 
-* :func:`grasp_map` — ``G = [G_1 … G_N]`` (Eq. 2.79–2.81).
+* :func:`grasp_map` — ``G = [G_1 … G_N]`` (Eqs. 2.79–2.81).
 * :func:`gws_points` — the points whose convex hull is the GWS: ``W_L∞`` the
   Minkowski sum of the contacts' vertex sets (Eq. 4.2), ``W_L1`` their union
   (Eq. 2.88).  A contact whose force is a variable (``cone=True``) contributes
   the origin as well (zero force is allowed).
 * :class:`WrenchHull` — Qhull of those points in the affine subspace they span
   (two point contacts span only 5 dimensions: no torque about the grasp axis),
-  membership of ``−w_ext`` by the facet test of Eq. (2.99), and the ε-metric
+  membership of ``−w_ext`` by the facet test of Eq. 2.99, and the ε-metric
   (largest origin-centred ball, torques divided by a length to share units).
 * :func:`resists_lp` — the same membership **without** a hull: a linear program
   over convex-combination weights of each contact's vertices (exact for the
@@ -116,7 +116,7 @@ def check_mu(mu) -> float:
 
 
 def grasp_map(contacts) -> np.ndarray:
-    """(6, 6N) grasp map ``[G_1 … G_N]`` of the contacts' frames, Eq. (2.81)."""
+    """(6, 6N) grasp map ``[G_1 … G_N]`` of the contacts' frames, Eq. 2.81."""
     return np.hstack([c.G for c in check_contacts(contacts)])
 
 
@@ -230,7 +230,7 @@ class WrenchHull:
 
     # tol: relative to the hull's offsets; a point on a facet tests inside whatever its last bits
     def contains(self, w: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-        """Eq. (2.99) for wrenches (K, 6) (or (6,)): inside the span and on the
+        """Eq. 2.99 for wrenches (K, 6) (or (6,)): inside the span and on the
         inner side of every facet, both to ``tol`` relative to the hull's scale."""
         w = np.atleast_2d(w)
         X = w - self.center

@@ -4,7 +4,7 @@
 one jaw contributes under model ``name``:
 
 ==================  =====================================================================
-``point``           hard point contact (Eq. 2.44/2.47) at the pressure centre along the
+``point``           hard point contact (Eqs. 2.44, 2.47) at the pressure centre along the
                     net normal force, ``f⊥ <= F``
 ``soft_point``      soft point contact (Eq. 2.50; the thesis's "Point" baseline of
                     §4.1.4.3), ``f⊥ <= F``, torsion ``γ = μ Σ p a |r_t| / F``
@@ -19,10 +19,10 @@ one jaw contributes under model ``name``:
                     element of *any* profile a soft point contact with its own force,
                     clustered to ``reach_triangles`` (thesis §2.3.1.3); not to be confused
                     with :func:`~workbench.sources.reach.reach_profile`, a profile source from meshes
-``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eq. 3.27/3.28)
+``6dls``            6D ellipsoid (or quartic) limit surface, force known (Eqs. 3.27, 3.28)
 ``6dls_quartic``    ``6dls`` with the SOS-convex quartic (Eq. 3.17, fitted with the
                     twist normals); the QP refines its linearisation by cutting planes
-``6dfc``            6D friction cone, ``f_C <= F`` (Eq. 3.29/3.30)
+``6dfc``            6D friction cone, ``f_C <= F`` (Eqs. 3.29, 3.30)
 ==================  =====================================================================
 
 All are built at μ = 1 and unit force semantics of :class:`ContactSet`, so one

@@ -236,7 +236,7 @@ def q_robust(
     w_ext=None,
     down=(0.0, 0.0, -1.0),
 ) -> float:
-    """Eq. (2.101) for the task "hold against gravity" (vertical lifting): the fraction
+    """Eq. 2.101 for the task "hold against gravity" (vertical lifting): the fraction
     of perturbed samples that :func:`~workbench.grasp.resistance.resists` says hold —
     the same meaning of "resisted", the same ``representation`` (default: the contact
     models themselves).

@@ -1,4 +1,4 @@
-"""Minimal work of the jaws (thesis §4.3.2.3, Eq. 4.4-4.6) and the minimal-force quality.
+"""Minimal work of the jaws (thesis §4.3.2.3, Eqs. 4.4–4.6) and the minimal-force quality.
 
 The grasp's minimal normal forces ``f_i`` (Eq. 4.4, :func:`~.resistance.min_grasp_force`
 with ``objective="sum"``) press the object by ``d_i = f_i / s_i + ε`` at each contact
@@ -156,7 +156,7 @@ def q_force(f_sum, f_max: float):
 
 @dataclass(frozen=True)
 class MinimalWork:
-    """Work of the minimal grasp forces (thesis Eq. 4.4-4.5).
+    """Work of the minimal grasp forces (thesis Eqs. 4.4–4.5).
 
     f_sum : ``Σ f_i`` [N], the minimal total normal force; ``inf`` when unresisted.
     forces : (N,) per-contact normal forces [N] (NaN when unresisted).
@@ -196,7 +196,7 @@ def minimal_work(
     representation: str = "model",
     cuts: CutStore | None = None,
 ) -> MinimalWork:
-    """Minimal grasp forces against ``w_ext`` and the work they do (Eq. 4.4-4.5).
+    """Minimal grasp forces against ``w_ext`` and the work they do (Eqs. 4.4–4.5).
 
     contacts : list of N :class:`~.contacts.ContactSet` (one per jaw in the thesis:
         a 6DLS of each jaw's REACH profile).

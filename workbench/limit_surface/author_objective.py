@@ -11,8 +11,8 @@ normalised twists ``n_k``::
 with ``λ = 1``, ``ω_w = 10``, ``ω_t = 1``; ``‖a‖`` the Frobenius norm of
 ``A`` (ellipsoid) or the 2-norm of the 126 monomial coefficients (quartic);
 ``g = A x̂`` for the ellipsoid (half its gradient) and ``∇f`` for the quartic;
-``A ⪰ 0`` or SOS-convexity (Eq. 3.15-3.16).  The L1 value residuals make it a
-median-type fit of Eq. (3.18) itself, the twist terms ask the surface's normal
+``A ⪰ 0`` or SOS-convexity (Eqs. 3.15–3.16).  The L1 value residuals make it a
+median-type fit of Eq. 3.18 itself, the twist terms ask the surface's normal
 to point along the twist (maximum dissipation), and the regulariser keeps the
 quartic determined with fewer wrenches than its 126 coefficients — the
 thesis-code training sets often have (``results/fem-fitting``).

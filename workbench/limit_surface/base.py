@@ -73,9 +73,9 @@ class LimitSurfaceModel:
     def fitting_error(self, wrenches: Any, kind: str = "eq3.18") -> float:
         """Mean fitting error over (raw) wrenches.
 
-        ``"eq3.18"``: thesis Eq. (3.18), ``|f(ŵ) - 1|``.  ``"radial"``:
+        ``"eq3.18"``: thesis Eq. 3.18, ``|f(ŵ) - 1|``.  ``"radial"``:
         ``|f(ŵ)^(1/d) - 1|``, the relative radial distance to the surface.  For a
-        point at radius ``ρ`` times the surface's, Eq. (3.18) gives
+        point at radius ``ρ`` times the surface's, Eq. 3.18 gives
         ``|ρ^d - 1| ≈ d |ρ - 1|``: it charges a quartic twice what it charges
         an ellipsoid for the same geometric miss; the radial error does not.
         """
@@ -90,8 +90,8 @@ class LimitSurfaceModel:
         raise ValueError(f"kind must be 'eq3.18' or 'radial'; got {kind!r}")
 
     def linearize(self, M: int, kind: str = "inner", *, directions: str = "cube", seed: int = 0):
-        """Inner vertices (Eq. 3.19-3.21) or outer tangent half-spaces
-        (Eq. 3.22-3.24); see :mod:`workbench.limit_surface.linearize`."""
+        """Inner vertices (Eqs. 3.19–3.21) or outer tangent half-spaces
+        (Eqs. 3.22–3.24); see :mod:`workbench.limit_surface.linearize`."""
         from .linearize import linearize
 
         return linearize(self, M, kind, directions=directions, seed=seed)

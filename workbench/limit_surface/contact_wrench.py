@@ -1,5 +1,5 @@
-"""Contact-wrench model and the 6D friction cone (thesis §3.4, Eq. 3.25-3.30;
-6DFC paper Eq. IV.2).
+"""Contact-wrench model and the 6D friction cone (thesis §3.4, Eqs. 3.25–3.30;
+6DFC Eq. IV.2).
 
 A contact wrench is ``c = w + w⊥`` (Eq. 3.25): the friction limit surface
 shifted to the normal wrench.  Both scale linearly with the force of the
@@ -30,15 +30,15 @@ class ContactWrenchModel:
     normal_wrench: np.ndarray  # (6,) ŵ⊥ for F = 1
 
     def value(self, c: np.ndarray, F: float = 1.0) -> np.ndarray:
-        """Eq. (3.26): ``f(c - F ŵ⊥)`` for the model scaled by ``F``; <= 1 inside."""
+        """Eq. 3.26: ``f(c - F ŵ⊥)`` for the model scaled by ``F``; <= 1 inside."""
         return self.limit_surface.scaled(F).value(np.asarray(c) - F * self.normal_wrench)
 
     def inner_vertices(self, M: int, F: float = 1.0, **kw) -> np.ndarray:
-        """Eq. (3.27): (M, 6) vertices ``F (ŝ_m + ŵ⊥)``."""
+        """Eq. 3.27: (M, 6) vertices ``F (ŝ_m + ŵ⊥)``."""
         lin = linearize(self.limit_surface, M, "inner", **kw)
         return F * (lin.vertices + self.normal_wrench)
 
     def outer(self, M: int, F: float = 1.0, **kw) -> tuple[np.ndarray, np.ndarray]:
-        """Eq. (3.28): ``A c <= b`` with ``A (c - F ŵ⊥) <= F b̂``."""
+        """Eq. 3.28: ``A c <= b`` with ``A (c - F ŵ⊥) <= F b̂``."""
         lin = linearize(self.limit_surface, M, "outer", **kw)
         return lin.A, F * (lin.b + lin.A @ self.normal_wrench)

@@ -3,16 +3,16 @@
 Two fitters on normalised wrenches, both inside the PCA subspace (so a planar
 contact is fitted in 3D, never as a singular 6D problem):
 
-* ``method="lsq"`` — Eq. (3.13): linear least squares on the ``r(r+1)/2``
+* ``method="lsq"`` — Eq. 3.13: linear least squares on the ``r(r+1)/2``
   unique entries of ``A``.  An indefinite result (rare; noisy or too few
   wrenches) is projected to the PD cone and rescaled — reported as a fallback.
-* ``method="sdp"`` — PSD-constrained least squares, Eq. (3.11) with ``A ⪰ 0``
-  solved as a semidefinite program via cvxpy; ``alpha > 0`` adds Eq. (3.12)'s
+* ``method="sdp"`` — PSD-constrained least squares, Eq. 3.11 with ``A ⪰ 0``
+  solved as a semidefinite program via cvxpy; ``alpha > 0`` adds Eq. 3.12's
   ``−α log det A``.  The thesis needs that penalty to keep ``det A > 0`` when the
   wrenches span a subspace (planar contacts); here the PCA subspace already
   does, so the default is ``α = config.TOL.sdp_alpha_per_wrench·K = 0``.  Measured
   (``results/ls-fitting`` → ``sdp_log_det_effect``): ``α = 1e-6·K`` (our former
-  default) changes Eq. (3.18) by < 1e-5, ``α >= 1e-3·K`` only raises the error;
+  default) changes Eq. 3.18 by < 1e-5, ``α >= 1e-3·K`` only raises the error;
   without it the fit *is* "lsq" whenever the least-squares matrix is positive
   definite (the constraint is inactive; returned directly, no conic solve — a
   solver on an ill-conditioned ellipsoid stopped 25× short on its largest
@@ -122,8 +122,8 @@ def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
 
 @lru_cache(maxsize=32)
 def _sdp_problem(r: int, log_det: bool):
-    """cvxpy problem of Eq. (3.11) with ``A ⪰ 0`` in r dims with Parameters (R, c,
-    alpha); ``log_det``: with Eq. (3.12)'s ``−α log det A`` (exponential cones)."""
+    """cvxpy problem of Eq. 3.11 with ``A ⪰ 0`` in r dims with Parameters (R, c,
+    alpha); ``log_det``: with Eq. 3.12's ``−α log det A`` (exponential cones)."""
     import cvxpy as cp
 
     BUILD_COUNT["sdp"] += 1
@@ -195,7 +195,7 @@ def fit_ellipsoid(
         the sampled maxima ``max_k |w_k|`` of Algorithm 1.
     method : "lsq" (Eq. 3.13) or "sdp" (PSD-constrained least squares, cvxpy with
         ``solver``; module docstring).
-    alpha : log-det weight of Eq. (3.12) for "sdp"; default
+    alpha : log-det weight of Eq. 3.12 for "sdp"; default
         ``config.TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
     warm_start : let cvxpy reuse the previous "sdp" fit of the same size in this process;
         off by default so a fit does not depend on what the process fitted before (as

@@ -2,18 +2,18 @@
 
 One name per fitted model, used by every experiment that compares them:
 
-* ``"ellipsoid_lsq"`` — Eq. (3.13): unconstrained least squares on ``A_e``
+* ``"ellipsoid_lsq"`` — Eq. 3.13: unconstrained least squares on ``A_e``
   (:func:`~.ellipsoid.fit_ellipsoid` ``method="lsq"``);
-* ``"ellipsoid_sdp"`` — Eq. (3.11) with ``A_e ⪰ 0`` (Eq. 3.12; its log-det term only
+* ``"ellipsoid_sdp"`` — Eq. 3.11 with ``A_e ⪰ 0`` (Eq. 3.12; its log-det term only
   with ``alpha``), ``method="sdp"``;
-* ``"quartic_values"`` — Eq. (3.17) on the values ``f(x̂_k) = 1`` alone, as the
+* ``"quartic_values"`` — Eq. 3.17 on the values ``f(x̂_k) = 1`` alone, as the
   thesis text writes it (:func:`~.quartic.fit_quartic` without twists);
-* ``"quartic_normals"`` — Eq. (3.17) plus the sampling twists as outward normals
+* ``"quartic_normals"`` — Eq. 3.17 plus the sampling twists as outward normals
   (maximum dissipation; ``fit_quartic(twists=...)``), as the author's code does with
   other weights.
 
-:func:`fit_and_score` fits one of them (timed) and scores it: Eq. (3.18) and the
-radial error on test wrenches, Eq. (3.18) on the training wrenches, and — given
+:func:`fit_and_score` fits one of them (timed) and scores it: Eq. 3.18 and the
+radial error on test wrenches, Eq. 3.18 on the training wrenches, and — given
 the contact's exact wrenches — the sampler-independent support error
 (:mod:`.support_error`).
 """
@@ -39,10 +39,10 @@ from .support_error import SupportError, support_error
 
 #: the fitted models by name, with what each fits
 MODELS = {
-    "ellipsoid_lsq": "Eq. (3.13): least-squares ellipsoid, A_e unconstrained (projected to PD if needed)",
-    "ellipsoid_sdp": "Eq. (3.11)/(3.12): least-squares ellipsoid with A_e positive semidefinite",
-    "quartic_values": "Eq. (3.17): SOS-convex quartic fitted to the values alone (the thesis text)",
-    "quartic_normals": "Eq. (3.17) plus the sampling twists as outward normals (maximum dissipation)",
+    "ellipsoid_lsq": "Eq. 3.13: least-squares ellipsoid, A_e unconstrained (projected to PD if needed)",
+    "ellipsoid_sdp": "Eqs. 3.11, 3.12: least-squares ellipsoid with A_e positive semidefinite",
+    "quartic_values": "Eq. 3.17: SOS-convex quartic fitted to the values alone (the thesis text)",
+    "quartic_normals": "Eq. 3.17 plus the sampling twists as outward normals (maximum dissipation)",
 }
 
 
@@ -80,7 +80,7 @@ def fit_model(
         them, the other models do not use them.
     solver : conic solver of the "sdp" ellipsoid and the quartics ("CLARABEL", "SCS"; any of
         :func:`~.sdp_solver.sdp_solvers`, checked for every model: ValueError otherwise).
-    alpha : Eq. (3.12)'s log-det weight, ``"ellipsoid_sdp"`` only.
+    alpha : Eq. 3.12's log-det weight, ``"ellipsoid_sdp"`` only.
     cvxpy's warm start stays off: a fit does not depend on what the process fitted before.
     """
     check_model(model)
@@ -103,8 +103,8 @@ class FitScore:
 
     model: LimitSurfaceModel
     fit_s: float  # median wall time of the fit [s] over the repeats
-    train_error: float  # Eq. (3.18) on the training wrenches
-    test_error: float | None  # Eq. (3.18) on the test wrenches
+    train_error: float  # Eq. 3.18 on the training wrenches
+    test_error: float | None  # Eq. 3.18 on the test wrenches
     test_radial: float | None  # radial |f^(1/deg) - 1| on them
     support: SupportError | None  # at exact surface points of uniform normals
 
@@ -133,7 +133,7 @@ def fit_and_score(
     w_max : (6,) exact maxima of the wrenches' contact (Eq. 3.10), or ``None`` for the
         sampled ones.
     twists : (K, 6) their twists (required by ``"quartic_normals"``).
-    test : (N, 6) wrenches of the same contact to score: Eq. (3.18) and the radial error
+    test : (N, 6) wrenches of the same contact to score: Eq. 3.18 and the radial error
         (held-out ones, or the thesis-code protocol's whole set).
     wrenches_of : ``(n, 6) twists -> (n, 6)`` exact wrenches of the contact (same μ and
         normalisation as ``wrenches``): the support error at ``support_directions``

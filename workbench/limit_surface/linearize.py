@@ -1,12 +1,12 @@
-"""Linearised limit surfaces (thesis §3.3.6, Eq. 3.19-3.24).
+"""Linearised limit surfaces (thesis §3.3.6, Eqs. 3.19–3.24).
 
 Directions ``s`` are sampled on the hypercube surface ``‖s‖∞ = 1`` (Eq. 3.19)
 or on the unit sphere, in normalised coordinates of the model's subspace.  For
 a model homogeneous of degree ``d`` the ray ``γ s`` meets ``f = 1`` at
 ``γ = f(s)^(-1/d)`` exactly — no Newton iteration.  Inner constraints are the
-denormalised vertices ``s^LS = ŝ^LS ∘ w_max`` (Eq. 3.20-3.21); outer ones the
+denormalised vertices ``s^LS = ŝ^LS ∘ w_max`` (Eqs. 3.20–3.21); outer ones the
 tangent half-spaces ``nᵀw <= nᵀs^LS`` with ``n`` the raw-coordinate gradient
-(Eq. 3.22-3.24), valid for any convex model.  A flat model (subspace of
+(Eqs. 3.22–3.24), valid for any convex model.  A flat model (subspace of
 dimension r < 6) adds the equalities ``cᵀ(w ⊘ scale) = 0`` as ± half-space pairs.
 """
 
@@ -70,12 +70,12 @@ def linearize(
     if kind not in ("inner", "outer"):
         raise ValueError(f"kind must be 'inner' or 'outer'; got {kind!r}")
     s_hat = surface_points(model, sample_directions(M, model.dim, directions, seed))
-    vertices = s_hat * model.scale  # Eq. (3.20)
+    vertices = s_hat * model.scale  # Eq. 3.20
     if kind == "inner":
         return Linearization("inner", vertices)
-    g = model.gradient(vertices)  # raw-coordinate normal, Eq. (3.23) generalised
+    g = model.gradient(vertices)  # raw-coordinate normal, Eq. 3.23 generalised
     n = g / np.linalg.norm(g, axis=1, keepdims=True)
-    A, b = n, np.einsum("ij,ij->i", n, vertices)  # Eq. (3.24)
+    A, b = n, np.einsum("ij,ij->i", n, vertices)  # Eq. 3.24
     C = model.subspace.complement
     if C.shape[1]:
         flat = (C / model.scale[:, None]).T  # c^T (w / scale) = 0

@@ -1,4 +1,4 @@
-"""SOS-convex homogeneous quartic 6D limit surface (thesis §3.3.5, Eq. 3.14-3.17).
+"""SOS-convex homogeneous quartic 6D limit surface (thesis §3.3.5, Eqs. 3.14–3.17).
 
 ``min_a Σ (f(x̂_k) - 1)²  s.t.  V1 vec(M) = V2 a,  M ⪰ 0`` in the PCA
 subspace of dimension r (126 coefficients and a 36×36 Gram matrix for r = 6,
@@ -143,7 +143,7 @@ def _cubic_factors(r: int) -> np.ndarray:
 
 @lru_cache(maxsize=16)
 def _quartic_problem(r: int):
-    """cvxpy problem of Eq. (3.17) in r dims with Parameters (R, c)."""
+    """cvxpy problem of Eq. 3.17 in r dims with Parameters (R, c)."""
     import cvxpy as cp
 
     BUILD_COUNT["quartic"] += 1
@@ -159,7 +159,7 @@ def _quartic_problem(r: int):
 
 
 def _sos_convexity(r: int, a):
-    """cvxpy form of Eq. 3.15-3.16 for the coefficients ``a`` (a cvxpy Variable (L,)): the
+    """cvxpy form of Eqs. 3.15–3.16 for the coefficients ``a`` (a cvxpy Variable (L,)): the
     PSD blocks ``[(X, T), ...]`` and the constraint ``V1 vec(M) = V2 a`` with the Gram
     matrix in its swap-invariant form ``M = T_sᵀ S T_s + T_aᵀ A T_a`` (sos.py's notes: no
     SOS-convex quartic is lost); ``vec(Tᵀ X T) = (Tᵀ ⊗ Tᵀ) vec X``, column-major."""
@@ -215,7 +215,7 @@ def certify(a: np.ndarray, M: np.ndarray, n: int) -> tuple[np.ndarray, float]:
 
 def is_sos_convex(coeffs: Any, n: int, solver: str = "CLARABEL") -> bool:
     """Whether the quartic with ``coeffs`` (L,) in n variables (monomial order of
-    :func:`exponents`) admits ``M ⪰ 0`` with ``V1 vec(M) = V2 a`` (Eq. 3.15-3.16)."""
+    :func:`exponents`) admits ``M ⪰ 0`` with ``V1 vec(M) = V2 a`` (Eqs. 3.15–3.16)."""
     import cvxpy as cp
 
     BUILD_COUNT["sos_check"] += 1
@@ -444,12 +444,12 @@ def fit_quartic(
     fallback_solver: str | None = "SCS",
     warm_start: bool = False,
 ) -> QuarticLS:
-    """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. (3.17).
+    """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. 3.17.
 
     twists : optional (K, 6) twists ``[v; ω]`` the wrenches were sampled with.
         By maximum dissipation ``-twist`` is the outward normal of the limit
         surface at its wrench, so each twist adds r linear gradient rows
-        (:func:`_normal_rows`) to the value rows of Eq. (3.17) — Hermite
+        (:func:`_normal_rows`) to the value rows of Eq. 3.17 — Hermite
         instead of Lagrange fitting.  The thesis text (Eq. 3.17) fits values
         only; the author's code (``fit4thorderpoly6d.m``) does fit gradients to
         twists, differently: L1 norms of the value residuals (weight 10) and of

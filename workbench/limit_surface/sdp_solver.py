@@ -1,4 +1,4 @@
-"""The conic solvers the SDP ellipsoid (Eq. 3.11/3.12) and the SOS-convex quartic
+"""The conic solvers the SDP ellipsoid (Eqs. 3.11, 3.12) and the SOS-convex quartic
 (Eq. 3.17) can use: cvxpy's installed solvers that take positive-semidefinite
 constraints (CLARABEL, SCS, and MOSEK/CVXOPT/… where installed and usable)."""
 

@@ -1,8 +1,8 @@
-"""Polynomial bookkeeping for the SOS-convex quartic (thesis Eq. 3.14-3.16).
+"""Polynomial bookkeeping for the SOS-convex quartic (thesis Eqs. 3.14–3.16).
 
 For a homogeneous quartic ``f(x) = Σ_κ a_κ x^{d_κ}`` in ``n`` variables and the
 auxiliary ``z``, SOS-convexity asks for ``M ⪰ 0`` (n² × n²) with
-``zᵀ ∇²f(x) z = yᵀ M y``, ``y = x ⊗ z`` (Eq. 3.14-3.15).  Both sides are
+``zᵀ ∇²f(x) z = yᵀ M y``, ``y = x ⊗ z`` (Eqs. 3.14–3.15).  Both sides are
 polynomials in monomials ``x^α z^β`` with ``|α| = |β| = 2``; matching their
 coefficients gives ``V1 vec(M) = V2 a`` (Eq. 3.16).  For n = 6: 126
 monomials, 441 equations, V1 441 × 1296, V2 441 × 126 — as in the thesis.
@@ -43,7 +43,7 @@ def exponents(n: int, degree: int) -> np.ndarray:
 
 @lru_cache(maxsize=16)
 def sos_convexity_maps(n: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """Sparse ``V1`` (E × n⁴) and ``V2`` (E × L) of Eq. (3.16), E = C(n+1, 2)².
+    """Sparse ``V1`` (E × n⁴) and ``V2`` (E × L) of Eq. 3.16, E = C(n+1, 2)².
 
     ``vec(M)`` is column-major: entry ``(p, q)`` of M sits at ``p + q n²`` with
     ``p = i n + j`` indexing ``y_p = x_i z_j``.

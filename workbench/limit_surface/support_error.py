@@ -1,6 +1,6 @@
 """Sampler-independent error of a fitted 6D limit surface (issue 12).
 
-Eq. (3.18) averages ``|f(ŵ) − 1|`` over *sampled* wrenches, so its value depends
+Eq. 3.18 averages ``|f(ŵ) − 1|`` over *sampled* wrenches, so its value depends
 on where the sampler puts them: a sampler that crowds wrenches where the surface
 is easy to fit (e.g. near-translations) reports a small error for the same model.
 This metric fixes the test points by the geometry instead.

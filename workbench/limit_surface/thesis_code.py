@@ -3,7 +3,7 @@
 The author's code (``computewrenchtwistfitls.m``) samples twists on a grid
 (:func:`workbench.twists_author.sample_twists_author`), computes every wrench,
 normalises them, keeps one wrench per occupied cell of a coarse grid for the fit
-(:func:`.downsample.grid_downsample`) and scores Eq. (3.18) on *all* of them.
+(:func:`.downsample.grid_downsample`) and scores Eq. 3.18 on *all* of them.
 :func:`thesis_code_sample` does the sampling and the split; the fit is the
 caller's (the same fitters as the other protocol, so only the distribution
 differs).

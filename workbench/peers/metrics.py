@@ -262,7 +262,7 @@ def fitted_ls_error(
     :func:`workbench.limit_surface.support_error.support_error`).  The ratio ``g`` of the truth's
     radius to the fit's along each ray is summarised symmetrically in ``g``
     (:class:`FittedLSError`): a ray where the fit is twice too short and one where it is twice too
-    long count alike. Each contact's wrenches are about its own pressure centre (Eq. 3.6). With
+    long count alike. Each contact's wrenches are about its own pressure centre (Eq. 3.7). With
     ``profile = reference`` it is the model's own error on the reference (a peer can land slightly
     below it: errors of shape and model partly cancel). Sampling matters: the fit's twists are
     random; at the defaults a Hertz peer of the peers' sphere case read 43.7-47.3 % over seeds 0-4

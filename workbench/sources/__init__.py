@@ -5,12 +5,12 @@ contact model -> grasp metric); everything downstream takes a ``ContactProfile``
 not ask where it came from.  One source per module:
 
 surfaces.py         parametric surfaces ``σ(u, v)`` with a pressure, their adaptive
-                    quadrature (continuous 6DFW, Eq. 3.3–3.5) and triangle meshes
+                    quadrature (continuous 6DFW, Eqs. 3.3–3.5) and triangle meshes
                     (:func:`~.surfaces.mesh_profile`)
 surface_catalog.py  the thesis's surfaces S1–S6 (Table 3.1) and Example 3.2.5
 reach.py            REACH-style pad ∩ mesh with Winkler pressure, one jaw or both jaws of
                     a grasp (§2.3.1.3, §4.1.4.1)
-scenes.py           the elliptic-cylinder grasp with the power-law pressure of Eq. (4.3)
+scenes.py           the elliptic-cylinder grasp with the power-law pressure of Eq. 4.3
 fem_jaw.py          the FEM adapter: the compliant pad of ``workbench.fem`` pressed on an
                     object mesh to the gripper's reading (§3.5.2, §4.3.2.1)
 jaws.py             what the jaw sources share: the grasp dict, the jaw frame, scaling to

@@ -2,7 +2,7 @@
 
 :func:`elliptic_cylinder_grasp` — a parallel-jaw grasp of an elliptic cylinder
 (axis z, grasp axis x, jaws at ±x), each contact an elliptic-cylinder patch with
-the modified power-law pressure of Eq. (4.3): ``p̂(r) = p0 [1 − (r/r_max)^k]^(1/k)``
+the modified power-law pressure of Eq. 4.3: ``p̂(r) = p0 [1 − (r/r_max)^k]^(1/k)``
 with ``r = |y|`` (constant along the cylinder axis, as in the thesis's FEM,
 Fig 4.2), scaled so the grasp-axis component of the normal force is ``F``
 (the force-sensor reading, §4.1.3.2).

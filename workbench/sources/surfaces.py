@@ -1,7 +1,7 @@
 """Parametric contact surfaces (thesis Table 3.1, Example 3.2.5), their
 adaptive quadrature and their triangle meshes.
 
-Continuous wrenches (Eq. 3.1-3.5) are integrated by h-adaptive tensor
+Continuous wrenches (Eqs. 3.1–3.5) are integrated by h-adaptive tensor
 Gauss-Legendre cubature: each cell's integral is compared with the sum over its
 four children and the cells with the largest differences are refined (maximum
 marking) until the summed estimate meets the tolerance.  The friction
@@ -399,12 +399,12 @@ def _adaptive(
 
 @dataclass(frozen=True)
 class SurfaceMoments:
-    """Twist-independent integrals of a surface (Eq. 3.1, 3.2)."""
+    """Twist-independent integrals of a surface (Eqs. 3.1, 3.2)."""
 
     F: float  # ∫ p dS [N]
     area: float  # ∫ dS [m²]
-    pressure_center: Array  # (3,) o, Eq. (3.1)
-    normal_wrench: Array  # (6,) w⊥ about o, Eq. (3.2)
+    pressure_center: Array  # (3,) o, Eq. 3.1
+    normal_wrench: Array  # (6,) w⊥ about o, Eq. 3.2
     error: float  # relative error estimate
 
 
@@ -497,7 +497,7 @@ def surface_wrenches(
     rtol: float | None = None,
     return_error: bool = False,
 ) -> Array | tuple[Array, Array]:
-    """Continuous frictional wrenches, Eq. (3.3)-(3.5), about the pressure center.
+    """Continuous frictional wrenches, Eqs. 3.3–3.5, about the pressure center.
 
     twists : (K, 6) float about ``o`` (see :func:`surface_moments`).
     rtol : target error (default ``config.TOL.quadrature_rtol``, read now), scaled per

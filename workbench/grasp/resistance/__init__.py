@@ -1,4 +1,4 @@
-"""Wrench resistance and minimal grasp force (thesis Eq. 2.100, 4.4; 6DFC Eq. IV.3).
+"""Wrench resistance and minimal grasp force (thesis Eqs. 2.100, 4.4; 6DFC Eq. IV.3).
 
 program.py — the one convex program (variables, rows, cones) for every question and
 representation; solvers.py — adapters (dense QP, HiGHS LP, Clarabel SOCP);

@@ -63,7 +63,7 @@ def resists(
         limit surface (6DLS, 6DFC, 3DLS) as its second-order cone (exact, Clarabel),
         another model (quartic) by cutting planes until the contact wrenches lie on it,
         polygonal contacts (point, soft point, REACH) by their half-spaces, the raw
-        6DFW by its wrenches; "outer" — the fixed outer linearisations (Eq. 3.28/3.30,
+        6DFW by its wrenches; "outer" — the fixed outer linearisations (Eqs. 3.28, 3.30,
         the thesis's QP); "inner" — the vertices (Eq. 3.27, the GWS of Eq. 4.2).
     cuts : a :class:`CutStore` shared between calls (cuts of a model are valid for
         every pose, μ and force); a fresh one per call if None.
@@ -93,7 +93,7 @@ def resists(
     return _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, prog)
 
 
-#: Eq. (2.100) by its thesis name; the same function as :func:`resists`.
+#: Eq. 2.100 by its thesis name; the same function as :func:`resists`.
 wrench_resistance = resists
 
 
@@ -197,7 +197,7 @@ def min_grasp_force(
 
     objective : "scale" (default) — the smallest factor ``s`` on every contact's current
         force such that ``resists([c.with_force(s * c.force) ...])`` holds: the jaws keep
-        their force ratio, as one gripper force does; "sum" — Eq. (4.4) as published:
+        their force ratio, as one gripper force does; "sum" — Eq. 4.4 as published:
         every contact's force an independent variable in ``[0, f_max]`` (known-force
         contacts become cones), ``Σ f_i`` minimised.  With ``representation="outer"``
         and "sum" this is the thesis's program over ``C_outer``.

@@ -1,4 +1,4 @@
-"""The convex program behind every grasp-resistance question (thesis Eq. 2.100, 4.4;
+"""The convex program behind every grasp-resistance question (thesis Eqs. 2.100, 4.4;
 6DFC Eq. IV.3), assembled once for all solvers.
 
 Each contact i contributes variables ``x_i`` that give its local contact wrench
@@ -8,7 +8,7 @@ variable, or ``F_i σ_g`` in a force group, below):
 * **half-space contacts** (``x_i = (z_i, f_i)``): the frictional part on the set's
   affine hull, ``c − f ŵ⊥ = N z`` (``N`` (6, d) from :attr:`ContactSet.halfspaces`:
   d = 2 for a point contact, 3 for a soft point, 6 for a full-dimensional model), and
-  the outer linearisation ``A N z <= μ f b`` (Eq. 3.28/3.30) — exact for polygonal
+  the outer linearisation ``A N z <= μ f b`` (Eqs. 3.28, 3.30) — exact for polygonal
   models (point, soft point, REACH) — plus, for a limit-surface model taken as itself,
   either its second-order cone ``‖Q N z‖ <= μ f`` (ellipsoid, replacing the
   linearisation) or tangent-plane cuts from a :class:`CutStore` (other models);
@@ -365,7 +365,7 @@ def contact_violations(
 
 
 def add_cuts(cuts: CutStore, contacts, violations) -> None:
-    """Tangent plane at the ray point ``s f(s)^(-1/d)`` (Eq. 3.22–3.24) for each violation."""
+    """Tangent plane at the ray point ``s f(s)^(-1/d)`` (Eqs. 3.22–3.24) for each violation."""
     for i, s, val in violations:
         model = contacts[i].model
         s_star = s * val ** (-1.0 / model.degree)

@@ -1,0 +1,335 @@
+"""The design docs stay true to the code: docs/equations.md is what docs/generate_equations.py
+writes now, every citation of an equation is in the one house format, every module
+docs/architecture.md names exists, and its table of core modules importing the run machinery
+is the list the import graph gives."""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import importlib.util
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+ARCHITECTURE = ROOT / "docs" / "architecture.md"
+
+
+def _generator():
+    path = ROOT / "docs" / "generate_equations.py"
+    spec = importlib.util.spec_from_file_location("generate_equations", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+gen = _generator()
+
+
+def test_equations_md_is_current():
+    want = gen.render()
+    have = gen.OUT.read_text(encoding="utf-8") if gen.OUT.exists() else ""
+    diff = difflib.unified_diff(have.splitlines(True), want.splitlines(True), "docs/equations.md", "now")
+    diff = "".join(list(diff)[:40])
+    assert have == want, f"docs/equations.md is stale: run `{gen.COMMAND}` and commit it\n{diff}"
+
+
+def test_every_cited_equation_has_a_meaning_or_is_marked_missing():
+    found, _ = gen.index()
+    thesis = {n for n in found if not n.startswith("6DFC ")}
+    paper = {n[5:] for n in found if n.startswith("6DFC ")}
+    assert thesis - set(gen.MEANINGS) - gen.NOT_IN_THESIS == set()
+    assert paper - set(gen.PAPER_MEANINGS) == set()
+    assert len(found) > 40 and "3.8" in found and "6DFC IV.2" in found  # the scan sees the code
+
+
+_SOURCE = '''"""Module docstring (Eq. 3.1)."""
+# a module-level comment, Eqs. 3.2, 3.5
+
+# the comment right above a function belongs to it: Eq. 4.4
+@decorator
+def f():
+    """Eqs. 3.10–3.12."""
+    x = 1  # a body comment, Eq. 3.18
+    def inner():
+        # Eq. 2.100
+        pass
+
+
+class C:
+    """6DFC Eq. IV.2."""
+
+    # Eq. 3.29 in the class body
+    y = 2
+
+    def method(self):
+        return 1  # Eqs. 3.6, 3.8
+
+
+def g():
+    """no citation; eq3.18 is a name, Eq. 4.3.3 a section"""
+'''
+
+
+def test_citations_go_to_the_innermost_definition():
+    by_name = {}
+    for d in gen.definitions("pkg.mod", _SOURCE):
+        by_name[d.name] = gen.cited(d.text)
+    assert by_name == {
+        "pkg.mod": ["3.1", "3.2", "3.5"],
+        "pkg.mod:f": ["3.10", "3.11", "3.12", "4.4", "3.18"],  # docstring first, then comments
+        "pkg.mod:f.inner": ["2.100"],
+        "pkg.mod:C": ["6DFC IV.2", "3.29"],
+        "pkg.mod:C.method": ["3.6", "3.8"],
+        "pkg.mod:g": [],
+    }
+
+
+def test_a_renamed_cited_function_changes_the_index(tmp_path):
+    # the staleness check must be able to fail: the same citation under another name
+    for folder in gen.PACKAGES:
+        (tmp_path / folder).mkdir()
+    module = tmp_path / "workbench" / "wrench.py"
+    module.write_text('def frictional_wrenches():\n    """Eq. 3.8."""\n')
+    before = gen.render(tmp_path)
+    assert "| Eq. 3.8 | discrete frictional wrench" in before
+    assert "`workbench.wrench:frictional_wrenches`" in before
+    module.write_text('def wrenches():\n    """Eq. 3.8."""\n')
+    after = gen.render(tmp_path)
+    assert after != before and "`workbench.wrench:wrenches`" in after
+    (tmp_path / "fem" / "pad.py").write_text("# Eq. 5.99\n")
+    assert "`workbench.fem.pad`" in gen.render(tmp_path)
+    assert "no meaning written yet" in gen.render(tmp_path)
+
+
+@pytest.mark.parametrize(
+    ("text", "numbers"),
+    [
+        ("Eq. 3.6", ["3.6"]),
+        ("(Eq. 4.5).", ["4.5"]),
+        ("Eq. 3.18's", ["3.18"]),
+        ("Eqs. 3.10–3.12", ["3.10", "3.11", "3.12"]),
+        ("Eqs. 3.22–3.24, 3.28, 3.30", ["3.22", "3.23", "3.24", "3.28", "3.30"]),
+        ("Eqs. 3.20,\n  3.25–3.27", ["3.20", "3.25", "3.26", "3.27"]),
+        ("Eqs. 2.100–2.101, 4.4", ["2.100", "2.101", "4.4"]),
+        ("thesis Eq. 2.100; 6DFC Eq. IV.3", ["2.100", "6DFC IV.3"]),
+        ("Eq. 4.6 / §4.3.3.2", ["4.6"]),
+        ("kind='eq3.18', §3.3.4", []),
+    ],
+)
+def test_cited_reads_the_house_format(text, numbers):
+    assert gen.cited(text) == numbers
+    assert gen.old_format_citations(text) == []
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Eq. (3.6)",
+        "Eqs. (3.10)-(3.12)",
+        "Eq. 3.6-3.8",
+        "Eq. 2.44/2.47",
+        "Eq. 3.1, 3.2",
+        "Eq. 3.10–3.12",
+        "Eqs. 3.6 alone",
+        "Eq.3.6",
+        "Eq 3.6",
+        "6DFC paper Eq. IV.2",
+    ],
+)
+def test_old_formats_are_found(text):
+    assert gen.old_format_citations(text) != []
+
+
+def _cited_files() -> list[Path]:
+    folders = ("workbench", "fem", "experiments", "tests", "benchmarks")
+    files = [p for d in folders for p in sorted((ROOT / d).rglob("*.py"))]
+    files += [
+        ROOT / "README.md",
+        *sorted((ROOT / "docs").glob("*.md")),
+        ROOT / "docs" / "generate_equations.py",
+    ]
+    here = Path(__file__).resolve()
+    return [p for p in files if "__pycache__" not in p.parts and p.resolve() != here]
+
+
+def test_every_citation_is_in_the_house_format():
+    bad = [
+        f"{p.relative_to(ROOT)}:{line}: {excerpt!r} ({why})"
+        for p in _cited_files()
+        for line, excerpt, why in gen.old_format_citations(p.read_text(encoding="utf-8"))
+    ]
+    assert bad == [], (
+        "write thesis equations as 'Eq. 3.6', 'Eqs. 3.10–3.12' or 'Eqs. 3.10, 3.12', the 6DFC "
+        "paper's as '6DFC Eq. IV.2':\n" + "\n".join(bad)
+    )
+
+
+# ---- docs/architecture.md
+
+_PATH = re.compile(r"(?<![\w./-])((?:workbench|fem|experiments|tests|benchmarks|docs)/[\w./-]*[\w/])")
+_DOTTED = re.compile(r"(?<![\w./])(workbench(?:\.\w+)+)(?::([\w.]+))?")
+
+
+def _module_file(dotted: str) -> Path | None:
+    """The file of an installed module name (``workbench.fem.pad`` -> fem/pad.py), or None."""
+    parts = dotted.split(".")[1:]
+    folder = ROOT / "workbench"
+    if parts and parts[0] in ("fem", "experiments"):
+        folder, parts = ROOT / parts[0], parts[1:]
+    path = folder.joinpath(*parts)
+    for candidate in (path.with_suffix(".py"), path / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _top_level_names(path: Path) -> set[str]:
+    """Names a module binds at its top level (defs, classes, imports, assignments) and
+    ``Class.method`` for the methods of its classes."""
+    names = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+            if isinstance(node, ast.ClassDef):
+                names.update(
+                    f"{node.name}.{m.name}"
+                    for m in node.body
+                    if isinstance(m, (ast.FunctionDef, ast.AsyncFunctionDef))
+                )
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names.update((a.asname or a.name).split(".")[0] for a in node.names)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names.update(t.id for t in targets if isinstance(t, ast.Name))
+    return names
+
+
+def missing_names(text: str) -> list[str]:
+    """Every repository path and ``workbench.x.y`` (or ``workbench.x.y:name``) in ``text``
+    that does not exist."""
+    out = []
+    for m in _PATH.finditer(text):
+        if not (ROOT / m.group(1)).exists():
+            out.append(m.group(1))
+    for m in _DOTTED.finditer(text):
+        dotted, attr = m.group(1), m.group(2)
+        path = _module_file(dotted)
+        if path is None:
+            out.append(dotted)
+        elif attr and attr not in _top_level_names(path):
+            out.append(f"{dotted}:{attr}")
+    return out
+
+
+def test_every_module_architecture_md_names_exists():
+    text = ARCHITECTURE.read_text(encoding="utf-8")
+    assert len(_PATH.findall(text)) > 80 and len(_DOTTED.findall(text)) > 5  # it reads the names
+    assert missing_names(text) == []
+
+
+def test_the_name_check_can_fail():
+    text = (
+        "`workbench/wrench.py` `workbench/nothing.py` `fem/pad.py` `experiments/none/` "
+        "`workbench.fem.pad` `workbench.fem.nothing` `workbench.fem:press` `workbench.fem:nothing` "
+        "`workbench.fem.pad:PadGeometry` `workbench.grasp.contacts:ContactSet.vertices`."
+    )
+    assert missing_names(text) == [
+        "workbench/nothing.py",
+        "experiments/none/",
+        "workbench.fem.nothing",
+        "workbench.fem:nothing",
+    ]
+
+
+#: the layers of docs/architecture.md in order, core first, by module (a package stands for its
+#: modules); a module of none of them fails the test below until it is given one
+_LAYERS = {
+    "base": "config units plausible seeds kernel_launch cachedir stats timing",
+    "core math": "profile twists twists_author _kernels wrench pressure coarsen",
+    "fem": "fem",
+    "sources": "sources",
+    "limit surfaces": "limit_surface",
+    "grasp": "grasp",
+    "peers": "peers",
+    "engine judge": "engine_trials",
+    "facade": "",  # workbench/__init__.py: re-exports the public API of the layers above
+    "run machinery": "cli experiment_config experiment_keys results parallel sweep report report_judge "
+    "report_peers pareto",
+    "figures": "viz stiffness_figures trial_figures",
+    "experiments": "experiments",
+}
+_ORDER = list(_LAYERS)
+_CORE = _ORDER[: _ORDER.index("run machinery")]
+
+
+def _layer(dotted: str) -> str:
+    """The layer of a module (``workbench`` itself: the facade, workbench/__init__.py)."""
+    parts = dotted.split(".")
+    if len(parts) == 1:
+        return "facade"
+    for layer, names in _LAYERS.items():
+        if parts[1] in names.split():
+            return layer
+    raise AssertionError(f"{dotted} is in no layer: add it to docs/architecture.md and _LAYERS here")
+
+
+def _modules() -> dict[str, Path]:
+    return dict(gen.source_files())
+
+
+def _imports(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """The package's modules that ``name`` imports anywhere in its file (deferred too)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+                parts = parts[: len(parts) - (node.level - 1)]
+                base = ".".join(parts + ([node.module] if node.module else []))
+            targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base for a in node.names]
+        else:
+            continue
+        out.update(t for t in targets if t in modules and t != name)
+    return out
+
+
+def _table(text: str, heading: str) -> set[tuple[str, str]]:
+    """(importer path, imported module) of the table right after the paragraph ``heading``
+    starts."""
+    section = text.split(heading, 1)[1].split("\n\n", 2)[1]
+    return set(re.findall(r"^\| `([\w/.]+)` \| `(workbench[\w.]*)`", section, re.M))
+
+
+def test_architecture_md_lists_every_import_against_the_layers():
+    modules = _modules()
+    into_run, upward = set(), set()
+    for name, path in modules.items():
+        layer = _layer(name)
+        if layer not in _CORE:
+            continue
+        for imported in _imports(name, path, modules):
+            other = _layer(imported)
+            row = (str(path.relative_to(ROOT)), imported)
+            if other not in _CORE:
+                into_run.add(row)
+            elif _ORDER.index(other) > _ORDER.index(layer):
+                upward.add(row)
+    assert into_run and upward, "the import scan sees nothing"
+    text = ARCHITECTURE.read_text(encoding="utf-8")
+    for found, heading in [
+        (into_run, "Where the core imports the run machinery today"),
+        (upward, "Where a core layer imports one listed after it"),
+    ]:
+        listed = _table(text, heading)
+        assert listed == found, (
+            f"docs/architecture.md's table under {heading!r} is out of date: listed but not "
+            f"imported {sorted(listed - found)}, imported but not listed {sorted(found - listed)}"
+        )
