@@ -35,33 +35,33 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) sensitivity -- $(BIN)/workbench run sensitivity
 	$(TIMED) sensitivity-wrapped -- $(BIN)/workbench run sensitivity --set half_angle=1.0 \
 		--out results/sensitivity-wrapped
-	: the same scene judged by MuJoCo (workbench.engine_trials), not by our exact 6DFW
+	# the same scene judged by MuJoCo (workbench.engine_trials), not by our exact 6DFW
 	$(TIMED) sensitivity-engine -- $(BIN)/workbench run sensitivity-engine
-	: the same question on side grasps of the bottle family, FEM pad profiles, judged by MuJoCo
+	# the same question on side grasps of the bottle family, FEM pad profiles, judged by MuJoCo
 	$(TIMED) sensitivity-engine-bottles -- $(BIN)/workbench run sensitivity-engine-bottles
-	: the engine judge validated: indentation, friction, torsion, the REACH cube trials (bench-engine-trials reads them)
+	# the engine judge validated: indentation, friction, torsion, the REACH cube trials (bench-engine-trials reads them)
 	$(TIMED) engine-validation -- $(BIN)/workbench run engine-validation
 	# the measured objects (CC BY-NC 4.0, read by path beside the repository): skipped, and said
-	# so, on a machine without them
+	# so, on a machine without them.  In order: the linear and nonlinear wall (then at every
+	# measured mustard grasp, each calibrated on random halves); Table 4.6 with the nonlinear wall
+	# on mustard and shampoo, then with FEM pad profiles; Table 4.6 judged by MuJoCo trials, slip
+	# only (the thesis-size run: --set n_grasps=100 --set n_heights=20 --set n_angles=12)
 	@if [ -d $(OBJECTS)/meshes ] && [ -d $(OBJECTS)/stiffness_maps ]; then \
 	  set -e; \
 	  $(TIMED) wall-nonlinear -- $(BIN)/workbench run wall-nonlinear; \
-	  : linear and nonlinear wall at every measured mustard grasp, each calibrated on random halves; \
 	  $(TIMED) wall-nonlinear-mustard-all -- $(BIN)/workbench run wall-nonlinear --set object=mustard \
 	    --set n_grasps=1000 --set step_mm=0.75 --out results/wall-nonlinear-mustard-all; \
-	  : Table 4.6 with the nonlinear wall on mustard and shampoo, then with FEM pad profiles; \
 	  $(TIMED) minimal-work -- $(BIN)/workbench run minimal-work --set 'nl_work_objects=["mustard","shampoo"]'; \
 	  $(TIMED) minimal-work-fem-pads -- $(BIN)/workbench run minimal-work --set profiles=fem \
 	    --out results/minimal-work-fem-pads; \
-	  : Table 4.6 judged by MuJoCo trials, slip only; the thesis-size run: --set n_grasps=100 --set n_heights=20 --set n_angles=12; \
 	  $(TIMED) minimal-work-engine -- $(BIN)/workbench run minimal-work-engine; \
 	else \
 	  echo "wall-nonlinear, minimal-work, minimal-work-engine: skipped - $(OBJECTS) (meshes/, stiffness_maps/) not found"; \
 	fi
 	$(TIMED) peers -- $(BIN)/workbench run peers
-	: the REACH dataset's real YuMi trials on a 3 cm cube, packaged under their MIT notice
+	# the REACH dataset's real YuMi trials on a 3 cm cube, packaged under their MIT notice
 	$(TIMED) physical-trials -- $(BIN)/workbench run physical-trials
-	: 6DFC Fig. 3 on them: mAP and mAR against N_r and sigma_r, its four algorithms, by sweeps
+	# 6DFC Fig. 3 on them: mAP and mAR against N_r and sigma_r, its four algorithms, by sweeps
 	$(TIMED) physical-trials-fig3a -- $(BIN)/workbench sweep physical-trials --grid 'n_robust=[1,3,10,20]' \
 		--set '$(FIG3_MODELS)' --out results/physical-trials-fig3a
 	$(TIMED) physical-trials-fig3b -- $(BIN)/workbench sweep physical-trials \
