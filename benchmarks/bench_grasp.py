@@ -1,4 +1,4 @@
-"""Grasp-analysis runtimes and cross-checks (issue 5).
+"""Grasp-analysis runtimes and cross-checks.
 
 * ``ms_per_grasp``: wrench resistance per grasp from cached contact sets, each
   model, on the elliptic-cylinder parallel-jaw grasp (median over random
@@ -180,7 +180,7 @@ def main() -> None:
         ),
     }
 
-    # the one-call evaluation (issue 11): a thesis bottle, REACH profiles computed once,
+    # the one-call evaluation (evaluate_grasp): a thesis bottle, REACH profiles computed once,
     # then per model the verdict + minimal force from cached profiles and limit surfaces
     one_call = evaluate_one_call(quick=args.quick)
 

@@ -1,4 +1,4 @@
-"""Peak memory of a wall-stiffness point against its mesh (issue 44): the measurements behind
+"""Peak memory of a wall-stiffness point against its mesh: the measurements behind
 :func:`workbench.experiments.wall_stiffness.memory_estimate`, written to
 ``results/benchmarks/memory_model.json``.
 
@@ -150,7 +150,7 @@ def main() -> None:
             row["estimate_over_measured"] = est / row["peak_rss_bytes"]
             checks.append(row)
     result = {
-        "benchmark": "peak memory of wall-stiffness points against their mesh (issue 44)",
+        "benchmark": "peak memory of wall-stiffness points against their mesh",
         "measured_on": datetime.date.today().isoformat(),
         "method": "one wall-stiffness --quick point (workers=1) per fresh interpreter; its peak RSS "
         "from getrusage(RUSAGE_SELF).ru_maxrss after the run",

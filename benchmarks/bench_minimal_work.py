@@ -1,4 +1,4 @@
-"""The minimal-work metric per grasp with cached profiles and limit surfaces (issue 13:
+"""The minimal-work metric per grasp with cached profiles and limit surfaces (the budget:
 "≤ 5 ms per grasp").
 
 One grasp is evaluated as ``experiments/minimal_work.py`` (``_grasp_row``) does, minus the
@@ -61,7 +61,7 @@ from workbench.sources.reach import jaw_profiles
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "deformable_objects"
-BUDGET_MS = 5.0  # issue 13 acceptance: the metric per grasp
+BUDGET_MS = 5.0  # the budget: the metric per grasp
 MU, F0, PAD, CLOSING = 0.5, 10.0, (0.02, 0.04), 1e-3  # experiments/minimal_work.py DEFAULT_CONFIG
 ROBUST_SAMPLES = 30  # its robust_samples (N_r)
 M_DEFAULT = inspect.signature(contact_sets).parameters["M"].default  # 200, also the experiment's "M"
@@ -406,7 +406,7 @@ def main() -> None:
     load_after = os.getloadavg()
     head = results["plastic_cup"] if "parts" in results["plastic_cup"] else results["cylinder_r35mm"]
     out = {
-        "benchmark": "minimal-work metric per grasp, cached profiles and limit surfaces (issue 13)",
+        "benchmark": "minimal-work metric per grasp, cached profiles and limit surfaces",
         "budget_ms": BUDGET_MS,
         "headline_scene": "plastic_cup" if head is results["plastic_cup"] else "cylinder_r35mm",
         "metric_ms_per_grasp": head["totals"]["metric"]["median_ms"],

@@ -1,4 +1,4 @@
-"""Runtime against error of the workbench's own knobs (issue 16, scope 2): one Pareto front per knob.
+"""Runtime against error of the workbench's own knobs: one Pareto front per knob.
 
 Each point is one setting of one knob measured as (runtime [s], error against that family's best
 reference); per family the front (:func:`workbench.pareto.pareto_front`), where the default
@@ -450,7 +450,7 @@ def run(quick: bool, out: Path) -> dict:
     families = {k: summarise(v) for k, v in families.items()}
     png = figure(families, out.with_suffix(".png"))
     result = {
-        "benchmark": "runtime vs error of the workbench's own knobs, one Pareto front per knob (issue 16)",
+        "benchmark": "runtime vs error of the workbench's own knobs, one Pareto front per knob",
         "quick": quick,
         "error_budgets": list(BUDGETS),
         "families": families,

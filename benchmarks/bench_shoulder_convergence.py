@@ -1,4 +1,4 @@
-"""Mesh convergence of the wall stiffness at shoulder grasps (issue 44, scope item 7).
+"""Mesh convergence of the wall stiffness at shoulder grasps.
 
 A new user measured on their own revolved bottle that, near the shoulder, the default wall mesh
 ``[48, 24]`` (hexes around, along the height) gives a stiffness 25-37 % above ``[96, 48]``'s,
@@ -549,7 +549,7 @@ def main() -> int:
     mesh = revolved_bottle() if any(c["name"].startswith("revolved") for c in cases) else None
     t_start = time.perf_counter()
     result: dict = {
-        "benchmark": "wall stiffness convergence at shoulder grasps (issue 44, scope item 7)",
+        "benchmark": "wall stiffness convergence at shoulder grasps",
         "complete": False,
         "model": f"linear elastic wall E = {E:.3g} Pa, nu = {NU}, t = {THICKNESS * 1e3} mm; "
         f"rigid frictionless jaws {JAW[0] * 1e3:g} x {JAW[1] * 1e3:g} mm at {FORCE:g} N each; "

@@ -1,18 +1,15 @@
-"""Sweeps on Dask (issue 14): per-task overhead of the local cluster and the speed-up of two
+"""Sweeps on Dask: per-task overhead of the local cluster and the speed-up of two
 workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 
 * **Overhead per task**: ``n`` no-op rows through :func:`workbench.parallel.map_rows` (the
   row loop of every experiment and sweep: ``client.map``, the one-BLAS-thread wrapper on the
   worker, ``as_completed`` with results, the driver's callback) on a warm
   :func:`workbench.parallel.local_cluster` of one single-threaded worker, the median of
-  several batches divided by ``n``.  Measured here: Dask's bare ``submit`` + ``fut.result()``
-  loop 6.5-6.9 ms a task; this path ~4.8 ms after two changes to it — a ``threadpoolctl``
-  controller made once per process instead of per row (3-4 ms of library scan each) and
-  results taken with the completions (``with_results``) instead of a ``fut.result()`` per
-  row — and ~3 ms now (this host) with the scheduler's queue at its default, 1.1
-  (``config.DEFAULTS.cluster_worker_saturation``: a row at a time to whichever worker is free);
-  ~1 ms with the queue off (``inf``, measured beside it: every row handed out at submit, which
-  split fem-fitting's uneven rows by count — see the warm speed-up below).
+  several batches divided by ``n``, with the scheduler's queue at its default, 1.1
+  (``config.DEFAULTS.cluster_worker_saturation``: a row at a time to whichever worker is free),
+  and beside it with the queue off (``inf``: every row handed out at submit, which splits
+  fem-fitting's uneven rows by count — see the warm speed-up below).  Why the path is built
+  as it is, and what it cost before: docs/decisions.md.
 * **Speed-up**: one sweep of ``points`` equal points of a small ``discretization --quick``
   run, on a local cluster of 1 and then of 2 worker processes (one thread each, Numba's
   threads capped at 1), each a fresh sweep directory; wall time of ``run_sweep`` including
@@ -22,17 +19,17 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 * **fem-fitting --quick**: the whole run with its tasks (12 profiles, 2 full-mesh
   reference cases) serially and on 2 local workers (cold cluster: its start and the
   workers' imports are in the time), medians of 3 runs each, each run a fresh
-  ``workbench run`` process as a user starts it (run inside this process after the other
-  measurements it read 1.10x, fresh processes 1.24-1.39x), with the CPU seconds of all the
-  run's processes: two workers spend ~40 % more than the serial run (their imports and first
-  calls, the nannies and the scheduler, and tasks slower beside each other).
+  ``workbench run`` process as a user starts it (run inside this process, after the other
+  measurements, it reads a smaller speed-up), with the CPU seconds of all the run's processes:
+  two workers spend more than the serial run (their imports and first calls, the nannies and
+  the scheduler, and tasks slower beside each other).
 * **fem-fitting --quick, warm**: the same run in steady state — one process, an already-running
   cluster of 2 workers (``scheduler=`` its address) against serial, each after a warm-up run:
   what a sweep or a researcher's repeated runs get once the cluster's start and the workers'
   imports are paid (:func:`fem_fitting_rows_warm`).
 * **Memory bandwidth**: one process against two at once on a 320 MB stream: the ratio two
-  workers cannot beat on bandwidth-bound work (1.14x, 1.32x, 1.80x and 1.92x in four runs on
-  this VM: its host shares the bandwidth, and how much varies).
+  workers cannot beat on bandwidth-bound work (it varies from run to run on this VM: its host
+  shares the bandwidth, and how much varies).
 * **Quartic fits**: one process against two at once on fem-fitting's dominant compute (a
   Clarabel quartic fit, cache-resident): the ceiling two workers have on its rows here.
 * **fem-fitting full**: read from ``results/fem-fitting/summary.json`` (``make reproduce``).
@@ -352,7 +349,7 @@ def main() -> None:
     full = fem_fitting_full()
     load_after = os.getloadavg()
     out = {
-        "benchmark": "workbench sweep on a local Dask cluster (issue 14)",
+        "benchmark": "workbench sweep on a local Dask cluster",
         "task_overhead": over,
         "sweep_speedup_2_over_1_workers": sp,
         "sweep_points": f"discretization --quick with {SETS}, mu varied",

@@ -1,5 +1,5 @@
 """Wall stiffness per grasp location through the CLI contract, on all five measured objects'
-meshes (issue 13: "stiffness per grasp location ≤ 2 s after a one-time per-object set-up
+meshes (the requirements: "stiffness per grasp location ≤ 2 s after a one-time per-object set-up
 ≤ 60 s"; "the wall-stiffness contract works on all five meshes, including box and w5").
 
 For each mesh of ``../shared/data/deformable_objects/meshes`` (CC BY-NC 4.0, read by path;

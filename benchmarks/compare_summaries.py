@@ -5,7 +5,7 @@
 Every scalar of each ``<experiment>/summary.json`` present in both folders is compared (nested
 keys flattened; provenance, configuration, headlines and anything named like a time — ``*_s``,
 ``*_ms``, ``seconds``, ``speed_ratio``, ... — left out).  ``--rename`` maps a key fragment of BASE
-to NEW (regular expression), for keys renamed between the two (issue 15's model names).  Prints
+to NEW (regular expression), for keys renamed between the two (renamed contact models, say).  Prints
 per experiment how many values were compared, how many differ, the largest relative differences
 and the keys found in BASE only; exits 0 (a report, not a verdict).
 """

@@ -1,5 +1,5 @@
 """Time one step of ``make reproduce`` and record it in results/benchmarks/reproduce.json
-(issue 14: "the per-experiment split").
+(the per-experiment split of its wall time).
 
     python benchmarks/timed.py LABEL -- COMMAND [ARGS...]
 
@@ -60,7 +60,7 @@ def main(argv: list[str]) -> int:
             write_json(_previous(OUT), data)
 
         data = {
-            "benchmark": "make reproduce, wall time per step (issue 14: <= 30 min on this 2-core machine)",
+            "benchmark": "make reproduce, wall time per step (budget: <= 30 min on this 2-core machine)",
             "run": run_id,
             "code_revision": code_revision(),
             "machine": {"cpu_count": os.cpu_count(), **machine_roofline(quick=True)},

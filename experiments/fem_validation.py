@@ -1,6 +1,5 @@
 """FEM validation: SRI vs locking, Hertz, thin-layer limits, condensed vs full-mesh contact.
 
-Issue 4 scope 6.
 (a) selective reduced integration against the Lamé thick-walled cylinder as
 nu -> 0.5; (a') Hertz: rigid sphere into a thick block on graded meshes, a and
 p0 against the Hertz formulas for the computed force, with mesh convergence;
@@ -52,7 +51,7 @@ DEFAULT_CONFIG = {
     "fidelity_full_mesh": True,
     "thin_film_nu": 0.49999,  # K/G = 5e4: the column compressibility term 3 (a/h)² G/K stays <= 0.054
     "thin_film_cylinder_a_h": [5, 10, 15, 20, 30],  # plane strain, 0.5 x 0.25 mm hexes on h = 1 mm
-    "thin_film_sphere_a_h": [10, 15, 20],  # 3D, 1 x 1 x 0.25 mm hexes (a/h = 20: 39k dofs, ~70 s)
+    "thin_film_sphere_a_h": [10, 15, 20],  # 3D, 1 x 1 x 0.25 mm hexes (a/h = 20: 39k dofs, over a minute)
     # where the two neo-Hookean fidelity cases run (workbench.parallel.row_client): 0 = a
     # local Dask cluster (full size) while this process runs the other checks, 1 = serially
     # here, N = N local workers; scheduler = an existing cluster's address
@@ -497,8 +496,8 @@ def run(config: dict) -> dict:
         if r["level"] == "condensed SRI"
     }
 
-    # a correction of the condensed level calibrated on the neo-Hookean reference (issue 4
-    # scope 3): the force ratio F_nl / F_lin at each δ/h, calibrated on one indenter shape
+    # a correction of the condensed level calibrated on the neo-Hookean reference: the
+    # force ratio F_nl / F_lin at each δ/h, calibrated on one indenter shape
     # and applied to the other — how well a single δ/h-dependent factor transfers
     correction = {}
     sri = {(r["case"], round(r["delta_over_h"], 2)): r for r in fid if r["level"] == "condensed SRI"}

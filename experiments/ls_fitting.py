@@ -86,7 +86,7 @@ DEFAULT_CONFIG = {
     "section_surface": "S4",  # Fig 3.10
     "section_K": 600,
     # where the surfaces run (workbench.parallel.row_client): 0 = a local Dask cluster of one
-    # worker per core (continuous wrenches: ~2 min a surface), 1 = serially here, N = N local
+    # worker per core (continuous wrenches: minutes a surface), 1 = serially here, N = N local
     # workers; scheduler = an existing cluster's address.  Neither changes a number but the
     # fit timings, which are per fit on one core either way.
     "workers": 0,
@@ -175,7 +175,7 @@ def _fit(
     W (K, 6) with twists xi (K, 6), normalised by wm (6,); ``score``: its ``test`` and
     ``wrenches_of`` (+ ``support_directions``, ``support_seed``).  Fast fits (the ellipsoids)
     are timed 3x (median) because single calls right after the parallel quadrature can
-    stall ~20 ms on thread-pool contention (Numba and BLAS on 2 cores)."""
+    stall on thread-pool contention (Numba and BLAS on 2 cores)."""
     repeats = 1 if kind.startswith("quartic") else 3
     return fit_and_score(kind, W, w_max=wm, twists=xi, solver=solver, repeats=repeats, **score)
 
@@ -300,7 +300,7 @@ def _surface(job: tuple[int, str, str], config: dict) -> dict:
     """One part of surface ``name`` (the i-th), run in the driver or on a Dask worker
     (``workbench.parallel.map_rows``): ``part`` "fits" — every fit and error of the thesis-text
     protocol — or "code" — the thesis-code protocol (:func:`thesis_code_rows`, {"code": ...}),
-    a task of its own: its 48,483-twist quadrature is up to 80 s of a surface's ~100, and the
+    a task of its own: its 48,483-twist quadrature is most of a surface's time, and the
     two halves of six surfaces balance two workers where six whole surfaces left a long tail."""
     i, name, part = job
     _warm(config)
@@ -610,7 +610,7 @@ def run(config: dict) -> dict:
     done: dict[str, dict] = {name: {"code": None} for name in config["surfaces"]}
     parts = ("code", "fits") if config["thesis_code"] else ("fits",)
     jobs = [(i, name, part) for part in parts for i, name in enumerate(config["surfaces"])]
-    # a continuous-source surface takes ~2 min (adaptive quadrature): two already pay for a
+    # a continuous-source surface takes minutes (adaptive quadrature): two already pay for a
     # cluster's start; mesh-source (quick) surfaces take seconds
     min_rows = 2 if config["wrench_source"] == "continuous" else None
     with tqdm(total=len(jobs), desc="surface parts", unit="part") as bar:

@@ -117,8 +117,8 @@ DEFAULT_CONFIG = {
     "train_fraction": 0.5,
     # beyond the thesis (§4.3.5): W from the geometrically nonlinear wall's force-closing
     # curve (workbench.fem.wall_nonlinear at the calibrated E) at every candidate grasp of these
-    # objects, beside W from the linear stiffness; [] skips it (measured here: mustard and
-    # shampoo 10-60 s a grasp, the cup ~3 min a grasp on its lip rows)
+    # objects, beside W from the linear stiffness; [] skips it (it is slow: tens of seconds to
+    # minutes a grasp, docs/decisions.md)
     "nl_work_objects": [],
     "nl_mesh": [16, 8],  # hexes around, along (the wall-nonlinear experiment's mesh)
     "nl_step_mm": 0.5,  # closing increment of the load stepping
@@ -131,9 +131,9 @@ DEFAULT_CONFIG = {
 }
 #: settings that do not enter the checkpoint key: where rows run changes no number
 WHERE_KEYS = ("out", "workers", "scheduler")
-#: a local cluster for the load curves from this many (each takes 10-60 s; a cluster's start ~3 s)
+#: a local cluster for the load curves from this many (a curve takes far longer than a cluster's start)
 NL_MIN_ROWS = 8
-#: grasps of one object per wall-stiffness task (~0.3-1 s each; a worker factorises each wall once)
+#: grasps of one object per wall-stiffness task (each short; a worker factorises each wall once)
 WALL_ROWS_PER_TASK = 8
 NL_KEYS = ("nl_work_objects", "nl_mesh", "nl_step_mm", "nl_max_closing_mm")
 QUICK_CONFIG = {
@@ -274,7 +274,7 @@ def _measured_map(path: str):
 
 @lru_cache(maxsize=4)
 def _object_wall(path: str, E: float, nu: float, thickness: float, n_theta: int, n_z: int):
-    """The object's linear wall, assembled and factorised once per process (~10-20 s; it
+    """The object's linear wall, assembled and factorised once per process (seconds; it
     cannot be sent to a worker: the sparse factor does not pickle)."""
     from workbench.fem.material import Material
     from workbench.fem.object_wall import object_wall

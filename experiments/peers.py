@@ -1,6 +1,6 @@
 """Peers: what a contact costs and what it gets wrong in the simulators researchers already have.
 
-Issue 16 scope 1.  The same contacts — a rigid sphere, a circular cylinder, the elliptic
+The same contacts — a rigid sphere, a circular cylinder, the elliptic
 cylinder of the thesis's grasp scene (§4.1.3, :func:`workbench.sources.scenes.elliptic_cylinder_grasp`)
 and a thesis bottle (fem-fitting's family, grasped at mid-height along its section's major axis)
 pressed by δ into one 16 × 20 × 5 mm silicone pad — from each peer:
@@ -62,8 +62,8 @@ DEFAULT_CONFIG = {
     "mu": 0.5,  # Coulomb friction
     "pad_mm": [16.0, 20.0, 5.0],  # width (x), length (y), thickness h [mm]
     "pad_cells": [16, 20, 5],  # hexes of the FEM pads (1 mm)
-    # the thesis bottle costs most (its exact Newton distance makes each query ~0.1 s: about
-    # 7 min of the run on two loaded cores)
+    # the thesis bottle costs most (its exact Newton distance makes each query slow: minutes
+    # of the run)
     "cases": ["sphere", "cylinder", "elliptic_cylinder", "bottle"],
     "radius_mm": 15.0,  # sphere and cylinder radius
     "ellipse_mm": [30.0, 20.0],  # elliptic cylinder semi-axes along the pad normal / across (scene's a, b)

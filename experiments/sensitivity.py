@@ -1,6 +1,6 @@
 """Sensitivity of grasp-success prediction to model parameters (thesis Fig 4.4; 6DFC Fig 3).
 
-Issue 5 scope 8.  Scene: the thesis's §4.1.3 setting — a parallel-jaw grasp of
+Scene: the thesis's §4.1.3 setting — a parallel-jaw grasp of
 an elliptic cylinder (grasp axis x, cylinder axis z), each jaw's contact an
 elliptic-cylinder patch with the power-law pressure of Eq. 4.3, μ = 0.3,
 grasp forces 20–35 N read by a force sensor, and disturbances from weights hung
@@ -98,7 +98,7 @@ DEFAULT_CONFIG = {
     # recall at matched precision
     "precision_levels": [0.9, 0.95, 0.98],
     "margin_steps": 12,  # bisection steps on log2 s* in [-6, 6] (resolution 2^(12/2^12) ≈ 0.2 %)
-    # which training wrenches give the best limit surface for grasp analysis (issue 12): the
+    # which training wrenches give the best limit surface for grasp analysis: the
     # margins of these models with limit surfaces trained by each sampler kind (SamplerSpec)
     "training_samplers": ["thesis", "thesis-code", "mix"],
     "training_models": ["6dls", "6dls_quartic"],

@@ -1,4 +1,4 @@
-"""Does small-strain linear theory hold where the cup is measured? (issue 13, scope 1)
+"""Does small-strain linear theory hold where the cup is measured?
 
 The measured plastic cup closes 4–23 mm at 10 N per jaw (``s`` = 437–2530 N/m) —
 up to half its radius, 10–40 wall thicknesses.  Steps:
@@ -60,7 +60,7 @@ DEFAULT_CONFIG = {
     "scheduler": "",
 }
 WHERE_KEYS = ("out", "workers", "scheduler")
-#: a local cluster for the load curves from this many grasps (each takes 10-60 s; a cluster's start ~3 s)
+#: a local cluster for the load curves from this many grasps (a curve takes far longer than a cluster's start)
 NL_MIN_ROWS = 2
 #: what each key means, its unit and plausible range (``workbench run wall-nonlinear --help``)
 KEYS = {

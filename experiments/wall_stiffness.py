@@ -2,7 +2,7 @@
 the bottle family, or any mesh at given grasps (--set object=PATH.obj --set locations=PATH.json,
 JSON {"stiffness_locations": 2n points [m], i and i + n one grasp}; README).
 
-Issue 4 scope 5.  The thesis measured ``s_i = f_⊥ / (l_s − l_e)`` with a
+The thesis measured ``s_i = f_⊥ / (l_s − l_e)`` with a
 parallel-jaw gripper closing to 10 N per jaw at antipodal grasp locations; here
 a PET-like wall (linear elastic, 0.5 mm, clamped base, open top) of bottles
 from the thesis family is squeezed between two rigid 20 × 40 mm jaws

@@ -1,4 +1,4 @@
-"""One-scalar calibration of a simulated stiffness map against a measured one (issue 13).
+"""One-scalar calibration of a simulated stiffness map against a measured one (thesis §4.3.3.1).
 
 A linear wall's stiffness is proportional to its Young's modulus (and to E·t³ in
 bending), so the model is calibrated by one factor ``c``: ``log c`` is the median of

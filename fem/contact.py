@@ -218,7 +218,7 @@ def solve_contact(
     C1 = pad.compliance_unit
     # start from the overlapping nodes; the loop below adds any node that still
     # penetrates (bulging of a nearly incompressible layer), so margin only trades
-    # LCP size against loop iterations (0 was 3x faster on the default pad)
+    # LCP size against loop iterations (0 is the fastest on the default pad: docs/decisions.md)
     margin = 0.0 if margin is None else margin
     seed = d < 0 if warm is None else (warm.lam > 0) | (d < 0)
     cand = np.flatnonzero(seed | (d < margin))
@@ -322,8 +322,7 @@ def solve_contact_full(
     of the mesh for every active set) — and the contact force is the eliminated row's
     reaction, ``(K u)_ic = λ_i n_ic``.  The same solution as the saddle-point system
     ``[[K, Bᵀ], [B, 0]] [u; -λ] = [0; -d_S]`` (``tests/test_fem_contact.py`` solves both),
-    which SuperLU's default ordering solved 6-16x slower (fem-validation's thin-film sphere
-    layers, a/h = 10-20: 36-125 s against 5.6-13.6 s).
+    which SuperLU's default ordering solves several times slower (docs/decisions.md).
 
     plane_strain : fix ``u_y`` at every node (validation of y-invariant contacts,
         e.g. a cylinder along y on a one-element-long slab: exact plane strain).

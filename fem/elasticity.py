@@ -41,8 +41,8 @@ def stiffness(mesh: MeshHex, material: Material, scheme: str = "sri") -> sp.csr_
     SRI: ``∫ 2μ (ε:ε − tr ε tr ε / 3)`` on 2x2x2 points plus ``∫ κ tr ε tr ε`` on the centre
     point; each is a linear-elastic form with Lamé pair (μ, −2μ/3) and (0, κ), assembled by the
     Numba element loop of :func:`workbench.fem.svk.linear_stiffness` into one sparsity pattern
-    (the same matrix as scikit-fem's ``asm`` of the two forms to rounding, ``tests/test_fem_elasticity.py``:
-    0.6 s against 2.2 s on a 23,064-dof pad block).  ``scheme="full"``: both parts on 2x2x2
+    (the same matrix as scikit-fem's ``asm`` of the two forms to rounding, ``tests/test_fem_elasticity.py``,
+    and faster: docs/decisions.md).  ``scheme="full"``: both parts on 2x2x2
     points, the Lamé pair (μ, λ).
     """
     from .svk import svk_tangent

@@ -1,4 +1,4 @@
-"""One interface to the three fidelity levels of the pad contact (issue scope 3).
+"""One interface to the three fidelity levels of the pad contact.
 
 ``fidelity="condensed"``: linear pad condensed to its face (milliseconds per
 solve after a cached precompute); ``"linear"``: the same frictionless Signorini

@@ -1,4 +1,4 @@
-"""The outer wall of a hollow object from its triangle mesh, as a radial surface ``r(θ, z)`` (issue 13).
+"""The outer wall of a hollow object from its triangle mesh, as a radial surface ``r(θ, z)``.
 
 :func:`workbench.fem.wall.build_wall` meshes a wall from any outer surface ``(θ, z) ->
 (points, outward normals)``.  For a scanned or CAD object the surface is a
@@ -135,8 +135,8 @@ RAYS_CACHE_VERSION = "1"
 def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
     """``<cache>/rays-<sha256>.npz`` for these rays on this mesh, or ``None`` with the cache off
     (:func:`workbench.cachedir.cache_dir`: ``$WORKBENCH_CACHE_DIR``, the folder the pads use).
-    Casting is trimesh's pure-NumPy intersector here (~2 s a wall's grid, ~5 s an object's wall:
-    every process of every run paid it — driver and each Dask worker of minimal-work, the
+    Casting is trimesh's pure-NumPy intersector here (seconds a wall, and every process of every
+    run paid it — driver and each Dask worker of minimal-work, the
     wall-nonlinear runs), so the hits are kept by the content hash of the mesh's vertices and
     faces, the rays, the intersector's class and trimesh's version."""
     import trimesh

@@ -1,4 +1,4 @@
-"""The wall of a hollow object from its mesh, with the edges that make it stiff (issue 13).
+"""The wall of a hollow object from its mesh, with the edges that make it stiff.
 
 :func:`workbench.fem.mesh_wall.radial_surface` gives the side wall, the band of heights whose
 sections are star-shaped.  What ends that band decides how stiff the wall is near

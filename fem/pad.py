@@ -225,8 +225,8 @@ def condense_pad(
     pos = np.full(K.shape[0], -1)
     pos[free] = np.arange(free.size)
     # the face compliance as the inverse of the Schur complement onto the face dofs (CHOLMOD, the
-    # face eliminated last): measured on fem-validation's finest Hertz block (62,475 free dofs,
-    # 531 face dofs) 56 s by SuperLU's factor and unit-load solves, 12.8 s for this whole function
+    # face eliminated last): two dense triangular solves instead of a sparse solve per face dof
+    # (docs/decisions.md)
     face_dofs = nodal[:, face].T.ravel()  # node-major [ux, uy, uz]
     C1 = schur_compliance(K[free][:, free], pos[face_dofs])
     seconds = time.perf_counter() - t0

@@ -1,27 +1,26 @@
 """Sparse factorisation of a symmetric positive definite stiffness matrix, nested-dissection ordered.
 
 SuperLU's default column ordering (COLAMD) fills the factor of a closed thin-walled
-tube badly: the shell is a 2D surface closed in θ, and on the shampoo bottle's wall
-(40,608 free dofs) it gave 131 M non-zeros in L + U, 31 s to factor and 0.19 s per
-solve.  METIS's nested dissection (``pymetis``) is the ordering made for such
-meshes: 22 M non-zeros, 1.6 s to factor and 0.01 s per solve on the same matrix,
-same residual.  The matrix is symmetric positive definite, so SuperLU keeps that
-ordering (no pivoting: ``diag_pivot_thresh = 0``, symmetric mode).
+tube badly: the shell is a 2D surface closed in θ.  METIS's nested dissection (``pymetis``)
+is the ordering made for such meshes: several times fewer non-zeros, a factor and solves an
+order of magnitude faster, the same residual (docs/decisions.md).  The matrix is symmetric
+positive definite, so SuperLU keeps that ordering (no pivoting: ``diag_pivot_thresh = 0``,
+symmetric mode).
 
 SuperLU solves several right-hand sides one after another, reading the whole factor
-for each: ~11 ms a column on a wall, bound by memory bandwidth (25 GB/s of the factor
-against 33 GB/s copy, ``results/benchmarks/wall_stiffness.json``).  A wall's contact
+for each, so a column's solve is bound by memory bandwidth
+(``results/benchmarks/wall_stiffness.json``).  A wall's contact
 solve asks for dozens of columns at once, so ``factor_spd(..., blocked=True)`` also
 keeps row-major copies of L and U and solves many columns together in
-:mod:`workbench.fem._kernels` (each entry read once for all of them): 2.4× faster per column at
-48 columns (``config.DEFAULTS.blocked_solve_min_rhs``).
+:mod:`workbench.fem._kernels` (each entry read once for all of them), from
+``config.DEFAULTS.blocked_solve_min_rhs`` columns on.
 
 Newton's method factors a new tangent of the same sparsity pattern at every iteration.
 :class:`Refactor` does the symbolic analysis once per pattern and Dirichlet set and then
 only the numeric Cholesky factorisation, by CHOLMOD's supernodal ``L Lᵀ`` (``cvxopt.cholmod``,
-BLAS-3 on dense blocks of the factor): 0.095 s against SuperLU's 0.70 s on a cup wall's tangent
-(21,312 free dofs, 10.8 M non-zeros in L + U, same order).  A tangent that is not positive
-definite (a wall past a limit point) is factored by SuperLU as before; each such fallback is
+BLAS-3 on dense blocks of the factor), several times faster than SuperLU in the same order on
+a wall's tangent (``results/benchmarks/newton.json``).  A tangent that is not positive
+definite (a wall past a limit point) is factored by SuperLU instead; each such fallback is
 logged and counted.
 """
 
@@ -203,8 +202,8 @@ def cholesky(K: sp.spmatrix, perm: np.ndarray | None = None) -> Refactor:
     the elimination order ``perm`` (n,) (default :func:`nested_dissection`): ``.solve(b)`` for
     one or a few right-hand sides (many columns at once: :func:`factor_spd` with ``blocked``).
     Not positive definite: SuperLU in the same order, logged and counted in ``.fallbacks``
-    (:class:`Refactor`).  Used by the full-mesh contact reference (one factor per active set):
-    ~0.2 s against SuperLU's 0.44 s on fem-fitting's reference pad."""
+    (:class:`Refactor`).  Used by the full-mesh contact reference (one factor per active set),
+    where it is faster than SuperLU (docs/decisions.md)."""
     K = sp.csr_matrix(K)
     if K.shape[0] != K.shape[1]:
         raise ValueError(f"K must be square; got {K.shape}")
@@ -222,10 +221,9 @@ def schur_compliance(K: sp.spmatrix, rows: np.ndarray) -> np.ndarray:
     The other dofs are eliminated first (METIS's nested dissection of ``K_ii``), ``rows`` last, so
     the trailing (m, m) block of the Cholesky factor (CHOLMOD, this order kept exactly) is
     ``S = L₂₂ L₂₂ᵀ`` and ``S⁻¹`` is two dense triangular solves — instead of m sparse solves
-    through the whole factor.  Measured on fem-validation's Hertz blocks: 35,322 free dofs and
-    243 face dofs, 3.2-4.5 s here against SuperLU's 8.2 s to factor and 7.0 s of solves; 62,475 and
-    531, the whole condensation (stiffness included) 12.8 s against SuperLU's 22 s to factor and
-    34 s of solves.  Not positive definite: SuperLU's solves of the m columns instead, logged."""
+    through the whole factor, several times faster on fem-validation's Hertz blocks
+    (docs/decisions.md).  Not positive definite: SuperLU's solves of the m columns instead,
+    logged."""
     from cvxopt import cholmod, matrix, spmatrix
 
     K = sp.csr_matrix(K)

@@ -5,8 +5,8 @@ Lagrangian), assembled by a Numba element loop (``fem._kernels._svk_element_loop
     dP[δF] = δF S + F (λ tr(δE) I + 2μ δE),   δE = sym(Fᵀ δF)
 
 At ``u = 0`` the tangent is the linear-elastic stiffness (:func:`linear_stiffness`, the linear
-walls' ``K``, the same matrix as scikit-fem's ``linear_elasticity`` form to rounding: 73 ms
-against 4.9 s on a cup wall, 0.9 against 9.2 s on the shampoo's; ``results/benchmarks/newton.json``).
+walls' ``K``, the same matrix as scikit-fem's ``linear_elasticity`` form to rounding, assembled
+many times faster: ``results/benchmarks/newton.json``).
 Used by :mod:`workbench.fem.wall` and :mod:`workbench.fem.wall_nonlinear`.
 """
 

@@ -404,16 +404,10 @@ def squeeze(
     the sparse solves.
 
     Discretisation: the footprint is the nodes inside the jaw face, so ``stiffness`` steps
-    when a jaw edge crosses a row of nodes.  Measured on a tube (R 30 mm, 0.5 mm PET,
-    clamped at both ends, 96 mm tall, ``n_theta`` 48) at mirror-image heights 0.0301 /
-    0.0299 m: 23 580 / 26 446 N/m (12 %) at ``n_z`` 24, 24 416 / 25 728 (5 %) at 48,
-    24 938 / 25 588 (2.6 %) at 96 — an error of the order of the row spacing over the
-    jaw length, not a solver tolerance.  Around the wall the same holds for the node
-    columns a flat jaw bears on: on a closed cylinder (R 32 mm, 0.5 mm, both ends clamped,
-    mid-height) the stiffness rises from 13 636 N/m with the axis on a vertex column to
-    15 564 N/m on the next mid-side column (+14 %) at ``n_theta`` 48, and from 13 074 to
-    13 667 (+4.5 %) at 96; an independent Sanders-shell solution gives 12 946 (new-user
-    trial, issue 13).
+    when a jaw edge crosses a row of nodes — an error of the order of the row spacing over the
+    jaw length, not a solver tolerance.  Around the wall the same holds for the node columns a
+    flat jaw bears on (the axis on a vertex column or on a mid-side one).  Both shrink as
+    ``n_z`` and ``n_theta`` grow (the measurements: docs/decisions.md).
     """
     from workbench.sources.jaws import check_jaw_force
 

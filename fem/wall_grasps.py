@@ -1,4 +1,4 @@
-"""Wall stiffness at given grasp locations (issue 13; thesis §4.3.3.1).
+"""Wall stiffness at given grasp locations (thesis §4.3.3.1).
 
 The measured stiffness maps (``deformable_objects/stiffness_maps/*.json``) list
 ``2n`` contact points: point ``i`` and point ``i + n`` are the two jaws of grasp

@@ -12,8 +12,8 @@ on the same triquadratic mesh, Gauss rule and clamps as the linear wall
 (:func:`workbench.fem.wall.build_wall`).  The weak form is assembled by
 :func:`workbench.fem.svk.svk_tangent`, a Numba element loop (node pair by node pair) instead of
 scikit-fem's form language — for a 27-node hex with 27 Gauss points the latter evaluates the form once per
-(i, j) basis pair (6,561 times) and takes ~40 s per tangent; this takes ~0.05 s on a cup wall
-(0.3 s by batched NumPy products before).  ``tests/`` checks it against a scikit-fem
+(i, j) basis pair (6,561 times), orders of magnitude slower per tangent
+(``results/benchmarks/newton.json``; docs/decisions.md).  ``tests/`` checks it against a scikit-fem
 ``BilinearForm`` / ``LinearForm`` of the same equations.  Newton's linear systems are
 factored by :class:`workbench.fem.sparse_factor.Refactor` (Cholesky, one symbolic analysis per
 grasp: the contact set pins dofs without changing the pattern).

@@ -65,7 +65,7 @@ def thin_pad():
 
 @pytest.fixture(scope="session")
 def pad_cache(request, tmp_path_factory):
-    # the default 20 x 40 x 5 mm pad condenses in 20-70 s: keep it in pytest's cache
+    # the default 20 x 40 x 5 mm pad condenses in tens of seconds: keep it in pytest's cache
     # (.pytest_cache, per checkout) so only the first run pays for it
     cache = getattr(request.config, "cache", None)
     return cache.mkdir("fem-pads") if cache is not None else tmp_path_factory.mktemp("fem-pads")

@@ -1,5 +1,5 @@
 """workbench.limit_surface.downsample: grid downsampling of wrench samples (the author's
-``downsamplewrench.m``, "thesis-code" protocol of issue 12) against a brute-force loop over
+``downsamplewrench.m``, the "thesis-code" protocol) against a brute-force loop over
 the cells, hand-counted cells, and bad input."""
 
 import itertools

@@ -25,7 +25,7 @@ from workbench.fem.pad import PadGeometry
 SLOW_FEM = (
     "the nonlinear pad FEM reference runs minutes as pure Python; its kernels run in test_fem_nonlinear.py"
 )
-#: the issue's criterion, item (a): force within 10 % of our pad's
+#: the acceptance criterion: force within 10 % of our pad's
 WITHIN = 0.10
 # graded pad nodes for spheres: 1 mm spacing within 4 mm of the contact, growing by 1.5 outside
 # (1,710 vertices); the trials' 5 mm grid has one vertex or none inside a 1.6 mm contact

@@ -1,4 +1,4 @@
-"""Every experiment's config keys described and judged (issue 44): each ``DEFAULT_CONFIG`` key has
+"""Every experiment's config keys described and judged: each ``DEFAULT_CONFIG`` key has
 a :class:`~workbench.experiment_keys.Key` (its module's ``KEYS`` or the shared ``COMMON``), the
 defaults and ``--quick`` values pass their own keys silently, ``workbench run NAME --help`` shows
 units, plausible ranges and allowed words, and careless ``--set`` / ``--grid`` values are refused

@@ -12,8 +12,7 @@ from workbench.cli import main
 from workbench.experiment_config import build_config
 
 SURFACES = [f"S{i}" for i in range(1, 7)]
-# Left out of `make test-nojit`: as pure Python one quick run takes minutes (parametric-surfaces
-# 94 s, discretization 114 s, ls-fitting over 5 min, measured on the shared 2-core machine).
+# Left out of `make test-nojit`: as pure Python one quick run takes minutes (docs/decisions.md).
 EXPERIMENT_RUN = pytest.mark.jit_only(
     "a whole experiment in quick mode: minutes as pure Python; every kernel it calls also runs "
     "without JIT in the unit tests (make test-nojit checks with --check-kernels)"
@@ -78,7 +77,7 @@ def test_discretization_fig_3_8(discretization):
         assert rates["300"] < 0.04 and rates["1000"] < 0.01, (name, rates)
         assert rates["25"] > rates["300"] > rates["1000"]  # converges with refinement
     # runtimes are reported, not asserted against each other: timings depend on the
-    # machine's load (this ordering failed with 8.0 vs 6.9 ms on a busy 2-core VM)
+    # machine's load (on a busy machine the ordering can flip)
     assert s["runtime_discrete_s"] > 0 and s["runtime_continuous_s"] > 0
     assert (out / "error_rate.csv").exists() and (out / "fig_3_8_error_rate.png").exists()
 
@@ -199,8 +198,9 @@ def test_ls_fitting_headlines(ls_fitting):
             s["heldout_error"]["quartic_normals"][name]["600"],
         )
         assert q < e, name  # thesis §3.5.1.3: the quartic wins with enough wrenches
-        # thesis-code protocol (issue 12): the author's wrench set is harder to fit than the
-        # thesis-text sampler's held-out set — the cause of our 2x gap to the thesis's numbers
+        # thesis-code protocol (the author's own code's twist grid): the author's wrench set is
+        # harder to fit than the thesis-text sampler's held-out set — the cause of our 2x gap to
+        # the thesis's numbers
         tc = s["thesis_protocol_error"]
         assert tc["ellipsoid_sdp"][name]["600"] > 1.3 * e and tc["quartic_normals"][name]["600"] > 1.3 * q, (
             name
@@ -476,8 +476,9 @@ def test_sensitivity_quick(tmp_path):
     assert all(np.isnan(r) or r < 0.5 for r in mp["recall"]["point"])
     assert mp["recall"]["6dls"][0] > 0.8
     assert (tmp_path / "precision_recall.png").stat().st_size > 10_000
-    # training distributions (issue 12): each sampler's 6DLS margins against the noise-free
-    # exact margins; the model's own error is a few percent, well below the noisy truth's spread
+    # training distributions (which sampler trains the best limit surface): each sampler's 6DLS
+    # margins against the noise-free exact margins; the model's own error is a few percent, well
+    # below the noisy truth's spread
     td = s["training_distribution"]["6dls"]
     assert set(td) == {"thesis", "thesis-code", "mix"}
     for kind, e in td.items():
@@ -583,7 +584,7 @@ def test_fem_fitting_refuses_physical_nonsense_before_any_work(sets, match):
 
 @EXPERIMENT_RUN
 def test_minimal_work_quick(tmp_path):
-    """Issue 13: the quick run's headline numbers (skips without the CC BY-NC data folder)."""
+    """The quick run's headline numbers (skips without the CC BY-NC data folder)."""
     from workbench.experiments.minimal_work import DEFAULT_CONFIG, THESIS_TABLE_4_6
 
     if not (Path(DEFAULT_CONFIG["data_dir"]) / "stiffness_maps" / "plastic_cup.json").exists():
@@ -688,7 +689,7 @@ def test_minimal_work_engine_refuses_before_any_trial(sets, match):
 
 @EXPERIMENT_RUN
 def test_wall_nonlinear_quick(tmp_path):
-    """Issue 13 scope 1: the quick run's headline numbers — at the calibrated E and the
+    """The quick run's headline numbers — at the calibrated E and the
     closings the cup is measured at, the nonlinear wall is softer than the linear one
     (0.74x at 3 N on the quick mesh); both jaws press alike (skips without the data)."""
     from workbench.experiments.wall_nonlinear import DEFAULT_CONFIG
@@ -708,7 +709,7 @@ def test_wall_nonlinear_quick(tmp_path):
 
 @EXPERIMENT_RUN
 def test_peers_quick(tmp_path):
-    """Issue 16: every peer on the same contacts, checked against what each must give."""
+    """Every peer on the same contacts, checked against what each must give."""
     assert main(["run", "peers", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     rows = list(csv.DictReader((tmp_path / "peers.csv").open()))
@@ -758,7 +759,7 @@ def test_peers_quick(tmp_path):
     assert P["mujoco_diameter"]["sphere"]["margin"]["median_log_ratio"] > 0
     assert P["mujoco_hertz"]["cylinder"]["margin"]["median_log_ratio"] < 0
     assert P["mujoco_hertz"]["cylinder"]["torsion_rel_err"] < -0.5
-    # where Hertz applies (issue 16: within 3 %): the layer's stiffening halves with a/H, and the
+    # where Hertz applies (the requirement: within 3 %): the layer's stiffening halves with a/H, and the
     # half-space limit it extrapolates to is Hertz's force
     hb = s["hertz_half_space"]
     e20, e40 = hb["force_rel_err"]

@@ -1,5 +1,5 @@
 """One-scalar calibration of a simulated stiffness map against a measured one
-(workbench.fem.calibration, issue 13): the factor, the held-out scores and their spread
+(workbench.fem.calibration): the factor, the held-out scores and their spread
 over random halves, the measurements of what one factor misses, and careless input."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""FEM profiles carry the solved force (fem/extract.py, issue 11).
+"""FEM profiles carry the solved force (fem/extract.py).
 
 ``λ_i`` is the magnitude of node i's contact force along the obstacle normal
 ``n_i`` (fem/contact.py), so the profile must have ``F = Σ p a = Σ λ`` and a
@@ -98,7 +98,7 @@ def _spread_bound(sol: ContactSolution, face_xy: np.ndarray) -> float:
 def _check_force(prof, sol, face_xy):
     total = sol.lam.sum()
     assert total > 0
-    # Σ p a = Σ λ: the issue's bound, and the exactness the construction gives
+    # Σ p a = Σ λ: the required bound, and the exactness the construction gives
     assert abs(prof.F - total) / total <= 5e-3
     assert prof.F == pytest.approx(total, rel=1e-12)
     # normal wrench force = the solution's force on the object −Σ λ_i n_i (independent sum)

@@ -1,5 +1,5 @@
 """A FEM profile through VTU (``ContactProfile.to_meshio`` / ``from_meshio``) keeps the solved
-force (issue 11): the exported normals and areas are read back.  That the extracted profile
+force: the exported normals and areas are read back.  That the extracted profile
 carries the solved force is tested in tests/test_fem_extract.py; ``sphere_press`` is in
 tests/conftest.py."""
 

@@ -1,4 +1,4 @@
-"""One meaning of "resisted" (issue 11): resists, min_grasp_force and q_robust agree on
+"""One meaning of "resisted": resists, min_grasp_force and q_robust agree on
 every contact model; known-force models tolerate jaw-force mismatch; the one-call
 evaluation reaches the same verdict; edge contacts are filtered.  evaluate_grasp's own
 behaviour (force scaling, profile checks, closed forms) is tested in test_evaluate.py."""
@@ -89,7 +89,7 @@ def test_point_contacts_never_resist_torsion_about_the_grasp_axis(scene):
 @pytest.mark.jit_only("over 15 s as pure Python")
 @pytest.mark.parametrize("model", ["planar", "3dls_nonplanar", "6dls", "6dfc"])
 def test_known_force_models_are_continuous_in_the_jaw_forces(model):
-    """Issue 11 item 2: with jaw 2 × 1.0002 the planar 3DLS was False at every force from
+    """With jaw 2 × 1.0002 the planar 3DLS used to be False at every force from
     3 to 50 N.  Within the sensor interval (config.TOL.known_force_rtol) the verdict is the
     same as for exactly equal forces; beyond it a force-known planar contact, which has no
     normal freedom, cannot balance the axis force (the documented limit)."""
@@ -207,8 +207,8 @@ def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
     w = gravity_wrench(0.3, [0, 0, 0])
     s_6dfw = per_jaw["6dfw"] / 4.0
     assert resists_exact(ex, w, MU, forces=ex.F * s_6dfw * 1.001)[0]  # exact ⊇ sampled
-    # the models do differ on this tilted grasp (the minimal forces are in the closing
-    # note of issue 11); polygonal soft points and REACH are the most conservative
+    # the models do differ on this tilted grasp (per_jaw holds their minimal
+    # forces); polygonal soft points and REACH are the most conservative
     assert per_jaw["soft_point"] >= per_jaw["6dfw"] and per_jaw["reach"] >= per_jaw["6dfw"], per_jaw
 
 
@@ -234,7 +234,7 @@ def test_antipodal_grasps_drop_edge_contacts():
             assert abs(off @ e1) < 0.75 * 0.01 and abs(off @ e2) < 0.75 * 0.02
 
 
-# --- regressions from the new-user trial of issue 11 -------------------------------------
+# --- regressions from a new-user trial ---------------------------------------------------
 
 
 def test_reach_profile_area_does_not_depend_on_the_triangulation():

@@ -1,5 +1,5 @@
 """Every contact model (workbench.grasp.models.MODELS) on the profiles of every profile source,
-through evaluate_grasp (issue 44): the FEM pad (sources.fem_jaw), REACH (sources.reach), a
+through evaluate_grasp: the FEM pad (sources.fem_jaw), REACH (sources.reach), a
 parametric surface (sources.surfaces via sources.scenes) and a measured-style mesh with
 pressures (ContactProfile.from_trimesh).  Each cell holds a weight two jaws clearly carry and
 drops one they clearly cannot; the models whose friction never exceeds Coulomb's (point, soft
@@ -28,7 +28,7 @@ FORCE = 20.0  # each jaw's reading [N]
 #: their minimal force is bounded below by Coulomb's; the fitted limit surfaces may overshoot
 #: it by their fitting error
 INNER = ("point", "soft_point", "reach", "6dfw")
-#: the test pad of tests/test_fem_jaw.py, coarser (8 x 12 face elements): profiles in ~0.2 s
+#: the test pad of tests/test_fem_jaw.py, coarser (8 x 12 face elements): profiles in a fraction of a second
 FEM_FACE = (0.016, 0.024)
 SLOW = pytest.mark.jit_only(
     "the limit-surface fits sample 48,483 twists per profile, 6DFW 600 on REACH's 1,900 elements: "
@@ -38,8 +38,8 @@ SLOW = pytest.mark.jit_only(
 
 def _fem_pad_source():
     """The FEM pad on a 128-gon cylinder (R 30 mm) grasped along y, the axis as an angle gives
-    it (x = 6e-17): curved contacts whose PCA plane lies a round-off off the xz-plane — the
-    planar model's crash of issue 44 (a w_max entry of -2.4e-11 refused as negative)."""
+    it (x = 6e-17): curved contacts whose PCA plane lies a round-off off the xz-plane — where the
+    planar model used to crash (a w_max entry of -2.4e-11 refused as negative)."""
     from workbench.fem.material import Material
     from workbench.fem.pad import PadGeometry, condense_pad
     from workbench.sources.fem_jaw import fem_jaw_profiles
@@ -145,7 +145,7 @@ def test_every_model_on_every_profile_source(made, ls_cache, source, model):
     contacts) hold 0.8 × 2 μ × the reading — inner 8-gons keep cos(π/8) = 0.92 of a circle, the
     fitted surfaces are within a few % of the exact set — and drop 1.2 × 2 μ × the larger Σ p a,
     beyond what any model credits; the minimal force converges (the planar model on FEM pad
-    profiles crashed, and on REACH ones was refused as exceeding its w_max, issue 44)."""
+    profiles crashed, and on REACH ones was refused as exceeding its w_max)."""
     grasp, profiles, face = made(source)
     w_in = _weight(profiles, 0.8 * 2 * MU * FORCE)
     ev = evaluate_grasp(
@@ -172,7 +172,7 @@ def test_every_model_on_every_profile_source(made, ls_cache, source, model):
         assert [c.model.dim for c in ev.contacts] == [3, 3]
 
 
-# --- the round-off that crashed the planar model (issue 44) ---------------------------------
+# --- the round-off that crashed the planar model -------------------------------------------
 
 
 def _flat_patch(normal, n=9, seed=0):

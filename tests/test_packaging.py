@@ -236,7 +236,7 @@ def _tests_module(name: str, test_file: Path) -> bool:
 
 
 def test_the_tests_mirror_the_modules():
-    """Every library module has its own test file that uses it (issue 15), or is listed above with
+    """Every library module has its own test file that uses it, or is listed above with
     the file that tests it and why."""
     modules = {n: p for n, p in _modules().items() if p.name != "__init__.py"}
     missing = []

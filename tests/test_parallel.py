@@ -72,7 +72,7 @@ def _worker_environment() -> tuple[dict, int, list]:
 
 def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_malloc_policy():
     # Dask's default MALLOC_TRIM_THRESHOLD_ turns off glibc's dynamic mmap threshold and made
-    # the FEM solves 1.5x slower in a worker (workbench.parallel.local_cluster); the BLAS caps
+    # the FEM solves slower in a worker (workbench.parallel.local_cluster); the BLAS caps
     # must be in place before the BLAS is imported.  Dask writes the pre-spawn environment into
     # the driver too: Numba's thread count must not go there (the driver's Numba re-reads it
     # and refused: "Cannot set NUMBA_NUM_THREADS to a different value")

@@ -1,6 +1,6 @@
 """Plausible ranges of the physical inputs (workbench.plausible): the rule of each quantity,
 and the library entry points that apply it — each fed the careless inputs new users gave
-(issue 44: a wall E in MPa, a force in millinewtons, μ as a percentage, a pad in mm ...)."""
+(a wall E in MPa, a force in millinewtons, μ as a percentage, a pad in mm ...)."""
 
 from __future__ import annotations
 
@@ -69,7 +69,7 @@ def test_each_unit_slip_is_named_with_the_value_to_pass(key):
 
 def test_the_issues_mistakes_get_the_likely_unit():
     cases = [
-        ("wall_modulus", 2500.0, "MPa — pass 2.5e+09"),  # E=2500 meant as MPa (issue 44)
+        ("wall_modulus", 2500.0, "MPa — pass 2.5e+09"),  # E=2500 meant as MPa (a new user's input)
         ("wall_modulus", 2.5, "GPa — pass 2.5e+09"),
         ("pad_modulus", 1.0, "MPa — pass 1e+06"),
         ("poisson", 45.0, "per cent — pass 0.45"),
@@ -164,7 +164,7 @@ def test_library_entry_points_apply_the_ranges():
 
 
 def test_evaluate_grasp_refuses_the_issues_force_and_friction():
-    """evaluate_grasp(force=1e4) and mu=50 ran silently before issue 44."""
+    """evaluate_grasp(force=1e4) and mu=50 used to run silently."""
     import trimesh
 
     from workbench.grasp.evaluate import evaluate_grasp
@@ -222,7 +222,7 @@ def test_an_impossible_closing_is_flagged_not_reported_as_a_stiffness():
 
 
 def test_the_trials_silent_accepts_are_refused():
-    """Each of these ran silently before (issue 44's closing trial): a mass of 33,000 kg/m³, a pad
+    """Each of these used to run silently (a new-user trial): a mass of 33,000 kg/m³, a pad
     in millimetres given to the FEM adapter (4 m² of contact after 100 s), pose noise of metres,
     a REACH press 30 mm deep, a sampler's opening in mm, a string modulus."""
     import trimesh
@@ -286,7 +286,7 @@ def test_a_closing_beyond_small_deflections_is_warned(caplog):
 
 def test_the_second_trials_silent_accepts_are_refused_or_warned():
     """A density in the unusual band warns; a 25 kN scene, a 20 cm pose noise, a centre of mass
-    20 cm off a 3 cm cube, a 20 m pad condensed directly are refused (issue 44's second trial)."""
+    20 cm off a 3 cm cube, a 20 m pad condensed directly are refused (a second new-user trial)."""
     import trimesh
 
     from workbench.fem.material import Material
@@ -324,7 +324,7 @@ def test_the_second_trials_silent_accepts_are_refused_or_warned():
 )
 def test_wall_stiffness_refuses_map_settings_before_any_work(tmp_path, sets, words):
     """These crashed after partial outputs (n_angles=0: 'zero-size array') or blamed the geometry
-    ('the grasp axis misses the object' for heights in per cent) — second trial of issue 44."""
+    ('the grasp axis misses the object' for heights in per cent) — a second new-user trial."""
     from workbench.experiment_config import build_config
 
     with pytest.raises(SystemExit) as exc:
@@ -335,7 +335,7 @@ def test_wall_stiffness_refuses_map_settings_before_any_work(tmp_path, sets, wor
 
 def test_press_pad_stiffness_offset_and_task_load_are_judged():
     """A Winkler modulus in Pa/m given as 200, a refinement length of 1 m, a pad offset in mm and
-    a 1 MN task load ran silently (second trial of issue 44)."""
+    a 1 MN task load ran silently (a second new-user trial)."""
     import trimesh
 
     from workbench.grasp.evaluate import evaluate_grasp
@@ -357,7 +357,7 @@ def test_press_pad_stiffness_offset_and_task_load_are_judged():
 def test_the_third_trials_silent_accepts_are_refused():
     """FEM-level calls a researcher also uses: jaws in mm and a vertical axis in squeeze, a ring
     radius in mm or negative, a non-rigid obstacle transform, a negative condensation patch, an
-    obstacle placed 25 m away, a 50 m jaw stroke (issue 44's third trial)."""
+    obstacle placed 25 m away, a 50 m jaw stroke (a third new-user trial)."""
     import trimesh
 
     from workbench.fem.material import Material

@@ -1,4 +1,4 @@
-"""Given jaw profiles are checked against the grasp they are used for (issue 44): a profile
+"""Given jaw profiles are checked against the grasp they are used for: a profile
 that records its source (ContactProfile.source, a ProfileSource: the FEM pad's reading and the
 largest it reaches) is not scaled to a reading the source cannot produce, and is warned about
 when scaled far from the reading it was made at (the FEM pad's contact grows with force); and

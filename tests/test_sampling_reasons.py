@@ -1,4 +1,4 @@
-"""workbench.grasp.sampling says what its long calls do (issue 44): the candidates dropped per
+"""workbench.grasp.sampling says what its long calls do: the candidates dropped per
 reason come back with the grasps (``Grasps.dropped``, ``n_candidates``), fewer grasps than
 asked for is a WARNING naming the reasons, and a progress bar can be asked for."""
 

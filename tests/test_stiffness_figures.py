@@ -1,4 +1,4 @@
-"""Issue 13: the stiffness-validation figures render offscreen on a synthetic cylinder."""
+"""The stiffness-validation figures render offscreen on a synthetic cylinder."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The sampler-independent limit-surface error (issue 12): exact cases and a
+"""The sampler-independent limit-surface error: exact cases and a
 brute-force check of every step on a small contact.  The thesis-code wrench sets are
 tested in test_thesis_code.py."""
 

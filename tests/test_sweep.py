@@ -20,7 +20,7 @@ from workbench import cli
 from workbench.sweep import SweepError, expand_grid, flatten_scalars, point_key, run_sweep
 
 BIN = Path(sys.executable).parent
-#: a discretization run of ~3 s: two meshes, few timing twists
+#: a discretization run of seconds: two meshes, few timing twists
 TINY = ["--quick", "--set", "n_elements=[25,50]", "--set", "timing_twists=2", "--set", "timing_repeats=1"]
 TINY_SETS = {"n_elements": [25, 50], "timing_twists": 2, "timing_repeats": 1}
 
@@ -519,7 +519,7 @@ def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(
         _lock(out, stack)
         with pytest.raises(SweepError, match="another sweep is running in .*give another --out"):
             run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
-        # refused before a cluster is started (that took 10-16 s on two busy cores)
+        # refused before a cluster is started (that takes seconds on two busy cores)
         with pytest.MonkeyPatch.context() as mp:
             mp.setattr("workbench.sweep._client", lambda *a: pytest.fail("a cluster was started"))
             with pytest.raises(SweepError, match="another sweep is running"):

@@ -1,4 +1,4 @@
-"""Sweeps and memory (issue 44): wall-stiffness's memory model against its measurements, points
+"""Sweeps and memory: wall-stiffness's memory model against its measurements, points
 too large for a worker refused before they run, a point whose worker is restarted for memory
 reported as such, finished points never computed twice after a worker dies, ``--plot``
 metrics checked before any work, and plots with log axes and units.

@@ -1,5 +1,5 @@
 """workbench.limit_surface.thesis_code: the "thesis-code" protocol's wrench set and its
-training split (issue 12) — one wrench per occupied cell, the frame dependence, μ cancelled
+training split — one wrench per occupied cell, the frame dependence, μ cancelled
 by the normalisation, a hand-counted split, and the protocol settings refused by name."""
 
 import numpy as np

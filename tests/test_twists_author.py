@@ -1,4 +1,4 @@
-"""The author's twist grid ("thesis-code" protocol, issue 12): its documented structure
+"""The author's twist grid ("thesis-code" protocol): its documented structure
 and bad input.  The grid downsampling is tested in test_downsample.py."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Careless inputs to the object-wall contract (issue 13 acceptance): a mesh that is not
+"""Careless inputs to the object-wall contract: a mesh that is not
 watertight, in millimetres, or with sections that are not star-shaped; locations off the
 surface or an odd number of them; a wall thickness <= 0; a locations file in another
 format; a non-numeric ``--set``.  Each must stop with a message naming what was
@@ -443,7 +443,7 @@ def test_minimal_work_refuses_careless_settings_before_any_work(capsys, tmp_path
     assert not (tmp_path / "out" / "rows.jsonl").exists()  # refused before any work
 
 
-# ---------------------------------------------------------------- new-user trial (issue 13)
+# ------------------------------------------------------------------------ a new-user trial
 
 
 def test_thickness_in_millimetres_is_refused(capsys, tmp_path, files):

@@ -134,7 +134,7 @@ def _normal_wrench(rx, ry, rz, nx, ny, nz, wgt, out):
 def _cell_slots(table, ids, n, slots, new_rows):
     """Slots of quadrature cells by id in an open-addressing hash table, the missing ids
     added (``surfaces._CellGeometry``): one compiled pass per call, where a lookup in sorted
-    ids (searchsorted, insert) took a dozen NumPy calls and saved half the dict's time.
+    ids (searchsorted, insert) takes a dozen NumPy calls.
 
     table : (2, C) int64, ids (-1: empty) and their slots; C a power of two, more than
         ``len(ids)`` entries left empty (the caller grows it), so every probe ends

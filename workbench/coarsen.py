@@ -1,4 +1,4 @@
-"""A contact profile seen at a coarser element size (issue 12).
+"""A contact profile seen at a coarser element size.
 
 The thesis's FEM contacts have ~3 mm elements ("each contact surface consists of
 3×3 rectangular elements", §3.5.2; ``ELEMENT_SZ_OBJECT = 3`` mm in the author's

@@ -38,7 +38,7 @@ def _env_flag(name: str, default: bool) -> bool:
 # elements at exactly zero.
 FASTMATH: frozenset[str] = frozenset({"reassoc", "contract", "arcp", "nsz"})
 
-# On-disk caching of compiled kernels (skips ~1-2 s of JIT per process).
+# On-disk caching of compiled kernels (a new process loads them instead of compiling again).
 CACHE: bool = _env_flag("WORKBENCH_NUMBA_CACHE", True)
 
 # prange over twists in the batched kernels; off for debugging / profiling.
@@ -112,7 +112,7 @@ class Tolerances:
 
     # Quadrature cells whose Gauss points one surface_wrenches call keeps (1 KB each at
     # order 4: ~100 MB): the twists' adaptive refinements revisit the same cells, and the
-    # surface's evaluation costs ~30x the wrench kernel (surfaces._CellGeometry).
+    # surface's evaluation costs far more than the wrench kernel (surfaces._CellGeometry).
     quadrature_cache_cells: int = 100_000
 
     # Gauss-Legendre points per direction per quadrature cell.
@@ -396,7 +396,7 @@ class Defaults:
     pitch_range: tuple[float, float] = (-1.0, 1.0)
     # Training wrenches of the limit surfaces of grasp analysis (SamplerSpec kinds):
     # "mix" = the thesis sampler's 600 (§3.3.2) plus the author's grid, downsampled
-    # (issue 12).  Chosen on the sensitivity scene against the noise-free exact
+    # (the thesis-code protocol).  Chosen on the sensitivity scene against the noise-free exact
     # margins (results/sensitivity -> training_distribution): median |log ratio|
     # ellipsoid thesis 0.019, thesis-code 0.022, mix 0.014; quartic 0.004 / 0.004 /
     # 0.002 (the bisection's resolution is 0.002).
@@ -424,9 +424,9 @@ class Defaults:
     author_fit_collapse_below: float = 0.5
 
     # Dense QP solver of wrench resistance: "auto" = quadprog up to
-    # qp_auto_large variables, DAQP above (benchmarks/bench_grasp.py: both agree
-    # with the exact LP on every case; 12 variables quadprog 0.22 ms vs DAQP
-    # 0.24 ms, 224 variables (REACH) quadprog 34 ms vs DAQP 3.8 ms).
+    # qp_auto_large variables, DAQP above: both agree with the exact LP on every case,
+    # and DAQP's time grows far more slowly with the variables (benchmarks/bench_grasp.py,
+    # results/benchmarks/grasp.json "qp_solvers"; docs/decisions.md).
     # REACH profiles (sources/reach.py): surface elements whose outward normal has
     # less than this component against the approach (within ~6 deg of parallel to
     # it) get no Winkler pressure — their area under the pad vanishes; without it
@@ -459,11 +459,9 @@ class Defaults:
     # HiGHS presolve on the workbench's LPs (grasp/resistance/solvers: MinLP, the minimal-force
     # LPs, and highs_lp, the residual LPs of vertex sets and the exact column LPs): off.
     # They are small and dense (2 jaws x 200 directions: 407 rows, 26 columns; HiGHS
-    # gets the dual, 26 x 407) and presolve cost 0.6 of 1.5 ms per solve without
-    # shrinking them (benchmarks/bench_minimal_work.py); the optimum is the same.  On
-    # sensitivity's LPs (10 rows; ~420 columns in resists_exact, ~1,200 for two 6DFW
-    # contacts) presolve was most of the time: 5.5 -> 1.1 ms and 13.5 -> 1.9 ms a solve
-    # (medians over 299 and 84 LPs), the optimum within 3e-12 (absolute).
+    # gets the dual, 26 x 407; sensitivity's: 10 rows, ~420 to ~1,200 columns), so presolve
+    # cannot shrink them and only adds its own time; the optimum is the same (the
+    # measurements: docs/decisions.md).
     lp_presolve: bool = False
     # HiGHS's simplex scaling of that model (simplex_scale_strategy: 0 off, 2 its
     # default equilibration) and its dual feasibility tolerance.  In the dual HiGHS
@@ -472,22 +470,20 @@ class Defaults:
     # up to 8.8e-8, which moved Σf by up to 5.1e-3 relative (on the grasps of
     # minimal-work's three measured objects: the facets are nearly parallel to the light
     # objects' small gravity wrench); at 1e-9 by 1.8e-13, Σf within 1.7e-10 of the
-    # equilibrated solve.  The rows are already scaled by D (gws.capacity_scaling), and
-    # unscaled at 1e-9 the three poses of a grasp solved in 2.46 ms against 2.7-3.0 ms
-    # equilibrated (median over those 102 grasps).
+    # equilibrated solve.  The rows are already scaled by D (gws.capacity_scaling), so
+    # HiGHS's own equilibration only adds time (docs/decisions.md).
     lp_scale_strategy: int = 0
     lp_dual_feasibility_tolerance: float = 1e-9
     # Clarabel's KKT factorisation in the SOS-convex quartic fits (limit_surface/
     # quartic.py, through cvxpy): "faer" (supernodal) on max_threads threads, or
-    # "qdldl".  Measured on S4 (300 wrenches, 21x21 and 15x15 PSD blocks): faer on one
-    # thread 0.10 s a fit, on two 0.26 s, QDLDL 0.26 s, the same optimum to 1e-12;
-    # one thread also keeps Dask workers (one core each) from oversubscribing.
+    # "qdldl".  faer on one thread is the fastest of the three, with the same optimum
+    # (docs/decisions.md); one thread also keeps Dask workers (one core each) from
+    # oversubscribing.
     quartic_kkt_method: str = "faer"
     quartic_kkt_threads: int = 1
     # Clarabel's iterative refinement steps per KKT solve in those fits (its default: up to
-    # 10).  Measured on 18 bottle-contact fits (fem-fitting, one thread): 107 ms a fit at 10,
-    # 92.5 ms at 1 with the optimal residual the same to 7e-11 (relative), 67 ms at 0
-    # (refinement off) but the residual up to 4.4e-6 off.
+    # 10).  One step gives the optimal residual of ten in less time; none is faster still
+    # but leaves the residual visibly off (docs/decisions.md).
     quartic_kkt_refinement: int = 1
     # Directions of the 6DLS/6DFC linearisation (Eqs. 3.19–3.24) when a caller
     # asks for representation="inner" or "outer".
@@ -503,32 +499,30 @@ class Defaults:
 
     # Inner-loop iterations (elements x twists, points x monomials, ...) from which a parallel
     # (prange) kernel call runs on Numba's threads; below, on the calling thread alone (a
-    # thread mask of one, the same compiled kernel: workbench.kernel_launch).  A parallel
-    # region costs ~4 µs to start on idle threads and up to ~1 ms when another process holds
-    # the other core; 50,000 iterations are ~50-150 µs of serial work here.
+    # thread mask of one, the same compiled kernel: workbench.kernel_launch).  Below it a
+    # call's serial work is small beside what a parallel region can cost to start when another
+    # process holds the other core (docs/decisions.md).
     parallel_min_work: int = 50_000
 
     # Rows of one experiment from which it runs them on a local Dask cluster (one worker per
-    # core) when its ``workers`` setting is 0 (auto): below it a cluster's start (~3 s with
+    # core) when its ``workers`` setting is 0 (auto): below it a cluster's start (seconds, with
     # the workers' imports) outweighs what a second core saves.
     cluster_min_rows: int = 24
     # Tasks a local cluster's scheduler hands a worker ahead, per thread (Dask's
     # distributed.scheduler.worker-saturation; inf: all of them at once, Dask's work stealing
     # balancing the tail).  Dask's default 1.1 keeps the rest on the scheduler and sends one
-    # when one finishes: a worker -> scheduler -> worker round trip a row (no-op rows, one
-    # worker: 2.9-3.1 ms a row at 1.1 and 2.0, 0.7-1.0 ms at inf; 3.8-4.8 ms at 1.1 on a
-    # slower host) but the rows go to whichever worker is free, longest first.  Rows here last
-    # 0.1-5 s and differ, and handing them all out at submit split them by count: fem-fitting
-    # --quick on a running 2-worker cluster, 1.42x over serial at inf, 1.74x at 1.1 (tasks
-    # 3.3-3.8 s -> 2.9-3.0 s; benchmarks/bench_sweep.py).  An existing cluster (--scheduler)
-    # keeps its own setting.
+    # when one finishes: a worker -> scheduler -> worker round trip a row, but the rows go to
+    # whichever worker is free, longest first.  Rows here are long and uneven, and handing
+    # them all out at submit splits them by count, which costs far more than the round trips
+    # (benchmarks/bench_sweep.py, results/benchmarks/sweep.json; docs/decisions.md).  An
+    # existing cluster (--scheduler) keeps its own setting.
     cluster_worker_saturation: float = 1.1
 
     # Grasps to run from which fem-fitting gives each task a grasp's profiles (its jaw
     # displacements solved once, in order) instead of one profile (which solves the
-    # displacements before it again: ~25 ms a profile, ~6 % of a full run, from the solve times
-    # in results/fem-fitting/profiles.csv); below it one profile a
-    # task keeps both workers busy on short runs.  Changes no number, only the timings.
+    # displacements before it again: a small but real share of a full run, docs/decisions.md);
+    # below it one profile a task keeps both workers busy on short runs.  Changes no number,
+    # only the timings.
     grasp_tasks_from: int = 64
 
     # Seconds a sweep on an existing cluster (--scheduler) waits for the scheduler to answer
@@ -546,8 +540,8 @@ class Defaults:
     sweep_column_hints: int = 5
 
     # A sweep whose first this-many finished points all failed stops (the rest cancelled),
-    # printing the last error: a setting that fails every point (measured: a 10,000-point
-    # grid failing each point in 2 s) would otherwise run to the end.  0: never stop.
+    # printing the last error: a setting that fails every point (a 10,000-point grid, each
+    # point failing after seconds) would otherwise run to the end.  0: never stop.
     sweep_stop_after_failures: int = 5
 
     # Seconds an automatic progress bar (progress=None on a terminal: grasp sampling) waits
@@ -565,9 +559,8 @@ class Defaults:
     # Right-hand sides from which a sparse factor with row copies of L and U
     # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
     # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
-    # by column.  Measured on the box's wall (41,472 dofs, 23 M entries in L + U), ms per
-    # column: SuperLU 11.8 / 10.7 / 10.7 at 8 / 48 / 96 columns, the row kernels 13.7 /
-    # 4.5 / 4.4; equal near 16.
+    # by column: from about this many columns on, the row kernels are the faster
+    # (docs/decisions.md).
     blocked_solve_min_rhs: int = 16
 
 

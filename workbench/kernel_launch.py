@@ -1,14 +1,12 @@
 """How a parallel kernel is called: on Numba's threads when the call has work enough for them,
 else on the calling thread alone.
 
-Starting a parallel region costs a few µs on idle threads, but when other processes hold the
-other cores the region waits until its threads are scheduled (and they spin afterwards, burning
-the CPU time those processes need): measured here beside two busy processes, a one-twist
-``frictional_wrenches`` took 750 µs on average through the two-thread region against 45 µs on
-one thread, and a sensitivity margin row — ~20,000 single-point quartic values and gradients —
-used 95 CPU-s instead of 23.  The same compiled kernel runs either way, with a thread mask of
-one (``numba.set_num_threads``, ~3 µs a call), so the bits do not depend on the choice: the
-kernels split their loop over items that do not share a sum.
+Starting a parallel region is cheap on idle threads, but when other processes hold the other
+cores the region waits until its threads are scheduled (and they spin afterwards, burning the
+CPU time those processes need), so a small call costs many times more on threads than alone
+(the measurements: docs/decisions.md).  The same compiled kernel runs either way, with a thread
+mask of one (``numba.set_num_threads``), so the bits do not depend on the choice: the kernels
+split their loop over items that do not share a sum.
 """
 
 from __future__ import annotations

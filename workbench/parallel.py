@@ -1,4 +1,4 @@
-"""An experiment's independent rows as Dask tasks (issue 14): one call for serial and distributed.
+"""An experiment's independent rows as Dask tasks: one call for serial and distributed.
 
 :func:`row_client` gives the client an experiment's rows run on — none (serial, in this
 process), a local cluster of one single-threaded worker process per core, or an existing
@@ -66,8 +66,9 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
 def _blas_controller() -> Any:
     """This process's ``threadpoolctl.ThreadpoolController``, made again only when modules were
     imported since (an import is how a new BLAS or OpenMP library gets loaded).  Making one scans
-    every loaded shared library: ~3-4 ms here, which ``threadpool_limits`` paid on every task —
-    most of a row's scheduling overhead (``benchmarks/bench_sweep.py``); reusing it costs ~30 µs."""
+    every loaded shared library, which ``threadpool_limits`` would do on every task — most of a
+    row's scheduling overhead (``benchmarks/bench_sweep.py``; docs/decisions.md); reusing one
+    costs next to nothing."""
     import sys
 
     return _controller(len(sys.modules))
@@ -180,9 +181,8 @@ def local_cluster(n_workers: int, threads: int = 1, memory_limit: int | None = N
     # pools read it on import — but Dask sets it with os.environ.update in *this* process, where
     # it stays: only what the driver may share goes there.  Dask's default MALLOC_TRIM_THRESHOLD_
     # is removed: setting it at all turns off glibc's dynamic mmap threshold, so every large
-    # temporary is mmap'ed and page-faulted afresh — measured on fem-fitting's full-mesh
-    # reference solve, 6.1 s in a plain process, 9.3-9.5 s with the variable at 64 KiB, 128 KiB
-    # or 16 MiB (10.7 s in a worker), which made two workers barely faster than one.  Numba's
+    # temporary is mmap'ed and page-faulted afresh, which slowed fem-fitting's full-mesh
+    # reference solve so much that two workers were barely faster than one (docs/decisions.md).  Numba's
     # thread count cannot go there (a driver whose Numba pool already runs on more threads
     # raises when it re-reads NUMBA_NUM_THREADS): it is the worker's own environment, and each
     # task caps Numba's threads anyway (_one_blas_thread).
@@ -264,7 +264,7 @@ def map_rows(
             # one Numba thread too, or their pools spin on the workers' cores
             extra = _one_blas_thread(lambda _: meanwhile(), None) if meanwhile is not None else None
             # results arrive with the completions (a batch per event-loop turn): a fut.result() per
-            # task crossed to the client's loop thread and back each time (~0.3 ms a row here)
+            # task crossed to the client's loop thread and back each time, a cost paid per row
             for fut, res in as_completed(futures, with_results=True):
                 step(jobs[index[fut.key]], res)
         finally:

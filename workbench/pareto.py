@@ -1,5 +1,5 @@
 """Runtime-versus-error trade-offs: the Pareto front of (runtime, error) points and the comparison
-of two methods' fronts at equal runtime and at equal error (issue 16).
+of two methods' fronts at equal runtime and at equal error.
 
 A point is one setting of one method (a mesh resolution, a twist count ...) measured as
 ``(runtime [s], error [-])``, both > 0.  The *front* is the set of points no other point beats in

@@ -1,4 +1,4 @@
-"""The sections of ``results/REPORT.md`` that are not thesis claims (issue 16): our contact
+"""The sections of ``results/REPORT.md`` that are not thesis claims: our contact
 against the peers (``peers/summary.json``) and the runtime-versus-error trade-off of our own
 knobs (``benchmarks/pareto.json``), rendered from the committed summaries only.
 

@@ -1,4 +1,4 @@
-"""Offscreen figures of a stiffness validation (issue 13): measured stiffness of an
+"""Offscreen figures of a stiffness validation: measured stiffness of an
 object's antipodal grasps against a calibrated model's prediction (thesis §4.3.3.1,
 Fig. 4.13).
 

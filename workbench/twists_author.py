@@ -1,4 +1,4 @@
-"""The twist grid of the thesis author's code ("thesis-code" protocol, issue 12).
+"""The twist grid of the thesis author's code ("thesis-code" protocol).
 
 The thesis (§3.3.2) describes its motion sampling in words; the author's public
 MATLAB code (``martinajingyixu/non-planar-surface-contact``,

@@ -15,7 +15,7 @@ approximation of W — a finite sample in 6D misses a lot — so the question
    ``−w·y − Σ_i h_i(y) > 0`` certifies non-membership; else the support points
    ``argmax_{c∈C_i} c·y`` join the columns and the LP is solved again.
 
-This is the ground truth of the sensitivity experiment (issue 5 scope 7).
+This is the ground truth of the sensitivity experiment.
 """
 
 from __future__ import annotations

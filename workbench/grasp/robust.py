@@ -58,8 +58,8 @@ class Perturbation:
 
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a × b`` of (..., 3) arrays by components: ``np.cross``'s axis handling costs ~80 µs
-    a call, a sizeable part of the minimal-work metric's 5 ms per grasp."""
+    """``a × b`` of (..., 3) arrays by components: ``np.cross``'s axis handling costs a
+    sizeable part of the minimal-work metric's 5 ms budget per grasp (docs/decisions.md)."""
     return np.stack(
         [
             a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],

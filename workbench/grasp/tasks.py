@@ -36,8 +36,8 @@ def task_wrenches(task: str, mass: float, com, axis) -> np.ndarray:
         raise ValueError(f"axis must be a non-zero (3,) direction; got {axis!r}")
     a = a / np.linalg.norm(a)
     # object turned by +θ about the axis in the world: world gravity seen in the object frame
-    # is g turned by −θ — Rodrigues' formula on the one vector (scipy's Rotation costs 0.2 ms
-    # a call, a twentieth of the minimal-work metric's budget per grasp)
+    # is g turned by −θ — Rodrigues' formula on the one vector (scipy's Rotation costs a
+    # noticeable share of the minimal-work metric's budget per grasp: docs/decisions.md)
     angles = -np.radians(np.asarray(TASKS[task]))[:, None]
     g = np.array([0.0, 0.0, -1.0])
     a_x_g = np.array([-a[1], a[0], 0.0])  # a × (0, 0, −1)

@@ -1,4 +1,4 @@
-"""The author's fitting objective for both 6DLS models (issue 12).
+"""The author's fitting objective for both 6DLS models.
 
 The thesis text fits limit surfaces by least squares on values (Eq. 3.11 with
 Eq. 3.13 for the ellipsoid, Eq. 3.17 for the quartic).  The author's code
@@ -109,8 +109,8 @@ def _ellipsoid_maps(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) -> dict:
-    """The author's objective straight in Clarabel (cvxpy's compile cost ~0.1 s a fit and
-    ~2 s of import a process, for a program whose size changes with every training set):
+    """The author's objective straight in Clarabel (cvxpy would compile it anew for every fit,
+    its size changing with every training set, on top of cvxpy's slow import):
     ``min λ t + ω_w Σ u + ω_t Σ v`` over ``[c, (svec S, svec A), t, u, s, v]`` with
     ``‖c‖ <= t``, ``|Φ c − 1| <= u``, ``s >= 0``, ``‖G_k c − s_k n_k‖ <= v_k`` (the twist
     terms only when ω_t > 0) and ``c`` PSD (ellipsoid: c = svec A) or SOS-convex (quartic:
@@ -129,8 +129,8 @@ def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) ->
         Phi = monomials(y, expo)
         G = np.stack(_gradient_design(y, expo), axis=1)  # (K, r, L)
         # Eq. 3.16 as equalities over both Gram blocks (fit_quartic's elimination of the
-        # symmetric block made this program's KKT system denser: 1.5 s against 1.1 s a fit,
-        # K = 250 wrenches with twists; cvxpy's form 1.35 s)
+        # symmetric block made this program's KKT system denser and its fit slower:
+        # docs/decisions.md)
         Z, nc, nS, nA = _clarabel_data(r)
         n_gram = nS + nA
     twist = tw > 0

@@ -1,5 +1,5 @@
 """Grid downsampling of wrench samples for training (the author's ``downsamplewrench.m``,
-"thesis-code" protocol of issue 12).
+the "thesis-code" protocol).
 
 The normalised wrenches' bounding box is cut into cells of side ``(max − min) / steps``
 per dimension (``steps = 2.5``: three cells per dimension, the last reaching past the
@@ -13,8 +13,8 @@ cell widths, so that round-off cannot move it across; members equally near their
 (the two of a two-member cell always; mirror images on a symmetric contact) keep the first in
 sample order, not whichever the round-off of the distances happens to favour (MATLAB's ``min``
 keeps the first of exact ties, but which ties are exact is round-off there too).  Both make
-the training set a function of the contact, not of its last bits: a profile perturbed by
-1e-14 used to swap mirror twists and move the 6DLS model by percents.
+the training set a function of the contact, not of its last bits: without them a profile
+perturbed by 1e-14 can swap mirror twists and move the 6DLS model by percents.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
             f"steps must be a positive number of cell widths per range, at most 1000 (the author's "
             f"2.5); got {steps!r}"
         )
-    Wt = np.ascontiguousarray(W.T)  # (6, N): per-coordinate passes run along memory (~4x faster)
+    Wt = np.ascontiguousarray(W.T)  # (6, N): per-coordinate passes run along contiguous memory
     lo, hi = Wt.min(axis=1), Wt.max(axis=1)
     width = (hi - lo) / steps
     n_cells = int(np.floor(steps)) + 1
@@ -59,8 +59,8 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
     counts = np.diff(np.r_[starts, len(ks)])
     Ws = W[order]
-    # one pass over all cells instead of a loop per cell (with the transposed passes above:
-    # 25.6 -> 19.7 ms on 48,483 wrenches, ~250 cells); the sums are row after row as
+    # one pass over all cells instead of a loop per cell (docs/decisions.md); the sums are row
+    # after row as
     # W[members].mean(axis=0) adds them, so the means, distances and kept indices are those of
     # the per-cell loop to the last bit
     means = np.add.reduceat(Ws, starts, axis=0) / counts[:, None]

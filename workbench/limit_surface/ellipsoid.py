@@ -56,7 +56,7 @@ class EllipsoidLS(LimitSurfaceModel):
     degree: int = 2
 
     def _value_n(self, x: np.ndarray) -> np.ndarray:
-        # two operands: einsum's three-operand loop took 6x as long (48,483 rows: 8.0 vs 1.2 ms)
+        # two operands: einsum's three-operand loop is several times slower (docs/decisions.md)
         return np.einsum("ni,ni->n", x @ self.A_e, x)
 
     def _gradient_n(self, x: np.ndarray) -> np.ndarray:

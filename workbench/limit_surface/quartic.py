@@ -6,7 +6,7 @@ taken swap-invariant: 21×21 and 15×15 blocks, :mod:`.sos`).  The K-term object
 is compressed by QR to ``‖R a - c‖²`` so the conic problem depends only on r.
 Clarabel gets it directly (its fixed rows cached per r); another solver (SCS,
 the fallback) through a cvxpy problem with Parameters, built once per r and
-re-solved (``BUILD_COUNT`` counts builds: cvxpy's compile took ~2 s a process).  Dropped
+re-solved (``BUILD_COUNT`` counts builds: cvxpy's compile is the expensive step).  Dropped
 directions enter as ``‖Cᵀx̂‖⁴ / flat⁴`` so the 6D function stays convex and
 homogeneous of degree 4.
 """
@@ -153,7 +153,7 @@ def _quartic_problem(r: int):
     R = cp.Parameter((L, L))
     c = cp.Parameter(L)
     # ‖R a - c‖ has the minimiser of Σ (f - 1)² and, as one second-order cone,
-    # solves ~2x faster in Clarabel than the squared form (measured on S1-S6)
+    # solves faster in Clarabel than the squared form (docs/decisions.md)
     prob = cp.Problem(cp.Minimize(cp.norm(R @ a - c, 2)), [sos_convex])
     return prob, a, blocks, R, c
 
@@ -289,8 +289,8 @@ def _reduced_maps(r: int) -> tuple[sp.csc_matrix, sp.csc_matrix]:
     those of ``V2`` and of the antisymmetric block's ``B_A`` (checked here for the r asked;
     true for r = 1..6, tests/test_quartic.py), so ``S`` is a linear function of ``(a, A)`` and
     the fit needs no equality rows: at r = 6, 247 variables and 478 cone rows instead of 478
-    and 919 (441 equalities of rank 231): 8 % less time a fit (six bottle contacts, the same
-    process: 0.143 -> 0.131 s median), the same optimum to the solver's tolerance.  P and Q hold small
+    and 919 (441 equalities of rank 231), a smaller program with the same optimum to the solver's
+    tolerance (docs/decisions.md).  P and Q hold small
     constants (12, 6, 4, 2√2, 2, √2); entries below 1e-12 are round-off of exact zeros."""
     zero, L, nS, nA = _clarabel_data(r)
     Z = zero.toarray()

@@ -44,7 +44,7 @@ def _solves_an_sdp(name: str) -> bool:
 def check_sdp_solver(solver: object, what: str = "solver") -> str:
     """``solver`` if it names one of :func:`sdp_solvers` (any case), else ValueError listing them.
     "CLARABEL" and "SCS" (the defaults; dependencies of workbench and of cvxpy) pass without
-    importing cvxpy (~1.3 s), which a quartic fit with Clarabel never needs."""
+    importing cvxpy (a slow import), which a quartic fit with Clarabel never needs."""
     if isinstance(solver, str) and solver.upper() in ("CLARABEL", "SCS"):
         return solver
     valid = sdp_solvers()

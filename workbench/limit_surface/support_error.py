@@ -1,4 +1,4 @@
-"""Sampler-independent error of a fitted 6D limit surface (issue 12).
+"""Sampler-independent error of a fitted 6D limit surface.
 
 Eq. 3.18 averages ``|f(ŵ) − 1|`` over *sampled* wrenches, so its value depends
 on where the sampler puts them: a sampler that crowds wrenches where the surface

@@ -1,4 +1,4 @@
-"""Training and scoring wrenches of the "thesis-code" protocol (issue 12).
+"""Training and scoring wrenches of the "thesis-code" protocol.
 
 The author's code (``computewrenchtwistfitls.m``) samples twists on a grid
 (:func:`workbench.twists_author.sample_twists_author`), computes every wrench,

@@ -1,6 +1,6 @@
 """Peer contact models as adapters, each giving for one contact case a
 :class:`~workbench.profile.ContactProfile` (or, for a point-contact friction model, its 6D wrench-set
-description) to compare with our FEM (issue 16):
+description) to compare with our FEM:
 
 - :mod:`.hertz` — analytic Hertz sphere on an elastic half-space;
 - :mod:`.elastic_foundation` — the Winkler soft finger of GraspIt! (Ciocarlie et al. 2007);

@@ -1,4 +1,4 @@
-"""The measures by which the peers' contacts are compared with a reference contact (issue 16):
+"""The measures by which the peers' contacts are compared with a reference contact:
 the pressure field on a common grid, the torsion length, the 6DFW set's support along the six
 axis twists, the 6DLS fitted to a peer's contact scored against the reference's exact 6DFW set,
 and the two-jaw grasp in which resistance margins are compared.

@@ -109,7 +109,7 @@ def fem_jaw_profile(
     geometry, material : the pad (default :class:`~workbench.fem.pad.PadGeometry`, 20 × 40 × 5 mm,
         and :class:`~workbench.fem.material.Material`, E = 1 MPa, ν = 0.45); or ``pad``, a
         condensed pad already built (:func:`~workbench.fem.pad.condense_pad`) — reuse it across
-        grasps, its condensation (20–70 s, disk-cached) dominates the first call.
+        grasps, its condensation (tens of seconds, disk-cached) dominates the first call.
 
     Returns a :class:`~workbench.profile.ContactProfile` whose normal force along
     ``approach`` is ``force`` (to 1e-9 relative) and whose normals point out of the object,

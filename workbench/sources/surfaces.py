@@ -185,11 +185,11 @@ class _CellGeometry:
     The adaptive quadrature of a twist chunk re-visits the cells other twists and chunks
     refined into — measured over 1,000 twists at rtol 1e-4, S1 asked for 118,420 cells of
     which 14,902 differ, S4 262,258 of 21,659 — and evaluating the surface (its Python
-    callables) and gathering the points cost ~30x the wrench kernel on them.  A cell is
+    callables) and gathering the points cost far more than the wrench kernel on them.  A cell is
     named by its id from :func:`_adaptive` (``cell_ids=True``; one instance per set of
     initial cells, so an id is one cell's bounds) and looked up in a hash table by a kernel:
-    hashing the bounds' bytes in a dict took 30 % of the CPU time of S4's 48,483-twist
-    quadrature in ls-fitting (6.9 of 22.7 s), the ids and the table 8 % (1.5 of 18.5 s).  A
+    hashing the bounds' bytes in a Python dict was a large share of the quadrature's CPU time,
+    the ids and the kernel's table a small one (docs/decisions.md).  A
     cell deeper than the ids reach (a negative id) is keyed by its bounds (u0, u1, v0, v1),
     bit for bit: children are midpoints of their parent's, so a cell reached twice has the
     same bytes.  Holds at most ``max_cells`` cells (or one call's): when a call's new cells do

@@ -21,8 +21,8 @@ class CutStore:
     def __init__(self) -> None:
         # per model: (model, A buffer (m, 6), b buffer (m,), [first, end) of the live cuts).  The
         # live cuts are a slice of the buffers, so rows() is a view, not a restack: a program is
-        # assembled many times between adds and stacking ~2,000 cuts each time took 12 % of a
-        # sensitivity margin row, and with a restack after every add ~8 % (both measured).  An
+        # assembled many times between adds, and restacking the cuts, each time or after every
+        # add, was a visible share of a sensitivity margin row (docs/decisions.md).  An
         # add writes past the live slice and dropping the oldest moves `first`, so a view handed
         # out earlier never changes; a full buffer is replaced by a new one, not overwritten.
         # An entry exists from its first add on, so its live slice is never empty.

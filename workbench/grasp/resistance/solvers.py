@@ -25,8 +25,8 @@ def _qp_opts(solver: str) -> dict:
         # DAQP's plain active set cycles on the near-singular Hessian when the residual
         # is non-zero; its proximal-point mode is robust but less accurate (~1e-6)
         "daqp": {"eps_prox": 1e-8},
-        # HiGHS's QP solver was seen to cycle for > 30 min on one 12-variable program
-        # (benchmarks/bench_grasp.py): a time limit turns that into a recorded failure
+        # HiGHS's QP solver can cycle for very long on a small program (benchmarks/bench_grasp.py,
+        # docs/decisions.md): a time limit turns that into a recorded failure
         "highs": {"time_limit": 2.0},
     }.get(solver, {})
 
@@ -103,7 +103,7 @@ def _slack_form(prog: Program):
 def _csc_arrays(M: np.ndarray | sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(indptr, indices, data) of ``M`` (m, n) in compressed columns, row indices sorted, the
     zeros left out: what ``scipy.sparse.csc_matrix(M)`` holds, built from a dense ``M`` in NumPy
-    (scipy's constructor spends ~0.3 ms in Python on the workbench's 10 x 420 LPs)."""
+    (scipy's constructor's Python overhead is a sizeable part of a small LP's solve)."""
     if sp.issparse(M):
         M = sp.csc_matrix(M)
         M.sort_indices()
@@ -135,8 +135,8 @@ def highs_lp(
     ``(x (n,), row duals (m,), objective)``, None unless optimal.
 
     cost : (n,); M : (m, n) dense or sparse; row duals as ``linprog``'s ``marginals`` (∂ objective / ∂ row
-    bound).  scipy's ``linprog`` spends ~3–12 ms per call cleaning and converting its inputs
-    in Python, more than HiGHS takes on the workbench's small LPs."""
+    bound).  scipy's ``linprog`` spends longer per call cleaning and converting its inputs
+    in Python than HiGHS takes on the workbench's small LPs (docs/decisions.md)."""
     import highspy
 
     inf = highspy.kHighsInf
@@ -195,7 +195,7 @@ class MinLP:
     HiGHS gets the LP's dual, ``max −wᵀμ − hᵀλ`` over ``λ >= 0`` with one row per
     column of the LP above, and solves it by the primal simplex; ``y`` is read off the
     dual values of those rows.  The dual is the smaller basis (26 rows against 407 on a
-    two-jaw 6DLS grasp at M = 200: 0.87 against 1.20 ms a cold solve), and the
+    two-jaw 6DLS grasp at M = 200) and the faster cold solve (docs/decisions.md), and the
     disturbance enters only its objective, so a previous optimal basis stays feasible
     for the next disturbance.  The dual is always feasible (``μ = λ = 0``), so an
     unbounded dual is an infeasible LP ("infeasible").
