@@ -94,7 +94,7 @@ def test_every_field_has_a_rule_and_every_default_passes_it():
         ({"max_cut_rounds": 2.5}, r"max_cut_rounds must be an int >= 0; got 2.5 \(float\)"),
         ({"quadrature_max_cells": True}, r"quadrature_max_cells must be an int >= 1; got True \(bool\)"),
         ({"quadrature_rtol": None}, r"quadrature_rtol must be a finite number > 0; got None \(NoneType\)"),
-        ({"mu": True}, r"mu must be a finite number > 0; got True \(bool\)"),
+        ({"work_eps": True}, r"work_eps must be a finite number > 0; got True \(bool\)"),
         ({"qp_solver": "nonesuch"}, r"qp_solver must be one of \['auto', .*'quadprog'.*\]; got 'nonesuch'"),
         ({"qp_fallback_solver": "auto"}, r"qp_fallback_solver must be one of \['clarabel'.*got 'auto'"),
         ({"ls_training_sampler": "grid"}, r"must be one of \['thesis', '6dfc', 'thesis-code', 'mix'\]"),

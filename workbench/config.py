@@ -401,8 +401,6 @@ class Defaults:
     # ellipsoid thesis 0.019, thesis-code 0.022, mix 0.014; quartic 0.004 / 0.004 /
     # 0.002 (the bisection's resolution is 0.002).
     ls_training_sampler: str = "mix"
-    # Thesis §3.5.1: mu = 1 for the parametric-surface study.
-    mu: float = 1.0
     # Seed used by experiments when none is given.
     seed: int = 0
     # Weight beta_0 of the normal (twist) rows of the quartic fit: each sampled
@@ -737,7 +735,6 @@ _RULES: dict[str, Callable[[Any], Any]] = {
     "twist_radius_factor": _NONNEG,  # 0: every rotation axis through o
     "pitch_range": _reals(2, _real(), ordered=True, what="finite numbers (lo, hi) [l_s]"),
     "ls_training_sampler": _choice(lambda: SAMPLER_KINDS),
-    "mu": _POS,  # mu = 0 has no friction wrenches to normalise
     "seed": _count(0),  # numpy seeds are non-negative
     "quartic_normal_weight": _NONNEG,
     "author_fit_weights": _author_weights,
