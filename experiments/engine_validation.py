@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import write_summary
@@ -162,7 +163,14 @@ def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     ckpt, n_resumed, ran_on = run_checkpointed(
-        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME, unit="probe"
+        partial(_row, config=config),
+        _tasks(config),
+        _key,
+        out,
+        config,
+        desc=NAME,
+        unit="probe",
+        code=code_digest(__name__),
     )
     rows = {_key(t): ckpt.rows[_key(t)] for t in _tasks(config)}
 

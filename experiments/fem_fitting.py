@@ -52,6 +52,7 @@ from tqdm import tqdm
 from workbench import config as cfg
 from workbench import frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
 from workbench.fem.contact import solve_contact
@@ -516,7 +517,9 @@ def _checkpoint(out: Path, config: dict) -> Checkpoint:
     """The row checkpoint of this configuration: the settings that change no row (where the
     rows run, the output folder, the rendering) are left out of its key."""
     skip = ("out", "quick", "render_examples", "workers", "scheduler")
-    return Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in skip})
+    return Checkpoint(
+        out / "rows.jsonl", {k: v for k, v in config.items() if k not in skip}, code=code_digest(__name__)
+    )
 
 
 def _plan(bottles: list[Bottle], pad, config: dict, ckpt: Checkpoint) -> tuple[list, list, dict]:

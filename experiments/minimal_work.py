@@ -54,6 +54,7 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench import config as settings  # `config` is the run's dict here
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_rows
 from workbench.results import (
@@ -428,6 +429,7 @@ def run(config: dict) -> dict:
     ckpt = Checkpoint(
         out / "rows.jsonl",
         {k: v for k, v in config.items() if k not in WHERE_KEYS and k not in NL_KEYS},
+        code=code_digest(__name__),
     )
     n_resumed = len(ckpt.rows)
     meshes, smaps, cands, validation, interp, grasps_all, fig_data, at = {}, {}, {}, {}, {}, [], {}, {}

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from workbench.code_key import normalized_function
 from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import minimal_work as _mw
@@ -218,14 +219,13 @@ def _trial_code() -> str:
     """What a trial's outcome depends on besides its config: the engine trials' package, the
     tolerances, this module's trial function and MuJoCo's version (rows keyed by it survive
     edits elsewhere in the package)."""
-    import inspect
     from importlib.metadata import version
 
     return content_hash(
         [
             sources_hash("workbench.engine_trials", "workbench.config", "workbench.sources.jaws"),
-            inspect.getsource(_trial),
-            inspect.getsource(_mw._mesh),
+            normalized_function(_trial),
+            normalized_function(_mw._mesh),
             version("mujoco"),
         ]
     )

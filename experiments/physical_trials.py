@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.grasp.crossval import crossval_scores, seed_summary
 from workbench.grasp.gripper_eval import check_task, gripper_contact, judge_contact
@@ -236,7 +237,7 @@ def run(config: dict) -> dict:
     grasps = trials.grasps()
     todo_g = config["grasps"] or sorted(grasps)
     key_cfg = {k: v for k, v in config.items() if k not in WHERE_KEYS}
-    ckpt = Checkpoint(out / "rows.jsonl", key_cfg)
+    ckpt = Checkpoint(out / "rows.jsonl", key_cfg, code=code_digest(__name__))
     jobs = [(g, s) for g in todo_g for s in range(config["robust_seeds"]) if f"{g}/{s}" not in ckpt.rows]
 
     def keep(job, res) -> None:

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.code_key import code_digest
 from workbench.config import SAMPLER_KINDS
 from workbench.experiment_keys import Key, check_key
 from workbench.grasp import CutStore, Perturbation, q_robust, resists
@@ -427,6 +428,7 @@ def run(config: dict) -> dict:
     ckpt = Checkpoint(
         out / "rows.jsonl",
         {k: v for k, v in config.items() if k not in ("out", "workers", "scheduler")},
+        code=code_digest(__name__),
     )
     n_resumed = len(ckpt.rows)
     # every row (Dask), scored against the ground truth the driver computes meanwhile

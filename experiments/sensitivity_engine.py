@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from workbench.code_key import code_digest
 from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
 from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import sensitivity as _scene
@@ -192,7 +193,7 @@ def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     ckpt, n_resumed, ran_on = run_checkpointed(
-        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME
+        partial(_row, config=config), _tasks(config), _key, out, config, desc=NAME, code=code_digest(__name__)
     )
     seeds, n = config["seeds"], config["n_disturbances"]
     engine = {s: [ckpt.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}

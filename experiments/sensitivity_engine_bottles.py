@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from workbench.code_key import code_digest, normalized_function
 from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiment_keys import Key, check_key
 from workbench.experiments import sensitivity as _scene
@@ -263,7 +264,6 @@ def _engine_code() -> str:
     """What an engine row depends on besides its config: the engine trials' package, the bottle
     scene and family, the grasp sampler, the disturbance draw, this module's row, pool and input
     functions, MuJoCo's version — rows keyed by it survive edits elsewhere in the package."""
-    import inspect
     from importlib.metadata import version
 
     return content_hash(
@@ -276,7 +276,7 @@ def _engine_code() -> str:
                 "workbench.grasp.sampling",
                 "workbench.grasp.tasks",
             ),  # fmt: skip
-            *(inspect.getsource(f) for f in (_row, _inputs, _pool, pool_of, _mesh, _scene._inputs)),
+            *(normalized_function(f) for f in (_row, _inputs, _pool, pool_of, _mesh, _scene._inputs)),
             version("mujoco"),
         ]
     )
@@ -294,7 +294,13 @@ def run(config: dict) -> dict:
         row, _tasks(config, "engine"), _key, out, config, desc=f"{NAME} trials", code=_engine_code()
     )
     models, n_resumed_m, _ = run_checkpointed(
-        row, _tasks(config, "models"), _key, out / "models", config, desc=f"{NAME} models"
+        row,
+        _tasks(config, "models"),
+        _key,
+        out / "models",
+        config,
+        desc=f"{NAME} models",
+        code=code_digest(__name__),
     )
     n_resumed += n_resumed_m
     seeds, n = config["seeds"], config["n_grasps"]

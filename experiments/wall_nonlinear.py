@@ -30,6 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 from tqdm import tqdm
 
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.parallel import check_workers, run_rows
 from workbench.results import Checkpoint, save_figure, write_summary
@@ -101,7 +102,8 @@ def check_config(config: dict) -> None:
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
-    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in WHERE_KEYS})
+    key_config = {k: v for k, v in config.items() if k not in WHERE_KEYS}
+    ckpt = Checkpoint(out / "rows.jsonl", key_config, code=code_digest(__name__))
     name, F = config["object"], config["force"]
     geo, wall, L, measured = _inputs(config)
     n = len(L) // 2

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench.code_key import code_digest
 from workbench.experiment_keys import Key, check_key
 from workbench.fem.bottle import Bottle, bottle_family
 from workbench.fem.material import Material
@@ -220,7 +221,8 @@ def run(config: dict) -> dict:
     mat = Material(config["E"], config["nu"])
     family = bottle_family(seed=config["seed"])
     angles = np.arange(config["n_angles"]) * np.pi / config["n_angles"]
-    ckpt = Checkpoint(out / "rows.jsonl", {k: v for k, v in config.items() if k not in WHERE_KEYS})
+    key_config = {k: v for k, v in config.items() if k not in WHERE_KEYS}
+    ckpt = Checkpoint(out / "rows.jsonl", key_config, code=code_digest(__name__))
     n_resumed = len(ckpt.rows)
     jobs = []
     for i in config["bottles"]:
@@ -479,7 +481,7 @@ def run_object(config: dict) -> dict:
     n = len(L) // 2
     key_cfg = {k: v for k, v in config.items() if k != "out"}
     key_cfg |= {"object_sha": _file_hash(config["object"]), "locations_sha": _file_hash(config["locations"])}
-    ckpt = Checkpoint(out / "rows.jsonl", key_cfg)
+    ckpt = Checkpoint(out / "rows.jsonl", key_cfg, code=code_digest(__name__))
     n_resumed = len(ckpt.rows)
     todo = [i for i in range(n) if str(i) not in ckpt]
     build_s = 0.0

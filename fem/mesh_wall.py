@@ -128,17 +128,14 @@ def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, 
     return counts, np.split(dist, np.cumsum(counts)[:-1])
 
 
-#: bump when the cached ray hits would change (what _ray_hits stores or how it casts)
-RAYS_CACHE_VERSION = "1"
-
-
 def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
     """``<cache>/rays-<sha256>.npz`` for these rays on this mesh, or ``None`` with the cache off
     (:func:`workbench.cachedir.cache_dir`: ``$WORKBENCH_CACHE_DIR``, the folder the pads use).
     Casting is trimesh's pure-NumPy intersector here (seconds a wall, and every process of every
     run paid it — driver and each Dask worker of minimal-work, the
     wall-nonlinear runs), so the hits are kept by the content hash of the mesh's vertices and
-    faces, the rays, the intersector's class and trimesh's version."""
+    faces, the rays, the intersector's class, trimesh's version and the code of
+    :func:`_ray_hits` (its normalised syntax: a comment edit keeps the cache)."""
     import trimesh
 
     from workbench.cachedir import array_digest, cache_dir
@@ -152,7 +149,10 @@ def _rays_cache_path(mesh, origins: np.ndarray, dirs: np.ndarray):
         np.ascontiguousarray(origins, dtype=np.float64),
         np.ascontiguousarray(dirs, dtype=np.float64),
     )
-    tag = f"{type(mesh.ray).__module__};trimesh={trimesh.__version__};v={RAYS_CACHE_VERSION}"
+    from workbench.code_key import normalized_function
+
+    code = normalized_function(_ray_hits)[:16]
+    tag = f"{type(mesh.ray).__module__};trimesh={trimesh.__version__};code={code}"
     return folder / f"rays-{array_digest(arrays, tag)}.npz"
 
 

@@ -8,8 +8,9 @@ face: ``C = B K⁻¹ Bᵀ``, the inverse of the Schur complement of ``K`` onto t
 (:func:`workbench.fem.sparse_factor.schur_compliance`: one Cholesky factorisation with the
 face eliminated last), all three displacement components per face node, so tangential
 coupling is kept.  ``C`` scales exactly with ``1/E``, so it is computed for ``E = 1`` and
-cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and
-:data:`CACHE_VERSION`.
+cached on disk keyed by a content hash of the mesh, ``nu``, the scheme and the code that
+computes it (:func:`workbench.code_key.code_digest` of this module: a comment edit keeps the
+cache, a change of the condensation or of anything it imports rebuilds it).
 
 Cache location (:func:`pad_cache_dir`): ``cache_dir=None`` (default) uses
 ``$WORKBENCH_CACHE_DIR`` if set, else the user cache directory
@@ -35,6 +36,7 @@ from workbench.cachedir import (
     array_digest,
 )
 from workbench.cachedir import cache_dir as _cache_dir
+from workbench.code_key import code_digest
 from workbench.results import read_cache_npz, write_cache_npz
 
 from .elasticity import basis, stiffness
@@ -42,10 +44,6 @@ from .material import Material
 from .sparse_factor import schur_compliance
 
 log = logging.getLogger(__name__)
-
-#: bump when the condensation changes, to invalidate disk caches (part of every cache key)
-CACHE_VERSION = "1"
-
 
 @dataclass(frozen=True)
 class PadGeometry:
@@ -165,7 +163,7 @@ def pad_cache_dir(cache_dir: str | Path | bool | None = None) -> Path | None:
 
 def _key(mesh: MeshHex, nu: float, scheme: str) -> str:
     arrays = (np.ascontiguousarray(mesh.p, dtype=np.float64), np.ascontiguousarray(mesh.t, dtype=np.int64))
-    return array_digest(arrays, f"nu={nu!r};scheme={scheme};v={CACHE_VERSION}")
+    return array_digest(arrays, f"nu={nu!r};scheme={scheme};code={code_digest(__name__)}")
 
 
 def condense_pad(

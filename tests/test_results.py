@@ -78,7 +78,11 @@ def test_code_hash_follows_the_sources(tmp_path, monkeypatch):
     digest = results._sources_digest.__wrapped__()[:16]
     assert digest == results.code_hash()  # the copy is the running code
     f = roots["workbench.fem"] / "pad.py"
-    f.write_text(f.read_text() + "\n")
+    text = f.read_text()
+    # a comment, a blank line and a docstring edit are not code: the same digest
+    f.write_text(text.replace('"""', '""" (edited)', 1) + "\n# a comment\n")
+    assert results._sources_digest.__wrapped__()[:16] == digest
+    f.write_text(text + "\n_A_NEW_CONSTANT = 1\n")  # a statement is
     assert results._sources_digest.__wrapped__()[:16] != digest
 
 
@@ -188,7 +192,7 @@ def test_a_checkpoint_keyed_by_its_own_code_resumes_under_that_code_only(tmp_pat
     assert Checkpoint.peek(path, {"a": 1}) == {}  # the whole package's hash is another key
 
 
-def test_sources_hash_follows_the_named_modules_bytes(tmp_path, monkeypatch):
+def test_sources_hash_follows_the_named_modules_code(tmp_path, monkeypatch):
     import importlib
     import sys
 
@@ -203,6 +207,8 @@ def test_sources_hash_follows_the_named_modules_bytes(tmp_path, monkeypatch):
     importlib.invalidate_caches()
     h1 = sources_hash("hashme_pkg", "hashme_mod")
     assert h1 == sources_hash("hashme_mod", "hashme_pkg")  # order-free
+    (pkg / "a.py").write_text('"""A docstring."""\n\nX = 1  # a comment\n')
+    assert sources_hash("hashme_pkg", "hashme_mod") == h1  # not code
     (pkg / "a.py").write_text("X = 2\n")
     assert sources_hash("hashme_pkg", "hashme_mod") != h1
     assert sources_hash("hashme_mod") != sources_hash("hashme_pkg")

@@ -158,8 +158,10 @@ def content_hash(obj: Any, n: int = 16) -> str:
 def code_hash(n: int = 16) -> str:
     """The first ``n`` hex digits of the SHA-256 of the running package's Python sources —
     ``workbench``, ``workbench.fem``, ``workbench.experiments``: each file's module path and
-    bytes, the same in a checkout and in an installed wheel.  Keys every checkpointed row
-    (:class:`Checkpoint`): rows computed by other code are recomputed, never reused."""
+    normalised syntax (a comment, docstring or layout edit keeps it), the same in a checkout and
+    in an installed wheel.  Keys checkpointed rows by default (:class:`Checkpoint`; experiments
+    key theirs by :func:`workbench.code_key.code_digest` of what they import): rows computed by
+    other code are recomputed, never reused."""
     return _sources_digest()[:n]
 
 
@@ -178,18 +180,22 @@ def _module_files(mod: str) -> list[tuple[str, Path]]:
 
 
 def _files_digest(files: list[tuple[str, Path]]) -> str:
-    """SHA-256 hex digest of each file's name and bytes, in the given order."""
+    """SHA-256 hex digest of each file's name and normalised syntax
+    (:func:`workbench.code_key.normalized_source`: comments, docstrings and layout left out), in
+    the given order."""
     import hashlib
+
+    from .code_key import normalized_source
 
     h = hashlib.sha256()
     for name, f in files:
-        h.update(name.encode() + b"\0" + f.read_bytes() + b"\0")
+        h.update(name.encode() + b"\0" + normalized_source(f) + b"\0")
     return h.hexdigest()
 
 
 def sources_hash(*modules: str, n: int = 16) -> str:
     """The first ``n`` hex digits of the SHA-256 of the named modules' Python sources (a package:
-    every ``.py`` file under it), each file's module path and bytes: a narrower key than
+    every ``.py`` file under it), each file's module path and normalised syntax: a narrower key than
     :func:`code_hash` for rows that only these modules can change (e.g. engine trials), so an
     edit elsewhere does not recompute them."""
     return _files_digest([f for mod in sorted(modules) for f in _module_files(mod)])[:n]

@@ -72,7 +72,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from . import results as _results
+from .code_key import code_digest
 from .results import Checkpoint, _jsonable, atomic_write_bytes, code_revision, content_hash, versions
 
 log = logging.getLogger(__name__)
@@ -729,7 +729,10 @@ def run_sweep(
         k: content_hash({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()
     }
     ck_config = {"experiment": experiment, "sweep_format": 1}
-    stored = Checkpoint.peek(out / "points.jsonl", ck_config)
+    # the points' code: what the experiment's module imports (a comment edit, or an edit of a
+    # module it cannot run, reuses every point)
+    code = _code(_module(experiment))
+    stored = Checkpoint.peek(out / "points.jsonl", ck_config, code=code)
     # this grid's points finished only by other code: run again, their old rows kept as history
     other_code = _other_code_rows(Checkpoint.history(out / "points.jsonl"), configs, stored)
     done = {
@@ -766,7 +769,7 @@ def run_sweep(
     estimates = {k: memory_estimate(experiment, cfg) for k, (_, cfg) in configs.items()}
     revision, vers = code_revision(), versions()
     # a task's identity of its point: the config (less its output path) and the code
-    tokens = {k: content_hash([digests[k], _results.code_hash()], 16) for k in configs}
+    tokens = {k: content_hash([digests[k], code], 16) for k in configs}
     fresh: set[str] = set()
     refused: dict[str, str] = {}
     local_limit = None
@@ -806,7 +809,7 @@ def run_sweep(
             log.info("sweep point %s %s", k, msg)
         if not out.is_dir():
             _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
-        ckpt = _checkpoint(out, ck_config)
+        ckpt = _checkpoint(out, ck_config, code)
         _remove_stale_plots(out)
 
         def grid_rows() -> list[dict]:
@@ -907,6 +910,24 @@ def run_sweep(
             finish("stopped")
             raise
         return finish("complete")
+
+
+def _code(module: str) -> str:
+    """The code a sweep's points are keyed by: what ``module`` imports in the package
+    (:func:`~workbench.code_key.code_digest`); for an experiment module outside the package
+    (a user's own), the whole package's :func:`~workbench.results.code_hash` and that module's
+    normalised source."""
+    from importlib.util import find_spec
+
+    from .code_key import normalized_source
+    from .results import code_hash
+
+    try:
+        return code_digest(module)
+    except ValueError:
+        spec = find_spec(module)
+        own = normalized_source(spec.origin) if spec is not None and spec.origin else b""
+        return content_hash([code_hash(), own.decode()], 16)
 
 
 def _module(experiment: str) -> str:
@@ -1188,11 +1209,11 @@ def _unlink(path: Path) -> None:
         path.unlink()
 
 
-def _checkpoint(out: Path, ck_config: dict) -> Checkpoint:
-    """The sweep's checkpoint (``out/points.jsonl``, keeping the rows of other code and other
-    sweep formats as history); ``SweepError`` if it cannot be written."""
+def _checkpoint(out: Path, ck_config: dict, code: str) -> Checkpoint:
+    """The sweep's checkpoint (``out/points.jsonl``, its rows keyed by ``code``, keeping the rows
+    of other code and other sweep formats as history); ``SweepError`` if it cannot be written."""
     try:
-        return Checkpoint(out / "points.jsonl", ck_config, keep_other=True)
+        return Checkpoint(out / "points.jsonl", ck_config, keep_other=True, code=code)
     except OSError as exc:
         raise SweepError(f"--out {out} cannot be written ({exc}); give a writable directory") from None
 
