@@ -103,7 +103,7 @@ def _ray_hits(mesh, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, 
     """(hit count per ray, list of each ray's sorted hit distances), from the disk cache
     (:func:`_rays_cache_path`) when these rays were cast on this mesh before."""
     # a few rays cast faster than the mesh hashes
-    from workbench.results import read_cache_npz, write_cache_npz
+    from workbench.atomic_io import read_cache_npz, write_cache_npz
 
     path = _rays_cache_path(mesh, origins, dirs) if len(origins) >= 64 else None
 

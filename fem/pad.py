@@ -31,13 +31,13 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshHex
 
+from workbench.atomic_io import read_cache_npz, write_cache_npz
 from workbench.cachedir import (
     CACHE_ENV,  # noqa: F401 - re-exported: the variable's name
     array_digest,
 )
 from workbench.cachedir import cache_dir as _cache_dir
 from workbench.code_key import code_digest
-from workbench.results import read_cache_npz, write_cache_npz
 
 from .elasticity import basis, stiffness
 from .material import Material

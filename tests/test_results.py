@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from workbench import results
+from workbench import atomic_io, results
 
 
 def test_write_json_roundtrip_and_types(tmp_path):
@@ -111,7 +111,7 @@ def test_umask_fallback_without_proc_restores_the_mask(monkeypatch):
             raise OSError("no /proc")
 
         monkeypatch.setattr(results, "open", no_proc, raising=False)  # shadows the builtin
-        assert results.current_umask() == 0o027
+        assert atomic_io.current_umask() == 0o027
         assert os.umask(0o027) == 0o027  # restored, not left at the probe value
     finally:
         os.umask(old)
@@ -164,20 +164,20 @@ def test_cache_npz_round_trip_and_an_unreadable_file_is_none(tmp_path, caplog):
     None (the caller recomputes), the last two with one warning naming the file."""
     path = tmp_path / "x.npz"
     a = np.random.default_rng(0).standard_normal((3, 4))
-    assert results.write_cache_npz(path, a=a, n=np.int64(7))
-    got = results.read_cache_npz(path, lambda d: None, "test cache", "again")
+    assert atomic_io.write_cache_npz(path, a=a, n=np.int64(7))
+    got = atomic_io.read_cache_npz(path, lambda d: None, "test cache", "again")
     np.testing.assert_array_equal(got["a"], a)
     assert int(got["n"]) == 7
-    assert results.read_cache_npz(None, lambda d: None, "test cache", "again") is None
-    assert results.read_cache_npz(tmp_path / "none.npz", lambda d: None, "test cache", "again") is None
+    assert atomic_io.read_cache_npz(None, lambda d: None, "test cache", "again") is None
+    assert atomic_io.read_cache_npz(tmp_path / "none.npz", lambda d: None, "test cache", "again") is None
 
     def wrong_shape(d):
         raise ValueError(f"shape {d['a'].shape}")
 
     with caplog.at_level("WARNING"):
-        assert results.read_cache_npz(path, wrong_shape, "test cache", "again") is None
+        assert atomic_io.read_cache_npz(path, wrong_shape, "test cache", "again") is None
         path.write_bytes(path.read_bytes()[:40])
-        assert results.read_cache_npz(path, lambda d: None, "test cache", "again") is None
+        assert atomic_io.read_cache_npz(path, lambda d: None, "test cache", "again") is None
     assert caplog.text.count("test cache") == 2 and "shape (3, 4)" in caplog.text
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .results import atomic_write_bytes
+from .atomic_io import atomic_write_bytes
 
 log = logging.getLogger(__name__)
 

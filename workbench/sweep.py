@@ -72,8 +72,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from .atomic_io import atomic_write_bytes
 from .code_key import code_digest
-from .results import Checkpoint, _jsonable, atomic_write_bytes, code_revision, content_hash, versions
+from .results import Checkpoint, _jsonable, code_revision, content_hash, versions
 
 log = logging.getLogger(__name__)
 

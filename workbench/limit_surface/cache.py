@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 
 from .. import config
+from ..atomic_io import atomic_write_bytes
 from ..config import SAMPLER_KINDS
 from ..profile import ContactProfile
-from ..results import atomic_write_bytes
 from ..seeds import check_seed
 from ..twists import sample_twists_6dfc, sample_twists_thesis
 from ..twists_author import AUTHOR_LEVELS
