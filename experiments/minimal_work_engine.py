@@ -37,12 +37,13 @@ from pathlib import Path
 import numpy as np
 
 from workbench.code_key import normalized_function
-from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import minimal_work as _mw
 from workbench.grasp.judged import moved_within
 from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import content_hash, save_figure, sources_hash, write_csv, write_summary
+from workbench.units import check_turn_limit
 
 NAME = "minimal-work-engine"
 TASKS = _mw.TASKS

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from workbench.code_key import code_digest
-from workbench.engine_trials.trial import VERDICT_LIMITS, check_turn_limit
+from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiment_keys import Key, check_key, verdict_keys
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
@@ -47,6 +47,7 @@ from workbench.parallel import check_workers, run_checkpointed
 from workbench.results import write_csv, write_summary
 from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_solid
 from workbench.trial_figures import judged_figure
+from workbench.units import check_turn_limit
 
 NAME = "sensitivity-engine"
 

@@ -33,7 +33,7 @@ import logging
 
 import numpy as np
 
-from workbench import ContactProfile
+from workbench.profile import ContactProfile
 
 from .contact import ContactSolution
 from .pad import CondensedPad

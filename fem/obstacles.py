@@ -282,7 +282,7 @@ class MeshObstacle:
         )
         mesh.apply_scale(factor)
         if transform is not None:
-            from workbench.sources.gripper import check_rigid
+            from workbench.units import check_rigid
 
             mesh.apply_transform(check_rigid(transform, "transform (a rigid 4×4 in metres)"))
         self.mesh = mesh

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import config
+from ..units import check_turn_limit
 from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies, pad_spec
 from .settings import EngineSettings, import_mujoco
 
@@ -112,19 +113,6 @@ class TrialPhases:
 #: other verdict limits an experiment re-reads from its recorded trials (largest drift [mm],
 #: turn [deg]): the thesis chose 9 mm / 5 deg so that half its grasps succeeded (§4.1.3.1)
 VERDICT_LIMITS = ((2.0, 2.0), (5.0, 5.0), (9.0, 5.0), (9.0, 10.0))
-
-
-def check_turn_limit(value, what: str) -> None:
-    """A trial's turn limit ``value`` [deg], in [1, 90]: below one degree the verdict would judge
-    the pads' own compliance (a held object turns by 0.3-3 degrees with them), and the value was
-    most likely given in radians (the thesis's 5° is 0.0873 rad)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (0 < value <= 90):
-        raise ValueError(f"{what} must be an angle in [1, 90] degrees; got {value!r}")
-    if value < 1.0:
-        raise ValueError(
-            f"{what} = {value!r} deg is below one degree, where the pads' own compliance turns a held "
-            f"object: probably in radians — pass {np.degrees(value):.3g} [deg] (the thesis's limit is 5 deg)"
-        )
 
 
 @dataclass(frozen=True)

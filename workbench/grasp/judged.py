@@ -71,7 +71,7 @@ def verdict_limit_tables(pred: Mapping[str, Mapping], trials: Mapping, seeds: Se
     ``turn_deg``; no new simulation: a limit looser than the run's own reads trials that ran on
     after crossing it, which only moves them further): the held fraction, each model's recall,
     accuracy and precision (means over the seeds), and the models ranked by accuracy."""
-    from workbench.engine_trials.trial import check_turn_limit
+    from workbench.units import check_turn_limit
 
     out = {}
     for pair in limits:

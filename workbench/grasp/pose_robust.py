@@ -61,9 +61,9 @@ class PoseNoise:
 
 def check_pose(pose, what: str = "pose") -> np.ndarray:
     """``pose`` as a (4, 4) rigid transform [m], or a ValueError naming the mistake (the one rule
-    of :func:`~workbench.sources.gripper.check_rigid`: not 4×4, not a rotation, a translation in
+    of :func:`~workbench.units.check_rigid`: not 4×4, not a rotation, a translation in
     millimetres, a transposed matrix)."""
-    from ..sources.gripper import check_rigid
+    from ..units import check_rigid
 
     return check_rigid(pose, what)
 

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..plausible import RANGES, check
+from ..units import check_rigid
 from .jaws import check_jaw_force, jaw_frame
 
 __all__ = [
@@ -40,7 +41,6 @@ __all__ = [
     "SILICONE_MODULUS_PA",
     "as_polygon",
     "check_gripper",
-    "check_rigid",
     "gripper_from_yaml",
     "points_in_polygon",
     "polygon_area",
@@ -60,12 +60,6 @@ DATA_DIR = Path(__file__).resolve().parents[1] / "data" / "reach_trials"
 #: force needs (pressures are rescaled to the force reading).
 SILICONE_MODULUS_PA = 1.0e6
 
-# no gripper is 5 m from the object it holds (the physical inputs' ranges: workbench.plausible)
-_MAX_TRANSLATION_M = 5.0
-# |RᵀR − I| allowed in a rigid transform: 6-digit rotations (REACH's) are off by ~4e-7
-_RIGID_ATOL = 1e-5
-
-
 def check_pad_mu(mu) -> float:
     """``mu`` as a float if it is a pad's friction coefficient, in (0, 2] (rubber on plastic
     ~0.3–1.5); else ValueError naming the likely slip (30 for 0.3: a percentage; 0: no friction,
@@ -83,50 +77,6 @@ def check_pad_mu(mu) -> float:
 
 
 # ---------------------------------------------------------------- rigid transforms
-
-
-def check_rigid(T, what: str, *, atol: float = _RIGID_ATOL) -> np.ndarray:
-    """``T`` as a (4, 4) float array if it is a rigid transform [m], else ValueError naming the fault.
-
-    Checks the shape, finiteness, the bottom row ``[0, 0, 0, 1]``, a translation under 5 m (else
-    "millimetres?"), ``max |RᵀR − I| <= atol`` (else "scaled" or "sheared") and ``det R = +1``.
-    """
-    try:
-        T = np.array(T, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a 4×4 homogeneous transform of numbers; got {T!r}") from None
-    if T.shape != (4, 4):
-        raise ValueError(f"{what} must be a 4×4 homogeneous transform; got shape {T.shape}")
-    if not np.isfinite(T).all():
-        raise ValueError(f"{what} has non-finite entries: {T.tolist()}")
-    if not np.allclose(T[3], [0, 0, 0, 1], atol=1e-9):
-        hint = " (transposed? pass T.T)" if np.allclose(T[:, 3], [0, 0, 0, 1], atol=1e-9) else ""
-        raise ValueError(f"{what} must have the bottom row [0, 0, 0, 1]; got {T[3].tolist()}{hint}")
-    dist = float(np.linalg.norm(T[:3, 3]))
-    if dist > _MAX_TRANSLATION_M:
-        raise ValueError(
-            f"{what} translates by {dist:.4g} m (more than {_MAX_TRANSLATION_M:g} m): given in "
-            "millimetres? transforms are in metres: divide the translation by 1000"
-        )
-    R = T[:3, :3]
-    err = float(np.abs(R.T @ R - np.eye(3)).max())
-    if err > atol:
-        s = np.linalg.svd(R, compute_uv=False)
-        kind = (
-            f"a rotation scaled by {s.mean():.4g} (a unit conversion applied to the whole matrix?)"
-            if s.max() - s.min() <= atol * s.mean()
-            else "sheared or rounded"
-        )
-        raise ValueError(
-            f"{what} is not rigid: its rotation is not orthonormal (max |RᵀR − I| = {err:.3g} > "
-            f"{atol:g}), {kind}; pass a rotation (e.g. orthonormalise it with "
-            "scipy.spatial.transform.Rotation.from_matrix(R).as_matrix())"
-        )
-    if np.linalg.det(R) < 0:
-        raise ValueError(
-            f"{what} is a reflection (det R = -1), not a rotation: a left-handed frame; flip one axis"
-        )
-    return T
 
 
 # ---------------------------------------------------------------- polygons

@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .gripper import DATA_DIR, check_rigid
+from ..units import check_rigid
+from .gripper import DATA_DIR
 
 __all__ = [
     "REACH_MASS_KG",
