@@ -61,6 +61,27 @@ def test_run_rows_says_where_the_rows_ran_and_returns_the_drivers_share():
     assert ran.startswith("dask") or (os.cpu_count() or 1) == 1
 
 
+def _settings_seen(_job) -> tuple[float, float]:
+    return config.TOL.resist_rtol, config.DEFAULTS.work_eps
+
+
+def test_worker_processes_compute_under_the_drivers_configure():
+    # configure() used to change the driver only: rows on worker processes ran at the defaults
+    from distributed import Client
+
+    default = _settings_seen(None)
+    assert config.changed() == {}
+    with config.override(resist_rtol=default[0] / 10, work_eps=default[1] * 2):
+        assert config.changed() == {"resist_rtol": default[0] / 10, "work_eps": default[1] * 2}
+        got = {}
+        with Client(dashboard_address=None, processes=True, n_workers=1, threads_per_worker=1) as c:
+            map_rows(_settings_seen, range(2), got.__setitem__, client=c)
+            assert c.run(_settings_seen, None) != {}  # the worker's own process keeps its defaults
+            assert set(c.run(_settings_seen, None).values()) == {default}
+    assert got == {0: (default[0] / 10, default[1] * 2), 1: (default[0] / 10, default[1] * 2)}
+    assert config.changed() == {}
+
+
 def _worker_environment() -> tuple[dict, int, list]:
     import numba
     from threadpoolctl import threadpool_info

@@ -215,3 +215,17 @@ def test_sources_hash_follows_the_named_modules_code(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="no module 'no_such_module_here'"):
         sources_hash("no_such_module_here")
     sys.modules.pop("hashme_pkg", None)
+
+
+def test_checkpoint_rows_are_keyed_by_the_settings_in_force(tmp_path):
+    # a row computed under another tolerance is another row; at the defaults the key is unchanged
+    from workbench import config
+    from workbench.results import Checkpoint
+
+    path = tmp_path / "rows.jsonl"
+    Checkpoint(path, {"a": 1}, code="c").add("r", {"x": 1})
+    with config.override(resist_rtol=config.TOL.resist_rtol / 10):
+        assert Checkpoint.peek(path, {"a": 1}, code="c") == {}
+        Checkpoint(path, {"a": 1}, code="c").add("r", {"x": 2})
+        assert Checkpoint.peek(path, {"a": 1}, code="c")["r"]["x"] == 2
+

@@ -718,3 +718,19 @@ def test_cli_says_why_points_ran_again(tmp_path, capsys, monkeypatch):
     assert cli.main(["sweep", "discretization", "--grid", "mu=[0.5]", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
     assert "0 resumed, 3 run" in text and "3 points were computed by other code (revisions abc123" in text
+
+
+def test_a_point_runs_under_the_drivers_settings_and_restores_the_workers(tmp_path, monkeypatch):
+    # configure() on the driver used to stay there: points ran on workers at the defaults
+    from workbench import config
+    from workbench.sweep import run_point
+
+    (tmp_path / "settings_toy.py").write_text(
+        "from workbench import config\n\ndef run(c):\n    return {'rtol': config.TOL.resist_rtol}\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    before = config.TOL.resist_rtol
+    settings = {"resist_rtol": before / 7}
+    res = run_point("x", {"out": str(tmp_path / "o")}, module="settings_toy", settings=settings)
+    assert res["status"] == "ok" and res["summary"]["rtol"] == before / 7
+    assert config.TOL.resist_rtol == before

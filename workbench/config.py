@@ -804,11 +804,25 @@ def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def configure(**values: Any) -> None:
     """Set tolerances and defaults by field name for the rest of this process, e.g.
-    ``config.configure(resist_rtol=1e-8)``.  (Dask workers are other processes: set them
-    there too, e.g. with ``client.run(config.configure, ...)``.)"""
+    ``config.configure(resist_rtol=1e-8)``.  An experiment's rows on Dask workers (other
+    processes) compute under the same settings: :func:`workbench.parallel.map_rows` passes
+    :func:`changed` with every task, and checkpoints key their rows by it."""
     global TOL, DEFAULTS
     tol, dft = _split(values)
     TOL, DEFAULTS = replace(TOL, **tol), replace(DEFAULTS, **dft)
+
+
+def changed() -> dict[str, Any]:
+    """The tolerances and defaults this process set away from their defaults (``configure`` /
+    ``override``), by field name: what a worker process needs to compute as this one does, and
+    what a cached result's key holds beside its inputs."""
+    base_tol, base_dft = Tolerances(), Defaults()
+    return {
+        f.name: getattr(now, f.name)
+        for now, base in ((TOL, base_tol), (DEFAULTS, base_dft))
+        for f in fields(now)
+        if getattr(now, f.name) != getattr(base, f.name)
+    }
 
 
 @contextmanager

@@ -41,9 +41,10 @@ __all__ = [
 ]
 
 
-def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
+def _one_blas_thread(fn: Callable[[Any], Any], job: Any, settings: dict | None = None) -> Any:
     """``fn(job)`` with one BLAS/OpenMP thread (threadpoolctl) and one Numba thread, wherever
-    it runs.
+    it runs, under the driver's ``settings`` (:func:`workbench.config.changed`: the tolerances and
+    defaults it set — a worker is another process, which would otherwise compute with its own).
 
     A row's numbers must not depend on where it ran: multithreaded BLAS sums in another
     order, and the thesis-code protocol's wrench-grid downsampling turns that last-bit
@@ -57,7 +58,7 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any) -> Any:
     before = numba.get_num_threads()
     numba.set_num_threads(1)  # prange reductions sum in another order on more threads too
     try:
-        with _blas_controller().limit(limits=1):
+        with _blas_controller().limit(limits=1), config.override(**(settings or {})):
             return fn(job)
     finally:
         numba.set_num_threads(before)
@@ -257,7 +258,9 @@ def map_rows(
     from distributed import as_completed, get_task_stream
 
     with get_task_stream(client) if stats is not None else nullcontext() as ts:
-        futures = client.map(partial(_one_blas_thread, fn), jobs, pure=False, retries=retries)
+        settings = config.changed()  # what configure() set here, for the workers' processes
+        task = partial(_one_blas_thread, fn, settings=settings)
+        futures = client.map(task, jobs, pure=False, retries=retries)
         index = {f.key: i for i, f in enumerate(futures)}
         try:
             # the driver is a third process beside the workers: its own share runs on one BLAS and

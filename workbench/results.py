@@ -308,8 +308,16 @@ class Checkpoint:
 
     @staticmethod
     def _config_hash(config: dict, code: str | None) -> str:
-        """The rows' key: ``config`` and ``code`` (default: the whole package's :func:`code_hash`)."""
-        return content_hash({"config": config, "code": code_hash() if code is None else code})
+        """The rows' key: ``config``, ``code`` (default: the whole package's :func:`code_hash`) and
+        the tolerances and defaults set away from their defaults (:func:`workbench.config.changed`:
+        a row computed under another ``resist_rtol`` is another row)."""
+        from . import config as _config
+
+        key = {"config": config, "code": code_hash() if code is None else code}
+        settings = _config.changed()
+        if settings:  # absent at the defaults: their rows keep the keys they had
+            key["settings"] = settings
+        return content_hash(key)
 
     @staticmethod
     def peek(path: Path, config: dict, *, code: str | None = None) -> dict[str, dict]:

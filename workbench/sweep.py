@@ -217,9 +217,11 @@ def run_point(
     module: str | None = None,
     point: str | None = None,
     token: str | None = None,
+    settings: dict | None = None,
 ) -> dict:
     """Run one point (in a Dask worker): ``{"status", "summary", "seconds", "error",
-    "peak_rss_bytes", "reused"}``.
+    "peak_rss_bytes", "reused"}``, under the driver's ``settings`` (:func:`workbench.config.changed`:
+    the tolerances and defaults it set; a worker is another process).
 
     An exception is caught and returned as ``status="failed"`` with its traceback, so one
     bad point never stops a sweep; ``threads`` caps Numba's threads in this process.
@@ -252,7 +254,10 @@ def run_point(
     measured = _reset_peak_rss()
     t0 = time.perf_counter()
     try:
-        summary = importlib.import_module(module or EXPERIMENTS[experiment]).run(dict(config))
+        from . import config as _config
+
+        with _config.override(**(settings or {})):
+            summary = importlib.import_module(module or EXPERIMENTS[experiment]).run(dict(config))
         res = {"status": "ok", "summary": _jsonable(summary), "error": None}
     except Exception:
         res = {"status": "failed", "summary": None, "error": traceback.format_exc()}
@@ -769,8 +774,10 @@ def run_sweep(
     module = _module(experiment)
     estimates = {k: memory_estimate(experiment, cfg) for k, (_, cfg) in configs.items()}
     revision, vers = code_revision(), versions()
-    # a task's identity of its point: the config (less its output path) and the code
-    tokens = {k: content_hash([digests[k], code], 16) for k in configs}
+    # a task's identity of its point: the config (less its output path), the code and the
+    # tolerances set away from their defaults (none: the key it always had)
+    ident = [code, _config_changed()] if _config_changed() else [code]
+    tokens = {k: content_hash([digests[k], *ident], 16) for k in configs}
     fresh: set[str] = set()
     refused: dict[str, str] = {}
     local_limit = None
@@ -913,6 +920,13 @@ def run_sweep(
         return finish("complete")
 
 
+def _config_changed() -> dict:
+    """The driver's tolerances and defaults away from their defaults (a point's identity)."""
+    from . import config
+
+    return config.changed()
+
+
 def _code(module: str) -> str:
     """The code a sweep's points are keyed by: what ``module`` imports in the package
     (:func:`~workbench.code_key.code_digest`); for an experiment module outside the package
@@ -979,6 +993,7 @@ def _run_points(
             module=points.module,
             point=k,
             token=points.tokens[k],
+            settings=config.changed(),
             key=f"sweep-{k}",
             pure=False,
             retries=points.retries,
