@@ -60,7 +60,7 @@ _SCENE_KEYS = (
 DEFAULT_CONFIG = {
     **{k: _scene.DEFAULT_CONFIG[k] for k in _SCENE_KEYS},
     "seeds": [0, 1, 2, 3, 4],  # the thesis ran each model's predictions five times (§4.1.3.4)
-    "n_disturbances": 40,  # grasps per seed
+    "n_disturbances": 20,  # grasps per seed: more narrow the spread of the seeds (each a trial)
     "models": list(_scene.DEFAULT_CONFIG["models"]),
     # the engine's pads (thesis §4.1.3.1: deformable fin-ray jaws), moulded to the patch
     "pad_E": 1e6,  # Pa, silicone
