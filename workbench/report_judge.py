@@ -14,6 +14,7 @@ from typing import Any
 #: Table 4.1 judged by the engine: (label, folder) of the default run and its knob sweeps
 SENSITIVITY_RUNS = (
     ("default (pad 1 MPa, μ 0.3)", "sensitivity-engine"),
+    ("40 grasps a seed", "sensitivity-engine-5x40"),
     ("pad modulus", "sensitivity-engine-pad-E"),
     ("friction μ", "sensitivity-engine-mu"),
     ("wrapped scene", "sensitivity-engine-wrapped"),
