@@ -12,7 +12,10 @@ ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="no make on this machine")
 
 
-@pytest.mark.parametrize("target", ["reproduce", "bench", "test", "test-nojit", "lint", "bench-shoulder", "fig3"])
+TARGETS = ["reproduce", "bench", "test", "test-nojit", "lint", "bench-shoulder", "fig3"]
+
+
+@pytest.mark.parametrize("target", TARGETS)
 def test_every_command_of_a_target_parses_in_sh(target):
     # make -n prints the commands (the venv's too, when its stamps are stale) without running them
     script = subprocess.run(
