@@ -69,12 +69,14 @@ def test_worker_processes_compute_under_the_drivers_configure():
     # configure() used to change the driver only: rows on worker processes ran at the defaults
     from distributed import Client
 
+    from workbench.parallel import local_cluster
+
     default = _settings_seen(None)
     assert config.changed() == {}
     with config.override(resist_rtol=default[0] / 10, work_eps=default[1] * 2):
         assert config.changed() == {"resist_rtol": default[0] / 10, "work_eps": default[1] * 2}
         got = {}
-        with Client(dashboard_address=None, processes=True, n_workers=1, threads_per_worker=1) as c:
+        with local_cluster(1, 1) as cluster, Client(cluster) as c:  # leaves the driver's environment be
             map_rows(_settings_seen, range(2), got.__setitem__, client=c)
             assert c.run(_settings_seen, None) != {}  # the worker's own process keeps its defaults
             assert set(c.run(_settings_seen, None).values()) == {default}
