@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from workbench.code_key import code_digest, module_closure, normalized_source, package_roots
+from workbench.code_key import code_digest, module_closure, module_imports, normalized_source, package_roots
 from workbench.results import Checkpoint
 
 
@@ -47,6 +47,11 @@ def test_the_closure_follows_used_imports_only(tmp_path):
     ]
     with pytest.raises(ValueError, match="'ckpkg.nope' is no module"):
         module_closure("ckpkg.nope", roots=roots)
+    # a's direct imports: `from .sub import d` is the module d, not the package; no script imports
+    assert module_imports("ckpkg.a", roots=roots) == {"ckpkg.b", "ckpkg.sub.d", "ckpkg.sub.e"}
+    assert module_imports("ckpkg", roots=roots) == {"ckpkg.c"}
+    with pytest.raises(ValueError, match="'ckpkg.nope' is no module"):
+        module_imports("ckpkg.nope", roots=roots)
 
 
 def test_a_comment_reuses_a_used_constant_recomputes_an_unused_module_reuses(tmp_path):

@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from workbench.code_key import module_imports
+
 ROOT = Path(__file__).resolve().parents[1]
 ARCHITECTURE = ROOT / "docs" / "architecture.md"
 
@@ -282,25 +284,6 @@ def _modules() -> dict[str, Path]:
     return dict(gen.source_files())
 
 
-def _imports(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
-    """The package's modules that ``name`` imports anywhere in its file (deferred too)."""
-    out = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.Import):
-            targets = [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parts = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
-                parts = parts[: len(parts) - (node.level - 1)]
-                base = ".".join(parts + ([node.module] if node.module else []))
-            targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base for a in node.names]
-        else:
-            continue
-        out.update(t for t in targets if t in modules and t != name)
-    return out
-
-
 def _table(text: str, heading: str) -> set[tuple[str, str]]:
     """(importer path, imported module) of the table right after the paragraph ``heading``
     starts."""
@@ -315,7 +298,7 @@ def test_architecture_md_lists_every_import_against_the_layers():
         layer = _layer(name)
         if layer not in _CORE:
             continue
-        for imported in _imports(name, path, modules):
+        for imported in module_imports(name) & set(modules):
             other = _layer(imported)
             row = (str(path.relative_to(ROOT)), imported)
             if other not in _CORE:

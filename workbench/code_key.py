@@ -22,7 +22,14 @@ from collections.abc import Iterable, Mapping
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["code_digest", "module_closure", "normalized_function", "normalized_source", "package_roots"]
+__all__ = [
+    "code_digest",
+    "module_closure",
+    "module_imports",
+    "normalized_function",
+    "normalized_source",
+    "package_roots",
+]
 
 
 @lru_cache(maxsize=1)
@@ -129,6 +136,17 @@ def _imports(name: str, path: Path, roots: Mapping[str, Path]) -> set[str]:
         if len(submodules) < len(names):  # a name the package itself defines or re-exports
             used.add(target)
     return {m for m in used if _file(m, roots) is not None}
+
+
+def module_imports(name: str, roots: Mapping[str, Path] | None = None) -> set[str]:
+    """The package modules whose code module ``name`` uses directly (:func:`_imports`: function-
+    level imports included, a ``__main__`` guard's not; ``from a import b`` is the module ``a.b``
+    when there is one).  Raises ``ValueError`` for a name that is no module under ``roots``."""
+    roots = package_roots() if roots is None else dict(roots)
+    path = _file(name, roots)
+    if path is None:
+        raise ValueError(f"module_imports: {name!r} is no module of {sorted(roots)}")
+    return _imports(name, path, roots)
 
 
 @lru_cache(maxsize=1024)
