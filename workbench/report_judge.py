@@ -118,23 +118,25 @@ def _work_rows(label: str, setting: str, s: dict, limits: bool) -> list[str]:
     return rows
 
 
+def _table(results: Path, runs: tuple, rows, missing: list[str]) -> list[str]:
+    """Every row of ``runs`` ((label, folder), the first one's verdict limits too) by ``rows``;
+    the folders not in ``results`` appended to ``missing``."""
+    out: list[str] = []
+    for label, folder in runs:
+        found = _runs(results, folder)
+        missing += [folder] if not found else []
+        for setting, s in found:
+            out += rows(label, setting, s, limits=folder == runs[0][1])
+    return out
+
+
 def render_judge_sections(results_dir: str | Path, link_prefix: str = "") -> str:
     """The Markdown section (a string starting with a newline; empty when no run is present)."""
     results = Path(results_dir)
     out: list[str] = []
     missing: list[str] = []
-    sens: list[str] = []
-    for label, folder in SENSITIVITY_RUNS:
-        runs = _runs(results, folder)
-        missing += [folder] if not runs else []
-        for setting, s in runs:
-            sens += _sensitivity_rows(label, setting, s, limits=folder == SENSITIVITY_RUNS[0][1])
-    work: list[str] = []
-    for label, folder in WORK_RUNS:
-        runs = _runs(results, folder)
-        missing += [folder] if not runs else []
-        for setting, s in runs:
-            work += _work_rows(label, setting, s, limits=folder == WORK_RUNS[0][1])
+    sens = _table(results, SENSITIVITY_RUNS, _sensitivity_rows, missing)
+    work = _table(results, WORK_RUNS, _work_rows, missing)
     if not sens and not work:
         return ""
     out += [

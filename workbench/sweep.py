@@ -776,7 +776,8 @@ def run_sweep(
     revision, vers = code_revision(), versions()
     # a task's identity of its point: the config (less its output path), the code and the
     # tolerances set away from their defaults (none: the key it always had)
-    ident = [code, _config_changed()] if _config_changed() else [code]
+    settings = _config_changed()
+    ident = [code, settings] if settings else [code]
     tokens = {k: content_hash([digests[k], *ident], 16) for k in configs}
     fresh: set[str] = set()
     refused: dict[str, str] = {}
@@ -984,6 +985,7 @@ def _run_points(
 
     from . import config
 
+    settings = config.changed()  # the driver's, once: every point runs under it
     futures = {
         client.submit(
             run_point,
@@ -993,7 +995,7 @@ def _run_points(
             module=points.module,
             point=k,
             token=points.tokens[k],
-            settings=config.changed(),
+            settings=settings,
             key=f"sweep-{k}",
             pure=False,
             retries=points.retries,
