@@ -25,7 +25,7 @@ RUN_ID := $(shell date +%Y%m%dT%H%M%S)
 OBJECTS := ../shared/data/deformable_objects
 FIG3_MODELS := models=["point","reach","6dls","6dfc"]
 TIMED  = REPRODUCE_RUN=$(RUN_ID) $(BIN)/python benchmarks/timed.py
-FIG3 = $(BIN)/python -c 'from workbench.trial_figures import fig_3; fig_3({"n_robust": \
+FIG3 = $(BIN)/python -c 'from workbench.runner.trial_figures import fig_3; fig_3({"n_robust": \
 	"results/physical-trials-fig3a/table.parquet", "sigma_trans": "results/physical-trials-fig3b/table.parquet"}, \
 	["point", "reach", "6dls", "6dfc"], "results/physical-trials/fig_3_6dfc.png")'
 reproduce: $(PEERS_STAMP)
@@ -91,8 +91,10 @@ fig3: $(STAMP)
 		--set '$(FIG3_MODELS)' --out results/physical-trials-fig3b
 	$(FIG3)
 
+# ruff, then the import direction of docs/architecture.md (pyproject.toml [tool.importlinter])
 lint: $(STAMP)
-	$(BIN)/ruff check workbench fem experiments tests benchmarks docs/generate_equations.py
+	$(BIN)/ruff check workbench tests benchmarks docs/generate_equations.py
+	$(BIN)/lint-imports --no-cache
 
 # bench-engine-trials reads results/engine-validation (make reproduce writes it)
 bench: $(PEERS_STAMP)

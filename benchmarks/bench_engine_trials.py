@@ -25,7 +25,7 @@ from pathlib import Path
 from bench_wrench import machine_roofline
 
 from workbench.engine_trials.reality import reach_cube_inputs, reach_trial, score_reach
-from workbench.results import code_hash, code_revision, versions, write_json
+from workbench.runner.results import code_hash, code_revision, versions, write_json
 
 OUT = Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "engine_trials.json"
 

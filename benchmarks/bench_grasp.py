@@ -34,7 +34,7 @@ from workbench.grasp.resistance.program import assemble
 from workbench.grasp.resistance.solvers import solve_min_lp
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
-from workbench.results import versions, write_json
+from workbench.runner.results import versions, write_json
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
 ROOT = Path(__file__).resolve().parents[1]

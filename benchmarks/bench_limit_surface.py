@@ -19,7 +19,7 @@ from workbench import (
     sample_twists_thesis,
     w_max,
 )
-from workbench.results import versions, write_json
+from workbench.runner.results import versions, write_json
 from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.timing import median_runtime
 

@@ -3,7 +3,7 @@
 ``results/benchmarks/memory_model.json``.
 
 A sweep refuses, before it runs, a point whose estimated peak memory exceeds its Dask
-worker's ``memory_limit`` (:mod:`workbench.sweep`); for wall-stiffness that estimate comes
+worker's ``memory_limit`` (:mod:`workbench.runner.sweep`); for wall-stiffness that estimate comes
 from the model fitted here.  Each measurement is one fresh interpreter running one
 ``wall-stiffness --quick`` point as a sweep's task would (serially, ``workers=1``) with
 ``mesh=[n_theta, n_z]`` — nothing else in the process — and reporting its own peak
@@ -49,7 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.results import code_revision, versions, write_json
+from workbench.runner.results import code_revision, versions, write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "benchmarks" / "memory_model.json"
@@ -59,7 +59,7 @@ MESHES = ([24, 12], [48, 24], [72, 36], [96, 48])
 #: else is allocated, then the wall's dofs and factor non-zeros from the per-process cache)
 CHILD = r"""
 import importlib, json, resource, sys, time
-from workbench.experiment_config import EXPERIMENTS, build_config
+from workbench.runner.experiment_config import EXPERIMENTS, build_config
 
 sets, out = json.loads(sys.argv[1]), sys.argv[2]
 cfg = build_config("wall-stiffness", True, out, None, sets)
@@ -136,8 +136,8 @@ def main() -> None:
     checks = []
     if not args.quick:
         print("how walls add up in one point:", flush=True)
-        from workbench.experiment_config import build_config
         from workbench.experiments.wall_stiffness import memory_estimate
+        from workbench.runner.experiment_config import build_config
 
         for sets in (
             {"mesh": [48, 24], "bottles": [0, 5, 20]},

@@ -1,7 +1,7 @@
 """The minimal-work metric per grasp with cached profiles and limit surfaces (the budget:
 "≤ 5 ms per grasp").
 
-One grasp is evaluated as ``experiments/minimal_work.py`` (``_grasp_row``) does, minus the
+One grasp is evaluated as ``workbench/experiments/minimal_work.py`` (``_grasp_row``) does, minus the
 wall FEM and the simulated truth: REACH profiles of both jaws at 10 N, the ellipsoidal
 6DLS of each (``contact_sets(..., "6dls", M)``) — built once per grasp, outside the timing
 — then, per grasp,
@@ -56,13 +56,13 @@ from workbench.grasp.sampling import horizontal_grasps
 from workbench.grasp.tasks import TASKS, task_wrenches
 from workbench.grasp.work import minimal_work, minimal_work_poses, q_force, q_work, work
 from workbench.limit_surface import LimitSurfaceCache
-from workbench.results import versions, write_json
+from workbench.runner.results import versions, write_json
 from workbench.sources.reach import jaw_profiles
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "deformable_objects"
 BUDGET_MS = 5.0  # the budget: the metric per grasp
-MU, F0, PAD, CLOSING = 0.5, 10.0, (0.02, 0.04), 1e-3  # experiments/minimal_work.py DEFAULT_CONFIG
+MU, F0, PAD, CLOSING = 0.5, 10.0, (0.02, 0.04), 1e-3  # workbench/experiments/minimal_work.py DEFAULT_CONFIG
 ROBUST_SAMPLES = 30  # its robust_samples (N_r)
 M_DEFAULT = inspect.signature(contact_sets).parameters["M"].default  # 200, also the experiment's "M"
 # normalisers only scale the qualities (fitted on training grasps in the experiment); any > 0 times the same

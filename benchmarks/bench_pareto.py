@@ -1,7 +1,7 @@
 """Runtime against error of the workbench's own knobs: one Pareto front per knob.
 
 Each point is one setting of one knob measured as (runtime [s], error against that family's best
-reference); per family the front (:func:`workbench.pareto.pareto_front`), where the default
+reference); per family the front (:func:`workbench.runner.pareto.pareto_front`), where the default
 setting sits on it, and the cheapest setting within error budgets of 1e-1, 1e-2 and 1e-3.
 
 Families (the knobs and defaults as the library reads them):
@@ -48,8 +48,8 @@ from workbench import frictional_wrenches, mesh_profile, sample_twists_thesis, s
 from workbench.config import DEFAULTS, TOL
 from workbench.limit_surface.cache import SamplerSpec
 from workbench.limit_surface.fit_score import MODELS, fit_model, min_wrenches
-from workbench.pareto import pareto_front
-from workbench.results import save_figure, versions, write_json
+from workbench.runner.pareto import pareto_front
+from workbench.runner.results import save_figure, versions, write_json
 from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.sources.surfaces import surface_moments
 from workbench.timing import median_runtime

@@ -27,7 +27,7 @@ from workbench.grasp.gripper_eval import evaluate_gripper
 from workbench.grasp.models import MODELS
 from workbench.grasp.pose_robust import PoseNoise
 from workbench.limit_surface import LimitSurfaceCache
-from workbench.results import code_revision, versions, write_json
+from workbench.runner.results import code_revision, versions, write_json
 from workbench.sources.gripper import yumi
 from workbench.sources.trials import default_mesh_path, default_trials_path, read_trials
 

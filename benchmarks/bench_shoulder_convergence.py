@@ -11,7 +11,7 @@ than 11 GiB and is refused).
 The walls, one at a time (never two meshes at once):
 
 * bottles of the thesis family (:func:`workbench.fem.bottle.bottle_family`, seed 0), built and
-  squeezed exactly as ``experiments/wall_stiffness.py`` does (``_bottle_wall``, ``_axis``,
+  squeezed exactly as ``workbench/experiments/wall_stiffness.py`` does (``_bottle_wall``, ``_axis``,
   :func:`workbench.fem.wall.squeeze`: clamped base, free top edge, PET 2.5 GPa, 0.5 mm);
   the shoulder starts at ``z_s``, the lowest height of the upper half above which the
   section's major semi-axis shrinks faster than ``SHOULDER_SLOPE`` all the way up;
@@ -170,7 +170,7 @@ def family_case(i: int, body_fraction: float) -> dict:
         raise ValueError(f"bottle {i}: the shoulder grasp's jaw reaches above the wall's top")
     return {
         "name": f"family_{i}",
-        "kind": "thesis bottle family (seed 0), experiments/wall_stiffness.py's wall and squeeze",
+        "kind": "thesis bottle family (seed 0), workbench/experiments/wall_stiffness.py's wall and squeeze",
         "height_m": H,
         "shoulder_start_m": zs,
         "z_range_m": [0.0, H],
@@ -267,7 +267,7 @@ def _squeeze_rows(case: dict, squeeze_one, z_range, n_z: int | None) -> list[dic
 def run_family(case: dict, i: int, spec: tuple) -> tuple[dict, list[dict]]:
     """Build bottle ``i``'s wall at ``spec`` (:func:`parse_mesh`) and squeeze it at the case's
     locations; uniform rows through the experiment's own ``_bottle_wall``."""
-    from experiments.wall_stiffness import _axis, _bottle_wall
+    from workbench.experiments.wall_stiffness import _axis, _bottle_wall
     from workbench.fem.bottle import Bottle, bottle_family
     from workbench.fem.material import Material
     from workbench.fem.wall import build_wall, squeeze
@@ -536,12 +536,11 @@ def main() -> int:
                 f"mesh {m}: beyond {MAX_CELLS} cells ([120, 60]) needs more than ~11 GiB: not on this machine"
             )
 
-    sys.path.insert(0, str(ROOT))  # experiments/
     sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench_wrench
     from bench_wrench import machine_roofline
 
-    from experiments.wall_stiffness import memory_estimate
-    from workbench.results import code_revision, versions, write_json
+    from workbench.experiments.wall_stiffness import memory_estimate
+    from workbench.runner.results import code_revision, versions, write_json
 
     wanted = args.cases.split(",")
     cases = [family_case(i, f) for i, f in FAMILY.items() if f"family_{i}" in wanted]

@@ -1,10 +1,10 @@
 """Sweeps on Dask: per-task overhead of the local cluster and the speed-up of two
 workers over one on this machine, written to ``results/benchmarks/sweep.json``.
 
-* **Overhead per task**: ``n`` no-op rows through :func:`workbench.parallel.map_rows` (the
+* **Overhead per task**: ``n`` no-op rows through :func:`workbench.runner.parallel.map_rows` (the
   row loop of every experiment and sweep: ``client.map``, the one-BLAS-thread wrapper on the
   worker, ``as_completed`` with results, the driver's callback) on a warm
-  :func:`workbench.parallel.local_cluster` of one single-threaded worker, the median of
+  :func:`workbench.runner.parallel.local_cluster` of one single-threaded worker, the median of
   several batches divided by ``n``, with the scheduler's queue at its default, 1.1
   (``config.DEFAULTS.cluster_worker_saturation``: a row at a time to whichever worker is free),
   and beside it with the queue off (``inf``: every row handed out at submit, which splits
@@ -48,8 +48,8 @@ from pathlib import Path
 
 from bench_wrench import machine_roofline  # the sibling benchmark's FMA roofline
 
-from workbench.results import code_revision, versions, write_json
-from workbench.sweep import run_sweep
+from workbench.runner.results import code_revision, versions, write_json
+from workbench.runner.sweep import run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 SETS = {"n_elements": [25, 50, 100], "timing_twists": 2, "timing_repeats": 1}
@@ -77,16 +77,16 @@ def task_overhead(n: int, batches: int) -> dict:
         "worker_saturation": config.DEFAULTS.cluster_worker_saturation,
         "queue_off_median_ms": 1e3 * statistics.median(off),
         "goal_ms": 5.0,
-        "path": "workbench.parallel.map_rows (the experiments' and sweeps' row loop) of no-op rows",
+        "path": "workbench.runner.parallel.map_rows (the experiments' and sweeps' row loop) of no-op rows",
     }
 
 
 def _overhead(n: int, batches: int) -> list[float]:
     from distributed import Client
 
-    from workbench.parallel import local_cluster, map_rows
+    from workbench.runner.parallel import local_cluster, map_rows
 
-    # the experiments' own local cluster (workbench.parallel.local_cluster: its queueing setting,
+    # the experiments' own local cluster (workbench.runner.parallel.local_cluster: its queueing setting,
     # config.DEFAULTS.cluster_worker_saturation, is most of this number), one worker
     with local_cluster(1) as cluster, Client(cluster) as c:
         map_rows(_noop, range(10), lambda job, res: None, client=c)  # warm-up
@@ -229,7 +229,7 @@ def fem_fitting_rows(repeats: int = 3) -> dict:
     for _ in range(repeats):
         for workers in (1, 2):
             with tempfile.TemporaryDirectory() as tmp:
-                cmd = [sys.executable, "-m", "workbench.cli", "run", "fem-fitting", "--quick"]
+                cmd = [sys.executable, "-m", "workbench.runner.cli", "run", "fem-fitting", "--quick"]
                 t0 = time.perf_counter()
                 cpu0 = _children_cpu_s()
                 subprocess.run([*cmd, "--out", tmp, "--set", f"workers={workers}"], check=True)
@@ -283,9 +283,9 @@ def fem_fitting_rows_warm(repeats: int = 3) -> dict:
     cvxpy and the condensed pad are paid before the clock starts.  The cold numbers
     (:func:`fem_fitting_rows`) add a fresh cluster's start and two fresh workers' warm-up, about
     as long as the quick run's own compute here."""
-    from workbench.experiment_config import build_config
     from workbench.experiments.fem_fitting import run
-    from workbench.parallel import local_cluster
+    from workbench.runner.experiment_config import build_config
+    from workbench.runner.parallel import local_cluster
 
     runs: dict[int, list[dict]] = {1: [], 2: []}
     with local_cluster(2) as cluster, tempfile.TemporaryDirectory() as tmp:

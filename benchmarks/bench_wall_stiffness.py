@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 from bench_wrench import machine_roofline
 
-from workbench.results import code_revision, versions, write_json
+from workbench.runner.results import code_revision, versions, write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "deformable_objects"

@@ -23,7 +23,7 @@ import naive  # noqa: E402
 
 from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, surface_wrenches  # noqa: E402
 from workbench.config import FASTMATH  # noqa: E402
-from workbench.results import versions, write_json  # noqa: E402
+from workbench.runner.results import versions, write_json  # noqa: E402
 from workbench.sources.surface_catalog import THESIS_SURFACES  # noqa: E402
 from workbench.timing import median_runtime  # noqa: E402
 

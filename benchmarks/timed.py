@@ -50,7 +50,7 @@ def main(argv: list[str]) -> int:
     seconds = time.perf_counter() - t0
     cpu_s = _children_cpu_s() - cpu0
 
-    from workbench.results import code_revision, write_json
+    from workbench.runner.results import code_revision, write_json
 
     data = json.loads(OUT.read_text()) if OUT.exists() else {}
     if data.get("run") != run_id:  # a new make reproduce: a new split

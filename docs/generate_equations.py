@@ -1,11 +1,11 @@
 """Write docs/equations.md: every thesis (and 6DFC paper) equation the package cites, and where.
 
 The index is built from the code, never by hand: :func:`definitions` walks each module of the
-installed package (``workbench``, with ``fem/`` as ``workbench.fem`` and ``experiments/`` as
-``workbench.experiments``) with :mod:`ast` and :mod:`tokenize`, giving every module, class and
-function its own docstring and comment lines; :data:`CITATION` then finds the citations in those
-lines.  A comment block directly above a ``def`` or ``class`` (or its decorators) belongs to that
-definition, a comment inside one to the innermost definition around it, the rest to the module.
+installed package (``workbench``, its subpackages included) with :mod:`ast` and
+:mod:`tokenize`, giving every module, class and function its own docstring and comment lines;
+:data:`CITATION` then finds the citations in those lines.  A comment block directly above a
+``def`` or ``class`` (or its decorators) belongs to that definition, a comment inside one to the
+innermost definition around it, the rest to the module.
 
 Run ``python docs/generate_equations.py`` after citing, moving or renaming a cited definition:
 ``tests/test_docs.py`` fails while docs/equations.md differs from what this writes.
@@ -33,7 +33,7 @@ OUT = ROOT / "docs" / "equations.md"
 COMMAND = "python docs/generate_equations.py"
 
 #: source folder -> the dotted name it installs as (pyproject.toml's package-dir)
-PACKAGES = {"workbench": "workbench", "fem": "workbench.fem", "experiments": "workbench.experiments"}
+PACKAGES = {"workbench": "workbench"}
 
 _THESIS = r"[1-6]\.\d{1,3}"
 _PAPER = r"[IVX]+\.\d{1,2}"
@@ -261,8 +261,8 @@ def render(root: Path = ROOT) -> str:
         "Every equation of J. Xu's thesis (and of the 6DFC paper, ICRA 2020) that the package's",
         "docstrings and comments cite, with the definitions that cite it (`module:function`,",
         "`module:Class.method`, or `module` for a module docstring or module-level comment;",
-        "`workbench.fem` is `fem/`, `workbench.experiments` is `experiments/`). Tests and benchmarks",
-        "are not indexed. Citations are written `Eq. 3.6`, `Eqs. 3.10–3.12`, `Eqs. 3.10, 3.12`, and",
+        "`workbench.fem.pad` is `workbench/fem/pad.py`). Tests and benchmarks are not indexed.",
+        "Citations are written `Eq. 3.6`, `Eqs. 3.10–3.12`, `Eqs. 3.10, 3.12`, and",
         "`6DFC Eq. IV.2` for the paper, so `grep -rn 'Eq. 3.8'` finds them; a range cites every",
         "equation in it. The meanings are one line each, from the thesis text.",
         "",

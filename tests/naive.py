@@ -165,7 +165,7 @@ def upper_solve(U, B):
 
 def isotropic_elasticity_form():
     """The hand-written isotropic elasticity form ``2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)`` that
-    fem/wall.py used before scikit-fem's ``linear_elasticity`` (field values ``mu``, ``lam``)."""
+    workbench/fem/wall.py used before scikit-fem's ``linear_elasticity`` (field values ``mu``, ``lam``)."""
     from skfem import BilinearForm
     from skfem.helpers import ddot, sym_grad, trace
 

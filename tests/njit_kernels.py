@@ -1,5 +1,5 @@
 """The library's Numba kernels, found in the source: every function decorated with a Numba
-compiler (``@njit``, ``@jit``, ``@vectorize``, ...) in workbench/, fem/ and experiments/.
+compiler (``@njit``, ``@jit``, ``@vectorize``, ...) in workbench/ (its subpackages included).
 The no-JIT run (``make test-nojit``, tests/conftest.py) checks each one runs as Python;
 tests/test_nojit.py checks this list against the compiled dispatchers."""
 
@@ -9,8 +9,8 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-#: source folder -> import name (pyproject.toml [tool.setuptools.package-dir])
-PACKAGES = {"workbench": "workbench", "fem": "workbench.fem", "experiments": "workbench.experiments"}
+#: source folder -> import name (every folder installs where it lives)
+PACKAGES = {"workbench": "workbench"}
 COMPILERS = {"njit", "jit", "vectorize", "guvectorize", "cfunc", "stencil", "generated_jit"}
 
 

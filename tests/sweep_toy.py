@@ -4,7 +4,7 @@
 import time
 from pathlib import Path
 
-from workbench.results import write_summary
+from workbench.runner.results import write_summary
 
 NAME = "toy"
 DEFAULT_CONFIG = {"seed": 0, "x": 1.0, "fail_above": 10.0, "sleep": 0.0, "tag": "a", "shape": [1, 2]}

@@ -8,8 +8,8 @@ import json
 
 import pytest
 
-from workbench.cli import main
-from workbench.experiment_config import EXPERIMENTS
+from workbench.runner.cli import main
+from workbench.runner.experiment_config import EXPERIMENTS
 
 
 def _error(capsys, argv):

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from workbench.code_key import code_digest, module_closure, module_imports, normalized_source, package_roots
-from workbench.results import Checkpoint
+from workbench.runner.results import Checkpoint
 
 
 def _toy(tmp_path: Path) -> dict[str, Path]:
@@ -80,7 +80,7 @@ def test_on_a_copy_of_the_package_rows_survive_a_comment_and_follow_a_kernel_con
     experiment = "workbench.experiments.sensitivity"
     closure = module_closure(experiment, roots=roots)
     assert {"workbench.wrench", "workbench._kernels", "workbench.limit_surface.ellipsoid"} <= set(closure)
-    assert "workbench.report" not in closure and "workbench.fem.wall" not in closure
+    assert "workbench.runner.report" not in closure and "workbench.fem.wall" not in closure
 
     def rows_kept() -> int:
         ck = Checkpoint.peek(tmp_path / "rows.jsonl", {"n": 1}, code=code_digest(experiment, roots=roots))
@@ -91,7 +91,7 @@ def test_on_a_copy_of_the_package_rows_survive_a_comment_and_follow_a_kernel_con
     wrench = roots["workbench"] / "wrench.py"
     wrench.write_text(wrench.read_text() + "\n# a comment-only edit\n")
     assert rows_kept() == 1
-    report = roots["workbench"] / "report.py"
+    report = roots["workbench"] / "runner" / "report.py"
     report.write_text(report.read_text() + "\n_NOT_USED_BY_SENSITIVITY = 1\n")
     assert rows_kept() == 1
     kernels = roots["workbench"] / "_kernels.py"

@@ -103,7 +103,8 @@ def test_a_renamed_cited_function_changes_the_index(tmp_path):
     module.write_text('def wrenches():\n    """Eq. 3.8."""\n')
     after = gen.render(tmp_path)
     assert after != before and "`workbench.wrench:wrenches`" in after
-    (tmp_path / "fem" / "pad.py").write_text("# Eq. 5.99\n")
+    (tmp_path / "workbench" / "fem").mkdir()
+    (tmp_path / "workbench" / "fem" / "pad.py").write_text("# Eq. 5.99\n")
     assert "`workbench.fem.pad`" in gen.render(tmp_path)
     assert "no meaning written yet" in gen.render(tmp_path)
 
@@ -148,7 +149,7 @@ def test_old_formats_are_found(text):
 
 
 def _cited_files() -> list[Path]:
-    folders = ("workbench", "fem", "experiments", "tests", "benchmarks")
+    folders = ("workbench", "tests", "benchmarks")
     files = [p for d in folders for p in sorted((ROOT / d).rglob("*.py"))]
     files += [
         ROOT / "README.md",
@@ -178,12 +179,9 @@ _DOTTED = re.compile(r"(?<![\w./])(workbench(?:\.\w+)+)(?::([\w.]+))?")
 
 
 def _module_file(dotted: str) -> Path | None:
-    """The file of an installed module name (``workbench.fem.pad`` -> fem/pad.py), or None."""
+    """The file of an installed module name (``workbench.fem.pad`` -> workbench/fem/pad.py), or None."""
     parts = dotted.split(".")[1:]
-    folder = ROOT / "workbench"
-    if parts and parts[0] in ("fem", "experiments"):
-        folder, parts = ROOT / parts[0], parts[1:]
-    path = folder.joinpath(*parts)
+    path = (ROOT / "workbench").joinpath(*parts)
     for candidate in (path.with_suffix(".py"), path / "__init__.py"):
         if candidate.is_file():
             return candidate
@@ -236,13 +234,13 @@ def test_every_module_architecture_md_names_exists():
 
 def test_the_name_check_can_fail():
     text = (
-        "`workbench/wrench.py` `workbench/nothing.py` `fem/pad.py` `experiments/none/` "
+        "`workbench/wrench.py` `workbench/nothing.py` `workbench/fem/pad.py` `workbench/experiments/none/` "
         "`workbench.fem.pad` `workbench.fem.nothing` `workbench.fem:press` `workbench.fem:nothing` "
         "`workbench.fem.pad:PadGeometry` `workbench.grasp.contacts:ContactSet.vertices`."
     )
     assert missing_names(text) == [
         "workbench/nothing.py",
-        "experiments/none/",
+        "workbench/experiments/none/",
         "workbench.fem.nothing",
         "workbench.fem:nothing",
     ]
@@ -260,9 +258,7 @@ _LAYERS = {
     "peers": "peers",
     "engine judge": "engine_trials",
     "facade": "",  # workbench/__init__.py: re-exports the public API of the layers above
-    "run machinery": "cli experiment_config experiment_keys results parallel sweep report report_judge "
-    "report_peers pareto",
-    "figures": "viz stiffness_figures trial_figures",
+    "run machinery": "runner",
     "experiments": "experiments",
 }
 _ORDER = list(_LAYERS)
@@ -315,3 +311,55 @@ def test_architecture_md_lists_every_import_against_the_layers():
             f"docs/architecture.md's table under {heading!r} is out of date: listed but not "
             f"imported {sorted(listed - found)}, imported but not listed {sorted(found - listed)}"
         )
+
+
+# ---- the import contract of make lint (pyproject.toml [tool.importlinter])
+
+
+def _contract_layers() -> list[set[str]]:
+    """The layers of the import-linter contract, top first, each a set of module names."""
+    tomllib = pytest.importorskip("tomllib")  # Python >= 3.11
+    tool = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
+    (contract,) = tool["contracts"]
+    return [{m.strip() for m in re.split(r"[:|]", layer)} for layer in contract["layers"]]
+
+
+def test_the_import_contract_has_every_module_in_the_layers_of_architecture_md():
+    # a module missing from the contract would be free to import anything: each must be in the
+    # layer _LAYERS gives it, in the same order (the contract lists the top first)
+    contract = _contract_layers()
+    where = {m: i for i, layer in enumerate(contract) for m in layer}
+    seen = []
+    for name in _modules():
+        parts = name.split(".")
+        if len(parts) == 1:
+            continue  # the facade, workbench/__init__.py
+        top = ".".join(parts[:2])
+        assert top in where, f"{top} is in no layer of pyproject.toml [tool.importlinter]"
+        seen.append((_ORDER.index(_layer(name)), len(contract) - where[top]))
+    # one contract layer per architecture layer, in the same order
+    by_arch = {}
+    for arch, rank in seen:
+        by_arch.setdefault(arch, set()).add(rank)
+    assert all(len(r) == 1 for r in by_arch.values()), by_arch
+    ranks = [by_arch[a].pop() for a in sorted(by_arch)]
+    assert ranks == sorted(ranks), "pyproject.toml's layers are not in docs/architecture.md's order"
+
+
+def test_the_import_contract_fails_on_a_core_module_importing_the_run_machinery(tmp_path):
+    # lint-imports on a copy of the package where wrench.py imports the results module: refused
+    import shutil
+    import subprocess
+
+    exe = Path(sys.executable).with_name("lint-imports")
+    if not exe.is_file():
+        pytest.skip("import-linter is not installed (the dev extra)")
+    skip = shutil.ignore_patterns("__pycache__", "data")
+    shutil.copytree(ROOT / "workbench", tmp_path / "workbench", ignore=skip)
+    shutil.copy(ROOT / "pyproject.toml", tmp_path / "pyproject.toml")
+    wrench = tmp_path / "workbench" / "wrench.py"
+    wrench.write_text(wrench.read_text() + "\n\ndef _f():\n    from workbench.runner import results\n")
+    env = {"PATH": "/usr/bin:/bin", "PYTHONPATH": str(tmp_path)}
+    res = subprocess.run([str(exe), "--no-cache"], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert res.returncode == 1, res.stdout[-2000:] + res.stderr[-2000:]
+    assert "workbench.wrench is not allowed to import workbench.runner" in res.stdout

@@ -1,4 +1,4 @@
-"""workbench.experiment_config: each run's config from the experiment's defaults, its quick
+"""workbench.runner.experiment_config: each run's config from the experiment's defaults, its quick
 overrides and the user's ``--set`` values — coerced to the defaults' types, ranges read off
 the defaults, unknown keys and an experiment's own checks refused before any work — and
 ``config_help``'s listing (the real experiments, and a toy one with known defaults)."""
@@ -10,7 +10,13 @@ import shlex
 import pytest
 import sweep_toy
 
-from workbench.experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help, seed_refusal
+from workbench.runner.experiment_config import (
+    EXPERIMENTS,
+    _parse_sets,
+    build_config,
+    config_help,
+    seed_refusal,
+)
 
 
 @pytest.mark.parametrize(
@@ -256,7 +262,7 @@ def test_seed_given_twice_is_refused():
 
 def test_a_bad_value_carries_its_parts_for_another_option():
     """The CLI's message and the parts a sweep words for --grid come from one error."""
-    from workbench.experiment_config import ConfigValueError
+    from workbench.runner.experiment_config import ConfigValueError
 
     with pytest.raises(ConfigValueError) as exc:
         build_config("discretization", False, None, None, {"mu": -1})

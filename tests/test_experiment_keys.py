@@ -1,5 +1,5 @@
 """Every experiment's config keys described and judged: each ``DEFAULT_CONFIG`` key has
-a :class:`~workbench.experiment_keys.Key` (its module's ``KEYS`` or the shared ``COMMON``), the
+a :class:`~workbench.runner.experiment_keys.Key` (its module's ``KEYS`` or the shared ``COMMON``), the
 defaults and ``--quick`` values pass their own keys silently, ``workbench run NAME --help`` shows
 units, plausible ranges and allowed words, and careless ``--set`` / ``--grid`` values are refused
 before any work with the likely unit slip named (or warned when only unusual)."""
@@ -9,10 +9,10 @@ import warnings
 
 import pytest
 
-from workbench import cli
-from workbench.experiment_config import EXPERIMENTS, build_config, config_help, key_specs
-from workbench.experiment_keys import COMMON, check_key, describe
 from workbench.plausible import RANGES, ImplausibleWarning
+from workbench.runner import cli
+from workbench.runner.experiment_config import EXPERIMENTS, build_config, config_help, key_specs
+from workbench.runner.experiment_keys import COMMON, check_key, describe
 
 NAMES = sorted(EXPERIMENTS)
 
@@ -376,7 +376,7 @@ def test_max_drift_is_refused_as_a_drift_not_a_jaw_closing(name, tmp_path):
 def test_a_key_names_its_quantity_in_its_own_words():
     """``named`` / ``examples`` replace the range's name and real values in a refusal and in a
     warning; the range (and its unit slips) stay the quantity's."""
-    from workbench.experiment_keys import Key
+    from workbench.runner.experiment_keys import Key
 
     spec = Key("lift", "m", "lever", named="lift height", examples="robots lift 20-200 mm")
     with pytest.raises(

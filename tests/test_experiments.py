@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from workbench.cli import main
-from workbench.experiment_config import build_config
+from workbench.runner.cli import main
+from workbench.runner.experiment_config import build_config
 
 SURFACES = [f"S{i}" for i in range(1, 7)]
 # Left out of `make test-nojit`: as pure Python one quick run takes minutes (docs/decisions.md).
@@ -496,8 +496,8 @@ def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
     offsets are the k row at k_true: each computed apart gives the same numbers, so a run
     computes one and checkpoints it under every key (marked), also when it resumes after a kill
     between the two."""
-    from workbench.experiment_config import build_config
     from workbench.experiments.sensitivity import _row
+    from workbench.runner.experiment_config import build_config
 
     sets = {
         "n_disturbances": 8,
@@ -834,7 +834,7 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     as its own, and computes nothing; another E or another mesh file computes again."""
     import workbench.fem.wall_grasps as wg
     from workbench.experiments import minimal_work as mw
-    from workbench.results import Checkpoint
+    from workbench.runner.results import Checkpoint
 
     data = tmp_path / "data"
     (data / "meshes").mkdir(parents=True)
@@ -901,9 +901,9 @@ def test_ls_fitting_support_twists_are_integrated_once_per_surface():
     model of a surface: the second model's support error reuses the first's wrenches (the memo
     held 4,000 twists against 4,000 + 12 asked, so it never hit) — and gets the same error as
     with fresh wrenches."""
-    from workbench.experiment_config import build_config
     from workbench.experiments import ls_fitting as lf
     from workbench.limit_surface.fit_score import fit_and_score
+    from workbench.runner.experiment_config import build_config
 
     config = build_config("ls-fitting", True, None, None, {"support_directions": 300})
     contact = lf.Contact(lf.THESIS_SURFACES["S3"], config)

@@ -1,4 +1,4 @@
-"""Bottle family obstacles (fem/bottle.py): exact signed distance against an
+"""Bottle family obstacles (workbench/fem/bottle.py): exact signed distance against an
 independent fine triangle mesh, normals against finite differences, poses."""
 
 import numpy as np

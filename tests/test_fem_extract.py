@@ -1,7 +1,7 @@
-"""FEM profiles carry the solved force (fem/extract.py).
+"""FEM profiles carry the solved force (workbench/fem/extract.py).
 
 ``λ_i`` is the magnitude of node i's contact force along the obstacle normal
-``n_i`` (fem/contact.py), so the profile must have ``F = Σ p a = Σ λ`` and a
+``n_i`` (workbench/fem/contact.py), so the profile must have ``F = Σ p a = Σ λ`` and a
 normal-wrench force ``−Σ p a n`` equal to the solution's ``−Σ λ_i n_i``.  The
 second holds up to the spread of the normals within an element: with θ the
 largest angle between two corner normals of a loaded quad, each element's
@@ -54,7 +54,7 @@ def test_extracted_profile_on_the_sphere(thin_pad):
     # elements lie on the object surface, normals point out of the object (towards the jaw, -z)
     np.testing.assert_allclose(np.linalg.norm(prof.centers - sphere.center, axis=1), R, rtol=1e-12)
     assert (prof.normals[:, 2] < 0).all()
-    # the profile carries the solved contact force (exactly, fem/extract.py); the normal
+    # the profile carries the solved contact force (exactly, workbench/fem/extract.py); the normal
     # wrench pushes the object away (+z)
     assert prof.F == pytest.approx(sol.force, rel=1e-12)
     assert prof.normal_wrench[2] > 0.95 * prof.F

@@ -1,4 +1,4 @@
-"""Neo-Hookean pad (fem/nonlinear.py): element-batched assembly against scikit-fem
+"""Neo-Hookean pad (workbench/fem/nonlinear.py): element-batched assembly against scikit-fem
 forms, small-strain consistency with the linear pad, finite-difference tangent."""
 
 import numpy as np

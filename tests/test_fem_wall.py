@@ -181,7 +181,7 @@ def test_nested_dissection_factor_solves_like_superlu():
 
 
 def test_wall_stiffness_is_the_isotropic_form_written_out():
-    # fem/wall.py assembles scikit-fem's linear_elasticity(λ, μ); the form written out term by
+    # workbench/fem/wall.py assembles scikit-fem's linear_elasticity(λ, μ); the form written out term by
     # term (tests/naive.py) gives the same matrix to round-off
     from naive import isotropic_elasticity_form
     from skfem import Basis, ElementHex2, ElementVector, asm

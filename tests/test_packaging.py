@@ -1,7 +1,7 @@
-"""The installed names and the import graph: one top-level import name, ``workbench`` (fem/ and
-experiments/ install as workbench.fem and workbench.experiments), every package folder listed
-in pyproject.toml, and no import cycle among the workbench modules — deferred imports inside
-functions included, since a cycle there is a layering knot even when it imports cleanly."""
+"""The installed names and the import graph: one top-level import name, ``workbench`` (every folder
+installs where it lives, no package-dir mapping), every package folder listed in pyproject.toml,
+and no import cycle among the workbench modules — deferred imports inside functions included,
+since a cycle there is a layering knot even when it imports cleanly."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from workbench.results import code_hash
+from workbench.runner.results import code_hash
 
 tomllib = pytest.importorskip("tomllib")  # Python >= 3.11
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,9 +30,8 @@ def _setuptools() -> dict:
 
 def _package_folders() -> dict[str, Path]:
     """{dotted package name: folder} of every folder with an ``__init__.py``, named as installed."""
-    st = _setuptools()
+    assert "package-dir" not in _setuptools(), "every folder installs where it lives"
     roots = {"workbench": ROOT / "workbench"}
-    roots.update({name: ROOT / folder for name, folder in st["package-dir"].items()})
     out = {}
     for name, folder in roots.items():
         for init in folder.rglob("__init__.py"):
@@ -108,8 +107,7 @@ def test_a_built_wheel_holds_workbench_only_and_runs_with_the_checkouts_code_has
     # the build fetches setuptools from the package index)
     src = tmp_path / "src"
     skip = shutil.ignore_patterns("__pycache__", "*.pyc")
-    for name in ("workbench", "fem", "experiments"):
-        shutil.copytree(ROOT / name, src / name, ignore=skip)
+    shutil.copytree(ROOT / "workbench", src / "workbench", ignore=skip)
     for name in ("pyproject.toml", "README.md"):
         shutil.copy(ROOT / name, src / name)
     res = subprocess.run(
@@ -130,7 +128,7 @@ def test_a_built_wheel_holds_workbench_only_and_runs_with_the_checkouts_code_has
     site = tmp_path / "site"
     zipfile.ZipFile(wheel).extractall(site)
     probe = (
-        "import importlib.util as u, workbench.fem.pad, workbench.results as r;"
+        "import importlib.util as u, workbench.fem.pad, workbench.runner.results as r;"
         "print(u.find_spec('fem') is None, u.find_spec('experiments') is None, r.code_hash(),"
         " workbench.fem.pad.__file__)"
     )

@@ -1,4 +1,4 @@
-"""workbench.parallel: rows give the same numbers serially and on Dask workers; results reach
+"""workbench.runner.parallel: rows give the same numbers serially and on Dask workers; results reach
 the driver's callback; the auto rule picks serial for few rows and inside a worker."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from functools import partial
 import pytest
 
 from workbench import config
-from workbench.parallel import check_workers, map_rows, row_client, run_rows
+from workbench.runner.parallel import check_workers, map_rows, row_client, run_rows
 
 
 def _square(x: int) -> list[int]:
@@ -69,7 +69,7 @@ def test_worker_processes_compute_under_the_drivers_configure():
     # configure() used to change the driver only: rows on worker processes ran at the defaults
     from distributed import Client
 
-    from workbench.parallel import local_cluster
+    from workbench.runner.parallel import local_cluster
 
     default = _settings_seen(None)
     assert config.changed() == {}
@@ -95,14 +95,14 @@ def _worker_environment() -> tuple[dict, int, list]:
 
 def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_malloc_policy():
     # Dask's default MALLOC_TRIM_THRESHOLD_ turns off glibc's dynamic mmap threshold and made
-    # the FEM solves slower in a worker (workbench.parallel.local_cluster); the BLAS caps
+    # the FEM solves slower in a worker (workbench.runner.parallel.local_cluster); the BLAS caps
     # must be in place before the BLAS is imported.  Dask writes the pre-spawn environment into
     # the driver too: Numba's thread count must not go there (the driver's Numba re-reads it
     # and refused: "Cannot set NUMBA_NUM_THREADS to a different value")
     import numba.core.config
     from distributed import Client
 
-    from workbench.parallel import local_cluster
+    from workbench.runner.parallel import local_cluster
 
     before = {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "TQDM_DISABLE")}
     with local_cluster(2, 1) as cluster, Client(cluster) as client:
@@ -142,8 +142,8 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
     thread per task in both."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiment_config import build_config
     from workbench.experiments.fem_fitting import _family, _pad_of, _reference_cases, _task
+    from workbench.runner.experiment_config import build_config
 
     sets = {
         "n_objects": 1,
@@ -234,8 +234,8 @@ def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(
     ran before it: forwards, backwards and on two worker processes alike."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiment_config import build_config
     from workbench.experiments.sensitivity import _key, _row, _row_tasks
+    from workbench.runner.experiment_config import build_config
 
     sets = {
         "n_disturbances": 12,
@@ -279,8 +279,8 @@ def test_fem_validation_fidelity_cases_are_the_same_serially_and_on_two_worker_p
     bit for bit on two worker processes (timings aside)."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiment_config import build_config
     from workbench.experiments.fem_validation import FIDELITY_CASES, fidelity_case
+    from workbench.runner.experiment_config import build_config
 
     cfg = build_config("fem-validation", True, str(tmp_path), None, {"fidelity_deltas": [0.02, 0.2]})
     fn = partial(fidelity_case, config=cfg)
@@ -309,7 +309,6 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     import numpy as np
     from distributed import Client, LocalCluster
 
-    from workbench.experiment_config import build_config
     from workbench.experiments.minimal_work import (
         DEFAULT_CONFIG,
         _grasp_task,
@@ -319,6 +318,7 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
         _wall_task,
     )
     from workbench.grasp.sampling import horizontal_grasps
+    from workbench.runner.experiment_config import build_config
 
     if not Path(DEFAULT_CONFIG["data_dir"], "meshes").is_dir():  # before build_config, which checks it
         pytest.skip("deformable_objects data not available (CC BY-NC, read by path)")
@@ -378,8 +378,8 @@ def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_proces
     two worker processes (timings aside)."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiment_config import build_config
     from workbench.experiments.wall_stiffness import _task
+    from workbench.runner.experiment_config import build_config
 
     cfg = build_config(
         "wall-stiffness", True, str(tmp_path), None, {"convergence_meshes": [[16, 8], [24, 12]]}
@@ -413,7 +413,7 @@ import numba  # the driver's main module imports Numba, as the workbench CLI doe
 import numpy as np
 from distributed import Client
 
-from workbench.parallel import local_cluster, map_rows
+from workbench.runner.parallel import local_cluster, map_rows
 
 
 def task(k):
@@ -458,7 +458,7 @@ def test_map_rows_stats_account_for_every_task_serial_and_on_dask():
 
     from distributed import Client, LocalCluster
 
-    from workbench.parallel import map_rows
+    from workbench.runner.parallel import map_rows
 
     naps = [0.05, 0.1, 0.15, 0.2]
     for client_kind in ("serial", "dask"):

@@ -1,9 +1,9 @@
-"""workbench.pareto against hand-worked fronts and log-log interpolation."""
+"""workbench.runner.pareto against hand-worked fronts and log-log interpolation."""
 
 import numpy as np
 import pytest
 
-from workbench.pareto import at_equal, pareto_front
+from workbench.runner.pareto import at_equal, pareto_front
 
 
 def test_front_drops_dominated_points_and_sorts_by_runtime():

@@ -325,7 +325,7 @@ def test_the_second_trials_silent_accepts_are_refused_or_warned():
 def test_wall_stiffness_refuses_map_settings_before_any_work(tmp_path, sets, words):
     """These crashed after partial outputs (n_angles=0: 'zero-size array') or blamed the geometry
     ('the grasp axis misses the object' for heights in per cent) — a second new-user trial."""
-    from workbench.experiment_config import build_config
+    from workbench.runner.experiment_config import build_config
 
     with pytest.raises(SystemExit) as exc:
         build_config("wall-stiffness", True, str(tmp_path / "o"), None, sets)

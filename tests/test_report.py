@@ -1,4 +1,4 @@
-"""``workbench report`` (workbench/report.py): claims judged on summaries, Markdown rendering,
+"""``workbench report`` (workbench/runner/report.py): claims judged on summaries, Markdown rendering,
 missing keys, the CLI, and the repository's own committed results."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from workbench import report
-from workbench.cli import main
-from workbench.report import (
+from workbench.runner import report
+from workbench.runner.cli import main
+from workbench.runner.report import (
     CLAIMS,
     DIFFERS,
     ITEMS,
@@ -87,7 +87,7 @@ def _synthetic_claims() -> list[Claim]:
 def test_rendering_on_a_synthetic_results_dir(tmp_path, caplog):
     _write(tmp_path / "toy" / "summary.json", {"fit": {"mean": 0.014, "std": 0.004}, "wmax": 0.5})
     (tmp_path / "toy" / "fig.png").write_bytes(b"png")
-    with caplog.at_level(logging.WARNING, logger="workbench.report"):
+    with caplog.at_level(logging.WARNING, logger="workbench.runner.report"):
         rows = evaluate(tmp_path, _synthetic_claims())
     ok, off, lacking = rows
     assert ok.verdict.status == MATCH and ok.verdict.ours == "0.0140 ± 0.0040"
@@ -117,7 +117,7 @@ def test_a_partial_results_dir_gives_a_report_with_missing_rows(tmp_path, caplog
         tmp_path / "fem-fitting" / "summary.json",
         {"table_3_3_vs_thesis": {"thesis-code": {"quartic_values": table}}},
     )
-    with caplog.at_level(logging.WARNING, logger="workbench.report"):
+    with caplog.at_level(logging.WARNING, logger="workbench.runner.report"):
         path = write_report(tmp_path)
     assert path == tmp_path / "REPORT.md"
     text = path.read_text()
@@ -134,7 +134,7 @@ def test_a_truncated_summary_is_named_unreadable_not_missing(tmp_path, caplog):
     path = tmp_path / "parametric-surfaces" / "summary.json"
     path.parent.mkdir(parents=True)
     path.write_text('{"example_3_2_5": {"pressure_center": [0.0, 0.01')
-    with caplog.at_level(logging.WARNING, logger="workbench.report"):
+    with caplog.at_level(logging.WARNING, logger="workbench.runner.report"):
         text = write_report(tmp_path).read_text()
     assert "parametric-surfaces/summary.json (unreadable — JSONDecodeError" in text
     assert "missing: parametric-surfaces/summary.json:example_3_2_5" not in text

@@ -1,8 +1,8 @@
-"""workbench.report_judge: REPORT.md's section on the engine judge's knobs, from summaries only."""
+"""workbench.runner.report_judge: REPORT.md's section on the engine judge's knobs, from summaries only."""
 
 import json
 
-from workbench.report_judge import render_judge_sections
+from workbench.runner.report_judge import render_judge_sections
 
 
 def _sens(acc: dict, held: float, agree: float, limits: dict | None = None) -> dict:

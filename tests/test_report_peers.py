@@ -1,9 +1,9 @@
-"""workbench.report_peers: the peers and Pareto sections of REPORT.md from summaries only."""
+"""workbench.runner.report_peers: the peers and Pareto sections of REPORT.md from summaries only."""
 
 import json
 
-from workbench.report import Summaries, write_report
-from workbench.report_peers import render_peers_sections
+from workbench.runner.report import Summaries, write_report
+from workbench.runner.report_peers import render_peers_sections
 
 
 def _write(root, rel, data):

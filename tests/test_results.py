@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from workbench import results
+from workbench.runner import results
 
 
 def test_write_json_roundtrip_and_types(tmp_path):
@@ -65,10 +65,9 @@ def test_code_hash_follows_the_sources(tmp_path, monkeypatch):
     import shutil
     from importlib.util import find_spec
 
-    roots = {}
-    for pkg in ("workbench", "workbench.fem", "workbench.experiments"):
-        src = Path(find_spec(pkg).submodule_search_locations[0])
-        roots[pkg] = shutil.copytree(src, tmp_path / pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    src = Path(find_spec("workbench").submodule_search_locations[0])
+    skip = shutil.ignore_patterns("__pycache__")
+    roots = {"workbench": shutil.copytree(src, tmp_path / "workbench", ignore=skip)}
 
     class _Spec:
         def __init__(self, root):
@@ -77,7 +76,7 @@ def test_code_hash_follows_the_sources(tmp_path, monkeypatch):
     monkeypatch.setattr("importlib.util.find_spec", lambda name: _Spec(roots[name]))
     digest = results._sources_digest.__wrapped__()[:16]
     assert digest == results.code_hash()  # the copy is the running code
-    f = roots["workbench.fem"] / "pad.py"
+    f = roots["workbench"] / "fem" / "pad.py"
     text = f.read_text()
     # a comment, a blank line and a docstring edit are not code: the same digest
     f.write_text(text.replace('"""', '""" (edited)', 1) + "\n# a comment\n")
@@ -130,7 +129,7 @@ def test_code_revision_is_dirty_for_code_changes_not_for_results(tmp_path):
 def test_shared_cache_path_names_files_inside_the_cache_only(tmp_path, monkeypatch):
     """``kind`` names the file: anything but lower-case letters, digits and dashes is refused
     (``../x`` would have written outside the cache); the key is the content's, not its order's."""
-    from workbench.results import read_shared, shared_cache_path, write_shared
+    from workbench.runner.results import read_shared, shared_cache_path, write_shared
 
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path))
     for bad in ("../evil", "a/b", "", "Rows", None):
@@ -145,7 +144,7 @@ def test_shared_cache_path_names_files_inside_the_cache_only(tmp_path, monkeypat
 
 
 def test_a_checkpoint_keyed_by_its_own_code_resumes_under_that_code_only(tmp_path):
-    from workbench.results import Checkpoint
+    from workbench.runner.results import Checkpoint
 
     path = tmp_path / "rows.jsonl"
     ck = Checkpoint(path, {"a": 1}, code="engine-v1")
@@ -159,7 +158,7 @@ def test_sources_hash_follows_the_named_modules_code(tmp_path, monkeypatch):
     import importlib
     import sys
 
-    from workbench.results import sources_hash
+    from workbench.runner.results import sources_hash
 
     pkg = tmp_path / "hashme_pkg"
     pkg.mkdir()
@@ -183,7 +182,7 @@ def test_sources_hash_follows_the_named_modules_code(tmp_path, monkeypatch):
 def test_checkpoint_rows_are_keyed_by_the_settings_in_force(tmp_path):
     # a row computed under another tolerance is another row; at the defaults the key is unchanged
     from workbench import config
-    from workbench.results import Checkpoint
+    from workbench.runner.results import Checkpoint
 
     path = tmp_path / "rows.jsonl"
     Checkpoint(path, {"a": 1}, code="c").add("r", {"x": 1})

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from workbench.stiffness_figures import plot_stiffness_validation, render_stiffness_maps
+from workbench.runner.stiffness_figures import plot_stiffness_validation, render_stiffness_maps
 
 
 @pytest.fixture(scope="module")

@@ -16,8 +16,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from workbench import cli
-from workbench.sweep import SweepError, expand_grid, flatten_scalars, point_key, run_sweep
+from workbench.runner import cli
+from workbench.runner.sweep import SweepError, expand_grid, flatten_scalars, point_key, run_sweep
 
 BIN = Path(sys.executable).parent
 #: a discretization run of seconds: two meshes, few timing twists
@@ -57,7 +57,7 @@ def test_bad_grids_are_refused(grid, zipped, match):
 def test_flatten_scalars_keeps_numbers_by_path_and_drops_long_lists_and_metadata():
     """Short lists enter by index (a Table 3.2 row, w_max of a surface), long ones (per-grasp
     arrays) and the run metadata stay out."""
-    from workbench.sweep import MAX_LIST_COLUMNS
+    from workbench.runner.sweep import MAX_LIST_COLUMNS
 
     s = {
         "experiment": "x",
@@ -205,7 +205,7 @@ def test_failed_point_is_recorded_and_the_rest_complete_and_a_rerun_submits_noth
 
 
 def test_list_values_are_json_columns_and_the_plot_is_written(tmp_path, toy):
-    from workbench.sweep import plot_sweep
+    from workbench.runner.sweep import plot_sweep
 
     out = tmp_path / "sw"
     run_sweep("toy", {"x": [1.0, 2.0, 3.0], "shape": [[1, 2], [3]]}, out=out, client=toy, progress=False)
@@ -340,7 +340,7 @@ def test_cli_plot_key_is_checked_first_and_an_interrupt_says_how_to_resume(tmp_p
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("workbench.sweep.run_sweep", interrupted)
+    monkeypatch.setattr("workbench.runner.sweep.run_sweep", interrupted)
     with pytest.raises(SystemExit) as exc:
         cli.main(["sweep", "discretization", *TINY, "--grid", "mu=[0.5]", "--out", str(out)])
     assert exc.value.code == 130 and "re-run the same command to resume" in capsys.readouterr().err
@@ -507,7 +507,7 @@ def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(
     twice into the same folders."""
     from contextlib import ExitStack
 
-    from workbench.sweep import _lock
+    from workbench.runner.sweep import _lock
 
     out = tmp_path / "sw"
     a = run_sweep("toy", {"x": [1.0]}, sets={"fail_above": 10.0}, out=out, client=toy, progress=False)
@@ -521,7 +521,7 @@ def test_other_fixed_settings_get_their_own_points_and_one_sweep_runs_at_a_time(
             run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
         # refused before a cluster is started (that takes seconds on two busy cores)
         with pytest.MonkeyPatch.context() as mp:
-            mp.setattr("workbench.sweep._client", lambda *a: pytest.fail("a cluster was started"))
+            mp.setattr("workbench.runner.sweep._client", lambda *a: pytest.fail("a cluster was started"))
             with pytest.raises(SweepError, match="another sweep is running"):
                 run_sweep("toy", {"x": [1.0, 2.0]}, out=out, workers=1, progress=False)
     assert run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)["n_submitted"] == 1
@@ -571,7 +571,7 @@ def test_table_columns_of_the_sweep_itself_are_plot_metrics(tmp_path, toy):
 
 
 def test_scheduler_host_port_reads_tcp_addresses_only():
-    from workbench.sweep import scheduler_host_port
+    from workbench.runner.sweep import scheduler_host_port
 
     assert scheduler_host_port("tcp://10.0.0.5:8786") == ("10.0.0.5", 8786)
     assert scheduler_host_port("10.0.0.5:8786") == ("10.0.0.5", 8786)
@@ -584,7 +584,7 @@ def test_scheduler_host_port_reads_tcp_addresses_only():
 def test_null_summary_values_are_nan_columns_and_the_experiment_is_a_column(tmp_path, toy):
     """A null summary value (an undefined recall) had no column, so --plot called it "not a
     column"; the experiment name was left out though flatten_scalars' docstring includes strings."""
-    from workbench.sweep import plot_sweep
+    from workbench.runner.sweep import plot_sweep
 
     out = tmp_path / "sw"
     run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False, metrics=["undefined"])
@@ -596,8 +596,8 @@ def test_null_summary_values_are_nan_columns_and_the_experiment_is_a_column(tmp_
 
 def test_keys_zipped_with_the_x_key_do_not_split_the_plot_into_lines(tmp_path, toy, monkeypatch):
     """--plot n_wrenches ... with n_wrenches and n_heldout zipped drew one dot per line."""
-    from workbench import results
-    from workbench.sweep import line_keys, plot_sweep
+    from workbench.runner import results
+    from workbench.runner.sweep import line_keys, plot_sweep
 
     assert line_keys(["E", "n", "h"], "n", "y", ["n", "h"]) == ["E"]  # h varies along the line
     assert line_keys(["E", "n", "h"], "E", "y", ["n", "h"]) == ["n", "h"]  # one line per zip pair
@@ -668,7 +668,7 @@ def test_a_list_valued_key_swept_by_scalars_says_to_give_a_list_of_lists(tmp_pat
 
 
 def test_a_bad_plot_metric_gets_close_names_not_every_column(tmp_path, toy):
-    from workbench.sweep import close_columns, column_hint
+    from workbench.runner.sweep import close_columns, column_hint
 
     columns = [f"table.m{i}.recall" for i in range(200)] + ["table.6dls.precision"]
     hint = column_hint("table.6dls.precison", columns)
@@ -684,7 +684,7 @@ def test_points_of_other_code_are_re_run_with_a_reason_and_kept_as_history(tmp_p
     """A re-run after a code change re-ran every point saying only "0 resumed, 3 run", and
     dropped the old rows from points.jsonl (documented as keeping every point ever finished);
     an earlier --plot's figure stayed beside the new table; the lock file stayed behind."""
-    from workbench import results
+    from workbench.runner import results
 
     out = tmp_path / "sw"
     first = run_sweep("toy", {"x": [1.0, 2.0, 3.0]}, out=out, client=toy, progress=False)
@@ -714,7 +714,7 @@ def test_cli_says_why_points_ran_again(tmp_path, capsys, monkeypatch):
         "table": str(tmp_path / "table.parquet"),
         "failed": [],
     }
-    monkeypatch.setattr("workbench.sweep.run_sweep", lambda *a, **k: summary)
+    monkeypatch.setattr("workbench.runner.sweep.run_sweep", lambda *a, **k: summary)
     assert cli.main(["sweep", "discretization", "--grid", "mu=[0.5]", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
     assert "0 resumed, 3 run" in text and "3 points were computed by other code (revisions abc123" in text
@@ -723,7 +723,7 @@ def test_cli_says_why_points_ran_again(tmp_path, capsys, monkeypatch):
 def test_a_point_runs_under_the_drivers_settings_and_restores_the_workers(tmp_path, monkeypatch):
     # configure() on the driver used to stay there: points ran on workers at the defaults
     from workbench import config
-    from workbench.sweep import run_point
+    from workbench.runner.sweep import run_point
 
     (tmp_path / "settings_toy.py").write_text(
         "from workbench import config\n\ndef run(c):\n    return {'rtol': config.TOL.resist_rtol}\n"

@@ -21,9 +21,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from workbench import cli
-from workbench.results import write_summary
-from workbench.sweep import GiB, SweepError, run_sweep
+from workbench.runner import cli
+from workbench.runner.results import write_summary
+from workbench.runner.sweep import GiB, SweepError, run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 MiB = 2**20
@@ -69,8 +69,8 @@ def test_wall_stiffness_memory_estimate_reproduces_the_measured_peaks():
     within 10 % of the estimate (the model's stated accuracy: the fit's worst residual is 6 %),
     the two checks of how walls add up too, and [144, 72] — killed at an 11.8 GiB worker
     limit in the trial — needs more than the 95 % of that limit at which the nanny restarts."""
-    from workbench.experiment_config import build_config
     from workbench.experiments import wall_stiffness as ws
+    from workbench.runner.experiment_config import build_config
 
     data = json.loads((ROOT / "results" / "benchmarks" / "memory_model.json").read_text())
     fit = data["fit"]
@@ -100,8 +100,8 @@ def test_wall_stiffness_memory_estimate_reproduces_the_measured_peaks():
 def test_experiments_without_an_estimate_give_none_and_a_bad_estimator_is_ignored(counted, monkeypatch):
     import sys
 
-    from workbench.experiment_config import build_config
-    from workbench.sweep import memory_estimate as estimate
+    from workbench.runner.experiment_config import build_config
+    from workbench.runner.sweep import memory_estimate as estimate
 
     assert estimate("sensitivity", build_config("sensitivity", True, None, None, {})) is None
     cfg = build_config("counted", False, None, None, {"estimate_mb": 3.0})
@@ -148,9 +148,9 @@ def test_a_point_above_the_worker_limit_is_refused_up_front_and_the_rest_run(tmp
 
 
 def test_a_sweep_of_points_all_too_large_starts_no_cluster_and_says_what_fits(tmp_path, counted, monkeypatch):
-    from workbench.parallel import local_memory_limit
+    from workbench.runner.parallel import local_memory_limit
 
-    monkeypatch.setattr("workbench.sweep._client", lambda *a: pytest.fail("a cluster was started"))
+    monkeypatch.setattr("workbench.runner.sweep._client", lambda *a: pytest.fail("a cluster was started"))
     monkeypatch.setattr(os, "cpu_count", lambda: 2)
     between = (0.95 * local_memory_limit(2) + 0.95 * local_memory_limit(1)) / 2 / MiB
     s = run_sweep(
@@ -174,7 +174,7 @@ def test_local_workers_keep_their_share_when_points_are_refused(tmp_path, counte
     does not depend on which others were refused)."""
     from distributed import Client, LocalCluster
 
-    from workbench.parallel import local_memory_limit
+    from workbench.runner.parallel import local_memory_limit
 
     started = []
 
@@ -185,7 +185,7 @@ def test_local_workers_keep_their_share_when_points_are_refused(tmp_path, counte
         )
         return Client(cluster), cluster
 
-    monkeypatch.setattr("workbench.sweep._client", client_of)
+    monkeypatch.setattr("workbench.runner.sweep._client", client_of)
     monkeypatch.setattr(os, "cpu_count", lambda: 2)
     big = 0.99 * local_memory_limit(2) / MiB  # over the 95 % of a half at which a worker restarts
     s = run_sweep(
@@ -218,7 +218,7 @@ def test_cli_lists_refused_points_and_exits_nonzero(tmp_path, capsys, monkeypatc
         "table": str(tmp_path / "table.parquet"),
         "failed": [],
     }
-    monkeypatch.setattr("workbench.sweep.run_sweep", lambda *a, **k: summary)
+    monkeypatch.setattr("workbench.runner.sweep.run_sweep", lambda *a, **k: summary)
     assert cli.main(["sweep", "wall-stiffness", "--grid", "mesh=[[24,12]]", "--out", str(tmp_path)]) == 1
     text = capsys.readouterr().out
     assert "1 refused for memory" in text
@@ -298,8 +298,8 @@ def test_a_point_whose_worker_is_restarted_for_memory_is_reported_not_retried(tm
 def test_a_task_resubmitted_after_it_finished_returns_its_recorded_result(tmp_path, counted):
     """What Dask does when a worker holding a finished result dies, or what a re-run finds
     after a driver killed between a point's end and its checkpoint line."""
-    from workbench.experiment_config import build_config
-    from workbench.sweep import POINT_FILE, run_point
+    from workbench.runner.experiment_config import build_config
+    from workbench.runner.sweep import POINT_FILE, run_point
 
     log = tmp_path / "log"
     cfg = build_config("counted", False, str(tmp_path / "p"), None, {"x": 3.0, "log": str(log)})
@@ -326,8 +326,8 @@ def test_finished_points_run_exactly_once_when_a_worker_is_killed(tmp_path, coun
     results it held (the driver kept every future until the end)."""
     from distributed import Client
 
-    from workbench.parallel import local_cluster, local_memory_limit
-    from workbench.sweep import worker_memory_limit
+    from workbench.runner.parallel import local_cluster, local_memory_limit
+    from workbench.runner.sweep import worker_memory_limit
 
     log = tmp_path / "log"
     seen: list[str] = []
@@ -374,7 +374,7 @@ def test_plot_metrics_are_checked_against_declared_columns_before_any_work(tmp_p
     import sys
 
     monkeypatch.setattr(sys.modules[__name__], "summary_columns", lambda config: ["y"], raising=False)
-    monkeypatch.setattr("workbench.sweep._client", lambda *a: pytest.fail("a cluster was started"))
+    monkeypatch.setattr("workbench.runner.sweep._client", lambda *a: pytest.fail("a cluster was started"))
     with pytest.raises(
         SweepError,
         match=r"'yy' is not a column .*before any work against the columns counted declares.*mean \['y'",
@@ -386,7 +386,7 @@ def test_plot_metrics_are_checked_against_declared_columns_before_any_work(tmp_p
 def test_plot_metrics_are_checked_against_an_earlier_sweep_before_any_work(tmp_path, counted):
     from distributed import Client
 
-    from workbench.sweep import _check_plot_metrics
+    from workbench.runner.sweep import _check_plot_metrics
 
     with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
         run_sweep(
@@ -417,7 +417,7 @@ def test_earlier_columns_match_up_to_their_numeric_parts(tmp_path, counted):
     """An earlier run of other settings (bottle 0) vouches for maps.20.min, not for maps.20.mni."""
     from distributed import Client
 
-    from workbench import sweep
+    from workbench.runner import sweep
 
     assert sweep._shape("maps.20.min") == sweep._shape("maps.0.min") == "maps.#.min"
     with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
@@ -459,7 +459,7 @@ def test_earlier_columns_match_up_to_their_numeric_parts(tmp_path, counted):
     ],
 )
 def test_geometric_grids(values, log):
-    from workbench.sweep import geometric
+    from workbench.runner.sweep import geometric
 
     assert geometric(values) is log
 
@@ -467,14 +467,14 @@ def test_geometric_grids(values, log):
 def test_units_come_from_the_names_or_the_experiments_units(counted, monkeypatch):
     import sys
 
-    from workbench.sweep import axis_label, unit_of
+    from workbench.runner.sweep import axis_label, unit_of
 
     assert unit_of("maps.0.stiffness_N_per_m") == "N/m"
     assert unit_of("closing_mm") == "mm" and unit_of("wall_time_s") == "s" and unit_of("seconds") == "s"
     assert unit_of("w_max_N.2") == "N" and unit_of("E_Pa") == "Pa" and unit_of("memory_estimate_GiB") == "GiB"
     assert unit_of("compliance_m_per_N") == "m/N" and unit_of("ms_per_grasp.median") is None
     assert unit_of("precision") is None and unit_of("n_angles") is None
-    from workbench.experiment_keys import Key
+    from workbench.runner.experiment_keys import Key
 
     keys = {"x": Key("a length", "m"), "thickness": Key("a wall", "m")}
     monkeypatch.setattr(sys.modules[__name__], "KEYS", keys, raising=False)
@@ -490,9 +490,9 @@ def test_plot_sweep_uses_log_axes_on_a_geometric_grid_and_labels_units(tmp_path,
 
     from distributed import Client
 
-    from workbench import results
-    from workbench.experiment_keys import Key
-    from workbench.sweep import plot_sweep
+    from workbench.runner import results
+    from workbench.runner.experiment_keys import Key
+    from workbench.runner.sweep import plot_sweep
 
     keys = {"x": Key("a length", "m"), "y": Key("an area", "m²")}
     monkeypatch.setattr(sys.modules[__name__], "KEYS", keys, raising=False)
@@ -519,7 +519,7 @@ def test_plot_sweep_uses_log_axes_on_a_geometric_grid_and_labels_units(tmp_path,
 
 
 def test_list_valued_keys_are_plotted_in_the_order_of_their_values():
-    from workbench.sweep import _grid_order
+    from workbench.runner.sweep import _grid_order
 
     col = pd.Series(["[144, 72]", "[96, 48]", "[24, 12]"])
     assert col.sort_values(key=_grid_order).tolist() == ["[24, 12]", "[96, 48]", "[144, 72]"]
@@ -533,7 +533,7 @@ def test_a_single_run_that_cannot_fit_this_machine_is_refused_before_any_work(tm
     import psutil
 
     free = psutil.virtual_memory().available
-    monkeypatch.setattr("workbench.sweep.memory_estimate", lambda name, config: 2 * free)
+    monkeypatch.setattr("workbench.runner.sweep.memory_estimate", lambda name, config: 2 * free)
     out = tmp_path / "run"
     with pytest.raises(SystemExit) as exc:
         cli.main(["run", "wall-stiffness", "--quick", "--out", str(out), "--set", "mesh=[144,72]"])

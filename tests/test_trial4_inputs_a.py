@@ -118,7 +118,7 @@ def test_a_profile_built_large_on_purpose_keeps_its_length_scale():
 
 
 def test_friction_arrows_of_a_twist_array_are_refused_before_rendering(tmp_path):
-    from workbench.viz import render_friction_arrows
+    from workbench.runner.viz import render_friction_arrows
 
     path = tmp_path / "arrows.png"
     with pytest.raises(
@@ -174,7 +174,7 @@ def test_a_scene_in_millimetres_or_degrees_names_the_slip_at_the_top():
 def test_sensitivity_refuses_a_scene_slip_before_any_work(tmp_path, sets, match):
     import contextlib
 
-    from workbench.experiment_config import build_config
+    from workbench.runner.experiment_config import build_config
 
     # 1.7 rad is a plausible wrap (warned as unusual) but not one jaw's side of this scene
     unusual = sets.get("half_angle") == 1.7
@@ -188,7 +188,7 @@ def test_sensitivity_refuses_a_scene_slip_before_any_work(tmp_path, sets, match)
 def test_sensitivity_defaults_pass_the_new_quantities_silently(tmp_path):
     import warnings
 
-    from workbench.experiment_config import build_config
+    from workbench.runner.experiment_config import build_config
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", ImplausibleWarning)

@@ -88,7 +88,7 @@ def test_fit_normaliser_names_a_quality_threshold_given_in_per_cent():
 
 
 def test_stiffness_validation_figure_refuses_a_list_and_stiffness_in_n_per_mm(tmp_path, caplog):
-    from workbench.stiffness_figures import plot_stiffness_validation
+    from workbench.runner.stiffness_figures import plot_stiffness_validation
 
     with pytest.raises(ValueError, match=r"panels must be a dict naming at least one object.*got list"):
         plot_stiffness_validation([1, 2, 3], tmp_path / "v.png")
@@ -107,7 +107,7 @@ def test_stiffness_validation_figure_refuses_a_list_and_stiffness_in_n_per_mm(tm
     assert not (tmp_path / "v.png").exists()
     # in N/m: the prediction 1.1 × measured ranks the grasps alike (Spearman 1) and is off by ln 1.1
     ok = dict(panel, measured=measured_mm * 1e3, predicted=measured_mm * 1.1e3)
-    with caplog.at_level(logging.INFO, logger="workbench.stiffness_figures"):
+    with caplog.at_level(logging.INFO, logger="workbench.runner.stiffness_figures"):
         path = plot_stiffness_validation({"bottle": ok}, tmp_path / "v.png")
     assert path.exists()
     assert f"held-out Spearman 1.000, median |log ratio| {np.log(1.1):.3f}" in caplog.text
@@ -157,7 +157,7 @@ def test_reach_profile_refuses_a_zero_approach_before_numpy_divides_by_it():
 
 
 def test_report_of_a_results_directory_that_does_not_exist_is_an_error(tmp_path, capsys):
-    from workbench.cli import main
+    from workbench.runner.cli import main
 
     missing = tmp_path / "nonexistent"
     with pytest.raises(SystemExit) as exc:

@@ -181,7 +181,7 @@ def test_i10_read_trials_names_the_format_for_a_mesh_file(tmp_path):
 def test_j06_a_zero_quadrature_tolerance_is_refused_by_its_key_before_the_run():
     """workbench run parametric-surfaces --quick --set quad_rtol=0: refused only once the run
     started, naming 'rtol' / config.TOL.quadrature_rtol rather than the key."""
-    from workbench.experiment_config import build_config
+    from workbench.runner.experiment_config import build_config
     from workbench.sources.surface_catalog import THESIS_SURFACES
     from workbench.sources.surfaces import surface_wrenches
 

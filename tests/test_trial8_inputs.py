@@ -39,7 +39,7 @@ def test_c13_n_wrenches_zero_is_refused_and_an_unused_one_is_said_to_be_unused(c
 
 def test_c111_a_string_obstacle_is_refused_naming_the_obstacle_types():
     """press(PadGeometry(), Material(), 'sphere', [1e-3]): AttributeError 'str' object has no
-    attribute 'signed_distance', from deep in fem/contact.py."""
+    attribute 'signed_distance', from deep in workbench/fem/contact.py."""
     from workbench.fem.fidelity import press
     from workbench.fem.material import Material
     from workbench.fem.pad import PadGeometry

@@ -88,7 +88,7 @@ def test_trial10_save_png_seed_and_wrench_name():
     evaluate_grasp(model="soft_point", seed=-3) was accepted where model="6dls" refused it;
     simulate_disturbance's torque check named the argument w_ext, not wrench."""
     from workbench.grasp.models import contact_sets
-    from workbench.results import save_png
+    from workbench.runner.results import save_png
     from workbench.sources.scenes import elliptic_cylinder_grasp
 
     with pytest.raises(ValueError, match=r"data must be the PNG's bytes; got str"):

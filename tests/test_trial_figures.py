@@ -10,9 +10,9 @@ import numpy as np  # noqa: E402
 import trimesh  # noqa: E402
 
 from workbench.grasp.gripper_eval import gripper_contact  # noqa: E402
+from workbench.runner.trial_figures import facing_surface, grasp_panel, jaw_coordinates  # noqa: E402
 from workbench.sources.gripper import yumi  # noqa: E402
 from workbench.sources.trials import default_mesh_path, default_trials_path, read_trials  # noqa: E402
-from workbench.trial_figures import facing_surface, grasp_panel, jaw_coordinates  # noqa: E402
 
 
 def test_panel_of_a_real_grasp():
@@ -35,7 +35,7 @@ def test_panel_of_a_real_grasp():
 def test_fig_3_draws_each_models_mean_against_the_swept_key(tmp_path):
     import pandas as pd
 
-    from workbench.trial_figures import fig_3, fig_3_figure
+    from workbench.runner.trial_figures import fig_3, fig_3_figure
 
     rows = []
     for n in (1, 3, 10):

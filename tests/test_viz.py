@@ -1,4 +1,4 @@
-"""workbench.viz: offscreen pyvista renders of contact profiles — the polydata of a meshed
+"""workbench.runner.viz: offscreen pyvista renders of contact profiles — the polydata of a meshed
 profile (cell areas by VTK against the profile's), and the friction-arrow figure written as
 a PNG of the requested size with non-trivial content.  Skips where pyvista cannot render
 offscreen."""
@@ -12,9 +12,9 @@ from workbench.sources.surface_catalog import S2, example_3_2_5
 
 @pytest.fixture(scope="module")
 def pv():
-    """pyvista set up by workbench.viz, or a skip when it cannot render offscreen here."""
+    """pyvista set up by workbench.runner.viz, or a skip when it cannot render offscreen here."""
     pytest.importorskip("pyvista")
-    from workbench.viz import _pyvista
+    from workbench.runner.viz import _pyvista
 
     try:
         pv = _pyvista()
@@ -30,7 +30,7 @@ def pv():
 
 
 def test_profile_polydata_carries_the_mesh_and_pressures(pv):
-    from workbench.viz import profile_polydata
+    from workbench.runner.viz import profile_polydata
 
     prof = mesh_profile(S2, 120, pressure_scale=1e4)
     poly = profile_polydata(prof)
@@ -50,7 +50,7 @@ def test_friction_arrows_figure_is_written(pv, tmp_path, surface):
     uniform pressure (one colour, no colour bar); S2 with a quadratic pressure a colour map."""
     from PIL import Image
 
-    from workbench.viz import render_friction_arrows
+    from workbench.runner.viz import render_friction_arrows
 
     if surface == "uniform":
         prof = mesh_profile(example_3_2_5(), 80)

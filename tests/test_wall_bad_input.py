@@ -18,11 +18,11 @@ import pytest
 import trimesh
 
 import workbench.fem.object_wall
-from workbench.cli import main
 from workbench.fem.mesh_wall import radial_surface
 from workbench.fem.object_wall import object_wall, wall_geometry
 from workbench.fem.wall_grasps import grasp_pairs, read_locations
 from workbench.plausible import ImplausibleWarning
+from workbench.runner.cli import main
 
 R, T, H = 0.020, 0.5e-3, 0.040  # cup radius, wall, height [m]
 Z = 0.020  # grasp height, mid side wall

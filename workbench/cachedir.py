@@ -1,6 +1,6 @@
 """The workbench's on-machine cache folder: condensed pads (:mod:`workbench.fem.pad`), an object
 mesh's ray hits (:mod:`workbench.fem.mesh_wall`) and results shared by runs
-(:func:`workbench.results.shared_cache_path`).  A module of its own so that the results module and
+(:func:`workbench.runner.results.shared_cache_path`).  A module of its own so that the results module and
 the FEM modules can both reach it without importing each other."""
 
 from __future__ import annotations

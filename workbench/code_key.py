@@ -7,9 +7,8 @@ of a comment, a docstring or the layout keeps every key, and a change of a state
 constant or a message changes the key of every module that imports it, directly or not.
 
 :func:`module_closure` follows the package's own imports statically (every ``import`` and
-``from … import`` of a module, function-level ones included, resolved inside the package's
-three roots: ``workbench``, ``workbench.fem`` = ``fem/``, ``workbench.experiments`` =
-``experiments/``), so a module that the computation cannot import does not change its key.
+``from … import`` of a module, function-level ones included, resolved inside the package
+``workbench``), so a module that the computation cannot import does not change its key.
 A change of meaning that the code does not show (a data file's format, an external tool's
 behaviour) is the caller's to add to its key.
 """
@@ -37,14 +36,15 @@ def _default_roots() -> tuple[tuple[str, Path], ...]:
     from importlib.util import find_spec
 
     out = []
-    for pkg in ("workbench", "workbench.fem", "workbench.experiments"):
+    for pkg in ("workbench",):
         spec = find_spec(pkg)
         out.append((pkg, Path(spec.submodule_search_locations[0])))
     return tuple(out)
 
 
 def package_roots() -> dict[str, Path]:
-    """``{package: folder}`` of the installed package's three roots."""
+    """``{package: folder}`` of the installed package's root (``workbench``; its subpackages
+``workbench.fem``, ``workbench.experiments``, ``workbench.runner`` live in its folder)."""
     return dict(_default_roots())
 
 

@@ -805,7 +805,7 @@ def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
 def configure(**values: Any) -> None:
     """Set tolerances and defaults by field name for the rest of this process, e.g.
     ``config.configure(resist_rtol=1e-8)``.  An experiment's rows on Dask workers (other
-    processes) compute under the same settings: :func:`workbench.parallel.map_rows` passes
+    processes) compute under the same settings: :func:`workbench.runner.parallel.map_rows` passes
     :func:`changed` with every task, and checkpoints key their rows by it."""
     global TOL, DEFAULTS
     tol, dft = _split(values)

@@ -55,7 +55,7 @@ DATA_DIR = Path(__file__).resolve().parents[1] / "data" / "reach_trials"
 
 #: Young's modulus of a soft silicone pad [Pa].  The REACH data gives the pad's depth (3 mm) but
 #: not its material; 1 MPa is Gent's Shore-A relation at ~30 Shore A (E ≈ 1.1 MPa; A. N. Gent,
-#: Trans. Inst. Rubber Ind. 34, 46, 1958), the modulus of fem/material.py's default silicone.
+#: Trans. Inst. Rubber Ind. 34, 46, 1958), the modulus of workbench/fem/material.py's default silicone.
 #: An assumption: the Winkler pressure's *shape* does not depend on it, only the compression a
 #: force needs (pressures are rescaled to the force reading).
 SILICONE_MODULUS_PA = 1.0e6
