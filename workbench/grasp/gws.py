@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from ..wrench import check_mu  # the one rule of μ; the grasp layer imports it from here too
 from .contacts import ContactSet
 
 log = logging.getLogger(__name__)
@@ -105,14 +106,6 @@ def squeeze_check(contacts: list[ContactSet]) -> None:
             UserWarning,
             stacklevel=3,
         )
-
-
-def check_mu(mu) -> float:
-    """A friction coefficient ``>= 0`` in its plausible range, or a ValueError
-    (:func:`workbench.wrench.check_mu`, the one rule of μ)."""
-    from ..wrench import check_mu as _check
-
-    return _check(mu)
 
 
 def grasp_map(contacts) -> np.ndarray:
