@@ -115,18 +115,9 @@ def evaluate_one_call(quick: bool) -> dict:
     return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--out", default=str(ROOT / "results" / "benchmarks" / "grasp.json"))
-    args = parser.parse_args()
-    rng = np.random.default_rng(0)
-    n_grasps = 60 if args.quick else 300
-    n_hull = 200 if args.quick else 1000
-    profiles = elliptic_cylinder_grasp(force=25.0)
-    cache = LimitSurfaceCache()
-
-    # ms per grasp from cached contact sets
+def time_models(profiles, cache, rng, n_grasps: int) -> tuple[dict, dict, dict]:
+    """(ms per grasp, build ms, resisted fraction) per model from cached contact sets, on
+    ``n_grasps`` random disturbances and grasp forces drawn from ``rng``."""
     ms, build_ms, resisted = {}, {}, {}
     W = lever_disturbances(rng, n_grasps)
     forces = rng.uniform(20.0, 35.0, n_grasps)
@@ -145,8 +136,12 @@ def main() -> None:
             times.append(time.perf_counter() - t0)
         ms[name] = float(np.median(times) * 1e3)
         resisted[name] = hits / n_grasps
+    return ms, build_ms, resisted
 
-    # LP vs hull on the 6DLS W_L∞ (inner vertices)
+
+def lp_vs_hull(profiles, cache, rng, n_hull: int) -> tuple[dict, bool]:
+    """Membership of ``-w`` in the 6DLS ``W_L∞`` (inner vertices) by the LP and by the hull's
+    facets on ``n_hull`` random disturbances: (agreement and times, whether all agree)."""
     model_sets = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache, M=40)]
     t0 = time.perf_counter()
     hull = build_gws(model_sets, MU)
@@ -164,21 +159,53 @@ def main() -> None:
         hull.contains(-w)
         t_single.append(time.perf_counter() - t1)
     hull_single_ms = float(np.median(t_single) * 1e3)
+    return {
+        "n": n_hull,
+        "agreement": float((lp == hl).mean()),
+        "resisted_fraction": float(lp.mean()),
+        "minkowski_points": int(len(model_sets[0].friction) * len(model_sets[1].friction)),
+        "hull_facets": int(len(hull.equations)),
+        "hull_build_s": hull_build_s,
+        "lp_ms_per_query": lp_ms,
+        "hull_ms_per_query_batched": hull_batch_ms,
+        "hull_ms_per_query_single": hull_single_ms,
+        "lp_over_hull_time_ratio_single": lp_ms / hull_single_ms,
+        "queries_to_amortise_hull": hull_build_s * 1e3 / max(lp_ms - hull_single_ms, 1e-9),
+    }, bool(np.array_equal(lp, hl))
 
-    # QP solvers on two sizes of the outer QP vs an exact LP of the same constraints:
-    # two 6DLS contacts (14 variables) and REACH (32 soft contacts in two force groups,
-    # 2 variables each on their affine hulls + one σ per jaw)
+
+def qp_solvers(profiles, cache, rng, quick: bool) -> dict:
+    """QP solvers on two sizes of the outer QP vs an exact LP of the same constraints:
+    two 6DLS contacts (14 variables) and REACH (32 soft contacts in two force groups,
+    2 variables each on their affine hulls + one σ per jaw)."""
     sets6 = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache)]
     sets_reach = [c for p in profiles for c in contact_sets(p, "reach", cache=cache)]
-    Wq = lever_disturbances(rng, 100 if args.quick else 300)
+    Wq = lever_disturbances(rng, 100 if quick else 300)
     n6 = assemble(sets6, Wq[0], MU, "outer", None).n
     nr = assemble(sets_reach, Wq[0], MU, "outer", None).n
-    solvers = {
+    return {
         f"6dls_{n6}_variables": compare_solvers(sets6, Wq, [outer_lp(sets6, w, MU) for w in Wq]),
         f"reach_{nr}_variables": compare_solvers(
             sets_reach, Wq[:100], [outer_lp(sets_reach, w, MU) for w in Wq[:100]]
         ),
     }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--out", default=str(ROOT / "results" / "benchmarks" / "grasp.json"))
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    n_grasps = 60 if args.quick else 300
+    n_hull = 200 if args.quick else 1000
+    profiles = elliptic_cylinder_grasp(force=25.0)
+    cache = LimitSurfaceCache()
+
+    # in this order: each draws its disturbances from rng
+    ms, build_ms, resisted = time_models(profiles, cache, rng, n_grasps)
+    hull_table, hull_agree = lp_vs_hull(profiles, cache, rng, n_hull)
+    solvers = qp_solvers(profiles, cache, rng, args.quick)
 
     # the one-call evaluation (evaluate_grasp): a thesis bottle, REACH profiles computed once,
     # then per model the verdict + minimal force from cached profiles and limit surfaces
@@ -195,20 +222,8 @@ def main() -> None:
         "build_ms": build_ms,
         "resisted_fraction": resisted,
         "thesis_ms_per_grasp": THESIS_MS,
-        "lp_vs_hull_agree": bool(np.array_equal(lp, hl)),
-        "lp_vs_hull": {
-            "n": n_hull,
-            "agreement": float((lp == hl).mean()),
-            "resisted_fraction": float(lp.mean()),
-            "minkowski_points": int(len(model_sets[0].friction) * len(model_sets[1].friction)),
-            "hull_facets": int(len(hull.equations)),
-            "hull_build_s": hull_build_s,
-            "lp_ms_per_query": lp_ms,
-            "hull_ms_per_query_batched": hull_batch_ms,
-            "hull_ms_per_query_single": hull_single_ms,
-            "lp_over_hull_time_ratio_single": lp_ms / hull_single_ms,
-            "queries_to_amortise_hull": hull_build_s * 1e3 / max(lp_ms - hull_single_ms, 1e-9),
-        },
+        "lp_vs_hull_agree": hull_agree,
+        "lp_vs_hull": hull_table,
         "qp_solvers": solvers,
         "evaluate_grasp": one_call,
         "default_solver": (
@@ -224,7 +239,8 @@ def main() -> None:
     for k, v in ms.items():
         print(f"  {k:>11}: {v:.3f} ms per grasp (build {build_ms[k]:.0f} ms, resisted {resisted[k]:.2f})")
     print(
-        f"  LP vs hull agree: {out['lp_vs_hull_agree']} ({lp_ms:.2f} ms vs {hull_single_ms:.3f} ms per query)"
+        f"  LP vs hull agree: {out['lp_vs_hull_agree']} ({hull_table['lp_ms_per_query']:.2f} ms vs "
+        f"{hull_table['hull_ms_per_query_single']:.3f} ms per query)"
     )
     for k, v in one_call.get("ms_per_call", {}).items():
         print(f"  evaluate_grasp {k:>14}: {v:.2f} ms per call (cached profiles and limit surfaces)")

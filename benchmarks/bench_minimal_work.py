@@ -1,7 +1,7 @@
 """The minimal-work metric per grasp with cached profiles and limit surfaces (the budget:
 "≤ 5 ms per grasp").
 
-One grasp is evaluated as ``workbench/experiments/minimal_work.py`` (``_grasp_row``) does, minus the
+One grasp is evaluated as ``workbench/grasp/work_table.py`` (``grasp_row``) does, minus the
 wall FEM and the simulated truth: REACH profiles of both jaws at 10 N, the ellipsoidal
 6DLS of each (``contact_sets(..., "6dls", M)``) — built once per grasp, outside the timing
 — then, per grasp,

@@ -65,7 +65,7 @@ def run(repeats: int) -> dict:
     from workbench.fem.wall_nonlinear import grasp_frame_wall
 
     cfg = dict(wn.DEFAULT_CONFIG)
-    geo, _, L, _ = wn._inputs(cfg)
+    geo, _, L, _ = wn.object_inputs(cfg)
     n = len(L) // 2
     pet = Material(2.0e8, cfg["nu"])  # about wall-nonlinear's calibrated modulus
     wall, _ = grasp_frame_wall(geo, pet, L[GRASP], L[GRASP + n], n_theta=cfg["mesh"][0])

@@ -11,7 +11,7 @@ than 11 GiB and is refused).
 The walls, one at a time (never two meshes at once):
 
 * bottles of the thesis family (:func:`workbench.fem.bottle.bottle_family`, seed 0), built and
-  squeezed exactly as ``workbench/experiments/wall_stiffness.py`` does (``_bottle_wall``, ``_axis``,
+  squeezed exactly as ``workbench/experiments/wall_stiffness.py`` does (``bottle_wall``, ``grasp_axis``,
   :func:`workbench.fem.wall.squeeze`: clamped base, free top edge, PET 2.5 GPa, 0.5 mm);
   the shoulder starts at ``z_s``, the lowest height of the upper half above which the
   section's major semi-axis shrinks faster than ``SHOULDER_SLOPE`` all the way up;
@@ -266,17 +266,18 @@ def _squeeze_rows(case: dict, squeeze_one, z_range, n_z: int | None) -> list[dic
 
 def run_family(case: dict, i: int, spec: tuple) -> tuple[dict, list[dict]]:
     """Build bottle ``i``'s wall at ``spec`` (:func:`parse_mesh`) and squeeze it at the case's
-    locations; uniform rows through the experiment's own ``_bottle_wall``."""
-    from workbench.experiments.wall_stiffness import _axis, _bottle_wall
+    locations; uniform rows through the experiment's own
+    :func:`workbench.fem.wall_family.bottle_wall`."""
     from workbench.fem.bottle import Bottle, bottle_family
     from workbench.fem.material import Material
     from workbench.fem.wall import build_wall, squeeze
+    from workbench.fem.wall_family import bottle_wall, grasp_axis
 
     nt, nz, beta = spec
     z_range = (0.0, case["height_m"])
     t0 = time.perf_counter()
     if beta is None:
-        b, wall = _bottle_wall(0, i, E, NU, THICKNESS, nt, nz)
+        b, wall = bottle_wall(0, i, E, NU, THICKNESS, nt, nz)
         rows_z = nz
     else:
         b = Bottle(bottle_family(seed=0)[i])
@@ -293,7 +294,7 @@ def run_family(case: dict, i: int, spec: tuple) -> tuple[dict, list[dict]]:
     build |= {"free_dofs": int(wall.free.size), "n_z_rows": rows_z}
 
     def one(z: float, a: float) -> dict:
-        r = squeeze(wall, *_axis(b, z, a), force=FORCE, jaw=JAW)
+        r = squeeze(wall, *grasp_axis(b, z, a), force=FORCE, jaw=JAW)
         return {
             "stiffness": None if r["implausible"] else float(r["stiffness"]),
             "closing_mm": r["delta"] * 1e3,
@@ -304,7 +305,7 @@ def run_family(case: dict, i: int, spec: tuple) -> tuple[dict, list[dict]]:
         }
 
     rows = _squeeze_rows(case, one, z_range, None if beta else nz)
-    _bottle_wall.cache_clear()  # the factor goes before the next mesh's is built
+    bottle_wall.cache_clear()  # the factor goes before the next mesh's is built
     return build, rows
 
 
@@ -507,7 +508,9 @@ def mem_available() -> int:
     raise RuntimeError("no MemAvailable in /proc/meminfo")
 
 
-def main() -> int:
+def _parse_args() -> tuple[argparse.Namespace, list[str]]:
+    """The command line and the meshes to run (the sequence, then the variants), each refused
+    beyond ``MAX_CELLS``."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", type=Path, default=OUT)
     ap.add_argument(
@@ -535,11 +538,109 @@ def main() -> int:
             ap.error(
                 f"mesh {m}: beyond {MAX_CELLS} cells ([120, 60]) needs more than ~11 GiB: not on this machine"
             )
+    return args, specs
 
+
+def _resume(result: dict, cases: list[dict], out: Path) -> None:
+    """Keep in ``result`` each (mesh, case) of the file ``out`` whose case has the same
+    locations, and its runs."""
+    import json
+
+    old = json.loads(out.read_text())
+    result["runs"] = old.get("runs", [])
+    before = {c["name"]: c for c in old.get("cases", [])}
+    same = {
+        c["name"]
+        for c in cases
+        if c["name"] in before and before[c["name"]]["locations"] == [list(x) for x in c["locations"]]
+    }
+    for c in cases:
+        if c["name"] in same and before[c["name"]].get("z_range_m"):
+            c["z_range_m"] = before[c["name"]]["z_range_m"]
+    for t, e in old.get("per_mesh", {}).items():
+        kept = {n: v for n, v in e.get("cases", {}).items() if n in same}
+        if kept:
+            result["per_mesh"][t] = {**e, "cases": kept, "complete": len(kept) == len(cases)}
+
+
+def _run_mesh(result: dict, tag: str, cases: list[dict], mesh, out: Path) -> bool:
+    """Squeeze on mesh ``tag`` every case ``result`` lacks, into ``result["per_mesh"][tag]``;
+    False when nothing ran (all kept, or skipped for want of memory)."""
+    from workbench.experiments.wall_stiffness import memory_estimate
+
+    nt, nz, beta = parse_mesh(tag)
+    have = result["per_mesh"].get(tag, {}).get("cases", {})
+    todo = [c for c in cases if c["name"] not in have]
+    if not todo:
+        print(f"{tag}: kept from {out}", flush=True)
+        return False
+    need = memory_estimate({"object": "x", "mesh": [nt, int(np.ceil(nz * (beta or 1.0)))]})
+    avail = mem_available()
+    if 1.25 * need > avail:
+        result["per_mesh"][tag] = {
+            "complete": False,
+            "skipped": f"estimated peak {need / 2**30:.1f} GiB (x 1.25) over the "
+            f"{avail / 2**30:.1f} GiB available",
+        }
+        print(f"{tag}: skipped ({result['per_mesh'][tag]['skipped']})", flush=True)
+        return False
+    entry: dict = result["per_mesh"].get(tag, {"cases": {}})
+    entry |= {"complete": False, "mem_available_gib_before": avail / 2**30}
+    entry.setdefault("measured_at", {})
+    if not isinstance(entry["measured_at"], dict):  # a file of one run: one time for all cases
+        entry["measured_at"] = dict.fromkeys(entry["cases"], entry["measured_at"])
+    result["per_mesh"][tag] = entry
+    for case in todo:
+        _run_case(entry, tag, case, mesh, (nt, nz, beta))
+    entry["peak_rss_gib_so_far"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 2**30
+    entry["load_average_1min_after"] = os.getloadavg()[0]
+    entry["complete"] = True
+    return True
+
+
+def _run_case(entry: dict, tag: str, case: dict, mesh, grid: tuple) -> None:
+    """Squeeze ``case`` on the mesh ``grid`` = (n_theta, n_z, beta) into ``entry["cases"]``."""
+    entry["measured_at"][case["name"]] = time.strftime("%Y-%m-%dT%H:%M:%S")
+    if case["name"].startswith("revolved"):
+        build, rows = run_revolved(case, mesh, grid)
+    else:
+        build, rows = run_family(case, int(case["name"].split("_")[1]), grid)
+    gc.collect()
+    secs = [r["seconds"] for r in rows]
+    entry["cases"][case["name"]] = {
+        **build,
+        "s_per_grasp": {"median": float(np.median(secs)), "max": float(np.max(secs))},
+        "grasps": rows,
+    }
+    print(
+        f"{tag} {case['name']:13s} build {build['wall_build_s']:6.1f} s, per grasp median "
+        f"{np.median(secs):.2f} s: " + " ".join(f"{r['stiffness'] or float('nan'):.0f}" for r in rows),
+        flush=True,
+    )
+
+
+def _print_regions(result: dict) -> None:
+    """The default mesh's error per region, against the finest and the extrapolation."""
+    for region, r in result["regions"].items():
+        fin, ext = r["default_rel_to_finest"], r["default_rel_to_extrapolated"]
+        if fin is None:  # the default mesh was not run
+            continue
+        print(
+            f"{region:15s} default vs finest {fin['min']:+.1%}..{fin['max']:+.1%}"
+            + (
+                f", vs extrapolated {ext['min']:+.1%}..{ext['max']:+.1%} "
+                f"({r['n_extrapolation_justified']} justified)"
+                if ext
+                else ", no justified extrapolation"
+            )
+        )
+
+
+def main() -> int:
+    args, specs = _parse_args()
     sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench_wrench
     from bench_wrench import machine_roofline
 
-    from workbench.experiments.wall_stiffness import memory_estimate
     from workbench.runner.results import code_revision, versions, write_json
 
     wanted = args.cases.split(",")
@@ -563,72 +664,12 @@ def main() -> int:
     }
     started = time.strftime("%Y-%m-%dT%H:%M:%S")
     if args.resume and args.out.is_file():
-        import json
-
-        # keep each (mesh, case) whose case has the same locations
-        old = json.loads(args.out.read_text())
-        result["runs"] = old.get("runs", [])
-        before = {c["name"]: c for c in old.get("cases", [])}
-        same = {
-            c["name"]
-            for c in cases
-            if c["name"] in before and before[c["name"]]["locations"] == [list(x) for x in c["locations"]]
-        }
-        for c in cases:
-            if c["name"] in same and before[c["name"]].get("z_range_m"):
-                c["z_range_m"] = before[c["name"]]["z_range_m"]
-        for t, e in old.get("per_mesh", {}).items():
-            kept = {n: v for n, v in e.get("cases", {}).items() if n in same}
-            if kept:
-                result["per_mesh"][t] = {**e, "cases": kept, "complete": len(kept) == len(cases)}
+        _resume(result, cases, args.out)  # keep each (mesh, case) whose case has the same locations
     for tag in specs:
-        nt, nz, beta = parse_mesh(tag)
-        have = result["per_mesh"].get(tag, {}).get("cases", {})
-        todo = [c for c in cases if c["name"] not in have]
-        if not todo:
-            print(f"{tag}: kept from {args.out}", flush=True)
-            continue
-        need = memory_estimate({"object": "x", "mesh": [nt, int(np.ceil(nz * (beta or 1.0)))]})
-        avail = mem_available()
-        if 1.25 * need > avail:
-            result["per_mesh"][tag] = {
-                "complete": False,
-                "skipped": f"estimated peak {need / 2**30:.1f} GiB (x 1.25) over the "
-                f"{avail / 2**30:.1f} GiB available",
-            }
-            print(f"{tag}: skipped ({result['per_mesh'][tag]['skipped']})", flush=True)
-            continue
-        entry: dict = result["per_mesh"].get(tag, {"cases": {}})
-        entry |= {"complete": False, "mem_available_gib_before": avail / 2**30}
-        entry.setdefault("measured_at", {})
-        if not isinstance(entry["measured_at"], dict):  # a file of one run: one time for all cases
-            entry["measured_at"] = dict.fromkeys(entry["cases"], entry["measured_at"])
-        result["per_mesh"][tag] = entry
-        for case in todo:
-            entry["measured_at"][case["name"]] = time.strftime("%Y-%m-%dT%H:%M:%S")
-            if case["name"].startswith("revolved"):
-                build, rows = run_revolved(case, mesh, (nt, nz, beta))
-            else:
-                build, rows = run_family(case, int(case["name"].split("_")[1]), (nt, nz, beta))
-            gc.collect()
-            secs = [r["seconds"] for r in rows]
-            entry["cases"][case["name"]] = {
-                **build,
-                "s_per_grasp": {"median": float(np.median(secs)), "max": float(np.max(secs))},
-                "grasps": rows,
-            }
-            print(
-                f"{tag} {case['name']:13s} build {build['wall_build_s']:6.1f} s, per grasp median "
-                f"{np.median(secs):.2f} s: "
-                + " ".join(f"{r['stiffness'] or float('nan'):.0f}" for r in rows),
-                flush=True,
-            )
-        entry["peak_rss_gib_so_far"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 2**30
-        entry["load_average_1min_after"] = os.getloadavg()[0]
-        entry["complete"] = True
-        summarise(result, cases)
-        result["wall_time_s"] = time.perf_counter() - t_start
-        write_json(args.out, result)  # after every mesh: a killed run keeps what it measured
+        if _run_mesh(result, tag, cases, mesh, args.out):
+            summarise(result, cases)
+            result["wall_time_s"] = time.perf_counter() - t_start
+            write_json(args.out, result)  # after every mesh: a killed run keeps what it measured
     summarise(result, cases)
     result |= {
         "complete": True,
@@ -648,19 +689,7 @@ def main() -> int:
         }
     )
     write_json(args.out, result)
-    for region, r in result["regions"].items():
-        fin, ext = r["default_rel_to_finest"], r["default_rel_to_extrapolated"]
-        if fin is None:  # the default mesh was not run
-            continue
-        print(
-            f"{region:15s} default vs finest {fin['min']:+.1%}..{fin['max']:+.1%}"
-            + (
-                f", vs extrapolated {ext['min']:+.1%}..{ext['max']:+.1%} "
-                f"({r['n_extrapolation_justified']} justified)"
-                if ext
-                else ", no justified extrapolation"
-            )
-        )
+    _print_regions(result)
     print(f"wrote {args.out}")
     return 0
 

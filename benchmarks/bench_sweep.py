@@ -6,7 +6,7 @@ workers over one on this machine, written to ``results/benchmarks/sweep.json``.
   worker, ``as_completed`` with results, the driver's callback) on a warm
   :func:`workbench.runner.parallel.local_cluster` of one single-threaded worker, the median of
   several batches divided by ``n``, with the scheduler's queue at its default, 1.1
-  (``config.DEFAULTS.cluster_worker_saturation``: a row at a time to whichever worker is free),
+  (``config.RUN.cluster_worker_saturation``: a row at a time to whichever worker is free),
   and beside it with the queue off (``inf``: every row handed out at submit, which splits
   fem-fitting's uneven rows by count — see the warm speed-up below).  Why the path is built
   as it is, and what it cost before: docs/decisions.md.
@@ -74,7 +74,7 @@ def task_overhead(n: int, batches: int) -> dict:
         "batches": batches,
         "median_ms": 1e3 * statistics.median(out),
         "all_ms": [1e3 * x for x in out],
-        "worker_saturation": config.DEFAULTS.cluster_worker_saturation,
+        "worker_saturation": config.RUN.cluster_worker_saturation,
         "queue_off_median_ms": 1e3 * statistics.median(off),
         "goal_ms": 5.0,
         "path": "workbench.runner.parallel.map_rows (the experiments' and sweeps' row loop) of no-op rows",
@@ -87,7 +87,7 @@ def _overhead(n: int, batches: int) -> list[float]:
     from workbench.runner.parallel import local_cluster, map_rows
 
     # the experiments' own local cluster (workbench.runner.parallel.local_cluster: its queueing setting,
-    # config.DEFAULTS.cluster_worker_saturation, is most of this number), one worker
+    # config.RUN.cluster_worker_saturation, is most of this number), one worker
     with local_cluster(1) as cluster, Client(cluster) as c:
         map_rows(_noop, range(10), lambda job, res: None, client=c)  # warm-up
         per_task = []

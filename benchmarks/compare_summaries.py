@@ -54,6 +54,35 @@ def _kept(path: tuple) -> bool:
     return not any(TIME.search(n) or "seconds" in n or n.startswith("fit_runtime") for n in names)
 
 
+def _diff(a, b):
+    """The relative difference of two numbers (0 when equal or both NaN), inf for other values
+    that differ, else None."""
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
+        if a != b and not (math.isnan(a) and math.isnan(b)):
+            return abs(a - b) / max(abs(a), abs(b), 1e-300)
+        return None
+    return math.inf if a != b else None
+
+
+def _compare_one(fa: dict, fb: dict, rules: list[tuple[str, str]]) -> tuple[list, list, int]:
+    """(diffs [(relative difference, key, a, b)], keys of ``fa`` not in ``fb``, values compared)
+    of two flattened summaries, ``fa``'s keys renamed by ``rules`` (regex, replacement) until
+    found in ``fb``."""
+    diffs, unmatched, n = [], [], 0
+    for key, a in fa.items():
+        kb = key
+        for old, rep in rules:
+            kb = kb if kb in fb else re.sub(old, rep, kb)
+        if kb not in fb:
+            unmatched.append(key)
+            continue
+        b, n = fb[kb], n + 1
+        d = _diff(a, b)
+        if d is not None:
+            diffs.append((d, key, a, b))
+    return diffs, unmatched, n
+
+
 def compare(base: Path, new: Path, renames: dict[str, list[tuple[str, str]]]) -> int:
     total = [0, 0]
     for sa in sorted(base.glob("*/summary.json")):
@@ -64,20 +93,7 @@ def compare(base: Path, new: Path, renames: dict[str, list[tuple[str, str]]]) ->
             continue
         fa = {".".join(k): v for k, v in _flat(json.loads(sa.read_text())) if _kept(k)}
         fb = {".".join(k): v for k, v in _flat(json.loads(sb.read_text())) if _kept(k)}
-        diffs, unmatched, n = [], [], 0
-        for key, a in fa.items():
-            kb = key
-            for old, rep in renames.get(name, []):
-                kb = kb if kb in fb else re.sub(old, rep, kb)
-            if kb not in fb:
-                unmatched.append(key)
-                continue
-            b, n = fb[kb], n + 1
-            if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
-                if a != b and not (math.isnan(a) and math.isnan(b)):
-                    diffs.append((abs(a - b) / max(abs(a), abs(b), 1e-300), key, a, b))
-            elif a != b:
-                diffs.append((math.inf, key, a, b))
+        diffs, unmatched, n = _compare_one(fa, fb, renames.get(name, []))
         diffs.sort(key=lambda d: d[0], reverse=True)
         total[0] += n
         total[1] += len(diffs)

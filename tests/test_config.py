@@ -46,7 +46,7 @@ def test_override_of_a_default_changes_the_samplers_and_configure_lasts(monkeypa
 
 
 def test_unknown_names_are_refused_with_the_names_to_use():
-    with pytest.raises(ValueError, match=r"unknown tolerance/default names \['no_such_rtol'\]"):
+    with pytest.raises(ValueError, match=r"unknown tolerance/default/run-setting names \['no_such_rtol'\]"):
         config.configure(no_such_rtol=1.0)
     with pytest.raises(ValueError, match="unknown"), config.override(resist_rtol=1e-9, nope=2):
         pass
@@ -54,7 +54,7 @@ def test_unknown_names_are_refused_with_the_names_to_use():
 
 
 def _library_files() -> list[Path]:
-    return [f for d in ("workbench", "fem", "experiments") for f in (ROOT / d).rglob("*.py")]
+    return [f for f in (ROOT / "workbench").rglob("*.py")]
 
 
 def test_no_library_module_binds_a_tolerance_or_default_at_import():
@@ -77,9 +77,10 @@ def test_no_library_module_binds_a_tolerance_or_default_at_import():
 
 
 def test_every_field_has_a_rule_and_every_default_passes_it():
-    names = [f.name for cls in (config.Tolerances, config.Defaults) for f in fields(cls)]
-    assert sorted(names) == sorted(config._RULES)
-    for cls, obj in ((config.Tolerances, config.TOL), (config.Defaults, config.DEFAULTS)):
+    owners = (config.Tolerances, config.Defaults, config.RunSettings)
+    names = [f.name for cls in owners for f in fields(cls)]
+    assert sorted(names) == sorted(config._RULES) and len(names) == len(set(names))
+    for cls, obj in zip(owners, (config.TOL, config.DEFAULTS, config.RUN), strict=True):
         for f in fields(cls):
             assert config.check_value(f.name, getattr(obj, f.name)) == getattr(obj, f.name), f.name
 
@@ -121,3 +122,25 @@ def test_an_int_for_a_float_field_is_stored_as_that_float():
     with config.override(cut_rtol=1, pitch_range=[-2, 2]):
         assert config.TOL.cut_rtol == 1.0 and isinstance(config.TOL.cut_rtol, float)
         assert config.DEFAULTS.pitch_range == (-2.0, 2.0)
+
+
+def test_run_settings_reach_workers_but_not_the_keys_of_results(tmp_path):
+    # a run setting (how a run executes) travels with the tasks like a tolerance, but a checkpoint
+    # keys its rows by the numerics alone: rows computed on another cluster size are the same rows
+    from workbench.runner.results import Checkpoint
+
+    assert config.RUN.cluster_min_rows == config.RunSettings.cluster_min_rows
+    with pytest.raises(AttributeError):
+        config.DEFAULTS.cluster_min_rows  # noqa: B018 - the run settings left the numerics
+    key = Checkpoint._config_hash({"n": 1}, "code")
+    with config.override(cluster_min_rows=3, progress_delay_s=0.0):
+        assert config.RUN.cluster_min_rows == 3
+        assert config.changed() == {"cluster_min_rows": 3, "progress_delay_s": 0.0}
+        assert config.changed(numbers_only=True) == {}
+        assert Checkpoint._config_hash({"n": 1}, "code") == key
+        with config.override(resist_rtol=1e-6):
+            assert config.changed(numbers_only=True) == {"resist_rtol": 1e-6}
+            assert Checkpoint._config_hash({"n": 1}, "code") != key
+    assert config.RUN.cluster_min_rows == config.RunSettings.cluster_min_rows
+    with pytest.raises(ValueError, match=r"cluster_min_rows must be an int >= 0; got -1"):
+        config.configure(cluster_min_rows=-1)

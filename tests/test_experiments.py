@@ -154,29 +154,6 @@ def test_settings_a_default_cannot_judge_are_refused_before_any_work(name, sets,
         build_config(name, True, None, None, sets)
 
 
-def test_sensitivity_headline_reads_undefined_numbers_as_n_a():
-    """A sweep point whose truth resisted nothing crashed in the headline (round(None)) after
-    the whole run, writing no summary: a recall without positives is None once checkpointed."""
-    import numpy as np
-
-    from workbench.experiments.sensitivity import _headline
-
-    nan = float("nan")
-    config = {"models": ["6dls"], "precision_levels": [0.9]}
-    lines = _headline(
-        np.zeros(4, bool),
-        {"k": {"6dls": {"recall": [None, nan]}}},
-        {"6dls": nan},
-        {"6dls": {"at_levels": {"recall": [nan]}}},
-        {"0.9": True},
-        {"6dls": {"median_abs_log_ratio": nan, "median_log_ratio": nan}},
-        {"6dls": {"thesis": {"vs_exact_nominal": {"median_abs_log_ratio": nan, "median_log_ratio": None}}}},
-        config,
-    )
-    assert lines[1] == "6dls: recall vs k [n/a, n/a], n/a ms/grasp"
-    assert "6dls n/a" in lines[2] and "6dls n/a (n/a)" in lines[4] and "thesis n/a (n/a)" in lines[5]
-
-
 @pytest.fixture(scope="module")
 def ls_fitting(tmp_path_factory):
     out = tmp_path_factory.mktemp("ls")
@@ -496,7 +473,7 @@ def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
     offsets are the k row at k_true: each computed apart gives the same numbers, so a run
     computes one and checkpoints it under every key (marked), also when it resumes after a kill
     between the two."""
-    from workbench.experiments.sensitivity import _row
+    from workbench.grasp.sensitivity_rows import sensitivity_row
     from workbench.runner.experiment_config import build_config
 
     sets = {
@@ -512,9 +489,10 @@ def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
     cfg = build_config("sensitivity", True, str(tmp_path), None, sets)
     assert cfg["k_true"] == 2.4
     # the premise, computed apart
-    assert _row(("margin", "6dls", None), cfg)["margins"] == _row(("margin", "6dls", "mix"), cfg)["margins"]
+    margins = [sensitivity_row(("margin", "6dls", s), cfg)["margins"] for s in (None, "mix")]
+    assert margins[0] == margins[1]
     preds = [
-        _row(("setting", s, x, "6dls"), cfg)["pred"]
+        sensitivity_row(("setting", s, x, "6dls"), cfg)["pred"]
         for s, x in [("k", 2.4), ("mu_offset", 0.0), ("length_offset", 0.0)]
     ]
     assert preds[0] == preds[1] == preds[2] and 0 < sum(preds[0]) < len(preds[0])
@@ -543,24 +521,6 @@ def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
     assert main(argv) == 0
     again = (tmp_path / "rows.jsonl").read_text().splitlines()[len(lines) - len(twins) :]
     assert sorted(json.loads(x)["key"] for x in again) == sorted(twins)  # nothing else recomputed
-
-
-def test_fem_fitting_leaves_out_an_underdetermined_quartic():
-    """The thesis-code training set can have fewer wrenches than the quartic's 126
-    coefficients (121 on a bottle profile): the quartic is left out, not faked."""
-    from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, w_max
-    from workbench.experiments.fem_fitting import _fits
-
-    rng = np.random.default_rng(0)
-    c = np.c_[rng.uniform(-0.01, 0.01, (80, 2)), 0.002 * rng.standard_normal(80)]
-    n = np.tile([0.0, 0.0, 1.0], (80, 1))
-    prof = ContactProfile(c, n, np.full(80, 2e-6), rng.uniform(1e4, 2e4, 80))
-    xi = sample_twists_thesis(100, prof, seed=1)
-    W = frictional_wrenches(prof, xi)
-    cfg = {"mu": 1.0, "support_directions": 50}
-    few, enough = (_fits(W[:k], w_max(prof), cfg, 0, test=W, contact=prof) for k in (121, 130))
-    assert set(few) == {"ellipsoid_sdp", "ellipsoid_lsq"}
-    assert set(enough) == {"ellipsoid_sdp", "ellipsoid_lsq", "quartic_values"}
 
 
 @pytest.mark.parametrize(
@@ -773,11 +733,12 @@ def test_peers_bottle_case_is_placed_as_fem_fitting_places_it():
     distance 0), its section centre straight above the pad at about h + A (the jaw approaches along
     the major semi-axis A), MuJoCo's curvature radius B²/A; Drake's mesh of it lies on the analytic
     wall to within its chord sag (2π A / n_theta)² / (8 ρ) at the contact."""
-    from workbench.experiments.peers import DEFAULT_CONFIG, _bottle_mesh, setup
+    from workbench.experiments.peers import DEFAULT_CONFIG
     from workbench.fem.bottle import Bottle, bottle_family
     from workbench.fem.pad import PadFace
+    from workbench.peers.pad_cases import bottle_mesh, setup_case
 
-    geom, mat, pose, c, rho = setup("bottle", DEFAULT_CONFIG)
+    geom, mat, pose, c, rho = setup_case("bottle", DEFAULT_CONFIG)
     bottle = Bottle(bottle_family(24, 8, 0)[0])
     z = 0.5 * bottle.params.height
     _, A, B, _ = bottle.section(z)
@@ -790,7 +751,7 @@ def test_peers_bottle_case_is_placed_as_fem_fitting_places_it():
     assert c[:2] == pytest.approx([0.0, 0.0], abs=1e-9)
     assert A <= c[2] - geom.thickness <= 1.01 * A
     assert rho == pytest.approx(B * B / A)
-    mesh = _bottle_mesh(pose, DEFAULT_CONFIG)
+    mesh = bottle_mesh(pose, DEFAULT_CONFIG["bottle"]["mesh"])
     n_theta = DEFAULT_CONFIG["bottle"]["mesh"][0]
     sag = (2 * np.pi * A / n_theta) ** 2 / (8 * rho)
     near = X[d < 1e-3]  # the face nodes within 1 mm of the wall
@@ -799,32 +760,27 @@ def test_peers_bottle_case_is_placed_as_fem_fitting_places_it():
         build_config("peers", True, None, None, {"bottle": {"index": 30, "height": 0.5, "mesh": [64, 64]}})
 
 
-def test_fem_fitting_gives_a_task_a_grasp_on_long_runs(tmp_path, monkeypatch):
-    """From ``config.DEFAULTS.grasp_tasks_from`` grasps a task holds a grasp's remaining jaw
+def test_fem_fitting_gives_a_task_a_grasp_on_long_runs(tmp_path):
+    """From ``config.RUN.grasp_tasks_from`` grasps a task holds a grasp's remaining jaw
     displacements (solved once, in order), below it one profile; either way every profile to
     do is in exactly one task and the tasks with the protocol ablation come first."""
     from workbench import config
-    from workbench.experiments import fem_fitting as ff
+    from workbench.experiments.fem_fitting import row_tasks
+    from workbench.limit_surface.profile_fits import ablation_due
 
     cfg = build_config("fem-fitting", True, str(tmp_path), None, {"ablation_every": 5})
     todo = [(j, 0, 0.5, "major", 0.0, [0, 1, 2]) for j in range(4)] + [(4, 1, 0.5, "minor", 1.5, [2])]
-    seen = {}
-
-    def fake_run_rows(fn, tasks, keep, config, **kw):
-        seen["tasks"] = tasks
-        return [], "here"
-
-    monkeypatch.setattr(ff, "run_rows", fake_run_rows)
-    ckpt = ff._checkpoint(tmp_path, cfg)
     for threshold, per_task in ((5, 3), (6, 1)):
         with config.override(grasp_tasks_from=threshold):
-            ff._sweep(todo, todo, [], ckpt, cfg, lambda: [])
-        tasks = seen["tasks"]
+            tasks = row_tasks(todo, cfg)
+        assert {t[0] for t in tasks} == {"rows"}
         profiles = sorted((t[1][0], k) for t in tasks for k in t[1][-1])
         assert profiles == sorted((job[0], k) for job in todo for k in job[-1])
         assert max(len(t[1][-1]) for t in tasks) == per_task
-        ablated = [any(ff._ablated(t[1][0], k, cfg) for k in t[1][-1]) for t in tasks]
-        assert ablated == sorted(ablated, reverse=True) and any(ablated) and not all(ablated)
+        # profile k of grasp j is the (3 j + k)-th of the sweep: 0, 5 and 10 (grasps 0, 1, 3) get the
+        # ablation, and their tasks come first
+        ablated = [any(ablation_due(3 * t[1][0] + k, 5) for k in t[1][-1]) for t in tasks]
+        assert ablated == [True] * 3 + [False] * (len(tasks) - 3)
 
 
 def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, monkeypatch):
@@ -832,6 +788,7 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     machine for a wall's settings, in tasks of WALL_ROWS_PER_TASK grasps of one object: a second
     run (another output folder, another profile source) reads the shared rows, checkpoints them
     as its own, and computes nothing; another E or another mesh file computes again."""
+    import workbench.fem.grasp_walls as gw
     import workbench.fem.wall_grasps as wg
     from workbench.experiments import minimal_work as mw
     from workbench.runner.results import Checkpoint
@@ -844,7 +801,7 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(tmp_path / "cache"))
     calls, wall = [], {"offset": 0.0}
     geo = type("Geo", (), {"surface": None, "z_range": (0.0, 1.0)})()
-    monkeypatch.setattr(mw, "_wall_of", lambda name, config: (geo, wall["offset"]))
+    monkeypatch.setattr(gw, "linear_wall", lambda path, settings: (geo, wall["offset"]))
 
     def fake_stiffness_at(w, surface, P, **kw):
         ids = kw["grasp_ids"]
@@ -871,7 +828,7 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     def run(config, out, offset=0.0):
         wall["offset"] = offset
         ckpt = Checkpoint(tmp_path / out / "rows.jsonl", {**config, "out": out})
-        rows = mw._wall_rows(ckpt, {("cup", "fem"): L, ("cup", "wall"): C}, config)
+        rows = mw.wall_rows(ckpt, {("cup", "fem"): L, ("cup", "wall"): C}, config)
         own = ("key", "config_hash")  # the run's checkpoint fields
         return {k: [{a: b for a, b in r.items() if a not in own} for r in v] for k, v in rows.items()}, ckpt
 
@@ -891,32 +848,9 @@ def test_minimal_work_wall_rows_are_shared_by_runs_at_the_same_wall(tmp_path, mo
     third, _ = run({**base, "E": 2e9}, "c", offset=1.0)
     assert [r["stiffness"] for r in third["cup", "fem"]] == [101.0, 102.0, 103.0, 104.0] and len(calls) == 6
     (data / "meshes" / "cup.obj").write_text("v 0 0 1\n")
-    mw._mesh_digest.cache_clear()
+    gw.mesh_digest.cache_clear()
     run(base, "d")
     assert len(calls) == 9
-
-
-def test_ls_fitting_support_twists_are_integrated_once_per_surface():
-    """The support error's twists (its directions and the ±e_i probes) are the same for every
-    model of a surface: the second model's support error reuses the first's wrenches (the memo
-    held 4,000 twists against 4,000 + 12 asked, so it never hit) — and gets the same error as
-    with fresh wrenches."""
-    from workbench.experiments import ls_fitting as lf
-    from workbench.limit_surface.fit_score import fit_and_score
-    from workbench.runner.experiment_config import build_config
-
-    config = build_config("ls-fitting", True, None, None, {"support_directions": 300})
-    contact = lf.Contact(lf.THESIS_SURFACES["S3"], config)
-    W, wm, xi = lf.wrenches(contact, 200, 1)
-    support = lf._support_of(contact, config)
-    errs = [
-        fit_and_score(k, W, w_max=wm, **support).support.radial_mean
-        for k in ("ellipsoid_sdp", "ellipsoid_lsq")
-    ]
-    assert contact.memo_hits == 1
-    fresh = lf.Contact(lf.THESIS_SURFACES["S3"], config)
-    again = fit_and_score("ellipsoid_lsq", W, w_max=wm, **lf._support_of(fresh, config)).support.radial_mean
-    assert fresh.memo_hits == 0 and again == errs[1]
 
 
 @EXPERIMENT_RUN

@@ -119,15 +119,15 @@ def test_two_hard_points_minimal_force_is_none_even_where_highs_is_undecided(cub
     # a pose sample of the REACH trials' grasp 0 on which HiGHS (presolve off, then on) ended
     # "Unknown": two hard points cannot hold a torque about their line at any force, and the
     # answer must say so (Clarabel decides it; the fallback is recorded), not raise
-    from workbench.experiments.physical_trials import _seed
     from workbench.grasp.gripper_eval import gripper_contact
+    from workbench.grasp.gripper_trials import pose_seed
     from workbench.grasp.models import contact_sets
     from workbench.grasp.resistance import min_grasp_force
     from workbench.grasp.robust import gravity_wrench
     from workbench.sources.trials import default_trials_path, read_trials
 
     grasp = read_trials(default_trials_path()).grasps()[0]
-    T = pose_samples(grasp.pose, PoseNoise(10, 0.003, 0.003), seed=_seed(0, 0, 4))[0]
+    T = pose_samples(grasp.pose, PoseNoise(10, 0.003, 0.003), seed=pose_seed(0, 0, 4))[0]
     c = gripper_contact(cube, yumi(), T)
     sets = [s for p in c.profiles for s in contact_sets(p, "point")]
     mf = min_grasp_force(sets, gravity_wrench(MASS, np.zeros(3), down=c.rotation @ grasp.down), 0.3)

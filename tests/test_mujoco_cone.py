@@ -174,3 +174,18 @@ def test_against_mujoco_itself_on_the_torsional_axis():
 def test_careless_input_raises_saying_what_and_the_fix(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_patch_coefficients_are_a_users_estimate_of_the_patch():
+    from workbench.peers.mujoco_cone import patch_coefficients
+
+    rho, delta, mu = 15e-3, 1e-3, 0.5
+    a = np.sqrt(rho * delta)
+    hz = patch_coefficients(mu, rho, delta, "hertz")
+    assert hz.tolist()[:2] == [mu, mu] and hz.tolist()[3:] == [0.0, 0.0]  # no rolling resistance
+    assert hz[2] == pytest.approx(torsion_coefficient(a, mu, "hertz"), rel=1e-15)
+    assert patch_coefficients(mu, rho, delta, "diameter")[2] == pytest.approx(2 * a * mu, rel=1e-15)
+    with pytest.raises(ValueError, match="torsion must be one of"):
+        patch_coefficients(mu, rho, delta, "radius")
+    with pytest.raises(ValueError, match="curvature radius"):
+        patch_coefficients(mu, rho, 20e-3, "hertz")  # deeper than the surface is curved

@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDERS = ("workbench", "fem", "experiments", "benchmarks", "tests")
+FOLDERS = ("workbench", "benchmarks", "tests")
 
 #: the word "issue" or "issues", then a number ("#" before it allowed), also across a line end
 TRACKER = re.compile(r"\bissues?\s+#?\d+", re.IGNORECASE)

@@ -107,9 +107,9 @@ def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_mal
     before = {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "TQDM_DISABLE")}
     with local_cluster(2, 1) as cluster, Client(cluster) as client:
         seen = list(client.run(_worker_environment).values())
-        # the scheduler reads its queueing from config.DEFAULTS.cluster_worker_saturation (1.1:
+        # the scheduler reads its queueing from config.RUN.cluster_worker_saturation (1.1:
         # a row at a time to whichever worker is free), also when it is overridden
-        assert cluster.scheduler.WORKER_SATURATION == config.DEFAULTS.cluster_worker_saturation == 1.1
+        assert cluster.scheduler.WORKER_SATURATION == config.RUN.cluster_worker_saturation == 1.1
     with config.override(cluster_worker_saturation=math.inf), local_cluster(1, 1) as cluster:
         assert cluster.scheduler.WORKER_SATURATION == math.inf
     assert len(seen) == 2
@@ -126,7 +126,7 @@ def test_local_cluster_workers_start_with_one_thread_per_pool_and_glibcs_own_mal
 
 
 def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
-    for n_rows, workers in ((config.DEFAULTS.cluster_min_rows - 1, 0), (1000, 1), (0, 2)):
+    for n_rows, workers in ((config.RUN.cluster_min_rows - 1, 0), (1000, 1), (0, 2)):
         with row_client(n_rows, workers) as c:
             assert c is None, (n_rows, workers)
     for bad in (-1, 1.5, True):
@@ -142,7 +142,7 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
     thread per task in both."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiments.fem_fitting import _family, _pad_of, _reference_cases, _task
+    from workbench.experiments.fem_fitting import reference_cases, run_task
     from workbench.runner.experiment_config import build_config
 
     sets = {
@@ -156,14 +156,14 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
         "ablation_every": 0,
     }
     cfg = build_config("fem-fitting", True, str(tmp_path), None, sets)
-    pad = _pad_of(cfg)  # the driver builds (or loads) the pad before any worker needs it
-    (label, pose), *_ = _reference_cases(_family(1, 0, 0)[1], pad, cfg)  # one full-mesh check
+    # one full-mesh check; the driver builds (or loads) the pad here, before any worker needs it
+    (label, pose), *_ = reference_cases(cfg)
     jobs = [
         ("reference", label, pose),
         ("rows", (0, 0, 0.5, "major", 0.0, [0, 1, 2])),
         ("rows", (1, 0, 0.5, "minor", math.pi / 2, [1, 2])),
     ]
-    fn = partial(_task, config=cfg)
+    fn = partial(run_task, config=cfg)
 
     def keep(into):
         return lambda job, res: into.update({job[1]: res} if job[0] == "reference" else res)
@@ -234,7 +234,7 @@ def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(
     ran before it: forwards, backwards and on two worker processes alike."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiments.sensitivity import _key, _row, _row_tasks
+    from workbench.grasp.sensitivity_rows import row_key, row_tasks, sensitivity_row
     from workbench.runner.experiment_config import build_config
 
     sets = {
@@ -248,12 +248,12 @@ def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(
         "robust_disturbances": 6,
     }
     cfg = build_config("sensitivity", True, str(tmp_path), None, sets)
-    tasks = _row_tasks(cfg)
+    tasks = row_tasks(cfg)
     assert {t[0] for t in tasks} == {"margin", "truth", "setting", "robust"}
-    fn = partial(_row, config=cfg)
+    fn = partial(sensitivity_row, config=cfg)
 
     def collect(into):
-        return lambda task, row: into.__setitem__(_key(task), row)
+        return lambda task, row: into.__setitem__(row_key(task), row)
 
     forwards, backwards, dist = {}, {}, {}
     map_rows(fn, tasks, collect(forwards))
@@ -309,46 +309,63 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
     import numpy as np
     from distributed import Client, LocalCluster
 
-    from workbench.experiments.minimal_work import (
-        DEFAULT_CONFIG,
-        _grasp_task,
-        _load_curve,
-        _mesh,
-        _paths,
-        _wall_task,
+    from workbench.experiments.minimal_work import DEFAULT_CONFIG
+    from workbench.fem.grasp_walls import (
+        NonlinearWallSettings,
+        WallSettings,
+        calibrated_stiffness,
+        load_curve,
+        load_mesh,
+        object_files,
+        wall_stiffness,
     )
     from workbench.grasp.sampling import horizontal_grasps
+    from workbench.grasp.work_table import GraspRowSettings, grasp_row, measured_map
     from workbench.runner.experiment_config import build_config
 
     if not Path(DEFAULT_CONFIG["data_dir"], "meshes").is_dir():  # before build_config, which checks it
         pytest.skip("deformable_objects data not available (CC BY-NC, read by path)")
     small = {"objects": ["shampoo"], "mesh": [16, 8], "robust_samples": 4, "noise_samples": 2}
     cfg = build_config("minimal-work", True, str(tmp_path), None, small)
-    mesh = _mesh(str(_paths(cfg, "shampoo")[0]))
+    mesh_path, map_path = (str(p) for p in object_files(cfg["data_dir"], "shampoo"))
+    mesh = load_mesh(mesh_path)
+    wall = WallSettings.from_config(cfg)
+
+    # the experiment's three kinds of task, as its Dask adapters call the library
+    def wall_task(job):  # (grasp numbers (m,), locations (2m, 3)): the first jaws, then the second
+        ids, P = job
+        return list(zip(ids, wall_stiffness(mesh_path, wall, P, ids), strict=True))
+
+    def grasp_task(job):  # (grasp number, grasp, calibration scale, seed, its wall row)
+        k, g, scale, seed, fem = job
+        run, smap = GraspRowSettings.from_config(cfg), measured_map(map_path)
+        s_fem = calibrated_stiffness(fem, scale)
+        return grasp_row("shampoo", k, g, load_mesh(mesh_path), smap, s_fem, run, seed)
+
+    def curve_task(job):  # (grasp number, grasp, calibration scale, jaw force to reach [N])
+        _, g, scale, force = job
+        return load_curve(mesh_path, g, scale, force, NonlinearWallSettings.from_config(cfg))
+
     lo, hi = mesh.bounds[:, 2]
     cands = horizontal_grasps(mesh, [lo + 0.4 * (hi - lo), lo + 0.6 * (hi - lo)], 2, cfg["mu"], pad=None)
     assert len(cands) >= 2
     # the candidate's wall row as the experiment's wall stage computes it (one task of its own)
-    ((_, wall_row),) = _wall_task(("shampoo", "wall", [0], np.array([cands[0]["p1"], cands[0]["p2"]])), cfg)
-    grasps = [("shampoo", 0, cands[0], 0.5, 100, wall_row)]
-    curves = [(1, "shampoo", 1, cands[1], 0.5, 2.0)]
-    walls = [("shampoo", "wall", [0, 1], np.array([c[p] for p in ("p1", "p2") for c in cands[:2]]))]
-    tasks = (
-        (partial(_grasp_task, config=cfg), grasps),
-        (partial(_load_curve, config=cfg), curves),
-        (partial(_wall_task, config=cfg), walls),
-    )
+    ((_, wall_row),) = wall_task(([0], np.array([cands[0]["p1"], cands[0]["p2"]])))
+    grasps = [(0, cands[0], 0.5, 100, wall_row)]
+    curves = [(1, cands[1], 0.5, 2.0)]
+    walls = [([0, 1], np.array([c[p] for p in ("p1", "p2") for c in cands[:2]]))]
+    tasks = (("grasp", grasp_task, grasps), ("curve", curve_task, curves), ("wall", wall_task, walls))
 
     def collect(into, tag):
-        # the grasp's number: job[1] of a grasp task (object, k, ...), job[2] of a curve (i, object, k, ...)
-        return lambda job, row: into.__setitem__((tag, job[2] if tag == "_load_curve" else job[1]), row)
+        # the grasp's number: job[0] of a grasp or curve task, "wall" for the wall chunk
+        return lambda job, row: into.__setitem__((tag, "wall" if tag == "wall" else job[0]), row)
 
     serial, dist = {}, {}
-    for f, jobs in tasks:
-        map_rows(f, jobs, collect(serial, f.func.__name__))
+    for tag, f, jobs in tasks:
+        map_rows(f, jobs, collect(serial, tag))
     with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:
-        for f, jobs in tasks:
-            map_rows(f, jobs, collect(dist, f.func.__name__), client=c)
+        for tag, f, jobs in tasks:
+            map_rows(f, jobs, collect(dist, tag), client=c)
 
     def numbers(rows):
         def drop(r):  # timings aside
@@ -364,10 +381,10 @@ def test_minimal_work_grasps_and_load_curves_are_the_same_serially_and_on_two_wo
 
     assert len(serial) == 3
     # the wall task's squeezes of two grasps at once are the squeezes one at a time
-    one = [_wall_task(("shampoo", "wall", [k], w[3][[k, k + 2]]), cfg)[0] for k in (0, 1) for w in walls]
-    assert numbers({"one": one}) == numbers({"one": serial[("_wall_task", "wall")]})
-    assert serial[("_load_curve", 1)]["curve"] is not None
-    assert np.isfinite(serial[("_grasp_task", 0)]["s_fem"])
+    one = [wall_task(([k], w[1][[k, k + 2]]))[0] for k in (0, 1) for w in walls]
+    assert numbers({"one": one}) == numbers({"one": serial[("wall", "wall")]})
+    assert serial[("curve", 1)]["curve"] is not None
+    assert np.isfinite(serial[("grasp", 0)]["s_fem"])
     assert numbers(serial) == numbers(dist)
 
 
@@ -378,14 +395,14 @@ def test_wall_stiffness_map_tasks_are_the_same_serially_and_on_two_worker_proces
     two worker processes (timings aside)."""
     from distributed import Client, LocalCluster
 
-    from workbench.experiments.wall_stiffness import _task
+    from workbench.experiments.wall_stiffness import task
     from workbench.runner.experiment_config import build_config
 
     cfg = build_config(
         "wall-stiffness", True, str(tmp_path), None, {"convergence_meshes": [[16, 8], [24, 12]]}
     )
     jobs = ["convergence", (0, 0.3, (0.0, 1.0)), (0, 0.7, (0.5,))]
-    fn = partial(_task, config=cfg)
+    fn = partial(task, config=cfg)
     serial, dist = {}, {}
     map_rows(fn, jobs, lambda job, res: serial.__setitem__(str(job), res))
     with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cl, Client(cl) as c:

@@ -1,5 +1,6 @@
 """``workbench report`` (workbench/runner/report.py): claims judged on summaries, Markdown rendering,
-missing keys, the CLI, and the repository's own committed results."""
+missing keys, the CLI, and the repository's own committed results.  The rules are tested in
+tests/test_report_rules.py, each claim table in tests/test_report_claims_*.py."""
 
 from __future__ import annotations
 
@@ -9,7 +10,13 @@ from pathlib import Path
 
 import pytest
 
-from workbench.runner import report
+from workbench.runner import (
+    report,
+    report_claims_6dfc,
+    report_claims_ch3,
+    report_claims_ch4,
+    report_claims_engine,
+)
 from workbench.runner.cli import main
 from workbench.runner.report import (
     CLAIMS,
@@ -18,8 +25,6 @@ from workbench.runner.report import (
     MATCH,
     Claim,
     evaluate,
-    printed_half_unit,
-    printed_numbers,
     render_markdown,
     within_pm,
     within_printed,
@@ -33,17 +38,6 @@ RESULTS = ROOT / "results"
 def _write(path: Path, obj: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(obj))
-
-
-def test_printed_numbers_and_their_rounding():
-    assert printed_numbers("[0, -0.5657, 0, 0]^T") == [0.0, -0.5657, 0.0, 0.0]
-    assert printed_numbers("2,932") == [2932.0]
-    assert printed_numbers("0.011 ± 0.006") == [0.011, 0.006]
-    assert printed_numbers("the quartic and ellipsoidal 6DLS models reached as low as 0.02") == [0.02]
-    assert printed_numbers("S_1 and S_2, 3D nonplanar [4]: 2.62s / 1.3ms, below 4%") == [4, 2.62, 1.3, 4]
-    assert printed_half_unit("0.0018") == pytest.approx(5e-5)
-    assert printed_half_unit("1592") == 0.5
-    assert printed_half_unit("[0, 0.018, -0.04]^T") == pytest.approx(5e-4)
 
 
 def _synthetic_claims() -> list[Claim]:
@@ -183,33 +177,14 @@ def test_the_repositorys_results_give_every_item_and_no_missing_row():
     status = "match" if abs(ours["mean"] - 0.011) <= 0.006 else "differs"
     assert f"**{status}**" in row and f"({ours['ratio_of_means']:.2f}×;" in row
 
-    # the typed thesis numbers agree with the copies the experiments record
-    by_q = {(c.item, c.quantity): c for c in CLAIMS}
-    for model, key in [("quartic_values", "quartic"), ("ellipsoid_sdp", "ellipsoid")]:
-        for claim in (c for c in CLAIMS if c.item == "Table 3.3" and f"(`{model}`)" in c.quantity):
-            assert printed_numbers(claim.thesis) == fem["thesis_table_3_3"][key]
-    count = by_q[("Table 3.3", "number of FEM contact profiles")]
-    assert printed_numbers(count.thesis) == [fem["thesis_table_3_3"]["n_profiles"]]
-    ps = _summary("parametric-surfaces/summary.json")
-    for key, label in [
-        ("6d_nonplanar", "6D nonplanar"),
-        ("3d_nonplanar", "3D nonplanar [4]"),
-        ("planar", "Planar"),
-    ]:
-        claim = by_q[("Table 3.2", f"{label}: f_x, f_y, f_z, τ_x, τ_y, τ_z max")]
-        assert printed_numbers(claim.thesis) == ps["table_3_2_thesis"][key]
-        dev = ps["table_3_2_max_abs_deviation"][key]
-        row = next(x for x in text.splitlines() if x.startswith(f"| {label}: "))
-        assert f"max abs deviation {dev:.2g}" in row
-    lsf = _summary("ls-fitting/summary.json")["thesis"]["as_low_as"]
-    low = next(c for c in CLAIMS if c.item == "Fig 3.9" and "as low as" in c.thesis)
-    assert printed_numbers(low.thesis) == [lsf["quartic"], lsf["ellipsoid"]]
-    disc = _summary("discretization/summary.json")["thesis_runtime_s"]
-    speed = next(c for c in CLAIMS if c.item == "Fig 3.8" and "speedup" in c.thesis)
-    cont_s, disc_ms = printed_numbers(speed.thesis)[:2]
-    assert (cont_s, disc_ms * 1e-3) == pytest.approx((disc["continuous"], disc["discrete"]))
-    mw = _summary("minimal-work/summary.json")
-    for task, metrics in mw["thesis_table_4_6"].items():
-        for metric, cells in metrics.items():
-            claim = next(c for c in CLAIMS if c.quantity == f"{report.TASKS[task]}, {metric}, All")
-            assert printed_numbers(claim.thesis) == [cells["All"]]
+
+def test_claims_join_the_chapter_tables_and_render_by_item_order():
+    tables = (report_claims_ch3, report_claims_ch4, report_claims_6dfc, report_claims_engine)
+    assert CLAIMS == tuple(c for t in tables for c in t.CLAIMS)
+    assert {c.item for c in CLAIMS} == set(ITEMS)
+    keys = [(c.item, c.quantity) for c in CLAIMS]
+    assert len(set(keys)) == len(keys)  # no claim twice
+    # the report groups rows by ITEMS: the order of the tables does not change it
+    rows = evaluate(Path("no-results"), CLAIMS)
+    last_first = sorted(rows, key=lambda r: -list(ITEMS).index(r.claim.item))  # stable within an item
+    assert render_markdown(last_first) == render_markdown(rows)

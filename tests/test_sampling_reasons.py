@@ -160,7 +160,7 @@ def test_progress_bar_on_stderr_only_when_asked(capsys):
 
 
 def test_automatic_bar_on_a_terminal_only_for_long_calls(monkeypatch):
-    """progress=None on a terminal: the bar waits config.DEFAULTS.progress_delay_s before it appears, so a
+    """progress=None on a terminal: the bar waits config.RUN.progress_delay_s before it appears, so a
     call shorter than that prints nothing and a longer one shows it."""
     import io
 

@@ -276,6 +276,30 @@ def test_a_missing_plot_metric_stops_the_sweep_at_its_first_point(tmp_path, toy)
     assert s["n_submitted"] == 1
 
 
+def test_the_plan_of_a_sweep_resumes_its_checkpoint_and_writes_nothing(tmp_path, toy):
+    """validate / plan / execute: the spec is checked when made, the plan reads the checkpoint
+    (the points finished are done, the new one is to run) and writes nothing, execute runs the rest."""
+    from workbench.runner.sweep import SweepCluster, SweepSpec, execute_sweep, plan_sweep
+
+    out = tmp_path / "sw"
+    first = run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)
+    listing = sorted(p.name for p in out.rglob("*"))
+    spec = SweepSpec("toy", {"x": [1.0, 2.0, 3.0]}, out=out, cluster=SweepCluster(client=toy), progress=False)
+    plan = plan_sweep(spec)
+    assert sorted(p.name for p in out.rglob("*")) == listing
+    keys = list(plan.configs)
+    assert [plan.configs[k][0] for k in keys] == [{"x": 1.0}, {"x": 2.0}, {"x": 3.0}]
+    assert plan.done == set(keys[:2]) == set(_rows(out / "points.jsonl"))
+    assert plan.todo == (keys[2],)
+    s = execute_sweep(plan)
+    assert (first["n_submitted"], s["n_resumed"], s["n_submitted"], s["n_ok"]) == (2, 2, 1, 3)
+    with pytest.raises(SweepError, match="give at most one of workers, scheduler and client"):
+        SweepCluster(workers=2, client=toy)
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(SweepError, match="is a file; give a directory"):
+        SweepSpec("toy", {"x": [1.0]}, out=tmp_path / "afile")
+
+
 def test_a_directory_of_another_sweep_or_a_file_is_refused_before_any_work(tmp_path, toy, monkeypatch):
     out = tmp_path / "sw"
     run_sweep("toy", {"x": [1.0, 2.0]}, out=out, client=toy, progress=False)

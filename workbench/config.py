@@ -1,16 +1,17 @@
-"""Tolerances, defaults and Numba flags — the one place they live.
+"""Tolerances, defaults, run settings and Numba flags — the one place they live.
 
-Every field carries a comment saying why it has its value.  Library code reads
-``config.TOL.<field>`` and ``config.DEFAULTS.<field>`` when a function runs (never as a
-default argument bound at import), so :func:`override` (a block, e.g. in a test) and
-:func:`configure` (the rest of the process) change what every later call uses.  Kernels import
-``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` / ``NUMBA_FLAGS_IEEE`` from here and nowhere else, so a
-user (or CI) can switch caching or threading off in one spot, e.g.
-``WORKBENCH_NUMBA_PARALLEL=0``.
+Every field carries a comment saying why it has its value and its rule beside its default.
+Library code reads ``config.TOL.<field>`` and ``config.DEFAULTS.<field>`` (numerics: tolerances,
+model defaults, solver knobs) and ``config.RUN.<field>`` (run settings: clusters, the scheduler,
+sweeps, progress bars) when a function runs (never as a default argument bound at import), so
+:func:`override` (a block, e.g. in a test) and :func:`configure` (the rest of the process) change
+what every later call uses.  Kernels import ``NUMBA_FLAGS`` / ``NUMBA_FLAGS_PARALLEL`` /
+``NUMBA_FLAGS_IEEE`` from here and nowhere else, so a user (or CI) can switch caching or
+threading off in one spot, e.g. ``WORKBENCH_NUMBA_PARALLEL=0``.
 
-Both check each value when it is set (each field's rule, beside its default: the field's type,
-finite, its range or choices as the field's comment implies) and raise ValueError naming the field, what it
-expects and what it got.
+Both check each value when it is set (the field's rule: its type, finite, its range or choices
+as the field's comment implies) and raise ValueError naming the field, what it expects and what
+it got.
 """
 
 from __future__ import annotations
@@ -620,10 +621,27 @@ class Defaults:
     # process holds the other core (docs/decisions.md).
     parallel_min_work: int = _field(50_000, _count(0))
 
+    # Right-hand sides from which a sparse factor with row copies of L and U
+    # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
+    # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
+    # by column: from about this many columns on, the row kernels are the faster
+    # (docs/decisions.md).
+    blocked_solve_min_rhs: int = _field(16, _count(0))
+
+
+DEFAULTS = Defaults()
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """How runs are executed — Dask clusters, the scheduler, sweeps, progress bars — never what they
+    compute: no number in a result depends on these (the checkpoints key rows without them)."""
+
     # Rows of one experiment from which it runs them on a local Dask cluster (one worker per
     # core) when its ``workers`` setting is 0 (auto): below it a cluster's start (seconds, with
     # the workers' imports) outweighs what a second core saves.
     cluster_min_rows: int = _field(24, _count(0))
+
     # Tasks a local cluster's scheduler hands a worker ahead, per thread (Dask's
     # distributed.scheduler.worker-saturation; inf: all of them at once, Dask's work stealing
     # balancing the tail).  Dask's default 1.1 keeps the rest on the scheduler and sends one
@@ -645,6 +663,7 @@ class Defaults:
     # and then for its first worker, before it stops with an error saying which: a scheduler
     # with no workers would otherwise hold the sweep at 0 % without a word.
     scheduler_wait_s: float = _field(30.0, _POS)
+
     # Seconds a sweep's TCP probe of a --scheduler host:port waits before the Dask client is
     # made: a refused connection (nothing listens there) or an unknown host then stops the
     # sweep at once instead of after scheduler_wait_s; a probe that times out (a firewall
@@ -667,91 +686,91 @@ class Defaults:
     # A sweep plot's axis is logarithmic when its grid is geometric: its largest log-step at most
     # this many times its smallest (a 1-2-5 series passes, 1, 2, 3 does not) ...
     sweep_log_step_spread: float = _field(1.5, _real(1.0))  # a ratio of log-steps: >= 1
+
     # ... and it spans more than this ratio (a decade; also the y axis's rule) ...
     sweep_log_min_span: float = _field(10.0, _real(1.0, lo_open=True))  # a ratio of values: > 1
+
     # ... or steps by at least this ratio (25, 50, 100)
     sweep_log_min_step: float = _field(2.0, _real(1.0, lo_open=True))
 
-    # Right-hand sides from which a sparse factor with row copies of L and U
-    # (workbench.fem.sparse_factor.factor_spd(blocked=True): the thin walls) solves them together in
-    # workbench.fem._kernels (each factor entry read once for all of them) instead of SuperLU's column
-    # by column: from about this many columns on, the row kernels are the faster
-    # (docs/decisions.md).
-    blocked_solve_min_rhs: int = _field(16, _count(0))
 
-
-DEFAULTS = Defaults()
+RUN = RunSettings()
 
 
 
 #: field name -> rule, read from each field of Tolerances and Defaults (tests/test_config.py
 #: checks every field has one).
 _RULES: dict[str, Callable[[Any], Any]] = {
-    f.name: f.metadata["rule"] for cls in (Tolerances, Defaults) for f in fields(cls)
+    f.name: f.metadata["rule"] for cls in (Tolerances, Defaults, RunSettings) for f in fields(cls)
 }
 
 
+#: the three owners of the settings, by the module-level name each current instance lives at
+_OWNERS = (("TOL", Tolerances), ("DEFAULTS", Defaults), ("RUN", RunSettings))
+
+
 def check_value(name: str, value: Any, what: str | None = None) -> Any:
-    """``value`` as stored for the Tolerances/Defaults field ``name`` — the one rule of that
-    quantity, also for a function that takes it as an argument (``what``: how the message names
-    it, default "config field <name>"); ValueError (expected, got, fix) when it does not fit."""
+    """``value`` as stored for the Tolerances/Defaults/RunSettings field ``name`` — the one rule
+    of that quantity, also for a function that takes it as an argument (``what``: how the message
+    names it, default "config field <name>"); ValueError (expected, got, fix) when it does not fit."""
     try:
         return _RULES[name](value)
     except _Reject as exc:
-        default = getattr(Tolerances, name, None)
-        default = getattr(Defaults, name) if default is None else default
+        default = next(getattr(cls, name) for _, cls in _OWNERS if hasattr(cls, name))
         raise ValueError(
             f"{what or 'config field ' + name} must be {exc}; got {value!r} ({type(value).__name__}). "
             f"Pass such a value, e.g. its default {name}={default!r}"
         ) from None
 
 
-def _split(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
-    """``values`` checked and by owner: (Tolerances fields, Defaults fields); ValueError for
-    other names and for a value its field does not accept (``_RULES``)."""
-    tol = {f.name for f in fields(Tolerances)}
-    dft = {f.name for f in fields(Defaults)}
-    unknown = sorted(set(values) - tol - dft)
+def _split(values: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """``values`` checked and by owner (``{"TOL": {...}, "DEFAULTS": {...}, "RUN": {...}}``);
+    ValueError for other names and for a value its field does not accept."""
+    owner = {f.name: key for key, cls in _OWNERS for f in fields(cls)}
+    unknown = sorted(set(values) - set(owner))
     if unknown:
         raise ValueError(
-            f"unknown tolerance/default names {unknown}; the fields of config.Tolerances and "
-            "config.Defaults are the names to use (e.g. resist_rtol, quadrature_rtol, work_eps)"
+            f"unknown tolerance/default/run-setting names {unknown}; the fields of "
+            "config.Tolerances, config.Defaults and config.RunSettings are the names to use "
+            "(e.g. resist_rtol, quadrature_rtol, work_eps, cluster_min_rows)"
         )
-    checked = {k: check_value(k, v) for k, v in values.items()}
-    return {k: v for k, v in checked.items() if k in tol}, {k: v for k, v in checked.items() if k in dft}
+    out: dict[str, dict[str, Any]] = {key: {} for key, _ in _OWNERS}
+    for k, v in values.items():
+        out[owner[k]][k] = check_value(k, v)
+    return out
 
 
 def configure(**values: Any) -> None:
-    """Set tolerances and defaults by field name for the rest of this process, e.g.
-    ``config.configure(resist_rtol=1e-8)``.  An experiment's rows on Dask workers (other
+    """Set tolerances, defaults and run settings by field name for the rest of this process,
+    e.g. ``config.configure(resist_rtol=1e-8)``.  An experiment's rows on Dask workers (other
     processes) compute under the same settings: :func:`workbench.runner.parallel.map_rows` passes
-    :func:`changed` with every task, and checkpoints key their rows by it."""
-    global TOL, DEFAULTS
-    tol, dft = _split(values)
-    TOL, DEFAULTS = replace(TOL, **tol), replace(DEFAULTS, **dft)
+    :func:`changed` with every task, and checkpoints key their rows by ``changed(numbers_only=True)``."""
+    for key, new in _split(values).items():
+        if new:
+            globals()[key] = replace(globals()[key], **new)
 
 
-def changed() -> dict[str, Any]:
-    """The tolerances and defaults this process set away from their defaults (``configure`` /
-    ``override``), by field name: what a worker process needs to compute as this one does, and
-    what a cached result's key holds beside its inputs."""
-    base_tol, base_dft = Tolerances(), Defaults()
+def changed(numbers_only: bool = False) -> dict[str, Any]:
+    """The fields this process set away from their defaults (``configure`` / ``override``), by
+    name: what a worker process needs to run as this one does.  ``numbers_only``: the
+    tolerances and defaults alone — what a cached result's key holds beside its inputs (the run
+    settings change how a run is executed, never its numbers)."""
+    owners = _OWNERS[:2] if numbers_only else _OWNERS
     return {
-        f.name: getattr(now, f.name)
-        for now, base in ((TOL, base_tol), (DEFAULTS, base_dft))
-        for f in fields(now)
-        if getattr(now, f.name) != getattr(base, f.name)
+        f.name: getattr(globals()[key], f.name)
+        for key, cls in owners
+        for f in fields(cls)
+        if getattr(globals()[key], f.name) != f.default
     }
 
 
 @contextmanager
 def override(**values: Any) -> Iterator[None]:
-    """Tolerances and defaults changed by field name inside a ``with`` block, restored after
-    (also on an exception): ``with config.override(quadrature_rtol=1e-6): ...``."""
-    global TOL, DEFAULTS
-    before = TOL, DEFAULTS
+    """Tolerances, defaults and run settings changed by field name inside a ``with`` block,
+    restored after (also on an exception): ``with config.override(quadrature_rtol=1e-6): ...``."""
+    before = {key: globals()[key] for key, _ in _OWNERS}
     configure(**values)
     try:
         yield
     finally:
-        TOL, DEFAULTS = before
+        globals().update(before)

@@ -192,6 +192,76 @@ def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.nd
     return arr
 
 
+def _check_lengths(
+    centers: np.ndarray, normals: np.ndarray, areas: np.ndarray, pressures: np.ndarray
+) -> None:
+    """ValueError unless the profile has elements and every per-element array one per centre."""
+    n = centers.shape[0]
+    if n == 0:
+        raise ValueError(
+            "profile is empty: centers has 0 elements — a contact needs at least one element "
+            "(check that the obstacle touches the pad)"
+        )
+    for name, arr in (("normals", normals), ("areas", areas), ("pressures", pressures)):
+        if arr.shape[0] != n:
+            raise ValueError(
+                f"{name} has {arr.shape[0]} elements but centers has {n}; "
+                "every per-element array must have the same length"
+            )
+
+
+def _check_areas(areas: np.ndarray) -> None:
+    """ValueError unless the element areas (n,) are > 0 and none degenerate against their median."""
+    if (areas <= 0).any():
+        i = int(np.argmin(areas))
+        raise ValueError(
+            f"areas must be > 0; got {areas[i]:.3g} at element {i} "
+            f"({int((areas <= 0).sum())} non-positive) — drop degenerate elements "
+            "(from_mesh(..., drop_degenerate=True))"
+        )
+    median_area = float(np.median(areas))
+    tiny = areas <= config.TOL.degenerate_area_rtol * median_area
+    if tiny.any():
+        i = int(np.argmax(tiny))
+        raise ValueError(
+            f"areas: element {i} is degenerate (area {areas[i]:.3g} <= "
+            f"{config.TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
+            "(from_mesh(..., drop_degenerate=True))"
+        )
+
+
+def _check_pressures(pressures: np.ndarray) -> None:
+    """ValueError unless the pressures (n,) are >= 0 and not all zero."""
+    if (pressures < 0).any():
+        i = int(np.argmin(pressures))
+        raise ValueError(
+            f"pressures must be >= 0; got min {pressures[i]:.6g} at element {i} — clip or fix the FEM export"
+        )
+    if not (pressures > 0).any():
+        raise ValueError(
+            "pressures are all zero: the profile transmits no force and has no pressure center "
+            "— pass the contact pressures (or a uniform pressure, e.g. np.ones(n))"
+        )
+
+
+def _unit_normals(normals: np.ndarray, normalize_normals: bool) -> np.ndarray:
+    """The normals (n, 3) divided by their lengths: ValueError for a zero one, or one off unit
+    length by more than ``config.TOL.normal_unit_atol`` unless ``normalize_normals``."""
+    lengths = np.linalg.norm(normals, axis=1)
+    if (lengths == 0).any():
+        i = int(np.argmin(lengths))
+        raise ValueError(f"normals must be non-zero unit vectors; element {i} has a zero normal")
+    off = np.abs(lengths - 1.0) > config.TOL.normal_unit_atol
+    if off.any() and not normalize_normals:
+        i = int(np.argmax(np.abs(lengths - 1.0)))
+        raise ValueError(
+            f"normals must be unit vectors; element {i} has length {lengths[i]:.6g} "
+            f"({int(off.sum())} off by > {config.TOL.normal_unit_atol:g}) "
+            "— pass normalize_normals=True to rescale them"
+        )
+    return normals / lengths[:, None]
+
+
 class ContactProfile:
     """Contact surface elements with pressures (thesis §3.2.4).
 
@@ -255,58 +325,10 @@ class ContactProfile:
         normals = _as_float_array("normals", normals, (3,))
         areas = _as_float_array("areas", areas, ())
         pressures = _as_float_array("pressures", pressures, ())
-        n = centers.shape[0]
-        if n == 0:
-            raise ValueError(
-                "profile is empty: centers has 0 elements — a contact needs at least one element "
-                "(check that the obstacle touches the pad)"
-            )
-        for name, arr in (("normals", normals), ("areas", areas), ("pressures", pressures)):
-            if arr.shape[0] != n:
-                raise ValueError(
-                    f"{name} has {arr.shape[0]} elements but centers has {n}; "
-                    "every per-element array must have the same length"
-                )
-        if (areas <= 0).any():
-            i = int(np.argmin(areas))
-            raise ValueError(
-                f"areas must be > 0; got {areas[i]:.3g} at element {i} "
-                f"({int((areas <= 0).sum())} non-positive) — drop degenerate elements "
-                "(from_mesh(..., drop_degenerate=True))"
-            )
-        median_area = float(np.median(areas))
-        tiny = areas <= config.TOL.degenerate_area_rtol * median_area
-        if tiny.any():
-            i = int(np.argmax(tiny))
-            raise ValueError(
-                f"areas: element {i} is degenerate (area {areas[i]:.3g} <= "
-                f"{config.TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
-                "(from_mesh(..., drop_degenerate=True))"
-            )
-        if (pressures < 0).any():
-            i = int(np.argmin(pressures))
-            raise ValueError(
-                f"pressures must be >= 0; got min {pressures[i]:.6g} at element {i} "
-                "— clip or fix the FEM export"
-            )
-        if not (pressures > 0).any():
-            raise ValueError(
-                "pressures are all zero: the profile transmits no force and has no pressure center "
-                "— pass the contact pressures (or a uniform pressure, e.g. np.ones(n))"
-            )
-        lengths = np.linalg.norm(normals, axis=1)
-        if (lengths == 0).any():
-            i = int(np.argmin(lengths))
-            raise ValueError(f"normals must be non-zero unit vectors; element {i} has a zero normal")
-        off = np.abs(lengths - 1.0) > config.TOL.normal_unit_atol
-        if off.any() and not normalize_normals:
-            i = int(np.argmax(np.abs(lengths - 1.0)))
-            raise ValueError(
-                f"normals must be unit vectors; element {i} has length {lengths[i]:.6g} "
-                f"({int(off.sum())} off by > {config.TOL.normal_unit_atol:g}) "
-                "— pass normalize_normals=True to rescale them"
-            )
-        normals = normals / lengths[:, None]
+        _check_lengths(centers, normals, areas, pressures)
+        _check_areas(areas)
+        _check_pressures(pressures)
+        normals = _unit_normals(normals, normalize_normals)
 
         self.centers = centers
         self.normals = normals

@@ -21,6 +21,7 @@ from .trial import (
     TrialPhases,
     _check_grasp,
     _check_pad,
+    _check_run,
     _check_trial,
     _miss,
     _starts_inside,
@@ -112,9 +113,10 @@ def simulate_disturbance(
     phases = DisturbancePhases() if phases is None else phases
     if not isinstance(phases, DisturbancePhases):
         raise ValueError(f"phases must be a DisturbancePhases; got {type(phases).__name__}")
-    mesh, mu, com, _, _, settings = _check_trial(
-        mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1), None, settings
+    mesh, mu, com, _ = _check_trial(
+        mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1)
     )
+    _, settings = _check_run(None, settings)
     w = _check_wrench(wrench)
     judged = {"DisturbancePhases.ramp": phases.ramp, "DisturbancePhases.hold": phases.hold}
     check_record_every(record_every, judged, settings.timestep)

@@ -282,14 +282,13 @@ def _schedule(depths: np.ndarray, protocol: IndentProtocol) -> tuple[np.ndarray,
     return np.array(times), np.array(travel), windows
 
 
-def _check(indenter, radius, depths, engine, mesh, reference, material, settings, drake, protocol):
-    """The inputs, checked (module docstring): ``(obstacle, depths, mesh, reference, material,
-    settings, drake, protocol)`` with the defaults filled in (``mesh``: a PadGeometry either way,
-    or None for MuJoCo's own grid flexcomp of the trials' pad)."""
+def _check_parts(indenter, engine, reference, material, settings, drake, protocol) -> tuple:
+    """The indenter and engine names checked and ``(reference, material, settings, drake,
+    protocol)`` with the defaults filled in, each checked to be of its type and the pad's rules
+    of the trials (simulate_grasp) and of our FEM (condense_pad)."""
     from ..fem.material import Material
-    from ..fem.obstacles import Plane, Sphere
     from ..fem.pad import PadGeometry
-    from ..plausible import check, check_each
+    from ..plausible import check
 
     if indenter not in INDENTERS:
         raise ValueError(f"indenter must be one of {INDENTERS}; got {indenter!r}")
@@ -315,6 +314,14 @@ def _check(indenter, radius, depths, engine, mesh, reference, material, settings
     check("pad_size", reference.width, "reference.width [m]", warn=False)
     check("pad_size", reference.length, "reference.length [m]", warn=False)
     check("pad_thickness", reference.thickness, "reference.thickness [m]", warn=False)
+    return reference, material, settings, drake, protocol
+
+
+def _check_mesh(mesh, engine: str, reference, settings: EngineSettings):
+    """The engine's pad nodes: ``mesh`` checked to be a PadGeometry of the reference's size, or
+    for Drake the trials' grid when None (None for MuJoCo's own grid flexcomp)."""
+    from ..fem.pad import PadGeometry
+
     size = (reference.width, reference.length, reference.thickness)
     if mesh is not None:
         if not isinstance(mesh, PadGeometry):
@@ -330,24 +337,36 @@ def _check(indenter, radius, depths, engine, mesh, reference, material, settings
     elif engine == "drake":  # the trials' pad's nodes (MuJoCo builds its own grid of them)
         nx, ny, nz = settings.pad_grid
         mesh = PadGeometry(*size, nx=nx - 1, ny=ny - 1, nz=nz - 1)
-    h = reference.thickness
+    return mesh
+
+
+def _obstacle(indenter: str, radius, h: float):
+    """The indenter as our FEM's obstacle touching the pad's face z = ``h`` [m]: a Plane, or a
+    Sphere of ``radius`` [m] (which judges the radius)."""
+    from ..fem.obstacles import Plane, Sphere
+
     if indenter == "flat":
         if radius is not None:
             raise ValueError(f"a flat indenter takes no radius; got radius={radius!r} (indenter='sphere'?)")
-        obstacle = Plane(point=(0.0, 0.0, h), normal=(0.0, 0.0, -1.0))
-    else:
-        if radius is None:
-            raise ValueError("a sphere indenter needs its radius [m], e.g. radius=0.01 for 10 mm")
-        # the Sphere judges the radius (a number > 0, a plausible object size) before its centre
-        lift = float(radius) if isinstance(radius, numbers.Real) and not isinstance(radius, bool) else 0.0
-        obstacle = Sphere(center=(0.0, 0.0, h + lift), radius=radius)
+        return Plane(point=(0.0, 0.0, h), normal=(0.0, 0.0, -1.0))
+    if radius is None:
+        raise ValueError("a sphere indenter needs its radius [m], e.g. radius=0.01 for 10 mm")
+    # the Sphere judges the radius (a number > 0, a plausible object size) before its centre
+    lift = float(radius) if isinstance(radius, numbers.Real) and not isinstance(radius, bool) else 0.0
+    return Sphere(center=(0.0, 0.0, h + lift), radius=radius)
+
+
+def _check_depths(depths) -> np.ndarray:
+    """(n,) the indentations [m], sorted: plausible compressions, distinct and > 0."""
+    from ..plausible import check_each
+
     if np.ndim(depths) > 1:
         raise ValueError(f"depths must be a sequence of indentations [m]; got shape {np.shape(depths)}")
     given = list(np.atleast_1d(np.asarray(depths, dtype=object)))
     d = check_each("compression", given, "depths (indentations [m])")
     if d.size == 0 or not (d > 0).all() or np.unique(d).size != d.size:
         raise ValueError(f"depths must be distinct indentations > 0 [m]; got {given}")
-    return obstacle, np.sort(d), mesh, reference, material, settings, drake, protocol
+    return np.sort(d)
 
 
 def indent_pad(
@@ -381,9 +400,14 @@ def indent_pad(
     """
     from ..fem import press
 
-    obstacle, depths, mesh, reference, material, settings, drake, protocol = _check(
-        indenter, radius, depths, engine, mesh, reference, material, settings, drake, protocol
+    # the inputs, checked (module docstring), the defaults filled in (``mesh``: a PadGeometry
+    # either way, or None for MuJoCo's own grid flexcomp of the trials' pad)
+    reference, material, settings, drake, protocol = _check_parts(
+        indenter, engine, reference, material, settings, drake, protocol
     )
+    mesh = _check_mesh(mesh, engine, reference, settings)
+    obstacle = _obstacle(indenter, radius, reference.thickness)
+    depths = _check_depths(depths)
     if engine == "mujoco":
         import_mujoco()
     else:
@@ -559,14 +583,11 @@ def _vtk(points: np.ndarray, tets: np.ndarray) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _run_drake(indenter, R, depths, mesh, reference, material, ds: DrakeSettings, protocol) -> dict:
-    import tempfile
-    from pathlib import Path
-
-    pd = _import_pydrake()
-    w, ln, h = reference.width, reference.length, reference.thickness
-    points, tets, _ = pad_tets(mesh)
-    builder = pd.DiagramBuilder()
+def _drake_indenter(pd, builder, indenter: str, R, h: float, w: float, ln: float, ds: DrakeSettings) -> tuple:
+    """A plant (gravity off) of ``builder`` with the rigid, frictionless indenter on a PD-driven
+    prismatic joint whose zero is first touch on the face z = ``h`` [m] (a plate ``w`` × ``ln``
+    wide, or a sphere of radius ``R`` [m]): ``(plant, instance, joint, offset, contact)``,
+    ``offset`` the indenter's centre above its lowest point [m], ``contact`` its record."""
     config = pd.MultibodyPlantConfig()
     config.time_step = ds.time_step
     config.discrete_contact_approximation = "sap"
@@ -592,6 +613,22 @@ def _run_drake(indenter, R, depths, mesh, reference, material, ds: DrakeSettings
     actuator = plant.AddJointActuator("press", joint)
     kd = 2.0 * np.sqrt(ds.drive_stiffness * ds.indenter_mass)
     actuator.set_controller_gains(pd.PdControllerGains(p=ds.drive_stiffness, d=kd))
+    contact = {
+        "rigid_hydroelastic_modulus": ds.pressure_gradient * depth,
+        "resolution_hint": resolution,
+        "friction": 0.0,
+    }
+    return plant, inst, joint, offset, contact
+
+
+def _drake_pad(
+    pd, plant, points: np.ndarray, tets: np.ndarray, material, ds: DrakeSettings, h: float
+) -> tuple:
+    """Register the pad's tet mesh (``points`` (n, 3) [m], ``tets`` (m, 4)) as a deformable
+    body of ``material``, its back z = 0 bonded: ``(deformable model, pad body id)``."""
+    import tempfile
+    from pathlib import Path
+
     cfg = pd.DeformableBodyConfig()
     cfg.set_youngs_modulus(material.E)
     cfg.set_poissons_ratio(material.nu)
@@ -609,6 +646,24 @@ def _run_drake(indenter, R, depths, mesh, reference, material, ds: DrakeSettings
         pad_id = model.RegisterDeformableBody(geometry, cfg, 1.0)
     # the bonded back: zero displacement of the vertices at z = 0
     model.SetWallBoundaryCondition(pad_id, [0.0, 0.0, 1e-9 * h], [0.0, 0.0, 1.0])
+    return model, pad_id
+
+
+def _penetration(x: np.ndarray, indenter: str, R, zc: float, offset: float) -> float:
+    """The indenter's deepest penetration [m] into the pad's vertices ``x`` (n, 3), its centre at
+    height ``zc`` [m] (negative when apart)."""
+    if indenter == "flat":
+        return float(np.max(x[:, 2] - (zc - offset)))
+    return float(np.max(R - np.linalg.norm(x - [0.0, 0.0, zc], axis=1)))
+
+
+def _run_drake(indenter, R, depths, mesh, reference, material, ds: DrakeSettings, protocol) -> dict:
+    pd = _import_pydrake()
+    w, ln, h = reference.width, reference.length, reference.thickness
+    points, tets, _ = pad_tets(mesh)
+    builder = pd.DiagramBuilder()
+    plant, inst, joint, offset, contact = _drake_indenter(pd, builder, indenter, R, h, w, ln, ds)
+    model, pad_id = _drake_pad(pd, plant, points, tets, material, ds, h)
     plant.Finalize()
     times, travel, windows = _schedule(depths, protocol)
     traj = pd.PiecewisePolynomial.FirstOrderHold(times, travel.reshape(1, -1))
@@ -632,18 +687,8 @@ def _run_drake(indenter, R, depths, mesh, reference, material, ds: DrakeSettings
         fz = -float(port.Eval(ctx)[0])  # the generalized force along -z: the pad pushes the indenter up
         x = np.asarray(model.GetPositions(ctx, pad_id))
         x = x.T if x.ndim == 2 and x.shape[0] == 3 else x.reshape(-1, 3)
-        zc = h + offset - q  # the indenter's centre
-        if indenter == "flat":
-            pen = float(np.max(x[:, 2] - (zc - offset)))
-        else:
-            pen = float(np.max(R - np.linalg.norm(x - [0.0, 0.0, zc], axis=1)))
+        pen = _penetration(x, indenter, R, h + offset - q, offset)  # h + offset - q: the indenter's centre
         samples[k].append((fz, max(pen, 0.0), q))
     return _summarise(
-        samples, depths.copy(), len(points), len(tets), {},
-        {"indenter": "prismatic joint, PD drive"},
-        {
-            "rigid_hydroelastic_modulus": ds.pressure_gradient * depth,
-            "resolution_hint": resolution,
-            "friction": 0.0,
-        },
-    )  # fmt: skip
+        samples, depths.copy(), len(points), len(tets), {}, {"indenter": "prismatic joint, PD drive"}, contact
+    )

@@ -61,6 +61,14 @@ class EngineSettings:
     object_slab: float = 5e-3
 
     def __post_init__(self) -> None:
+        # each rule a step, in this order: the first broken one is the error
+        self._check_choices()
+        self._check_numbers()
+        self._check_contact()
+        self._check_pad_and_object()
+
+    def _check_choices(self) -> None:
+        """The cone, solver and integrator: words MuJoCo's XML takes."""
         if self.cone not in ("elliptic", "pyramidal"):
             raise ValueError(f"cone must be 'elliptic' or 'pyramidal'; got {self.cone!r}")
         if self.solver not in ("Newton", "CG", "PGS"):
@@ -74,6 +82,9 @@ class EngineSettings:
                 + (f" — pass {case[0]!r}" if case else "")
                 + " (the probes validated the default, 'discrete')"
             )
+
+    def _check_numbers(self) -> None:
+        """The positive numbers, the timestep and tip radius in metres, the iteration count."""
         for name in ("impratio", "timestep", "tolerance", "tip_radius", "pad_mass"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (v > 0 and v < float("inf")):
@@ -98,6 +109,9 @@ class EngineSettings:
             # 0 iterations leave every constraint unsolved: the pads pass through the object and
             # a trial reads as a miss
             raise ValueError(f"iterations must be an integer in [1, 100000]; got {self.iterations!r}")
+
+    def _check_contact(self) -> None:
+        """The contact's solref (above MuJoCo's 2-step floor) and solimp."""
         sr = self.contact_solref
         if len(sr) != 2 or not all(isinstance(v, (int, float)) and 0 < v < float("inf") for v in sr):
             # MuJoCo reads mixed signs as an error and silently falls back to its own (0.02, 1);
@@ -120,6 +134,9 @@ class EngineSettings:
                 "contact_solimp must be (d0, d_width in (0, 1), width [m] > 0, midpoint in (0, 1), "
                 f"power >= 1); got {si!r} (the validated setting is (0.99, 0.999, 1e-4, 0.5, 2.0))"
             )
+
+    def _check_pad_and_object(self) -> None:
+        """The object's slab thickness and the pad's grid."""
         sl = self.object_slab
         if isinstance(sl, bool) or not isinstance(sl, (int, float)) or not (0 <= sl <= 0.05):
             raise ValueError(

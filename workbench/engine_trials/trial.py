@@ -25,6 +25,7 @@ TASKS = {"vertical_lifting": 0.0, "lift_and_rotate": 90.0}
 
 G = 9.81  # m/s², the magnitude MuJoCo's gravity is given
 
+
 class EngineWarning(UserWarning):
     """MuJoCo warned during a trial (its warnings are in ``TrialOutcome.engine_warnings``): an
     instability — bad accelerations, a solver out of iterations, a degenerate inertia — can make
@@ -357,10 +358,10 @@ def _rotvec_deg(R: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
-def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, settings):
-    """The inputs both simulators share, checked: ``(mesh, mu, com, down, phases, settings)``
-    (the mesh watertight, outward, in metres; μ; the mass by the density rule; the centre of mass
-    near the object; the pad's ν; gravity a direction; the phases and settings of their types)."""
+def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down):
+    """The inputs the simulators share, checked: ``(mesh, mu, com, down)`` (the mesh watertight,
+    outward, in metres; μ; the mass by the density rule; the centre of mass near the object; the
+    pad's ν; gravity a direction); :func:`_check_run` checks the phases and settings next."""
     import_mujoco()  # the extra's ImportError before any other message
     from ..grasp.robust import check_com, check_object_mass
     from ..plausible import check
@@ -382,6 +383,11 @@ def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, s
     com = check_com(mesh.center_mass if com is None else com, mesh)
     check("poisson", pad_nu, "pad_nu")
     down = check_direction(down, "down", "gravity's direction in the object frame")
+    return mesh, mu, com, down
+
+
+def _check_run(phases, settings) -> tuple[TrialPhases, EngineSettings]:
+    """``(phases, settings)``, each its default when None, checked to be of their types."""
     phases = TrialPhases() if phases is None else phases
     settings = EngineSettings() if settings is None else settings
     if not isinstance(phases, TrialPhases) or not isinstance(settings, EngineSettings):
@@ -389,7 +395,7 @@ def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down, phases, s
             f"phases must be a TrialPhases and settings an EngineSettings; got "
             f"{type(phases).__name__}, {type(settings).__name__}"
         )
-    return mesh, mu, com, down, phases, settings
+    return phases, settings
 
 
 def _check_pad(force, pad, pad_E, up) -> None:
@@ -463,9 +469,8 @@ def simulate_grasp(
     ``engine_warnings`` and raised as an :class:`EngineWarning`.
     """
 
-    mesh, mu, com, down, phases, settings = _check_trial(
-        mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down, phases, settings
-    )
+    mesh, mu, com, down = _check_trial(mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down)
+    phases, settings = _check_run(phases, settings)
     _check_pad(force, pad, pad_E, up)
     _check_up_down(up, down)
     check_record_every(record_every, _judged(phases, task), settings.timestep)
@@ -540,11 +545,47 @@ def step_trial(
     :class:`EngineWarning`."""
     judged = {"the recorded window": t_end - t_ref, "phases.hold": phases.hold} if judged is None else judged
     check_record_every(record_every, judged, model.opt.timestep)
+    n = int(round(t_end / model.opt.timestep))
+    data, times, rel_p, rel_turn, touching, seconds = _record(model, info, control, t_ref, n, record_every)
+    drift = np.linalg.norm(rel_p - rel_p[0], axis=1)
+    last = times >= t_end - phases.hold
+    span = times[last][-1] - times[last][0]
+    slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
+    held, reason = _verdict(times, drift, rel_turn, touching, phases)
+    engine_warnings = _engine_warnings(data, held)
+    log.info(
+        "engine trial: %s, drift %.2f mm, turn %.2f deg, %d steps in %.1f s",
+        "held" if held else "slipped",
+        drift.max() * 1e3,
+        rel_turn.max(),
+        n,
+        seconds,
+    )
+    return TrialOutcome(
+        held,
+        float(drift.max()),
+        float(rel_turn.max()),
+        slip,
+        times,
+        rel_p,
+        rel_turn,
+        seconds,
+        n,
+        reason,
+        engine_warnings,
+    )
+
+
+def _record(model, info: dict, control, t_ref: float, n: int, record_every: int) -> tuple:
+    """Step a scene ``n`` steps, calling ``control(t, model, data)`` before each, and record the
+    object's pose relative to the ``hand`` body every ``record_every`` steps from ``t_ref`` [s]
+    on (and at the last step): ``(data, times (T,), rel_p (T, 3), rel_turn (T,) [deg],
+    touching, seconds)``, ``touching`` whether each jaw's tips touch something at the first
+    record (None when nothing was recorded), ``seconds`` the wall time of the stepping."""
     mujoco = import_mujoco()
     data = mujoco.MjData(model)
     dt = model.opt.timestep
     obj, hand = info["object"], info["hand"]
-    n = int(round(t_end / dt))
     times, rel_p, rel_turn = [], [], []
     ref = None
     # each pad's tip geoms: after closing, a jaw whose tips touch nothing holds nothing
@@ -572,11 +613,15 @@ def step_trial(
             rel_p.append(po)
             rel_turn.append(_rotvec_deg(ref[1].T @ Rrel))
     seconds = time.perf_counter() - t0
-    times, rel_p, rel_turn = np.array(times), np.array(rel_p), np.array(rel_turn)
-    drift = np.linalg.norm(rel_p - rel_p[0], axis=1)
-    last = times >= t_end - phases.hold
-    span = times[last][-1] - times[last][0]
-    slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
+    return data, np.array(times), np.array(rel_p), np.array(rel_turn), touching, seconds
+
+
+def _verdict(
+    times: np.ndarray, drift: np.ndarray, rel_turn: np.ndarray, touching, phases
+) -> tuple[bool, str]:
+    """(held, reason) of a recorded trial: held iff the ``drift`` (T,) [m] and ``rel_turn``
+    (T,) [deg] stay within ``phases.max_drift`` and ``phases.max_turn_deg`` and both jaws
+    were ``touching``; the reason names the limit crossed first ("" when held)."""
     held = bool(drift.max() <= phases.max_drift and rel_turn.max() <= phases.max_turn_deg)
     reason = ""
     # the first recorded pose beyond each limit (len(times): never): a spin that then throws the
@@ -599,6 +644,13 @@ def step_trial(
         )
     elif turned.any():
         reason = f"the object {turned_by}"
+    return held, reason
+
+
+def _engine_warnings(data, held: bool) -> dict:
+    """MuJoCo's warnings during a trial {name: count}, logged and raised as an
+    :class:`EngineWarning` (pointing at :func:`step_trial`'s caller) when any."""
+    mujoco = import_mujoco()
     engine_warnings = {
         mujoco.mjtWarning(k).name: int(w.number) for k, w in enumerate(data.warning) if w.number > 0
     }
@@ -611,29 +663,9 @@ def step_trial(
             "accelerations, a solver out of iterations, a degenerate inertia) usually comes from an input "
             "far from the validated settings (a pad or object the 1 ms step cannot resolve)",
             EngineWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-    log.info(
-        "engine trial: %s, drift %.2f mm, turn %.2f deg, %d steps in %.1f s",
-        "held" if held else "slipped",
-        drift.max() * 1e3,
-        rel_turn.max(),
-        n,
-        seconds,
-    )
-    return TrialOutcome(
-        held,
-        float(drift.max()),
-        float(rel_turn.max()),
-        slip,
-        times,
-        rel_p,
-        rel_turn,
-        seconds,
-        n,
-        reason,
-        engine_warnings,
-    )
+    return engine_warnings
 
 
 def simulate_gripper(
@@ -664,18 +696,9 @@ def simulate_gripper(
     from ..sources.gripper import check_gripper
 
     gripper = check_gripper(gripper)
-    mesh, mu, com, down, phases, settings = _check_trial(
-        mesh,
-        "simulate_gripper",
-        task,
-        gripper.mu if mu is None else mu,
-        mass,
-        com,
-        pad_nu,
-        down,
-        phases,
-        settings,
-    )
+    mu = gripper.mu if mu is None else mu
+    mesh, mu, com, down = _check_trial(mesh, "simulate_gripper", task, mu, mass, com, pad_nu, down)
+    phases, settings = _check_run(phases, settings)
     check_record_every(record_every, _judged(phases, task), settings.timestep)
     jaws = gripper.jaws(pose)  # checks the pose
     lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)

@@ -50,8 +50,6 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench import config as cfg
-from workbench import frictional_wrenches, sample_twists_thesis, w_max
-from workbench.coarsen import coarsen_profile
 from workbench.code_key import code_digest
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
 from workbench.fem.contact import solve_contact
@@ -59,10 +57,16 @@ from workbench.fem.extract import extract_profile
 from workbench.fem.material import Material
 from workbench.fem.pad import PadGeometry, condense_pad
 from workbench.fem.validation import condensed_vs_full
-from workbench.limit_surface.author_objective import fit_author_objective
-from workbench.limit_surface.fit_score import fit_and_score, fit_model, min_wrenches
-from workbench.limit_surface.support_error import SharedWrenches
-from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_sample
+from workbench.limit_surface.profile_fits import (
+    ABLATION_VARIANTS,
+    FAMILY,
+    MODELS,
+    TABLE_MODELS,
+    ProfileFitSettings,
+    ablation_due,
+    profile_fit_row,
+)
+from workbench.limit_surface.thesis_code import check_protocol_config
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import Checkpoint, save_figure, write_csv, write_summary
@@ -72,12 +76,8 @@ from workbench.wrench import check_mu
 NAME = "fem-fitting"
 log = logging.getLogger(__name__)
 
-#: the fits of every profile (workbench.limit_surface.fit_score): Table 3.3's two and the
-#: unconstrained least-squares ellipsoid
-MODELS = ("ellipsoid_sdp", "ellipsoid_lsq", "quartic_values")
-#: the models of Table 3.3 and of the protocol ablation, and the thesis's name of each
-FAMILY = {"ellipsoid_sdp": "ellipsoid", "quartic_values": "quartic"}
-TABLE_MODELS = tuple(FAMILY)
+# the fits of every profile (MODELS), Table 3.3's two (TABLE_MODELS, FAMILY: the thesis's name of
+# each) and the protocol ablation's variants: workbench.limit_surface.profile_fits
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
 DEFAULT_CONFIG = {
@@ -162,23 +162,11 @@ def check_config(config: dict) -> None:
             f"deltas_mm are jaw displacements after first touch in (0, {geom.thickness * 1e3:g}) mm "
             f"(the pad's thickness); got {config['deltas_mm']}"
         )
-    n_quartic = min_wrenches("quartic_values")
-    if config["n_wrenches"] < n_quartic or config["n_heldout"] < 1:
-        raise ValueError(
-            f"n_wrenches must be >= {n_quartic} (the quartic's coefficients; the thesis uses 600) and "
-            f"n_heldout >= 1; got {config['n_wrenches']} and {config['n_heldout']}"
-        )
     if not (isinstance(config["ablation_every"], int) and config["ablation_every"] >= 0):
         raise ValueError(
             f"ablation_every must be an integer >= 0 (0: no ablation); got {config['ablation_every']!r}"
         )
-    # below 0.1 mm a cell is finer than the pad's elements (1 mm) by 10x, above 100 mm larger than
-    # any contact: neither is a coarsening (and a size in m given as mm lands below 0.1)
-    if not 0.1 <= config["ablation_cell_mm"] <= 100:
-        raise ValueError(
-            "ablation_cell_mm must be a cell size in mm in [0.1, 100] (3: the thesis's); "
-            f"got {config['ablation_cell_mm']!r}"
-        )
+    ProfileFitSettings.from_config(config)  # the fits' own rules: n_wrenches, ablation_cell_mm, ...
 
 
 QUICK_CONFIG = {
@@ -192,113 +180,6 @@ QUICK_CONFIG = {
 
 def _profile_key(i: int, h: float, approach: str, delta_mm: float) -> str:
     return f"bottle{i:02d}/h{h:.3f}/{approach}/d{delta_mm:.2f}"
-
-
-def _fits(W: np.ndarray, wm: np.ndarray, config: dict, seed: int, *, test: np.ndarray, contact) -> dict:
-    """{model: FitScore} of :data:`MODELS` fitted to wrenches W (K, 6) normalised by wm (6,)
-    of the normalised profile ``contact``, scored on ``test`` (N, 6) and at the contact's exact
-    surface points.  A model is left out (absent key) when K is below its unknowns — the
-    thesis-code training set can be below the quartic's 126 (the author's code regularises
-    instead; we do not fake a fit)."""
-    # one exact wrench set of the support error's twists for the models (SharedWrenches)
-    exact = partial(frictional_wrenches, contact, mu=config["mu"])
-    wrenches_of = SharedWrenches(exact, config["support_directions"])
-    return {
-        m: fit_and_score(
-            m,
-            W,
-            w_max=wm,
-            test=test,
-            wrenches_of=wrenches_of,
-            support_directions=config["support_directions"],
-            support_seed=seed,
-        )
-        for m in MODELS
-        if len(W) >= min_wrenches(m)
-    }
-
-
-#: the protocol ablation's variants: what each changes against the thesis-code row
-ABLATION_VARIANTS = {
-    "jaw_frame": "the grid in the jaw frame (z = grasp axis) instead of the object frame",
-    "origin_in_box": "box sides of the contact's nodes and the object origin (the code's zero-filled array)",
-    "coarse_elements": "elements merged into ablation_cell_mm squares (the thesis's element size)",
-    "author_objective": "the author's objective: L1 values (10) + twist directions (1) + ||A|| (1)",
-}
-
-
-def _code_errors(
-    pc, config: dict, *, sides=None, coarse: bool = False, author: bool = False, code=None
-) -> dict:
-    """Thesis-code Eq. 3.18 errors {model: error} of one variant on profile ``pc``: the
-    models of :data:`TABLE_MODELS`, or with ``author`` the author's objective in their place.
-    ``code``: the thesis-code sample of ``pc`` when the caller has it (the same wrenches)."""
-    if coarse:
-        pc = coarsen_profile(pc, config["ablation_cell_mm"] * 1e-3)
-    if code is None:
-        steps = config["downsample_steps"]
-        code = thesis_code_sample(pc, config["mu"], config["fine_level"], steps, sides=sides)
-    W, wm = code.train_wrenches, code.w_max
-    if author:
-        fits = {m: fit_author_objective(W, code.train_twists, FAMILY[m], w_max=wm) for m in TABLE_MODELS}
-    else:
-        fits = {m: fit_model(m, W, w_max=wm) for m in TABLE_MODELS if len(W) >= min_wrenches(m)}
-    out = {m: model.fitting_error(code.wrenches) for m, model in fits.items()}
-    out["n_train"] = len(code.train)
-    return out
-
-
-def _ablation(p_obj, p_jaw, config: dict, code_obj=None) -> dict:
-    """Row keys ``abl_<variant>_<model>``: the variant's Eq. 3.18 error in place of the
-    thesis-code protocol's ``<model>`` (module docstring), and ``abl_<variant>_n_train``.
-    ``code_obj``: the row's thesis-code sample of ``p_obj`` if it has one (reused, not redrawn)."""
-    pts = p_obj.vertices if p_obj.vertices is not None else p_obj.centers
-    box_with_origin = np.ptp(np.vstack([pts, np.zeros(3)]), axis=0)
-    variants = {
-        "jaw_frame": lambda: _code_errors(p_jaw, config),
-        "origin_in_box": lambda: _code_errors(p_obj, config, sides=box_with_origin),
-        "coarse_elements": lambda: _code_errors(p_obj, config, coarse=True),
-        "author_objective": lambda: _code_errors(p_obj, config, author=True, code=code_obj),
-    }
-    row = {}
-    for name, fn in variants.items():
-        for key, v in fn().items():
-            row[f"abl_{name}_{key}"] = v
-    return row
-
-
-def _fit_row(prof, config: dict, seed: int, to_object=None, ablate: bool = False) -> dict:
-    """Sample, fit the models, and measure their errors on one normalised profile
-    under both protocols.  ``to_object`` : (R, t) of the jaw frame in the object
-    frame (``x_object = R x + t``), the frame of the thesis-code protocol."""
-    pn = prof.normalized()
-    mu = config["mu"]
-    sample = partial(sample_twists_thesis, length_scale=pn, pitch_range=tuple(config["pitch_range"]))
-    W = frictional_wrenches(pn, sample(config["n_wrenches"] // 2, seed=seed), mu)
-    W_test = frictional_wrenches(pn, sample(config["n_heldout"] // 2, seed=seed + 10**6), mu)
-    row = {}
-    for m, fs in _fits(W, w_max(pn, mu), config, seed, test=W_test, contact=pn).items():
-        row[f"{m}_fit_s"] = fs.fit_s
-        row[f"{m}_error"] = fs.test_error
-        row[f"{m}_train_error"] = fs.train_error
-        row[f"{m}_support"] = fs.support.radial_mean
-        row[f"{m}_fallback"] = fs.fallback
-        row["dim"] = fs.model.dim
-    if config["thesis_code"]:
-        p_obj = pn if to_object is None else pn.transformed(*to_object)
-        pc = p_obj if config["code_frame"] == "object" else pn
-        code = thesis_code_sample(pc, mu, config["fine_level"], config["downsample_steps"])
-        row["code_n_train"] = len(code.train)
-        row["code_n_pool"] = len(code.wrenches)
-        for m, fs in _fits(
-            code.train_wrenches, code.w_max, config, seed, test=code.wrenches, contact=pc
-        ).items():
-            row[f"{m}_code_fit_s"] = fs.fit_s
-            row[f"{m}_code_error"] = fs.test_error
-            row[f"{m}_code_support"] = fs.support.radial_mean
-        if ablate:
-            row.update(_ablation(p_obj, pn, config, code if pc is p_obj else None))
-    return row
 
 
 @lru_cache(maxsize=2)
@@ -323,8 +204,7 @@ def _pad_of(config: dict):
 def _ablated(j: int, k: int, config: dict) -> bool:
     """Whether profile ``k`` (jaw displacement index) of grasp ``j`` gets the protocol
     ablation: every ``ablation_every``-th profile in grasp order (none when 0)."""
-    every = config["ablation_every"]
-    return bool(every) and (j * len(config["deltas_mm"]) + k) % every == 0
+    return ablation_due(j * len(config["deltas_mm"]) + k, config["ablation_every"])
 
 
 def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
@@ -368,9 +248,9 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
                 n_elements=len(prof),
                 area_mm2=float(prof.areas.sum() * 1e6),
                 peak_pressure_kPa=float(prof.pressures.max() / 1e3),
-                **_fit_row(
+                **profile_fit_row(
                     prof,
-                    config,
+                    ProfileFitSettings.from_config(config),
                     config["seed"] + 1000 * j + k,
                     to_object=(pose.R, pose.t),
                     ablate=_ablated(j, k, config),
@@ -380,11 +260,13 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
     return out
 
 
-def _reference_cases(bottles: list[Bottle], pad, config: dict) -> list[tuple[str, object]]:
-    """(label, pose) of the contacts also solved on the full mesh (condensed vs reference):
-    ``reference_cases`` bottles at mid-height, alternating ends of the family and
-    approaches, and an elliptic cylinder (the family's degenerate member: constant
-    section, no twist or lean)."""
+def reference_cases(config: dict) -> list[tuple[str, object]]:
+    """(label, pose) of the contacts also solved on the full mesh (condensed vs reference),
+    tasks of the run (:func:`run_task`): ``reference_cases`` bottles at mid-height,
+    alternating ends of the family and approaches, and an elliptic cylinder (the family's
+    degenerate member: constant section, no twist or lean).  Builds (or loads) the pad."""
+    _, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+    pad = _pad_of(config)
     h = pad.geometry.thickness
     cases = []
     for i in range(min(config["reference_cases"], len(bottles))):
@@ -400,10 +282,11 @@ def _reference_cases(bottles: list[Bottle], pad, config: dict) -> list[tuple[str
     return cases
 
 
-def _task(task: tuple, config: dict):
+def run_task(task: tuple, config: dict):
     """One task of a run, in the driver or a Dask worker: ``("rows", job)`` — a grasp's
-    profile rows (:func:`_job_rows`) — or ``("reference", label, pose)`` — one
-    condensed-vs-full-mesh check (seconds each, so they run beside the rows)."""
+    profile rows (:func:`_job_rows`; ``job`` as in :func:`row_tasks`) — or
+    ``("reference", label, pose)`` — one condensed-vs-full-mesh check
+    (:func:`reference_cases`; seconds each, so they run beside the rows)."""
     if task[0] == "reference":
         _, label, pose = task
         return condensed_vs_full(_pad_of(config), pose, config["reference_delta_mm"] * 1e-3, label)
@@ -541,6 +424,20 @@ def _plan(bottles: list[Bottle], pad, config: dict, ckpt: Checkpoint) -> tuple[l
     return jobs, todo_jobs, markers
 
 
+def row_tasks(todo_jobs: list[tuple], config: dict) -> list[tuple[str, tuple]]:
+    """The ``("rows", (j, i, height fraction, approach, angle, todo))`` tasks of the grasps
+    ``todo_jobs`` (``todo``: the jaw-displacement indices still to do): one task per profile
+    on short runs (a grasp's 3 would leave 2 workers idle), per grasp on long ones (from
+    ``config.RUN.grasp_tasks_from`` grasps: a profile's task re-solves the jaw
+    displacements before it); the tasks with the protocol ablation (the longest) first."""
+    if len(todo_jobs) >= cfg.RUN.grasp_tasks_from:
+        rows = [("rows", job) for job in todo_jobs]
+    else:
+        rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
+    rows.sort(key=lambda t: not any(_ablated(t[1][0], k, config) for k in t[1][-1]))
+    return rows
+
+
 def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, config: dict, meanwhile):
     """Run the missing profile rows and the full-mesh reference cases (first: the longest
     tasks) with :func:`workbench.runner.parallel.run_rows`, here or on Dask workers; the driver
@@ -551,16 +448,8 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
     n_total = len(jobs) * len(config["deltas_mm"])
     n_todo = sum(len(job[-1]) for job in todo_jobs)
     bar = tqdm(total=n_total, initial=n_total - n_todo, desc="fem-fitting", unit="profile")
-    # one task per profile on short runs (a grasp's 3 would leave 2 workers idle), per grasp
-    # on long ones (config.DEFAULTS.grasp_tasks_from: a profile's task re-solves the jaw
-    # displacements before it); the longest first: the full-mesh references, then the tasks
-    # with the protocol ablation
-    if len(todo_jobs) >= cfg.DEFAULTS.grasp_tasks_from:
-        rows = [("rows", job) for job in todo_jobs]
-    else:
-        rows = [("rows", (*job[:-1], [k])) for job in todo_jobs for k in job[-1]]
-    rows.sort(key=lambda t: not any(_ablated(t[1][0], k, config) for k in t[1][-1]))
-    tasks = [("reference", label, pose) for label, pose in ref_cases] + rows
+    # the longest first: the full-mesh references, then the rows (those with the ablation first)
+    tasks = [("reference", label, pose) for label, pose in ref_cases] + row_tasks(todo_jobs, config)
     ref_of: dict[str, dict] = {}
 
     def keep(task, res) -> None:
@@ -573,9 +462,8 @@ def _sweep(jobs: list, todo_jobs: list, ref_cases: list, ckpt: Checkpoint, confi
 
     t0 = time.perf_counter()
     stream: dict = {}
-    renders, where = run_rows(
-        partial(_task, config=config), tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile, stats=stream
-    )
+    task = partial(run_task, config=config)
+    renders, where = run_rows(task, tasks, keep, config, n_rows=n_todo, meanwhile=meanwhile, stats=stream)
     tasks_s = time.perf_counter() - t0
     bar.close()
     return renders, where, (tasks_s, stream), [ref_of[label] for label, _ in ref_cases]
@@ -798,7 +686,7 @@ def run(config: dict) -> dict:
     ckpt = _checkpoint(out, config)
     n_resumed = len(ckpt.rows)
     jobs, todo_jobs, markers = _plan(bottles, pad, config, ckpt)
-    ref_cases = _reference_cases(bottles, pad, config)
+    ref_cases = reference_cases(config)
 
     def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
         return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)

@@ -309,9 +309,7 @@ def fidelity_case(name: str, config: dict) -> list[dict]:
     return rows
 
 
-def _checks(config: dict, out: Path) -> dict:
-    """(a)-(d) and (b'): every check but the neo-Hookean fidelity, with their CSVs, the
-    figure and the profile renders — the driver's share while the fidelity cases run."""
+def _locking(config: dict, out: Path) -> list[dict]:
     # (a) locking
     locking = []
     for nu in config["nus"]:
@@ -325,6 +323,10 @@ def _checks(config: dict, out: Path) -> dict:
         out / "locking.csv", ["nu", "sri_over_exact", "full_over_exact"], [list(r.values()) for r in locking]
     )
 
+    return locking
+
+
+def _winkler(config: dict, out: Path) -> list[dict]:
     # (b) compressible thin-layer (Winkler) limits, nu = 0 (M = E)
     h, n = config["winkler_h"], config["winkler_cells"]
     wpad = condense_pad(PadGeometry(0.012, 0.012, h, n, n, 2), Material(1.0e6, 0.0))
@@ -363,16 +365,10 @@ def _checks(config: dict, out: Path) -> dict:
     for w in winkler:
         w["rel_err"] = w["F_fe"] / w["F_limit"] - 1
     write_csv(out / "thin_layer.csv", list(winkler[0]), [list(w.values()) for w in winkler])
-    film = thin_film(config)
-    write_csv(out / "thin_film.csv", list(film[0]), [list(w.values()) for w in film])
+    return winkler
 
-    # (a') Hertz mesh convergence
-    hz = [
-        hertz(size, config["hertz_growth"])
-        for size in tqdm(config["hertz_fine_sizes"], desc="Hertz", unit="mesh")
-    ]
-    write_csv(out / "hertz_convergence.csv", list(hz[0]), [list(r.values()) for r in hz])
 
+def _compare_cases(config: dict, out: Path) -> dict:
     # (c) condensed vs full-mesh linear, (d) sanity
     nx, ny, nz = config["compare_pad"]
     geom = PadGeometry(0.016, 0.02, 0.004, nx, ny, nz)
@@ -404,6 +400,20 @@ def _checks(config: dict, out: Path) -> dict:
     sweep = [solve_contact(pad, cases["sphere R20"][0], d).force for d in config["delta_sweep"]]
     monotone = bool(np.all(np.diff(sweep) > 0))
 
+    return {
+        "pad": pad,
+        "geom": geom,
+        "mat": mat,
+        "cases": cases,
+        "rows": rows,
+        "precompute_s": precompute_s,
+        "sweep": sweep,
+        "monotone": monotone,
+    }
+
+
+def _figure(config: dict, out: Path, locking: list[dict], film: list[dict], cmp: dict) -> Path:
+    geom, mat, sweep = cmp["geom"], cmp["mat"], cmp["sweep"]
     import matplotlib
 
     matplotlib.use("Agg")
@@ -438,6 +448,10 @@ def _checks(config: dict, out: Path) -> dict:
     axes[2].set_title(f"incompressible thin layer, nu = {config['thin_film_nu']}")
     axes[2].legend()
     fig_path = save_figure(fig, out / "fem_validation.png")
+    return fig_path
+
+
+def _renders(pad, cases: dict, out: Path) -> list[str]:
     # offscreen renders of extracted profiles (Fig 3.11(d) style), pressure-colored with
     # the friction the pad exerts for a torsion and a sliding motion of the object
     from workbench.fem.extract import extract_profile
@@ -454,15 +468,36 @@ def _checks(config: dict, out: Path) -> dict:
         slug = name.replace(" ", "_")
         renders.append(str(render_friction_arrows(prof, twists, out / f"profile_{slug}.png", title=name)))
 
+    return renders
+
+
+def _checks(config: dict, out: Path) -> dict:
+    """(a)-(d) and (b'): every check but the neo-Hookean fidelity, with their CSVs, the
+    figure and the profile renders — the driver's share while the fidelity cases run."""
+    locking = _locking(config, out)
+    winkler = _winkler(config, out)
+    film = thin_film(config)
+    write_csv(out / "thin_film.csv", list(film[0]), [list(w.values()) for w in film])
+
+    # (a') Hertz mesh convergence
+    hz = [
+        hertz(size, config["hertz_growth"])
+        for size in tqdm(config["hertz_fine_sizes"], desc="Hertz", unit="mesh")
+    ]
+    write_csv(out / "hertz_convergence.csv", list(hz[0]), [list(r.values()) for r in hz])
+
+    cmp = _compare_cases(config, out)
+    fig_path = _figure(config, out, locking, film, cmp)
+    renders = _renders(cmp["pad"], cmp["cases"], out)
     return {
         "locking": locking,
         "winkler": winkler,
         "film": film,
         "hz": hz,
-        "rows": rows,
-        "precompute_s": precompute_s,
-        "sweep": sweep,
-        "monotone": monotone,
+        "rows": cmp["rows"],
+        "precompute_s": cmp["precompute_s"],
+        "sweep": cmp["sweep"],
+        "monotone": cmp["monotone"],
         "fig_path": fig_path,
         "renders": renders,
     }

@@ -36,23 +36,20 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from workbench import (
-    frictional_wrenches,
-    mesh_profile,
-    sample_twists_thesis,
-    surface_w_max,
-    surface_wrenches,
-    w_max,
+from workbench.limit_surface.fit_score import FitScore, convexity, min_wrenches
+from workbench.limit_surface.protocols import (
+    ExactContact,
+    fit_score,
+    thesis_code_sample_of,
+    thesis_text_wrenches,
 )
-from workbench.limit_surface.fit_score import FitScore, convexity, fit_and_score, min_wrenches
-from workbench.limit_surface.support_error import SharedWrenches
-from workbench.limit_surface.thesis_code import check_protocol_config, thesis_code_split
+from workbench.limit_surface.thesis_code import ThesisCodeSample, check_protocol_config
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
 from workbench.sources.surfaces import check_rtol
-from workbench.twists_author import AUTHOR_LEVELS, box_sides, sample_twists_author
+from workbench.twists_author import AUTHOR_LEVELS
 from workbench.wrench import check_mu
 
 NAME = "ls-fitting"
@@ -133,60 +130,26 @@ KEYS = {
 }
 
 
-class Contact:
-    """One normalised surface under ``config``: its exact wrenches for any twists
-    (memoised by twist bytes: the support-error normals are shared by the models of
-    a surface), exact ``w_max``, length scale and axis-aligned box sides."""
-
-    def __init__(self, surface, config: dict) -> None:
-        self.surface = surface.normalized()
-        self.mu = config["mu"]
-        prof = mesh_profile(surface, config["mesh_elements"]).normalized()
-        self.sides = box_sides(prof)  # the author's lengthArray, from the mesh's centres
-        if config["wrench_source"] == "continuous":
-            fn = partial(surface_wrenches, self.surface, mu=self.mu, rtol=config["quad_rtol"])
-            self.w_max = surface_w_max(self.surface, self.mu)
-        else:
-            fn = partial(frictional_wrenches, prof, mu=self.mu)
-            self.w_max = w_max(prof, self.mu)
-        # only the support error's twist sets are reused (the same for every model of the surface)
-        self._wrenches = SharedWrenches(fn, config["support_directions"])
-
-    @property
-    def memo_hits(self) -> int:
-        """Support-error twist sets answered without integrating them again."""
-        return self._wrenches.hits
-
-    def wrenches(self, xi: np.ndarray) -> np.ndarray:
-        return self._wrenches(xi)
+def _contact(name: str, config: dict) -> ExactContact:
+    """Thesis surface ``name``, normalised, with its exact wrenches of ``wrench_source``."""
+    return ExactContact.of_surface(
+        THESIS_SURFACES[name],
+        config["mu"],
+        config["support_directions"],
+        source=config["wrench_source"],
+        mesh_elements=config["mesh_elements"],
+        quad_rtol=config["quad_rtol"],
+    )
 
 
-def wrenches(contact: Contact, n_twists: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Raw wrenches (K, 6) of the normalised surface for thesis-sampled twists,
-    the exact w_max (6,) and the twists (K, 6)."""
-    xi = sample_twists_thesis(n_twists // 2, contact.surface.length_scale, seed)
-    return contact.wrenches(xi), contact.w_max, xi
-
-
-def _fit(
-    kind: str, W: np.ndarray, wm: np.ndarray, xi: np.ndarray, solver: str = "CLARABEL", **score
-) -> FitScore:
-    """:func:`~workbench.limit_surface.fit_score.fit_and_score` of model ``kind`` on wrenches
-    W (K, 6) with twists xi (K, 6), normalised by wm (6,); ``score``: its ``test`` and
-    ``wrenches_of`` (+ ``support_directions``, ``support_seed``).  Fast fits (the ellipsoids)
-    are timed 3x (median) because single calls right after the parallel quadrature can
-    stall on thread-pool contention (Numba and BLAS on 2 cores)."""
+def _fit(contact: ExactContact, kind: str, W: np.ndarray, xi: np.ndarray, **fit) -> FitScore:
+    """:func:`~workbench.limit_surface.protocols.fit_score` of model ``kind`` on wrenches
+    W (K, 6) of ``contact`` with twists xi (K, 6); ``fit``: its ``test``, ``solver``,
+    ``support_seed``.  Fast fits (the ellipsoids) are timed 3x (median) because single
+    calls right after the parallel quadrature can stall on thread-pool contention (Numba
+    and BLAS on 2 cores)."""
     repeats = 1 if kind.startswith("quartic") else 3
-    return fit_and_score(kind, W, w_max=wm, twists=xi, solver=solver, repeats=repeats, **score)
-
-
-def _support_of(contact: Contact, config: dict) -> dict:
-    """fit_and_score's arguments of the support error on ``contact``."""
-    return {
-        "wrenches_of": contact.wrenches,
-        "support_directions": config["support_directions"],
-        "support_seed": config["seed"],
-    }
+    return fit_score(contact, kind, W, twists=xi, repeats=repeats, **fit)
 
 
 def _support(fs: FitScore) -> dict:
@@ -194,14 +157,14 @@ def _support(fs: FitScore) -> dict:
     return {"radial_mean": e.radial_mean, "radial_p95": e.radial_p95, "eq318_mean": e.eq318_mean}
 
 
-def thesis_code_rows(contact: Contact, config: dict, seed: int) -> dict:
-    """The thesis-code protocol on one surface: the author's twist grid, its
-    wrenches; Fig 3.9 trains on K of them (drawn without replacement), the code's
-    own fit on the grid-downsampled ones; Eq. 3.18 over all of them."""
-    xi = sample_twists_author(contact.sides, config["fine_level"])
-    W = contact.wrenches(xi)
+def _thesis_code_rows(contact: ExactContact, config: dict, seed: int) -> dict:
+    """The thesis-code protocol on one surface: the author's twist grid, its wrenches
+    (:func:`~workbench.limit_surface.protocols.thesis_code_sample_of`); Fig 3.9 trains on K
+    of them (drawn without replacement with ``seed``), the code's own fit on the
+    grid-downsampled ones (:func:`_downsampled`); Eq. 3.18 over all of them."""
+    code = thesis_code_sample_of(contact, config["fine_level"], config["downsample_steps"])
+    W, xi = code.wrenches, code.twists
     rng = np.random.default_rng(seed)
-    support_of = _support_of(contact, config)
     out = {"n_pool": len(W), "error": {k: {} for k in KINDS}, "fit_s": {k: {} for k in KINDS}}
     for K in config["K"]:
         idx = rng.choice(len(W), K, replace=False)
@@ -209,22 +172,35 @@ def thesis_code_rows(contact: Contact, config: dict, seed: int) -> dict:
             if K < min_wrenches(kind):
                 continue
             with_support = K == config["solver_comparison_K"] and kind in SUPPORT_KINDS
-            fs = _fit(kind, W[idx], contact.w_max, xi[idx], test=W, **(support_of if with_support else {}))
+            support_seed = config["seed"] if with_support else None
+            fs = _fit(contact, kind, W[idx], xi[idx], test=W, support_seed=support_seed)
             out["error"][kind][str(K)] = fs.test_error
             out["fit_s"][kind][str(K)] = fs.fit_s
             if with_support:
                 out.setdefault("support", {})[kind] = _support(fs)
-    train = thesis_code_split(W, contact.w_max, config["downsample_steps"])
-    out["downsampled"] = {"n_train": len(train)}
+    out["downsampled"] = _downsampled(contact, code, config)
+    return out
+
+
+def _downsampled(contact: ExactContact, code: ThesisCodeSample, config: dict) -> dict:
+    """The author's own fit: trained on the grid-downsampled wrenches of ``code``, Eq. 3.18
+    on all of them; ``n_train``, ``<kind>`` errors and the support errors ``<kind>_support``
+    (a model absent with fewer wrenches than its unknowns)."""
+    out: dict = {"n_train": len(code.train)}
     for kind in ("ellipsoid_sdp", "quartic_normals", "quartic_values"):
-        if len(train) >= min_wrenches(kind):
+        if len(code.train) >= min_wrenches(kind):
             with_support = kind in SUPPORT_KINDS
             fs = _fit(
-                kind, W[train], contact.w_max, xi[train], test=W, **(support_of if with_support else {})
+                contact,
+                kind,
+                code.train_wrenches,
+                code.train_twists,
+                test=code.wrenches,
+                support_seed=config["seed"] if with_support else None,
             )
-            out["downsampled"][kind] = fs.test_error
+            out[kind] = fs.test_error
             if with_support:
-                out["downsampled"][f"{kind}_support"] = _support(fs)
+                out[f"{kind}_support"] = _support(fs)
     return out
 
 
@@ -289,61 +265,82 @@ def _warm(config: dict) -> dict:
     per process (driver or Dask worker) before any timed fit, so builds stay out of the
     fit timings wherever a surface runs."""
     if not _BUILT:
-        W0, wm0, xi0 = wrenches(
-            Contact(THESIS_SURFACES[config["surfaces"][0]], config), max(config["K"]), config["seed"] + 999
-        )
-        _BUILT.update({kind: _fit(kind, W0, wm0, xi0).fit_s for kind in KINDS})
+        contact = _contact(config["surfaces"][0], config)
+        W0, xi0 = thesis_text_wrenches(contact, max(config["K"]), config["seed"] + 999)
+        _BUILT.update({kind: _fit(contact, kind, W0, xi0).fit_s for kind in KINDS})
     return dict(_BUILT)
 
 
 def _surface(job: tuple[int, str, str], config: dict) -> dict:
     """One part of surface ``name`` (the i-th), run in the driver or on a Dask worker
     (``workbench.runner.parallel.map_rows``): ``part`` "fits" — every fit and error of the thesis-text
-    protocol — or "code" — the thesis-code protocol (:func:`thesis_code_rows`, {"code": ...}),
-    a task of its own: its 48,483-twist quadrature is most of a surface's time, and the
-    two halves of six surfaces balance two workers where six whole surfaces left a long tail."""
+    protocol (:func:`_text_rows`) — or "code" — the thesis-code protocol
+    (:func:`_thesis_code_rows`, {"code": ...}), a task of its own: its 48,483-twist quadrature
+    is most of a surface's time, and the two halves of six surfaces balance two workers where
+    six whole surfaces left a long tail."""
     i, name, part = job
     _warm(config)
-    contact = Contact(THESIS_SURFACES[name], config)
+    contact = _contact(name, config)
     if part == "code":
-        return {"code": thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3)}
-    Kc = config["solver_comparison_K"]
-    support_of = _support_of(contact, config)
-    W_test, wm, _ = wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
+        return {"code": _thesis_code_rows(contact, config, config["seed"] + 10_000 * i + 3)}
+    return _text_rows(i, name, contact, config)
+
+
+def _text_rows(i: int, name: str, contact: ExactContact, config: dict) -> dict:
+    """The thesis-text part of surface ``name`` (the i-th): every K's fits (:func:`_fits_at`)
+    scored on ``n_heldout`` held-out wrenches, and at ``solver_comparison_K`` the SCS fits and
+    the log-det penalty (:func:`_comparison`)."""
+    W_test, _ = thesis_text_wrenches(contact, config["n_heldout"], config["seed"] + 10_000 * i + 1)
     res = {key: {kind: {} for kind in KINDS} for key in ("err", "train_err", "rt", "radial")}
     res.update(rows=[], solver_rows=[], convex={}, support={}, log_det={}, section=None)
-    section = name == config["section_surface"]
     for K in config["K"]:
-        W, _, xi = wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
-        for kind in KINDS:
-            if K < min_wrenches(kind):
-                continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
-            with_support = K == Kc and kind in SUPPORT_KINDS
-            fs = _fit(kind, W, wm, xi, test=W_test, **(support_of if with_support else {}))
-            res["convex"].setdefault(kind, []).append(convexity(fs.model))
-            res["err"][kind][str(K)] = fs.test_error
-            res["radial"][kind][str(K)] = fs.test_radial
-            res["train_err"][kind][str(K)] = fs.train_error
-            res["rt"][kind][str(K)] = fs.fit_s
-            solver = "CLARABEL" if kind != "ellipsoid_lsq" else "lstsq"
-            res["rows"].append([name, K, kind, solver, fs.test_error, fs.fit_s, fs.fallback])
-            if with_support:
-                res["support"][kind] = _support(fs)
-            if section and K == config["section_K"] and kind in SUPPORT_KINDS:
-                models = res["section"][0] if res["section"] else {}
-                models[kind] = fs.model
-                res["section"] = (models, W)
-        if K == Kc:
-            for kind in SUPPORT_KINDS:
-                fs = _fit(kind, W, wm, xi, solver="SCS", test=W_test)
-                res["solver_rows"].append([name, K, kind, "SCS", fs.test_error, fs.fit_s, fs.fallback])
-            for a in config["log_det_alphas"]:  # Eq. 3.12's penalty, α = a·K
-                fs = fit_and_score("ellipsoid_sdp", W, w_max=wm, alpha=a * K, test=W_test, **support_of)
-                res["log_det"][f"{a:g}"] = {
-                    "heldout_error": fs.test_error,
-                    "support_radial": fs.support.radial_mean,
-                }
+        W, xi = thesis_text_wrenches(contact, K, config["seed"] + 10_000 * i + 2 + K)
+        _fits_at(res, name, contact, (W, xi, W_test), config)
+        if K == config["solver_comparison_K"]:
+            _comparison(res, name, contact, (W, xi, W_test), config)
     return res
+
+
+def _fits_at(res: dict, name: str, contact: ExactContact, sample: tuple, config: dict) -> None:
+    """Every model's fit to ``sample`` = (W (K, 6), xi (K, 6), W_test (N, 6)) of surface
+    ``name``, recorded into ``res`` (:func:`_text_rows`); Fig 3.10's models at ``section_K``."""
+    W, xi, W_test = sample
+    K = len(W)
+    section = name == config["section_surface"] and K == config["section_K"]
+    for kind in KINDS:
+        if K < min_wrenches(kind):
+            continue  # underdetermined (126 coefficients): fit_quartic refuses, we do not fake it
+        with_support = K == config["solver_comparison_K"] and kind in SUPPORT_KINDS
+        fs = _fit(contact, kind, W, xi, test=W_test, support_seed=config["seed"] if with_support else None)
+        res["convex"].setdefault(kind, []).append(convexity(fs.model))
+        res["err"][kind][str(K)] = fs.test_error
+        res["radial"][kind][str(K)] = fs.test_radial
+        res["train_err"][kind][str(K)] = fs.train_error
+        res["rt"][kind][str(K)] = fs.fit_s
+        solver = "CLARABEL" if kind != "ellipsoid_lsq" else "lstsq"
+        res["rows"].append([name, K, kind, solver, fs.test_error, fs.fit_s, fs.fallback])
+        if with_support:
+            res["support"][kind] = _support(fs)
+        if section and kind in SUPPORT_KINDS:
+            models = res["section"][0] if res["section"] else {}
+            models[kind] = fs.model
+            res["section"] = (models, W)
+
+
+def _comparison(res: dict, name: str, contact: ExactContact, sample: tuple, config: dict) -> None:
+    """At ``solver_comparison_K``: the SCS fits of :data:`SUPPORT_KINDS` and Eq. 3.12's log-det
+    penalty ``α = a·K`` of ``log_det_alphas``, recorded into ``res`` (:func:`_text_rows`)."""
+    W, xi, W_test = sample
+    K = len(W)
+    for kind in SUPPORT_KINDS:
+        fs = _fit(contact, kind, W, xi, solver="SCS", test=W_test)
+        res["solver_rows"].append([name, K, kind, "SCS", fs.test_error, fs.fit_s, fs.fallback])
+    for a in config["log_det_alphas"]:
+        fs = fit_score(contact, "ellipsoid_sdp", W, alpha=a * K, test=W_test, support_seed=config["seed"])
+        res["log_det"][f"{a:g}"] = {
+            "heldout_error": fs.test_error,
+            "support_radial": fs.support.radial_mean,
+        }
 
 
 def _collect(done: dict[str, dict], config: dict) -> dict:

@@ -4,12 +4,12 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
 
 1. the measured stiffness map, interpolated over the surface
    (:class:`~workbench.grasp.stiffness_map.StiffnessMap`; leave-one-grasp-out error);
-2. the wall FEM at the measured grasps (:func:`workbench.fem.object_wall.object_wall`,
-   :func:`workbench.fem.wall_grasps.stiffness_at`), calibrated by **one scalar** — an effective
+2. the wall FEM at the measured grasps (:func:`workbench.fem.grasp_walls.wall_stiffness`),
+   calibrated by **one scalar** (:func:`workbench.fem.grasp_walls.calibrated_wall`) — an effective
    Young's modulus at fixed thickness (linear elasticity: ``s ∝ E`` exactly) — on a
    random half of the grasps and checked on the other half (Spearman, median
    ``|log(s_fem / s_measured)|``);
-3. horizontal antipodal candidate grasps (:func:`~workbench.grasp.sampling.horizontal_grasps`),
+3. horizontal antipodal candidate grasps (:func:`workbench.grasp.work_table.candidate_grasps`),
    REACH profiles of both jaws at 10 N (§4.3.2.1) — or, with ``profiles="fem"``, the FEM
    pad pressed on the mesh to the same reading (:func:`workbench.sources.fem_jaw.fem_jaw_profiles`)
    — and the ellipsoidal 6DLS of each;
@@ -20,26 +20,27 @@ Steps, per object of ``deformable_objects/`` (plastic_cup, mustard, shampoo; rea
    thesis's ``C_outer`` of ``M`` tangent half-spaces (``"outer"``), an outer approximation whose
    minimal forces on these curved jaws are several times below the 6DLS's (and finite where the
    6DLS and the exact 6DFW resist at no force): a lower bound, not the metric;
-5. **simulated ground truth** (no robot data here): the gripper closes to
-   ``safety ×`` the force the *exact* 6DFW sets of the profiles need (capped at the
-   gripper's ``force_cap``), with friction and force noise; the grasp succeeds iff
-   (a) the task wrench is resisted by the exact 6DFW sets in most noise samples at
-   every pose and (b) the jaw closing at that force, from the *calibrated wall FEM*
-   (not the interpolated map), stays below ``closing_limit_mm`` (content not
-   dislodged, wall not creased).  The truth shares no limit surface, no map
+5. **simulated ground truth** (no robot data here; steps 3-5:
+   :func:`workbench.grasp.work_table.grasp_row`): the gripper closes to ``safety ×`` the force
+   the *exact* 6DFW sets of the profiles need (capped at the gripper's ``force_cap``), with
+   friction and force noise; the grasp succeeds iff (a) the task wrench is resisted by the
+   exact 6DFW sets in most noise samples at every pose and (b) the jaw closing at that force,
+   from the *calibrated wall FEM* (not the interpolated map), stays below ``closing_limit_mm``
+   (content not dislodged, wall not creased).  The truth shares no limit surface, no map
    interpolation and no linearisation with the metrics under test;
-6. Table 4.6: balanced accuracy at σ = 0.5 with ``W_max``, ``f⊥max`` chosen on a
-   training half of the grasps, reported on the other half.
+6. Table 4.6 (:func:`workbench.grasp.work_table.table_4_6`): balanced accuracy at σ = 0.5 with
+   ``W_max``, ``f⊥max`` chosen on a training half of the grasps, reported on the other half.
 
 Rows (one per candidate grasp, and one per FEM grasp of the calibration) are
 checkpointed, so a killed run resumes.  The wall squeezes (step 2 and every candidate's), the
 candidate grasps (step 3-5) and the nonlinear walls' load curves run as Dask tasks
 (:mod:`workbench.runner.parallel`: a local cluster of one worker per core when there are many,
 ``workers`` / ``scheduler``); a worker process builds an object's wall once for its squeezes
-(:func:`_object_wall`, a per-process memo), the candidates' tasks get their squeeze's row and
-build no wall, and the driver renders the stiffness maps meanwhile.  The squeezes depend only
-on the wall settings, so a second run at them (e.g. ``profiles="fem"``) reads them from the
-machine's shared cache.  The rows are the serial run's, bit for bit (``tests/test_parallel.py``).
+(:func:`workbench.fem.grasp_walls.linear_wall`, a per-process memo), the candidates' tasks get
+their squeeze's row and build no wall, and the driver renders the stiffness maps meanwhile.  The
+squeezes depend only on the wall settings, so a second run at them (e.g. ``profiles="fem"``) reads
+them from the machine's shared cache.  The rows are the serial run's, bit for bit
+(``tests/test_parallel.py``).
 """
 
 from __future__ import annotations
@@ -47,17 +48,41 @@ from __future__ import annotations
 import json
 import logging
 import time
-from functools import lru_cache, partial
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
 
-from workbench import config as settings  # `config` is the run's dict here
 from workbench.code_key import code_digest
+from workbench.fem.grasp_walls import (
+    NonlinearWallSettings,
+    WallSettings,
+    calibrated_stiffness,
+    calibrated_wall,
+    load_curve,
+    load_mesh,
+    mesh_digest,
+    object_files,
+    series_compliance,
+    wall_stiffness,
+)
+from workbench.grasp.work_table import (
+    METRICS,
+    TASKS,
+    GraspRowSettings,
+    candidate_grasps,
+    grasp_row,
+    largest_jaw_force,
+    measured_map,
+    nan_if_none,
+    nonlinear_work_table,
+    table_4_6,
+)
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import (
+    CHECKOUT,
     Checkpoint,
     content_hash,
     read_shared,
@@ -69,7 +94,6 @@ from workbench.runner.results import (
 )
 
 NAME = "minimal-work"
-ROOT = Path(__file__).resolve().parents[1]
 log = logging.getLogger(__name__)
 
 THESIS_TABLE_4_6 = {  # thesis Table 4.6, objects 1-3 and All
@@ -87,7 +111,7 @@ THESIS_TABLE_4_6 = {  # thesis Table 4.6, objects 1-3 and All
 
 DEFAULT_CONFIG = {
     "seed": 0,
-    "data_dir": str(ROOT.parent / "shared" / "data" / "deformable_objects"),  # meshes/ and stiffness_maps/
+    "data_dir": str(CHECKOUT.parent / "shared" / "data" / "deformable_objects"),  # meshes/, stiffness_maps/
     "objects": ["plastic_cup", "mustard", "shampoo"],
     # filled-object masses [kg] (the thesis filled them with wet towels; masses unstated):
     # about the water mass of half the convex-hull volume (cup 353 ml, mustard 531, shampoo 508)
@@ -148,19 +172,10 @@ QUICK_CONFIG = {
     "nl_step_mm": 1.0,
 }
 
-TASKS = ("vertical_lifting", "lift_and_rotate")
-METRICS = ("q_robust", "q_force", "q_work")
-
 
 def _paths(config: dict, name: str) -> tuple[Path, Path]:
-    d = Path(config["data_dir"])
-    mesh, smap = d / "meshes" / f"{name}.obj", d / "stiffness_maps" / f"{name}.json"
-    if not mesh.exists() or not smap.exists():
-        raise ValueError(
-            f"{name}: {mesh} or {smap} not found — set data_dir to the deformable_objects folder "
-            "(meshes/ and stiffness_maps/, CC BY-NC 4.0, read by path)"
-        )
-    return mesh, smap
+    """(mesh, measured map) of object ``name`` in the run's ``data_dir``."""
+    return object_files(config["data_dir"], name)
 
 
 PROFILE_SOURCES = ("reach", "fem")
@@ -249,116 +264,40 @@ def _check_values(config: dict) -> None:
         )
 
 
-@lru_cache(maxsize=8)
-def _mesh(path: str):
-    """The object's mesh, read once per process (driver and each worker)."""
-    import trimesh
-
-    return trimesh.load(path, force="mesh")
-
-
-@lru_cache(maxsize=8)
-def _measured_map(path: str):
-    """The measured map's :class:`~workbench.grasp.stiffness_map.StiffnessMap`, once per process."""
-    from workbench.fem.wall_grasps import read_locations
-    from workbench.grasp.stiffness_map import StiffnessMap
-
-    L, measured = read_locations(path)
-    if measured is None:
-        raise ValueError(
-            f"{path}: minimal-work needs the measured 'stiffness_map' (one value per location) "
-            "beside 'stiffness_locations'; for locations without measurements use "
-            "`workbench run wall-stiffness --set object=... --set locations=...`"
-        )
-    return StiffnessMap.from_measured(L, np.r_[measured, measured])
-
-
-@lru_cache(maxsize=4)
-def _object_wall(path: str, E: float, nu: float, thickness: float, n_theta: int, n_z: int):
-    """The object's linear wall, assembled and factorised once per process (seconds; it
-    cannot be sent to a worker: the sparse factor does not pickle)."""
-    from workbench.fem.material import Material
-    from workbench.fem.object_wall import object_wall
-
-    return object_wall(_mesh(path), Material(E, nu), thickness=thickness, n_theta=n_theta, n_z=n_z)
-
-
-def _wall_of(name: str, config: dict):
-    """(geometry, wall) of object ``name`` at the run's wall settings."""
-    nt, nz = config["mesh"]
-    path = str(_paths(config, name)[0])
-    return _object_wall(path, float(config["E"]), float(config["nu"]), float(config["thickness"]), nt, nz)
-
-
-@lru_cache(maxsize=2)
-def _fem_pad(jaw: tuple):
-    """The FEM pad (profiles="fem"), condensed once per process (its disk cache: once per machine)."""
-    from workbench.fem.material import Material
-    from workbench.fem.pad import PadGeometry, condense_pad
-
-    return condense_pad(PadGeometry(*jaw), Material())
-
-
-def _jaws_of(mesh, g: dict, config: dict) -> list:
-    """Both jaws' contact profiles at grasp ``g`` (``profiles``: REACH or the FEM pad)."""
-    if config["profiles"] == "reach":
-        from workbench.sources.reach import jaw_profiles
-
-        return jaw_profiles(
-            mesh,
-            g,
-            config["grasp_force"],
-            pad=tuple(config["jaw"]),
-            closing=config["reach_closing_mm"] * 1e-3,
-            allow_scale=True,
-        )
-    from workbench.sources.fem_jaw import fem_jaw_profiles
-
-    return fem_jaw_profiles(mesh, g, config["grasp_force"], pad=_fem_pad(tuple(config["jaw"])))
-
-
-def _grasp_task(job: tuple, config: dict) -> dict:
-    """One candidate grasp's row (:func:`_grasp_row`) from ``job`` = (object, index, grasp,
-    calibration scale, seed, the grasp's wall stiffness row), in the driver or a Dask worker."""
-    name, k, g, scale, seed, fem = job
-    mesh_path, map_path = _paths(config, name)
-    return _grasp_row(
-        name,
-        k,
-        g,
-        _mesh(str(mesh_path)),
-        _measured_map(str(map_path)),
-        scale,
-        fem,
-        partial(_jaws_of, config=config),
-        config,
-        seed,
-    )
-
-
 def _wall_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
     """The linear wall's stiffness at a chunk of one object's grasps, in the driver or a Dask
     worker: ``job`` = (object, kind, grasp numbers (m,), locations (2m, 3): the first jaws, then
     the second); [(checkpoint key ``<kind>/<object>/<number>``, row of
-    :func:`workbench.fem.wall_grasps.stiffness_at`)]."""
-    from workbench.fem.wall_grasps import stiffness_at
-
+    :func:`workbench.fem.grasp_walls.wall_stiffness`)]."""
     name, kind, ids, P = job
-    geo, wall = _wall_of(name, config)
-    rows = stiffness_at(
-        wall, geo.surface, P, z_range=geo.z_range, jaw=tuple(config["jaw"]), grasp_ids=list(ids)
-    )
+    rows = wall_stiffness(str(_paths(config, name)[0]), WallSettings.from_config(config), P, list(ids))
     return [(f"{kind}/{name}/{i}", row) for i, row in zip(ids, rows, strict=True)]
 
 
-def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
-    """Step 2's FEM and every candidate's wall stiffness: ``locations`` {(object, kind): (2n, 3)
-    grasp points, the first jaws then the second} — kind "fem" (the measured grasps) or "wall"
-    (the candidates) — to {(object, kind): n rows} (checkpointed as ``<kind>/<object>/<i>``).
-    The squeezes run as Dask tasks of :data:`WALL_ROWS_PER_TASK` grasps of one object (a worker
-    factorises each object's wall once); they do not depend on the profiles or the metrics, so
-    they are shared on this machine by every run at the same wall settings (minimal-work with
-    REACH and with FEM pads, a sweep's points), keyed by every input and the code."""
+def _grasp_task(job: tuple, config: dict) -> dict:
+    """One candidate grasp's row (:func:`workbench.grasp.work_table.grasp_row`) from ``job`` =
+    (object, index, grasp, calibration scale, seed, the grasp's wall stiffness row), in the
+    driver or a Dask worker."""
+    name, k, g, scale, seed, fem = job
+    mesh_path, map_path = _paths(config, name)
+    mesh, smap = load_mesh(str(mesh_path)), measured_map(str(map_path))
+    run = GraspRowSettings.from_config(config)
+    return grasp_row(name, k, g, mesh, smap, calibrated_stiffness(fem, scale), run, seed)
+
+
+def _load_curve_task(job: tuple, config: dict) -> dict:
+    """The nonlinear wall's load curve at one candidate grasp
+    (:func:`workbench.fem.grasp_walls.load_curve`), ``job`` = (index, object, grasp index,
+    grasp, calibration scale, jaw force to reach [N]): its checkpoint entry."""
+    _, name, k, g, scale, force = job
+    nl = NonlinearWallSettings.from_config(config)
+    return load_curve(str(_paths(config, name)[0]), g, scale, force, nl, label=f"{name} grasp {k}")
+
+
+def _wall_jobs(ckpt, locations: dict, config: dict) -> tuple[list[tuple], dict]:
+    """The wall tasks still to run (chunks of :data:`WALL_ROWS_PER_TASK` grasps of one object)
+    and {(object, kind): shared cache path} of the rows to share once computed; rows found in
+    the machine's shared cache are checkpointed here instead."""
     jobs, shared = [], {}
     for (name, kind), L in locations.items():
         n = len(L) // 2
@@ -366,7 +305,7 @@ def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
         path = shared_cache_path(
             "wall-rows",
             {
-                "mesh_file": _mesh_digest(str(_paths(config, name)[0])),
+                "mesh_file": mesh_digest(str(_paths(config, name)[0])),
                 "locations": L,
                 **{k: config[k] for k in ("E", "nu", "thickness", "mesh", "jaw")},
             },
@@ -384,6 +323,18 @@ def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
         for c in range(0, len(todo), WALL_ROWS_PER_TASK):
             ids = todo[c : c + WALL_ROWS_PER_TASK]
             jobs.append((name, kind, ids, L[np.r_[ids, np.asarray(ids) + n]]))
+    return jobs, shared
+
+
+def wall_rows(ckpt, locations: dict, config: dict) -> dict:
+    """Step 2's FEM and every candidate's wall stiffness: ``locations`` {(object, kind): (2n, 3)
+    grasp points, the first jaws then the second} — kind "fem" (the measured grasps) or "wall"
+    (the candidates) — to {(object, kind): n rows} (checkpointed as ``<kind>/<object>/<i>``).
+    The squeezes run as Dask tasks of :data:`WALL_ROWS_PER_TASK` grasps of one object (a worker
+    factorises each object's wall once); they do not depend on the profiles or the metrics, so
+    they are shared on this machine by every run at the same wall settings (minimal-work with
+    REACH and with FEM pads, a sweep's points), keyed by every input and the code."""
+    jobs, shared = _wall_jobs(ckpt, locations, config)
     n_rows = sum(len(j[2]) for j in jobs)
     with tqdm(total=n_rows, desc="wall FEM", unit="grasp") as bar:
         run_rows(
@@ -406,22 +357,53 @@ def _wall_rows(ckpt, locations: dict, config: dict) -> dict:
     return out
 
 
-@lru_cache(maxsize=8)
-def _mesh_digest(path: str) -> str:
-    """SHA-256 of the mesh file's bytes (the key of results computed from it)."""
-    import hashlib
-
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
-def _num(x) -> float:
-    return float("nan") if x is None else float(x)
-
-
-def run(config: dict) -> dict:
+def _objects(config: dict) -> dict:
+    """Steps 1 and 3 per object: its mesh, measured map (a file without measurements is
+    refused), the map's leave-one-grasp-out error, the candidate grasps, and the wall's grasp
+    points ``at`` {(object, "fem" | "wall"): (2n, 3)} with the measured stiffness (n,) of the
+    map's grasps."""
     from workbench.fem.wall_grasps import read_locations
     from workbench.grasp.stiffness_map import leave_one_out
 
+    ob = {"meshes": {}, "smaps": {}, "cands": {}, "interp": {}, "at": {}, "measured": {}}
+    for name in config["objects"]:
+        mesh_path, map_path = _paths(config, name)
+        ob["meshes"][name] = load_mesh(str(mesh_path))
+        ob["smaps"][name] = measured_map(str(map_path))  # refuses a file without measurements
+        # 1. the measured map's leave-one-grasp-out error
+        ob["interp"][name] = leave_one_out(ob["smaps"][name])
+        # 3. candidate grasps (their wall stiffness is computed with step 2's)
+        cands = candidate_grasps(
+            ob["meshes"][name], name, config["n_heights"], config["n_angles"], config["mu"]
+        )
+        ob["cands"][name] = cands
+        ob["at"][name, "fem"], ob["measured"][name] = read_locations(map_path)
+        ob["at"][name, "wall"] = np.array([g["p1"] for g in cands] + [g["p2"] for g in cands])
+    return ob
+
+
+def _calibrate(ob: dict, wall: dict, rng: np.random.Generator, config: dict) -> tuple[dict, dict, list]:
+    """Step 2 per object: one scalar calibrated on half of the measured grasps, checked on the
+    other (:func:`workbench.fem.grasp_walls.calibrated_wall`); (validation, figure data, every
+    candidate as (object, index, grasp, measured map, scale))."""
+    validation, fig_data, grasps_all = {}, {}, []
+    wall_settings = WallSettings.from_config(config)
+    for name in config["objects"]:
+        validation[name], fig_data[name] = calibrated_wall(
+            wall[name, "fem"],
+            ob["at"][name, "fem"],
+            ob["measured"][name],
+            rng,
+            str(_paths(config, name)[0]),
+            wall_settings,
+            config["grasp_force"],  # the measurements' target force (§4.3.3.1)
+        )
+        scale = validation[name]["calibrated"]["scale"]
+        grasps_all += [(name, k, g, ob["smaps"][name], scale) for k, g in enumerate(ob["cands"][name])]
+    return validation, fig_data, grasps_all
+
+
+def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     rng = np.random.default_rng(config["seed"])
@@ -432,29 +414,14 @@ def run(config: dict) -> dict:
         code=code_digest(__name__),
     )
     n_resumed = len(ckpt.rows)
-    meshes, smaps, cands, validation, interp, grasps_all, fig_data, at = {}, {}, {}, {}, {}, [], {}, {}
-    measured = {}
-    for name in config["objects"]:
-        mesh_path, map_path = _paths(config, name)
-        meshes[name] = _mesh(str(mesh_path))
-        smaps[name] = _measured_map(str(map_path))  # refuses a file without measurements
-        # 1. the measured map's leave-one-grasp-out error
-        interp[name] = leave_one_out(smaps[name])
-        # 3. candidate grasps (their wall stiffness is computed with step 2's)
-        cands[name] = _candidates(meshes[name], name, config)
-        at[name, "fem"], measured[name] = read_locations(map_path)
-        at[name, "wall"] = np.array([g["p1"] for g in cands[name]] + [g["p2"] for g in cands[name]])
+    ob = _objects(config)
     # 2. the wall FEM at the measured grasps and at every candidate (Dask tasks)
-    wall = _wall_rows(ckpt, at, config)
-    for name in config["objects"]:
-        # 2. one scalar calibrated on half of the measured grasps, checked on the other
-        validation[name], fig_data[name] = _calibrated_wall(
-            wall[name, "fem"], at[name, "fem"], measured[name], name, rng, config
-        )
-        scale = validation[name]["calibrated"]["scale"]
-        grasps_all += [(name, k, g, smaps[name], scale) for k, g in enumerate(cands[name])]
+    wall = wall_rows(ckpt, ob["at"], config)
+    validation, fig_data, grasps_all = _calibrate(ob, wall, rng, config)
     # 3-5. profiles, metrics and simulated truth per candidate (Dask); the driver renders the maps
-    rows, ran_on, stiffness_figures = _candidate_rows(ckpt, grasps_all, wall, out, meshes, fig_data, config)
+    rows, ran_on, stiffness_figures = _candidate_rows(
+        ckpt, grasps_all, wall, out, ob["meshes"], fig_data, config
+    )
     skipped = [
         {"object": r["object"], "grasp": r["grasp"], "reason": r["skipped"]} for r in rows if "skipped" in r
     ]
@@ -466,30 +433,22 @@ def run(config: dict) -> dict:
     nonlinear = _nonlinear_work_of(ckpt, grasps_all, rows, split, config)
     t_nl = time.perf_counter() - t_nl
     # 6. Table 4.6: W_max and f_max on a training half, balanced accuracy on the rest
-    table, normalisers, class_balance = _table_4_6(rows, split, config)
+    table, normalisers, class_balance = table_4_6(
+        rows, split, config["objects"], config["sigma"], config["seed"]
+    )
     figures = _figures(out, rows, config) + stiffness_figures
     _write_grasps_csv(out, rows)
-    secs = np.array([r["seconds"] for r in rows])
-    series = _series_compliance(validation, fig_data)
-    objs = np.array([r["object"] for r in rows])
+    series = series_compliance(validation, {n: d["predicted"] for n, d in fig_data.items()})
     summary = {
-        "table_4_6": {t: {m: table[t][m] for m in METRICS} for t in TASKS},
-        # percentile bootstrap over the held-out grasps (workbench.grasp.threshold)
-        "table_4_6_interval_95": {t: {m: table[t]["interval_95"][m] for m in METRICS} for t in TASKS},
-        "thesis_table_4_6": THESIS_TABLE_4_6,
-        "beyond_thesis_q_work_fem": {t: table[t]["q_work_fem"] for t in TASKS},
-        "beyond_thesis_nonlinear_work": nonlinear,
-        "n_grasps": len(rows),
-        "skipped_grasps": skipped,  # candidates without a profile (profiles="fem" only)
-        "n_grasps_per_object": {n: int((objs == n).sum()) for n in config["objects"]},
-        "n_test": int((~split).sum()),
+        **_table_summary(table, nonlinear),
+        **_grasp_counts(rows, skipped, split, config),
         "class_balance": class_balance,
         "normalisers": normalisers,
         "ground_truth": _ground_truth_note(config),
         "stiffness_validation": validation,
         "series_compliance": series,
-        "stiffness_interpolation": interp,
-        "ms_per_grasp": {"median": float(np.median(secs) * 1e3), "max": float(secs.max() * 1e3)},
+        "stiffness_interpolation": ob["interp"],
+        "ms_per_grasp": _ms_per_grasp(rows),
         "n_resumed": n_resumed,
         "grasps_ran_on": ran_on,
         "seconds": {  # this invocation (resumed rows cost nothing)
@@ -503,62 +462,38 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _calibrated_wall(
-    fem_rows: list[dict],
-    L: np.ndarray,
-    measured: np.ndarray,
-    name: str,
-    rng: np.random.Generator,
-    config: dict,
-) -> tuple[dict, dict]:
-    """Step 2 for object ``name``: from the FEM at its measured grasps (``fem_rows``, one per
-    grasp: :func:`_wall_rows`; the grasps ``L`` (2n, 3) and their ``measured`` stiffness (n,) of
-    the map file), one factor calibrated on a random half (drawn from ``rng``) and scored on the
-    other, and what the factor leaves (series compliance, large deflection, the clamps).  Returns
-    the validation summary and the stiffness figures' data."""
-    from workbench.fem.calibration import missing_physics, one_factor_validation
-
-    mesh_path = _paths(config, name)[0]
-    fem = np.array([_num(r["stiffness"]) for r in fem_rows])
-    n_g = len(fem)
-    z_mid = 0.5 * (L[:n_g, 2] + L[n_g:, 2])
-    validation, train, test = one_factor_validation(fem, measured, rng, heights=z_mid, E=config["E"])
-    geo = _wall_geometry(str(mesh_path), float(config["thickness"]), config["mesh"][1])
-    z_lo, z_hi = geo.z_range
-    validation["missing_physics"] = missing_physics(
-        fem,
-        measured,
-        width=np.linalg.norm(L[n_g:] - L[:n_g], axis=1),
-        clamp_distance=np.minimum(z_mid - z_lo, z_hi - z_mid if geo.clamp_top else np.inf),
-        force=config["grasp_force"],  # the measurements' target force (§4.3.3.1)
-    )
-    scale = validation["calibrated"]["scale"]
-    rigid = settings.TOL.rigid_stiffness_threshold
-    predicted = np.where(fem < rigid, fem * scale, np.inf)  # rigid stays rigid
-    return validation, {"L": L, "measured": measured, "predicted": predicted, "train": train, "test": test}
+def _table_summary(table: dict, nonlinear: dict | None) -> dict:
+    """The summary's Table 4.6 entries."""
+    return {
+        "table_4_6": {t: {m: table[t][m] for m in METRICS} for t in TASKS},
+        # percentile bootstrap over the held-out grasps (workbench.grasp.threshold)
+        "table_4_6_interval_95": {t: {m: table[t]["interval_95"][m] for m in METRICS} for t in TASKS},
+        "thesis_table_4_6": THESIS_TABLE_4_6,
+        "beyond_thesis_q_work_fem": {t: table[t]["q_work_fem"] for t in TASKS},
+        "beyond_thesis_nonlinear_work": nonlinear,
+    }
 
 
-def _candidates(mesh, name: str, config: dict) -> list[dict]:
-    """Step 3: horizontal antipodal grasps at ``n_heights`` heights inside the object's z
-    extent and ``n_angles`` axis angles."""
-    from workbench.grasp.sampling import horizontal_grasps
+def _grasp_counts(rows: list[dict], skipped: list[dict], split: np.ndarray, config: dict) -> dict:
+    """The summary's counts of grasps."""
+    objs = np.array([r["object"] for r in rows])
+    return {
+        "n_grasps": len(rows),
+        "skipped_grasps": skipped,  # candidates without a profile (profiles="fem" only)
+        "n_grasps_per_object": {n: int((objs == n).sum()) for n in config["objects"]},
+        "n_test": int((~split).sum()),
+    }
 
-    lo, hi = mesh.bounds[:, 2]
-    heights = np.linspace(lo, hi, config["n_heights"] + 2)[1:-1]
-    cands = horizontal_grasps(mesh, heights, config["n_angles"], config["mu"], pad=None)
-    if not cands:
-        raise ValueError(
-            f"{name}: no horizontal antipodal grasp within friction cone mu={config['mu']} at "
-            f"{config['n_heights']} heights x {config['n_angles']} angles — raise n_heights, "
-            "n_angles or mu"
-        )
-    return cands
+
+def _ms_per_grasp(rows: list[dict]) -> dict:
+    secs = np.array([r["seconds"] for r in rows])
+    return {"median": float(np.median(secs) * 1e3), "max": float(secs.max() * 1e3)}
 
 
 def _candidate_rows(ckpt, grasps_all, wall: dict, out: Path, meshes: dict, fig_data: dict, config: dict):
     """Rows of every candidate grasp (checkpoint ``grasp/<object>/<k>``), the missing ones as
     Dask tasks while the driver renders the stiffness maps: (rows, where they ran, map figures).
-    ``wall`` : the candidates' wall stiffness rows (:func:`_wall_rows`, kind "wall")."""
+    ``wall`` : the candidates' wall stiffness rows (:func:`wall_rows`, kind "wall")."""
     todo = [
         (
             name,
@@ -583,51 +518,6 @@ def _candidate_rows(ckpt, grasps_all, wall: dict, out: Path, meshes: dict, fig_d
     return [ckpt.rows[f"grasp/{x[0]}/{x[1]}"] for x in grasps_all], ran_on, stiffness_figures
 
 
-def _inf_for_nan(rows: list[dict], task: str, key: str) -> np.ndarray:
-    """(n,) ``row[task][key]`` of every row, a missing (None / NaN: unresisted) value as inf."""
-    x = np.array([_num(r[task][key]) for r in rows])
-    return np.where(np.isnan(x), np.inf, x)
-
-
-def _table_4_6(rows: list[dict], split: np.ndarray, config: dict) -> tuple[dict, dict, dict]:
-    """Table 4.6 per task: normalisers fitted on the training grasps (``split``), balanced
-    accuracy of each metric on the held-out ones (:func:`~workbench.grasp.quality_table.quality_table`);
-    (table, normalisers, class balance).  ``table[task]["interval_95"]``: each metric's bootstrap
-    interval of its overall balanced accuracy."""
-    from workbench.grasp.quality_table import quality_table
-
-    objs = np.array([r["object"] for r in rows])
-    table, normalisers, class_balance = {}, {}, {}
-    for task in TASKS:
-        truth = np.array([r[task]["truth"] for r in rows])
-        f, W, W_fem = (_inf_for_nan(rows, task, key) for key in ("f_sum", "W", "W_fem"))
-        scored = quality_table(
-            truth,
-            split,
-            objs,
-            config["objects"],
-            qualities={"q_robust": np.array([r[task]["q_robust"] for r in rows])},
-            costs={"q_force": f, "q_work": W, "q_work_fem": W_fem},
-            sigma=config["sigma"],
-            seed=config["seed"],
-        )
-        fitted = scored["normalisers"]
-        normalisers[task] = {
-            "f_max_N": fitted["q_force"],
-            "W_max_J": fitted["q_work"],
-            "W_fem_max_J": fitted["q_work_fem"],
-        }
-        table[task] = {**scored["accuracy"], "interval_95": scored["interval_95"]}
-        class_balance[task] = {"success": int(truth.sum()), "failure": int((~truth).sum())}
-        # per object on the held-out grasps: with one class only, balanced accuracy is that
-        # class's recall (0 or 1 for a constant prediction)
-        class_balance[task]["held_out"] = {
-            n: [int((truth & ~split & (objs == n)).sum()), int((~truth & ~split & (objs == n)).sum())]
-            for n in config["objects"]
-        }
-    return table, normalisers, class_balance
-
-
 def _write_grasps_csv(out: Path, rows: list[dict]) -> None:
     cols = ["object", "grasp", "z", "angle_deg", "s_map_1", "s_map_2", "s_fem"]
     per_task = ("truth", "q_robust", "f_sum", "W", "f_required")
@@ -642,19 +532,6 @@ def _write_grasps_csv(out: Path, rows: list[dict]) -> None:
             for r in rows
         ],
     )
-
-
-def _series_compliance(validation: dict, fig_data: dict) -> dict:
-    """One gripper measured every object: the tightest bound on its series compliance (pads,
-    fingers) holds for all, and the most it lowers each object's median calibrated stiffness."""
-    key = "series_compliance_bound_m_per_N"
-    tight = min(validation, key=lambda n: validation[n]["missing_physics"][key])
-    c_max = validation[tight]["missing_physics"][key]
-    series = {"bound_m_per_N": c_max, "from_object": tight, "effect_at_median": {}}
-    for n in validation:
-        p = np.asarray(fig_data[n]["predicted"])
-        series["effect_at_median"][n] = 1.0 - 1.0 / (1.0 + float(np.median(p[np.isfinite(p)])) * c_max)
-    return series
 
 
 def _ground_truth_note(config: dict) -> str:
@@ -690,6 +567,22 @@ def _headline(table: dict, validation: dict, series: dict) -> list[str]:
     )
 
 
+def _validation_line(name: str, v: dict) -> str:
+    """The headline of one object's stiffness validation and its missing-physics measurements."""
+    mp = v["missing_physics"]
+    far = mp["away_from_clamps"]["scores"]
+    return (
+        f"{name}: FEM vs measured stiffness, held-out Spearman {v['spearman']:.2f}, median |log ratio| "
+        f"{v['median_abs_log_ratio']:.2f} (effective E {v['calibrated']['E_effective_Pa'] / 1e9:.2f} GPa; "
+        f"over 200 halves {v['over_random_halves']['median_abs_log_ratio']['median']:.2f}); residual vs "
+        f"predicted closing/width Spearman {mp['closing_fraction']['spearman_residual']:.2f}, measured "
+        f"closing <= {mp['closing_fraction']['measured_closing_over_width_max']:.2f} x width; grasps >= "
+        f"{mp['away_from_clamps']['near_m'] * 1e3:.0f} mm from a clamp: median |log ratio| "
+        + ("n/a" if far is None else f"{far['median_abs_log_ratio']['median']:.2f}")
+        + " over 200 halves"
+    )
+
+
 def _nonlinear_work_of(ckpt, grasps_all, rows, split, config) -> dict | None:
     """The nonlinear-work comparison on the ``nl_work_objects`` that are objects of this run
     (None without any; the others are logged and skipped)."""
@@ -702,16 +595,37 @@ def _nonlinear_work_of(ckpt, grasps_all, rows, split, config) -> dict | None:
     return _nonlinear_work(ckpt, grasps_all, rows, split, config, nl_objects) if nl_objects else None
 
 
+def _load_curves(ckpt, grasps_all, rows, sel: list[int], key, config: dict) -> None:
+    """The load curve of every selected candidate not yet checkpointed (Dask tasks; a rigid
+    or never-resisted grasp's entry is ``curve`` None without a task)."""
+    jobs = []
+    for i in [i for i in sel if key(i) not in ckpt]:
+        name, k, g, _, scale = grasps_all[i]
+        r = rows[i]
+        need = largest_jaw_force(r)
+        if not np.isfinite(nan_if_none(r["s_fem"])) or not np.isfinite(need):  # rigid, or never resisted
+            ckpt.add(key(i), {"curve": None})
+        else:
+            # 0.1 % past the largest force so the curve's last step brackets it despite round-off
+            jobs.append((i, name, k, g, scale, need * 1.001))
+    with tqdm(total=len(jobs), desc="nonlinear work", unit="grasp") as bar:
+        run_rows(
+            partial(_load_curve_task, config=config),
+            jobs,
+            lambda job, res: ckpt.add(key(job[0]), res),
+            config,
+            min_rows=NL_MIN_ROWS,
+            progress=bar,
+        )
+
+
 def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -> dict:
     """Scope 9 (§4.3.5): per candidate grasp of ``objects``, the nonlinear wall's
     load curve up to the largest jaw force of any pose, ``W_nl = max over poses Σ_i ∫ f dΔ``
-    at the jaws' minimal forces (:func:`workbench.fem.wall_nonlinear.curve_work`), and Table 4.6's
-    balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
+    at the jaws' minimal forces (:func:`workbench.grasp.work_table.nonlinear_work`), and Table
+    4.6's balanced accuracy of ``q_work`` from it beside ``q_work`` from the linear stiffness
     (``f² / 2s``), on the same grasps with the same ``split`` (n,) bool (True: training).
     Rows checkpointed."""
-    from workbench.fem.wall_nonlinear import curve_work
-    from workbench.grasp.threshold import fit_normaliser, held_out_accuracy
-
     nl = {k: config[k] for k in NL_KEYS if k != "nl_work_objects"}
     tag = content_hash(nl, 8)
     sel = [i for i, x in enumerate(grasps_all) if x[0] in objects]
@@ -719,69 +633,11 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -
     def key(i: int) -> str:  # the checkpoint key of candidate i's load curve
         return f"nlw/{tag}/{grasps_all[i][0]}/{grasps_all[i][1]}"
 
-    def need(r) -> float:  # the largest jaw force over both tasks' poses [N]
-        f = np.array([x for t in TASKS for pose in r[t]["forces"] for x in pose], float)
-        return float(np.nanmax(f)) if np.isfinite(f).any() else float("nan")
-
-    jobs = []
-    for i in [i for i in sel if key(i) not in ckpt]:
-        name, k, g, _, scale = grasps_all[i]
-        r = rows[i]
-        if not np.isfinite(_num(r["s_fem"])) or not np.isfinite(need(r)):  # rigid, or never resisted
-            ckpt.add(key(i), {"curve": None})
-        else:
-            # 0.1 % past the largest force so the curve's last step brackets it despite round-off
-            jobs.append((i, name, k, g, scale, need(r) * 1.001))
-    with tqdm(total=len(jobs), desc="nonlinear work", unit="grasp") as bar:
-        run_rows(
-            partial(_load_curve, config=config),
-            jobs,
-            lambda job, res: ckpt.add(key(job[0]), res),
-            config,
-            min_rows=NL_MIN_ROWS,
-            progress=bar,
-        )
-    W_nl = {t: np.full(len(sel), np.inf) for t in TASKS}
-    W_lin = {t: np.full(len(sel), np.inf) for t in TASKS}
-    W_map = {t: np.array([_num(rows[i][t]["W"]) for i in sel]) for t in TASKS}
-    for j, i in enumerate(sel):
-        r, c = rows[i], ckpt.rows[key(i)]
-        for t in TASKS:
-            W_lin[t][j] = _num(r[t]["W_fem"])
-            poses = [np.asarray(p, float) for p in r[t]["forces"]]
-            if any(np.isnan(p).any() for p in poses):
-                continue  # a pose not resisted: inf, as the linear W
-            if not np.isfinite(_num(r["s_fem"])):
-                W_nl[t][j] = 0.0  # rigid: no wall work, as f² / 2s with s = inf
-            elif c["curve"] is not None:
-                cv = c["curve"]
-                w = [
-                    curve_work(cv["closing"], cv["jaw_forces"], p, rigid_beyond=c["on_clamp"])[0]
-                    for p in poses
-                ]
-                sums = np.array([x.sum() for x in w])
-                # a force past the curve's end (max closing): predicted to fail, like unresisted
-                W_nl[t][j] = np.inf if np.isnan(sums).any() else float(sums.max())
-    split, objs = split[sel], np.array([grasps_all[i][0] for i in sel])
-    table = {}
-    for t in TASKS:
-        truth = np.array([rows[i][t]["truth"] for i in sel])
-        table[t] = {}
-        variants = (
-            ("q_work_map", np.where(np.isnan(W_map[t]), np.inf, W_map[t])),  # the thesis's (Table 4.6)
-            ("q_work_fem_linear", W_lin[t]),
-            ("q_work_fem_nonlinear", W_nl[t]),
-        )
-        for label, W in variants:
-            pred = 1 - W / fit_normaliser(W[split], truth[split], config["sigma"]) >= config["sigma"]
-            per = held_out_accuracy(pred, truth, split, objs, objects)
-            table[t][label] = {n: v for n, v in per.items() if v is not None}
-        fin = np.isfinite(W_lin[t]) & np.isfinite(W_nl[t]) & (W_lin[t] > 0)
-        table[t]["W_nonlinear_over_linear"] = {
-            "median": float(np.median(W_nl[t][fin] / W_lin[t][fin])) if fin.any() else None,
-            "n": int(fin.sum()),
-        }
-    secs = [ckpt.rows[key(i)]["seconds"] for i in sel if "seconds" in ckpt.rows[key(i)]]
+    _load_curves(ckpt, grasps_all, rows, sel, key, config)
+    entries = [ckpt.rows[key(i)] for i in sel]
+    objs = np.array([grasps_all[i][0] for i in sel])
+    table = nonlinear_work_table([rows[i] for i in sel], entries, split[sel], objs, objects, config["sigma"])
+    secs = [e["seconds"] for e in entries if "seconds" in e]
     return {
         "objects": objects,
         "skipped_not_in_objects": sorted(set(config["nl_work_objects"]) - set(objects)),
@@ -799,148 +655,6 @@ def _nonlinear_work(ckpt, grasps_all, rows, split, config, objects: list[str]) -
     }
 
 
-@lru_cache(maxsize=4)
-def _wall_geometry(path: str, thickness: float, n_z: int):
-    """The object's wall geometry (ray casting), once per process."""
-    from workbench.fem.object_wall import wall_geometry
-
-    return wall_geometry(_mesh(path), thickness=thickness, n_z=n_z)
-
-
-def _load_curve(job: tuple, config: dict) -> dict:
-    """The nonlinear wall's force-closing curve at one candidate grasp, ``job`` = (index,
-    object, grasp index, grasp, calibration scale, jaw force to reach [N]); its checkpoint
-    entry (``curve`` None with the ``error`` when the squeeze refuses the grasp)."""
-    from workbench.fem.material import Material
-    from workbench.fem.wall_nonlinear import grasp_frame_wall, squeeze_nonlinear
-
-    _, name, k, g, scale, force = job
-    geo = _wall_geometry(str(_paths(config, name)[0]), float(config["thickness"]), config["nl_mesh"][1])
-    mat = Material(config["E"] * scale, config["nu"])  # the linear model's calibrated E
-    t0 = time.perf_counter()
-    try:
-        wall, centre = grasp_frame_wall(geo, mat, g["p1"], g["p2"], n_theta=config["nl_mesh"][0])
-        res = squeeze_nonlinear(
-            wall,
-            centre,
-            force=force,
-            step=config["nl_step_mm"] * 1e-3,
-            max_closing=config["nl_max_closing_mm"] * 1e-3,
-            jaw=tuple(config["jaw"]),
-        )
-    except ValueError as e:  # e.g. no wall under a jaw: recorded, not hidden
-        log.warning("nonlinear work %s grasp %d: %s", name, k, e)
-        return {"curve": None, "error": str(e)}
-    return {
-        "curve": {"closing": res["closing"].tolist(), "jaw_forces": res["jaw_forces"].tolist()},
-        "on_clamp": res["on_clamp"],
-        "seconds": time.perf_counter() - t0,
-    }
-
-
-def _validation_line(name: str, v: dict) -> str:
-    """The headline of one object's stiffness validation and its missing-physics measurements."""
-    mp = v["missing_physics"]
-    far = mp["away_from_clamps"]["scores"]
-    return (
-        f"{name}: FEM vs measured stiffness, held-out Spearman {v['spearman']:.2f}, median |log ratio| "
-        f"{v['median_abs_log_ratio']:.2f} (effective E {v['calibrated']['E_effective_Pa'] / 1e9:.2f} GPa; "
-        f"over 200 halves {v['over_random_halves']['median_abs_log_ratio']['median']:.2f}); residual vs "
-        f"predicted closing/width Spearman {mp['closing_fraction']['spearman_residual']:.2f}, measured "
-        f"closing <= {mp['closing_fraction']['measured_closing_over_width_max']:.2f} x width; grasps >= "
-        f"{mp['away_from_clamps']['near_m'] * 1e3:.0f} mm from a clamp: median |log ratio| "
-        + ("n/a" if far is None else f"{far['median_abs_log_ratio']['median']:.2f}")
-        + " over 200 halves"
-    )
-
-
-def _grasp_row(name, k, g, mesh, smap, scale, fem: dict, jaws_of, config, seed: int) -> dict:
-    """Metrics and simulated truth of one candidate grasp (module docstring, steps 3-5);
-    ``fem`` : its row of the linear wall's stiffness (:func:`_wall_task`), before calibration."""
-    from workbench.grasp.exact import ExactContacts
-    from workbench.grasp.models import contact_sets
-    from workbench.grasp.robust import Perturbation, q_robust
-    from workbench.grasp.simulated_truth import simulated_success
-    from workbench.grasp.tasks import task_wrenches
-    from workbench.grasp.work import minimal_work_poses
-
-    t0 = time.perf_counter()
-    F0, mu = config["grasp_force"], config["mu"]
-    try:
-        profiles = jaws_of(mesh, g)
-    except ValueError as e:  # no FEM pad profile: the object reaches the jaw's rigid back first
-        if config["profiles"] == "reach":
-            raise
-        log.warning("%s grasp %d skipped: %s", name, k, e)
-        return {"object": name, "grasp": k, "skipped": str(e)}
-    contacts = [contact_sets(p, "6dls", M=config["M"], seed=config["seed"])[0] for p in profiles]
-    s_map = smap(np.array([g["p1"], g["p2"]]))
-    s_fem = np.inf if fem["rigid"] or fem["failed"] else fem["stiffness"] * scale
-    com, mass = mesh.convex_hull.center_mass, config["mass_kg"][name]  # the filled object's centre
-    exact = ExactContacts(profiles, seed=config["seed"])
-    rng = np.random.default_rng(seed)
-    row = {
-        "object": name,
-        "grasp": k,
-        "z": float(g["center"][2]),
-        "angle_deg": float(np.degrees(np.arctan2(g["axis"][1], g["axis"][0])) % 180),
-        "s_map_1": float(s_map[0]),
-        "s_map_2": float(s_map[1]),
-        "s_fem": float(s_fem),
-        # the grasp itself (object frame [m]), for judges that re-run it (minimal-work-engine)
-        "p1": [float(x) for x in g["p1"]],
-        "p2": [float(x) for x in g["p2"]],
-        "axis": [float(x) for x in g["axis"]],
-    }
-    poses = {task: task_wrenches(task, mass, com, g["axis"]) for task in TASKS}
-    q_robust_of: dict[bytes, float] = {}  # the tasks share the 0° pose: its q_robust once
-
-    def q_of(w: np.ndarray) -> float:
-        key = np.ascontiguousarray(w).tobytes()
-        if key not in q_robust_of:
-            perturb = Perturbation(n_samples=config["robust_samples"])
-            q_robust_of[key] = q_robust(contacts, mu, mass, com, perturb, w_ext=w, seed=0)
-        return q_robust_of[key]
-
-    # every pose of both tasks on one LP (the 0° pose they share is solved once)
-    mw_all = minimal_work_poses(
-        contacts, np.vstack(list(poses.values())), mu, s_map, representation=config["work_representation"]
-    )
-    k0 = 0
-    for task, ws in poses.items():
-        mw, k0 = mw_all[k0 : k0 + len(ws)], k0 + len(ws)
-        f_sum = max(m.f_sum for m in mw)
-        W = max(m.W for m in mw)
-        # beyond the thesis: the work from the calibrated FEM's force-deflection line, ∫ f dΔ = f²/(2 s)
-        W_fem = max(float(np.sum(m.forces**2 / (2 * s_fem))) if m.feasible else np.inf for m in mw)
-        qr = min(q_of(w) for w in ws)
-        truth, f_req = simulated_success(
-            exact,
-            ws,
-            mu,
-            F0,
-            stiffness=s_fem,
-            safety=config["safety"],
-            force_cap=config["force_cap"],
-            closing_limit=config["closing_limit_mm"] * 1e-3,
-            noise_samples=config["noise_samples"],
-            sigma_mu=config["sigma_mu"],
-            sigma_force=config["sigma_force"],
-            rng=rng,
-        )
-        row[task] = {
-            "truth": truth,
-            "q_robust": float(qr),
-            "f_sum": float(f_sum),
-            "W": float(W),
-            "W_fem": float(W_fem),
-            "f_required": float(f_req),
-            "forces": [m.forces.tolist() for m in mw],  # per pose, per jaw [N] (NaN: unresisted)
-        }
-    row["seconds"] = time.perf_counter() - t0
-    return row
-
-
 def _figures(out: Path, rows: list[dict], config: dict) -> list[str]:
     import matplotlib
 
@@ -954,7 +668,7 @@ def _figures(out: Path, rows: list[dict], config: dict) -> list[str]:
         sel = [r for r in rows if r["object"] == name]
         z = np.array([r["z"] for r in sel]) * 1e3
         a = np.array([r["angle_deg"] for r in sel])
-        W = np.array([_num(r["lift_and_rotate"]["W"]) for r in sel])
+        W = np.array([nan_if_none(r["lift_and_rotate"]["W"]) for r in sel])
         ok = np.array([r["lift_and_rotate"]["truth"] for r in sel])
         sc = ax.scatter(a, z, c=np.log10(np.where(np.isfinite(W), W, np.nan)), cmap="RdYlGn_r", s=60)
         ax.scatter(a[~ok], z[~ok], marker="x", c="k", s=30, label="truth: fails")

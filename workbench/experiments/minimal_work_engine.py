@@ -39,15 +39,15 @@ import numpy as np
 from workbench.code_key import normalized_function
 from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiments import minimal_work as _mw
+from workbench.fem.grasp_walls import load_mesh, object_files
 from workbench.grasp.judged import moved_within
+from workbench.grasp.work_table import METRICS, TASKS, nan_if_none
 from workbench.runner.experiment_keys import Key, check_key, verdict_keys
 from workbench.runner.parallel import check_workers, run_checkpointed
 from workbench.runner.results import content_hash, save_figure, sources_hash, write_csv, write_summary
 from workbench.units import check_turn_limit
 
 NAME = "minimal-work-engine"
-TASKS = _mw.TASKS
-METRICS = _mw.METRICS
 
 #: the candidates' and metrics' keys, as the minimal-work experiment has them (its defaults)
 _MW_KEYS = (
@@ -193,7 +193,7 @@ def _trial(job: tuple, config: dict) -> dict:
     from workbench.engine_trials import TrialPhases, simulate_grasp
 
     name, _, task, p1, p2, axis = job
-    mesh = _mw._mesh(str(_mw._paths(config, name)[0]))
+    mesh = load_mesh(str(object_files(config["data_dir"], name)[0]))
     outcome = simulate_grasp(
         mesh,
         {"p1": p1, "p2": p2, "axis": axis},
@@ -226,7 +226,7 @@ def _trial_code() -> str:
         [
             sources_hash("workbench.engine_trials", "workbench.config", "workbench.sources.jaws"),
             normalized_function(_trial),
-            normalized_function(_mw._mesh),
+            normalized_function(load_mesh),
             version("mujoco"),
         ]
     )
@@ -246,7 +246,7 @@ def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
         idx = [i for i, g in enumerate(grasps) if g["object"] == name]
         if not idx:
             continue
-        mesh = _mw._mesh(str(_mw._paths(config, name)[0]))
+        mesh = load_mesh(str(object_files(config["data_dir"], name)[0]))
         pts = np.array([p for i in idx for p in (grasps[i]["p1"], grasps[i]["p2"])])
         pieces = collision_pieces(mesh, (0.0, 0.0, -1.0), EngineSettings().object_slab)
         depth = np.max([trimesh.proximity.signed_distance(p, pts) for p in pieces], axis=0)  # > 0 inside
@@ -254,19 +254,9 @@ def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
     return gap
 
 
-def run(config: dict) -> dict:
-    from workbench.grasp.quality_table import quality_table
-    from workbench.grasp.threshold import balanced_accuracy
-
-    t_start = time.perf_counter()
-    out = Path(config["out"])
-    # 1. every candidate's metrics and old truth: the minimal-work experiment itself
-    mw_config = _mw_config(config)
-    t_mw = time.perf_counter()
-    mw_summary = _mw.run(mw_config)
-    t_mw = time.perf_counter() - t_mw
-    grasps = _sample(_read_grasps(Path(mw_config["out"]) / "grasps.csv"), config)
-    # 2. the engine trials
+def _engine_trials(grasps: list[dict], out: Path, config: dict) -> tuple[dict, int, str]:
+    """Step 2: both tasks' engine trials of every judged grasp (Dask tasks, checkpointed):
+    ({(object, grasp, task): trial row}, rows resumed, where they ran)."""
     jobs = [(g["object"], g["grasp"], t, g["p1"], g["p2"], g["axis"]) for g in grasps for t in TASKS]
     # the rows' key: what changes a trial's outcome or a candidate's index, so another sample, split or
     # number of resamples resumes every trial already run
@@ -281,33 +271,50 @@ def run(config: dict) -> dict:
         unit="trial",
         code=_trial_code(),
     )
-    trial = {(j[0], j[1], j[2]): ckpt.rows[_key(j)] for j in jobs}
-    # 3. Table 4.6 against the engine, on the training split's normalisers
-    objs = np.array([g["object"] for g in grasps])
-    split = np.random.default_rng(config["seed"] + 1).random(len(grasps)) < config["train_fraction"]
-    gap = _surface_gap(grasps, config)
+    return {(j[0], j[1], j[2]): ckpt.rows[_key(j)] for j in jobs}, n_resumed, ran_on
+
+
+def _score(
+    held: np.ndarray,
+    t: str,
+    grasps: list[dict],
+    split: np.ndarray,
+    objs: np.ndarray,
+    config: dict,
+    n_resamples: int,
+) -> dict:
+    """Table 4.6 of task ``t`` against the verdicts ``held`` (n,) bool
+    (:func:`~workbench.grasp.quality_table.quality_table`)."""
+    from workbench.grasp.quality_table import quality_table
+
+    return quality_table(
+        held,
+        split,
+        objs,
+        config["objects"],
+        qualities={"q_robust": np.array([g[t]["q_robust"] for g in grasps])},
+        costs={
+            "q_force": np.array([nan_if_none(g[t]["f_sum"]) for g in grasps]),
+            "q_work": np.array([nan_if_none(g[t]["W"]) for g in grasps]),
+        },
+        sigma=config["sigma"],
+        n_resamples=n_resamples,
+        seed=config["seed"],
+    )
+
+
+def _tables(
+    grasps: list[dict], trial: dict, split: np.ndarray, objs: np.ndarray, config: dict
+) -> tuple[dict, dict, dict]:
+    """Step 3 per task: Table 4.6 against the engine, its class balance, and the old truth
+    scored against the engine: (table, old, balance)."""
+    from workbench.grasp.threshold import balanced_accuracy
+
     table, old, balance = {}, {}, {}
-
-    def score(held: np.ndarray, t: str, n_resamples: int) -> dict:
-        return quality_table(
-            held,
-            split,
-            objs,
-            config["objects"],
-            qualities={"q_robust": np.array([g[t]["q_robust"] for g in grasps])},
-            costs={
-                "q_force": np.array([_mw._num(g[t]["f_sum"]) for g in grasps]),
-                "q_work": np.array([_mw._num(g[t]["W"]) for g in grasps]),
-            },
-            sigma=config["sigma"],
-            n_resamples=n_resamples,
-            seed=config["seed"],
-        )
-
     for t in TASKS:
         held = np.array([trial[g["object"], g["grasp"], t]["held"] for g in grasps], dtype=bool)
         truth = np.array([g[t]["truth"] for g in grasps], dtype=bool)
-        table[t] = score(held, t, config["n_bootstrap"])
+        table[t] = _score(held, t, grasps, split, objs, config, config["n_bootstrap"])
         balance[t] = {
             "engine_success": int(held.sum()),
             "engine_failure": int((~held).sum()),
@@ -321,7 +328,13 @@ def run(config: dict) -> dict:
             "balanced_accuracy": balanced_accuracy(truth, held),
             "old_success": int(truth.sum()),
         }
-    # the verdict at other limits, re-read from each trial's largest drift and turn
+    return table, old, balance
+
+
+def _verdict_limits(
+    grasps: list[dict], trial: dict, split: np.ndarray, objs: np.ndarray, config: dict
+) -> dict:
+    """The verdict at other limits, re-read from each trial's largest drift and turn."""
     limits = {}
     for d_mm, t_deg in VERDICT_LIMITS:
         at = {}
@@ -335,10 +348,14 @@ def run(config: dict) -> dict:
             if held.all() or not held.any():  # one class: no normaliser to fit
                 at[t] = {"held_fraction": float(held.mean())}
                 continue
-            acc = score(held, t, 100)["accuracy"]
+            acc = _score(held, t, grasps, split, objs, config, 100)["accuracy"]
             at[t] = {"held_fraction": float(held.mean()), **{m: acc[m]["All"] for m in METRICS}}
         limits[f"{d_mm:g}mm_{t_deg:g}deg"] = at
-    secs = np.array([r["seconds"] for r in trial.values() if r["steps"]])
+    return limits
+
+
+def _write_trials(out: Path, grasps: list[dict], trial: dict, gap: np.ndarray) -> None:
+    """``trials.csv``: one row per trial."""
     rows_out = [
         [
             g["object"],
@@ -362,7 +379,11 @@ def run(config: dict) -> dict:
         + ["seconds", "reason"],
         rows_out,
     )
-    summary = {
+
+
+def _judge_notes(config: dict) -> dict:
+    """What the engine judges, shares with the metrics, does not share, cannot judge."""
+    return {
         "judge": (
             "MuJoCo (workbench.engine_trials.simulate_grasp): silicone flex pads "
             f"({config['pad_E']:g} Pa, {config['pad_thickness'] * 1e3:g} mm) close with "
@@ -384,6 +405,48 @@ def run(config: dict) -> dict:
             "is judged, not shape recovery or content spill; q_work's deformation term is scored "
             "only through what it shares with slip"
         ),
+    }
+
+
+def _engine_stats(trial: dict, gap: np.ndarray) -> dict:
+    """The engine's surface against the mesh at each grasp's contact points, and its trials' time."""
+    secs = np.array([r["seconds"] for r in trial.values() if r["steps"]])
+    return {
+        # the engine's surface (convex slabs) against the mesh at each grasp's contact points
+        "collision_surface": {
+            "median_gap_mm": float(np.median(gap) * 1e3),
+            "max_gap_mm": float(gap.max() * 1e3),
+            "grasps_beyond_mm": SURFACE_GAP * 1e3,
+            "n_grasps_beyond": int((gap > SURFACE_GAP).sum()),
+        },
+        "engine_seconds_per_trial": (
+            {"median": float(np.median(secs)), "worst": float(secs.max())} if secs.size else None
+        ),
+        "engine_trials_warned": sum(bool(r["engine_warnings"]) for r in trial.values()),
+        "engine_trials_not_run": sum(not r["steps"] for r in trial.values()),
+    }
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    # 1. every candidate's metrics and old truth: the minimal-work experiment itself
+    mw_config = _mw_config(config)
+    t_mw = time.perf_counter()
+    mw_summary = _mw.run(mw_config)
+    t_mw = time.perf_counter() - t_mw
+    grasps = _sample(_read_grasps(Path(mw_config["out"]) / "grasps.csv"), config)
+    # 2. the engine trials
+    trial, n_resumed, ran_on = _engine_trials(grasps, out, config)
+    # 3. Table 4.6 against the engine, on the training split's normalisers
+    objs = np.array([g["object"] for g in grasps])
+    split = np.random.default_rng(config["seed"] + 1).random(len(grasps)) < config["train_fraction"]
+    gap = _surface_gap(grasps, config)
+    table, old, balance = _tables(grasps, trial, split, objs, config)
+    limits = _verdict_limits(grasps, trial, split, objs, config)
+    _write_trials(out, grasps, trial, gap)
+    summary = {
+        **_judge_notes(config),
         "table_4_6_engine": {t: {m: table[t]["accuracy"][m] for m in METRICS} for t in TASKS},
         "table_4_6_engine_interval_95": {t: table[t]["interval_95"] for t in TASKS},
         "normalisers": {t: table[t]["normalisers"] for t in TASKS},
@@ -397,18 +460,7 @@ def run(config: dict) -> dict:
         "n_grasps_judged": len(grasps),
         "n_grasps_per_object": {n: int((objs == n).sum()) for n in config["objects"]},
         "n_candidates": mw_summary["n_grasps"],
-        # the engine's surface (convex slabs) against the mesh at each grasp's contact points
-        "collision_surface": {
-            "median_gap_mm": float(np.median(gap) * 1e3),
-            "max_gap_mm": float(gap.max() * 1e3),
-            "grasps_beyond_mm": SURFACE_GAP * 1e3,
-            "n_grasps_beyond": int((gap > SURFACE_GAP).sum()),
-        },
-        "engine_seconds_per_trial": (
-            {"median": float(np.median(secs)), "worst": float(secs.max())} if secs.size else None
-        ),
-        "engine_trials_warned": sum(bool(r["engine_warnings"]) for r in trial.values()),
-        "engine_trials_not_run": sum(not r["steps"] for r in trial.values()),
+        **_engine_stats(trial, gap),
         "n_resumed": n_resumed,
         "rows_ran_on": ran_on,
         "seconds": {"metrics": t_mw, "total": time.perf_counter() - t_start},

@@ -25,6 +25,11 @@ the two-jaw grasp against lever disturbances (§4.1.3.1) with the exact 6DFW set
 reference as the truth (:func:`workbench.grasp.exact.resists_exact`), at equal jaw force.  Each
 peer's cost per query (one contact at one δ) is timed; the runtime-versus-error figure sweeps the
 resolution knob of the condensed pad, Drake and the Winkler grid at one δ.
+
+The cases and their neo-Hookean references are :mod:`workbench.peers.pad_cases`, the errors and
+margins :mod:`workbench.peers.comparison`, the Hertz check :mod:`workbench.peers.hertz_block`,
+MuJoCo's coefficients :func:`workbench.peers.mujoco_cone.patch_coefficients`; this driver composes
+them, times each peer and writes the tables, the figure and the summary.
 """
 
 from __future__ import annotations
@@ -38,12 +43,14 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench.fem.contact import solve_contact, solve_contact_full
-from workbench.fem.extract import extract_profile, face_grid, nodal_pressures
-from workbench.fem.material import Material
-from workbench.fem.obstacles import Cylinder, EllipticCylinder, MeshObstacle, Sphere
-from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.fem.extract import extract_profile, face_grid
+from workbench.fem.pad import condense_pad
 from workbench.grasp.margin import MARGIN_SPAN, check_steps
 from workbench.peers import metrics
+from workbench.peers.comparison import compare, fem_row, grasp_margins, reference_measures
+from workbench.peers.hertz_block import hertz_half_space
+from workbench.peers.mujoco_cone import PATCH_TORSIONS, patch_coefficients
+from workbench.peers.pad_cases import CASES, drake_pad, reference_case, setup_case
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.pareto import at_equal
@@ -164,9 +171,57 @@ QUICK_CONFIG = {
     "repeats": 2,
 }
 
-CASES = ("sphere", "cylinder", "elliptic_cylinder", "bottle")
 #: the errors reported per peer and case as the worst (largest |value|) over the jaw displacements
 ERRORS = ("force_rel_err", "area_rel_err", "pressure_rel_l2", "torsion_rel_err", "torque_rel_err")
+#: the columns of peers.csv and sweep.csv
+TABLE_KEYS = [
+    "case",
+    "delta_mm",
+    "delta_over_h",
+    "peer",
+    "setting",
+    "ms_per_query",
+    "force_N",
+    "force_rel_err",
+    "area_mm2",
+    "area_rel_err",
+    "pressure_rel_l2",
+    "torsion_length_mm",
+    "torsion_rel_err",
+    "support_max_rel_err",
+    "torque_rel_err",
+]
+SWEEP_KEYS = [
+    "case",
+    "peer",
+    "setting",
+    "ms_per_query",
+    "force_rel_err",
+    "pressure_rel_l2",
+    "torsion_rel_err",
+]
+#: what each word measures (the summary's "definitions"; the report states them)
+DEFINITIONS = {
+    "force": "the jaw's sensor reading: net normal force on the object along the pad normal [N]",
+    "area": "FEM: tributary area of the loaded face nodes (neo-Hookean: deformed); Hertz: pi a^2; "
+    "foundation: the loaded grid cells (projected); Drake: its contact polygons on the object "
+    "(curved) - curved and projected areas differ by O(delta/R), 2-7 % here",
+    "pressure_rel_l2": "||p - p_ref|| / ||p_ref|| on a grid of the pad face (unsigned)",
+    "torsion_rel_err": "torsion length tau_max/(mu f_n) per unit jaw force, peer/ref - 1",
+    "torque_rel_err": "torque capacity mu f_n x torsion length at this delta, peer/ref - 1",
+    "margin_rel_err": "median over disturbances of |s/s_true - 1| (unsigned), equal jaw force",
+    "margin_bias": "median s/s_true - 1 (> 0: optimistic)",
+    "ls_rel_err": "the 6DLS fitted (ls_model) to the peer's 6DFWs at equal jaw force against the "
+    "reference's exact 6DFW surface at points of uniform normals: exp(mean |ln g|) - 1, g the ratio "
+    "of the truth's radius to the fit's along each ray (a set 2x too small or too large: +100 %); "
+    "the reference's own value is the model's own error. MuJoCo: none - its point contact's cone "
+    "slice spans 3 of the 6 dimensions (fx, fy, tau_z; its supports are compared instead)",
+    "ls_bias": "exp(median ln(1/g)) - 1 (> 0: the peer's fitted 6DLS lies outside the truth: optimistic)",
+    "support_max_rel_err": "the largest |peer/ref - 1| of the 6DFW set's supports along the six axis "
+    "twists per unit jaw force (forces and torques each compared where above 1e-3 of their "
+    "group's largest)",
+    "worst over delta": "the errors per peer and case are the largest |value| over deltas_mm",
+}
 
 
 def _ls_models() -> tuple[str, ...]:
@@ -199,13 +254,9 @@ def _positive(config: dict, key: str, unit: str, upper: float = np.inf) -> float
     return float(v)
 
 
-def check_config(config: dict) -> None:
-    """The CLI checks settings with this before any work (careless input fails here, not after
-    minutes of neo-Hookean references)."""
-    check_workers(config["workers"], config["scheduler"])
-    for key, spec in KEYS.items():  # E, ν, μ, the pad and the jaw displacements (also for run(config))
-        check_key(key, spec, config[key])
-    w, ln, h = _positive_list(config, "pad_mm", 3)
+def _check_lists(config: dict) -> list:
+    """The pad, the meshes and the sweeps' lists; returns ``pad_mm`` ``[w, l, h]``."""
+    pad_mm = _positive_list(config, "pad_mm", 3)
     if not config["condensed_sweep_cells"]:
         raise ValueError("condensed_sweep_cells must list at least one [nx, ny, nz] (the vs-Drake reading)")
     _positive_list(config, "pad_cells", 3, integer=True)
@@ -214,8 +265,10 @@ def check_config(config: dict) -> None:
     _positive_list(config, "ellipse_mm", 2)
     for cells in config["condensed_sweep_cells"]:
         _positive_list({"condensed_sweep_cells": cells}, "condensed_sweep_cells", 3, integer=True)
-    check_mu(config["mu"], what="torsion length tau_max / (mu f_n)")  # and not 0 (the Key's range takes it)
-    hb = config["hertz_block"]
+    return pad_mm
+
+
+def _check_hertz_block(hb) -> None:
     keys = {"R_mm", "a_mm", "nu", "fine_mm", "depths_mm"}
     if not (isinstance(hb, dict) and set(hb) == keys):
         raise ValueError(
@@ -230,12 +283,17 @@ def check_config(config: dict) -> None:
             "hertz_block must have depths_mm = [H, 2H] (Richardson in a/H) and a contact small against "
             f"both the sphere and the block (a_mm < R_mm / 2, a_mm < H / 5); got {hb!r}"
         )
+
+
+def _check_sizes(config: dict, w: float, ln: float) -> None:
     _positive(config, "radius_mm", "mm (a sphere or cylinder of 1-500 mm)", 1000.0)
     if config["radius_mm"] < 1.0:
         raise ValueError(f"radius_mm is in millimetres (15 mm = 15); got {config['radius_mm']!r}")
     _positive(config, "grid_mm", "mm", min(w, ln))
     _positive(config, "drake_resolution_over_R", "-", 1.0)
-    bt = config["bottle"]
+
+
+def _check_bottle(bt) -> None:
     if not (
         isinstance(bt, dict)
         and isinstance(bt.get("index"), int)
@@ -250,6 +308,9 @@ def check_config(config: dict) -> None:
             "bottle must be {'index': 0-23 (of the 24 thesis bottles), 'height': fraction in (0, 1), "
             f"'mesh': [n_theta, n_z] >= 8}}; got {bt!r}"
         )
+
+
+def _check_counts(config: dict) -> None:
     from workbench.limit_surface.fit_score import min_wrenches
 
     need = metrics.min_twists(config["ls_model"])  # checks the model's name too
@@ -268,6 +329,9 @@ def check_config(config: dict) -> None:
         if isinstance(config[key], bool) or not isinstance(config[key], int) or config[key] < 1:
             raise ValueError(f"{key} must be an integer >= 1; got {config[key]!r}")
     check_steps(config["margin_steps"], "margin_steps")  # the margin's own rule
+
+
+def _check_deltas(config: dict, h: float) -> None:
     if not config["cases"]:
         raise ValueError(f"cases must name at least one of {CASES}; got []")
     if not config["deltas_mm"] or not all(0 < d < h for d in config["deltas_mm"]):
@@ -279,156 +343,19 @@ def check_config(config: dict) -> None:
             raise ValueError(f"{key} = {config[key]!r} must be one of deltas_mm {config['deltas_mm']!r}")
 
 
-def setup(case: str, config: dict, cells=None) -> tuple[PadGeometry, Material, object, np.ndarray, float]:
-    """The pad, material, obstacle, the object's centre (3,) [m] and the surface's curvature
-    radius at the contact [m] of one case (pad frame: face ``z = h``)."""
-    w, ln, h = (v * 1e-3 for v in config["pad_mm"])
-    nx, ny, nz = cells or config["pad_cells"]
-    geom = PadGeometry(w, ln, h, int(nx), int(ny), int(nz))
-    mat = Material(config["E"], config["nu"])
-    R = config["radius_mm"] * 1e-3
-    if case == "sphere":
-        c = np.array([0.0, 0.0, h + R])
-        return geom, mat, Sphere(tuple(c), R), c, R
-    if case == "cylinder":
-        c = np.array([0.0, 0.0, h + R])
-        return geom, mat, Cylinder(tuple(c), (0.0, 1.0, 0.0), R), c, R
-    if case == "bottle":
-        return (geom, mat, *_bottle(geom, mat, config))
-    a, b = (v * 1e-3 for v in config["ellipse_mm"])
-    c = np.array([0.0, 0.0, h + a])
-    return geom, mat, EllipticCylinder(tuple(c), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), a, b), c, b * b / a
-
-
-def _bottle(geom: PadGeometry, mat: Material, config: dict) -> tuple[object, np.ndarray, float]:
-    """The thesis bottle seen from the pad (:func:`workbench.fem.bottle.grasp_pose`: touching at
-    δ = 0, the pad's y axis up), its section centre in the pad frame [m] and the section's
-    curvature radius at the contact, B²/A at the major axis's end [m]."""
-    from workbench.fem.bottle import Bottle, bottle_family, grasp_pose
-    from workbench.fem.pad import PadFace
-
-    spec = config["bottle"]
-    bottle = Bottle(bottle_family(24, 8, config["seed"])[spec["index"]])
-    z = spec["height"] * bottle.params.height
-    pose = grasp_pose(bottle, z, 0.0, PadFace.of(geom, mat).face_xy, geom.thickness)
-    centre, A, B, _ = bottle.section(z)
-    c = pose.R.T @ (np.r_[centre, z] - pose.t)
-    return pose, c, B * B / A
-
-
-def _bottle_mesh(pose, config: dict):
-    """The posed bottle as a watertight mesh in the pad frame (for Drake)."""
-    import trimesh
-
-    from workbench.fem.obstacles import MeshObstacle
-
-    n_theta, n_z = config["bottle"]["mesh"]
-    m = pose.obstacle.to_trimesh(n_theta, n_z)
-    return MeshObstacle(trimesh.Trimesh((np.asarray(m.vertices) - pose.t) @ pose.R, m.faces, process=False))
-
-
-def hertz_half_space(block: dict, E: float) -> dict:
-    """Our condensed FEM against Hertz where Hertz applies (thick blocks, the half-space limit by
-    Richardson extrapolation in a/H): force at δ = a²/R on each depth, the extrapolated force, each
-    relative to Hertz's ``(4/3) E* √R δ^1.5``."""
-    from workbench.peers.hertz import hertz_force
-
-    R, a, fine = (block[k] * 1e-3 for k in ("R_mm", "a_mm", "fine_mm"))
-    d = a * a / R
-    mat = Material(E, block["nu"])
-    f_h = hertz_force(R, d, E, block["nu"])
-    depths = [H * 1e-3 for H in block["depths_mm"]]
-    if len(depths) != 2 or not depths[1] == 2 * depths[0]:
-        raise ValueError(f"hertz_block.depths_mm must be two depths H, 2H; got {block['depths_mm']!r}")
-    forces = []
-    for H in depths:
-        geom = PadGeometry(2 * H, 2 * H, H, grading=(1.6 * a, fine, 1.35))
-        pad = condense_pad(geom, mat, patch_radius=1.5 * a)
-        forces.append(solve_contact(pad, Sphere((0.0, 0.0, H + R), R), d).force)
-    f_inf = 2 * forces[1] - forces[0]
-    return {
-        "delta_mm": d * 1e3,
-        "a_over_H": [a / H for H in depths],
-        "hertz_force_N": f_h,
-        "force_N": forces,
-        "force_rel_err": [f / f_h - 1 for f in forces],
-        "extrapolated_force_rel_err": f_inf / f_h - 1,
-    }
-
-
-def reference_case(case: str, config: dict) -> dict:
-    """The neo-Hookean reference of one case at every δ (a task: the load stepping takes the
-    longest): ``{delta: {force, profile, p_node, area}}``, the face nodes and seconds per δ."""
-    from workbench.fem.nonlinear import NonlinearPad
-
-    geom, mat, obs, _, _ = setup(case, config)
-    deltas = [d * 1e-3 for d in config["deltas_mm"]]
-    nl = NonlinearPad(geom, mat, stabilization=config["reference_stabilization"])
-    t0 = time.perf_counter()
-    sols = nl.solve(obs, deltas)
-    seconds = (time.perf_counter() - t0) / len(deltas)
-    out = {}
-    for d in deltas:
-        r = sols[d]
-        a_def = nl.deformed_areas(r)
-        out[d] = {
-            "force": float(r.force),
-            "profile": extract_profile(nl, r, obs),
-            "p_node": np.divide(r.lam, a_def, out=np.zeros_like(r.lam), where=a_def > 0),
-            "area": float(a_def[r.lam > 0].sum()),
-        }
-    return {"case": case, "rows": out, "face_xy": np.asarray(nl.face_xy), "seconds": seconds}
-
-
-def _fem_row(pad, area0, sol, prof) -> dict:
-    """A linear FEM peer's row: its profile, loaded tributary area and nodal pressure field."""
-    return {
-        "profile": prof,
-        "area": float(area0[sol.lam > 0].sum()),
-        "field": ("nodes", pad.face_xy, nodal_pressures(pad, sol.lam)),
-    }
-
-
-def _mujoco_coefficients(mu: float, rho: float, delta: float, kind: str) -> np.ndarray:
-    a = np.sqrt(rho * delta)
-    tors = 3.0 * np.pi * mu * a / 16.0 if kind == "hertz" else mu * 2.0 * a
-    return np.array([mu, mu, tors, 0.0, 0.0])
-
-
-def _compare(row: dict, ref: dict, grid: np.ndarray, mu: float) -> dict:
-    """One peer's errors at one δ against the reference's."""
-    out = {}
-    prof = row.get("profile")
-    if prof is not None:
-        out["force_N"] = metrics.jaw_force(prof)
-        out["force_rel_err"] = out["force_N"] / ref["force_N"] - 1
-        out["area_mm2"] = row["area"] * 1e6
-        out["area_rel_err"] = row["area"] / ref["area"] - 1
-        kind, *args = row["field"]
-        p = (
-            metrics.field_from_nodes(args[0], args[1], grid)
-            if kind == "nodes"
-            else metrics.field_from_elements(prof, grid)
-        )
-        out["pressure_rel_l2"] = metrics.rel_l2(p, ref["field"])
-        sup = metrics.supports(prof, mu)
-        tl = metrics.torsion_length(prof, mu)
-    else:  # MuJoCo: a wrench set only
-        sup = metrics.cone_supports(row["coefficients"])
-        tl = float(row["coefficients"][2] / mu)
-        for k in ("force_N", "force_rel_err", "area_mm2", "area_rel_err", "pressure_rel_l2"):
-            out[k] = None
-    out["torsion_length_mm"] = tl * 1e3
-    out["torsion_rel_err"] = tl / ref["torsion_length"] - 1
-    # the torque the contact resists at this δ: μ × jaw force × torsion length (no force: None)
-    f = out["force_rel_err"]
-    out["torque_rel_err"] = None if f is None else (1 + f) * (1 + out["torsion_rel_err"]) - 1
-    # forces [N/N] and torques [m] each against their own group's largest
-    ok = ref["supports"] > 1e-3 * metrics.group_max(ref["supports"])
-    rel = np.where(ok, sup / np.where(ok, ref["supports"], 1.0) - 1, np.nan)
-    out["support_rel_err"] = [None if not np.isfinite(v) else float(v) for v in rel]
-    out["support_max_rel_err"] = float(np.nanmax(np.abs(rel)))
-    return out
+def check_config(config: dict) -> None:
+    """The CLI checks settings with this before any work (careless input fails here, not after
+    minutes of neo-Hookean references)."""
+    check_workers(config["workers"], config["scheduler"])
+    for key, spec in KEYS.items():  # E, ν, μ, the pad and the jaw displacements (also for run(config))
+        check_key(key, spec, config[key])
+    w, ln, h = _check_lists(config)
+    check_mu(config["mu"], what="torsion length tau_max / (mu f_n)")  # and not 0 (the Key's range takes it)
+    _check_hertz_block(config["hertz_block"])
+    _check_sizes(config, w, ln)
+    _check_bottle(config["bottle"])
+    _check_counts(config)
+    _check_deltas(config, h)
 
 
 def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
@@ -443,12 +370,12 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
         return s, extract_profile(pad, s, obs)
 
     t, (s, prof) = median_runtime(condensed, rep)
-    rows["condensed"] = {**_fem_row(pad, area0, s, prof), "seconds": t}
+    rows["condensed"] = {**fem_row(pad, area0, s, prof), "seconds": t}
     if ctx["full_mesh"]:
         t0 = time.perf_counter()
         s = solve_contact_full(geom, ctx["material"], obs, delta)
         prof = extract_profile(pad, s, obs)
-        rows["linear"] = {**_fem_row(pad, area0, s, prof), "seconds": time.perf_counter() - t0}
+        rows["linear"] = {**fem_row(pad, area0, s, prof), "seconds": time.perf_counter() - t0}
     E, nu = config["E"], config["nu"]
     w, ln = geom.width, geom.length
     if case == "sphere":
@@ -493,70 +420,15 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
             "field": ("elements",),
             "seconds": t,
         }
-    for kind in ("hertz", "diameter"):
-        coef = _mujoco_coefficients(config["mu"], rho, delta, kind)
+    for kind in PATCH_TORSIONS:
+        coef = patch_coefficients(config["mu"], rho, delta, kind)
         t, _ = median_runtime(partial(metrics.cone_supports, coef), rep)
         rows[f"mujoco_{kind}"] = {"profile": None, "coefficients": coef, "seconds": t}
     return rows
 
 
-def _drake(case: str, obs, geom, config: dict, resolution_over_R: float):
-    """A :class:`~workbench.peers.drake_hydro.DrakeHydroPad` of the case, or the reason there is none."""
-    try:
-        from workbench.peers.drake_hydro import DrakeHydroPad, hydroelastic_modulus
-    except ImportError as exc:  # pragma: no cover - the module itself imports without Drake
-        return None, str(exc)
-    e_hydro = hydroelastic_modulus(config["E"], geom.thickness, geom.width, geom.length)
-    res = None if case in ("elliptic_cylinder", "bottle") else resolution_over_R * config["radius_mm"] * 1e-3
-    if case == "elliptic_cylinder":  # Drake takes it as a mesh of ellipse_sections facets around
-        obs = MeshObstacle(obs.to_trimesh(3.0 * geom.length, config["ellipse_sections"]))
-    elif case == "bottle":
-        obs = _bottle_mesh(obs, config)
-    try:
-        # the cylinders and the bottle's wall span the pad: cut there on purpose
-        edge = "warn" if case == "sphere" else "cut"
-        pad = DrakeHydroPad(
-            obs, geom.thickness, e_hydro, width=geom.width, length=geom.length, resolution=res, edge=edge
-        )
-        return pad, ""
-    except ImportError as exc:
-        return None, f"Drake not installed ({exc}): pip install -e '.[peers]'"
-
-
-def _margins(jaws_by_peer: dict, center, config: dict, scale: float) -> dict:
-    """Resistance margins of each peer's two-jaw grasp against the same lever disturbances."""
-    from workbench.grasp import resists
-    from workbench.grasp.contacts import soft_point_contact
-    from workbench.grasp.exact import ExactContacts, resists_exact
-    from workbench.grasp.margin import resistance_margin
-    from workbench.grasp.tasks import lever_disturbances
-
-    mu = config["mu"]
-    W = lever_disturbances(np.random.default_rng(config["seed"]), config["n_disturbances"]) * scale
-    out = {}
-    for peer, spec in jaws_by_peer.items():
-        if spec["kind"] == "profile":
-            ec = ExactContacts(metrics.opposed_jaws(spec["profile"], center), seed=config["seed"])
-            fn = lambda v, ec=ec: resists_exact(ec, v, mu)[0]  # noqa: E731
-        else:
-            p = metrics.PAD_TO_GRASP @ (spec["point"] - center)
-            q = np.array([-p[0], -p[1], p[2]])
-            tl = spec["coefficients"][2] / mu
-            sets = [
-                soft_point_contact(p, [-1.0, 0.0, 0.0], spec["force"], tl, n_edges=32),
-                soft_point_contact(q, [1.0, 0.0, 0.0], spec["force"], tl, n_edges=32),
-            ]
-            fn = lambda v, sets=sets: bool(resists(sets, v, mu))  # noqa: E731
-        out[peer] = np.array([resistance_margin(fn, w, config["margin_steps"]) for w in W])
-    return out
-
-
-def run(config: dict) -> dict:
-    t_start = time.perf_counter()
-    out = Path(config["out"])
-    check_config(config)
-    mu = config["mu"]
-    deltas = [d * 1e-3 for d in config["deltas_mm"]]
+def _references(config: dict) -> tuple[dict, str]:
+    """The neo-Hookean reference of every case (a task each): ``({case: reference_case(...)}, ran_on)``."""
     refs: dict[str, dict] = {}
     _, ran_on = run_rows(
         partial(reference_case, config=config),
@@ -566,67 +438,87 @@ def run(config: dict) -> dict:
         min_rows=2,
         progress=tqdm(total=len(config["cases"]), desc="neo-Hookean references", unit="case"),
     )
-    grid, _ = metrics.face_grid_points(*(v * 1e-3 for v in config["pad_mm"][:2]), config["grid_mm"] * 1e-3)
-    hertz_block = hertz_half_space(config["hertz_block"], config["E"])
-    table, sweep, skipped, margins_out, ls_out = [], [], {}, {}, {}
-    versions_peers = _peer_versions()
-    for case in tqdm(config["cases"], desc="peers", unit="case"):
-        geom, mat, obs, center, rho = setup(case, config)
-        pad = condense_pad(geom, mat)
-        _, area0 = face_grid(pad.face_xy)
-        drake, why = _drake(case, obs, geom, config, config["drake_resolution_over_R"])
-        if drake is None:
-            skipped[f"drake/{case}"] = why
-        ctx = {
-            "geom": geom,
-            "material": mat,
-            "obstacle": obs,
-            "rho": rho,
-            "pad": pad,
-            "area0": area0,
-            "center": center,
-            "drake": drake,
-            "full_mesh": True,
-        }
-        ref_case = refs[case]
-        for d in deltas:
-            r = ref_case["rows"][d]
-            ref = {
-                "force_N": metrics.jaw_force(r["profile"]),
-                "area": r["area"],
-                "field": metrics.field_from_nodes(ref_case["face_xy"], r["p_node"], grid),
-                "torsion_length": metrics.torsion_length(r["profile"], mu),
-                "supports": metrics.supports(r["profile"], mu),
+    return refs, ran_on
+
+
+def _case_context(case: str, config: dict, skipped: dict) -> dict:
+    """The pads and obstacle of one case, shared by its δ rows (Drake's absence noted in ``skipped``)."""
+    geom, mat, obs, center, rho = setup_case(case, config)
+    pad = condense_pad(geom, mat)
+    _, area0 = face_grid(pad.face_xy)
+    drake, why = drake_pad(case, obs, geom, config, config["drake_resolution_over_R"])
+    if drake is None:
+        skipped[f"drake/{case}"] = why
+    return {
+        "geom": geom,
+        "material": mat,
+        "obstacle": obs,
+        "rho": rho,
+        "pad": pad,
+        "area0": area0,
+        "center": center,
+        "drake": drake,
+        "full_mesh": True,
+    }
+
+
+def _run_case(case: str, config: dict, ref_case: dict, grid: np.ndarray, res: dict) -> None:
+    """Every peer of one case at every δ against its reference: rows into ``res["table"]``, the
+    runtime sweep, margins and fitted 6DLS at their δ into ``res``."""
+    mu = config["mu"]
+    ctx = _case_context(case, config, res["skipped"])
+    geom = ctx["geom"]
+    for d in [d * 1e-3 for d in config["deltas_mm"]]:
+        r = ref_case["rows"][d]
+        ref = reference_measures(r, ref_case["face_xy"], grid, mu)
+        base = {"case": case, "delta_mm": d * 1e3, "delta_over_h": d / geom.thickness}
+        res["table"].append(
+            {
+                **base,
+                "peer": "neo-Hookean",
+                "setting": "reference",
+                "ms_per_query": 1e3 * ref_case["seconds"],
+                "force_N": ref["force_N"],
+                "area_mm2": ref["area"] * 1e6,
+                "torsion_length_mm": 1e3 * ref["torsion_length"],
             }
-            base = {"case": case, "delta_mm": d * 1e3, "delta_over_h": d / geom.thickness}
-            table.append(
+        )
+        rows = _peer_rows(case, d, config, ctx)
+        for peer, row in rows.items():
+            res["table"].append(
                 {
                     **base,
-                    "peer": "neo-Hookean",
-                    "setting": "reference",
-                    "ms_per_query": 1e3 * ref_case["seconds"],
-                    "force_N": ref["force_N"],
-                    "area_mm2": ref["area"] * 1e6,
-                    "torsion_length_mm": 1e3 * ref["torsion_length"],
+                    "peer": peer,
+                    "setting": _setting(peer, config),
+                    "ms_per_query": 1e3 * row["seconds"],
+                    **compare(row, ref, grid, mu),
                 }
             )
-            rows = _peer_rows(case, d, config, ctx)
-            for peer, row in rows.items():
-                table.append(
-                    {
-                        **base,
-                        "peer": peer,
-                        "setting": _setting(peer, config),
-                        "ms_per_query": 1e3 * row["seconds"],
-                        **_compare(row, ref, grid, mu),
-                    }
-                )
-            if d == config["sweep_delta_mm"] * 1e-3:
-                sweep += _sweep(case, d, config, ref, grid, obs, geom, mat)
-            if d == config["margin_delta_mm"] * 1e-3:
-                margins_out[case] = _case_margins(rows, r["profile"], ref, center, config, case)
-                ls_out[case] = _case_ls(rows, r["profile"], config)
-    # per peer and case: errors per δ, margin at the margin δ, median cost
+        if d == config["sweep_delta_mm"] * 1e-3:
+            res["sweep"] += _sweep(case, d, config, ref, grid, ctx["obstacle"], geom, ctx["material"])
+        if d == config["margin_delta_mm"] * 1e-3:
+            res["margins"][case] = _case_margins(rows, r["profile"], ref, ctx["center"], config, case)
+            res["ls"][case] = _case_ls(rows, r["profile"], config)
+
+
+def _case_summary(peer: str, s: dict, m: dict | None, ls: dict | None) -> None:
+    """One peer and case's summary ``s`` (its per-δ lists) completed: median cost, the worst
+    errors over δ, the margins ``m`` and fitted 6DLS ``ls`` at their δ."""
+    s["ms_per_query"] = float(np.median(s.pop("ms_per_query_per_delta")))
+    for k in ERRORS:
+        vals = [v for v in s[k + "_per_delta"] if v is not None]
+        s[k] = float(max(vals, key=abs)) if vals else (0.0 if peer == "neo-Hookean" else None)
+    s["margin_rel_err"] = None if m is None else m["median_abs_rel_err"]
+    # signed: the median s/s_true - 1 (> 0: the peer promises more than the truth holds)
+    s["margin_bias"] = None if m is None else float(np.expm1(m["median_log_ratio"]))
+    s["margin"] = m
+    s["ls_rel_err"] = None if ls is None else ls["rel_err"]
+    s["ls_bias"] = None if ls is None else ls["bias"]
+    s["ls"] = ls
+
+
+def _summarize(table: list[dict], margins_out: dict, ls_out: dict) -> dict:
+    """Per peer and case: errors per δ, margin at the margin δ, median cost."""
     summary_peers: dict = {}
     for row in table:
         s = summary_peers.setdefault(row["peer"], {}).setdefault(row["case"], {"delta_mm": []})
@@ -635,41 +527,28 @@ def run(config: dict) -> dict:
             s.setdefault(k + "_per_delta", []).append(row.get(k))
     for peer, cases in summary_peers.items():
         for case, s in cases.items():
-            s["ms_per_query"] = float(np.median(s.pop("ms_per_query_per_delta")))
-            for k in ERRORS:
-                vals = [v for v in s[k + "_per_delta"] if v is not None]
-                s[k] = float(max(vals, key=abs)) if vals else (0.0 if peer == "neo-Hookean" else None)
             m = margins_out.get(case, {}).get(peer)
-            s["margin_rel_err"] = None if m is None else m["median_abs_rel_err"]
-            # signed: the median s/s_true - 1 (> 0: the peer promises more than the truth holds)
-            s["margin_bias"] = None if m is None else float(np.expm1(m["median_log_ratio"]))
-            s["margin"] = m
-            ls = ls_out.get(case, {}).get(peer)
-            s["ls_rel_err"] = None if ls is None else ls["rel_err"]
-            s["ls_bias"] = None if ls is None else ls["bias"]
-            s["ls"] = ls
+            _case_summary(peer, s, m, ls_out.get(case, {}).get(peer))
+    return summary_peers
+
+
+def run(config: dict) -> dict:
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    check_config(config)
+    refs, ran_on = _references(config)
+    grid, _ = metrics.face_grid_points(*(v * 1e-3 for v in config["pad_mm"][:2]), config["grid_mm"] * 1e-3)
+    hertz_block = hertz_half_space(config["hertz_block"], config["E"])
+    res: dict = {"table": [], "sweep": [], "skipped": {}, "margins": {}, "ls": {}}
+    versions_peers = _peer_versions()
+    for case in tqdm(config["cases"], desc="peers", unit="case"):
+        _run_case(case, config, refs[case], grid, res)
+    table, sweep, skipped = res["table"], res["sweep"], res["skipped"]
+    summary_peers = _summarize(table, res["margins"], res["ls"])
     headline_cmp = _headline_vs_drake(sweep)
     _figure(sweep, table, config["sweep_delta_mm"], out)
-    keys = [
-        "case",
-        "delta_mm",
-        "delta_over_h",
-        "peer",
-        "setting",
-        "ms_per_query",
-        "force_N",
-        "force_rel_err",
-        "area_mm2",
-        "area_rel_err",
-        "pressure_rel_l2",
-        "torsion_length_mm",
-        "torsion_rel_err",
-        "support_max_rel_err",
-        "torque_rel_err",
-    ]
-    write_csv(out / "peers.csv", keys, [[r.get(k) for k in keys] for r in table])
-    skeys = ["case", "peer", "setting", "ms_per_query", "force_rel_err", "pressure_rel_l2", "torsion_rel_err"]
-    write_csv(out / "sweep.csv", skeys, [[r.get(k) for k in skeys] for r in sweep])
+    write_csv(out / "peers.csv", TABLE_KEYS, [[r.get(k) for k in TABLE_KEYS] for r in table])
+    write_csv(out / "sweep.csv", SWEEP_KEYS, [[r.get(k) for k in SWEEP_KEYS] for r in sweep])
     summary = {
         "peers": summary_peers,
         "reference": "the neo-Hookean pad (NonlinearPad, stabilization "
@@ -684,28 +563,7 @@ def run(config: dict) -> dict:
         "sweep_delta_mm": config["sweep_delta_mm"],
         "margin_delta_mm": config["margin_delta_mm"],
         # what each word measures (the report states them)
-        "definitions": {
-            "force": "the jaw's sensor reading: net normal force on the object along the pad normal [N]",
-            "area": "FEM: tributary area of the loaded face nodes (neo-Hookean: deformed); Hertz: pi a^2; "
-            "foundation: the loaded grid cells (projected); Drake: its contact polygons on the object "
-            "(curved) - curved and projected areas differ by O(delta/R), 2-7 % here",
-            "pressure_rel_l2": "||p - p_ref|| / ||p_ref|| on a grid of the pad face (unsigned)",
-            "torsion_rel_err": "torsion length tau_max/(mu f_n) per unit jaw force, peer/ref - 1",
-            "torque_rel_err": "torque capacity mu f_n x torsion length at this delta, peer/ref - 1",
-            "margin_rel_err": "median over disturbances of |s/s_true - 1| (unsigned), equal jaw force",
-            "margin_bias": "median s/s_true - 1 (> 0: optimistic)",
-            "ls_rel_err": "the 6DLS fitted (ls_model) to the peer's 6DFWs at equal jaw force against the "
-            "reference's exact 6DFW surface at points of uniform normals: exp(mean |ln g|) - 1, g the ratio "
-            "of the truth's radius to the fit's along each ray (a set 2x too small or too large: +100 %); "
-            "the reference's own value is the model's own error. MuJoCo: none - its point contact's cone "
-            "slice spans 3 of the 6 dimensions (fx, fy, tau_z; its supports are compared instead)",
-            "ls_bias": "exp(median ln(1/g)) - 1 (> 0: the peer's fitted 6DLS lies outside the truth: "
-            "optimistic)",
-            "support_max_rel_err": "the largest |peer/ref - 1| of the 6DFW set's supports along the six axis "
-            "twists per unit jaw force (forces and torques each compared where above 1e-3 of their "
-            "group's largest)",
-            "worst over delta": "the errors per peer and case are the largest |value| over deltas_mm",
-        },
+        "definitions": DEFINITIONS,
         # margins are bisected on log2 s over [1/64, 64]: relative differences below this are unresolved
         "margin_resolution": float(2.0 ** (2 * np.log2(MARGIN_SPAN) / 2 ** config["margin_steps"]) - 1),
         "figures": [str(out / "runtime_vs_error.png")],
@@ -745,7 +603,15 @@ def _case_margins(rows: dict, ref_profile, ref: dict, center, config: dict, case
                 "force": f_ref,
                 "point": ref_profile.pressure_center,
             }
-    m = _margins(jaws, center, config, scale=f_ref / 25.0)
+    m = grasp_margins(
+        jaws,
+        center,
+        config["mu"],
+        seed=config["seed"],
+        n_disturbances=config["n_disturbances"],
+        steps=config["margin_steps"],
+        scale=f_ref / 25.0,
+    )
     truth = m.pop("neo-Hookean")
     out = {}
     for peer, s in m.items():
@@ -782,11 +648,11 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
     pts = []
 
     def add(peer, setting, seconds, prof, row):
-        c = _compare(row, ref, grid, mu)
+        c = compare(row, ref, grid, mu)
         pts.append({"case": case, "peer": peer, "setting": setting, "ms_per_query": 1e3 * seconds, **c})
 
     for cells in config["condensed_sweep_cells"]:
-        g2, m2, o2, _, _ = setup(case, config, cells)
+        g2, m2, o2, _, _ = setup_case(case, config, cells)
         pad = condense_pad(g2, m2)
         _, a0 = face_grid(pad.face_xy)
 
@@ -795,7 +661,7 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
             return s, extract_profile(pad, s, o2)
 
         t, (s, prof) = median_runtime(q, rep)
-        add("condensed", "x".join(map(str, cells)), t, prof, {**_fem_row(pad, a0, s, prof)})
+        add("condensed", "x".join(map(str, cells)), t, prof, {**fem_row(pad, a0, s, prof)})
     from workbench.peers.elastic_foundation import foundation_profile
 
     for n in config["foundation_cells"]:
@@ -833,7 +699,7 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
     else:
         knob = [(f"R*{f:g}", config, f) for f in config["drake_sweep_resolution_over_R"]]
     for label, cfg, f in knob:
-        drake, _ = _drake(case, obs, geom, cfg, f)
+        drake, _ = drake_pad(case, obs, geom, cfg, f)
         if drake is None:
             break
         t, prof = median_runtime(partial(drake.profile, d), rep)

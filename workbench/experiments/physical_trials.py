@@ -27,12 +27,17 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench.code_key import code_digest
-from workbench.grasp.crossval import crossval_scores, seed_summary
-from workbench.grasp.gripper_eval import check_task, gripper_contact, judge_contact
+from workbench.grasp.gripper_eval import check_task, gripper_contact
+from workbench.grasp.gripper_trials import (
+    best_quality,
+    crossval_by_model,
+    nominal_fields,
+    pose_seed,
+    robust_fields,
+    verdict_scores,
+)
 from workbench.grasp.models import MODELS
-from workbench.grasp.pose_robust import PoseNoise, pose_samples
-from workbench.grasp.precision import scores as scores_of
-from workbench.grasp.threshold import balanced_accuracy
+from workbench.grasp.pose_robust import PoseNoise
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
@@ -134,16 +139,6 @@ def _mass(config: dict, trials) -> float:
     return float(trials.mass)
 
 
-def _judge_all(contact, models, task, cache):
-    """{model: Verdict} for one contact, with each model's seconds."""
-    out, secs = {}, {}
-    for m in models:
-        t0 = time.perf_counter()
-        out[m] = judge_contact(contact, m, cache=cache, **task)
-        secs[m] = time.perf_counter() - t0
-    return out, secs
-
-
 def _grasp_row(job, config: dict) -> list:
     """One Dask task: grasp ``g`` at robustness seed ``s`` — N_r recomputed contacts judged by
     every model; seed 0 also the nominal contact, settled and pressed jaw by jaw."""
@@ -156,76 +151,11 @@ def _grasp_row(job, config: dict) -> list:
     models = config["models"]
     row = {"grasp": g, "seed": s}
     if s == 0:
-        for label, settle in (("nominal", True), ("pressed", False)):
-            t0 = time.perf_counter()
-            c = gripper_contact(mesh, gripper, grasp.pose, settle=settle)
-            row[f"{label}_contact_s"] = time.perf_counter() - t0
-            verdicts, secs = _judge_all(c, models, task, cache)
-            row[f"{label}_touches"] = c.touches
-            row[f"{label}_tilt_deg"] = float(np.degrees(c.tilt))
-            row[f"{label}_torque"] = c.torque
-            row[f"{label}_reason"] = c.reason
-            row[f"{label}_area_mm2"] = (
-                [float(p.areas.sum() * 1e6) for p in c.profiles] if c.touches else [0.0, 0.0]
-            )
-            for m, v in verdicts.items():
-                row[f"{label}/{m}/held"] = v.resisted
-                row[f"{label}/{m}/margin"] = v.margin
-                row[f"{label}/{m}/scale"] = v.scale if np.isfinite(v.scale) else None
-                row[f"{label}/{m}/reason"] = v.reason
-                row[f"{label}/{m}/s"] = secs[m]
+        row.update(nominal_fields(mesh, gripper, grasp.pose, models, task, cache))
     noise = PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"])
-    margins = {m: [] for m in models}
-    held = {m: [] for m in models}
-    contact_s, judge_s = [], {m: [] for m in models}
-    misses = 0
-    for T in pose_samples(grasp.pose, noise, seed=_seed(config["seed"], g, s)):
-        t0 = time.perf_counter()
-        c = gripper_contact(mesh, gripper, T)
-        contact_s.append(time.perf_counter() - t0)
-        misses += not c.touches
-        verdicts, secs = _judge_all(c, models, task, cache)
-        for m, v in verdicts.items():
-            margins[m].append(v.margin)
-            held[m].append(v.resisted)
-            judge_s[m].append(secs[m])
-    row["robust_misses"] = misses
-    row["robust_contact_s"] = float(np.sum(contact_s))
-    for m in models:
-        row[f"robust/{m}/q"] = float(np.mean(margins[m]))
-        row[f"robust/{m}/p_held"] = float(np.mean(held[m]))
-        row[f"robust/{m}/s"] = float(np.sum(judge_s[m]))
+    rng = pose_seed(config["seed"], g, s)
+    row.update(robust_fields(mesh, gripper, grasp.pose, noise, rng, models, task, cache))
     return [(f"{g}/{s}", row)]
-
-
-def _seed(seed: int, g: int, s: int) -> np.random.Generator:
-    """The pose samples' generator of grasp g at robustness seed s (independent streams)."""
-    return np.random.default_rng([seed, g, s])
-
-
-def _score(trials, rows: dict, models, config) -> tuple[dict, dict]:
-    """Per model and quality: cross-validated scores (per seed for the robust quality)."""
-    gi = trials.grasp_index
-    keep = np.isin(gi, sorted({r["grasp"] for r in rows.values()}))
-    group, success = gi[keep], trials.success[keep]
-    per_grasp = {}
-    scores = {}
-    for m in models:
-        nominal = {r["grasp"]: r[f"nominal/{m}/margin"] for r in rows.values() if r["seed"] == 0}
-        pressed = {r["grasp"]: r[f"pressed/{m}/margin"] for r in rows.values() if r["seed"] == 0}
-        out = {}
-        for label, q in (("nominal", nominal), ("pressed", pressed)):
-            out[label] = crossval_scores(np.array([q[g] for g in group]), success, group)
-        for label, key in (("robust", "q"), ("robust_held", "p_held")):
-            by_seed = []
-            for s in range(config["robust_seeds"]):
-                q = {r["grasp"]: r[f"robust/{m}/{key}"] for r in rows.values() if r["seed"] == s}
-                by_seed.append(crossval_scores(np.array([q[g] for g in group]), success, group))
-            out[label] = seed_summary(by_seed)
-            out[f"{label}_seed0"] = by_seed[0]
-        scores[m] = out
-        per_grasp[m] = {"nominal": nominal, "pressed": pressed}
-    return scores, per_grasp
 
 
 def run(config: dict) -> dict:
@@ -248,7 +178,7 @@ def run(config: dict) -> dict:
         _, ran_on = run_rows(partial(_grasp_row, config=config), jobs, keep, config, progress=bar)
     rows = {k: r for k, r in ckpt.rows.items() if r["grasp"] in todo_g}
     models = config["models"]
-    scores, per_grasp = _score(trials, rows, models, config)
+    scores, per_grasp = crossval_by_model(trials, rows, models, config["robust_seeds"])
     summary = _summary(trials, rows, scores, models, config, ran_on)
     _tables(out, trials, rows, models, todo_g)
     _figures(out, trials, rows, scores, models, todo_g, config)
@@ -285,34 +215,11 @@ def _summary(trials, rows, scores, models, config, ran_on) -> dict:
             "tilt_deg": {str(r["grasp"]): r["nominal_tilt_deg"] for r in nominal_rows},
             "converged": int(sum(r["nominal_torque"] <= 1e-3 for r in nominal_rows if r["nominal_touches"])),
         },
-        "verdict_scores": _verdict_scores(trials, rows, models),
+        "verdict_scores": verdict_scores(trials, rows, models),
         "timing": timing,
-        "best": _best(scores),
+        "best": best_quality(scores),
         "per_grasp": _per_grasp(trials, rows, scores, models),
     }
-
-
-def _verdict_scores(trials, rows, models) -> dict:
-    """Per model, the binary verdict "held at the gripper's force" at the recorded pose (the
-    thesis's Table 4.1 kind of prediction: no threshold) against the outcomes."""
-    gi = trials.grasp_index
-    grasps = sorted({r["grasp"] for r in rows.values()})
-    keep = np.isin(gi, grasps)
-    truth = trials.success[keep]
-    out = {}
-    for m in models:
-        for label in ("nominal", "pressed"):
-            pred = np.array([rows[f"{g}/0"][f"{label}/{m}/held"] for g in gi[keep]], dtype=bool)
-            pr = scores_of(pred, truth)
-            tp, fp, fn = int((pred & truth).sum()), int((pred & ~truth).sum()), int((~pred & truth).sum())
-            f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else float("nan")
-            out.setdefault(m, {})[label] = {
-                **pr,
-                "f1": f1,
-                "accuracy": float((pred == truth).mean()),
-                "balanced_accuracy": balanced_accuracy(pred, truth),
-            }
-    return out
 
 
 def _per_grasp(trials, rows, scores, models) -> dict:
@@ -349,19 +256,6 @@ def _per_grasp(trials, rows, scores, models) -> dict:
             },
         }
     return out
-
-
-def _best(scores) -> dict:
-    """The model and quality with the highest cross-validated balanced accuracy (ties: AUC)."""
-    cands = []
-    for m, s in scores.items():
-        for label in ("nominal", "pressed"):
-            cands.append((s[label]["balanced_accuracy"], s[label]["roc_auc"], m, label))
-        for label in ("robust", "robust_held"):
-            r = s[label]
-            cands.append((r["balanced_accuracy"]["mean"], r["roc_auc"]["mean"], m, label))
-    ba, auc, m, label = max(cands, key=lambda c: (np.nan_to_num(c[0]), np.nan_to_num(c[1])))
-    return {"model": m, "quality": label, "balanced_accuracy": ba, "roc_auc": auc}
 
 
 def _tables(out, trials, rows, models, grasps) -> None:

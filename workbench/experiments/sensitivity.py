@@ -36,7 +36,7 @@ its sign: > 0 optimistic).  ``make reproduce`` also runs a more wrapped contact
 from __future__ import annotations
 
 import time
-from functools import lru_cache, partial
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -44,17 +44,17 @@ from tqdm import tqdm
 
 from workbench.code_key import code_digest
 from workbench.config import SAMPLER_KINDS
-from workbench.grasp import CutStore, Perturbation, q_robust, resists
 from workbench.grasp.exact import ExactContacts, resists_exact
-from workbench.grasp.margin import check_steps, margin_vs_truth, resistance_margin
-from workbench.grasp.models import MODELS, contact_sets
-from workbench.grasp.precision import check_levels, matched_precision, recall_at_least, scores
-from workbench.grasp.tasks import lever_disturbances
-from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
+from workbench.grasp.lever_scene import scene_inputs, scene_profiles
+from workbench.grasp.margin import check_steps, margin_vs_truth
+from workbench.grasp.models import MODELS
+from workbench.grasp.precision import check_levels, matched_precision, recall_at_least
+from workbench.grasp.sensitivity_rows import as_twin, row_inputs, row_key, row_tasks, scored, sensitivity_row
+from workbench.grasp.sensitivity_summary import headline, series_tables, training_distribution
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import Checkpoint, save_figure, write_csv, write_summary
-from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_grasp
+from workbench.sources.scenes import check_elliptic_cylinder
 from workbench.sources.surfaces import check_n_elements
 
 NAME = "sensitivity"
@@ -202,225 +202,6 @@ def check_config(config: dict) -> None:
     check_workers(config["workers"], config["scheduler"])
 
 
-def _profiles(config: dict, k: float, length: float) -> list:
-    return elliptic_cylinder_grasp(
-        config["a"], config["b"], config["half_angle"], length, k, 1.0, config["n_elements"]
-    )
-
-
-def _sets(profiles, model: str, cache: LimitSurfaceCache, config: dict, sampler: str | None = None) -> list:
-    spec = None if sampler is None else SamplerSpec(kind=sampler)
-    return [c for p in profiles for c in contact_sets(p, model, cache=cache, M=config["M"], sampler=spec)]
-
-
-def _predict(sets, W, forces, mu, cuts: CutStore) -> tuple[np.ndarray, float]:
-    out, times = [], []
-    for w, f in zip(W, forces, strict=True):
-        t0 = time.perf_counter()
-        out.append(bool(resists([c.with_force(c.force * f) for c in sets], w, mu, cuts=cuts)))
-        times.append(time.perf_counter() - t0)
-    return np.array(out), float(np.median(times) * 1e3)
-
-
-def _margin_row(model: str, deciders, W: np.ndarray, steps: int) -> dict:
-    """Checkpoint row of the margins of ``W`` (N, 6), one decider ``v -> bool`` per
-    disturbance, and the time per disturbance."""
-    t0 = time.perf_counter()
-    margins = [resistance_margin(d, w, steps) for d, w in zip(deciders, W, strict=True)]
-    return {
-        "series": "margin",
-        "model": model,
-        "margins": margins,
-        "s_per_grasp": (time.perf_counter() - t0) / len(W),
-    }
-
-
-def _model_margin_row(model: str, sets: list, forces: np.ndarray, W: np.ndarray, config: dict, cuts) -> dict:
-    """Margin row of a model's contact sets, scaled by each disturbance's force reading."""
-    grasps = [[c.with_force(c.force * f) for c in sets] for f in forces]
-    deciders = [partial(resists, g, mu=config["mu"], cuts=cuts) for g in grasps]
-    return _margin_row(model, deciders, W, config["margin_steps"])
-
-
-def _training_distribution(config, ckpt, truth, true_margin, nominal) -> dict:
-    """Margins of ``training_models`` with limit surfaces trained by each of
-    ``training_samplers`` (rows ``margin/<model>@<kind>``): the capacity error against the
-    noise-free exact margin ``nominal`` (the limit surface's own error — the noisy truth's
-    margins differ from it by ~4 % median, which would hide it), against the noisy truth,
-    and recall at matched precision."""
-    out = {}
-    for model in config["training_models"]:
-        out[model] = {}
-        for kind in config["training_samplers"]:
-            s_m = np.array(ckpt.rows[f"margin/{model}@{kind}"]["margins"])
-            pr = matched_precision(s_m, truth, config["precision_levels"])
-            out[model][kind] = {
-                "vs_exact_nominal": margin_vs_truth(s_m, nominal),
-                "vs_noisy_truth": margin_vs_truth(s_m, true_margin),
-                "recall_at_precision": dict(
-                    zip(map(str, config["precision_levels"]), pr["at_levels"]["recall"], strict=True)
-                ),
-            }
-    return out
-
-
-def _inputs(config: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The disturbances W (n, 6), sensor forces (n,), and the noisy true μ and force
-    factor (n,) of every grasp — from the seed, the same in the driver and each worker."""
-    rng = np.random.default_rng(config["seed"])
-    n = config["n_disturbances"]
-    W = lever_disturbances(rng, n, config["weight_range"], config["lever_x"], config["lever_z"])
-    forces = rng.uniform(*config["force_range"], n)  # sensor readings
-    mu_true = config["mu"] * (1 + config["noise_mu"] * rng.standard_normal(n))
-    f_true = forces * (1 + config["noise_force"] * rng.standard_normal(n))
-    return W, forces, mu_true, f_true
-
-
-@lru_cache(maxsize=1)
-def _process_cache() -> LimitSurfaceCache:
-    """The limit surfaces of this process (driver or Dask worker), shared by its rows: the
-    fits are deterministic, so a row's numbers do not depend on what ran before it here."""
-    return LimitSurfaceCache()
-
-
-def _row_tasks(config: dict) -> list[tuple]:
-    """Every checkpointed row as a task, the longest (margin bisections) first."""
-    tasks: list[tuple] = [("margin", m, None) for m in config["models"]]
-    tasks += [("margin", m, k) for m in config["training_models"] for k in config["training_samplers"]]
-    tasks += [("truth", "truth"), ("truth", "truth-nominal")]
-    tasks += [
-        ("setting", series, x, m)
-        for series, key in (
-            ("k", "k_values"),
-            ("mu_offset", "mu_offsets"),
-            ("length_offset", "length_offsets"),
-        )
-        for x in config[key]
-        for m in config["models"]
-    ]
-    tasks += [("robust", n_r, sigma) for n_r in config["robust_n_r"] for sigma in config["robust_sigma_r"]]
-    return tasks
-
-
-def _inputs_of(task: tuple, config: dict) -> tuple:
-    """What a row computes from: rows with the same inputs are computed once (:func:`_rows_and_truth`)
-    — a margin with the default training sampler (``config.DEFAULTS.ls_training_sampler``) is
-    the training-sampler row of that kind, and the zero μ and length offsets are the k-series
-    row at ``k_true``."""
-    kind = task[0]
-    if kind == "margin":
-        return ("margin", task[1], SamplerSpec(kind=task[2]))  # kind None: the default's
-    if kind == "setting":
-        _, series, x, model = task
-        k = x if series == "k" else config["k_true"]
-        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
-        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
-        return ("setting", k, length, mu, model)
-    return task
-
-
-def _as(row: dict, task: tuple, source: str) -> dict:
-    """Row ``row`` (checkpointed for ``source``) as the row of ``task``, which has its inputs."""
-    row = {k: v for k, v in row.items() if k not in ("key", "config_hash")}
-    if task[0] == "setting":
-        row.update(series=task[1], x=task[2])
-    return {**row, "same_inputs_as": source}
-
-
-def _key(task: tuple) -> str:
-    kind = task[0]
-    if kind == "margin":
-        return f"margin/{task[1]}" + (f"@{task[2]}" if task[2] else "")
-    if kind == "truth":
-        return f"margin/{task[1]}"
-    if kind == "setting":
-        return f"{task[1]}/{task[2]}/{task[3]}"
-    return f"robust/{task[1]}/{task[2]}"
-
-
-def _row(task: tuple, config: dict) -> dict:
-    """One row, in the driver or a Dask worker, with its own cut store (and exact contacts):
-    margins, a setting's predictions or the robust metric's.  Predictions come back as
-    ``pred`` (bool list): the driver scores them against the ground truth."""
-    W, forces, mu_true, f_true = _inputs(config)
-    cuts, cache = CutStore(), _process_cache()
-    kind = task[0]
-    if kind == "setting":  # its own profile; every other row is at the true one
-        _, series, x, model = task
-        k = x if series == "k" else config["k_true"]
-        length = config["length"] * (1 + x) if series == "length_offset" else config["length"]
-        mu = config["mu"] * (1 + x) if series == "mu_offset" else config["mu"]
-        t0 = time.perf_counter()
-        sets = _sets(_profiles(config, k, length), model, cache, config)
-        build_s = time.perf_counter() - t0
-        pred, ms = _predict(sets, W, forces, mu, cuts)
-        return {
-            "series": series,
-            "x": x,
-            "model": model,
-            "pred": pred.tolist(),
-            "ms_per_grasp": ms,
-            "build_s": build_s,
-        }
-    true_prof = _profiles(config, config["k_true"], config["length"])
-    if kind == "margin":
-        _, model, sampler = task
-        return _model_margin_row(
-            model, _sets(true_prof, model, cache, config, sampler), forces, W, config, cuts
-        )
-    if kind == "truth":
-        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
-        if task[1] == "truth":  # the simulated truth's own margin (the noise of the truth)
-            deciders = [
-                lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]
-                for f, m in zip(f_true, mu_true, strict=True)
-            ]
-        else:  # no noise: the sensor force and nominal μ, exactly
-            deciders = [
-                lambda v, f=f: resists_exact(exact, v, config["mu"], forces=exact.F * f)[0] for f in forces
-            ]
-        return _margin_row(task[1], deciders, W, config["margin_steps"])
-    _, n_r, sigma = task  # robust metric (6DFC paper Fig 3): q_robust >= 0.5 under pose noise
-    nr = config["robust_disturbances"]
-    base = _sets(true_prof, "6dls", cache, config)
-    # pose noise only; the rotation σ is σ_r over a 3 cm lever (the contact's size: a = length = 0.03 m)
-    p = Perturbation(
-        n_samples=n_r, sigma_trans=sigma, sigma_rot=sigma / 0.03, sigma_mu=0.0, sigma_mass=0.0, sigma_com=0.0
-    )
-    t0 = time.perf_counter()
-    pred = [
-        q_robust(
-            [c.with_force(c.force * forces[i]) for c in base],
-            config["mu"],
-            1.0,  # unused: the disturbance is W[i]
-            np.zeros(3),
-            p,
-            seed=i,
-            cuts=cuts,
-            w_ext=W[i],
-        )
-        >= 0.5  # the 6DFC paper's success threshold on q_robust (a fraction of the samples)
-        for i in range(nr)
-    ]
-    ms = (time.perf_counter() - t0) / nr * 1e3
-    return {
-        "series": "robust",
-        "n_r": n_r,
-        "sigma_r": sigma,
-        "model": "6dls robust",
-        "pred": pred,
-        "ms_per_grasp": ms,
-    }
-
-
-def _scored(row: dict, truth: np.ndarray) -> dict:
-    """A row as checkpointed: its predictions scored against the truth (margins as they are)."""
-    if "pred" not in row:
-        return row
-    pred = np.array(row.pop("pred"), dtype=bool)
-    return {**row, **scores(pred, truth[: len(pred)])}
-
-
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
@@ -439,7 +220,7 @@ def run(config: dict) -> dict:
     margin_error = {m: margin_vs_truth(s_m, true_margin) for m, s_m in margins.items()}
     matched = {m: matched_precision(s_m, truth, config["precision_levels"]) for m, s_m in margins.items()}
     nominal = np.array(ckpt.rows["margin/truth-nominal"]["margins"])
-    training = _training_distribution(config, ckpt, truth, true_margin, nominal)
+    training = training_distribution(ckpt.rows, config, truth, true_margin, nominal)
     levels = config["precision_levels"]
     nonplanar = [m for m in ("6dls", "6dfc") if m in matched]
     baselines = [m for m in ("planar", "point") if m in matched]
@@ -448,7 +229,7 @@ def run(config: dict) -> dict:
     rows = [r for r in ckpt.rows.values() if r["series"] != "margin"]
     cols = ["series", "x", "n_r", "sigma_r", "model", "precision", "recall", "positives", "ms_per_grasp"]
     write_csv(out / "sensitivity.csv", cols, [[r.get(c, "") for c in cols] for r in rows])
-    series_out = _series(ckpt, rows, config)
+    series_out = series_tables(ckpt.rows, rows, config)
     ms_model = {
         m: float(np.median([r["ms_per_grasp"] for r in rows if r.get("model") == m]))
         for m in config["models"]
@@ -488,42 +269,43 @@ def run(config: dict) -> dict:
         "rows_ran_on": ran_on,
         "figures": figures,
     }
-    summary["headline"] = _headline(
+    summary["headline"] = headline(
         truth, series_out, ms_model, matched, nonplanar_ge, margin_error, training, config
     )
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
 def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, dict]:
-    """The rows not yet in ``ckpt`` run as Dask tasks (:func:`_row`) while the driver computes
-    the ground truth — the true profile's 6DFW set, exactly (column generation), with
+    """The rows not yet in ``ckpt`` run as Dask tasks
+    (:func:`~workbench.grasp.sensitivity_rows.sensitivity_row`) while the driver computes the
+    ground truth — the true profile's 6DFW set, exactly (column generation), with
     per-grasp noise — that their predictions are scored against before they are checkpointed.
     Returns (truth (n,) bool, its ms per grasp, where the rows ran)."""
-    W, _, mu_true, f_true = _inputs(config)
+    W, _, mu_true, f_true = scene_inputs(config)
     n = len(W)
     same: dict[tuple, list[tuple]] = {}  # inputs -> the rows of them; the first is computed
-    for t in _row_tasks(config):
-        same.setdefault(_inputs_of(t, config), []).append(t)
+    for t in row_tasks(config):
+        same.setdefault(row_inputs(t, config), []).append(t)
 
     def copy_to_twins(first: tuple) -> None:  # row `first` as the rows of its twins not yet kept
-        for twin in same[_inputs_of(first, config)][1:]:
-            if _key(twin) not in ckpt:
-                ckpt.add(_key(twin), _as(ckpt.rows[_key(first)], twin, _key(first)))
+        for twin in same[row_inputs(first, config)][1:]:
+            if row_key(twin) not in ckpt:
+                ckpt.add(row_key(twin), as_twin(ckpt.rows[row_key(first)], twin, row_key(first)))
 
     def keep(task: tuple, row: dict) -> None:
-        ckpt.add(_key(task), row)
+        ckpt.add(row_key(task), row)
         copy_to_twins(task)
 
     todo = []
     for first, *_ in same.values():
-        if _key(first) in ckpt:  # a resume: the twins a killed run had not copied yet
+        if row_key(first) in ckpt:  # a resume: the twins a killed run had not copied yet
             copy_to_twins(first)
         else:
             todo.append(first)
     got: dict = {}
 
     def ground_truth() -> None:
-        true_prof = _profiles(config, config["k_true"], config["length"])
+        true_prof = scene_profiles(config, config["k_true"], config["length"])
         exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
         t0 = time.perf_counter()
         got["truth"] = np.array(
@@ -538,9 +320,9 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
 
     with tqdm(total=len(todo), desc="sensitivity", unit="row") as bar:
         _, ran_on = run_rows(
-            partial(_row, config=config),
+            partial(sensitivity_row, config=config),
             todo,
-            lambda task, row: keep(task, _scored(row, got["truth"])),
+            lambda task, row: keep(task, scored(row, got["truth"])),
             config,
             progress=bar,
             meanwhile=ground_truth,
@@ -548,89 +330,15 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
     return got["truth"], got["truth_ms"], ran_on
 
 
-def _series(ckpt: Checkpoint, rows: list[dict], config: dict) -> dict:
-    """Precision and recall per model along each parameter series, and the robust metric's rows."""
-    series_out = {}
-    for s, key in (("k", "k_values"), ("mu_offset", "mu_offsets"), ("length_offset", "length_offsets")):
-        xs = config[key]
-        series_out[s] = {
-            "x": xs,
-            **{
-                m: {
-                    "precision": [ckpt.rows[f"{s}/{x}/{m}"]["precision"] for x in xs],
-                    "recall": [ckpt.rows[f"{s}/{x}/{m}"]["recall"] for x in xs],
-                }
-                for m in config["models"]
-            },
-        }
-    # in (n_r, sigma_r) order, not the checkpoint's (the order the tasks finished in)
-    series_out["robust"] = sorted(
-        (
-            {k: r[k] for k in ("n_r", "sigma_r", "precision", "recall", "ms_per_grasp")}
-            for r in rows
-            if r["series"] == "robust"
-        ),
-        key=lambda r: (r["n_r"], r["sigma_r"]),
-    )
-    return series_out
-
-
 def _figures(out: Path, series_out: dict, matched: dict, config: dict) -> list[str]:
     figures = [str(_plot(out, series_out, config)), str(_plot_pr(out, matched, config))]
     try:
-        figures.append(str(_render(out, _profiles(config, config["k_true"], config["length"]))))
+        figures.append(str(_render(out, scene_profiles(config, config["k_true"], config["length"]))))
     except Exception as exc:  # a render is a convenience
         import logging
 
         logging.getLogger(__name__).warning("offscreen rendering failed: %s", exc)
     return figures
-
-
-def _num(value, spec: str) -> str:
-    """``value`` formatted by ``spec``, or ``n/a`` where it is undefined: a recall with no
-    positive truth, a precision with no positive prediction (NaN in a fresh row, None once
-    checkpointed as JSON)."""
-    if value is None or (isinstance(value, float) and np.isnan(value)):
-        return "n/a"
-    return format(value, spec)
-
-
-def _headline(
-    truth, series_out, ms_model, matched, nonplanar_ge, margin_error, training, config
-) -> list[str]:
-    """The summary's headline lines; undefined numbers (None or NaN) read ``n/a``."""
-    levels = config["precision_levels"]
-    return [
-        f"truth: {_num(truth.mean(), '.0%')} of {len(truth)} disturbances resisted "
-        "(simulated truth, exact 6DFW set)",
-        *(
-            f"{m}: recall vs k [{', '.join(_num(v, '.2f') for v in series_out['k'][m]['recall'])}], "
-            f"{_num(ms_model[m], '.2f')} ms/grasp"
-            for m in config["models"]
-        ),
-        "recall at matched precision "
-        + "; ".join(
-            f"P>={lv}: "
-            + ", ".join(f"{m} {_num(matched[m]['at_levels']['recall'][j], '.2f')}" for m in config["models"])
-            for j, lv in enumerate(levels)
-        ),
-        f"6DLS/6DFC recall >= planar and point at matched precision: {nonplanar_ge}",
-        "resistance margin vs the truth's, median |log ratio| (bias): "
-        + ", ".join(
-            f"{m} {_num(e['median_abs_log_ratio'], '.3f')} ({_num(e['median_log_ratio'], '+.3f')})"
-            for m, e in margin_error.items()
-        ),
-        *(
-            f"training wrenches of {m}, margin vs the noise-free exact margin, median |log ratio| "
-            "(bias): "
-            + ", ".join(
-                f"{k} {_num(e['vs_exact_nominal']['median_abs_log_ratio'], '.4f')} "
-                f"({_num(e['vs_exact_nominal']['median_log_ratio'], '+.4f')})"
-                for k, e in by.items()
-            )
-            for m, by in training.items()
-        ),
-    ]
 
 
 def _plot(out: Path, series: dict, config: dict) -> Path:

@@ -39,6 +39,7 @@ from workbench.grasp import CutStore
 from workbench.grasp.crossval import seed_summary
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
+from workbench.grasp.lever_scene import predict_resisted, scene_inputs, scene_profiles, scene_sets
 from workbench.grasp.models import MODELS
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
@@ -126,8 +127,8 @@ def check_judged_run(config: dict) -> None:
 
 def _inputs(config: dict, seed: int):
     """The seed's disturbances W (n, 6), sensor forces, noisy true μ and forces (n,): the
-    sensitivity experiment's draw (:func:`.sensitivity._inputs`) for that seed."""
-    return _scene._inputs({**config, "seed": seed})
+    sensitivity experiment's draw (:func:`~workbench.grasp.lever_scene.scene_inputs`) for that seed."""
+    return scene_inputs({**config, "seed": seed})
 
 
 @lru_cache(maxsize=1)
@@ -162,7 +163,7 @@ def _row(task: tuple, config: dict) -> dict:
             phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
         )
         return outcome.row()
-    profiles = _scene._profiles(config, config["k_true"], config["length"])
+    profiles = scene_profiles(config, config["k_true"], config["length"])
     if kind == "exact":  # the sensitivity experiment's ground truth, for the same grasps
         exact = ExactContacts(profiles, n_start=config["truth_start_wrenches"], seed=1)
         t0 = time.perf_counter()
@@ -172,8 +173,8 @@ def _row(task: tuple, config: dict) -> dict:
         ]
         return {"pred": held, "ms_per_grasp": (time.perf_counter() - t0) / len(W) * 1e3}
     model = task[2]
-    sets = _scene._sets(profiles, model, _process_cache(), config)
-    pred, ms = _scene._predict(sets, W, forces, config["mu"], CutStore())
+    sets = scene_sets(profiles, model, _process_cache(), config)
+    pred, ms = predict_resisted(sets, W, forces, config["mu"], CutStore())
     return {"pred": pred.tolist(), "ms_per_grasp": ms}
 
 

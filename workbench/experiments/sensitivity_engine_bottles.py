@@ -38,6 +38,7 @@ from workbench.grasp import CutStore, resists
 from workbench.grasp.crossval import seed_summary
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
+from workbench.grasp.lever_scene import scene_inputs
 from workbench.grasp.models import MODELS, contact_sets
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
@@ -163,13 +164,13 @@ def _check_pool_size(n: int, pool: list) -> None:
 def _inputs(config: dict, seed: int):
     """The seed's draw: pool indices (n,), disturbances in the object frame (n, 6), sensor
     forces, noisy true μ and forces (n,).  The disturbances, forces and noise are the
-    sensitivity experiment's draw for that seed (:func:`.sensitivity._inputs`), in each grasp's
-    frame; the grasps come from a second stream of the same seed."""
+    sensitivity experiment's draw for that seed (:func:`~workbench.grasp.lever_scene.scene_inputs`),
+    in each grasp's frame; the grasps come from a second stream of the same seed."""
     from workbench.sources.bottle_scene import grasp_frame, wrenches_to_object
 
     n, pool = config["n_grasps"], pool_of(config)
     _check_pool_size(n, pool)
-    W, forces, mu_true, f_true = _scene._inputs({**config, "seed": seed, "n_disturbances": n})
+    W, forces, mu_true, f_true = scene_inputs({**config, "seed": seed, "n_disturbances": n})
     idx = np.random.default_rng([seed, 1]).choice(len(pool), n, replace=False)
     W_obj = np.vstack(
         [wrenches_to_object(W[i], grasp_frame(pool[k]["axis"]), pool[k]["center"]) for i, k in enumerate(idx)]
@@ -276,7 +277,7 @@ def _engine_code() -> str:
                 "workbench.grasp.sampling",
                 "workbench.grasp.tasks",
             ),  # fmt: skip
-            *(normalized_function(f) for f in (_row, _inputs, _pool, pool_of, _mesh, _scene._inputs)),
+            *(normalized_function(f) for f in (_row, _inputs, _pool, pool_of, _mesh, scene_inputs)),
             version("mujoco"),
         ]
     )
@@ -287,25 +288,8 @@ def run(config: dict) -> dict:
     out = Path(config["out"])
     pool = pool_of(config)  # refuses an empty pool before any trial
     _check_pool_size(config["n_grasps"], pool)  # and too small a one, before any row
-    row = partial(_row, config=config)
-    # the trials keyed by what they depend on (an edit of a contact model keeps them), the
-    # models' rows by the whole package; both resumable
-    trials, n_resumed, ran_on = run_checkpointed(
-        row, _tasks(config, "engine"), _key, out, config, desc=f"{NAME} trials", code=_engine_code()
-    )
-    models, n_resumed_m, _ = run_checkpointed(
-        row,
-        _tasks(config, "models"),
-        _key,
-        out / "models",
-        config,
-        desc=f"{NAME} models",
-        code=code_digest(__name__),
-    )
-    n_resumed += n_resumed_m
+    engine, rows, n_resumed, ran_on = _run_rows(config, out)
     seeds, n = config["seeds"], config["n_grasps"]
-    engine = {s: [trials.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}
-    rows = {s: [models.rows[f"models/{s}/{i}"] for i in range(n)] for s in seeds}
     held = {s: np.array([r["held"] for r in engine[s]], dtype=bool) for s in seeds}
     exact = {s: np.array([r["exact"] for r in rows[s]], dtype=bool) for s in seeds}
     pred = {
@@ -315,28 +299,11 @@ def run(config: dict) -> dict:
     per_model = model_tables(pred, held, exact, seeds, ms)
     trials = [r for s in seeds for r in engine[s]]
     secs = np.array([r["seconds"] for r in trials])
-    used = sorted({r["pool_index"] for s in seeds for r in engine[s]})
     summary = {
-        "judge": (
-            "MuJoCo (workbench.engine_trials.disturbance): the bottle mesh rigid, two flat 20 x 40 x 5 mm "
-            "pads pressed by the true grasp force, the disturbance applied and held; resisted iff the object "
-            f"moved < {config['max_drift'] * 1e3:g} mm and < {config['max_turn_deg']:g} deg"
-        ),
-        "shares_with_the_models": (
-            "the bottle mesh, the grasp, mu, the grasp force, the disturbance, the pad's size and modulus"
-        ),
-        "does_not_share": (
-            "our FEM pad's contact profile (the engine's pad makes its own contact and pressure), a fixed "
-            "normal force (the jaws are force-controlled), rigid quasi-statics (pads deform, objects creep)"
-        ),
+        **_judge_text(config),
         "n_seeds": len(seeds),
         "n_grasps": n,
-        "pool": {
-            "grasps": len(pool),
-            "bottles_with_grasps": len({g["bottle"] for g in pool}),
-            "grasps_used": len(used),
-            "bottles_used": len({pool[k]["bottle"] for k in used}),
-        },
+        "pool": _pool_use(pool, engine, seeds),
         "engine_positive_fraction": seed_summary([{"f": float(held[s].mean())} for s in seeds])["f"],
         "exact_positive_fraction": seed_summary([{"f": float(exact[s].mean())} for s in seeds])["f"],
         "exact_6dfw_vs_engine": seed_summary([scores(exact[s], held[s]) for s in seeds]),
@@ -350,6 +317,74 @@ def run(config: dict) -> dict:
         "n_resumed": n_resumed,
         "rows_ran_on": ran_on,
     }
+    _write_trials(out / "trials.csv", pool, engine, exact, seeds)
+    summary["figures"] = [
+        judged_figure(
+            per_model,
+            out / "table_4_1_engine_bottles.png",
+            "Bottle-family side grasps: each model against the engine's verdicts and against the exact 6DFW",
+        )
+    ]
+    summary["headline"] = judged_headline(summary, f"{len(seeds)} seeds x {n} bottle grasps on MuJoCo")
+    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
+
+
+def _run_rows(config: dict, out: Path) -> tuple[dict, dict, int, dict]:
+    """Every row not yet checkpointed: the engine trials keyed by what they depend on
+    (:func:`_engine_code`: an edit of a contact model keeps them), the models' rows by the whole
+    package; both resumable.  Returns ({seed: engine rows}, {seed: model rows}, rows resumed,
+    where the trials ran)."""
+    row = partial(_row, config=config)
+    trials, n_resumed, ran_on = run_checkpointed(
+        row, _tasks(config, "engine"), _key, out, config, desc=f"{NAME} trials", code=_engine_code()
+    )
+    models, n_resumed_m, _ = run_checkpointed(
+        row,
+        _tasks(config, "models"),
+        _key,
+        out / "models",
+        config,
+        desc=f"{NAME} models",
+        code=code_digest(__name__),
+    )
+    seeds, n = config["seeds"], config["n_grasps"]
+    engine = {s: [trials.rows[f"engine/{s}/{i}"] for i in range(n)] for s in seeds}
+    rows = {s: [models.rows[f"models/{s}/{i}"] for i in range(n)] for s in seeds}
+    return engine, rows, n_resumed + n_resumed_m, ran_on
+
+
+def _judge_text(config: dict) -> dict:
+    """The summary's account of the judge: what it is, what it shares with the models, what not."""
+    return {
+        "judge": (
+            "MuJoCo (workbench.engine_trials.disturbance): the bottle mesh rigid, two flat 20 x 40 x 5 mm "
+            "pads pressed by the true grasp force, the disturbance applied and held; resisted iff the object "
+            f"moved < {config['max_drift'] * 1e3:g} mm and < {config['max_turn_deg']:g} deg"
+        ),
+        "shares_with_the_models": (
+            "the bottle mesh, the grasp, mu, the grasp force, the disturbance, the pad's size and modulus"
+        ),
+        "does_not_share": (
+            "our FEM pad's contact profile (the engine's pad makes its own contact and pressure), a fixed "
+            "normal force (the jaws are force-controlled), rigid quasi-statics (pads deform, objects creep)"
+        ),
+    }
+
+
+def _pool_use(pool: list[dict], engine: dict, seeds: list) -> dict:
+    """How much of the pool the seeds' grasps used: grasps and bottles, of the pool's."""
+    used = sorted({r["pool_index"] for s in seeds for r in engine[s]})
+    return {
+        "grasps": len(pool),
+        "bottles_with_grasps": len({g["bottle"] for g in pool}),
+        "grasps_used": len(used),
+        "bottles_used": len({pool[k]["bottle"] for k in used}),
+    }
+
+
+def _write_trials(path: Path, pool: list[dict], engine: dict, exact: dict, seeds: list) -> None:
+    """trials.csv: per seed and grasp, the bottle, the grasp's height and width, both verdicts
+    and the engine's motion."""
     cols = [
         "seed",
         "i",
@@ -364,7 +399,7 @@ def run(config: dict) -> dict:
         "reason",
     ]
     write_csv(
-        out / "trials.csv",
+        path,
         cols,
         [
             [
@@ -384,12 +419,3 @@ def run(config: dict) -> dict:
             for i, r in enumerate(engine[s])
         ],
     )
-    summary["figures"] = [
-        judged_figure(
-            per_model,
-            out / "table_4_1_engine_bottles.png",
-            "Bottle-family side grasps: each model against the engine's verdicts and against the exact 6DFW",
-        )
-    ]
-    summary["headline"] = judged_headline(summary, f"{len(seeds)} seeds x {n} bottle grasps on MuJoCo")
-    return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)

@@ -33,16 +33,15 @@ from tqdm import tqdm
 from workbench.code_key import code_digest
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
-from workbench.runner.results import Checkpoint, save_figure, write_summary
+from workbench.runner.results import CHECKOUT, Checkpoint, save_figure, write_summary
 from workbench.stats import rank_correlation
 
 NAME = "wall-nonlinear"
-ROOT = Path(__file__).resolve().parents[1]
 log = logging.getLogger(__name__)
 
 DEFAULT_CONFIG = {
     "seed": 0,
-    "data_dir": str(ROOT.parent / "shared" / "data" / "deformable_objects"),  # meshes/, stiffness_maps/
+    "data_dir": str(CHECKOUT.parent / "shared" / "data" / "deformable_objects"),  # meshes/, stiffness_maps/
     "object": "plastic_cup",  # a measured object of data_dir
     "E": 2.5e9,  # PET before calibration [Pa]
     "nu": 0.4,
@@ -105,7 +104,7 @@ def run(config: dict) -> dict:
     key_config = {k: v for k, v in config.items() if k not in WHERE_KEYS}
     ckpt = Checkpoint(out / "rows.jsonl", key_config, code=code_digest(__name__))
     name, F = config["object"], config["force"]
-    geo, wall, L, measured = _inputs(config)
+    geo, wall, L, measured = object_inputs(config)
     n = len(L) // 2
     # 1. linear, all grasps, one E
     lin = _linear_all(wall, geo, L, measured)
@@ -159,7 +158,7 @@ def run(config: dict) -> dict:
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
-def _inputs(config: dict) -> tuple:
+def object_inputs(config: dict) -> tuple:
     """The object's wall geometry and linear wall at PET, its grasp locations ``L`` (2n, 3)
     [m] (jaw a of grasp k at row k, jaw b at k + n) and measured stiffness (n,) [N/m]."""
     import trimesh

@@ -14,9 +14,9 @@ then the bottle's mesh convergence at one location.
 
 Rows are checkpointed per (bottle, height, angle) so a killed run resumes.  The family's
 maps run as Dask tasks, one per (bottle, height) — each worker process builds a bottle's wall
-once (:func:`_bottle_wall`, a per-process memo) — and the mesh-convergence study as one more,
-while the driver runs the ring validation (:mod:`workbench.runner.parallel`; ``workers`` /
-``scheduler``; the numbers are the serial run's).
+once (:func:`workbench.fem.wall_family.bottle_wall`, a per-process memo) — and the
+mesh-convergence study as one more, while the driver runs the ring validation
+(:mod:`workbench.runner.parallel`; ``workers`` / ``scheduler``; the numbers are the serial run's).
 
 With ``object=PATH.obj`` (a watertight mesh in metres of a thin-walled object) and
 ``locations=PATH.json`` (``stiffness_locations``, 2n points, i and i + n one grasp —
@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from functools import lru_cache, partial
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -40,12 +40,13 @@ from workbench.code_key import code_digest
 from workbench.fem.bottle import Bottle, bottle_family
 from workbench.fem.material import Material
 from workbench.fem.object_wall import TOPS, wall_geometry
-from workbench.fem.wall import build_wall, ring_pinch, ring_wall, squeeze
+from workbench.fem.wall import ring_pinch, ring_wall, squeeze
+from workbench.fem.wall_family import bottle_wall, grasp_axis, mesh_convergence
 from workbench.fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
 from workbench.plausible import ImplausibleWarning
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
-from workbench.runner.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.runner.results import CHECKOUT, Checkpoint, save_figure, write_csv, write_summary
 from workbench.stats import rank_correlation
 
 NAME = "wall-stiffness"
@@ -133,38 +134,19 @@ def ring_rows(config: dict) -> list[dict]:
     return rows
 
 
-def _axis(bottle: Bottle, z: float, angle: float) -> tuple[np.ndarray, np.ndarray]:
-    centre, _, _, phi = bottle.section(z)
-    return np.r_[centre, z], np.array([np.cos(phi + angle), np.sin(phi + angle), 0.0])
-
-
-@lru_cache(maxsize=2)
-def _bottle_wall(seed: int, i: int, E: float, nu: float, thickness: float, nt: int, nz: int):
-    """Bottle ``i`` of the family and its wall, assembled and factorised once per process
-    (driver or worker; the sparse factor does not pickle, so it is never sent)."""
-    b = Bottle(bottle_family(seed=seed)[i])
-    wall = build_wall(
-        b.points_normals,
-        Material(E, nu),
-        thickness=thickness,
-        n_theta=nt,
-        n_z=nz,
-        z_range=(0, b.params.height),
-    )
-    return b, wall
-
-
 def _map_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
     """The map rows of one (bottle ``i``, height fraction ``hf``) at ``angles``: [(key, row)]."""
     i, hf, angles = job
     nt, nz = config["mesh"]
-    b, wall = _bottle_wall(
+    b, wall = bottle_wall(
         config["seed"], i, float(config["E"]), float(config["nu"]), float(config["thickness"]), nt, nz
     )
     out = []
     for a in angles:
         t0 = time.perf_counter()
-        r = squeeze(wall, *_axis(b, hf * b.params.height, a), force=config["force"], jaw=tuple(config["jaw"]))
+        r = squeeze(
+            wall, *grasp_axis(b, hf * b.params.height, a), force=config["force"], jaw=tuple(config["jaw"])
+        )
         row = {
             "bottle": i,
             "height_fraction": hf,
@@ -186,31 +168,80 @@ def _convergence_task(config: dict) -> list[dict]:
     """The first bottle's stiffness at mid-height, two axes, on each of ``convergence_meshes``."""
     mat = Material(config["E"], config["nu"])
     b = Bottle(bottle_family(seed=config["seed"])[config["bottles"][0]])
-    H = b.params.height
-    conv = []
-    for nt, nz in config["convergence_meshes"]:
-        wall = build_wall(
-            b.points_normals, mat, thickness=config["thickness"], n_theta=nt, n_z=nz, z_range=(0, H)
-        )
-        for ang in (0.0, np.pi / 2):
-            r = squeeze(wall, *_axis(b, 0.5 * H, ang), force=config["force"], jaw=tuple(config["jaw"]))
-            conv.append(
-                {
-                    "mesh": f"{nt}x{nz}",
-                    "angle": ang,
-                    "stiffness_N_per_m": r["stiffness"],
-                    "build_s": wall.seconds,
-                }
-            )
-    for r in conv:
-        ref = next(c for c in conv[::-1] if c["angle"] == r["angle"])
-        r["rel_to_finest"] = r["stiffness_N_per_m"] / ref["stiffness_N_per_m"] - 1
-    return conv
+    return mesh_convergence(
+        b, mat, config["thickness"], config["convergence_meshes"], config["force"], tuple(config["jaw"])
+    )
 
 
-def _task(job, config: dict):
-    """A Dask task of the family run: a map job, or "convergence"."""
+def task(job, config: dict):
+    """A Dask task of the family run: a map job ``(bottle, height fraction, angles)`` — its rows
+    ``[(key, row)]`` — or ``"convergence"`` (the mesh-convergence rows)."""
     return _convergence_task(config) if job == "convergence" else _map_task(job, config)
+
+
+def _jobs(config: dict, angles: np.ndarray, ckpt: Checkpoint) -> tuple[list, int]:
+    """The tasks still to run — ``(bottle, height fraction, angles)`` without a checkpointed row,
+    the mesh-convergence study first — and the number of grasps they squeeze."""
+    jobs: list = []
+    for i in config["bottles"]:
+        for hf in config["height_fractions"]:
+            todo = tuple(float(a) for a in angles if f"{i}/{hf}/{a:.6f}" not in ckpt.rows)
+            if todo:
+                jobs.append((i, hf, todo))
+    n_todo = sum(len(j[2]) for j in jobs)
+    if config["convergence_meshes"]:
+        jobs.insert(0, "convergence")  # the longest task first (its finest wall)
+    return jobs, n_todo
+
+
+def _map(rows: list[dict], i: int, angles: np.ndarray, config: dict, asymmetric: bool) -> dict:
+    """Bottle ``i``'s stiffness map over heights × angles from the sorted ``rows``."""
+    grid = np.array(
+        [
+            [
+                next(
+                    r
+                    for r in rows
+                    # the row's angle is this linspace value (exact through the JSON checkpoint);
+                    # 1e-9 rad only absorbs last-bit differences of a recomputed one
+                    if r["bottle"] == i and r["height_fraction"] == hf and abs(r["angle"] - a) < 1e-9
+                )["stiffness_N_per_m"]
+                for a in angles
+            ]
+            for hf in config["height_fractions"]
+        ],
+        dtype=float,  # None (an implausible closing) -> NaN
+    )
+    return {
+        "asymmetric": asymmetric,
+        "height_fractions": config["height_fractions"],
+        "angles_rad": angles.tolist(),
+        "stiffness_N_per_m": [[None if np.isnan(v) else v for v in row] for row in grid.tolist()],
+        "n_implausible": int(np.isnan(grid).sum()),
+        "min": None if np.isnan(grid).all() else float(np.nanmin(grid)),
+        "max": None if np.isnan(grid).all() else float(np.nanmax(grid)),
+    }
+
+
+def _headline(
+    ring: list[dict], maps: dict, rows: list[dict], ms: np.ndarray, angles: np.ndarray, config: dict
+) -> list[str]:
+    return [
+        "ring (Roark) at n_theta = {}: perpendicular {:+.2%}, load line {:+.2%}".format(
+            ring[-1]["n_theta"], ring[-1]["perpendicular_rel_err"], ring[-1]["load_line_rel_err"]
+        ),
+        *(
+            f"bottle {k}: stiffness {m['min']:.0f}..{m['max']:.0f} N/m over "
+            f"{len(config['height_fractions'])} heights x {len(angles)} axes"
+            + (f" ({m['n_implausible']} flagged implausible)" if m["n_implausible"] else "")
+            if m["min"] is not None
+            else f"bottle {k}: IMPLAUSIBLE — at every grasp the jaws would close by more than the "
+            "bottle's width (the linear wall model does not hold: E or thickness in another unit?)"
+            for k, m in maps.items()
+        ),
+        f"{len(rows)} grasps, median {np.median(ms):.0f} ms per grasp after a one-off wall factorisation",
+        f"discretisation: {mesh_error(config['mesh'])['note']}",
+    ]
 
 
 def run(config: dict) -> dict:
@@ -224,15 +255,7 @@ def run(config: dict) -> dict:
     key_config = {k: v for k, v in config.items() if k not in WHERE_KEYS}
     ckpt = Checkpoint(out / "rows.jsonl", key_config, code=code_digest(__name__))
     n_resumed = len(ckpt.rows)
-    jobs = []
-    for i in config["bottles"]:
-        for hf in config["height_fractions"]:
-            todo = tuple(float(a) for a in angles if f"{i}/{hf}/{a:.6f}" not in ckpt.rows)
-            if todo:
-                jobs.append((i, hf, todo))
-    n_todo = sum(len(j[2]) for j in jobs)
-    if config["convergence_meshes"]:
-        jobs.insert(0, "convergence")  # the longest task first (its finest wall)
+    jobs, n_todo = _jobs(config, angles, ckpt)
     got: dict = {}
 
     def keep(job, res) -> None:  # the driver alone writes the checkpoint
@@ -246,7 +269,7 @@ def run(config: dict) -> dict:
     with tqdm(total=n_bar, desc="stiffness map", unit="grasp") as bar:
         # the ring validation is the driver's share while the workers squeeze the bottles
         ring, ran_on = run_rows(
-            partial(_task, config=config),
+            partial(task, config=config),
             jobs,
             keep,
             config,
@@ -265,33 +288,7 @@ def run(config: dict) -> dict:
     cols = ["bottle", "height_fraction", "angle", "stiffness_N_per_m", "closing_mm", "contact_nodes", "ms"]
     write_csv(out / "stiffness_map.csv", cols, [[r[c] for c in cols] for r in rows])
 
-    maps = {}
-    for i in config["bottles"]:
-        grid = np.array(
-            [
-                [
-                    next(
-                        r
-                        for r in rows
-                        # the row's angle is this linspace value (exact through the JSON checkpoint);
-                        # 1e-9 rad only absorbs last-bit differences of a recomputed one
-                        if r["bottle"] == i and r["height_fraction"] == hf and abs(r["angle"] - a) < 1e-9
-                    )["stiffness_N_per_m"]
-                    for a in angles
-                ]
-                for hf in config["height_fractions"]
-            ],
-            dtype=float,  # None (an implausible closing) -> NaN
-        )
-        maps[str(i)] = {
-            "asymmetric": bool(family[i].asymmetric),
-            "height_fractions": config["height_fractions"],
-            "angles_rad": angles.tolist(),
-            "stiffness_N_per_m": [[None if np.isnan(v) else v for v in row] for row in grid.tolist()],
-            "n_implausible": int(np.isnan(grid).sum()),
-            "min": None if np.isnan(grid).all() else float(np.nanmin(grid)),
-            "max": None if np.isnan(grid).all() else float(np.nanmax(grid)),
-        }
+    maps = {str(i): _map(rows, i, angles, config, bool(family[i].asymmetric)) for i in config["bottles"]}
     figures = _figures(out, family, maps, config)
     ms = np.array([r["ms"] for r in rows])
     summary = {
@@ -310,31 +307,14 @@ def run(config: dict) -> dict:
             "clamped base, open top, rigid frictionless jaws, secant stiffness at the target force"
         ),
         "figures": figures,
-        "headline": [
-            "ring (Roark) at n_theta = {}: perpendicular {:+.2%}, load line {:+.2%}".format(
-                ring[-1]["n_theta"], ring[-1]["perpendicular_rel_err"], ring[-1]["load_line_rel_err"]
-            ),
-            *(
-                f"bottle {k}: stiffness {m['min']:.0f}..{m['max']:.0f} N/m over "
-                f"{len(config['height_fractions'])} heights x {len(angles)} axes"
-                + (f" ({m['n_implausible']} flagged implausible)" if m["n_implausible"] else "")
-                if m["min"] is not None
-                else f"bottle {k}: IMPLAUSIBLE — at every grasp the jaws would close by more than the "
-                "bottle's width (the linear wall model does not hold: E or thickness in another unit?)"
-                for k, m in maps.items()
-            ),
-            f"{len(rows)} grasps, median {np.median(ms):.0f} ms per grasp after a one-off wall factorisation",
-            f"discretisation: {mesh_error(config['mesh'])['note']}",
-        ],
+        "headline": _headline(ring, maps, rows, ms, angles, config),
     }
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
 #: the measured discretisation error of wall meshes at body and shoulder grasps
 #: (benchmarks/bench_shoulder_convergence.py; ``make bench-shoulder``), beside the experiments
-CONVERGENCE_FILE = (
-    Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "shoulder_convergence.json"
-)
+CONVERGENCE_FILE = CHECKOUT / "results" / "benchmarks" / "shoulder_convergence.json"
 
 
 def mesh_error(mesh: list, path: Path = CONVERGENCE_FILE) -> dict:
@@ -423,6 +403,41 @@ def _object_inputs(config: dict) -> tuple:
     return mesh, L, measured
 
 
+def _check_family(config: dict) -> None:
+    """The bottle family's keys: bottles, angles and heights."""
+    bad = [i for i in config["bottles"] if not 0 <= i < 24]
+    if bad or not config["bottles"]:
+        raise ValueError(
+            "bottles must be indices into the thesis's bottle family, 0-23, at least one; "
+            f"got {config['bottles']!r}"
+        )
+    if config["n_angles"] < 1:
+        raise ValueError(f"n_angles must be >= 1 (grasp axes per height); got {config['n_angles']!r}")
+    bad = [h for h in config["height_fractions"] if not 0 <= h <= 1]
+    if bad or not config["height_fractions"]:
+        hint = (
+            f" — per cent? pass {[h / 100 for h in config['height_fractions']]}"
+            if bad and all(0 <= h <= 100 for h in config["height_fractions"])
+            else ""
+        )
+        raise ValueError(
+            f"height_fractions must be fractions of the wall's height in [0, 1], at least one; "
+            f"got {config['height_fractions']!r}{hint}"
+        )
+
+
+def _check_meshes(config: dict) -> None:
+    """The wall mesh, and the convergence study's meshes for the bottle family."""
+    for key in ("mesh", *(["convergence_meshes"] if not config["object"] else [])):
+        meshes = [config[key]] if key == "mesh" else config[key]
+        for m in meshes:
+            if len(m) != 2 or min(m) < 1:
+                raise ValueError(
+                    f"{key} must give [hexes around, hexes along the height], two integers >= 1, e.g. "
+                    f"[48, 24]; got {m!r}"
+                )
+
+
 def check_config(config: dict) -> None:
     """With ``object=``, refuse careless inputs before any work (:func:`_object_inputs`);
     ``workbench run`` turns the ``ValueError`` into its error message.  Force, E and jaw
@@ -432,33 +447,8 @@ def check_config(config: dict) -> None:
     if len(config["jaw"]) != 2:
         raise ValueError(f"jaw must be [width, length] in metres, e.g. [0.02, 0.04]; got {config['jaw']!r}")
     if not config["object"]:
-        bad = [i for i in config["bottles"] if not 0 <= i < 24]
-        if bad or not config["bottles"]:
-            raise ValueError(
-                "bottles must be indices into the thesis's bottle family, 0-23, at least one; "
-                f"got {config['bottles']!r}"
-            )
-        if config["n_angles"] < 1:
-            raise ValueError(f"n_angles must be >= 1 (grasp axes per height); got {config['n_angles']!r}")
-        bad = [h for h in config["height_fractions"] if not 0 <= h <= 1]
-        if bad or not config["height_fractions"]:
-            hint = (
-                f" — per cent? pass {[h / 100 for h in config['height_fractions']]}"
-                if bad and all(0 <= h <= 100 for h in config["height_fractions"])
-                else ""
-            )
-            raise ValueError(
-                f"height_fractions must be fractions of the wall's height in [0, 1], at least one; "
-                f"got {config['height_fractions']!r}{hint}"
-            )
-    for key in ("mesh", *(["convergence_meshes"] if not config["object"] else [])):
-        meshes = [config[key]] if key == "mesh" else config[key]
-        for m in meshes:
-            if len(m) != 2 or min(m) < 1:
-                raise ValueError(
-                    f"{key} must give [hexes around, hexes along the height], two integers >= 1, e.g. "
-                    f"[48, 24]; got {m!r}"
-                )
+        _check_family(config)
+    _check_meshes(config)
     check_workers(config["workers"], config["scheduler"])
     if config["locations"] and not config["object"]:
         raise ValueError(
@@ -469,24 +459,14 @@ def check_config(config: dict) -> None:
         _object_inputs(config)
 
 
-def run_object(config: dict) -> dict:
-    """The CLI contract: stiffness of ``object`` at the grasps of ``locations`` (module docstring)."""
-
-    t_start = time.perf_counter()
-    out = Path(config["out"])
-    mesh, L, measured = _object_inputs(config)
-    nt, nz = config["mesh"]
-    geo = wall_geometry(mesh, thickness=config["thickness"], n_z=nz, top=config["top"])
-    grasp_pairs(L, geo.surface, mesh=mesh)  # refuse careless locations before the wall is built
+def _squeeze_object(config: dict, geo, L: np.ndarray, ckpt: Checkpoint) -> float:
+    """Squeeze the object's wall at every grasp without a checkpointed row (the wall built only
+    then); returns the wall's build time [s] (0 when every row was resumed)."""
     n = len(L) // 2
-    key_cfg = {k: v for k, v in config.items() if k != "out"}
-    key_cfg |= {"object_sha": _file_hash(config["object"]), "locations_sha": _file_hash(config["locations"])}
-    ckpt = Checkpoint(out / "rows.jsonl", key_cfg, code=code_digest(__name__))
-    n_resumed = len(ckpt.rows)
     todo = [i for i in range(n) if str(i) not in ckpt]
     build_s = 0.0
     if todo:
-        wall = geo.build(Material(config["E"], config["nu"]), n_theta=nt)
+        wall = geo.build(Material(config["E"], config["nu"]), n_theta=config["mesh"][0])
         build_s = wall.seconds
         for i in tqdm(todo, desc=f"wall stiffness {Path(config['object']).stem}", unit="grasp"):
             (row,) = stiffness_at(
@@ -500,6 +480,65 @@ def run_object(config: dict) -> dict:
                 grasp_ids=[i],
             )
             ckpt.add(str(i), {"grasp": i, **row})
+    return build_s
+
+
+def _vs_measured(s: np.ndarray, summary: dict, measured: np.ndarray) -> dict:
+    """The model's stiffness ``s`` (n,) against the measured map (uncalibrated), over the grasps
+    that neither calls rigid (nor failed)."""
+    from workbench.config import TOL
+
+    rigid = measured >= TOL.rigid_stiffness_threshold  # the measured maps mark rigid with 8e10
+    ok = ~np.array(summary["rigid"]) & ~np.array(summary["failed"]) & ~rigid
+    if ok.sum() < 3:
+        return {
+            "n": int(ok.sum()),
+            "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
+            "(or failed): no comparison",
+        }
+    ratio = np.log(s[ok] / measured[ok])
+    return {
+        "n": int(ok.sum()),
+        "spearman": rank_correlation(s[ok], measured[ok]),
+        "median_log_ratio": float(np.median(ratio)),
+        "median_abs_log_ratio": float(np.median(np.abs(ratio))),
+    }
+
+
+def _object_headline(config: dict, summary: dict, s: np.ndarray, n: int) -> list[str]:
+    soft = s[~np.array(summary["rigid"]) & ~np.array(summary["failed"])]
+    return [
+        f"{Path(config['object']).stem}: {n} grasps, {sum(summary['rigid'])} rigid, "
+        f"{sum(summary['failed'])} failed, {sum(summary['non_antipodal'])} not antipodal; "
+        + (
+            f"stiffness {soft.min():.0f}..{soft.max():.3g} N/m where not rigid"
+            if soft.size
+            else "none deflects"
+        ),
+        *(
+            [f"{sum(summary['implausible'])} flagged implausible (closing beyond the object's width)"]
+            if any(summary["implausible"])
+            else []
+        ),
+        f"discretisation: {summary['mesh_error']['note']}",
+    ]
+
+
+def run_object(config: dict) -> dict:
+    """The CLI contract: stiffness of ``object`` at the grasps of ``locations`` (module docstring)."""
+
+    t_start = time.perf_counter()
+    out = Path(config["out"])
+    mesh, L, measured = _object_inputs(config)
+    nz = config["mesh"][1]
+    geo = wall_geometry(mesh, thickness=config["thickness"], n_z=nz, top=config["top"])
+    grasp_pairs(L, geo.surface, mesh=mesh)  # refuse careless locations before the wall is built
+    n = len(L) // 2
+    key_cfg = {k: v for k, v in config.items() if k != "out"}
+    key_cfg |= {"object_sha": _file_hash(config["object"]), "locations_sha": _file_hash(config["locations"])}
+    ckpt = Checkpoint(out / "rows.jsonl", key_cfg, code=code_digest(__name__))
+    n_resumed = len(ckpt.rows)
+    build_s = _squeeze_object(config, geo, L, ckpt)
     rows = [ckpt.rows[str(i)] for i in range(n)]
     s = np.array([r["stiffness"] for r in rows], dtype=float)
     cols = [
@@ -547,40 +586,8 @@ def run_object(config: dict) -> dict:
         ),
     }
     if measured is not None:
-        from workbench.config import TOL
-
-        rigid = measured >= TOL.rigid_stiffness_threshold  # the measured maps mark rigid with 8e10
-        ok = ~np.array(summary["rigid"]) & ~np.array(summary["failed"]) & ~rigid
-        if ok.sum() < 3:
-            summary["vs_measured_uncalibrated"] = {
-                "n": int(ok.sum()),
-                "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
-                "(or failed): no comparison",
-            }
-        else:
-            ratio = np.log(s[ok] / measured[ok])
-            summary["vs_measured_uncalibrated"] = {
-                "n": int(ok.sum()),
-                "spearman": rank_correlation(s[ok], measured[ok]),
-                "median_log_ratio": float(np.median(ratio)),
-                "median_abs_log_ratio": float(np.median(np.abs(ratio))),
-            }
-    soft = s[~np.array(summary["rigid"]) & ~np.array(summary["failed"])]
-    summary["headline"] = [
-        f"{Path(config['object']).stem}: {n} grasps, {sum(summary['rigid'])} rigid, "
-        f"{sum(summary['failed'])} failed, {sum(summary['non_antipodal'])} not antipodal; "
-        + (
-            f"stiffness {soft.min():.0f}..{soft.max():.3g} N/m where not rigid"
-            if soft.size
-            else "none deflects"
-        ),
-        *(
-            [f"{sum(summary['implausible'])} flagged implausible (closing beyond the object's width)"]
-            if any(summary["implausible"])
-            else []
-        ),
-        f"discretisation: {summary['mesh_error']['note']}",
-    ]
+        summary["vs_measured_uncalibrated"] = _vs_measured(s, summary, measured)
+    summary["headline"] = _object_headline(config, summary, s, n)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 
@@ -671,8 +678,9 @@ def memory_estimate(config: dict, model: dict | None = None) -> int:
 
     A wall of ``mesh = [n_theta, n_z]`` has ``36 n_theta n_z`` free dofs (one triquadratic hex
     through the wall: ``2 n_theta × 2 n_z × 3`` free nodes above the clamped base).  Walls alive
-    at once: the family's maps keep up to two factored walls (``_bottle_wall``'s cache of two;
-    a wall is factored on first use, after the cache has dropped the oldest); the
+    at once: the family's maps keep up to two factored walls
+    (:func:`workbench.fem.wall_family.bottle_wall`'s cache of two; a wall is factored on first use,
+    after the cache has dropped the oldest); the
     mesh-convergence study builds its walls one after another, before the maps.  With
     ``object=`` one wall, of at least ``n_z`` rows (:func:`wall_geometry` adds rows for a lip).
     """

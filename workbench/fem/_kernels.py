@@ -82,7 +82,7 @@ def _upper_rows(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray, X: np
 
 
 @njit(**NUMBA_FLAGS)
-def _svk_element_loop(
+def _svk_element_loop(  # noqa: C901, PLR0913, PLR0915 - Numba kernel: one fused loop per element over flat arrays
     G: np.ndarray,
     w: np.ndarray,
     dofs: np.ndarray,
@@ -190,7 +190,7 @@ def _svk_element_loop(
 
 
 @njit(**NUMBA_FLAGS)
-def _neo_hookean_element_loop(
+def _neo_hookean_element_loop(  # noqa: C901, PLR0913, PLR0915 - Numba kernel: one fused loop per element over flat arrays
     G: np.ndarray,
     dx: np.ndarray,
     edofs: np.ndarray,

@@ -416,6 +416,37 @@ def squeeze(
     from workbench.sources.jaws import check_pad
 
     check_pad(jaw)  # (width, length) [m]: (20, 40) for 0.02 m is refused
+    axis = _grasp_axis(axis)
+    fp = _footprint(wall, centre, axis, jaw)
+    if (fp.stop <= 0).any() or not ((fp.owner == 0).any() and (fp.owner == 1).any()):
+        # a jaw first touches the clamped edge: it cannot close at all
+        return _clamped_result(fp)
+    state = _grow_contact(wall, fp, force, margin, max_iter, _Growth(max_start, max_add, max_rounds))
+    delta = float(state.travel.sum())
+    width = float(np.linalg.norm(fp.touch[0] - fp.touch[1]))
+    _warn_closing(delta, force, width)
+    travel, stop = state.travel, fp.stop
+    return {
+        "width": width,
+        "implausible": bool(delta >= width),
+        "on_clamp": bool((travel > stop).any()),
+        "clamp_gap": float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
+        "stiffness": force / delta,
+        "delta": delta,
+        "jaw_travel": travel,
+        "jaw_forces": state.f,
+        "contact_points": np.array(fp.touch),
+        "contact_nodes": int((state.lam > 0).sum()),
+        "lcp_solves": state.solves,
+        "candidate_rounds": state.rounds,
+        "converged": state.converged,
+        "compliance_solves": int(state.have.sum()),
+    }
+
+
+def _grasp_axis(axis: np.ndarray) -> np.ndarray:
+    """The unit (3,) grasp ``axis`` of :func:`squeeze`, or a ValueError unless it is a non-zero
+    horizontal (3,) vector."""
     axis = np.asarray(axis, float)
     if axis.shape != (3,) or not np.isfinite(axis).all() or not np.linalg.norm(axis) > 0:
         raise ValueError(f"axis must be a non-zero (3,) grasp axis; got {axis.tolist()}")
@@ -424,7 +455,25 @@ def squeeze(
             f"axis {axis.tolist()} is not horizontal: the squeeze's jaws close along a horizontal axis "
             "(their faces vertical, their length along z)"
         )
-    axis = axis / np.linalg.norm(axis)
+    return axis / np.linalg.norm(axis)
+
+
+@dataclass
+class _Footprint:
+    """The outer-surface nodes under the two jaws of :func:`squeeze` (clamped ones removed)."""
+
+    nodes: np.ndarray  # (k,) indices into Wall.outer_xyz
+    dirs: np.ndarray  # (k, 3) each node's closing direction (towards the other jaw)
+    gaps: np.ndarray  # (k,) gap to its jaw at first touch [m]
+    owner: np.ndarray  # (k,) the jaw (0: on the +axis side, 1) over each node
+    lat: np.ndarray  # (k,) lateral coordinate in the jaw face [m]
+    vert: np.ndarray  # (k,) vertical coordinate in the jaw face [m]
+    stop: np.ndarray  # (2,) each jaw's travel to a clamped node of its footprint [m] (inf: none)
+    touch: list  # the two jaws' first-touch points, (3,) each [m]
+
+
+def _footprint(wall: Wall, centre: np.ndarray, axis: np.ndarray, jaw: tuple[float, float]) -> _Footprint:
+    """Each jaw's footprint nodes, their gaps at first touch and the jaws' travel to a clamp."""
     up = np.array([0.0, 0.0, 1.0])
     side = np.cross(up, axis)
     rel = wall.outer_xyz - centre
@@ -450,83 +499,121 @@ def squeeze(
     stop = np.array(
         [gaps[pinned & (owner == c)].min() if (pinned & (owner == c)).any() else np.inf for c in (0, 1)]
     )
-    nodes, dirs, gaps, owner = nodes[~pinned], dirs[~pinned], gaps[~pinned], owner[~pinned]
-    lat, vert = lat[~pinned], vert[~pinned]
-    if (stop <= 0).any() or not ((owner == 0).any() and (owner == 1).any()):
-        # a jaw first touches the clamped edge: it cannot close at all
-        return {
-            "stiffness": np.inf,
-            "delta": 0.0,
-            "jaw_forces": np.full(2, np.nan),
-            "contact_points": np.array(touch),
-            "contact_nodes": 0,
-            "lcp_solves": 0,
-            "candidate_rounds": 0,
-            "converged": True,
-            "compliance_solves": 0,
-            "on_clamp": True,
-            "clamp_gap": max(float(stop.min()), 0.0),
-        }
-    # condense only a few near-touching nodes and add the footprint nodes the wall pushes
-    # through a jaw, round by round: a rigid jaw on a convex wall touches a handful of
-    # nodes, and on a flat face (a box) the contact gathers at the jaw's edges, so the
-    # contact set is small even when the whole footprint starts within ``margin``.
-    # Each compliance column (one sparse solve) is read at every footprint node and
-    # kept, so a round costs only its new nodes' solves and the check costs none.
-    active = _spread(np.flatnonzero(gaps < margin), gaps, owner, lat, vert, max_start)
-    cols = np.zeros((nodes.size, nodes.size))  # column j: displacement along dirs under unit load at j
-    have = np.zeros(nodes.size, dtype=bool)
-    travel, solves, rounds, f = np.full(2, 0.5e-3), 0, 0, np.zeros(2)  # each jaw's travel [m]
-    converged = False
+    keep = ~pinned
+    return _Footprint(nodes[keep], dirs[keep], gaps[keep], owner[keep], lat[keep], vert[keep], stop, touch)
+
+
+def _clamped_result(fp: _Footprint) -> dict:
+    """:func:`squeeze`'s answer when a jaw first touches the clamped edge (it cannot close)."""
+    return {
+        "stiffness": np.inf,
+        "delta": 0.0,
+        "jaw_forces": np.full(2, np.nan),
+        "contact_points": np.array(fp.touch),
+        "contact_nodes": 0,
+        "lcp_solves": 0,
+        "candidate_rounds": 0,
+        "converged": True,
+        "compliance_solves": 0,
+        "on_clamp": True,
+        "clamp_gap": max(float(fp.stop.min()), 0.0),
+    }
+
+
+@dataclass(frozen=True)
+class _Growth:
+    """How :func:`squeeze` grows the contact set (its arguments of the same names)."""
+
+    max_start: int
+    max_add: int
+    max_rounds: int
+
+
+@dataclass
+class _Contact:
+    """The state of :func:`squeeze`'s contact solve."""
+
+    cols: np.ndarray  # (k, k) column j: displacement along dirs under a unit load at node j
+    have: np.ndarray  # (k,) bool: column computed
+    travel: np.ndarray  # (2,) each jaw's travel [m]
+    f: np.ndarray  # (2,) the jaw forces [N]
+    lam: np.ndarray | None = None  # (|active|,) the contact forces of the last LCP [N]
+    solves: int = 0  # LCP solves
+    rounds: int = 0  # candidate rounds
+    converged: bool = False
+
+
+def _grow_contact(
+    wall: Wall, fp: _Footprint, force: float, margin: float, max_iter: int, growth: _Growth
+) -> _Contact:
+    """Condense only a few near-touching nodes and add the footprint nodes the wall pushes
+    through a jaw, round by round: a rigid jaw on a convex wall touches a handful of nodes,
+    and on a flat face (a box) the contact gathers at the jaw's edges, so the contact set is
+    small even when the whole footprint starts within ``margin``.  Each compliance column (one
+    sparse solve) is read at every footprint node and kept, so a round costs only its new
+    nodes' solves and the check costs none."""
+    active = _spread(np.flatnonzero(fp.gaps < margin), fp.gaps, fp.owner, fp.lat, fp.vert, growth.max_start)
+    k = fp.nodes.size
+    st = _Contact(np.zeros((k, k)), np.zeros(k, dtype=bool), np.full(2, 0.5e-3), np.zeros(2))
     while True:
-        rounds += 1
-        new = active[~have[active]]
+        st.rounds += 1
+        new = active[~st.have[active]]
         if new.size:
-            cols[:, new] = wall.compliance(nodes[new], dirs[new], nodes, dirs)
-            have[new] = True
-        A = cols[np.ix_(active, active)]
+            st.cols[:, new] = wall.compliance(fp.nodes[new], fp.dirs[new], fp.nodes, fp.dirs)
+            st.have[new] = True
+        A = st.cols[np.ix_(active, active)]
         A = 0.5 * (A + A.T)
-        # equal and opposite jaw forces (a free object between the jaws; the clamps only
-        # stand for its stiff base and shoulder, so they carry no net force): Newton on
-        # the two jaws' travels, exact while the contact set holds (f = Mᵀ A_SS⁻¹ (M t − g))
-        force_ok = False
-        own = owner[active]
-        for _ in range(max_iter):
-            lam, _, _ = solve_lcp(A, gaps[active] - travel[own])
-            solves += 1
-            f = np.array([lam[own == c].sum() for c in (0, 1)])
-            # both jaws' forces at the target to 1e-9: the secant update has converged
-            if np.all(np.abs(f / force - 1) < 1e-9):
-                force_ok = True
-                break
-            S = lam > 0
-            touching = np.array([(S & (own == c)).any() for c in (0, 1)])
-            if not touching.all():  # a jaw off the wall: move it in
-                travel = np.where(touching, travel, 2 * travel)
-                continue
-            M = (own[S, None] == np.arange(2)).astype(float)  # (|S|, 2) jaw of each contact node
-            J = M.T @ np.linalg.solve(A[np.ix_(S, S)], M)
-            travel = np.maximum(travel + np.linalg.solve(J, force - f), 0.5 * travel)
-        gap_all = gaps - travel[owner] + cols[:, active] @ lam
+        force_ok = _close_jaws(st, A, fp.gaps[active], fp.owner[active], force, max_iter)
+        gap_all = fp.gaps - st.travel[fp.owner] + st.cols[:, active] @ st.lam
         # a node penetrating beyond 1e-9 of the jaws' travel joins the contact set (above the solve's
         # round-off)
-        viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * travel.sum()), active)
+        viol = np.setdiff1d(np.flatnonzero(gap_all < -1e-9 * st.travel.sum()), active)
         if viol.size == 0:
-            converged = force_ok
+            st.converged = force_ok
             if not force_ok:
-                log.warning("squeeze: jaw forces %s N, target %.6g N", f, force)
-            break
-        if rounds >= max_rounds:
+                log.warning("squeeze: jaw forces %s N, target %.6g N", st.f, force)
+            return st
+        if st.rounds >= growth.max_rounds:
             log.warning(
-                "squeeze: %d footprint nodes still pass through a jaw after %d rounds", viol.size, rounds
+                "squeeze: %d footprint nodes still pass through a jaw after %d rounds", viol.size, st.rounds
             )
-            break
+            return st
         # the deepest violators first, at most max_add per round (a flat face's whole footprint
         # would otherwise come in at once)
-        viol = viol[np.argsort(gap_all[viol])][:max_add]
+        viol = viol[np.argsort(gap_all[viol])][: growth.max_add]
         active = np.union1d(active, viol)
-    delta = float(travel.sum())
-    width = float(np.linalg.norm(touch[0] - touch[1]))
+
+
+def _close_jaws(
+    st: _Contact, A: np.ndarray, gaps: np.ndarray, own: np.ndarray, force: float, max_iter: int
+) -> bool:
+    """Equal and opposite jaw forces on the contact set with compliance ``A`` (a free object
+    between the jaws; the clamps only stand for its stiff base and shoulder, so they carry no
+    net force): Newton on the two jaws' travels, exact while the contact set holds
+    (f = Mᵀ A_SS⁻¹ (M t − g)).  Updates ``st`` (travel, forces, contact forces, solves);
+    True when both jaw forces reached ``force``."""
+    for _ in range(max_iter):
+        lam, _, _ = solve_lcp(A, gaps - st.travel[own])
+        st.lam = lam
+        st.solves += 1
+        st.f = np.array([lam[own == c].sum() for c in (0, 1)])
+        # both jaws' forces at the target to 1e-9: the secant update has converged
+        if np.all(np.abs(st.f / force - 1) < 1e-9):
+            return True
+        S = lam > 0
+        touching = np.array([(S & (own == c)).any() for c in (0, 1)])
+        if not touching.all():  # a jaw off the wall: move it in
+            st.travel = np.where(touching, st.travel, 2 * st.travel)
+            continue
+        M = (own[S, None] == np.arange(2)).astype(float)  # (|S|, 2) jaw of each contact node
+        J = M.T @ np.linalg.solve(A[np.ix_(S, S)], M)
+        st.travel = np.maximum(st.travel + np.linalg.solve(J, force - st.f), 0.5 * st.travel)
+    return False
+
+
+def _warn_closing(delta: float, force: float, width: float) -> None:
+    """Log a warning when the closing ``delta`` [m] at ``force`` [N] is impossible (the jaws
+    would meet inside the object's ``width`` [m]) or beyond the linear model's small strains."""
     if delta >= width:  # impossible: the jaws would meet inside the object
         log.warning(
             "squeeze: the jaws close by %.4g m at %g N, more than the object's %.4g m width along the "
@@ -544,22 +631,6 @@ def squeeze(
             100 * delta / width,
             width * 1e3,
         )
-    return {
-        "width": width,
-        "implausible": bool(delta >= width),
-        "on_clamp": bool((travel > stop).any()),
-        "clamp_gap": float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
-        "stiffness": force / delta,
-        "delta": delta,
-        "jaw_travel": travel,
-        "jaw_forces": f,
-        "contact_points": np.array(touch),
-        "contact_nodes": int((lam > 0).sum()),
-        "lcp_solves": solves,
-        "candidate_rounds": rounds,
-        "converged": converged,
-        "compliance_solves": int(have.sum()),
-    }
 
 
 def _spread(

@@ -228,81 +228,110 @@ def stiffness_at(
     out = []
     for k, (a, b) in enumerate(zip(p1, p2, strict=True)):
         ang = float(angles[k])
-        row = {
-            "stiffness": np.nan,
-            "fem_stiffness": np.nan,
-            "delta": np.nan,
-            "rigid": False,
-            "failed": False,
-            "implausible": False,
-            "non_antipodal": bool(ang > limit),
-            "axis_normal_deg": ang,
-            "reason": None,
-        }
         t0 = time.perf_counter()
-        axis = b - a
-        coincide = np.linalg.norm(axis) < 1e-6  # < 1 µm apart: no grasp axis
-        if coincide:
-            row.update(non_antipodal=False, axis_normal_deg=float("nan"))
-        if row["non_antipodal"]:
-            log.warning(
-                "grasp %d is not antipodal: its axis is %.0f° from the surface normal at a jaw point "
-                "(at most %g°, config.TOL.antipodal_max_deg) — check that points i and i + n are the "
-                "two jaws of one grasp",
-                int(ids[k]),
-                ang,
-                limit,
-            )
-        if coincide:
-            row.update(
-                failed=True,
-                reason="the two jaw points coincide (no grasp axis); points i and i + n must be the two jaws",
-            )
-        elif not all(lo <= p[2] <= hi for p in (a, b)):
-            row.update(stiffness=RIGID_STIFFNESS, delta=0.0, rigid=True, reason="outside the side wall")
-        elif abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3°: squeeze's jaws are vertical
-            row.update(failed=True, reason="grasp axis not horizontal (the wall squeeze assumes it is)")
-        elif ang > 90.0:
-            row.update(
-                failed=True,
-                reason=f"the grasp axis leaves the wall at a jaw point ({ang:.0f}° from its outward "
-                "normal): a jaw would press from inside; points i and i + n must face each other",
-            )
+        coincide = np.linalg.norm(b - a) < 1e-6  # < 1 µm apart: no grasp axis
+        row = _new_row(ang, limit, coincide, int(ids[k]))
+        skip = _not_squeezed(a, b, ang, coincide, (lo, hi))
+        if skip is not None:
+            row.update(skip)
         else:
             try:
                 res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
                 s = float(res["stiffness"])
                 row.update(stiffness=s, fem_stiffness=s, delta=float(res["delta"]))
-                if res.get("implausible", False):
-                    row.update(
-                        stiffness=np.nan,
-                        failed=True,
-                        implausible=True,
-                        reason=f"impossible: the jaws close by {res['delta']:.4g} m at the target force, "
-                        f"more than the object's {res['width'] * 1e3:.3g} mm width (the linear wall model "
-                        "does not hold; a modulus or thickness in another unit?)",
-                    )
-                elif res["on_clamp"]:
-                    row.update(
-                        stiffness=RIGID_STIFFNESS,
-                        rigid=True,
-                        reason=(
-                            "a jaw rests on the clamped edge after "
-                            f"{res['clamp_gap'] * 1e3:.3g} mm of its own travel from first touch "
-                            f"(closing of both jaws {res['delta'] * 1e3:.3g} mm at the target force)"
-                        ),
-                    )
-                elif res["delta"] < rigid_closing:
-                    row.update(
-                        stiffness=RIGID_STIFFNESS,
-                        rigid=True,
-                        reason=f"closing {res['delta'] * 1e3:.3f} mm below {rigid_closing * 1e3:g} mm",
-                    )
+                row.update(_squeeze_flags(res, rigid_closing))
             except ValueError as exc:
                 row.update(failed=True, reason=str(exc))
         row["seconds"] = time.perf_counter() - t0
         out.append(row)
     return out
+
+
+def _new_row(ang: float, limit: float, coincide: bool, grasp_id: int) -> dict:
+    """A grasp's row of :func:`stiffness_at` before its squeeze: ``ang`` [deg] its axis–normal
+    angle against the antipodal ``limit`` [deg] (a warning logged beyond it), ``coincide``
+    its jaw points (no axis, no angle)."""
+    row = {
+        "stiffness": np.nan,
+        "fem_stiffness": np.nan,
+        "delta": np.nan,
+        "rigid": False,
+        "failed": False,
+        "implausible": False,
+        "non_antipodal": bool(ang > limit),
+        "axis_normal_deg": ang,
+        "reason": None,
+    }
+    if coincide:
+        row.update(non_antipodal=False, axis_normal_deg=float("nan"))
+    if row["non_antipodal"]:
+        log.warning(
+            "grasp %d is not antipodal: its axis is %.0f° from the surface normal at a jaw point "
+            "(at most %g°, config.TOL.antipodal_max_deg) — check that points i and i + n are the "
+            "two jaws of one grasp",
+            grasp_id,
+            ang,
+            limit,
+        )
+    return row
+
+
+def _not_squeezed(
+    a: np.ndarray, b: np.ndarray, ang: float, coincide: bool, heights: tuple[float, float]
+) -> dict | None:
+    """The flags and reason of a grasp from jaw point ``a`` to ``b`` (3,) [m] that is not
+    squeezed (module docstring: rigid or failed), or None to squeeze it; ``heights`` (lo, hi) [m]
+    of the modelled wall."""
+    lo, hi = heights
+    axis = b - a
+    if coincide:
+        return {
+            "failed": True,
+            "reason": "the two jaw points coincide (no grasp axis); points i and i + n must be the two jaws",
+        }
+    if not all(lo <= p[2] <= hi for p in (a, b)):
+        return {"stiffness": RIGID_STIFFNESS, "delta": 0.0, "rigid": True, "reason": "outside the side wall"}
+    if abs(axis[2]) > 0.05 * np.linalg.norm(axis):  # > ~3°: squeeze's jaws are vertical
+        return {"failed": True, "reason": "grasp axis not horizontal (the wall squeeze assumes it is)"}
+    if ang > 90.0:
+        return {
+            "failed": True,
+            "reason": f"the grasp axis leaves the wall at a jaw point ({ang:.0f}° from its outward "
+            "normal): a jaw would press from inside; points i and i + n must face each other",
+        }
+    return None
+
+
+def _squeeze_flags(res: dict, rigid_closing: float) -> dict:
+    """The flags and reason of a squeezed grasp (:func:`workbench.fem.wall.squeeze`'s ``res``):
+    implausible (failed), on the clamped edge or closing below ``rigid_closing`` [m] (rigid),
+    or none."""
+    if res.get("implausible", False):
+        return {
+            "stiffness": np.nan,
+            "failed": True,
+            "implausible": True,
+            "reason": f"impossible: the jaws close by {res['delta']:.4g} m at the target force, "
+            f"more than the object's {res['width'] * 1e3:.3g} mm width (the linear wall model "
+            "does not hold; a modulus or thickness in another unit?)",
+        }
+    if res["on_clamp"]:
+        return {
+            "stiffness": RIGID_STIFFNESS,
+            "rigid": True,
+            "reason": (
+                "a jaw rests on the clamped edge after "
+                f"{res['clamp_gap'] * 1e3:.3g} mm of its own travel from first touch "
+                f"(closing of both jaws {res['delta'] * 1e3:.3g} mm at the target force)"
+            ),
+        }
+    if res["delta"] < rigid_closing:
+        return {
+            "stiffness": RIGID_STIFFNESS,
+            "rigid": True,
+            "reason": f"closing {res['delta'] * 1e3:.3f} mm below {rigid_closing * 1e3:g} mm",
+        }
+    return {}
 
 
 def read_locations(path: Any) -> tuple[np.ndarray, np.ndarray | None]:

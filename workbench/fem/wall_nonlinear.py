@@ -72,80 +72,16 @@ def squeeze_nonlinear(
     if not (0 < step < max_closing):
         raise ValueError(f"need 0 < step < max_closing [m]; got {step}, {max_closing}")
     t0 = time.perf_counter()
-    b = wall.basis
-    mu, lam = wall.material.mu, wall.material.lam
-    from .wall import components
-
-    comp = components(b)
-    fixed = np.ones(b.N, dtype=bool)
-    fixed[wall.free] = False
-    outer_x = wall.outer_dofs[:, 0]  # x dofs of the outer-surface nodes
-    X = wall.outer_xyz
-    rel = X - centre
-    in_print = (np.abs(rel[:, 1]) <= jaw[0] / 2) & (np.abs(rel[:, 2]) <= jaw[1] / 2)
-    sides = []
-    for s in (1.0, -1.0):  # jaw on the +x side moves along -x
-        cand = np.flatnonzero(in_print & (s * rel[:, 0] > 0))
-        if cand.size == 0:
-            raise ValueError("no wall under a jaw: the grasp axis misses the object")
-        # a clamped node under a jaw (the base) does not move: the jaw stops on it
-        pinned = fixed[outer_x[cand]]
-        reach = float((s * rel[cand, 0]).max())  # first touch at the outermost node
-        stop = float(reach - (s * rel[cand[pinned], 0]).max()) if pinned.any() else np.inf
-        sides.append((s, cand[~pinned], reach, stop))
-    assert (comp[outer_x] == 0).all()
-    u, u_prev = np.zeros(b.N), np.zeros(b.N)
-    cache: dict = {}
-    unclamped, chol = np.flatnonzero(~fixed), None  # contact pins some of these dofs
+    sv = _Solve(wall, newton_tol, max_newton)
+    sides = _jaw_sides(sv, centre, jaw)
     active = [np.zeros(0, dtype=int), np.zeros(0, dtype=int)]
-    closing, forces, iters, on_clamp = [0.0], [np.zeros(2)], 0, False
+    closing, forces, on_clamp = [0.0], [np.zeros(2)], False
     while closing[-1] < max_closing and np.mean(forces[-1]) < force:
         d = closing[-1] + step
         if any(d / 2 > stop for *_, stop in sides):
             on_clamp = True  # the jaw would pass the clamped base: it rests on it from here
             break
-        planes = [centre[0] + s * (reach - d / 2) for s, _, reach, _ in sides]
-        u, u_prev = u + (u - u_prev), u  # predictor: the last step's increment again
-        for _ in range(20):  # contact set for this step: Newton to equilibrium, then update
-            bc = fixed.copy()
-            target = np.zeros(b.N)
-            for (_, cand, _, _), act, plane in zip(sides, active, planes, strict=True):
-                bc[outer_x[cand[act]]] = True
-                target[outer_x[cand[act]]] = plane - X[cand[act], 0]
-            fr = np.flatnonzero(~bc)
-            for _ in range(max_newton):
-                K, r = svk_tangent(b, u, mu, lam, cache)
-                if chol is None:  # one order and symbolic Cholesky per grasp, for every contact set
-                    chol = Refactor(K, unclamped, restrict_order(nested_dissection(K), unclamped))
-                du = np.zeros(b.N)
-                du[bc] = target[bc] - u[bc]
-                rhs = -r - K @ du  # du is 0 on the free dofs: -r - K_fb du_b there
-                rhs[bc] = du[bc]
-                du[unclamped] = chol.factor(K, pinned=bc[unclamped]).solve(rhs[unclamped])
-                u += du
-                iters += 1
-                log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
-                if np.abs(du).max() < newton_tol * d:
-                    break
-            else:
-                log.warning("squeeze_nonlinear: Newton did not converge at closing %.3g mm", d * 1e3)
-            _, r = svk_tangent(b, u, mu, lam, cache, tangent=False)
-            changed = False
-            for j, ((s, cand, _, _), plane) in enumerate(zip(sides, planes, strict=True)):
-                act = active[j]
-                react = r[outer_x[cand]]  # internal force; the jaw pushes with -s along x
-                pos = X[cand, 0] + u[outer_x[cand]]
-                keep = act[s * react[act] < 0]  # still pressed
-                # passing the jaw by more than 1e-9 of the closing: contact, not round-off
-                new = np.union1d(keep, np.flatnonzero(s * (pos - plane) > 1e-9 * d))  # or passing the jaw
-                changed |= not np.array_equal(new, act)
-                active[j] = new
-            if not changed:
-                break
-        _, r = svk_tangent(b, u, mu, lam, cache, tangent=False)
-        f = np.array(
-            [-s * r[outer_x[cand[act]]].sum() for (s, cand, _, _), act in zip(sides, active, strict=True)]
-        )
+        f = _closing_step(sv, sides, active, centre, d)
         closing.append(d)
         forces.append(f)
         log.info("squeeze_nonlinear: closing %.2f mm, jaw forces %.3f %.3f N", d * 1e3, *f)
@@ -156,11 +92,112 @@ def squeeze_nonlinear(
         "jaw_forces": forces,
         "stiffness": stiff,
         "work": work,
-        "newton_iterations": iters,
+        "newton_iterations": sv.iters,
         "on_clamp": on_clamp,
-        "lu_fallbacks": 0 if chol is None else chol.fallbacks,
+        "lu_fallbacks": 0 if sv.chol is None else sv.chol.fallbacks,
         "seconds": time.perf_counter() - t0,
     }
+
+
+class _Solve:
+    """The state of one :func:`squeeze_nonlinear`: the wall's dofs, the displacement ``u`` (N,)
+    and the one Cholesky pattern of the grasp."""
+
+    def __init__(self, wall: Wall, newton_tol: float, max_newton: int) -> None:
+        from .wall import components
+
+        self.b = b = wall.basis
+        self.mu, self.lam = wall.material.mu, wall.material.lam
+        self.comp = components(b)
+        self.fixed = np.ones(b.N, dtype=bool)
+        self.fixed[wall.free] = False
+        self.outer_x = wall.outer_dofs[:, 0]  # x dofs of the outer-surface nodes
+        self.X = wall.outer_xyz
+        self.u, self.u_prev = np.zeros(b.N), np.zeros(b.N)
+        self.cache: dict = {}
+        self.unclamped, self.chol = np.flatnonzero(~self.fixed), None  # contact pins some of these dofs
+        self.iters = 0
+        self.newton_tol, self.max_newton = newton_tol, max_newton
+
+    def residual(self) -> np.ndarray:
+        """(N,) internal force at ``u``."""
+        _, r = svk_tangent(self.b, self.u, self.mu, self.lam, self.cache, tangent=False)
+        return r
+
+    def newton(self, bc: np.ndarray, target: np.ndarray, d: float) -> None:
+        """Newton to equilibrium with the dofs ``bc`` (N,) bool prescribed to ``target`` (N,)
+        [m], at the closing ``d`` [m] (the steps' tolerance is relative to it)."""
+        u, b = self.u, self.b
+        fr = np.flatnonzero(~bc)
+        for _ in range(self.max_newton):
+            K, r = svk_tangent(b, u, self.mu, self.lam, self.cache)
+            if self.chol is None:  # one order and symbolic Cholesky per grasp, for every contact set
+                self.chol = Refactor(K, self.unclamped, restrict_order(nested_dissection(K), self.unclamped))
+            du = np.zeros(b.N)
+            du[bc] = target[bc] - u[bc]
+            rhs = -r - K @ du  # du is 0 on the free dofs: -r - K_fb du_b there
+            rhs[bc] = du[bc]
+            du[self.unclamped] = self.chol.factor(K, pinned=bc[self.unclamped]).solve(rhs[self.unclamped])
+            u += du
+            self.iters += 1
+            log.debug("newton: max |du| %.3e, |r_free| %.3e", np.abs(du).max(), np.linalg.norm(r[fr]))
+            if np.abs(du).max() < self.newton_tol * d:
+                break
+        else:
+            log.warning("squeeze_nonlinear: Newton did not converge at closing %.3g mm", d * 1e3)
+
+
+def _jaw_sides(sv: _Solve, centre: np.ndarray, jaw: tuple[float, float]) -> list[tuple]:
+    """Per jaw (the +x side's first): ``(s, footprint nodes, reach, stop)`` — its side ±1, its
+    footprint's outer nodes that are not clamped, the distance [m] from ``centre`` along x to
+    its first touch, and its travel [m] to a clamped node of its footprint (inf: none)."""
+    rel = sv.X - centre
+    in_print = (np.abs(rel[:, 1]) <= jaw[0] / 2) & (np.abs(rel[:, 2]) <= jaw[1] / 2)
+    sides = []
+    for s in (1.0, -1.0):  # jaw on the +x side moves along -x
+        cand = np.flatnonzero(in_print & (s * rel[:, 0] > 0))
+        if cand.size == 0:
+            raise ValueError("no wall under a jaw: the grasp axis misses the object")
+        # a clamped node under a jaw (the base) does not move: the jaw stops on it
+        pinned = sv.fixed[sv.outer_x[cand]]
+        reach = float((s * rel[cand, 0]).max())  # first touch at the outermost node
+        stop = float(reach - (s * rel[cand[pinned], 0]).max()) if pinned.any() else np.inf
+        sides.append((s, cand[~pinned], reach, stop))
+    assert (sv.comp[sv.outer_x] == 0).all()
+    return sides
+
+
+def _closing_step(sv: _Solve, sides: list[tuple], active: list, centre: np.ndarray, d: float) -> np.ndarray:
+    """Both jaws closed to ``d`` [m]: Newton to equilibrium on a contact set, then the set
+    updated, until it holds (at most 20 sets); ``active`` (per jaw, footprint positions in
+    contact) is updated in place.  Returns the (2,) jaw forces [N]."""
+    X, outer_x = sv.X, sv.outer_x
+    planes = [centre[0] + s * (reach - d / 2) for s, _, reach, _ in sides]
+    sv.u, sv.u_prev = sv.u + (sv.u - sv.u_prev), sv.u  # predictor: the last step's increment again
+    for _ in range(20):  # contact set for this step: Newton to equilibrium, then update
+        bc = sv.fixed.copy()
+        target = np.zeros(sv.b.N)
+        for (_, cand, _, _), act, plane in zip(sides, active, planes, strict=True):
+            bc[outer_x[cand[act]]] = True
+            target[outer_x[cand[act]]] = plane - X[cand[act], 0]
+        sv.newton(bc, target, d)
+        r = sv.residual()
+        changed = False
+        for j, ((s, cand, _, _), plane) in enumerate(zip(sides, planes, strict=True)):
+            act = active[j]
+            react = r[outer_x[cand]]  # internal force; the jaw pushes with -s along x
+            pos = X[cand, 0] + sv.u[outer_x[cand]]
+            keep = act[s * react[act] < 0]  # still pressed
+            # passing the jaw by more than 1e-9 of the closing: contact, not round-off
+            new = np.union1d(keep, np.flatnonzero(s * (pos - plane) > 1e-9 * d))  # or passing the jaw
+            changed |= not np.array_equal(new, act)
+            active[j] = new
+        if not changed:
+            break
+    r = sv.residual()
+    return np.array(
+        [-s * r[outer_x[cand[act]]].sum() for (s, cand, _, _), act in zip(sides, active, strict=True)]
+    )
 
 
 def curve_stiffness(

@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -131,6 +133,47 @@ def evaluate_grasp(
         stays in metres) and the escape from the size check (:mod:`workbench.units`).
     seed : sampler seed of the contact models.
     """
+    cache, mesh, units = _checked_setup(model, mu, force, pad, cache, mesh, units, allow_scale)
+    w = _task_wrench(w_ext, mass, com, mesh, down)
+    cuts = CutStore() if cuts is None else cuts
+    t: dict = {}
+    jaw_profs = _timed(
+        t, "profiles", lambda: _stage_profiles(mesh, grasp, profiles, force, up, pad, units, allow_scale)
+    )
+    contacts = _timed(
+        t,
+        "contact_model",
+        lambda: [c for p in jaw_profs for c in contact_sets(p, model, cache=cache, seed=seed)],
+    )
+    solve_kw = {"representation": representation, "cuts": cuts}
+    verdict = _timed(t, "resists", lambda: resists(contacts, w, mu, **solve_kw))
+    mf = None
+    if min_force:
+        mf = _timed(t, "min_grasp_force", lambda: min_grasp_force(contacts, w, mu, **solve_kw))
+    q = None
+    if robust is not None:
+        # a given w_ext is resisted as is (mass and com are then unused by q_robust)
+        q = _timed(
+            t,
+            "q_robust",
+            lambda: q_robust(
+                contacts,
+                mu,
+                1.0 if mass is None else mass,
+                np.zeros(3) if com is None else com,
+                robust,
+                seed=seed,
+                w_ext=w if w_ext is not None else None,
+                down=down,
+                **solve_kw,
+            ),
+        )
+    return GraspEvaluation(model, w, verdict, mf, q, jaw_profs, contacts, t)
+
+
+def _checked_setup(model: str, mu: float, force: float, pad, cache, mesh, units, allow_scale: bool) -> tuple:
+    """The arguments of :func:`evaluate_grasp` checked before any work: (the limit-surface
+    cache, the mesh in metres or None, the unit still to apply — None once the mesh is in metres)."""
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}; got {model!r}")
     check_mu(mu)
@@ -143,67 +186,57 @@ def evaluate_grasp(
 
         mesh = closed_mesh(mesh, "mesh passed to evaluate_grasp", units=units, allow_scale=allow_scale)
         units = None
+    return cache, mesh, units
+
+
+def _timed(timings: dict, stage: str, run: Callable[[], Any]) -> Any:
+    """``run()``, its wall time [ms] recorded as ``timings[stage]``."""
+    t0 = time.perf_counter()
+    out = run()
+    timings[stage] = (time.perf_counter() - t0) * 1e3
+    return out
+
+
+def _stage_profiles(mesh, grasp: dict, profiles, force: float, up, pad, units, allow_scale: bool) -> list:
+    """Step 1–2 of the module docstring: the jaws' REACH profiles made from ``mesh``, or the given
+    ``profiles`` checked and scaled to ``force``."""
+    if profiles is not None:
+        return _given_profiles(profiles, grasp, force, pad)
+    if mesh is None:
+        raise ValueError(
+            "give the object mesh (the jaws' REACH profiles are made from it) or the two jaws' "
+            "profiles=[jaw at p1, jaw at p2] from any source (workbench.sources)"
+        )
+    return jaw_profiles(mesh, grasp, force, up=up, pad=pad, units=units, allow_scale=allow_scale)
+
+
+def _task_wrench(w_ext, mass: float | None, com, mesh, down) -> np.ndarray:
+    """The task wrench (6,) of :func:`evaluate_grasp`: ``w_ext`` checked, or gravity on ``mass``
+    [kg] at ``com`` (3,) [m] along ``down`` (checked against ``mesh`` when given); a ValueError
+    unless exactly one of the two is given."""
     if w_ext is None:
         if mass is None or com is None:
             raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")
         check_com(com, mesh)  # before gravity_wrench's generic check: the object's box says more
         check_object_mass(mass, mesh)
-        w = gravity_wrench(mass, com, down=down)
-    else:
-        if mass is not None or com is not None:
-            raise ValueError("give the task either as w_ext or as mass and com, not both")
-        w = check_task_wrench(w_ext)
-    cuts = CutStore() if cuts is None else cuts
-    t = {}
-    t0 = time.perf_counter()
-    if profiles is None:
-        if mesh is None:
-            raise ValueError(
-                "give the object mesh (the jaws' REACH profiles are made from it) or the two jaws' "
-                "profiles=[jaw at p1, jaw at p2] from any source (workbench.sources)"
-            )
-        profiles = jaw_profiles(mesh, grasp, force, up=up, pad=pad, units=units, allow_scale=allow_scale)
-    else:
-        p1, p2, axis = check_grasp(grasp)
-        if not isinstance(profiles, (list, tuple)) or len(profiles) != 2:
-            got = type(profiles).__name__ + (
-                f" of {len(profiles)}" if isinstance(profiles, (list, tuple)) else ""
-            )
-            raise ValueError(
-                "profiles must be a list of the two jaws' ContactProfiles [jaw at p1, jaw at p2]; "
-                f"got a {got}"
-            )
-        profiles = [
-            checked_jaw_profile(p, q, a, force, pad)
-            for p, q, a in zip(profiles, (p1, p2), (axis, -axis), strict=True)
-        ]
-    t["profiles"] = (time.perf_counter() - t0) * 1e3
-    t0 = time.perf_counter()
-    contacts = [c for p in profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
-    t["contact_model"] = (time.perf_counter() - t0) * 1e3
-    t0 = time.perf_counter()
-    verdict = resists(contacts, w, mu, representation=representation, cuts=cuts)
-    t["resists"] = (time.perf_counter() - t0) * 1e3
-    mf = None
-    if min_force:
-        t0 = time.perf_counter()
-        mf = min_grasp_force(contacts, w, mu, representation=representation, cuts=cuts)
-        t["min_grasp_force"] = (time.perf_counter() - t0) * 1e3
-    q = None
-    if robust is not None:
-        t0 = time.perf_counter()
-        # a given w_ext is resisted as is (mass and com are then unused by q_robust)
-        q = q_robust(
-            contacts,
-            mu,
-            1.0 if mass is None else mass,
-            np.zeros(3) if com is None else com,
-            robust,
-            seed=seed,
-            representation=representation,
-            cuts=cuts,
-            w_ext=w if w_ext is not None else None,
-            down=down,
+        return gravity_wrench(mass, com, down=down)
+    if mass is not None or com is not None:
+        raise ValueError("give the task either as w_ext or as mass and com, not both")
+    return check_task_wrench(w_ext)
+
+
+def _given_profiles(profiles, grasp: dict, force: float, pad: tuple[float, float]) -> list[ContactProfile]:
+    """The two jaws' given ``profiles`` checked at their jaws of ``grasp`` and scaled to
+    ``force`` (:func:`~workbench.sources.jaws.checked_jaw_profile`)."""
+    p1, p2, axis = check_grasp(grasp)
+    if not isinstance(profiles, (list, tuple)) or len(profiles) != 2:
+        got = type(profiles).__name__ + (
+            f" of {len(profiles)}" if isinstance(profiles, (list, tuple)) else ""
         )
-        t["q_robust"] = (time.perf_counter() - t0) * 1e3
-    return GraspEvaluation(model, w, verdict, mf, q, profiles, contacts, t)
+        raise ValueError(
+            f"profiles must be a list of the two jaws' ContactProfiles [jaw at p1, jaw at p2]; got a {got}"
+        )
+    return [
+        checked_jaw_profile(p, q, a, force, pad)
+        for p, q, a in zip(profiles, (p1, p2), (axis, -axis), strict=True)
+    ]

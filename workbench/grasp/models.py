@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -162,6 +163,20 @@ def _check_n_wrenches(n_wrenches) -> int:
     return int(n_wrenches)
 
 
+def _check_profile(profile: Any) -> None:
+    """ValueError unless ``profile`` is a :class:`ContactProfile`, saying how to build one."""
+    if not isinstance(profile, ContactProfile):
+        fix = (
+            "ContactProfile(**profile)"
+            if isinstance(profile, dict) and {"centers", "normals", "areas", "pressures"} <= set(profile)
+            else "ContactProfile(centers, normals, areas, pressures) or a source in workbench.sources"
+        )
+        raise ValueError(
+            f"profile must be a ContactProfile (one jaw's contact: element centres, normals, areas and "
+            f"pressures); got {type(profile).__name__} — build one with {fix}"
+        )
+
+
 def contact_sets(
     profile: ContactProfile,
     name: str,
@@ -190,16 +205,7 @@ def contact_sets(
     surfaces (6DLS, 6DFC, planar; default ``SamplerSpec()``, see its kinds).
     """
     check_model(name)
-    if not isinstance(profile, ContactProfile):
-        fix = (
-            "ContactProfile(**profile)"
-            if isinstance(profile, dict) and {"centers", "normals", "areas", "pressures"} <= set(profile)
-            else "ContactProfile(centers, normals, areas, pressures) or a source in workbench.sources"
-        )
-        raise ValueError(
-            f"profile must be a ContactProfile (one jaw's contact: element centres, normals, areas and "
-            f"pressures); got {type(profile).__name__} — build one with {fix}"
-        )
+    _check_profile(profile)
     cache = LimitSurfaceCache.check(cache)
     _check_n_wrenches(n_wrenches)  # refused whatever the model: a bad value is never right
     from ..seeds import check_seed

@@ -91,7 +91,7 @@ class Grasps(list):
 
 def _progress_bar(progress: bool | None, total: int, desc: str) -> Any:
     """A tqdm bar of ``total`` candidates on stderr, or None: ``progress`` True shows it,
-    False never, None only when stderr is a terminal and after ``config.DEFAULTS.progress_delay_s``."""
+    False never, None only when stderr is a terminal and after ``config.RUN.progress_delay_s``."""
     if progress is not None and not isinstance(progress, bool):
         raise ValueError(
             f"progress must be True (show a bar), False (never) or None (on a terminal, for long calls); "
@@ -105,7 +105,7 @@ def _progress_bar(progress: bool | None, total: int, desc: str) -> Any:
 
     from .. import config
 
-    delay = config.DEFAULTS.progress_delay_s if progress is None else 0.0
+    delay = config.RUN.progress_delay_s if progress is None else 0.0
     return tqdm(total=total, desc=desc, unit="candidate", file=sys.stderr, delay=delay)
 
 

@@ -151,78 +151,17 @@ def settle_contact(
         raise ValueError(f"force must be each jaw's force in newtons, finite and > 0; got {force!r}")
     if not (np.isfinite(closing) and closing > 0):
         raise ValueError(f"closing must be the pad's compression [m], > 0; got {closing!r}")
-    j1, j2 = jaws
-    axis = np.asarray(j1.closing, float)
-    pivot = 0.5 * (np.asarray(j1.origin, float) + np.asarray(j2.origin, float))
-    b1, b2 = _basis(axis)
-    size = float(np.ptp(np.asarray(j1.outline, float), axis=0).max())
-    n_eval = [0]
-
-    opening = float((np.asarray(j2.origin, float) - np.asarray(j1.origin, float)) @ axis)
-
-    def pressed(theta: np.ndarray, depth: float, scale: bool = True):
-        R = Rotation.from_rotvec(theta[0] * b1 + theta[1] * b2).as_matrix()
-        turned = tuple(turned_jaw(j, R, pivot) for j in (j1, j2))
-        n_eval[0] += 1
-        profs = []
-        for k, jaw in enumerate(turned):
-            prof = press(jaw, depth)
-            if prof is None:
-                return R, turned, None, f"the pad of tooltip {k} touches nothing"
-            profs.append(with_axis_force(prof, jaw.closing, force) if scale else prof)
-        # the object slides along the closing axis, but it must fit between the open jaws
-        width = float((profs[1].pressure_center - profs[0].pressure_center) @ turned[0].closing)
-        if width > opening:
-            return (
-                R,
-                turned,
-                None,
-                (
-                    f"the object is {width * 1e3:.1f} mm wide between the pads, wider than the gripper's "
-                    f"opening {opening * 1e3:.1f} mm"
-                ),
-            )
-        return R, turned, tuple(profs), ""
-
-    def residual(theta: np.ndarray, depth: float) -> np.ndarray:
-        _, turned, profs, _ = pressed(theta, depth, scale=False)
-        if profs is None:  # lost contact: push back towards the start
-            return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(max_tilt, 1e-12))
-        # each jaw's torque at the force (the profiles' own pressures scaled, as with_axis_force does)
-        point = 0.5 * (turned[0].origin + turned[1].origin)
-        tau = sum(
-            normal_torque([p], point) * force / abs(p.normal_wrench[:3] @ j.closing)
-            for p, j in zip(profs, turned, strict=True)
-        )
-        r = np.array([tau @ b1, tau @ b2]) / (force * size)
-        # settled well inside the tolerance at the pad's compression (loosely at a deeper one,
-        # which only gives the next stage its start): no more iterations
-        if np.linalg.norm(r) <= (tol / 10 if depth == closing else tol):
-            raise _Settled(theta)
-        return r
-
+    st = _Settle(jaws, press, force, closing, max_tilt, tol)
     theta = np.zeros(2)
     if settle and max_tilt > 0:
-        start = config.DEFAULTS.settle_start_closing
-        stages = ([start] if start > closing else []) + [closing]
-        _, _, deep, _ = pressed(theta, stages[0], scale=False)
-        if deep is not None:  # a pad that misses at the pose as given is a miss (no search)
-            lo, hi = np.full(2, -max_tilt), np.full(2, max_tilt)
-            theta = np.clip(_flush_turn(deep, axis, b1, b2), lo, hi)
-            for depth in stages:
-                try:
-                    theta = least_squares(
-                        residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
-                    ).x
-                except _Settled as done:
-                    theta = np.array(done.theta, dtype=float)
-    R, turned, profs, reason = pressed(theta, closing)
+        theta = st.search(config.DEFAULTS.settle_start_closing)
+    R, turned, profs, reason = st.pressed(theta, closing)
     if profs is None:
         log.debug("settle: %s", reason)
         tilt = float(np.linalg.norm(theta))
-        return SettledContact(None, turned, R, pivot, tilt, np.nan, False, reason, n_eval[0])
+        return SettledContact(None, turned, R, st.pivot, tilt, np.nan, False, reason, st.n_eval)
     tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
-    rel = float(np.hypot(tau @ b1, tau @ b2) / (force * size))
+    rel = float(np.hypot(tau @ st.b1, tau @ st.b2) / (force * st.size))
     ok = rel <= tol
     if settle and not ok:
         reason = (
@@ -230,4 +169,89 @@ def settle_contact(
             f"{np.degrees(np.linalg.norm(theta)):.1f}° (limit {np.degrees(max_tilt):.0f}°)"
         )
         log.info("settle: %s", reason)
-    return SettledContact(profs, turned, R, pivot, float(np.linalg.norm(theta)), rel, ok, reason, n_eval[0])
+    return SettledContact(
+        profs, turned, R, st.pivot, float(np.linalg.norm(theta)), rel, ok, reason, st.n_eval
+    )
+
+
+class _Settle:
+    """The search of :func:`settle_contact`: the jaws turned by ``theta`` (2,) [rad] about the
+    two axes ``b1``, ``b2`` normal to the closing axis, through ``pivot``, and pressed."""
+
+    def __init__(self, jaws, press: Press, force: float, closing: float, max_tilt: float, tol: float) -> None:
+        self.j1, self.j2 = jaws
+        self.press, self.force, self.closing = press, force, closing
+        self.max_tilt, self.tol = max_tilt, tol
+        j1, j2 = self.j1, self.j2
+        self.axis = np.asarray(j1.closing, float)
+        self.pivot = 0.5 * (np.asarray(j1.origin, float) + np.asarray(j2.origin, float))
+        self.b1, self.b2 = _basis(self.axis)
+        self.size = float(np.ptp(np.asarray(j1.outline, float), axis=0).max())
+        self.n_eval = 0
+        self.opening = float((np.asarray(j2.origin, float) - np.asarray(j1.origin, float)) @ self.axis)
+
+    def pressed(self, theta: np.ndarray, depth: float, scale: bool = True):
+        """(R (3, 3), the turned jaws, their profiles pressed ``depth`` [m] — scaled to the
+        force unless ``scale`` is False — or None, and the reason when None)."""
+        R = Rotation.from_rotvec(theta[0] * self.b1 + theta[1] * self.b2).as_matrix()
+        turned = tuple(turned_jaw(j, R, self.pivot) for j in (self.j1, self.j2))
+        self.n_eval += 1
+        profs = []
+        for k, jaw in enumerate(turned):
+            prof = self.press(jaw, depth)
+            if prof is None:
+                return R, turned, None, f"the pad of tooltip {k} touches nothing"
+            profs.append(with_axis_force(prof, jaw.closing, self.force) if scale else prof)
+        # the object slides along the closing axis, but it must fit between the open jaws
+        width = float((profs[1].pressure_center - profs[0].pressure_center) @ turned[0].closing)
+        if width > self.opening:
+            return (
+                R,
+                turned,
+                None,
+                (
+                    f"the object is {width * 1e3:.1f} mm wide between the pads, wider than the gripper's "
+                    f"opening {self.opening * 1e3:.1f} mm"
+                ),
+            )
+        return R, turned, tuple(profs), ""
+
+    def residual(self, theta: np.ndarray, depth: float) -> np.ndarray:
+        """(2,) the normal forces' torque about ``b1``, ``b2`` relative to force × pad size at the
+        turn ``theta`` pressed ``depth`` [m]; raises :class:`_Settled` well inside the tolerance."""
+        force, tol = self.force, self.tol
+        _, turned, profs, _ = self.pressed(theta, depth, scale=False)
+        if profs is None:  # lost contact: push back towards the start
+            return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(self.max_tilt, 1e-12))
+        # each jaw's torque at the force (the profiles' own pressures scaled, as with_axis_force does)
+        point = 0.5 * (turned[0].origin + turned[1].origin)
+        tau = sum(
+            normal_torque([p], point) * force / abs(p.normal_wrench[:3] @ j.closing)
+            for p, j in zip(profs, turned, strict=True)
+        )
+        r = np.array([tau @ self.b1, tau @ self.b2]) / (force * self.size)
+        # settled well inside the tolerance at the pad's compression (loosely at a deeper one,
+        # which only gives the next stage its start): no more iterations
+        if np.linalg.norm(r) <= (tol / 10 if depth == self.closing else tol):
+            raise _Settled(theta)
+        return r
+
+    def search(self, start: float) -> np.ndarray:
+        """The turn (2,) [rad] at which the torque vanishes: from the flush turn of a patch
+        pressed ``start`` [m] (when deeper than the pad's compression), stage by stage to the
+        pad's compression; no turn when a pad misses at the pose as given."""
+        theta = np.zeros(2)
+        stages = ([start] if start > self.closing else []) + [self.closing]
+        _, _, deep, _ = self.pressed(theta, stages[0], scale=False)
+        if deep is None:  # a pad that misses at the pose as given is a miss (no search)
+            return theta
+        lo, hi = np.full(2, -self.max_tilt), np.full(2, self.max_tilt)
+        theta = np.clip(_flush_turn(deep, self.axis, self.b1, self.b2), lo, hi)
+        for depth in stages:
+            try:
+                theta = least_squares(
+                    self.residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
+                ).x
+            except _Settled as done:
+                theta = np.array(done.theta, dtype=float)
+        return theta

@@ -41,7 +41,7 @@ def _cubic_gradients(yt, factors, G, out):
 
 
 @njit(**NUMBA_FLAGS_PARALLEL)
-def _quartic_values(yt, coef, out):
+def _quartic_values(yt, coef, out):  # noqa: C901 - Numba kernel: the nested sum is one fused loop nest per block
     """``out[k] = Σ_q coef_q y_k^{e_q}``: a homogeneous quartic at each point, points by
     columns yt (r, N), its coefficients coef (L,) in :func:`.sos.exponents` order — the sorted
     index tuples i <= j <= k <= l — evaluated as the nested sum

@@ -34,6 +34,7 @@ from __future__ import annotations
 import logging
 import time
 import warnings
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -120,84 +121,18 @@ def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) ->
     import clarabel
 
     lam, ww, tw = weights
-    K, r = y.shape
-    if model == "ellipsoid":
-        Phi, G = _ellipsoid_maps(y)
-        nc, n_gram = Phi.shape[1], 0
-    else:
-        expo = exponents(r, 4)
-        Phi = monomials(y, expo)
-        G = np.stack(_gradient_design(y, expo), axis=1)  # (K, r, L)
-        # Eq. 3.16 as equalities over both Gram blocks (fit_quartic's elimination of the
-        # symmetric block made this program's KKT system denser and its fit slower:
-        # docs/decisions.md)
-        Z, nc, nS, nA = _clarabel_data(r)
-        n_gram = nS + nA
-    twist = tw > 0
-    nK = K if twist else 0
-    # column offsets: c, the quartic's svec S and svec A, t, u, s, v
-    o_t = nc + n_gram
-    o_u = o_t + 1
-    o_s = o_u + K
-    o_v = o_s + nK
-    n_x = o_v + nK
-    ik = np.arange(K)
+    lay = _Layout.of(model, y, tw > 0)
     blocks, rhs, cones = [], [], []
-    # L1 value rows: Φ c − u <= 1 and −Φ c − u <= −1; and s >= 0
-    E_u = sp.csc_matrix((-np.ones(K), (ik, o_u + ik)), shape=(K, n_x))
-    F = sp.hstack([sp.csc_matrix(Phi), sp.csc_matrix((K, n_x - nc))])
-    blocks += [F + E_u, -F + E_u]
-    rhs += [np.ones(K), -np.ones(K)]
-    if twist:
-        blocks.append(sp.csc_matrix((-np.ones(K), (ik, o_s + ik)), shape=(K, n_x)))
-        rhs.append(np.zeros(K))
-    cones.append(clarabel.NonnegativeConeT(sum(len(b) for b in rhs)))
-    # ‖c‖ <= t: the slack (t, c)
-    blocks.append(
-        sp.vstack(
-            [
-                sp.csc_matrix(([-1.0], ([0], [o_t])), shape=(1, n_x)),
-                sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]),
-            ]
-        )
-    )
-    rhs.append(np.zeros(nc + 1))
-    cones.append(clarabel.SecondOrderConeT(nc + 1))
-    if twist:  # per wrench the slack (v_k, G_k c − s_k n_k): rows k (r + 1) .. k (r + 1) + r
-        rows = np.arange(K)[:, None] * (r + 1) + 1 + np.arange(r)[None, :]  # (K, r)
-        g_k, g_r, g_c = np.nonzero(G)
-        parts = [
-            (-np.ones(K), ik * (r + 1), o_v + ik),
-            (-G[g_k, g_r, g_c], rows[g_k, g_r], g_c),
-            (n.ravel(), rows.ravel(), np.repeat(o_s + ik, r)),
-        ]
-        data, ri, ci = (np.concatenate(z) for z in zip(*parts, strict=True))
-        blocks.append(sp.csc_matrix((data, (ri, ci)), shape=(K * (r + 1), n_x)))
-        rhs.append(np.zeros(K * (r + 1)))
-        cones += [clarabel.SecondOrderConeT(r + 1)] * K
-    if model == "ellipsoid":
-        blocks.append(sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]))
-        rhs.append(np.zeros(nc))
-        cones.append(clarabel.PSDTriangleConeT(r))
-    else:  # Z [a; τ; svec S; svec A] = 0 without its (empty) τ column, and S, A PSD
-        blocks.append(sp.hstack([Z[:, :nc], Z[:, nc + 1 :], sp.csc_matrix((Z.shape[0], n_x - nc - n_gram))]))
-        rhs.append(np.zeros(Z.shape[0]))
-        cones.append(clarabel.ZeroConeT(Z.shape[0]))
-        blocks.append(
-            sp.hstack(
-                [
-                    sp.csc_matrix((n_gram, nc)),
-                    -sp.identity(n_gram),
-                    sp.csc_matrix((n_gram, n_x - nc - n_gram)),
-                ]
-            )
-        )
-        rhs.append(np.zeros(n_gram))
-        cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
-    q = np.zeros(n_x)
-    q[o_t] = lam
-    q[o_u : o_u + K] = ww
-    q[o_v : o_v + nK] = tw
+    _value_rows(lay, blocks, rhs, cones)
+    _norm_rows(lay, blocks, rhs, cones)
+    if lay.twist:
+        _twist_cones(lay, n, blocks, rhs, cones)
+    _convexity_rows(lay, blocks, rhs, cones)
+    K = lay.K
+    q = np.zeros(lay.n_x)
+    q[lay.o_t] = lam
+    q[lay.o_u : lay.o_u + K] = ww
+    q[lay.o_v : lay.o_v + lay.nK] = tw
     if model == "quartic":  # fit_quartic's KKT settings; the ellipsoid's defaults (measured)
         settings = _clarabel_settings()
     else:
@@ -206,19 +141,166 @@ def _solve_clarabel(model: str, y: np.ndarray, n: np.ndarray, weights: tuple) ->
     A = sp.vstack(blocks).tocsc()
     try:
         sol = clarabel.DefaultSolver(
-            sp.csc_matrix((n_x, n_x)), q, A, np.concatenate(rhs), cones, settings
+            sp.csc_matrix((lay.n_x, lay.n_x)), q, A, np.concatenate(rhs), cones, settings
         ).solve()
     except Exception as exc:  # noqa: BLE001 - Clarabel's errors (e.g. a failed factorisation)
         raise RuntimeError(f"author-objective {model} fit failed with CLARABEL: {exc}") from exc
     status = str(sol.status)
     if status not in ("Solved", "AlmostSolved"):
         raise RuntimeError(f"author-objective {model} fit: solver status {status}")
-    xs = np.asarray(sol.x)
+    return _clarabel_solution(
+        lay, np.asarray(sol.x), "optimal" if status == "Solved" else "optimal_inaccurate"
+    )
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """The maps and the column layout of :func:`_solve_clarabel`'s program: variables
+    ``[c, (svec S, svec A), t, u, s, v]``."""
+
+    model: str
+    K: int  # training wrenches
+    r: int  # fit dimension
+    Phi: np.ndarray  # (K, nc) value map
+    G: np.ndarray  # (K, r, nc) (half-)gradient maps
+    nc: int  # coefficients c
+    n_gram: int  # the quartic's svec S and svec A (0: ellipsoid)
+    Z: Any  # the quartic's Eq. 3.16 rows (:func:`.quartic._clarabel_data`), None for the ellipsoid
+    nS: int  # svec S entries
+    nA: int  # svec A entries
+    twist: bool  # the twist terms are in (ω_t > 0)
+
+    @classmethod
+    def of(cls, model: str, y: np.ndarray, twist: bool) -> _Layout:
+        K, r = y.shape
+        if model == "ellipsoid":
+            Phi, G = _ellipsoid_maps(y)
+            return cls(model, K, r, Phi, G, Phi.shape[1], 0, None, 0, 0, twist)
+        expo = exponents(r, 4)
+        Phi = monomials(y, expo)
+        G = np.stack(_gradient_design(y, expo), axis=1)  # (K, r, L)
+        # Eq. 3.16 as equalities over both Gram blocks (fit_quartic's elimination of the
+        # symmetric block made this program's KKT system denser and its fit slower:
+        # docs/decisions.md)
+        Z, nc, nS, nA = _clarabel_data(r)
+        return cls(model, K, r, Phi, G, nc, nS + nA, Z, nS, nA, twist)
+
+    @property
+    def nK(self) -> int:
+        """Twist scales s and slacks v: K each with the twist terms, else none."""
+        return self.K if self.twist else 0
+
+    # column offsets: c, the quartic's svec S and svec A, t, u, s, v
+    @property
+    def o_t(self) -> int:
+        return self.nc + self.n_gram
+
+    @property
+    def o_u(self) -> int:
+        return self.o_t + 1
+
+    @property
+    def o_s(self) -> int:
+        return self.o_u + self.K
+
+    @property
+    def o_v(self) -> int:
+        return self.o_s + self.nK
+
+    @property
+    def n_x(self) -> int:
+        return self.o_v + self.nK
+
+
+def _value_rows(lay: _Layout, blocks: list, rhs: list, cones: list) -> None:
+    """L1 value rows: Φ c − u <= 1 and −Φ c − u <= −1; and s >= 0 (one nonnegative cone)."""
+    import clarabel
+
+    K, n_x, nc = lay.K, lay.n_x, lay.nc
+    ik = np.arange(K)
+    E_u = sp.csc_matrix((-np.ones(K), (ik, lay.o_u + ik)), shape=(K, n_x))
+    F = sp.hstack([sp.csc_matrix(lay.Phi), sp.csc_matrix((K, n_x - nc))])
+    blocks += [F + E_u, -F + E_u]
+    rhs += [np.ones(K), -np.ones(K)]
+    if lay.twist:
+        blocks.append(sp.csc_matrix((-np.ones(K), (ik, lay.o_s + ik)), shape=(K, n_x)))
+        rhs.append(np.zeros(K))
+    cones.append(clarabel.NonnegativeConeT(sum(len(b) for b in rhs)))
+
+
+def _norm_rows(lay: _Layout, blocks: list, rhs: list, cones: list) -> None:
+    """‖c‖ <= t: the slack (t, c)."""
+    import clarabel
+
+    n_x, nc = lay.n_x, lay.nc
+    blocks.append(
+        sp.vstack(
+            [
+                sp.csc_matrix(([-1.0], ([0], [lay.o_t])), shape=(1, n_x)),
+                sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]),
+            ]
+        )
+    )
+    rhs.append(np.zeros(nc + 1))
+    cones.append(clarabel.SecondOrderConeT(nc + 1))
+
+
+def _twist_cones(lay: _Layout, n: np.ndarray, blocks: list, rhs: list, cones: list) -> None:
+    """Per wrench the slack (v_k, G_k c − s_k n_k) in a second-order cone: rows k (r + 1) ..
+    k (r + 1) + r."""
+    import clarabel
+
+    K, r, G = lay.K, lay.r, lay.G
+    ik = np.arange(K)
+    rows = np.arange(K)[:, None] * (r + 1) + 1 + np.arange(r)[None, :]  # (K, r)
+    g_k, g_r, g_c = np.nonzero(G)
+    parts = [
+        (-np.ones(K), ik * (r + 1), lay.o_v + ik),
+        (-G[g_k, g_r, g_c], rows[g_k, g_r], g_c),
+        (n.ravel(), rows.ravel(), np.repeat(lay.o_s + ik, r)),
+    ]
+    data, ri, ci = (np.concatenate(z) for z in zip(*parts, strict=True))
+    blocks.append(sp.csc_matrix((data, (ri, ci)), shape=(K * (r + 1), lay.n_x)))
+    rhs.append(np.zeros(K * (r + 1)))
+    cones += [clarabel.SecondOrderConeT(r + 1)] * K
+
+
+def _convexity_rows(lay: _Layout, blocks: list, rhs: list, cones: list) -> None:
+    """The ellipsoid's c in a PSD triangle, or the quartic's Eq. 3.16, ``Z [a; τ; svec S;
+    svec A] = 0`` without its (empty) τ column, with S, A in PSD triangles."""
+    import clarabel
+
+    n_x, nc, n_gram, r = lay.n_x, lay.nc, lay.n_gram, lay.r
+    if lay.model == "ellipsoid":
+        blocks.append(sp.hstack([-sp.identity(nc), sp.csc_matrix((nc, n_x - nc))]))
+        rhs.append(np.zeros(nc))
+        cones.append(clarabel.PSDTriangleConeT(r))
+        return
+    Z = lay.Z
+    blocks.append(sp.hstack([Z[:, :nc], Z[:, nc + 1 :], sp.csc_matrix((Z.shape[0], n_x - nc - n_gram))]))
+    rhs.append(np.zeros(Z.shape[0]))
+    cones.append(clarabel.ZeroConeT(Z.shape[0]))
+    blocks.append(
+        sp.hstack(
+            [
+                sp.csc_matrix((n_gram, nc)),
+                -sp.identity(n_gram),
+                sp.csc_matrix((n_gram, n_x - nc - n_gram)),
+            ]
+        )
+    )
+    rhs.append(np.zeros(n_gram))
+    cones += [clarabel.PSDTriangleConeT(len(T)) for T in swap_blocks(r) if len(T)]
+
+
+def _clarabel_solution(lay: _Layout, xs: np.ndarray, status: str) -> dict:
+    """:func:`_solve_clarabel`'s answer from the solver's ``xs`` (n_x,)."""
+    nc, nS, nA, r = lay.nc, lay.nS, lay.nA, lay.r
     c = xs[:nc]
-    out = {"status": "optimal" if status == "Solved" else "optimal_inaccurate", "f": Phi @ c}
-    out["g"] = np.einsum("krm,m->kr", G, c)
-    out["s"] = xs[o_s : o_s + nK] if twist else None
-    if model == "ellipsoid":
+    out = {"status": status, "f": lay.Phi @ c}
+    out["g"] = np.einsum("krm,m->kr", lay.G, c)
+    out["s"] = xs[lay.o_s : lay.o_s + lay.nK] if lay.twist else None
+    if lay.model == "ellipsoid":
         out["A"] = _unsvec(c, r)
         return out
     s_S, s_A = xs[nc : nc + nS], xs[nc + nS : nc + nS + nA]

@@ -485,17 +485,7 @@ def fit_quartic(
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     L = exponents(r, 4).shape[0]
-    if len(W) < L:
-        raise ValueError(
-            f"a quartic in {r} dimensions has {L} coefficients but only {len(W)} wrenches were given "
-            f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid), or fit "
-            "fewer with their twists by the author's regularised objective (fit_author_objective)"
-        )
-    if twists is None and normal_weight:
-        raise ValueError(
-            f"normal_weight={normal_weight} weights the twists' gradient rows, but no twists were given: "
-            "pass twists= (the ones the wrenches were computed from) or leave normal_weight out"
-        )
+    _check_fit_size(len(W), r, L, twists, normal_weight)
     # fit in whitened coordinates z = y / s (s: RMS of the wrenches along each PCA
     # direction): thin contacts have directions ~100x thinner than others, whose
     # quartic monomials (~1e-8) made R ill-conditioned and Clarabel fail. A diagonal
@@ -507,33 +497,17 @@ def fit_quartic(
     A_fit, b_fit = monomials(z, expo), np.ones(len(W))
     beta = 0.0
     if twists is not None:
-        xi = check_twists(W, twists, friction_sign=False)
-        w0 = config.DEFAULTS.quartic_normal_weight
-        beta = w0 * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
-        if not np.isfinite(beta) or beta < 0:
-            raise ValueError(f"normal_weight must be finite and >= 0; got {beta}")
-        if beta > 0:
-            check_twists(W, xi)  # the rows take -ξ as the outward normal: friction must oppose ξ
-            # power w·ξ = z·(s ⊙ Bᵀ(scale ⊙ ξ)); friction minimises it, so the outward normal is -that
-            A_n, b_n = _normal_rows(z, -((xi * scale) @ sub.basis) * s, expo, float(beta))
-            A_fit, b_fit = np.vstack([A_fit, A_n]), np.concatenate([b_fit, b_n])
+        beta, rows = _twist_rows(W, twists, normal_weight, z, (scale, sub, s), expo)
+        if rows is not None:
+            A_fit, b_fit = np.vstack([A_fit, rows[0]]), np.concatenate([b_fit, rows[1]])
     # R of [A | b] holds R of A and Qᵀb in its last column: Q is never formed (~40 % of the QR's time)
     Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
     Rm, c_val = Rb[:L, :L], Rb[:L, L]
     diag = np.abs(np.diag(Rm))
     determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
-    failures = []
-    for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
-        ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
-        if ok:
-            break
-        failures.append(f"{name}: {status}")
-    else:
-        raise RuntimeError(
-            "quartic fit failed (" + "; ".join(failures) + "); is the solver installed "
-            "(cvxpy.installed_solvers())? try another solver or fit_ellipsoid"
-        )
-    fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
+    a_val, M_val, name, status, fallback = _solve_with_fallback(
+        r, (solver, fallback_solver), Rm, c_val, warm_start
+    )
     if fallback:
         log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
     underdetermined = None
@@ -560,3 +534,60 @@ def fit_quartic(
         "fit_time_s": time.perf_counter() - t0,
     }
     return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M_val)
+
+
+def _check_fit_size(K: int, r: int, L: int, twists: Any, normal_weight: float | None) -> None:
+    """ValueError unless the ``K`` wrenches are at least the ``L`` coefficients of a quartic in
+    ``r`` dimensions, and ``normal_weight`` comes with ``twists``."""
+    if K < L:
+        raise ValueError(
+            f"a quartic in {r} dimensions has {L} coefficients but only {K} wrenches were given "
+            f"— sample at least {L} (the thesis uses 100-1,000; > 200 to beat the ellipsoid), or fit "
+            "fewer with their twists by the author's regularised objective (fit_author_objective)"
+        )
+    if twists is None and normal_weight:
+        raise ValueError(
+            f"normal_weight={normal_weight} weights the twists' gradient rows, but no twists were given: "
+            "pass twists= (the ones the wrenches were computed from) or leave normal_weight out"
+        )
+
+
+def _twist_rows(
+    W: np.ndarray, twists: Any, normal_weight: float | None, z: np.ndarray, frame: tuple, expo: np.ndarray
+) -> tuple[float, tuple[np.ndarray, np.ndarray] | None]:
+    """β and the gradient rows (:func:`_normal_rows`) of the ``twists`` (K, 6) of the wrenches
+    ``W`` (K, 6) at their whitened points ``z`` (K, r); ``frame`` = (scale (6,), subspace,
+    whitening s (r,)).  The rows are None when β = 0."""
+    scale, sub, s = frame
+    xi = check_twists(W, twists, friction_sign=False)
+    w0 = config.DEFAULTS.quartic_normal_weight
+    L = len(expo)
+    beta = w0 * np.sqrt(L / len(W)) if normal_weight is None else normal_weight
+    if not np.isfinite(beta) or beta < 0:
+        raise ValueError(f"normal_weight must be finite and >= 0; got {beta}")
+    if not beta > 0:
+        return beta, None
+    check_twists(W, xi)  # the rows take -ξ as the outward normal: friction must oppose ξ
+    # power w·ξ = z·(s ⊙ Bᵀ(scale ⊙ ξ)); friction minimises it, so the outward normal is -that
+    return beta, _normal_rows(z, -((xi * scale) @ sub.basis) * s, expo, float(beta))
+
+
+def _solve_with_fallback(
+    r: int, solvers: tuple[str, str | None], Rm: np.ndarray, c_val: np.ndarray, warm_start: bool
+) -> tuple[np.ndarray, np.ndarray, str, str, str | None]:
+    """:func:`_solve` by ``solvers`` = (solver, fallback solver or None) in turn: (a, M, the
+    solver that solved it, its status, the failures before it or None); RuntimeError if all fail."""
+    solver, fallback_solver = solvers
+    failures = []
+    for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
+        ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
+        if ok:
+            break
+        failures.append(f"{name}: {status}")
+    else:
+        raise RuntimeError(
+            "quartic fit failed (" + "; ".join(failures) + "); is the solver installed "
+            "(cvxpy.installed_solvers())? try another solver or fit_ellipsoid"
+        )
+    fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
+    return a_val, M_val, name, status, fallback

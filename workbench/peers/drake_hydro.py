@@ -261,6 +261,28 @@ class DrakeHydroPad:
         cylinder_length: float | None = None,
         edge: str | None = None,
     ) -> None:
+        self._set_geometry(obstacle, h, width, length, box)
+        self.E_hydro = _checks.modulus("E_hydro (hydroelastic modulus)", E_hydro)
+        self._set_resolution(resolution)
+        self._set_cylinder_length(cylinder_length)
+        if representation not in ("triangle", "polygon"):
+            raise ValueError(f"representation must be 'triangle' or 'polygon'; got {representation!r}")
+        self.representation = representation
+        edge = ("cut" if self.kind == "cylinder" else "warn") if edge is None else edge
+        if edge not in ("warn", "cut"):
+            raise ValueError(
+                f"edge must be 'warn' or 'cut' (the pad's sides cut the contact on purpose); got {edge!r}"
+            )
+        self.edge = edge
+        mesh_obj = _obj_text(obstacle) if self.kind == "mesh" else None
+        g = _import_pydrake()  # after the checks: careless input is reported with or without Drake
+        self._build(g, mesh_obj)
+        self.query_seconds: list[float] = []
+        self.convert_seconds: list[float] = []
+
+    def _set_geometry(self, obstacle: Any, h: float, width: float, length: float, box: str) -> None:
+        """The obstacle's kind, radius, centre and axis, and the pad's size and foundation depth,
+        checked (the attributes of the class docstring)."""
         self.kind = _obstacle_kind(obstacle)
         self.obstacle = obstacle
         self.R: float | None = None
@@ -278,7 +300,9 @@ class DrakeHydroPad:
         if self.kind == "cylinder":  # the projection of the pad centre (0, 0, h/2) onto the axis
             self.center = foot + float((np.array([0.0, 0.0, 0.5 * self.h]) - foot) @ self.axis) * self.axis
         self.width, self.length, self.box = float(width), float(length), box
-        self.E_hydro = _checks.modulus("E_hydro (hydroelastic modulus)", E_hydro)
+
+    def _set_resolution(self, resolution: float | None) -> None:
+        """The tessellation hint of a sphere or cylinder (default ``R/80``); None for a mesh."""
         if self.kind == "mesh":
             if resolution is not None:
                 raise ValueError(
@@ -293,6 +317,10 @@ class DrakeHydroPad:
                 if resolution is None
                 else _checks.length("resolution", resolution, "element_size")
             )
+
+    def _set_cylinder_length(self, cylinder_length: float | None) -> None:
+        """The length of Drake's finite cylinder (default 4x the pad's larger side), at least the
+        pad's extent along its axis; None unless the obstacle is a cylinder."""
         self.cylinder_length: float | None = None
         if self.kind == "cylinder":
             span = abs(self.axis[0]) * self.width + abs(self.axis[1]) * self.length
@@ -312,22 +340,15 @@ class DrakeHydroPad:
                 f"cylinder_length applies to a Cylinder obstacle only; got cylinder_length="
                 f"{cylinder_length!r} with a {self.kind} — drop it"
             )
-        if representation not in ("triangle", "polygon"):
-            raise ValueError(f"representation must be 'triangle' or 'polygon'; got {representation!r}")
-        self.representation = representation
-        edge = ("cut" if self.kind == "cylinder" else "warn") if edge is None else edge
-        if edge not in ("warn", "cut"):
-            raise ValueError(
-                f"edge must be 'warn' or 'cut' (the pad's sides cut the contact on purpose); got {edge!r}"
-            )
-        self.edge = edge
-        mesh_obj = _obj_text(obstacle) if self.kind == "mesh" else None
-        g = _import_pydrake()  # after the checks: careless input is reported with or without Drake
-        from pydrake.math import RigidTransform, RotationMatrix
+
+    def _build(self, g: Any, mesh_obj: tuple[str, int] | None) -> None:
+        """The SceneGraph (Drake's ``pydrake.geometry`` module ``g``): the compliant pad box and
+        the rigid obstacle (``mesh_obj``: a mesh's .obj text and face count), and its context."""
+        from pydrake.math import RigidTransform
 
         self._rep = (
             g.HydroelasticContactRepresentation.kTriangle
-            if representation == "triangle"
+            if self.representation == "triangle"
             else g.HydroelasticContactRepresentation.kPolygon
         )
         self._RigidTransform = RigidTransform
@@ -347,6 +368,22 @@ class DrakeHydroPad:
         g.AddCompliantHydroelasticProperties(min(self.width, self.length, height), self.E_hydro, props)
         sg.AssignRole(src, self._pad_id, props)
         rigid = g.ProximityProperties()
+        shape = self._rigid_shape(g, mesh_obj)
+        if self.resolution is None:
+            g.AddRigidHydroelasticProperties(rigid)  # a mesh is not tessellated: no hint
+        else:
+            g.AddRigidHydroelasticProperties(self.resolution, rigid)
+        self._obj_id = sg.RegisterGeometry(
+            src, self._f_obj, g.GeometryInstance(RigidTransform(), shape, "object")
+        )
+        sg.AssignRole(src, self._obj_id, rigid)
+        self._sg, self._src = sg, src
+        self._ctx = sg.CreateDefaultContext()
+
+    def _rigid_shape(self, g: Any, mesh_obj: tuple[str, int] | None) -> Any:
+        """Drake's shape of the obstacle; sets its pose ``_X_obj`` in the pad frame."""
+        from pydrake.math import RigidTransform, RotationMatrix
+
         if self.kind == "sphere":
             shape = g.Sphere(self.R)
             self._X_obj = RigidTransform(self.center)
@@ -361,18 +398,7 @@ class DrakeHydroPad:
             shape = g.Mesh(g.InMemoryMesh(mesh_file=MemoryFile(text, ".obj", "MeshObstacle")), 1.0)
             self._X_obj = RigidTransform()
             log.debug("DrakeHydroPad: rigid mesh of %d triangles", n_faces)
-        if self.resolution is None:
-            g.AddRigidHydroelasticProperties(rigid)  # a mesh is not tessellated: no hint
-        else:
-            g.AddRigidHydroelasticProperties(self.resolution, rigid)
-        self._obj_id = sg.RegisterGeometry(
-            src, self._f_obj, g.GeometryInstance(RigidTransform(), shape, "object")
-        )
-        sg.AssignRole(src, self._obj_id, rigid)
-        self._sg, self._src = sg, src
-        self._ctx = sg.CreateDefaultContext()
-        self.query_seconds: list[float] = []
-        self.convert_seconds: list[float] = []
+        return shape
 
     def _pose(self, delta: float) -> None:
         poses = self._g.FramePoseVector()

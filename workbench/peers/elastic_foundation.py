@@ -161,6 +161,46 @@ def vertical_depth(
     return t
 
 
+def _check_delta(delta: float, t: float) -> float:
+    """The jaw displacement [m]: a plausible compression in ``[0, t)``, ``t`` the layer thickness."""
+    dlt = _checks.real("delta (jaw displacement)", delta, "m")
+    if dlt < 0:
+        raise ValueError(f"delta must be a jaw displacement >= 0 [m]; got {dlt} — negative is a gap")
+    if dlt >= t:
+        raise ValueError(
+            f"delta = {dlt!r} m is not below the layer thickness h = {t!r} m: displacements are in "
+            "metres (1 mm = 1e-3)"
+        )
+    _checks.compression("delta (jaw displacement)", dlt)
+    return dlt
+
+
+def _cell_depths(obstacle: Any, X: np.ndarray, d: np.ndarray, depth: str, tol: float) -> tuple:
+    """``(u (m,), surf (m, 3))``: how deep the cell centres ``X`` (m, 3) [m] (signed distances
+    ``d`` (m,)) lie inside the obstacle — along ``-z`` (``depth="vertical"``, to ``tol`` [m]) or
+    along its normal (``"normal"``) — and the surface points below them."""
+    if depth == "vertical":
+        u = vertical_depth(obstacle, X, tol=tol)
+        return u, X - u[:, None] * np.array([0.0, 0.0, 1.0])
+    u = -d
+    _, n_in = obstacle.signed_distance(X)
+    return u, X - u[:, None] * n_in
+
+
+def _warn_at_edge(inside: np.ndarray, cx: int, cy: int, w: float, ln: float) -> None:
+    """Log a warning if a touching cell (flat ``inside`` indices of the ``cx`` × ``cy`` grid of a
+    ``w`` × ``ln`` [m] pad) lies on the pad's border: the patch is truncated."""
+    i, j = np.unravel_index(inside, (cx, cy))
+    at_edge = (i == 0).any() or (i == cx - 1).any() or (j == 0).any() or (j == cy - 1).any()
+    if at_edge:
+        log.warning(
+            "foundation_profile: the contact reaches the pad's border (%g x %g m): the patch is truncated "
+            "— enlarge width/length",
+            w,
+            ln,
+        )
+
+
 def foundation_profile(
     obstacle: Any,
     delta: float,
@@ -200,15 +240,7 @@ def foundation_profile(
     """
     k = foundation_modulus(E, h, nu, kind)
     t = float(h)
-    dlt = _checks.real("delta (jaw displacement)", delta, "m")
-    if dlt < 0:
-        raise ValueError(f"delta must be a jaw displacement >= 0 [m]; got {dlt} — negative is a gap")
-    if dlt >= t:
-        raise ValueError(
-            f"delta = {dlt!r} m is not below the layer thickness h = {t!r} m: displacements are in "
-            "metres (1 mm = 1e-3)"
-        )
-    _checks.compression("delta (jaw displacement)", dlt)
+    dlt = _check_delta(delta, t)
     if edge not in ("warn", "cut"):
         raise ValueError(
             f"edge must be 'warn' or 'cut' (the pad's border cuts the contact on purpose); got {edge!r}"
@@ -232,13 +264,7 @@ def foundation_profile(
     inside = np.flatnonzero(d < 0)
     if inside.size == 0:
         return None
-    if depth == "vertical":
-        u = vertical_depth(obstacle, X[inside], tol=1e-12 * max(w, ln))
-        surf = X[inside] - u[:, None] * np.array([0.0, 0.0, 1.0])
-    else:
-        u = -d[inside]
-        _, n_in = obstacle.signed_distance(X[inside])
-        surf = X[inside] - u[:, None] * n_in
+    u, surf = _cell_depths(obstacle, X[inside], d[inside], depth, 1e-12 * max(w, ln))
     keep = u > 0
     inside, u, surf = inside[keep], u[keep], surf[keep]
     if inside.size == 0:
@@ -248,15 +274,8 @@ def foundation_profile(
             f"the obstacle penetrates {u.max():.4g} m, not less than the layer thickness h = {t:.4g} m: "
             "the jaw would hit the object — reduce delta"
         )
-    i, j = np.unravel_index(inside, (cx, cy))
-    at_edge = (i == 0).any() or (i == cx - 1).any() or (j == 0).any() or (j == cy - 1).any()
-    if at_edge and edge == "warn":
-        log.warning(
-            "foundation_profile: the contact reaches the pad's border (%g x %g m): the patch is truncated "
-            "— enlarge width/length",
-            w,
-            ln,
-        )
+    if edge == "warn":
+        _warn_at_edge(inside, cx, cy, w, ln)
     _, normals = obstacle.signed_distance(surf)
     area = np.full(inside.size, (w / cx) * (ln / cy))
     log.debug("foundation_profile: delta=%g m, k=%g Pa/m, %d elements", dlt, k, inside.size)

@@ -13,8 +13,9 @@ This module holds that cone as analytic formulas (no ``mujoco`` import): members
 (:func:`in_cone`), its support function at a given normal force (:func:`cone_support`), the
 maximum-dissipation friction wrench for a twist (:func:`cone_friction_wrenches`, comparable to
 :func:`workbench.frictional_wrenches`), the map between contact coordinates and workbench wrenches
-(:func:`contact_basis`), and the parameters that make the cone reproduce a profile's exact
-friction capacities (:func:`mujoco_coefficients_from_profile`).  With ``mujoco`` installed (extra
+(:func:`contact_basis`), the parameters that make the cone reproduce a profile's exact
+friction capacities (:func:`mujoco_coefficients_from_profile`), and those a user would estimate
+for a patch that is not simulated (:func:`patch_coefficients`).  With ``mujoco`` installed (extra
 ``peers``), :func:`mujoco_torsion_response` runs MuJoCo itself on a sphere-on-plane pair with these
 coefficients, which the tests use to check the formula against the simulator on the torsional axis.
 
@@ -48,6 +49,7 @@ __all__ = [
     "MUJOCO_MIN_MU",
     "mujoco_coefficients_from_profile",
     "mujoco_torsion_response",
+    "patch_coefficients",
     "torsion_coefficient",
 ]
 
@@ -190,6 +192,27 @@ def torsion_coefficient(a: float, mu: float, pressure: str = "hertz") -> float:
     if pressure not in TORSION_FACTORS:
         raise ValueError(f"pressure must be one of {sorted(TORSION_FACTORS)}; got {pressure!r}")
     return TORSION_FACTORS[pressure] * m * r
+
+
+#: the torsional coefficients a user may give an unsimulated patch of radius a: Hertz's 3π μ a / 16
+#: (:func:`torsion_coefficient`) or μ·2a, MuJoCo's documentation's "diameter of the contact patch"
+PATCH_TORSIONS = ("hertz", "diameter")
+
+
+def patch_coefficients(mu: float, rho: float, delta: float, torsion: str = "hertz") -> np.ndarray:
+    """A user's ``condim=6`` coefficients (5,) ``(μ, μ, μ_torsion [m], 0, 0)`` for a contact whose
+    patch is not simulated but estimated: radius ``a = √(ρ δ)`` from the surface's curvature radius
+    ``rho`` [m] at the contact and the depth ``delta`` [m] (Hertz's contact radius), torsion
+    ``3π μ a / 16`` (``torsion="hertz"``, :func:`torsion_coefficient`'s Hertz value) or ``μ · 2a``
+    (``"diameter"``), no rolling resistance.  ``mu``: Coulomb friction (> 0)."""
+    m = _checks.friction(mu, "set of MuJoCo coefficients")
+    r = _checks.length("rho (curvature radius)", rho)
+    d = _checks.depth("delta (depth)", delta, below=r, below_name="the curvature radius rho")
+    if torsion not in PATCH_TORSIONS:
+        raise ValueError(f"torsion must be one of {PATCH_TORSIONS}; got {torsion!r}")
+    a = np.sqrt(r * d)
+    tors = 3.0 * np.pi * m * a / 16.0 if torsion == "hertz" else m * 2.0 * a
+    return np.array([m, m, tors, 0.0, 0.0])
 
 
 @dataclass(frozen=True)

@@ -191,23 +191,9 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         import distributed  # noqa: F401
 
         logging.getLogger("distributed").setLevel(logging.WARNING)
-
-    def fail(exc: BaseException) -> None:
-        msg = exc.code if isinstance(exc, SystemExit) else str(exc)
-        if not isinstance(msg, str):
-            raise exc
-        parser.exit(2, f"workbench sweep {args.experiment}: error: {msg}\n")
-
     try:
         grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
-        # the key is checked now; the metric by run_sweep before any work (against this sweep's
-        # finished rows, the experiment's declared columns or its earlier tables) or, with none
-        # of those, on the first finished point
-        for key, _ in args.plot:
-            if key not in {**grid, **zipped}:
-                raise SweepError(
-                    f"--plot {key} ...: {key!r} is not a swept key; plot against one of {[*grid, *zipped]}"
-                )
+        _check_plot_keys(args.plot, grid, zipped)
         summary = run_sweep(
             args.experiment,
             grid,
@@ -223,16 +209,48 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
             metrics=[metric for _, metric in args.plot],
         )
     except (SweepError, SystemExit) as exc:
-        fail(exc)
+        _sweep_fail(parser, args, exc)
     except KeyboardInterrupt:
         parser.exit(
             130,
             f"\nworkbench sweep {args.experiment}: interrupted; every finished point is kept — "
             "re-run the same command to resume\n",
         )
+    _print_sweep(args.experiment, summary)
+    for key, metric in args.plot:
+        try:
+            print(f"  figure: {plot_sweep(summary['table'], key, metric, zipped=list(zipped))}")
+        except SweepError as exc:
+            _sweep_fail(parser, args, exc)
+    return 0 if summary["n_failed"] == 0 and not summary.get("n_refused", 0) else 1
+
+
+def _sweep_fail(parser: argparse.ArgumentParser, args: argparse.Namespace, exc: BaseException) -> None:
+    """Exit 2 with a sweep's error as one line (a ``SystemExit`` without a message is re-raised)."""
+    msg = exc.code if isinstance(exc, SystemExit) else str(exc)
+    if not isinstance(msg, str):
+        raise exc
+    parser.exit(2, f"workbench sweep {args.experiment}: error: {msg}\n")
+
+
+def _check_plot_keys(plots: list[list[str]], grid: dict[str, Any], zipped: dict[str, Any]) -> None:
+    """``SweepError`` for a ``--plot KEY METRIC`` whose key is not swept.  The key is checked now;
+    the metric by run_sweep before any work (against this sweep's finished rows, the experiment's
+    declared columns or its earlier tables) or, with none of those, on the first finished point."""
+    from .sweep import SweepError
+
+    for key, _ in plots:
+        if key not in {**grid, **zipped}:
+            raise SweepError(
+                f"--plot {key} ...: {key!r} is not a swept key; plot against one of {[*grid, *zipped]}"
+            )
+
+
+def _print_sweep(experiment: str, summary: dict) -> None:
+    """The sweep's summary (:func:`~workbench.runner.sweep.run_sweep`) as the command prints it."""
     n_refused = summary.get("n_refused", 0)
     print(
-        f"sweep {args.experiment}: {summary['n_points']} points ({summary['n_ok']} ok, "
+        f"sweep {experiment}: {summary['n_points']} points ({summary['n_ok']} ok, "
         f"{summary['n_failed']} failed"
         + (f", {n_refused} refused for memory" if n_refused else "")
         + f"; {summary['n_resumed']} resumed, {summary['n_submitted']} run) in {summary['seconds']:.1f} s"
@@ -250,12 +268,6 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         print("  (tracebacks in the table's error column; failed points run again with --retry-failed)")
     for bad in summary.get("refused", []):
         print(f"  {bad['point']}: {bad['error']}")
-    for key, metric in args.plot:
-        try:
-            print(f"  figure: {plot_sweep(summary['table'], key, metric, zipped=list(zipped))}")
-        except SweepError as exc:
-            fail(exc)
-    return 0 if summary["n_failed"] == 0 and not n_refused else 1
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -316,16 +328,26 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "sweep":
         return _sweep(parser, args)
     if args.command == "report":
-        from .report import write_report
+        return _report(parser, args)
+    return _run(parser, args)
 
-        try:
-            written = write_report(args.results, args.out)
-        except ValueError as exc:  # no results to report (a mistyped --results): one clean line, exit 2
-            if args.verbose:
-                raise
-            parser.exit(2, f"workbench report: error: {exc}\n")
-        print(f"report: wrote {written}")
-        return 0
+
+def _report(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """``workbench report``."""
+    from .report import write_report
+
+    try:
+        written = write_report(args.results, args.out)
+    except ValueError as exc:  # no results to report (a mistyped --results): one clean line, exit 2
+        if args.verbose:
+            raise
+        parser.exit(2, f"workbench report: error: {exc}\n")
+    print(f"report: wrote {written}")
+    return 0
+
+
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    """``workbench run NAME``: its config built and checked, its memory checked, then run."""
     sets = args.sets + getattr(args, "sets_after", [])
     try:
         config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(sets))

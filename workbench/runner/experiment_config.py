@@ -8,6 +8,7 @@ import importlib
 import json
 import math
 import shlex
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -145,27 +146,8 @@ class ConfigValueError(SystemExit):
 
 def _check(value: Any, schema: Any, where: str) -> Any:
     """``value`` coerced to ``schema`` (int -> float); raises _Mismatch."""
-    if schema == "any" or schema is None:
-        _check_finite(value, where)
-        return value
-    if schema == "bool":
-        if isinstance(value, bool):
-            return value
-        raise _Mismatch(f"{where}{value!r} is not a bool (true or false)")
-    if schema == "int":
-        if isinstance(value, int) and not isinstance(value, bool):
-            return value
-        raise _Mismatch(f"{where}{value!r} is not an int")
-    if schema == "float":
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            if not math.isfinite(value):
-                raise _Mismatch(f"{where}{value!r} is not finite")
-            return float(value)
-        raise _Mismatch(f"{where}{value!r} is not a number")
-    if schema == "str":
-        if isinstance(value, str):
-            return str(value)
-        raise _Mismatch(f"{where}{value!r} is not a string")
+    if schema is None or isinstance(schema, str):
+        return _check_scalar(value, schema, where)
     kind, inner = schema
     if kind == "list":
         if not isinstance(value, (list, tuple)):
@@ -179,6 +161,32 @@ def _check(value: Any, schema: Any, where: str) -> Any:
     if extra:
         raise _Mismatch(f"{where}unknown key(s) {extra} (known: {sorted(inner)})")
     return {k: _check(v, inner[k], f"{where}[{k!r}]: ") for k, v in value.items()}
+
+
+#: scalar schema -> (test of a value, what a value that fails it is not); "float" and "any"
+#: have their own rules (finiteness, int -> float) in :func:`_check_scalar`
+_SCALAR_TESTS: dict[str, tuple[Callable[[Any], bool], str]] = {
+    "bool": (lambda v: isinstance(v, bool), "is not a bool (true or false)"),
+    "int": (lambda v: isinstance(v, int) and not isinstance(v, bool), "is not an int"),
+    "str": (lambda v: isinstance(v, str), "is not a string"),
+}
+
+
+def _check_scalar(value: Any, schema: str | None, where: str) -> Any:
+    """``value`` checked against a scalar ``schema`` (:func:`_check`); raises _Mismatch."""
+    if schema == "any" or schema is None:
+        _check_finite(value, where)
+        return value
+    if schema == "float":
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if not math.isfinite(value):
+                raise _Mismatch(f"{where}{value!r} is not finite")
+            return float(value)
+        raise _Mismatch(f"{where}{value!r} is not a number")
+    test, what = _SCALAR_TESTS[schema]
+    if not test(value):
+        raise _Mismatch(f"{where}{value!r} {what}")
+    return str(value) if schema == "str" else value
 
 
 def _check_finite(value: Any, where: str) -> None:
@@ -259,6 +267,17 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         config.update(module.QUICK_CONFIG)
     config["quick"] = quick
     config["out"] = str(Path(out) if out else Path("results") / name)
+    _apply_seed(name, module, config, seed, sets)
+    _check_set_keys(name, config, sets)
+    defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
+    config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
+    _check_set_values(name, module, config, sets)
+    return config
+
+
+def _apply_seed(name: str, module: Any, config: dict, seed: int | None, sets: dict[str, Any]) -> None:
+    """Put ``--seed`` into ``config`` (checked like ``--set seed=...``), or ``SystemExit`` for an
+    experiment without a seed key or a seed also given by ``--set``."""
     refusal = None if seed is None else seed_refusal(name, seed)
     if refusal is not None:  # a seed the experiment does not read: the run would ignore it silently
         raise SystemExit(refusal)
@@ -266,6 +285,11 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         raise SystemExit(f"seed is given by --seed ({seed}) and by --set seed={sets['seed']}: give it once")
     if seed is not None:  # checked like --set seed=... (a negative seed fails in numpy otherwise)
         config["seed"] = _coerce("seed", seed, module.DEFAULT_CONFIG["seed"], "--seed")
+
+
+def _check_set_keys(name: str, config: dict, sets: dict[str, Any]) -> None:
+    """``SystemExit`` for a ``--set`` of ``quick`` or ``out``, or of a key ``config`` does not have
+    (with the closest known keys)."""
     reserved = sorted({"quick", "out"} & set(sets))
     if reserved:  # a grid over them would label quick runs "quick=False" or write outside the sweep
         raise SystemExit(f"{reserved} are set by --quick and --out, not as config values")
@@ -278,8 +302,11 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
         close = [f"{h[0]!r} for {k!r}" for k, h in hints.items() if h]
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise SystemExit(f"unknown config keys for {name}: {sorted(unknown)}{hint}; known: {known}")
-    defaults = {**module.DEFAULT_CONFIG, "quick": False, "out": config["out"]}
-    config.update({key: _coerce(key, value, defaults[key]) for key, value in sets.items()})
+
+
+def _check_set_values(name: str, module: Any, config: dict, sets: dict[str, Any]) -> None:
+    """``SystemExit`` for a ``--set`` value its key's rule refuses, or a config the experiment's
+    own ``check_config`` refuses."""
     keys = key_specs(module)
     for key in sets:  # each physical number by its quantity's one rule, each word by its choices
         if key in keys:
@@ -293,7 +320,6 @@ def build_config(name: str, quick: bool, out: str | None, seed: int | None, sets
             check(config)
         except ValueError as exc:
             raise SystemExit(f"{name}: {exc}") from None
-    return config
 
 
 def seed_refusal(name: str, seed: Any, flag: str = "--seed") -> str | None:

@@ -130,7 +130,7 @@ def row_client(
     """The ``distributed.Client`` to run ``n_rows`` rows on, or None to run them serially.
 
     workers : 0 = a local cluster of one worker per core when ``n_rows`` reaches
-    ``min_rows`` (default ``config.DEFAULTS.cluster_min_rows``, read now; an experiment
+    ``min_rows`` (default ``config.RUN.cluster_min_rows``, read now; an experiment
     with a few rows of minutes each passes its own) and the machine has more than one
     core, else serial; 1 = serial; N = a local cluster of N worker processes.
     scheduler : an existing cluster's address (overrides ``workers``).  threads :
@@ -148,7 +148,7 @@ def row_client(
         return
     cores = os.cpu_count() or 1
     n = workers if workers > 1 else (cores if workers == 0 and cores > 1 else 1)
-    least = config.DEFAULTS.cluster_min_rows if min_rows is None else min_rows
+    least = config.RUN.cluster_min_rows if min_rows is None else min_rows
     if n == 1 or (workers == 0 and n_rows < least):
         yield None
         return
@@ -171,7 +171,7 @@ def local_cluster(n_workers: int, threads: int = 1, memory_limit: int | None = N
     """A ``distributed.LocalCluster`` of ``n_workers`` processes with ``threads`` threads each,
     their Numba and OpenMP threads capped to ``threads`` (spinning OpenMP threads of one worker
     starve the others), their progress bars off (the driver shows one), the scheduler's
-    queueing from ``config.DEFAULTS.cluster_worker_saturation``, and each worker's memory
+    queueing from ``config.RUN.cluster_worker_saturation``, and each worker's memory
     limit ``memory_limit`` [bytes] (default :func:`local_memory_limit`; its nanny restarts it
     above ``distributed.worker.memory.terminate`` of that)."""
     import dask
@@ -193,7 +193,7 @@ def local_cluster(n_workers: int, threads: int = 1, memory_limit: int | None = N
             **dict.fromkeys(("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"), n),
         },
         # the scheduler (in this process) reads its queueing when it is created, here too
-        "distributed.scheduler.worker-saturation": config.DEFAULTS.cluster_worker_saturation,
+        "distributed.scheduler.worker-saturation": config.RUN.cluster_worker_saturation,
     }
     env = {"NUMBA_NUM_THREADS": n, "TQDM_DISABLE": "1"}  # set inside each worker process only
     with dask.config.set(dask_settings):  # each nanny reads its environment when it is created, here
@@ -241,22 +241,48 @@ def map_rows(
         if progress is not None:
             progress.update(len(res) if isinstance(res, list) else 1)
 
-    t0 = time.perf_counter()
     if client is None:
-        extra = meanwhile() if meanwhile is not None else None
-        busy = []
-        for job in jobs:
-            t = time.perf_counter()
-            res = _one_blas_thread(fn, job)
-            busy.append(time.perf_counter() - t)
-            step(job, res)
-        if stats is not None:
-            stats.update(_stream_stats({"serial": busy}, time.perf_counter() - t0))
-        return extra
+        return _map_serial(fn, jobs, step, meanwhile, stats)
+    return _map_dask(fn, jobs, step, client, retries, meanwhile, stats)
+
+
+def _map_serial(
+    fn: Callable[[Any], Any],
+    jobs: list,
+    step: Callable[[Any, Any], None],
+    meanwhile: Callable[[], Any] | None,
+    stats: dict | None,
+) -> Any:
+    """:func:`map_rows` in this process: ``meanwhile`` first, then every job in order."""
+    t0 = time.perf_counter()
+    extra = meanwhile() if meanwhile is not None else None
+    busy = []
+    for job in jobs:
+        t = time.perf_counter()
+        res = _one_blas_thread(fn, job)
+        busy.append(time.perf_counter() - t)
+        step(job, res)
+    if stats is not None:
+        stats.update(_stream_stats({"serial": busy}, time.perf_counter() - t0))
+    return extra
+
+
+def _map_dask(
+    fn: Callable[[Any], Any],
+    jobs: list,
+    step: Callable[[Any, Any], None],
+    client: Any,
+    retries: int,
+    meanwhile: Callable[[], Any] | None,
+    stats: dict | None,
+) -> Any:
+    """:func:`map_rows` as Dask tasks on ``client``: submitted, ``meanwhile`` run here, then the
+    results handed to ``step`` as they complete (the rest cancelled if one raises)."""
     from contextlib import nullcontext
 
     from distributed import as_completed, get_task_stream
 
+    t0 = time.perf_counter()
     with get_task_stream(client) if stats is not None else nullcontext() as ts:
         settings = config.changed()  # what configure() set here, for the workers' processes
         task = partial(_one_blas_thread, fn, settings=settings)
@@ -273,13 +299,18 @@ def map_rows(
         finally:
             client.cancel(futures)
     if stats is not None:
-        per: dict[str, list[float]] = {}
-        for task in ts.data:
-            for ss in task.get("startstops", ()):
-                if ss.get("action") == "compute":
-                    per.setdefault(task["worker"], []).append(ss["stop"] - ss["start"])
-        stats.update(_stream_stats(per, time.perf_counter() - t0))
+        stats.update(_stream_stats(_compute_seconds(ts.data), time.perf_counter() - t0))
     return extra
+
+
+def _compute_seconds(stream: list[dict]) -> dict[str, list[float]]:
+    """worker -> the compute seconds of each of its tasks in a Dask task stream."""
+    per: dict[str, list[float]] = {}
+    for task in stream:
+        for ss in task.get("startstops", ()):
+            if ss.get("action") == "compute":
+                per.setdefault(task["worker"], []).append(ss["stop"] - ss["start"])
+    return per
 
 
 def _stream_stats(per_worker: dict[str, list[float]], wall_s: float) -> dict:
@@ -306,7 +337,8 @@ def _stream_stats(per_worker: dict[str, list[float]], wall_s: float) -> dict:
     }
 
 
-def run_rows(
+# its keyword API is called by every experiment's driver (other files): kept as it is
+def run_rows(  # noqa: PLR0913 — public keyword API (above)
     fn: Callable[[Any], Any],
     jobs: Iterable[Any],
     on_result: Callable[[Any, Any], None],

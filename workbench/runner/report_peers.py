@@ -2,7 +2,7 @@
 against the peers (``peers/summary.json``) and the runtime-versus-error trade-off of our own
 knobs (``benchmarks/pareto.json``), rendered from the committed summaries only.
 
-Pure rendering: :func:`render_peers_sections` reads through a :class:`workbench.runner.report.Summaries`
+Pure rendering: :func:`render_peers_sections` reads through a :class:`workbench.runner.report_rules.Summaries`
 (passed in: this module imports nothing of the report) and returns Markdown; a missing file gives
 a line saying which and the command that writes it.
 """
@@ -70,28 +70,29 @@ def _ms(x: Any) -> str:
     return "—" if x is None else f"{x:.3g}"
 
 
-def _peers(s: Any, link_prefix: str) -> list[str]:
-    lines = ["", "## Against the peers", ""]
-    try:
-        peers = s.get("peers/summary.json", "peers")
-    except LookupError as exc:  # workbench.runner.report.MissingKey
-        return lines + [f"missing: {exc.where} — run `workbench run peers`."]
-    ref = _opt(s, "peers/summary.json", "reference")
-    cases = list(dict.fromkeys(c for per in peers.values() for c in per))
-    res = _opt(s, "peers/summary.json", "margin_resolution")
-    dm = _opt(s, "peers/summary.json", "margin_delta_mm")
-    defs = _opt(s, "peers/summary.json", "definitions") or {}
-    cfg = _opt(s, "peers/summary.json", "config") or {}
-    setup = ""
-    if cfg:
-        w, ln, h = cfg.get("pad_mm", ["?"] * 3)
-        setup = (
-            f"The pad: {w} × {ln} × {h} mm, E = {cfg.get('E', 0) / 1e6:g} MPa, ν = {cfg.get('nu')}, "
-            f"μ = {cfg.get('mu')}; jaw displacements δ = {', '.join(map(str, cfg.get('deltas_mm', [])))} mm"
-            f"{' (quick run)' if cfg.get('quick') else ''}; the fitted 6DLS: {cfg.get('ls_model')} on "
-            f"{2 * cfg.get('ls_twists', 0)} wrenches, scored at {cfg.get('ls_directions')} points. "
-        )
-    lines += [
+_PEERS = "peers/summary.json"
+
+
+def _setup(cfg: dict) -> str:
+    """The pad, its material, the jaw displacements and the fitted 6DLS of the peers run (``config``)."""
+    if not cfg:
+        return ""
+    w, ln, h = cfg.get("pad_mm", ["?"] * 3)
+    return (
+        f"The pad: {w} × {ln} × {h} mm, E = {cfg.get('E', 0) / 1e6:g} MPa, ν = {cfg.get('nu')}, "
+        f"μ = {cfg.get('mu')}; jaw displacements δ = {', '.join(map(str, cfg.get('deltas_mm', [])))} mm"
+        f"{' (quick run)' if cfg.get('quick') else ''}; the fitted 6DLS: {cfg.get('ls_model')} on "
+        f"{2 * cfg.get('ls_twists', 0)} wrenches, scored at {cfg.get('ls_directions')} points. "
+    )
+
+
+def _peers_intro(s: Any, cases: list, res: Any) -> list[str]:
+    """What the peers table compares and how to read it, the definitions, and the table's head."""
+    ref = _opt(s, _PEERS, "reference")
+    dm = _opt(s, _PEERS, "margin_delta_mm")
+    defs = _opt(s, _PEERS, "definitions") or {}
+    setup = _setup(_opt(s, _PEERS, "config") or {})
+    return [
         "What a researcher loses using the contact model of the simulator they already have: each peer on "
         f"the same contacts ({', '.join(cases)}, each pressed into one silicone pad) against the reference, "
         f"{ref or 'the neo-Hookean pad'}. {setup}"
@@ -108,60 +109,81 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
         "| peer | case | " + " | ".join(h for _, h in METRICS) + " | ms per query |",
         "|---|---|" + "---|" * len(METRICS) + "---|",
     ]
-    res = _opt(s, "peers/summary.json", "margin_resolution")
+
+
+def _peer_rows(peers: dict, res: Any) -> list[str]:
+    """One table row per peer and case: its errors (:data:`METRICS`) and its runtime."""
+    lines = []
     for peer, cases in peers.items():
         for case, m in cases.items():
             cells = [_PEER_NAMES.get(peer, peer), case]
             cells += [_err(k, m.get(k), res) for k, _ in METRICS]
             cells.append(_ms(m.get("ms_per_query")))
             lines.append("| " + " | ".join(cells) + " |")
-    vs = _opt(s, "peers/summary.json", "vs_drake") or {}
-    if vs:
-        ds = _opt(s, "peers/summary.json", "sweep_delta_mm")
-        lines += [
-            "",
-            f"Condensed FEM against Drake, read on each one's runtime-vs-error sweep at δ = {ds} mm "
-            "(ratios Drake / condensed: above 1 the condensed FEM is more accurate, or faster):",
-            "",
-        ]
-        lines += [
-            "| case | error | Drake ms | Drake error | condensed error at Drake's ms | error ratio | "
-            "condensed ms at Drake's error | runtime ratio |",
-            "|---|---|---|---|---|---|---|---|",
-        ]
-        for case, per in vs.items():
-            for metric, r in per.items():
-                be = r.get("error_ratio_bound") or ""
-                bt = r.get("runtime_ratio_bound") or ""
-                cells = [
-                    case,
-                    metric,
-                    f"{r['drake_ms']:.3g}",
-                    f"{r['drake_error']:.3g}",
-                    f"{r['condensed_error_at_drake_ms']:.3g}",
-                    f"{be}{r['error_ratio_drake_over_condensed']:.3g}",
-                    f"{r['condensed_ms_at_drake_error']:.3g}",
-                    f"{bt}{r['runtime_ratio_drake_over_condensed']:.3g}",
-                ]
-                lines.append("| " + " | ".join(cells) + " |")
-        lines += [
-            "",
-            "A ratio marked >= or <= was read beyond the condensed sweep's measured range (the condensed FEM "
-            "was not measured that fast, or that inaccurate): it is that bound, not an estimate.",
-        ]
-    mapping = _opt(s, "peers/summary.json", "mapping") or {}
+    return lines
+
+
+def _drake_row(case: str, metric: str, r: dict) -> str:
+    """One case and error of the condensed-FEM-against-Drake table (a ratio read beyond the
+    measured range carries its bound, >= or <=)."""
+    be = r.get("error_ratio_bound") or ""
+    bt = r.get("runtime_ratio_bound") or ""
+    cells = [
+        case,
+        metric,
+        f"{r['drake_ms']:.3g}",
+        f"{r['drake_error']:.3g}",
+        f"{r['condensed_error_at_drake_ms']:.3g}",
+        f"{be}{r['error_ratio_drake_over_condensed']:.3g}",
+        f"{r['condensed_ms_at_drake_error']:.3g}",
+        f"{bt}{r['runtime_ratio_drake_over_condensed']:.3g}",
+    ]
+    return "| " + " | ".join(cells) + " |"
+
+
+def _vs_drake(s: Any) -> list[str]:
+    """The condensed FEM against Drake on each one's runtime-vs-error sweep (nothing if not run)."""
+    vs = _opt(s, _PEERS, "vs_drake") or {}
+    if not vs:
+        return []
+    ds = _opt(s, _PEERS, "sweep_delta_mm")
+    return [
+        "",
+        f"Condensed FEM against Drake, read on each one's runtime-vs-error sweep at δ = {ds} mm "
+        "(ratios Drake / condensed: above 1 the condensed FEM is more accurate, or faster):",
+        "",
+        "| case | error | Drake ms | Drake error | condensed error at Drake's ms | error ratio | "
+        "condensed ms at Drake's error | runtime ratio |",
+        "|---|---|---|---|---|---|---|---|",
+        *(_drake_row(case, metric, r) for case, per in vs.items() for metric, r in per.items()),
+        "",
+        "A ratio marked >= or <= was read beyond the condensed sweep's measured range (the condensed FEM "
+        "was not measured that fast, or that inaccurate): it is that bound, not an estimate.",
+    ]
+
+
+def _run_notes(s: Any) -> list[str]:
+    """The peers run's parameter mapping, peer versions and skipped peers (each if recorded)."""
+    lines = []
+    mapping = _opt(s, _PEERS, "mapping") or {}
     if mapping:
         lines += [
             "",
             "Parameter mapping: " + "; ".join(f"{_PEER_NAMES.get(k, k)}: {v}" for k, v in mapping.items()),
         ]
-    ver = _opt(s, "peers/summary.json", "peer_versions") or {}
+    ver = _opt(s, _PEERS, "peer_versions") or {}
     if ver:
         lines.append("Peer versions: " + ", ".join(f"{k} {v}" for k, v in ver.items()) + ".")
-    skipped = _opt(s, "peers/summary.json", "skipped") or {}
+    skipped = _opt(s, _PEERS, "skipped") or {}
     if skipped:
         lines.append("Skipped: " + "; ".join(f"{k} ({v})" for k, v in skipped.items()) + ".")
-    hb = _opt(s, "peers/summary.json", "hertz_half_space")
+    return lines
+
+
+def _hertz_notes(s: Any) -> list[str]:
+    """Where Hertz applies: the peers run's thick blocks and fem-validation's (each if recorded)."""
+    lines = []
+    hb = _opt(s, _PEERS, "hertz_half_space")
     if hb:
         per = ", ".join(
             f"{_pct(e)} at a/H = {q:.3g}" for e, q in zip(hb["force_rel_err"], hb["a_over_H"], strict=True)
@@ -179,7 +201,20 @@ def _peers(s: Any, link_prefix: str) -> list[str]:
             f"{_pct(hz.get('a_rel_err'))} and peak pressure {_pct(hz.get('p0_rel_err'))} from Hertz's "
             "for the computed force, on the finest mesh."
         )
-    figs = _opt(s, "peers/summary.json", "figures") or []
+    return lines
+
+
+def _peers(s: Any, link_prefix: str) -> list[str]:
+    lines = ["", "## Against the peers", ""]
+    try:
+        peers = s.get(_PEERS, "peers")
+    except LookupError as exc:  # workbench.runner.report_rules.MissingKey
+        return lines + [f"missing: {exc.where} — run `workbench run peers`."]
+    cases = list(dict.fromkeys(c for per in peers.values() for c in per))
+    res = _opt(s, _PEERS, "margin_resolution")
+    lines += _peers_intro(s, cases, res) + _peer_rows(peers, res) + _vs_drake(s) + _run_notes(s)
+    lines += _hertz_notes(s)
+    figs = _opt(s, _PEERS, "figures") or []
     if figs:
         rel = [_beside("peers", f) for f in figs]
         lines.append("Figure: " + ", ".join(f"[{r}]({link_prefix}{r})" for r in rel) + ".")
@@ -204,7 +239,7 @@ def _pareto(s: Any, link_prefix: str) -> list[str]:
     lines = ["", "## Our knobs: runtime against error", ""]
     try:
         fams = s.get("benchmarks/pareto.json", "families")
-    except LookupError as exc:  # workbench.runner.report.MissingKey
+    except LookupError as exc:  # workbench.runner.report_rules.MissingKey
         return lines + [f"missing: {exc.where} — run `python benchmarks/bench_pareto.py`."]
     lines += [
         "Each knob's settings as (runtime, error against that family's best reference); the default's "

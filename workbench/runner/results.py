@@ -171,6 +171,11 @@ def _sources_digest() -> str:
 CODE_PATHS = ("workbench", "benchmarks", "pyproject.toml")
 
 
+#: the checkout the package runs from (an editable install: the repository, beside
+#: ../shared/data; workbench/runner/ is two folders down)
+CHECKOUT = Path(__file__).resolve().parents[2]
+
+
 def code_revision(root: Path | None = None) -> str:
     """The code's revision: ``git describe --always --abbrev=12`` of the checkout the package
     runs from (``root``: another checkout), with ``-dirty`` when :data:`CODE_PATHS` hold
@@ -178,7 +183,7 @@ def code_revision(root: Path | None = None) -> str:
     ``src-`` and :func:`code_hash`."""
     import subprocess
 
-    root = Path(__file__).resolve().parents[1] if root is None else Path(root)
+    root = CHECKOUT if root is None else Path(root)
     try:
         git = ["git", "-C", str(root)]
         res = subprocess.run(
@@ -303,11 +308,12 @@ class Checkpoint:
     def _config_hash(config: dict, code: str | None) -> str:
         """The rows' key: ``config``, ``code`` (default: the whole package's :func:`code_hash`) and
         the tolerances and defaults set away from their defaults (:func:`workbench.config.changed`:
-        a row computed under another ``resist_rtol`` is another row)."""
+        a row computed under another ``resist_rtol`` is another row; the run settings, which change
+        no number, are not in it)."""
         from .. import config as _config
 
         key = {"config": config, "code": code_hash() if code is None else code}
-        settings = _config.changed()
+        settings = _config.changed(numbers_only=True)
         if settings:  # absent at the defaults: their rows keep the keys they had
             key["settings"] = settings
         return content_hash(key)

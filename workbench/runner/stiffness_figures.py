@@ -23,6 +23,7 @@ import numbers
 import os
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -199,74 +200,81 @@ def plot_stiffness_validation(
         )
     _check_options(path, band, rigid_threshold, model)
     thr = _threshold(rigid_threshold)
-    data = {}
-    for name, d in panels.items():
-        if not isinstance(d, Mapping):
-            raise ValueError(
-                f"panels[{name!r}] must be a dict with measured, predicted, train, test; got "
-                f"{type(d).__name__} {d!r:.60}"
-            )
-        missing = {"measured", "predicted", "train", "test"} - set(d)
-        if missing:
-            raise ValueError(
-                f"{name}: panel needs measured, predicted, train, test; missing {sorted(missing)}"
-            )
-        data[name] = _check_grasps(
-            d["measured"], d["predicted"], d["train"], d["test"], where=name, rigid_threshold=thr
-        )
+    data = {name: _check_panel(name, d, thr) for name, d in panels.items()}
     plt = _pyplot()
-    from matplotlib.ticker import NullFormatter
-
     k = len(data)
     fig, axes = plt.subplots(1, k, figsize=(4.4 * k, 4.6), squeeze=False)
-    for ax, (name, (s, p, tr, te)) in zip(axes[0], data.items(), strict=True):
-        used = tr | te
-        out = ~used
-        n_rigid_meas = int(np.sum(out & (s >= thr)))
-        n_rigid_model = int(np.sum(out & (s < thr) & ~(np.isfinite(p) & (p < thr))))
-        rho, mal = _heldout_stats(s, p, te)
-        if used.any():
-            v = np.r_[s[used], p[used]]
-            lo, hi = np.log10(v.min()) - 0.15, np.log10(v.max()) + 0.15
-        else:
-            lo, hi = 2.0, 4.0
-        x = np.logspace(lo, hi, 50)
-        ax.fill_between(x, x * np.exp(-band), x * np.exp(band), color="tab:green", alpha=0.12, lw=0)
-        ax.plot(x, x, color="k", lw=1, label="y = x")
-        ax.plot(x, x * np.exp(band), color="tab:green", lw=0.8, ls="--", label=f"±{band:g} in log")
-        ax.plot(x, x * np.exp(-band), color="tab:green", lw=0.8, ls="--")
-        ax.scatter(
-            s[te], p[te], s=28, color="tab:blue", edgecolor="k", lw=0.5, label=f"held out ({te.sum()})"
-        )
-        ax.scatter(
-            s[tr],
-            p[tr],
-            s=28,
-            facecolor="none",
-            edgecolor="tab:orange",
-            lw=1.2,
-            label=f"training ({tr.sum()})",
-        )
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        for axis in (ax.xaxis, ax.yaxis):
-            axis.set_minor_formatter(NullFormatter())
-        ax.set_xlim(10**lo, 10**hi)
-        ax.set_ylim(10**lo, 10**hi)
-        ax.set_aspect("equal")
-        ax.grid(True, which="both", lw=0.3, alpha=0.5)
-        ax.set_xlabel("measured stiffness [N/m]")
-        ax.set_ylabel(f"{model} [N/m]")
-        verdict = "within" if mal <= band else "outside"
-        ax.set_title(
-            f"{name}\nheld out: Spearman {rho:.2f}, median |log ratio| {mal:.2f} ({verdict} {band:g})\n"
-            f"left out: {n_rigid_meas} rigid measured, {n_rigid_model} rigid/failed {model.split(',')[0]}",
-            fontsize=9,
-        )
-        ax.legend(loc="upper left", fontsize=7)
-        log.info("%s: held-out Spearman %.3f, median |log ratio| %.3f", name, rho, mal)
+    for ax, (name, grasps) in zip(axes[0], data.items(), strict=True):
+        _draw_panel(ax, name, grasps, thr, band, model)
     fig.tight_layout()
     return save_figure(fig, Path(path))
+
+
+def _check_panel(name: str, d, thr: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """One object's panel of :func:`plot_stiffness_validation`, checked: ``(s, p, train, test)``
+    (:func:`_check_grasps`)."""
+    if not isinstance(d, Mapping):
+        raise ValueError(
+            f"panels[{name!r}] must be a dict with measured, predicted, train, test; got "
+            f"{type(d).__name__} {d!r:.60}"
+        )
+    missing = {"measured", "predicted", "train", "test"} - set(d)
+    if missing:
+        raise ValueError(f"{name}: panel needs measured, predicted, train, test; missing {sorted(missing)}")
+    return _check_grasps(
+        d["measured"], d["predicted"], d["train"], d["test"], where=name, rigid_threshold=thr
+    )
+
+
+def _draw_panel(ax, name: str, grasps: tuple, thr: float, band: float, model: str) -> None:
+    """One object's log–log scatter on ``ax``: ``grasps`` = (measured (n,), predicted (n,),
+    train (n,) bool, test (n,) bool), the line y = x, the ``band`` and the title's statistics."""
+    from matplotlib.ticker import NullFormatter
+
+    s, p, tr, te = grasps
+    used = tr | te
+    out = ~used
+    n_rigid_meas = int(np.sum(out & (s >= thr)))
+    n_rigid_model = int(np.sum(out & (s < thr) & ~(np.isfinite(p) & (p < thr))))
+    rho, mal = _heldout_stats(s, p, te)
+    if used.any():
+        v = np.r_[s[used], p[used]]
+        lo, hi = np.log10(v.min()) - 0.15, np.log10(v.max()) + 0.15
+    else:
+        lo, hi = 2.0, 4.0
+    x = np.logspace(lo, hi, 50)
+    ax.fill_between(x, x * np.exp(-band), x * np.exp(band), color="tab:green", alpha=0.12, lw=0)
+    ax.plot(x, x, color="k", lw=1, label="y = x")
+    ax.plot(x, x * np.exp(band), color="tab:green", lw=0.8, ls="--", label=f"±{band:g} in log")
+    ax.plot(x, x * np.exp(-band), color="tab:green", lw=0.8, ls="--")
+    ax.scatter(s[te], p[te], s=28, color="tab:blue", edgecolor="k", lw=0.5, label=f"held out ({te.sum()})")
+    ax.scatter(
+        s[tr],
+        p[tr],
+        s=28,
+        facecolor="none",
+        edgecolor="tab:orange",
+        lw=1.2,
+        label=f"training ({tr.sum()})",
+    )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_minor_formatter(NullFormatter())
+    ax.set_xlim(10**lo, 10**hi)
+    ax.set_ylim(10**lo, 10**hi)
+    ax.set_aspect("equal")
+    ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    ax.set_xlabel("measured stiffness [N/m]")
+    ax.set_ylabel(f"{model} [N/m]")
+    verdict = "within" if mal <= band else "outside"
+    ax.set_title(
+        f"{name}\nheld out: Spearman {rho:.2f}, median |log ratio| {mal:.2f} ({verdict} {band:g})\n"
+        f"left out: {n_rigid_meas} rigid measured, {n_rigid_model} rigid/failed {model.split(',')[0]}",
+        fontsize=9,
+    )
+    ax.legend(loc="upper left", fontsize=7)
+    log.info("%s: held-out Spearman %.3f, median |log ratio| %.3f", name, rho, mal)
 
 
 def _surface_values(
@@ -328,6 +336,72 @@ def render_stiffness_maps(
     """
     from .viz import _pyvista, save_screenshot
 
+    V, Fc, L, s, p = _check_map_inputs(vertices, faces, locations, measured, predicted, title)
+    thr = _threshold(rigid_threshold)
+    point_vals, surf_vals, clim = _map_values(V, L, s, p, thr, model, surface)
+    pv = _pyvista()
+    extent = float(np.ptp(V, axis=0).max())
+    scene = _MapScene(
+        pv=pv,
+        vertices=V,
+        cells=np.hstack([np.full((len(Fc), 1), 3), Fc]).ravel(),
+        locations=L,
+        sphere=pv.Sphere(radius=0.022 * extent, theta_resolution=12, phi_resolution=12),
+        center=V.mean(axis=0),
+        extent=extent,
+        clim=clim,
+        title=title,
+        n=len(s),
+    )
+    plotter = pv.Plotter(off_screen=True, shape=(2, 2), window_size=(2 * window_size[0], 2 * window_size[1]))
+    for i, label in enumerate(point_vals):
+        for j in range(len(_VIEWS)):
+            plotter.subplot(i, j)
+            surf = surf_vals[label] if surface else None
+            _draw_view(plotter, scene, label, point_vals[label], surf, j)
+    log.info("stiffness maps %s: colour scale %.3g..%.3g N/m", title or path, *clim)
+    return save_screenshot(plotter, Path(path))
+
+
+#: the colour bar of each row of :func:`render_stiffness_maps` (pyvista's add_scalar_bar)
+_BAR = {
+    "interactive": False,
+    "fmt": "%.3g",
+    "n_labels": 4,
+    "vertical": False,
+    "position_x": 0.15,
+    "position_y": 0.03,
+    "height": 0.07,
+    "width": 0.7,
+    "title_font_size": 13,
+    "label_font_size": 11,
+}
+
+#: the columns of :func:`render_stiffness_maps`: (name, side of the camera along y)
+_VIEWS = (("front (-y)", -1.0), ("back (+y)", 1.0))
+
+
+class _MapScene(NamedTuple):
+    """What every view of :func:`render_stiffness_maps` draws: the pyvista module, the mesh
+    (vertices (V, 3) [m], pyvista cells), the grasp locations (2n, 3) [m] and their sphere
+    glyph, the object's centre (3,) and extent [m], the colour limits [N/m], the title and the
+    number of grasps."""
+
+    pv: Any
+    vertices: np.ndarray
+    cells: np.ndarray
+    locations: np.ndarray
+    sphere: Any
+    center: np.ndarray
+    extent: float
+    clim: tuple[float, float]
+    title: str
+    n: int
+
+
+def _check_map_inputs(vertices, faces, locations, measured, predicted, title: str) -> tuple:
+    """``(V (V, 3), faces (F, 3), locations (2n, 3), measured (n,), predicted (n,))`` of
+    :func:`render_stiffness_maps`, checked (its docstring)."""
     V = np.asarray(vertices, dtype=float)
     Fc = np.asarray(faces)
     L = np.asarray(locations, dtype=float)
@@ -355,7 +429,13 @@ def render_stiffness_maps(
     _check_values(s, p, title or "render_stiffness_maps")
     if np.any(~np.isfinite(V)) or np.any(~np.isfinite(L)):
         raise ValueError("vertices and locations must be finite")
-    thr = _threshold(rigid_threshold)
+    return V, Fc, L, s, p
+
+
+def _map_values(V, L, s, p, thr: float, model: str, surface: bool) -> tuple[dict, dict, tuple[float, float]]:
+    """``(point values, surface values, colour limits)``: per row (measured, ``model``) the
+    soft stiffness [N/m] of each grasp (n,) and, with ``surface``, at each vertex (V,) (NaN:
+    rigid or failed); one colour scale over both."""
 
     def soft(x: np.ndarray) -> np.ndarray:
         return np.where(np.isfinite(x) & (x > 0) & (x < thr), x, np.nan)
@@ -371,63 +451,49 @@ def render_stiffness_maps(
     clim = (float(finite.min()), float(finite.max())) if finite.size else (1.0, 10.0)
     if clim[1] <= clim[0] * 1.0001:
         clim = (clim[0] / 1.5, clim[1] * 1.5)
+    return point_vals, surf_vals, clim
 
-    pv = _pyvista()
-    cells = np.hstack([np.full((len(Fc), 1), 3), Fc]).ravel()
-    extent = float(np.ptp(V, axis=0).max())
-    sphere = pv.Sphere(radius=0.022 * extent, theta_resolution=12, phi_resolution=12)
-    center = V.mean(axis=0)
-    plotter = pv.Plotter(off_screen=True, shape=(2, 2), window_size=(2 * window_size[0], 2 * window_size[1]))
-    bar = {
-        "interactive": False,
-        "fmt": "%.3g",
-        "n_labels": 4,
-        "vertical": False,
-        "position_x": 0.15,
-        "position_y": 0.03,
-        "height": 0.07,
-        "width": 0.7,
-        "title_font_size": 13,
-        "label_font_size": 11,
-    }
-    for i, label in enumerate(point_vals):
-        for j, (view, sign) in enumerate((("front (-y)", -1.0), ("back (+y)", 1.0))):
-            plotter.subplot(i, j)
-            mesh = pv.PolyData(V, cells)
-            common = {"cmap": CMAP, "clim": clim, "log_scale": True, "nan_color": RIGID_COLOR}
-            if surface:
-                mesh.point_data["s"] = surf_vals[label]
-                plotter.add_mesh(
-                    mesh,
-                    scalars="s",
-                    smooth_shading=True,
-                    show_scalar_bar=False,
-                    **common,
-                )
-            else:
-                plotter.add_mesh(mesh, color="whitesmoke", smooth_shading=True)
-            pts = pv.PolyData(L)
-            pts.point_data["s"] = np.r_[point_vals[label], point_vals[label]]
-            glyphs = pts.glyph(geom=sphere, scale=False, orient=False)
-            plotter.add_mesh(
-                glyphs,
-                scalars="s",
-                show_scalar_bar=False,
-                **common,
-            )
-            if j == 1:  # one bar per row, on the right; the trailing newline lifts the title off the labels
-                plotter.add_scalar_bar(title=f"{label} [N/m]\n", **bar)
-            n_rigid = int(np.sum(np.isnan(point_vals[label])))
-            text = f"{label}, {view}"
-            if j == 0:
-                text = f"{title}\n{text}" if title else text
-                text += f"\ngrey: rigid/failed ({n_rigid} of {n} grasps)"
-            plotter.add_text(text, font_size=8, position="upper_left")
-            look_at = center - np.array([0.0, 0.0, 0.08 * extent])  # lifts the object above the colour bar
-            plotter.camera.focal_point = look_at
-            plotter.camera.position = look_at + np.array([0.0, sign * 3.2 * extent, 0.8 * extent])
-            plotter.camera.up = (0.0, 0.0, 1.0)
-            plotter.camera.zoom(1.1)
-            plotter.reset_camera_clipping_range()
-    log.info("stiffness maps %s: colour scale %.3g..%.3g N/m", title or path, *clim)
-    return save_screenshot(plotter, Path(path))
+
+def _draw_view(plotter, scene: _MapScene, label: str, points: np.ndarray, surf, j: int) -> None:
+    """The current subplot, row ``label``, column ``j`` (:data:`_VIEWS`): the mesh (coloured by
+    ``surf`` (V,) unless None), the grasps' spheres coloured by ``points`` (n,), the colour bar
+    (right column), the text and the camera."""
+    view, sign = _VIEWS[j]
+    pv = scene.pv
+    mesh = pv.PolyData(scene.vertices, scene.cells)
+    common = {"cmap": CMAP, "clim": scene.clim, "log_scale": True, "nan_color": RIGID_COLOR}
+    if surf is not None:
+        mesh.point_data["s"] = surf
+        plotter.add_mesh(
+            mesh,
+            scalars="s",
+            smooth_shading=True,
+            show_scalar_bar=False,
+            **common,
+        )
+    else:
+        plotter.add_mesh(mesh, color="whitesmoke", smooth_shading=True)
+    pts = pv.PolyData(scene.locations)
+    pts.point_data["s"] = np.r_[points, points]
+    glyphs = pts.glyph(geom=scene.sphere, scale=False, orient=False)
+    plotter.add_mesh(
+        glyphs,
+        scalars="s",
+        show_scalar_bar=False,
+        **common,
+    )
+    if j == 1:  # one bar per row, on the right; the trailing newline lifts the title off the labels
+        plotter.add_scalar_bar(title=f"{label} [N/m]\n", **_BAR)
+    n_rigid = int(np.sum(np.isnan(points)))
+    text = f"{label}, {view}"
+    if j == 0:
+        text = f"{scene.title}\n{text}" if scene.title else text
+        text += f"\ngrey: rigid/failed ({n_rigid} of {scene.n} grasps)"
+    plotter.add_text(text, font_size=8, position="upper_left")
+    # the focal point below the centre lifts the object above the colour bar
+    look_at = scene.center - np.array([0.0, 0.0, 0.08 * scene.extent])
+    plotter.camera.focal_point = look_at
+    plotter.camera.position = look_at + np.array([0.0, sign * 3.2 * scene.extent, 0.8 * scene.extent])
+    plotter.camera.up = (0.0, 0.0, 1.0)
+    plotter.camera.zoom(1.1)
+    plotter.reset_camera_clipping_range()

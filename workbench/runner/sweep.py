@@ -60,6 +60,7 @@ scalar number or flag of the experiment's summary as a column named by its path
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import itertools
 import json
 import logging
@@ -69,6 +70,7 @@ import time
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -79,10 +81,15 @@ from .results import Checkpoint, _jsonable, code_revision, content_hash, version
 log = logging.getLogger(__name__)
 
 __all__ = [
+    "SweepCluster",
     "SweepError",
+    "SweepPlan",
+    "SweepSpec",
+    "execute_sweep",
     "expand_grid",
     "flatten_scalars",
     "line_keys",
+    "plan_sweep",
     "plot_sweep",
     "point_key",
     "read_table",
@@ -621,8 +628,8 @@ def _client(
     memory; :func:`workbench.runner.parallel.local_cluster`), or a
     client of the scheduler at ``scheduler`` once it has a worker — ``SweepError`` at once if
     its host:port refuses a connection (:func:`_probe_scheduler`,
-    ``config.DEFAULTS.scheduler_probe_s``), else if it does not answer, or has no worker,
-    within ``config.DEFAULTS.scheduler_wait_s`` (both read now)."""
+    ``config.RUN.scheduler_probe_s``), else if it does not answer, or has no worker,
+    within ``config.RUN.scheduler_wait_s`` (both read now)."""
     import os
 
     from distributed import Client
@@ -631,8 +638,8 @@ def _client(
     from .parallel import local_cluster
 
     if scheduler:
-        wait = config.DEFAULTS.scheduler_wait_s
-        _probe_scheduler(scheduler, config.DEFAULTS.scheduler_probe_s)
+        wait = config.RUN.scheduler_wait_s
+        _probe_scheduler(scheduler, config.RUN.scheduler_probe_s)
         try:
             client = Client(scheduler, timeout=wait)
         except (ValueError, TypeError) as exc:  # a malformed address
@@ -657,7 +664,420 @@ def _client(
     return Client(cluster), cluster
 
 
-def run_sweep(
+@dataclass(frozen=True)
+class SweepCluster:
+    """Where a sweep's points run, checked when made (``SweepError``): ``workers`` local worker
+    processes (default one per core), or ``scheduler`` an existing cluster's address
+    (``tcp://host:port``), or ``client`` a ``distributed.Client`` used as is — at most one of
+    them; ``threads`` per worker (and Numba threads per task); ``retries``: Dask's retries of a
+    task whose worker died."""
+
+    workers: int | None = None
+    scheduler: str | None = None
+    client: Any = None
+    threads: int = 1
+    retries: int = 2
+
+    def __post_init__(self) -> None:
+        workers, scheduler = self.workers, self.scheduler
+        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+            raise SweepError(f"workers must be a positive integer; got {workers!r}")
+        if not isinstance(self.threads, int) or self.threads < 1:
+            raise SweepError(f"threads must be a positive integer; got {self.threads!r}")
+        if scheduler is not None and not str(scheduler).strip():
+            raise SweepError(
+                "--scheduler is empty; give an address such as tcp://host:8786 (or leave it out)"
+            )
+        if scheduler is not None:
+            scheduler_host_port(str(scheduler))  # a port out of range: refused now, not after the wait
+        if sum(x is not None for x in (workers, scheduler, self.client)) > 1:
+            raise SweepError("give at most one of workers, scheduler and client")
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A sweep as asked for, checked once when made (``SweepError``; nothing written yet): the
+    grid (``grid`` and ``zipped``, :func:`expand_grid`, expanded into ``points``), the fixed
+    settings (``quick``, ``sets``: ``--set`` values as text or values, ``seed``), the sweep's
+    directory ``out`` (default :func:`sweep_dir`; made absolute here, so the workers of an
+    existing cluster write where the driver looks), where the points run (``cluster``), and
+    ``retry_failed``, ``progress``, ``on_point``, ``metrics`` as :func:`run_sweep` takes them.
+    Every point's config is checked by :func:`plan_sweep`."""
+
+    experiment: str
+    grid: dict[str, list]
+    zipped: dict[str, list] = dataclasses.field(default_factory=dict)
+    quick: bool = False
+    sets: dict[str, Any] = dataclasses.field(default_factory=dict)
+    seed: int | None = None
+    #: given as str, Path or None (:func:`sweep_dir`); an absolute Path once made
+    out: Path = None  # type: ignore[assignment]
+    cluster: SweepCluster = dataclasses.field(default_factory=SweepCluster)
+    retry_failed: bool = False
+    progress: bool = True
+    on_point: Callable[[str, dict], None] | None = None
+    metrics: tuple[str, ...] = ()
+    points: list[dict[str, Any]] = dataclasses.field(init=False)
+
+    def __post_init__(self) -> None:
+        put = partial(object.__setattr__, self)  # frozen: the checked values are set so
+        put("zipped", dict(self.zipped or {}))
+        put("sets", dict(self.sets or {}))
+        put("metrics", tuple(self.metrics))
+        put("points", expand_grid(self.grid, self.zipped))
+        _refuse_cluster_keys(self.experiment, {**self.zipped, **self.grid}, self.sets)
+        put("out", _sweep_out(self))
+        other = _sweep_experiment(self.out)
+        if other not in (None, self.experiment):  # its checkpoint would be dropped as not this sweep's
+            raise SweepError(
+                f"{self.out} holds a sweep of {other}, not {self.experiment}; give another --out"
+            )
+
+
+def _sweep_out(spec: SweepSpec) -> Path:
+    """The spec's directory, absolute: ``SweepError`` unless it is one that can be made."""
+    out = spec.out
+    if out is not None and not str(out).strip():
+        raise SweepError("--out is empty; give a directory (or leave --out out for the default)")
+    out = (
+        Path(out)
+        if out
+        else sweep_dir(
+            spec.experiment, spec.grid, spec.zipped, quick=spec.quick, sets=spec.sets, seed=spec.seed
+        )
+    )
+    out = out.absolute()
+    if out.exists() and not out.is_dir():
+        raise SweepError(f"--out {out} is a file; give a directory (new or an earlier sweep's)")
+    parent = next(p for p in (out, *out.parents) if p.exists())
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise SweepError(f"--out {out} cannot be made: {parent} is not a writable directory")
+    return out
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """What a :class:`SweepSpec` needs done, known before any work: every point's key ->
+    (values, checked config) in the grid's order (``configs``), each config's ``digests``
+    (less its output path) and the task ``tokens`` (config, code and changed settings), the
+    points' ``code`` key, the checkpoint's rows of that code (``stored``), the points resumed
+    from it (``done``) and those to run (``todo``, before the memory check), the points only
+    other code finished (``n_other_code`` of ``todo``, their ``other_revisions``), the
+    ``--plot`` metrics left to check on the first finished point (``need``), each point's
+    memory ``estimates``, and this driver's code ``revision``, package ``versions`` and start
+    time ``t_start``."""
+
+    spec: SweepSpec
+    configs: dict[str, tuple[dict, dict]]
+    digests: dict[str, str]
+    code: str
+    module: str
+    stored: dict[str, dict]
+    done: frozenset[str]
+    todo: tuple[str, ...]
+    n_other_code: int
+    other_revisions: list[str]
+    need: tuple[str, ...]
+    estimates: dict[str, int | None]
+    tokens: dict[str, str]
+    revision: str
+    versions: dict
+    t_start: float
+
+
+def _ck_config(experiment: str) -> dict:
+    """The config a sweep's checkpoint (``points.jsonl``) is keyed by."""
+    return {"experiment": experiment, "sweep_format": 1}
+
+
+def plan_sweep(spec: SweepSpec) -> SweepPlan:
+    """The :class:`SweepPlan` of ``spec``: every point's config built and checked
+    (:func:`_point_configs`), the checkpoint read (nothing written), the ``--plot`` metrics
+    checked (:func:`_check_plot_metrics`) and every point's memory estimated."""
+    configs = _point_configs(
+        spec.experiment, spec.points, spec.out, spec.quick, spec.sets, spec.seed, tuple(spec.zipped)
+    )  # checks all
+    t_start = time.perf_counter()
+    # one checkpoint per directory; a row counts as done only while its own config (less its
+    # output path) is unchanged, so adding values to a grid re-runs nothing already written
+    digests = {
+        k: content_hash({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()
+    }
+    # the points' code: what the experiment's module imports (a comment edit, or an edit of a
+    # module it cannot run, reuses every point)
+    code = _code(_module(spec.experiment))
+    stored = Checkpoint.peek(spec.out / "points.jsonl", _ck_config(spec.experiment), code=code)
+    # this grid's points finished only by other code: run again, their old rows kept as history
+    other_code = _other_code_rows(Checkpoint.history(spec.out / "points.jsonl"), configs, stored)
+    done = _resumed(spec, configs, digests, stored)
+    todo = tuple(k for k in configs if k not in done)
+    other_revisions = sorted({str(other_code[k]) for k in todo if k in other_code})
+    n_other_code = sum(k in other_code for k in todo)
+    if n_other_code:
+        log.warning(
+            "sweep %s: %d points were computed by other code (revisions %s; the sources changed since): "
+            "re-run; their old rows stay in points.jsonl",
+            spec.out,
+            n_other_code,
+            other_revisions,
+        )
+    finished_ok = [stored[k] for k in configs if k in done and stored[k]["status"] == "ok"]
+    need = _check_plot_metrics(spec.experiment, list(spec.metrics), finished_ok, configs, spec.out)
+    module = _module(spec.experiment)
+    estimates = {k: memory_estimate(spec.experiment, cfg) for k, (_, cfg) in configs.items()}
+    revision, vers = code_revision(), versions()
+    # a task's identity of its point: the config (less its output path), the code and the
+    # tolerances set away from their defaults (none: the key it always had)
+    settings = _config_changed()
+    ident = [code, settings] if settings else [code]
+    tokens = {k: content_hash([digests[k], *ident], 16) for k in configs}
+    return SweepPlan(
+        spec,
+        configs,
+        digests,
+        code,
+        module,
+        stored,
+        frozenset(done),
+        todo,
+        n_other_code,
+        other_revisions,
+        tuple(need),
+        estimates,
+        tokens,
+        revision,
+        vers,
+        t_start,
+    )
+
+
+def _resumed(spec: SweepSpec, configs: dict, digests: dict[str, str], stored: dict[str, dict]) -> set[str]:
+    """The points of ``configs`` the checkpoint's ``stored`` rows finish: of the same config,
+    ok (or failed, unless ``retry_failed``), and for an ok one with its outputs still there."""
+    done = {
+        k
+        for k, r in stored.items()
+        if k in configs
+        and r.get("config_digest") == digests[k]
+        and (r["status"] == "ok" or not spec.retry_failed)
+    }
+    lost = sorted(
+        k
+        for k in done
+        if stored[k]["status"] == "ok" and not (spec.out / "points" / k / "summary.json").is_file()
+    )
+    if lost:  # a point's outputs were deleted: run it again rather than keep a row without them
+        log.warning(
+            "sweep %s: %d finished points lost their outputs (points/<key>/summary.json); re-run: %s",
+            spec.out,
+            len(lost),
+            lost[:5],
+        )
+        done -= set(lost)
+    return done
+
+
+def execute_sweep(plan: SweepPlan) -> dict:
+    """Run ``plan``'s points (module docstring): lock the directory, refuse the points too
+    large for the workers, start or connect to the cluster, submit the rest and record each as
+    it finishes in the checkpoint and the table; returns the summary (:func:`run_sweep`), also
+    written to ``DIR/sweep.json`` — as ``stopped`` when the sweep is stopped."""
+    spec, out = plan.spec, plan.spec.out
+    with contextlib.ExitStack() as stack:
+        if out.is_dir():  # a sweep running there already stops this one before it starts a cluster
+            _lock(out, stack)
+        client, todo, refused = _connect(plan, stack)
+        for k, msg in refused.items():
+            log.info("sweep point %s %s", k, msg)
+        if not out.is_dir():
+            _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
+        ckpt = _checkpoint(out, _ck_config(spec.experiment), plan.code)
+        _remove_stale_plots(out)
+        run = _SweepRun(plan, ckpt, refused, todo)
+        atomic_write_bytes(  # stale from an earlier grid until this one ends
+            out / "sweep.json",
+            (
+                json.dumps(
+                    {
+                        "experiment": spec.experiment,
+                        "status": "running",
+                        "pid": os.getpid(),
+                        "grid": spec.grid,
+                    }
+                )
+                + "\n"
+            ).encode(),
+        )
+        try:
+            if todo:
+                c = spec.cluster
+                points = _Points(
+                    spec.experiment,
+                    plan.module,
+                    plan.configs,
+                    plan.tokens,
+                    plan.estimates,
+                    c.threads,
+                    c.retries,
+                )
+                _run_points(client, points, todo, spec.progress, run.record, ckpt, list(plan.need))
+        except BaseException:
+            run.finish("stopped")
+            raise
+        return run.finish("complete")
+
+
+def _connect(plan: SweepPlan, stack: contextlib.ExitStack) -> tuple[Any, list[str], dict[str, str]]:
+    """(client, the points to run, key -> refusal message of the points refused for memory):
+    on this machine the points too large for a worker's share are refused before its cluster
+    starts (none starts for points all refused); an existing cluster is connected to (and its
+    scheduler checked) before anything is written, and its points checked against its workers'
+    limit; a client given as is, likewise.  The client and cluster close with ``stack``."""
+    cl = plan.spec.cluster
+    client, todo = cl.client, list(plan.todo)
+    refused: dict[str, str] = {}
+    local_limit = None
+    if todo and client is None and not cl.scheduler:
+        # this machine's workers: min(workers, points) shares of its memory each, known before
+        # they start, so a point too large for a share is refused first (and no cluster is
+        # started for nothing).  The workers keep that share when refusals leave fewer points
+        # than workers: a point's refusal does not depend on which others were refused
+        from .parallel import local_memory_limit
+
+        cores = os.cpu_count() or 1
+        local_limit = local_memory_limit(min(cl.workers or cores, len(todo)))
+        refused = _refusals(plan.configs, todo, plan.estimates, local_limit, _local_fix(cores))
+        todo = [k for k in todo if k not in refused]
+    if todo and client is None:  # connect (and check the scheduler) before writing anything
+        client = _start_client(cl, len(todo), local_limit, stack)
+        if cl.scheduler:
+            log.info(
+                "workers write each point's outputs under %s: a file system they must share", plan.spec.out
+            )
+            refused = _refusals(plan.configs, todo, plan.estimates, worker_memory_limit(client), _cluster_fix)
+    elif todo:  # a client given as is
+        refused = _refusals(plan.configs, todo, plan.estimates, worker_memory_limit(client), _cluster_fix)
+    return client, [k for k in todo if k not in refused], refused
+
+
+def _start_client(cl: SweepCluster, n_todo: int, local_limit: int | None, stack: contextlib.ExitStack) -> Any:
+    """The client of ``cl``'s scheduler, or of a local cluster of ``min(workers, n_todo)``
+    workers (no idle processes: never more local workers than points to run) of
+    ``local_limit`` bytes each (:func:`_client`); closed with ``stack``."""
+    cores = os.cpu_count() or 1
+    if not cl.scheduler and cl.threads * (cl.workers or cores) > cores:
+        log.warning("%d workers x %d threads oversubscribe %d cores", cl.workers or cores, cl.threads, cores)
+    n_local = None if cl.scheduler else min(cl.workers or cores, n_todo)
+    client, own = _client(n_local, cl.scheduler, cl.threads, local_limit)
+    if own is not None:
+        stack.callback(own.close)
+    stack.callback(client.close)  # runs first (last in, first out)
+    return client
+
+
+class _SweepRun:
+    """One execution of a :class:`SweepPlan`: its checkpoint, the points refused for memory,
+    the points submitted (``todo``) and those recorded so far (``fresh``); it records each
+    finished point and writes the table and ``sweep.json``."""
+
+    def __init__(self, plan: SweepPlan, ckpt: Checkpoint, refused: dict[str, str], todo: list[str]) -> None:
+        self.plan, self.ckpt, self.refused, self.todo = plan, ckpt, refused, todo
+        self.fresh: set[str] = set()
+        self.varied = list(plan.spec.points[0])
+        self.table = plan.spec.out / "table.parquet"
+
+    def grid_rows(self) -> list[dict]:
+        """This grid's rows in the grid's order: resumed or recorded by this run (a stored
+        row being re-run — lost outputs, --retry-failed — is not one until it is recorded
+        again), and the refused points'."""
+        plan, rows = self.plan, []
+        for k, (values, cfg) in plan.configs.items():
+            if k in plan.done or k in self.fresh:
+                rows.append({**self.ckpt.rows[k], "memory_estimate_bytes": plan.estimates[k]})
+            elif k in self.refused:
+                rows.append(
+                    {
+                        "key": k,
+                        "values": values,
+                        "status": "refused",
+                        "error": self.refused[k],
+                        "seconds": None,
+                        "seed": cfg.get("seed"),
+                        "git_revision": plan.revision,
+                        "versions": plan.versions,
+                        "metrics": {},
+                        "memory_estimate_bytes": plan.estimates[k],
+                    }
+                )
+        return rows
+
+    def record(self, key: str, res: dict) -> None:
+        """Checkpoint a finished point's result ``res`` (:func:`run_point`), rewrite the table."""
+        plan = self.plan
+        values, cfg = plan.configs[key]
+        row = {
+            "config_digest": plan.digests[key],
+            "values": values,
+            "status": res["status"],
+            "error": res["error"],
+            "seconds": res["seconds"],
+            "peak_rss_bytes": res.get("peak_rss_bytes"),
+            "seed": cfg.get("seed"),
+            "git_revision": plan.revision,
+            "versions": plan.versions,
+            "metrics": flatten_scalars(res["summary"]) if res["summary"] else {},
+        }
+        if res["status"] != "ok":
+            log.warning("sweep point %s %s: %s", key, res["status"], _last_line(res["error"]))
+        self.ckpt.add(key, row)
+        self.fresh.add(key)
+        write_table(self.table, self.grid_rows(), self.varied)
+        if plan.spec.on_point is not None:
+            plan.spec.on_point(key, self.ckpt.rows[key])
+
+    def finish(self, status: str) -> dict:
+        """Write this grid's table and sweep.json (also when stopped), return the summary."""
+        plan, spec = self.plan, self.plan.spec
+        rows = self.grid_rows()
+        write_table(self.table, rows, self.varied)
+        revisions = sorted({r["git_revision"] for r in rows if r["status"] != "refused"})
+        if len(revisions) > 1:
+            log.warning(
+                "sweep %s: its rows come from %d code revisions %s", spec.out, len(revisions), revisions
+            )
+        failed = [r for r in rows if r["status"] not in ("ok", "refused")]
+        n_refused = sum(r["status"] == "refused" for r in rows)
+        summary = {
+            "experiment": spec.experiment,
+            "status": status,
+            "grid": spec.grid,
+            "zip": spec.zipped,
+            "quick": spec.quick,
+            "sets": {k: _cli_value(v) for k, v in spec.sets.items()},
+            "n_points": len(plan.configs),
+            "n_ok": len(rows) - len(failed) - n_refused,
+            "n_failed": len(failed),
+            "n_refused": n_refused,
+            "n_resumed": len(plan.done),
+            "n_submitted": len(self.todo),
+            "n_other_code": plan.n_other_code,
+            "other_code_revisions": plan.other_revisions,
+            "failed": [{"point": r["key"], "error": _last_line(r["error"])} for r in failed[:5]],
+            "refused": [{"point": k, "error": msg} for k, msg in self.refused.items()],
+            "table": str(self.table),
+            "git_revision": plan.revision,
+            "row_revisions": revisions,
+            "seconds": time.perf_counter() - plan.t_start,
+        }
+        atomic_write_bytes(
+            spec.out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode()
+        )
+        return summary
+
+
+# the public keyword API of cli.py, the tests and benchmarks/bench_sweep.py: it only packs its
+# options into a SweepCluster and a SweepSpec
+def run_sweep(  # noqa: PLR0913 — public keyword API (above)
     experiment: str,
     grid: dict[str, list],
     zipped: dict[str, list] | None = None,
@@ -700,232 +1120,35 @@ def run_sweep(
     started, before the grid, the directory and the scheduler check out.  The table holds the
     points of this grid (``points.jsonl`` keeps every point ever finished in ``out``, by any
     code revision; the ``plot_*.png`` of earlier runs are removed).
+
+    In three steps: the options checked once into a :class:`SweepSpec` (with its
+    :class:`SweepCluster`), planned (:func:`plan_sweep`: every point's config, key and whether
+    the checkpoint has it already) and executed (:func:`execute_sweep`).
     """
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise SweepError(f"workers must be a positive integer; got {workers!r}")
-    if not isinstance(threads, int) or threads < 1:
-        raise SweepError(f"threads must be a positive integer; got {threads!r}")
-    if scheduler is not None and not str(scheduler).strip():
-        raise SweepError("--scheduler is empty; give an address such as tcp://host:8786 (or leave it out)")
-    if scheduler is not None:
-        scheduler_host_port(str(scheduler))  # a port out of range: refused now, not after the wait
-    if sum(x is not None for x in (workers, scheduler, client)) > 1:
-        raise SweepError("give at most one of workers, scheduler and client")
-    sets = dict(sets or {})
-    points = expand_grid(grid, zipped)
-    _refuse_cluster_keys(experiment, {**(zipped or {}), **grid}, sets)
-    if out is not None and not str(out).strip():
-        raise SweepError("--out is empty; give a directory (or leave --out out for the default)")
-    out = Path(out) if out else sweep_dir(experiment, grid, zipped, quick=quick, sets=sets, seed=seed)
-    out = out.absolute()
-    if out.exists() and not out.is_dir():
-        raise SweepError(f"--out {out} is a file; give a directory (new or an earlier sweep's)")
-    parent = next(p for p in (out, *out.parents) if p.exists())
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise SweepError(f"--out {out} cannot be made: {parent} is not a writable directory")
-    other = _sweep_experiment(out)
-    if other not in (None, experiment):  # its checkpoint would be dropped as not this sweep's
-        raise SweepError(f"{out} holds a sweep of {other}, not {experiment}; give another --out")
-    configs = _point_configs(experiment, points, out, quick, sets, seed, tuple(zipped or {}))  # checks all
-    varied = list(points[0])
-    t_start = time.perf_counter()
-    # one checkpoint per directory; a row counts as done only while its own config (less its
-    # output path) is unchanged, so adding values to a grid re-runs nothing already written
-    digests = {
-        k: content_hash({x: v for x, v in c.items() if x != "out"}, 16) for k, (_, c) in configs.items()
-    }
-    ck_config = {"experiment": experiment, "sweep_format": 1}
-    # the points' code: what the experiment's module imports (a comment edit, or an edit of a
-    # module it cannot run, reuses every point)
-    code = _code(_module(experiment))
-    stored = Checkpoint.peek(out / "points.jsonl", ck_config, code=code)
-    # this grid's points finished only by other code: run again, their old rows kept as history
-    other_code = _other_code_rows(Checkpoint.history(out / "points.jsonl"), configs, stored)
-    done = {
-        k
-        for k, r in stored.items()
-        if k in configs and r.get("config_digest") == digests[k] and (r["status"] == "ok" or not retry_failed)
-    }
-    lost = sorted(
-        k for k in done if stored[k]["status"] == "ok" and not (out / "points" / k / "summary.json").is_file()
+    cluster = SweepCluster(workers, scheduler, client, threads, retries)
+    spec = SweepSpec(
+        experiment,
+        grid,
+        zipped or {},
+        quick,
+        dict(sets or {}),
+        seed,
+        out,
+        cluster,
+        retry_failed,
+        progress,
+        on_point,
+        tuple(metrics),
     )
-    if lost:  # a point's outputs were deleted: run it again rather than keep a row without them
-        log.warning(
-            "sweep %s: %d finished points lost their outputs (points/<key>/summary.json); re-run: %s",
-            out,
-            len(lost),
-            lost[:5],
-        )
-        done -= set(lost)
-    n_resumed = len(done)
-    todo = [k for k in configs if k not in done]
-    other_revisions = sorted({str(other_code[k]) for k in todo if k in other_code})
-    n_other_code = sum(k in other_code for k in todo)
-    if n_other_code:
-        log.warning(
-            "sweep %s: %d points were computed by other code (revisions %s; the sources changed since): "
-            "re-run; their old rows stay in points.jsonl",
-            out,
-            n_other_code,
-            other_revisions,
-        )
-    finished_ok = [stored[k] for k in configs if k in done and stored[k]["status"] == "ok"]
-    need = _check_plot_metrics(experiment, list(metrics), finished_ok, configs, out)
-    module = _module(experiment)
-    estimates = {k: memory_estimate(experiment, cfg) for k, (_, cfg) in configs.items()}
-    revision, vers = code_revision(), versions()
-    # a task's identity of its point: the config (less its output path), the code and the
-    # tolerances set away from their defaults (none: the key it always had)
-    settings = _config_changed()
-    ident = [code, settings] if settings else [code]
-    tokens = {k: content_hash([digests[k], *ident], 16) for k in configs}
-    fresh: set[str] = set()
-    refused: dict[str, str] = {}
-    local_limit = None
-    with contextlib.ExitStack() as stack:
-        if out.is_dir():  # a sweep running there already stops this one before it starts a cluster
-            _lock(out, stack)
-        if todo and client is None and not scheduler:
-            # this machine's workers: min(workers, points) shares of its memory each, known before
-            # they start, so a point too large for a share is refused first (and no cluster is
-            # started for nothing).  The workers keep that share when refusals leave fewer points
-            # than workers: a point's refusal does not depend on which others were refused
-            from .parallel import local_memory_limit
-
-            cores = os.cpu_count() or 1
-            local_limit = local_memory_limit(min(workers or cores, len(todo)))
-            refused = _refusals(configs, todo, estimates, local_limit, _local_fix(cores))
-            todo = [k for k in todo if k not in refused]
-        if todo and client is None:  # connect (and check the scheduler) before writing anything
-            cores = os.cpu_count() or 1
-            if not scheduler and threads * (workers or cores) > cores:
-                log.warning(
-                    "%d workers x %d threads oversubscribe %d cores", workers or cores, threads, cores
-                )
-            # no idle processes: never more local workers than points to run
-            n_local = None if scheduler else min(workers or cores, len(todo))
-            client, own = _client(n_local, scheduler, threads, local_limit)
-            if own is not None:
-                stack.callback(own.close)
-            stack.callback(client.close)  # runs first (last in, first out)
-            if scheduler:
-                log.info("workers write each point's outputs under %s: a file system they must share", out)
-                refused = _refusals(configs, todo, estimates, worker_memory_limit(client), _cluster_fix)
-        elif todo:  # a client given as is
-            refused = _refusals(configs, todo, estimates, worker_memory_limit(client), _cluster_fix)
-        todo = [k for k in todo if k not in refused]
-        for k, msg in refused.items():
-            log.info("sweep point %s %s", k, msg)
-        if not out.is_dir():
-            _lock(out, stack)  # made now, after the scheduler checked out: one sweep at a time in out
-        ckpt = _checkpoint(out, ck_config, code)
-        _remove_stale_plots(out)
-
-        def grid_rows() -> list[dict]:
-            """This grid's rows in the grid's order: resumed or recorded by this run (a stored
-            row being re-run — lost outputs, --retry-failed — is not one until it is recorded
-            again), and the refused points'."""
-            rows = []
-            for k, (values, cfg) in configs.items():
-                if k in done or k in fresh:
-                    rows.append({**ckpt.rows[k], "memory_estimate_bytes": estimates[k]})
-                elif k in refused:
-                    rows.append(
-                        {
-                            "key": k,
-                            "values": values,
-                            "status": "refused",
-                            "error": refused[k],
-                            "seconds": None,
-                            "seed": cfg.get("seed"),
-                            "git_revision": revision,
-                            "versions": vers,
-                            "metrics": {},
-                            "memory_estimate_bytes": estimates[k],
-                        }
-                    )
-            return rows
-
-        def finish(status: str) -> dict:
-            """Write this grid's table and sweep.json (also when stopped), return the summary."""
-            rows = grid_rows()
-            write_table(out / "table.parquet", rows, varied)
-            revisions = sorted({r["git_revision"] for r in rows if r["status"] != "refused"})
-            if len(revisions) > 1:
-                log.warning(
-                    "sweep %s: its rows come from %d code revisions %s", out, len(revisions), revisions
-                )
-            failed = [r for r in rows if r["status"] not in ("ok", "refused")]
-            n_refused = sum(r["status"] == "refused" for r in rows)
-            summary = {
-                "experiment": experiment,
-                "status": status,
-                "grid": grid,
-                "zip": zipped or {},
-                "quick": quick,
-                "sets": {k: _cli_value(v) for k, v in sets.items()},
-                "n_points": len(configs),
-                "n_ok": len(rows) - len(failed) - n_refused,
-                "n_failed": len(failed),
-                "n_refused": n_refused,
-                "n_resumed": n_resumed,
-                "n_submitted": len(todo),
-                "n_other_code": n_other_code,
-                "other_code_revisions": other_revisions,
-                "failed": [{"point": r["key"], "error": _last_line(r["error"])} for r in failed[:5]],
-                "refused": [{"point": k, "error": msg} for k, msg in refused.items()],
-                "table": str(out / "table.parquet"),
-                "git_revision": revision,
-                "row_revisions": revisions,
-                "seconds": time.perf_counter() - t_start,
-            }
-            atomic_write_bytes(out / "sweep.json", (json.dumps(_jsonable(summary), indent=2) + "\n").encode())
-            return summary
-
-        def record(key: str, res: dict) -> None:
-            values, cfg = configs[key]
-            row = {
-                "config_digest": digests[key],
-                "values": values,
-                "status": res["status"],
-                "error": res["error"],
-                "seconds": res["seconds"],
-                "peak_rss_bytes": res.get("peak_rss_bytes"),
-                "seed": cfg.get("seed"),
-                "git_revision": revision,
-                "versions": vers,
-                "metrics": flatten_scalars(res["summary"]) if res["summary"] else {},
-            }
-            if res["status"] != "ok":
-                log.warning("sweep point %s %s: %s", key, res["status"], _last_line(res["error"]))
-            ckpt.add(key, row)
-            fresh.add(key)
-            write_table(out / "table.parquet", grid_rows(), varied)
-            if on_point is not None:
-                on_point(key, ckpt.rows[key])
-
-        atomic_write_bytes(  # stale from an earlier grid until this one ends
-            out / "sweep.json",
-            (
-                json.dumps({"experiment": experiment, "status": "running", "pid": os.getpid(), "grid": grid})
-                + "\n"
-            ).encode(),
-        )
-        try:
-            if todo:
-                points = _Points(experiment, module, configs, tokens, estimates, threads, retries)
-                _run_points(client, points, todo, progress, record, ckpt, need)
-        except BaseException:
-            finish("stopped")
-            raise
-        return finish("complete")
+    return execute_sweep(plan_sweep(spec))
 
 
 def _config_changed() -> dict:
-    """The driver's tolerances and defaults away from their defaults (a point's identity)."""
+    """The driver's tolerances and defaults away from their defaults (a point's identity; the
+    run settings change no number and are not in it)."""
     from .. import config
 
-    return config.changed()
+    return config.changed(numbers_only=True)
 
 
 def _code(module: str) -> str:
@@ -979,14 +1202,38 @@ def _run_points(
     """Submit ``todo``'s points and record each as it finishes, releasing its result at once;
     a point whose worker the nanny restarts for memory while it runs alone there is cancelled
     and recorded as ``killed`` (module docstring).  Stop (cancelling the rest) when a needed
-    metric is missing or the first ``config.DEFAULTS.sweep_stop_after_failures`` finished
+    metric is missing or the first ``config.RUN.sweep_stop_after_failures`` finished
     points all failed."""
     from distributed import as_completed
 
+    futures = _submit(client, points, todo)
+    watch = _WorkerWatch(client)
+    tally = _Tally(points.experiment, len(todo), progress, record, ckpt, need)
+    ac = as_completed(list(futures))
+    try:
+        while futures:
+            done = _collect(ac.next_batch(block=False), futures, watch, points)
+            done += _cancel_killed(client, futures, watch, points)
+            for key, res in done:
+                watch.finished(key)
+                tally.add(key, res, pending=bool(futures))
+            if not done:
+                time.sleep(0.05)  # as_completed's own wait polls every 0.1 s too
+    except BaseException:
+        client.cancel(list(futures))  # one call: a cancel per future is a round trip each
+        raise
+    finally:
+        watch.close()
+        tally.close()
+
+
+def _submit(client: Any, points: _Points, todo: list[str]) -> dict[Any, str]:
+    """future -> key of each of ``todo``'s points, submitted as :func:`run_point` tasks under the
+    driver's changed settings (read once: every point runs under them)."""
     from .. import config
 
-    settings = config.changed()  # the driver's, once: every point runs under it
-    futures = {
+    settings = config.changed()
+    return {
         client.submit(
             run_point,
             points.experiment,
@@ -1002,59 +1249,86 @@ def _run_points(
         ): k
         for k in todo
     }
-    watch = _WorkerWatch(client)
-    stop_after = config.DEFAULTS.sweep_stop_after_failures
-    n_ok = n_failed = 0
-    bar = None
-    if progress:
-        from tqdm import tqdm
 
-        bar = tqdm(total=len(todo), desc=f"sweep {points.experiment}", unit="point")
-    ac = as_completed(list(futures))
-    try:
-        while futures:
-            batch = ac.next_batch(block=False)
-            done: list[tuple[str, dict]] = []
-            for fut in batch:
-                key = futures.pop(fut, None)
-                if key is None:  # cancelled here after a memory restart: recorded already
-                    continue
-                try:
-                    res = fut.result()
-                except Exception as exc:  # the task could not run at all (e.g. its workers kept dying)
-                    res = _lost_point(key, exc, watch, points)
-                fut.release()  # a result kept referenced is computed again if its worker dies
-                done.append((key, res))
-            for key in watch.killed_alone(set(futures.values())):
-                fut = next(f for f, k in futures.items() if k == key)
-                client.cancel([fut])  # the same worker limit would only kill it again
-                del futures[fut]
-                done.append((key, _killed_point(key, watch, points)))
-            for key, res in done:
-                watch.finished(key)
-                record(key, res)
-                if bar is not None:
-                    bar.update()
-                n_ok += res["status"] == "ok"
-                n_failed += res["status"] != "ok"
-                if need and res["status"] == "ok":
-                    _check_metrics(ckpt.rows[key], need)
-                    need = []
-                if stop_after and n_ok == 0 and n_failed >= stop_after and futures:
-                    raise SweepError(
-                        f"the first {n_failed} points all failed, so the sweep stopped (the rest cancelled); "
-                        f"last error: {_last_line(res['error'])}. Fix the setting and re-run; failed points "
-                        "run again with --retry-failed (their tracebacks: the table's error column)"
-                    )
-            if not done:
-                time.sleep(0.05)  # as_completed's own wait polls every 0.1 s too
-    except BaseException:
-        client.cancel(list(futures))  # one call: a cancel per future is a round trip each
-        raise
-    finally:
-        watch.close()
-        if bar is not None:
-            bar.close()
+
+def _collect(
+    batch: list, futures: dict[Any, str], watch: _WorkerWatch, points: _Points
+) -> list[tuple[str, dict]]:
+    """(key, result) of each finished future of ``batch``, taken out of ``futures`` and released."""
+    done: list[tuple[str, dict]] = []
+    for fut in batch:
+        key = futures.pop(fut, None)
+        if key is None:  # cancelled here after a memory restart: recorded already
+            continue
+        try:
+            res = fut.result()
+        except Exception as exc:  # the task could not run at all (e.g. its workers kept dying)
+            res = _lost_point(key, exc, watch, points)
+        fut.release()  # a result kept referenced is computed again if its worker dies
+        done.append((key, res))
+    return done
+
+
+def _cancel_killed(
+    client: Any, futures: dict[Any, str], watch: _WorkerWatch, points: _Points
+) -> list[tuple[str, dict]]:
+    """(key, ``killed`` result) of each pending point whose worker the nanny restarted for memory
+    while it ran alone there, cancelled and taken out of ``futures``."""
+    done = []
+    for key in watch.killed_alone(set(futures.values())):
+        fut = next(f for f, k in futures.items() if k == key)
+        client.cancel([fut])  # the same worker limit would only kill it again
+        del futures[fut]
+        done.append((key, _killed_point(key, watch, points)))
+    return done
+
+
+class _Tally:
+    """The driver's count of a sweep's finished points: records each, advances the progress bar,
+    checks the ``--plot`` metrics still ``need``ed on the first ok point, and stops the sweep when
+    the first ``config.RUN.sweep_stop_after_failures`` (read now) points all failed."""
+
+    def __init__(
+        self,
+        experiment: str,
+        total: int,
+        progress: bool,
+        record: Callable[[str, dict], None],
+        ckpt: Checkpoint,
+        need: list[str],
+    ) -> None:
+        from .. import config
+
+        self.record, self.ckpt, self.need = record, ckpt, need
+        self.stop_after = config.RUN.sweep_stop_after_failures
+        self.n_ok = self.n_failed = 0
+        self.bar = None
+        if progress:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=f"sweep {experiment}", unit="point")
+
+    def add(self, key: str, res: dict, pending: bool) -> None:
+        """Record point ``key``'s result; ``pending``: points are left to run (to cancel)."""
+        self.record(key, res)
+        if self.bar is not None:
+            self.bar.update()
+        self.n_ok += res["status"] == "ok"
+        self.n_failed += res["status"] != "ok"
+        if self.need and res["status"] == "ok":
+            _check_metrics(self.ckpt.rows[key], self.need)
+            self.need = []
+        if self.stop_after and self.n_ok == 0 and self.n_failed >= self.stop_after and pending:
+            raise SweepError(
+                f"the first {self.n_failed} points all failed, so the sweep stopped (the rest cancelled); "
+                f"last error: {_last_line(res['error'])}. Fix the setting and re-run; failed points "
+                "run again with --retry-failed (their tracebacks: the table's error column)"
+            )
+
+    def close(self) -> None:
+        """Close the progress bar."""
+        if self.bar is not None:
+            self.bar.close()
 
 
 class _WorkerWatch:
@@ -1382,10 +1656,18 @@ def _earlier_columns(experiment: str, out: Path) -> tuple[dict[str, Any], list[s
     """(column -> a sample value, the files read): the columns of earlier sweeps of
     ``experiment`` (their ``table.parquet`` schema) beside ``out`` and in ``results/sweeps``,
     and of its ``results/<experiment>*/summary.json`` (:func:`flatten_scalars`)."""
+    columns: dict[str, Any] = {}
+    sources = _earlier_tables(experiment, out, columns)
+    sources += _earlier_summaries(experiment, columns)
+    return columns, sources
+
+
+def _earlier_tables(experiment: str, out: Path, columns: dict[str, Any]) -> list[str]:
+    """Add the columns of earlier sweeps' tables (:func:`_earlier_columns`) to ``columns``;
+    returns the tables read."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    columns: dict[str, Any] = {}
     sources: list[str] = []
     dirs = {
         p.resolve() for base in (out.parent, Path("results") / "sweeps") for p in base.glob("*/sweep.json")
@@ -1404,6 +1686,13 @@ def _earlier_columns(experiment: str, out: Path) -> tuple[dict[str, Any], list[s
             else:
                 columns.setdefault(field.name, "")
         sources.append(str(table))
+    return sources
+
+
+def _earlier_summaries(experiment: str, columns: dict[str, Any]) -> list[str]:
+    """Add the columns of the experiment's ``results/<experiment>*/summary.json``
+    (:func:`_earlier_columns`) to ``columns``; returns the summaries read."""
+    sources: list[str] = []
     for summary in sorted(Path("results").glob(f"{experiment}*/summary.json")):
         try:
             data = json.loads(summary.read_text())
@@ -1416,18 +1705,18 @@ def _earlier_columns(experiment: str, out: Path) -> tuple[dict[str, Any], list[s
                 else:
                     columns.setdefault(k, v)
             sources.append(str(summary))
-    return columns, sources
+    return sources
 
 
 def close_columns(name: str, columns: list[str], n: int | None = None) -> list[str]:
-    """Up to ``n`` (default ``config.DEFAULTS.sweep_column_hints``, read now) of ``columns``
+    """Up to ``n`` (default ``config.RUN.sweep_column_hints``, read now) of ``columns``
     closest to ``name``: difflib's close matches of the whole dotted path, then the columns
     whose last part is ``name``'s last part (``recall`` finds ``...6dls.recall``)."""
     import difflib
 
     from .. import config
 
-    n = config.DEFAULTS.sweep_column_hints if n is None else n
+    n = config.RUN.sweep_column_hints if n is None else n
     close = difflib.get_close_matches(name, columns, n=n, cutoff=0.5)
     leaf = name.rsplit(".", 1)[-1]
     close += [c for c in columns if c not in close and c.rsplit(".", 1)[-1] == leaf]
@@ -1503,7 +1792,7 @@ def plot_sweep(
     if x_log:
         ax.set_xscale("log")
         y = ok[metric].dropna().to_numpy(dtype=float)
-        if y.size and (y > 0).all() and y.max() > config.DEFAULTS.sweep_log_min_span * y.min():
+        if y.size and (y > 0).all() and y.max() > config.RUN.sweep_log_min_span * y.min():
             ax.set_yscale("log")  # a power law of a geometric grid: a straight line
     experiment = _table_experiment(df, Path(table).parent)
     ax.set_xlabel(axis_label(key, experiment))
@@ -1518,14 +1807,14 @@ def plot_sweep(
 
 def geometric(values: list) -> bool:
     """True when the distinct values of a grid are positive numbers in roughly constant ratio
-    (``config.DEFAULTS.sweep_log_step_spread``) that span more than ``sweep_log_min_span`` or
+    (``config.RUN.sweep_log_step_spread``) that span more than ``sweep_log_min_span`` or
     step by at least ``sweep_log_min_step`` (read at call time): plotted on a log axis.  Two
     values count when their ratio is that large."""
     import math
 
     from .. import config
 
-    dft = config.DEFAULTS
+    dft = config.RUN
 
     try:
         v = sorted(

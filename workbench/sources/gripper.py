@@ -60,6 +60,7 @@ DATA_DIR = Path(__file__).resolve().parents[1] / "data" / "reach_trials"
 #: force needs (pressures are rescaled to the force reading).
 SILICONE_MODULUS_PA = 1.0e6
 
+
 def check_pad_mu(mu) -> float:
     """``mu`` as a float if it is a pad's friction coefficient, in (0, 2] (rubber on plastic
     ~0.3–1.5); else ValueError naming the likely slip (30 for 0.3: a percentage; 0: no friction,
@@ -122,13 +123,9 @@ def _crossing_edges(p: np.ndarray) -> tuple[int, int] | None:
     return None if len(hit) == 0 else (int(i[hit[0]]), int(j[hit[0]]))
 
 
-def as_polygon(outline, what: str = "outline") -> np.ndarray:
-    """``outline`` as a read-only counter-clockwise polygon (k, 2) [m], or ValueError.
-
-    Drops a repeated closing vertex and consecutive duplicates; requires >= 3 finite vertices, a
-    non-zero area, no self-intersection, and a size between 0.1 mm and 0.2 m (a larger one was
-    given in centimetres or millimetres: the message names which and the factor).
-    """
+def _distinct_vertices(outline, what: str) -> np.ndarray:
+    """``outline`` as a (k, 2) float array of finite vertices, consecutive duplicates and a
+    repeated closing vertex dropped, k >= 3; else ValueError."""
     try:
         p = np.array(outline, dtype=float)
     except (TypeError, ValueError):
@@ -143,6 +140,12 @@ def as_polygon(outline, what: str = "outline") -> np.ndarray:
         p = p[:-1]
     if len(p) < 3:
         raise ValueError(f"{what} needs at least 3 distinct vertices; got {len(p)}: {p.tolist()}")
+    return p
+
+
+def _polygon_extent(p: np.ndarray, what: str) -> float:
+    """The largest side [m] of the bounding box of the polygon ``p`` (k, 2), a pad's size in
+    metres (ValueError naming the unit it was given in), warned about outside the usual sizes."""
     extent = float((p.max(0) - p.min(0)).max())
     size = RANGES["pad_size"]
     if extent > size.hi:
@@ -160,6 +163,18 @@ def as_polygon(outline, what: str = "outline") -> np.ndarray:
             "outlines are in metres"
         )
     check("pad_size", extent, f"{what}'s extent [m]")  # warns outside the usual sizes
+    return extent
+
+
+def as_polygon(outline, what: str = "outline") -> np.ndarray:
+    """``outline`` as a read-only counter-clockwise polygon (k, 2) [m], or ValueError.
+
+    Drops a repeated closing vertex and consecutive duplicates; requires >= 3 finite vertices, a
+    non-zero area, no self-intersection, and a size between 0.1 mm and 0.2 m (a larger one was
+    given in centimetres or millimetres: the message names which and the factor).
+    """
+    p = _distinct_vertices(outline, what)
+    extent = _polygon_extent(p, what)
     bad = _crossing_edges(p)
     if bad is not None:
         raise ValueError(

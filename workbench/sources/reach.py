@@ -18,6 +18,7 @@ counterpart: :mod:`workbench.sources.fem_jaw`); :func:`pad_profile` the jaw of a
 from __future__ import annotations
 
 import logging
+from typing import NamedTuple
 
 import numpy as np
 
@@ -117,7 +118,9 @@ def reach_profile(
             f"part of up normal to approach); got up {np.asarray(up, float).tolist()} and approach "
             f"{np.asarray(approach, float).tolist()} — pass an up across the approach, e.g. {across}"
         )
-    out = _reach(mesh, center, approach, up, pad, poly, win, window is not None, closing, stiffness, max_edge)
+    out = _reach(
+        mesh, center, approach, up, _Press(pad, poly, win, window is not None, closing, stiffness, max_edge)
+    )
     if isinstance(out, str):
         raise ValueError(out)
     return out
@@ -158,13 +161,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
         area[near],
         jaw.origin,
         frame,
-        None,
-        jaw.outline,
-        (lo, hi),
-        True,
-        closing,
-        k,
-        max_edge,
+        _Press(None, jaw.outline, (lo, hi), True, closing, k, max_edge),
     )
     if isinstance(out, str):
         log.debug("pad_profile: a miss: %s", out)
@@ -226,13 +223,29 @@ def _check_window(window, depth_window: float) -> tuple[float, float]:
     return lo, hi
 
 
-def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing, stiffness, max_edge):
-    """The profile of :func:`reach_profile` on checked input, or why the pad touches nothing (str).
+class _Press(NamedTuple):
+    """A checked press of the Winkler pad (:func:`_reach`, :func:`_press`).
 
     The footprint is the ``pad`` rectangle (``poly`` None) or the polygon ``poly`` (k, 2) in
-    (e1, e2); ``window`` the (lo, hi) searched along the approach; ``filter_window`` also drops
-    sub-triangles whose centre is outside it.
+    (e1, e2); ``window`` the (lo, hi) [m] searched along the approach; ``filter_window`` also
+    drops sub-triangles whose centre is outside it; the pad closes ``closing`` [m] past first
+    touch with pressure ``stiffness`` [Pa/m] times the compression, on sub-triangles of edges
+    <= ``max_edge`` [m].
     """
+
+    pad: tuple[float, float] | None
+    poly: np.ndarray | None
+    window: tuple[float, float]
+    filter_window: bool
+    closing: float
+    stiffness: float
+    max_edge: float
+
+
+def _reach(mesh, center, approach, up, press: _Press):
+    """The profile of :func:`reach_profile` on checked input (``press``), or why the pad touches
+    nothing (str)."""
+    pad, poly, window, max_edge = press.pad, press.poly, press.window, press.max_edge
     a, e1, e2 = jaw_frame(approach, up)
     c = np.asarray(center, float)
     if poly is None:
@@ -269,9 +282,7 @@ def _reach(mesh, center, approach, up, pad, poly, window, filter_window, closing
         # own, in face order), so the profile is the same
         sel = near[fine[3]]
         cen, normal, area = fine[0][sel], fine[1][sel], fine[2][sel]
-    return _press(
-        cen, normal, area, c, (a, e1, e2), pad, poly, window, filter_window, closing, stiffness, max_edge
-    )
+    return _press(cen, normal, area, c, (a, e1, e2), press)
 
 
 def _fine_faces(vertices: np.ndarray, faces: np.ndarray, max_edge: float):
@@ -409,9 +420,10 @@ def _strip_cut(A, B, C, n, q):
     return sub[keep], np.repeat(f, 2)[keep], share[keep]
 
 
-def _press(cen, normal, area, c, frame, pad, poly, window, filter_window, closing, stiffness, max_edge):
-    """The Winkler pad pressed on the fine faces (``cen``, ``normal``, ``area``) from ``c`` (3,)
-    along ``frame[0]``: the rest of :func:`_reach`."""
+def _press(cen, normal, area, c, frame, press: _Press):
+    """The Winkler pad ``press`` pressed on the fine faces (``cen``, ``normal``, ``area``) from
+    ``c`` (3,) along ``frame[0]``: the rest of :func:`_reach`."""
+    pad, poly, window, filter_window, closing, stiffness, max_edge = press
     a, e1, e2 = frame
     if poly is None:
         (u_lo, v_lo), v_hi = (-pad[0] / 2, -pad[1] / 2), pad[1] / 2

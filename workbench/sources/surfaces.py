@@ -310,6 +310,11 @@ def _initial_cells(surface: ParametricSurface, n_cells: int = 16) -> Array:
     return np.column_stack([U0.ravel(), U1.ravel(), V0.ravel(), V1.ravel()])
 
 
+#: a pass of :func:`_adaptive` splits the cells of an unconverged group whose error is at least
+#: this fraction of the group's worst cell's
+_REFINE_ETA = 0.1
+
+
 def _adaptive(
     evaluate: Callable[[Array, Array], Array],
     init_cells: Array,
@@ -317,8 +322,6 @@ def _adaptive(
     scale: Array,
     tol: float,
     max_passes: int,
-    eta: float = 0.1,
-    max_cells: int | None = None,
     setting: str = "rtol",
     cell_ids: bool = False,
 ) -> tuple[Array, Array, int]:
@@ -327,15 +330,17 @@ def _adaptive(
     evaluate(cells (m, 4), groups (m,)) -> (m, q) integrals per cell.
     scale : (n_groups, q) component scales; the error of a cell is
     ``max_j |fine_j - coarse_j| / scale_j`` and a group converges when its
-    summed error is <= tol.  Returns integrals (G, q), error estimates (G,)
-    and the number of integrand cells evaluated.  max_cells : default
-    ``config.TOL.quadrature_max_cells`` (read now).  setting : where ``tol`` came from
+    summed error is <= tol; each pass splits the cells of the open groups whose error is at
+    least :data:`_REFINE_ETA` times their group's worst, up to ``config.TOL.quadrature_max_cells``
+    cells (read now).  Returns integrals (G, q), error estimates (G,)
+    and the number of integrand cells evaluated.  setting : where ``tol`` came from
     (named by the warning when the cell cap stops the refinement).  cell_ids : call
     ``evaluate(cells, groups, ids)`` instead, ids (m,) int64 naming each cell among the
     descendants of ``init_cells`` (negative: none, :data:`_ID_LIMIT`).
     """
     block = config.TOL.quadrature_eval_block
-    max_cells = config.TOL.quadrature_max_cells if max_cells is None else max_cells
+    max_cells = config.TOL.quadrature_max_cells
+    eta = _REFINE_ETA
     raw_evaluate = evaluate
 
     def evaluate(c: Array, g: Array, ids: Array) -> Array:  # bounded temporaries

@@ -192,39 +192,11 @@ def read_trials(path, *, repair_atol: float = 0.02) -> Trials:
     one grasp's gripper poses differ.
     """
     path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"no such trial file: {path}")
-    try:
-        with path.open(encoding="utf-8") as f:
-            rows = json.load(f)
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        got = (
-            "a binary file (not UTF-8 text: a mesh or an archive?)"
-            if isinstance(exc, UnicodeDecodeError)
-            else f"text that is not JSON ({exc.msg} at line {exc.lineno}, column {exc.colno}; truncated?)"
-        )
-        raise ValueError(
-            f"{path} is not a trial file: expected the REACH format, a JSON list of trials (dicts with "
-            f"keys {list(_KEYS)}; e.g. default_trials_path()); got {got} — pass the trials' .json file "
-            "(the object's mesh goes to trimesh.load)"
-        ) from None
-    if not isinstance(rows, list) or not rows:
-        raise ValueError(f"{path}: expected a non-empty JSON list of trials (dicts with keys {list(_KEYS)})")
+    rows = _load_rows(path)
     objs, grasp, rep, success, stable, P, G = [], [], [], [], [], [], []
     repaired: list[float] = []
     for i, row in enumerate(rows):
-        if not isinstance(row, dict):
-            raise ValueError(
-                f"{path}: trial {i} is a {type(row).__name__}, not a dict with keys {list(_KEYS)}"
-            )
-        missing = [k for k in _KEYS if k not in row]
-        if missing:
-            raise ValueError(
-                f"{path}: trial {i} lacks {missing} (it has {sorted(row)}); "
-                f"the REACH format needs {list(_KEYS)}"
-            )
-        if not isinstance(row["result"], bool):
-            raise ValueError(f"trial {i}: 'result' must be true or false; got {row['result']!r}")
+        _check_row(row, i, path)
         objs.append(str(row["obj"]))
         grasp.append(_as_int(row["attempt"], "attempt", i))
         rep.append(_as_int(row["trial"], "trial", i))
@@ -237,17 +209,7 @@ def read_trials(path, *, repair_atol: float = 0.02) -> Trials:
     if len(set(objs)) != 1:
         raise ValueError(f"{path}: one object per trial file; got {sorted(set(objs))}")
     if repaired:
-        # a warning the first time a process reads the file (a sweep's every point reads it again)
-        level = logging.INFO if str(path.resolve()) in _REPAIRED_WARNED else logging.WARNING
-        _REPAIRED_WARNED.add(str(path.resolve()))
-        log.log(
-            level,
-            "%s: %d pose/grasp rotations were not orthonormal (max |RᵀR − I| up to %.3g) and were made "
-            "orthonormal keeping their world-z rows",
-            path.name,
-            len(repaired),
-            max(repaired),
-        )
+        _log_repaired(path, repaired)
     P, G = np.array(P), np.array(G)
     grasp_index, repeat = np.array(grasp), np.array(rep)
     _check_blocks(grasp_index, repeat, path)
@@ -266,6 +228,57 @@ def read_trials(path, *, repair_atol: float = 0.02) -> Trials:
         )
     return Trials(
         objs[0], grasp_index, repeat, gripper_pose, down, np.array(success, bool), np.array(stable), P, spread
+    )
+
+
+def _load_rows(path: Path) -> list:
+    """The non-empty JSON list of a trial file, or ValueError (no file, not JSON text)."""
+    if not path.is_file():
+        raise ValueError(f"no such trial file: {path}")
+    try:
+        with path.open(encoding="utf-8") as f:
+            rows = json.load(f)
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        got = (
+            "a binary file (not UTF-8 text: a mesh or an archive?)"
+            if isinstance(exc, UnicodeDecodeError)
+            else f"text that is not JSON ({exc.msg} at line {exc.lineno}, column {exc.colno}; truncated?)"
+        )
+        raise ValueError(
+            f"{path} is not a trial file: expected the REACH format, a JSON list of trials (dicts with "
+            f"keys {list(_KEYS)}; e.g. default_trials_path()); got {got} — pass the trials' .json file "
+            "(the object's mesh goes to trimesh.load)"
+        ) from None
+    if not isinstance(rows, list) or not rows:
+        raise ValueError(f"{path}: expected a non-empty JSON list of trials (dicts with keys {list(_KEYS)})")
+    return rows
+
+
+def _check_row(row, i: int, path: Path) -> None:
+    """ValueError unless trial ``i`` is a dict with the REACH format's keys and a boolean result."""
+    if not isinstance(row, dict):
+        raise ValueError(f"{path}: trial {i} is a {type(row).__name__}, not a dict with keys {list(_KEYS)}")
+    missing = [k for k in _KEYS if k not in row]
+    if missing:
+        raise ValueError(
+            f"{path}: trial {i} lacks {missing} (it has {sorted(row)}); the REACH format needs {list(_KEYS)}"
+        )
+    if not isinstance(row["result"], bool):
+        raise ValueError(f"trial {i}: 'result' must be true or false; got {row['result']!r}")
+
+
+def _log_repaired(path: Path, repaired: list[float]) -> None:
+    """Log the rotations made orthonormal (their ``max |RᵀR − I|`` in ``repaired``): a warning the
+    first time a process reads the file (a sweep's every point reads it again), else info."""
+    level = logging.INFO if str(path.resolve()) in _REPAIRED_WARNED else logging.WARNING
+    _REPAIRED_WARNED.add(str(path.resolve()))
+    log.log(
+        level,
+        "%s: %d pose/grasp rotations were not orthonormal (max |RᵀR − I| up to %.3g) and were made "
+        "orthonormal keeping their world-z rows",
+        path.name,
+        len(repaired),
+        max(repaired),
     )
 
 

@@ -13,6 +13,7 @@ that order.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -80,17 +81,17 @@ def resists(
     if solver is not None:  # a misspelt name would fail as a solver and fall back: refuse it by name
         config.check_value("qp_solver", solver, "solver (the dense QP solver of polyhedral programs)")
     cuts = CutStore() if cuts is None else cuts
-    fallbacks: list[str] = []
+    q = _Question(contacts, w, mu, representation, cuts, solver, tol, [])
     prog = assemble(contacts, w, mu, representation, cuts)
     if prog.soc:
         y, status = solve_conic(prog)
         if y is not None:
             if status != "optimal":
-                _fallback(fallbacks, f"Clarabel {status}")
-            return _result(prog, contacts, y, tol, "clarabel", representation, "l2", 0, fallbacks)
-        _fallback(fallbacks, f"Clarabel {status} on the cone program; cutting planes on the ellipsoids")
+                _fallback(q.fallbacks, f"Clarabel {status}")
+            return _result(q, prog, y, "clarabel", "l2", 0)
+        _fallback(q.fallbacks, f"Clarabel {status} on the cone program; cutting planes on the ellipsoids")
         prog = None
-    return _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, prog)
+    return _cut_loop(q, prog)
 
 
 #: Eq. 2.100 by its thesis name; the same function as :func:`resists`.
@@ -140,17 +141,32 @@ def _solve_polyhedral(
     return y, name, "l2", None
 
 
-def _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, prog) -> Resistance:
+@dataclass(frozen=True)
+class _Question:
+    """One :func:`resists` call: its validated inputs and the record of its fallbacks."""
+
+    contacts: list
+    w: np.ndarray  # (6,) the disturbance
+    mu: float
+    representation: str
+    cuts: CutStore
+    solver: str | None  # the dense QP solver
+    tol: float  # the residual band
+    fallbacks: list[str]
+
+
+def _cut_loop(q: _Question, prog: Program | None) -> Resistance:
     """Polyhedral program; contacts refined by cuts are re-solved with the tangent planes
     at their violations until none is left (Kelley).  ``prog`` None: ellipsoids by cuts
     as well (the cone solver failed)."""
+    contacts, w, mu, representation, cuts = q.contacts, q.w, q.mu, q.representation, q.cuts
     cone_as_cuts = prog is None
     rounds = 0
     while True:
         if prog is None:
             prog = assemble(contacts, w, mu, representation, cuts, cone_as_cuts=cone_as_cuts)
-        y, name, norm, resid = _solve_polyhedral(prog, solver, fallbacks, tol)
-        res = _result(prog, contacts, y, tol, name, representation, norm, rounds, fallbacks, resid)
+        y, name, norm, resid = _solve_polyhedral(prog, q.solver, q.fallbacks, q.tol)
+        res = _result(q, prog, y, name, norm, rounds, resid)
         if "cuts" not in prog.kinds or not res.resisted:
             return res  # the outer set fails to resist: the model inside it fails too
         viol = contact_violations(prog, contacts, y, mu)
@@ -163,22 +179,32 @@ def _cut_loop(contacts, w, mu, representation, cuts, solver, tol, fallbacks, pro
         prog = None
     # unconverged: "resisted" by the outer set may be optimistic; the inner vertices
     # (on the model) decide, conservatively
-    _fallback(fallbacks, f"cutting planes did not converge in {rounds} rounds; the inner vertices decide")
+    _fallback(q.fallbacks, f"cutting planes did not converge in {rounds} rounds; the inner vertices decide")
     inner = assemble(contacts, w, mu, "inner", cuts)
     y, resid = solve_l1_lp(inner)
     if y is None:
         raise RuntimeError("HiGHS failed on the inner-vertex LP")
-    return _result(inner, contacts, y, tol, "highs", representation, "l1", rounds, fallbacks, resid)
+    return _result(q, inner, y, "highs", "l1", rounds, resid)
 
 
-def _result(
-    prog, contacts, y, tol, solver, representation, norm, rounds, fallbacks, resid=None
-) -> Resistance:
+def _result(q: _Question, prog: Program, y, solver: str, norm: str, rounds: int, resid=None) -> Resistance:
+    """The :class:`Resistance` of the solution ``y`` of ``prog`` (its residual computed when
+    ``resid`` is None)."""
     if resid is None:
         resid = float(np.linalg.norm(prog.A6 @ y + prog.w))
-    cw, f = prog.contact_solution(contacts, y)
+    cw, f = prog.contact_solution(q.contacts, y)
+    tol = q.tol
     return Resistance(
-        bool(resid <= tol), float(resid), tol, solver, representation, norm, cw, f, rounds, tuple(fallbacks)
+        bool(resid <= tol),
+        float(resid),
+        tol,
+        solver,
+        q.representation,
+        norm,
+        cw,
+        f,
+        rounds,
+        tuple(q.fallbacks),
     )
 
 
@@ -216,17 +242,7 @@ def min_grasp_force(
     # forces and fixed: relative to the scaled forces any shortfall would vanish at
     # absurd forces (point contacts "resisting" torsion at 10⁶ × F)
     tol = config.TOL.resist_rtol
-    if objective not in OBJECTIVES:
-        raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
-    if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
-        raise ValueError(f"f_max must be a positive force [N] or None; got {f_max}")
-    if f_max is not None and objective == "scale":
-        raise ValueError(
-            f"f_max caps each contact's force under objective='sum' only (every force a free variable "
-            f"in [0, f_max]); got f_max={f_max!r} with objective='scale', whose answer is a factor on "
-            "the contacts' given forces and takes no cap — pass objective='sum' to cap them, or drop "
-            "f_max and compare result.forces with your cap"
-        )
+    _check_objective(objective, f_max)
     cuts = CutStore() if cuts is None else cuts
     fallbacks: list[str] = []
     rounds = 0
@@ -235,33 +251,10 @@ def min_grasp_force(
         prog = assemble(
             contacts, w, mu, representation, cuts, minforce=objective, f_max=f_max, cone_as_cuts=cone_as_cuts
         )
-        cost = np.zeros(prog.n)
-        if objective == "scale":
-            cost[-1] = 1.0
-        else:
-            cost = prog.Phi.sum(axis=0) * prog.S  # Σ f_i in y
-        if prog.soc:
-            solver = "clarabel"
-            y, status = solve_conic(prog, cost, tol)
-            if y is not None and status != "optimal":
-                y = None  # a stalled iterate is feasible but not minimal
-            if y is None and status != "infeasible":
-                _fallback(fallbacks, f"Clarabel {status} on the minimal-force cone program; cutting planes")
-                cone_as_cuts = True
-                continue
-        else:
-            solver = "highs"
-            y, status = solve_min_lp(prog, cost, tol)
-            if y is None and status != "infeasible":
-                # HiGHS undecided (seen: "Unknown" on two hard points' infeasible LP): the same
-                # polyhedral program to Clarabel's interior point, which certifies infeasibility
-                _fallback(fallbacks, f"HiGHS {status} on the minimal-force LP; Clarabel")
-                solver = "clarabel"
-                y, status = solve_conic(prog, cost, tol)
-                if y is not None and status != "optimal":
-                    y = None
-                if y is None and status != "infeasible":
-                    raise RuntimeError(f"HiGHS and Clarabel failed on the minimal-force LP: {status}")
+        y, solver, retry = _solve_min_force(prog, _min_force_cost(prog, objective), tol, fallbacks)
+        if retry:
+            cone_as_cuts = True
+            continue
         if y is None:
             nan = np.full(len(contacts), np.nan)
             # no scale of the jaws' force resists it: inf, as the total (NaN: "sum" has no scale)
@@ -278,12 +271,7 @@ def min_grasp_force(
             _fallback(
                 fallbacks, f"cutting planes did not converge in {rounds} rounds; the value is a lower bound"
             )
-        _, f = prog.contact_solution(contacts, y)
-        if objective == "scale":
-            s = float(y[-1] * prog.S[-1])
-            forces = s * np.array([c.force for c in contacts])
-        else:
-            s, forces = float("nan"), f
+        s, forces = _min_forces(prog, contacts, y, objective)
         return MinimalForce(
             float(forces.sum()),
             forces,
@@ -295,3 +283,66 @@ def min_grasp_force(
             tuple(fallbacks),
             not viol,
         )
+
+
+def _check_objective(objective: str, f_max: float | None) -> None:
+    """ValueError unless ``objective`` is one of :data:`OBJECTIVES` and ``f_max`` a positive
+    force [N] or None, given with "sum" only."""
+    if objective not in OBJECTIVES:
+        raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
+    if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
+        raise ValueError(f"f_max must be a positive force [N] or None; got {f_max}")
+    if f_max is not None and objective == "scale":
+        raise ValueError(
+            f"f_max caps each contact's force under objective='sum' only (every force a free variable "
+            f"in [0, f_max]); got f_max={f_max!r} with objective='scale', whose answer is a factor on "
+            "the contacts' given forces and takes no cap — pass objective='sum' to cap them, or drop "
+            "f_max and compare result.forces with your cap"
+        )
+
+
+def _min_force_cost(prog: Program, objective: str) -> np.ndarray:
+    """(n,) cost of the minimal-force program in ``y``: the force scale s, or Σ f_i."""
+    cost = np.zeros(prog.n)
+    if objective == "scale":
+        cost[-1] = 1.0
+    else:
+        cost = prog.Phi.sum(axis=0) * prog.S  # Σ f_i in y
+    return cost
+
+
+def _solve_min_force(
+    prog: Program, cost: np.ndarray, tol: float, fallbacks: list[str]
+) -> tuple[np.ndarray | None, str, bool]:
+    """(y, the solver that decided, False) — y None when no force resists — or (None,
+    "clarabel", True) when Clarabel failed on the cone program: the caller retries with the
+    ellipsoids as cutting planes.  A stalled iterate is feasible but not minimal: no answer."""
+    if prog.soc:
+        y, status = solve_conic(prog, cost, tol)
+        if y is not None and status != "optimal":
+            y = None  # a stalled iterate is feasible but not minimal
+        if y is None and status != "infeasible":
+            _fallback(fallbacks, f"Clarabel {status} on the minimal-force cone program; cutting planes")
+            return None, "clarabel", True
+        return y, "clarabel", False
+    y, status = solve_min_lp(prog, cost, tol)
+    if y is None and status != "infeasible":
+        # HiGHS undecided (seen: "Unknown" on two hard points' infeasible LP): the same
+        # polyhedral program to Clarabel's interior point, which certifies infeasibility
+        _fallback(fallbacks, f"HiGHS {status} on the minimal-force LP; Clarabel")
+        y, status = solve_conic(prog, cost, tol)
+        if y is not None and status != "optimal":
+            y = None
+        if y is None and status != "infeasible":
+            raise RuntimeError(f"HiGHS and Clarabel failed on the minimal-force LP: {status}")
+        return y, "clarabel", False
+    return y, "highs", False
+
+
+def _min_forces(prog: Program, contacts, y: np.ndarray, objective: str) -> tuple[float, np.ndarray]:
+    """(scale s, (N,) contact forces [N]) at the minimal-force solution ``y`` (s NaN for "sum")."""
+    _, f = prog.contact_solution(contacts, y)
+    if objective == "scale":
+        s = float(y[-1] * prog.S[-1])
+        return s, s * np.array([c.force for c in contacts])
+    return float("nan"), f

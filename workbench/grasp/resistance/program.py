@@ -124,15 +124,7 @@ def assemble(
     gcol = {g: k for k, g in enumerate(groups)}
     arm = float(np.sqrt(max(c.t @ c.t for c in contacts)))
     D = capacity_scaling(np.vstack([c.vertices(mu) for c in contacts]), arm)
-    sf, st = 1.0 / D[0], 1.0 / D[3]
-    sizes = []
-    for c, k in zip(contacts, kinds, strict=True):
-        if k == "vertex":
-            sizes.append(len(c.friction))
-        elif k == "frictionless":
-            sizes.append(1)
-        else:  # z (d,) and, outside a force group, f
-            sizes.append(c.halfspaces[2].shape[1] + (c.group not in gcol))
+    sizes = _block_sizes(contacts, kinds, gcol)
     n_x = int(sum(sizes))
     n = n_x + len(groups) + (minforce == "scale")
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
@@ -144,47 +136,9 @@ def assemble(
         lb[-1] = 0.0  # the force scale s >= 0
     N_c = len(contacts)
     prog = Program(n, A6, w_ext * D, S, lb, ub, kinds=kinds, starts=list(starts), Phi=np.zeros((N_c, n)))
-    for i, (c, kind, s0, m) in enumerate(zip(contacts, kinds, starts, sizes, strict=True)):
-        sl = slice(s0, s0 + m)
-        gc = n_x + gcol[c.group] if c.group in gcol else None  # the group's σ column
-        if kind == "vertex":
-            U = mu * c.friction + c.normal  # (M, 6) unit-force vertices
-            L = U.T
-            prog.Phi[i, sl] = 1.0
-            S[sl] = sf
-            lb[sl] = 0.0
-        elif kind == "frictionless":  # x = f: a 6-by-1 map onto ŵ⊥ (a polytope with an
-            # empty interior would leave active-set solvers a degenerate face)
-            L = c.normal[:, None].astype(float)
-            prog.Phi[i, sl] = 1.0
-            S[sl] = sf
-        else:
-            _, _, N, nrm = c.halfspaces
-            d = N.shape[1]
-            # z in newtons or newton-metres after scaling: a basis column is a force
-            # or a torque direction for every model here (mixed ones get a blend)
-            S[s0 : s0 + d] = sf * nrm[0] + st * nrm[1]
-            L = N if m == d else np.hstack([N, np.zeros((6, 1))])
-            if gc is None:  # its own force variable, the block's last
-                fcol, fcoef = s0 + d, 1.0
-                S[fcol] = sf
-            else:  # f_i = F_i σ_g
-                fcol, fcoef = gc, c.force
-            prog.Phi[i, fcol] = fcoef
-            _wrench_rows(prog, c, kind, mu, s0, fcol, fcoef, cuts)
-        prog.L.append(L)
-        DG = D[:, None] * c.G
-        A6[:, sl] = (DG @ L) * S[sl]
-        if kind in _HALFSPACE_KINDS:  # the normal wrench f ŵ⊥ through the force's column
-            A6[:, fcol] += (DG @ c.normal) * (fcoef * S[fcol])
-        if gc is None:
-            _force_rows(prog, c, kind, prog.Phi[i], s0, m, n, minforce, f_max)
-        elif kind in ("vertex", "frictionless"):  # their force variables equal F_i σ_g
-            row = np.zeros(n)
-            row[sl] = 1.0
-            row[gc] = -c.force
-            prog.A.append(row[None])
-            prog.b.append(np.zeros(1))
+    setup = _Setup(mu, cuts, D, n_x, gcol, minforce, f_max)
+    for i, (c, s0, m) in enumerate(zip(contacts, starts, sizes, strict=True)):
+        _contact_block(prog, setup, i, c, slice(s0, s0 + m))
     for g, r in groups.items():
         _group_rows(prog, n_x + gcol[g], r, minforce)
     # scale the collected rows into y and normalise inequality rows (quadprog is
@@ -199,6 +153,100 @@ def assemble(
         gn[gn == 0] = 1.0
         prog.G, prog.h = [G / gn[:, None]], [h / gn]
     return prog
+
+
+def _block_sizes(contacts, kinds: list[str], gcol: dict) -> list[int]:
+    """The number of variables of each contact: its vertex weights, its force (frictionless),
+    or z (d,) and, outside a force group, f."""
+    sizes = []
+    for c, k in zip(contacts, kinds, strict=True):
+        if k == "vertex":
+            sizes.append(len(c.friction))
+        elif k == "frictionless":
+            sizes.append(1)
+        else:  # z (d,) and, outside a force group, f
+            sizes.append(c.halfspaces[2].shape[1] + (c.group not in gcol))
+    return sizes
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """What every contact's block of :func:`assemble` shares."""
+
+    mu: float
+    cuts: CutStore | None
+    D: np.ndarray  # (6,) capacity scaling of the residual
+    n_x: int  # the contacts' variables (the groups' σ and the scale s follow)
+    gcol: dict  # {group: its σ's column after n_x}
+    minforce: str | None
+    f_max: float | None
+
+    @property
+    def sf(self) -> float:
+        """Scale of a force variable [N]."""
+        return 1.0 / self.D[0]
+
+    @property
+    def st(self) -> float:
+        """Scale of a torque variable [N m]."""
+        return 1.0 / self.D[3]
+
+
+def _contact_block(prog: Program, setup: _Setup, i: int, c, sl: slice) -> None:
+    """Contact ``i`` (``c``, its variables ``sl``) into ``prog``: its wrench map ``L``, force
+    row of Φ, scaling, residual columns, wrench rows and force rows."""
+    kind = prog.kinds[i]
+    S, sf = prog.S, setup.sf
+    gc = setup.n_x + setup.gcol[c.group] if c.group in setup.gcol else None  # the group's σ column
+    if kind == "vertex":
+        U = setup.mu * c.friction + c.normal  # (M, 6) unit-force vertices
+        L = U.T
+        prog.Phi[i, sl] = 1.0
+        S[sl] = sf
+        prog.lb[sl] = 0.0
+    elif kind == "frictionless":  # x = f: a 6-by-1 map onto ŵ⊥ (a polytope with an
+        # empty interior would leave active-set solvers a degenerate face)
+        L = c.normal[:, None].astype(float)
+        prog.Phi[i, sl] = 1.0
+        S[sl] = sf
+    else:
+        L, fcol, fcoef = _halfspace_block(prog, setup, c, sl, gc)
+        prog.Phi[i, fcol] = fcoef
+        _wrench_rows(prog, c, kind, setup.mu, sl.start, fcol, fcoef, setup.cuts)
+    prog.L.append(L)
+    DG = setup.D[:, None] * c.G
+    prog.A6[:, sl] = (DG @ L) * S[sl]
+    if kind in _HALFSPACE_KINDS:  # the normal wrench f ŵ⊥ through the force's column
+        prog.A6[:, fcol] += (DG @ c.normal) * (fcoef * S[fcol])
+    if gc is None:
+        _force_rows(prog, c, kind, prog.Phi[i], sl, (setup.minforce, setup.f_max))
+    elif kind in ("vertex", "frictionless"):  # their force variables equal F_i σ_g
+        row = np.zeros(prog.n)
+        row[sl] = 1.0
+        row[gc] = -c.force
+        prog.A.append(row[None])
+        prog.b.append(np.zeros(1))
+
+
+def _halfspace_block(
+    prog: Program, setup: _Setup, c, sl: slice, gc: int | None
+) -> tuple[np.ndarray, int, float]:
+    """The scaling of a half-space contact's variables ``sl``; returns its wrench map ``L``
+    (6, m) and its force ``f = fcoef · x[fcol]`` (its own variable, the block's last, or
+    ``F_i σ_g`` in the force group whose σ is column ``gc``)."""
+    S, s0, m = prog.S, sl.start, sl.stop - sl.start
+    _, _, N, nrm = c.halfspaces
+    d = N.shape[1]
+    # z in newtons or newton-metres after scaling: a basis column is a force
+    # or a torque direction for every model here (mixed ones get a blend)
+    S[s0 : s0 + d] = setup.sf * nrm[0] + setup.st * nrm[1]
+    L = N if m == d else np.hstack([N, np.zeros((6, 1))])
+    if gc is None:  # its own force variable, the block's last
+        fcol, fcoef = s0 + d, 1.0
+        S[fcol] = setup.sf
+    else:  # f_i = F_i σ_g
+        fcol, fcoef = gc, c.force
+    return L, fcol, fcoef
 
 
 def _force_groups(contacts) -> dict:
@@ -293,19 +341,14 @@ def _wrench_rows(
 
 
 def _force_rows(
-    prog: Program,
-    c,
-    kind: str,
-    phi: np.ndarray,
-    s0: int,
-    m: int,
-    n: int,
-    minforce: str | None,
-    f_max: float | None,
+    prog: Program, c, kind: str, phi: np.ndarray, sl: slice, bounds: tuple[str | None, float | None]
 ) -> None:
     """``f_lo (s) <= φ x <= f_hi (s)``, or an equality when the interval is a point; a
     bound on the force variable itself when it has one and the bounds are fixed
-    (a contact with its own force variable or weights: not in a force group)."""
+    (a contact with its own force variable or weights: not in a force group).  ``sl``: the
+    contact's variables; ``bounds``: (minforce, f_max) of :func:`assemble`."""
+    minforce, f_max = bounds
+    s0, m, n = sl.start, sl.stop - sl.start, prog.n
     lo, hi = c.force_bounds()
     if minforce == "sum":
         lo, hi = 0.0, (np.inf if f_max is None else float(f_max))

@@ -187,6 +187,69 @@ def solve_l1_lp(prog: Program) -> tuple[np.ndarray | None, float]:
     return x[: prog.n], objective
 
 
+def _dual_model(prog: Program, cost: np.ndarray, tol: float) -> tuple:
+    """The dual of :class:`MinLP`'s LP (its class notes) as HiGHS's ``passModel`` arguments
+    (column-wise storage), with its columns' lower bounds (n_col,), its rows' lower bounds
+    (n_y,) and the LP's cost ``c`` (n_y,), which is the rows' upper bounds."""
+    import highspy
+
+    inf = highspy.kHighsInf
+    n, n_y = prog.n, prog.n + 12
+    G, h = prog.rows("ineq")
+    A, b = prog.rows("eq")
+    c = np.concatenate([cost, np.zeros(12)])
+    lb = np.concatenate([prog.lb, np.zeros(12)])
+    ub = np.concatenate([prog.ub, np.full(12, np.inf)])
+    # the dual below takes a column as y >= 0 or free; any other bound becomes a row
+    nonneg = (lb == 0) & ~np.isfinite(ub)
+    lo, hi = np.flatnonzero(np.isfinite(lb) & ~nonneg), np.flatnonzero(np.isfinite(ub))
+    # the LP's rows, one dual column each: μ for the equalities — the balance
+    # A6 y − t⁺ + t⁻ = −w (_slack_form's), then prog's own — and λ >= 0 for the
+    # inequalities: prog's G y <= h, the band Σ t <= tol, the bound rows
+    n_eq = 6 + (0 if A is None else len(A))
+    m = 0 if G is None else len(G)
+    n_mu, n_lam = n_eq, m + 1 + len(lo) + len(hi)
+    # dual: min −b_eqᵀμ + h_allᵀλ  s.t.  A_eqᵀμ − G_allᵀλ (<= c on y >= 0 columns,
+    # = c on free ones), λ >= 0; Dt holds its columns, i.e. [A_eq; −G_all]
+    Dt = np.zeros((n_mu + n_lam, n_y))
+    Dt[:6, :n] = prog.A6
+    Dt[:6, n : n + 6] = -np.eye(6)
+    Dt[:6, n + 6 :] = np.eye(6)
+    if A is not None:
+        Dt[6:n_eq, :n] = A
+    if G is not None:
+        Dt[n_eq : n_eq + m, :n] = -G
+    Dt[n_eq + m, n:] = -1.0  # −(band row)
+    k = n_eq + m + 1
+    Dt[k + np.arange(len(lo)), lo] = 1.0  # −(−y_j <= −lb_j)
+    Dt[k + len(lo) + np.arange(len(hi)), hi] = -1.0  # −(y_j <= ub_j)
+    h_all = np.concatenate([np.zeros(0) if h is None else h, [tol], -lb[lo], ub[hi]])
+    b_eq = np.concatenate([-prog.w, np.zeros(0) if b is None else b])
+    col, row = np.nonzero(Dt)  # column-wise storage of the dual: Dt row by row
+    start = np.zeros(n_mu + n_lam + 1, dtype=np.int32)
+    np.cumsum(np.bincount(col, minlength=n_mu + n_lam), out=start[1:])
+    row_lo = np.where(nonneg, -inf, c)
+    col_lo = np.concatenate([np.full(n_mu, -inf), np.zeros(n_lam)])
+    model = (
+        n_mu + n_lam,
+        n_y,
+        len(row),
+        int(highspy.MatrixFormat.kColwise),
+        int(highspy.ObjSense.kMinimize),
+        0.0,  # objective offset
+        np.concatenate([-b_eq, h_all]),
+        col_lo,
+        np.full(n_mu + n_lam, inf),
+        row_lo,
+        c,
+        start,
+        row.astype(np.int32),
+        Dt[col, row],
+        np.zeros(n_mu + n_lam, dtype=np.int32),  # integrality: every column continuous (0)
+    )
+    return model, col_lo, row_lo, c
+
+
 class MinLP:
     """``min costᵀ y`` s.t. ``‖A6 y + w‖₁ <= tol`` (slacks ``t⁺, t⁻``; the same band
     :func:`resists` accepts) and the polyhedral rows of ``prog``, held as one HiGHS model
@@ -218,59 +281,8 @@ class MinLP:
         import highspy
 
         inf = highspy.kHighsInf
-        n, n_y = prog.n, prog.n + 12
-        G, h = prog.rows("ineq")
-        A, b = prog.rows("eq")
-        c = np.concatenate([cost, np.zeros(12)])
-        lb = np.concatenate([prog.lb, np.zeros(12)])
-        ub = np.concatenate([prog.ub, np.full(12, np.inf)])
-        # the dual below takes a column as y >= 0 or free; any other bound becomes a row
-        nonneg = (lb == 0) & ~np.isfinite(ub)
-        lo, hi = np.flatnonzero(np.isfinite(lb) & ~nonneg), np.flatnonzero(np.isfinite(ub))
-        # the LP's rows, one dual column each: μ for the equalities — the balance
-        # A6 y − t⁺ + t⁻ = −w (_slack_form's), then prog's own — and λ >= 0 for the
-        # inequalities: prog's G y <= h, the band Σ t <= tol, the bound rows
-        n_eq = 6 + (0 if A is None else len(A))
-        m = 0 if G is None else len(G)
-        n_mu, n_lam = n_eq, m + 1 + len(lo) + len(hi)
-        # dual: min −b_eqᵀμ + h_allᵀλ  s.t.  A_eqᵀμ − G_allᵀλ (<= c on y >= 0 columns,
-        # = c on free ones), λ >= 0; Dt holds its columns, i.e. [A_eq; −G_all]
-        Dt = np.zeros((n_mu + n_lam, n_y))
-        Dt[:6, :n] = prog.A6
-        Dt[:6, n : n + 6] = -np.eye(6)
-        Dt[:6, n + 6 :] = np.eye(6)
-        if A is not None:
-            Dt[6:n_eq, :n] = A
-        if G is not None:
-            Dt[n_eq : n_eq + m, :n] = -G
-        Dt[n_eq + m, n:] = -1.0  # −(band row)
-        k = n_eq + m + 1
-        Dt[k + np.arange(len(lo)), lo] = 1.0  # −(−y_j <= −lb_j)
-        Dt[k + len(lo) + np.arange(len(hi)), hi] = -1.0  # −(y_j <= ub_j)
-        h_all = np.concatenate([np.zeros(0) if h is None else h, [tol], -lb[lo], ub[hi]])
-        b_eq = np.concatenate([-prog.w, np.zeros(0) if b is None else b])
-        col, row = np.nonzero(Dt)  # column-wise storage of the dual: Dt row by row
-        start = np.zeros(n_mu + n_lam + 1, dtype=np.int32)
-        np.cumsum(np.bincount(col, minlength=n_mu + n_lam), out=start[1:])
-        row_lo = np.where(nonneg, -inf, c)
-        col_lo = np.concatenate([np.full(n_mu, -inf), np.zeros(n_lam)])
-        model = (
-            n_mu + n_lam,
-            n_y,
-            len(row),
-            int(highspy.MatrixFormat.kColwise),
-            int(highspy.ObjSense.kMinimize),
-            0.0,  # objective offset
-            np.concatenate([-b_eq, h_all]),
-            col_lo,
-            np.full(n_mu + n_lam, inf),
-            row_lo,
-            c,
-            start,
-            row.astype(np.int32),
-            Dt[col, row],
-            np.zeros(n_mu + n_lam, dtype=np.int32),  # integrality: every column continuous (0)
-        )
+        model, col_lo, row_lo, c = _dual_model(prog, cost, tol)
+        n_col = model[0]
         # highspy._Highs (in highspy.__all__) is the HiGHS object without the Python
         # callback layer of highspy.Highs, whose constructor prints HiGHS's banner to
         # stdout before output can be switched off (HiGHS issues 1702, 2749)
@@ -290,11 +302,11 @@ class MinLP:
             raise RuntimeError(f"HiGHS refused the minimal-force LP: {status}")
         self._n = prog.n
         self._statuses = highspy.HighsModelStatus
-        self._n_col = n_mu + n_lam
+        self._n_col = n_col
         self._balance = np.arange(6, dtype=np.int32)  # μ of the balance rows: columns 0-5
         # bounds of the dual's columns then rows, in HiGHS's order of variables
         self._lo = np.concatenate([col_lo, row_lo])
-        self._hi = np.concatenate([np.full(n_mu + n_lam, inf), c])
+        self._hi = np.concatenate([np.full(n_col, inf), c])
         self._primal_tol = float(self._h.getOptionValue("primal_feasibility_tolerance")[1])
         self._optimal = False  # whether the model holds an optimal basis to start from
         #: warm solves whose optimum was not provably unique, re-solved cold

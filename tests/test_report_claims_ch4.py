@@ -1,0 +1,89 @@
+"""Chapter 4's claim tables judged by our own truth (workbench/runner/report_claims_ch4.py): the
+thesis numbers typed there agree with the copies the experiments record, and the tables judge
+hand-made summaries as their rules say."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from workbench.runner.report import evaluate
+from workbench.runner.report_claims_ch4 import (
+    CLAIMS,
+    FIG_4_4,
+    PRINTED_4_6,
+    TABLE_4_1_PHYSICAL,
+    TABLE_4_6,
+    TABLES_4_2_4_3,
+    TASKS,
+)
+from workbench.runner.report_rules import DIFFERS, MATCH, NOT_COMPARABLE, printed_numbers
+
+RESULTS = Path(__file__).resolve().parents[1] / "results"
+committed = pytest.mark.skipif(
+    not (RESULTS / "minimal-work" / "summary.json").is_file(), reason="no committed results/"
+)
+
+
+def _write(path: Path, obj: dict) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(obj))
+
+
+def test_the_tables_are_chapter_4s_items_in_order():
+    assert [c.item for c in CLAIMS] == [
+        *["Fig 4.4"] * 6,
+        *["Tables 4.2/4.3"] * 5,
+        *["Table 4.6"] * 9,
+        *["Table 4.1"] * 6,
+    ]
+    assert CLAIMS == (*FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
+
+
+def test_recall_that_falls_once_is_a_differing_trend(tmp_path):
+    models = ("planar", "3dls_nonplanar", "6dfw", "6dls", "6dls_quartic")
+    series = {"x": [1, 2, 3], **{m: {"recall": [0.5, 0.6, 0.7]} for m in models}}
+    series["6dfw"]["recall"] = [0.5, 0.7, 0.6]  # falls from k = 2 to 3
+    _write(tmp_path / "sensitivity" / "summary.json", {"series": {"k": series}})
+    k = next(c for c in FIG_4_4 if c.quantity.startswith("recall vs `k`"))
+    (row,) = evaluate(tmp_path, [k])
+    assert row.verdict.status == DIFFERS and row.verdict.deviation == "falls: 6dfw 0.700→0.600 at 2→3"
+
+
+def test_runtime_rows_and_their_order(tmp_path):
+    ms = {"soft_point": 0.5, "planar": 2.0, "6dls": 4.0, "6dfc": 3.0}  # 6DFC faster than 6DLS
+    _write(tmp_path / "benchmarks" / "grasp.json", {"ms_per_grasp": ms})
+    rows = evaluate(tmp_path, TABLES_4_2_4_3)
+    point = rows[0]  # the thesis's 14.2 and 13.0 ms: 28× and 26× ours
+    assert (point.verdict.status, point.verdict.ours) == (NOT_COMPARABLE, "0.5 ms")
+    assert point.verdict.deviation == "28× / 26× faster than Tables 4.2 / 4.3"
+    assert (rows[-1].verdict.status, rows[-1].verdict.deviation) == (DIFFERS, "order differs")
+
+
+def test_q_work_above_the_others_in_both_tasks(tmp_path):
+    cells = {"q_work": {"All": 0.8}, "q_force": {"All": 0.6}, "q_robust": {"All": 0.85}}
+    _write(tmp_path / "minimal-work" / "summary.json", {"table_4_6": dict.fromkeys(TASKS, cells)})
+    above = [c for c in TABLE_4_6 if c.quantity.startswith("q_work above")]
+    force, robust = evaluate(tmp_path, above)
+    assert force.verdict.status == MATCH and force.verdict.deviation == "+0.200; +0.200"
+    assert robust.verdict.status == DIFFERS and robust.verdict.deviation == "-0.050; -0.050"
+
+
+@committed
+def test_the_typed_thesis_numbers_agree_with_the_experiments_copies():
+    mw = json.loads((RESULTS / "minimal-work" / "summary.json").read_text())
+    assert {t: set(m) for t, m in PRINTED_4_6.items()} == {
+        t: set(m) for t, m in mw["thesis_table_4_6"].items()
+    }
+    for task, metrics in mw["thesis_table_4_6"].items():
+        for metric, cells in metrics.items():
+            claim = next(c for c in TABLE_4_6 if c.quantity == f"{TASKS[task]}, {metric}, All")
+            assert printed_numbers(claim.thesis) == [cells["All"]]
+
+
+@committed
+def test_the_committed_results_give_every_chapter_4_row():
+    rows = evaluate(RESULTS, CLAIMS)
+    assert [r.claim.quantity for r in rows if r.verdict is None] == []
