@@ -58,7 +58,7 @@ def scaling(quick: bool) -> list[dict]:
     import numpy as np
     import trimesh
 
-    from workbench.engine_trials import EngineSettings, simulate_grasp
+    from workbench.engine_trials import EngineObject, EngineSettings, simulate_grasp
 
     box = trimesh.creation.box((0.06, 0.04, 0.08))
     grasp = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
@@ -66,7 +66,7 @@ def scaling(quick: bool) -> list[dict]:
     for grid in GRIDS[:2] if quick else GRIDS:
         settings = EngineSettings(pad_grid=grid)
         t0 = time.perf_counter()
-        o = simulate_grasp(box, grasp, force=10.0, mu=0.5, mass=0.2, settings=settings)
+        o = simulate_grasp(box, grasp, force=10.0, obj=EngineObject(mass=0.2, mu=0.5), settings=settings)
         wall = time.perf_counter() - t0
         sim = o.steps * settings.timestep
         rows.append(

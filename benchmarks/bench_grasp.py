@@ -29,7 +29,7 @@ from bench_wrench import machine_roofline  # the sibling benchmark's roofline
 
 from workbench import config
 from workbench.grasp import build_gws, resists, resists_lp
-from workbench.grasp.models import contact_sets
+from workbench.grasp.models import ModelParameters, contact_sets
 from workbench.grasp.resistance.program import assemble
 from workbench.grasp.resistance.solvers import solve_min_lp
 from workbench.grasp.tasks import lever_disturbances
@@ -83,7 +83,7 @@ def evaluate_one_call(quick: bool) -> dict:
     dataset is absent); the one-off profile and model costs are reported beside."""
     import trimesh
 
-    from workbench.grasp import MODELS, CutStore, antipodal_grasps, evaluate_grasp
+    from workbench.grasp import MODELS, CutStore, Jaws, ModelOptions, Task, antipodal_grasps, evaluate_grasp
     from workbench.sources.reach import jaw_profiles
 
     path = ROOT.parent / "shared/data/thesis_objects/0014_bottle-gen_bottle_100x030x030-03.obj"
@@ -101,15 +101,16 @@ def evaluate_one_call(quick: bool) -> dict:
             continue
         times = []
         for i, (g, prof) in enumerate(zip(grasps, profiles, strict=True)):
-            kw = dict(model=model, force=10.0, mu=0.5, mass=0.3, com=[0, 0, 0], profiles=prof, cache=cache)
+            kw = dict(jaws=Jaws(force=10.0), options=ModelOptions(model, 0.5), profiles=prof, cache=cache)
+            task = Task(mass=0.3, com=[0, 0, 0])
             t1 = time.perf_counter()
-            evaluate_grasp(mesh, g, cuts=cuts, **kw)  # first call fits the limit surfaces
+            evaluate_grasp(mesh, g, task, cuts=cuts, **kw)  # first call fits the limit surfaces
             first = (time.perf_counter() - t1) * 1e3
             if i == 0:
                 out["first_call_ms"][model] = first
             for _ in range(3):
                 t1 = time.perf_counter()
-                evaluate_grasp(mesh, g, cuts=cuts, **kw)
+                evaluate_grasp(mesh, g, task, cuts=cuts, **kw)
                 times.append(time.perf_counter() - t1)
         out["ms_per_call"][model] = float(np.median(times) * 1e3)
     return out
@@ -142,7 +143,7 @@ def time_models(profiles, cache, rng, n_grasps: int) -> tuple[dict, dict, dict]:
 def lp_vs_hull(profiles, cache, rng, n_hull: int) -> tuple[dict, bool]:
     """Membership of ``-w`` in the 6DLS ``W_L∞`` (inner vertices) by the LP and by the hull's
     facets on ``n_hull`` random disturbances: (agreement and times, whether all agree)."""
-    model_sets = [c for p in profiles for c in contact_sets(p, "6dls", cache=cache, M=40)]
+    model_sets = [c for p in profiles for c in contact_sets(p, "6dls", ModelParameters(M=40), cache=cache)]
     t0 = time.perf_counter()
     hull = build_gws(model_sets, MU)
     hull_build_s = time.perf_counter() - t0

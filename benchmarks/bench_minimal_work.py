@@ -49,6 +49,7 @@ from scipy.optimize import linprog
 
 from workbench import config
 from workbench.grasp import StiffnessMap, contact_sets
+from workbench.grasp.models import ModelParameters
 from workbench.grasp.resistance.program import assemble
 from workbench.grasp.resistance.solvers import _slack_form
 from workbench.grasp.robust import Perturbation, q_robust
@@ -119,7 +120,8 @@ class Grasp:
         t0 = time.perf_counter()
         self.profiles = jaw_profiles(scene["mesh"], g, F0, pad=PAD, closing=CLOSING, allow_scale=True)
         t1 = time.perf_counter()
-        self.contacts = [contact_sets(p, "6dls", M=M, seed=0, cache=cache)[0] for p in self.profiles]
+        params = ModelParameters(M=M)
+        self.contacts = [contact_sets(p, "6dls", params, seed=0, cache=cache)[0] for p in self.profiles]
         t2 = time.perf_counter()
         self.build_ms = {"profiles": (t1 - t0) * 1e3, "limit_surfaces": (t2 - t1) * 1e3}
         self.points = np.array([g["p1"], g["p2"]])
@@ -199,9 +201,8 @@ class Grasp:
     # (c)
     def q_robust(self) -> dict:
         p = Perturbation(n_samples=ROBUST_SAMPLES)
-        m, com = self.scene["mass"], self.scene["com"]
         return {
-            t: min(q_robust(self.contacts, MU, m, com, p, w_ext=w, seed=0) for w in ws)
+            t: min(q_robust(self.contacts, MU, w, p, seed=0) for w in ws)
             for t, ws in self.tasks().items()
         }
 

@@ -24,6 +24,7 @@ import trimesh
 from bench_wrench import machine_roofline
 
 from workbench.grasp.gripper_eval import evaluate_gripper
+from workbench.grasp.inputs import GripperOptions, Task
 from workbench.grasp.models import MODELS
 from workbench.grasp.pose_robust import PoseNoise
 from workbench.limit_surface import LimitSurfaceCache
@@ -55,7 +56,13 @@ def run(quick: bool) -> dict:
 
         def one(gr, robust, m=m):
             return evaluate_gripper(
-                mesh, g, gr.pose, model=m, mass=mass, down=gr.down, robust=robust, cache=LimitSurfaceCache()
+                mesh,
+                g,
+                gr.pose,
+                Task(mass=mass, down=gr.down),
+                model=m,
+                options=GripperOptions(robust=robust),
+                cache=LimitSurfaceCache(),
             )
 
         one(grasps[picked[0]], noise)  # warm-up: the kernels' JIT or cache load, the mesh's subdivision

@@ -296,12 +296,12 @@ def run_family(case: dict, i: int, spec: tuple) -> tuple[dict, list[dict]]:
     def one(z: float, a: float) -> dict:
         r = squeeze(wall, *grasp_axis(b, z, a), force=FORCE, jaw=JAW)
         return {
-            "stiffness": None if r["implausible"] else float(r["stiffness"]),
-            "closing_mm": r["delta"] * 1e3,
-            "contact_nodes": r["contact_nodes"],
-            "converged": r["converged"],
-            "on_clamp": r["on_clamp"],
-            "compliance_solves": r["compliance_solves"],
+            "stiffness": None if r.implausible else float(r.stiffness),
+            "closing_mm": r.delta * 1e3,
+            "contact_nodes": r.contact_nodes,
+            "converged": r.converged,
+            "on_clamp": r.on_clamp,
+            "compliance_solves": r.compliance_solves,
         }
 
     rows = _squeeze_rows(case, one, z_range, None if beta else nz)
@@ -340,7 +340,7 @@ def run_revolved(case: dict, mesh, spec: tuple) -> tuple[dict, list[dict]]:
 
     def one(z: float, a: float) -> dict:
         p, _ = geo.surface(np.array([a, a + np.pi]), np.full(2, z))
-        (r,) = stiffness_at(wall, geo.surface, p, z_range=geo.z_range, force=FORCE, jaw=JAW)
+        (r,) = stiffness_at(wall, geo, p, force=FORCE, jaw=JAW)
         fem = r["fem_stiffness"]
         return {
             "stiffness": None if fem is None or not np.isfinite(fem) else float(fem),

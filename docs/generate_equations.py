@@ -143,12 +143,9 @@ def source_files(root: Path = ROOT) -> Iterator[tuple[str, Path]]:
     yield from sorted(out)
 
 
-def definitions(module: str, source: str) -> list[Definition]:
-    """The module and each class and function in ``source``, each with its docstring and the
-    comment lines that belong to it (see the module docstring for which do)."""
-    tree = ast.parse(source)
-    Scope = ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef
-    scopes: list[tuple[int, int, str, Scope]] = []  # (first line, last line, qualname, node)
+def _scopes(tree: ast.AST) -> list[tuple[int, int, str, ast.AST]]:
+    """(first line — decorators included —, last line, qualname, node) of every class and function."""
+    scopes: list[tuple[int, int, str, ast.AST]] = []
 
     def visit(node: ast.AST, prefix: str) -> None:
         for child in ast.iter_child_nodes(node):
@@ -161,6 +158,13 @@ def definitions(module: str, source: str) -> list[Definition]:
                 visit(child, prefix)
 
     visit(tree, "")
+    return scopes
+
+
+def _comment_owners(source: str, scopes: list) -> tuple[dict[int, str], dict[int, str]]:
+    """``({line: comment text}, {line: qualname it belongs to})``: a comment inside a definition
+    belongs to the innermost one, a comment block right above a definition to that definition,
+    the rest to the module (``""``)."""
     lines = source.splitlines()
     comments: dict[int, str] = {}
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
@@ -174,12 +178,20 @@ def definitions(module: str, source: str) -> list[Definition]:
     for lineno in comments:
         inside = [(last - first, qualname) for first, last, qualname, _ in scopes if first <= lineno <= last]
         owner[lineno] = min(inside)[1] if inside else ""
-    for first, _, qualname, _ in scopes:  # the comment block right above a definition: its own
+    for first, _, qualname, _ in scopes:
         lineno = first - 1
         while comment_only(lineno):
             owner[lineno] = qualname
             lineno -= 1
+    return comments, owner
 
+
+def definitions(module: str, source: str) -> list[Definition]:
+    """The module and each class and function in ``source``, each with its docstring and the
+    comment lines that belong to it (see the module docstring for which do)."""
+    tree = ast.parse(source)
+    scopes = _scopes(tree)
+    comments, owner = _comment_owners(source, scopes)
     texts: dict[str, list[str]] = defaultdict(list)
     texts[""].append(ast.get_docstring(tree, clean=True) or "")
     for _, _, qualname, node in scopes:

@@ -190,7 +190,7 @@ def test_training_set_and_6dls_model_do_not_follow_round_off():
     """The thesis-code training set of a symmetric contact is the same when its pressures
     move by 1e-12 (relative), and the default ("mix" sampler) 6DLS contact model moves by
     round-off, not by the percents (friction) to 2x (A) that swapped mirror twists gave."""
-    from workbench.grasp.models import contact_sets
+    from workbench.grasp.models import ModelParameters, contact_sets
     from workbench.limit_surface.cache import LimitSurfaceCache
     from workbench.limit_surface.thesis_code import thesis_code_sample
     from workbench.profile import ContactProfile
@@ -200,7 +200,8 @@ def test_training_set_and_6dls_model_do_not_follow_round_off():
     prof0, prof1 = ContactProfile(c, n, a, p), ContactProfile(c, n, a, noisy)
     t0, t1 = thesis_code_sample(prof0), thesis_code_sample(prof1)
     np.testing.assert_array_equal(t0.train, t1.train)
-    m0, m1 = (contact_sets(q, "6dls", M=100, cache=LimitSurfaceCache())[0] for q in (prof0, prof1))
+    params = ModelParameters(M=100)
+    m0, m1 = (contact_sets(q, "6dls", params, cache=LimitSurfaceCache())[0] for q in (prof0, prof1))
     for field in ("friction", "A", "b"):
         v0, v1 = np.asarray(getattr(m0, field)), np.asarray(getattr(m1, field))
         assert np.abs(v1 - v0).max() <= 1e-9 * np.abs(v0).max(), field

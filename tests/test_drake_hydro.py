@@ -12,6 +12,7 @@ from scipy.integrate import quad
 from workbench.fem.obstacles import Cylinder, MeshObstacle, Plane, Sphere
 from workbench.peers.drake_hydro import (
     DrakeHydroPad,
+    Meshing,
     foundation_depth,
     hydroelastic_modulus,
     sphere_force_law,
@@ -134,9 +135,9 @@ def test_drake_force_follows_the_elastic_foundation_law(pad):
 def test_triangles_and_layer_box():
     pytest.importorskip("pydrake.geometry")
     d = 1e-3
-    coarse = dict(resolution=R / 20)
+    coarse = dict(meshing=Meshing(resolution=R / 20))
     poly = DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO, **coarse).profile(d)
-    tri_pad = DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO, representation="triangle", **coarse)
+    tri_pad = DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO, meshing=Meshing(R / 20, representation="triangle"))
     tri = tri_pad.profile(d)
     # both integrate the same linear pressure field over the same surface exactly (the torques
     # about o differ: a centroid's pressure times area is not the element's exact first moment)
@@ -162,7 +163,7 @@ def test_drake_cylinder_follows_the_foundation_law_cut_at_the_pad_edges():
     law_z, law_m = cylinder_force_laws(R_CYL, d, E_HYDRO, H_PAD, L_PAD)
     errors = []
     for res in (R_CYL / 20, R_CYL / 40, R_CYL / 80):
-        pad = DrakeHydroPad(cyl, H_PAD, E_HYDRO, width=W_PAD, length=L_PAD, resolution=res)
+        pad = DrakeHydroPad(cyl, H_PAD, E_HYDRO, width=W_PAD, length=L_PAD, meshing=Meshing(res))
         assert pad.H == H_PAD and pad.cylinder_length == pytest.approx(4 * L_PAD)
         prof = pad.profile(d)
         eps = R_CYL - np.sqrt(R_CYL**2 - res**2 / 4)
@@ -208,7 +209,7 @@ def test_a_mesh_icosphere_matches_the_sphere_law_and_drake_sphere():
     eps = R - np.abs(np.einsum("ij,ij->i", tris.face_normals, tris.triangles_center - c)).min()
     pad = DrakeHydroPad(mesh, H_LAYER, E_HYDRO)
     assert pad.kind == "mesh" and pad.resolution is None and pad.R is None
-    sphere = DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO, resolution=float(tris.edges_unique_length.max()))
+    sphere = DrakeHydroPad(OBSTACLE, H_LAYER, E_HYDRO, meshing=Meshing(float(tris.edges_unique_length.max())))
     for d in DELTAS:
         prof, ref = pad.profile(d), sphere.profile(d)
         law = sphere_force_law(R, d, E_HYDRO, pad.H)[0]
@@ -271,7 +272,9 @@ def test_an_inward_mesh_is_refused_and_a_one_sided_one_gives_the_same_contact():
 
 
 def test_no_contact_gives_none(pad):
-    above = DrakeHydroPad(Sphere((0.0, 0.0, H_LAYER + R + 2e-3), R), H_LAYER, E_HYDRO, resolution=R / 10)
+    above = DrakeHydroPad(
+        Sphere((0.0, 0.0, H_LAYER + R + 2e-3), R), H_LAYER, E_HYDRO, meshing=Meshing(R / 10)
+    )
     assert above.profile(1e-3) is None
 
 
@@ -306,9 +309,11 @@ def test_careless_delta_raises(pad, delta, match):
 )
 def test_careless_construction_raises(kwargs, match):
     # the checks run before Drake is touched: no pydrake needed to see them
+    meshing = {k: kwargs[k] for k in ("resolution", "cylinder_length", "representation") if k in kwargs}
     args = {"obstacle": OBSTACLE, "h": H_LAYER, "E_hydro": E_HYDRO} | kwargs
+    args = {k: v for k, v in args.items() if k not in meshing}
     with pytest.raises(ValueError, match=match):
-        DrakeHydroPad(**args)
+        DrakeHydroPad(**args, meshing=Meshing(**meshing))
 
 
 def test_closed_forms_validate_too():
@@ -335,11 +340,13 @@ def test_a_patch_cut_by_the_pad_sides_is_reported(pad, caplog):
     import logging
 
     sphere = Sphere((0.0, 0.0, H_LAYER + 0.02), 0.02)
-    small = DrakeHydroPad(sphere, H_LAYER, E_HYDRO, width=0.012, length=0.012, box="layer", resolution=0.002)
+    small = DrakeHydroPad(
+        sphere, H_LAYER, E_HYDRO, width=0.012, length=0.012, box="layer", meshing=Meshing(0.002)
+    )
     with caplog.at_level(logging.WARNING, logger="workbench.peers.drake_hydro"):
         small.profile(2e-3)
     assert "truncated" in caplog.text
     caplog.clear()
     with caplog.at_level(logging.WARNING, logger="workbench.peers.drake_hydro"):
-        DrakeHydroPad(sphere, H_LAYER, E_HYDRO, resolution=0.002).profile(2e-3)
+        DrakeHydroPad(sphere, H_LAYER, E_HYDRO, meshing=Meshing(0.002)).profile(2e-3)
     assert "truncated" not in caplog.text

@@ -12,6 +12,7 @@ from scipy.integrate import dblquad, quad
 
 from workbench.fem.obstacles import Cylinder, Plane, Sphere
 from workbench.peers.elastic_foundation import (
+    PadGrid,
     foundation_force,
     foundation_modulus,
     foundation_profile,
@@ -110,7 +111,7 @@ def test_profile_force_converges_to_k_times_the_overlap_volume():
     F = foundation_force(R, DELTA, E, H)
     errs = []
     for n in (40, 80, 160):
-        prof = foundation_profile(obs, DELTA, E, H, nx=n, ny=n)
+        prof = foundation_profile(obs, DELTA, E, H, grid=PadGrid(nx=n, ny=n))
         errs.append(abs(prof.F / F - 1))
     assert errs[-1] < 1e-4  # measured 4.3e-5 at 0.25 mm cells
     assert errs[-1] < errs[0]
@@ -129,20 +130,20 @@ def test_profile_force_converges_to_k_times_the_overlap_volume():
 
 def test_normal_depth_is_shallower_than_vertical_on_a_sphere():
     obs = Sphere((0.0, 0.0, H + R), R)
-    vert = foundation_profile(obs, DELTA, E, H, nx=60, ny=60)
-    norm = foundation_profile(obs, DELTA, E, H, nx=60, ny=60, depth="normal")
+    vert = foundation_profile(obs, DELTA, E, H, grid=PadGrid(nx=60, ny=60))
+    norm = foundation_profile(obs, DELTA, E, H, grid=PadGrid(nx=60, ny=60), depth="normal")
     assert 0.95 * vert.F < norm.F < vert.F
 
 
 def test_plane_and_cylinder_obstacles(caplog):
     # a plane at depth δ loads the whole pad uniformly: F = k δ W L exactly (and touches the border)
     with caplog.at_level(logging.WARNING, logger="workbench.peers.elastic_foundation"):
-        prof = foundation_profile(Plane((0, 0, H), (0, 0, -1)), DELTA, E, H, nx=10, ny=10)
+        prof = foundation_profile(Plane((0, 0, H), (0, 0, -1)), DELTA, E, H, grid=PadGrid(nx=10, ny=10))
     assert prof.F == pytest.approx(E / H * DELTA * 0.04 * 0.04, rel=1e-12)
     assert "border" in caplog.text
     # a cylinder across the pad (axis y): F = k L × segment area, R² acos(1 - δ/R) - (R - δ) √(2Rδ - δ²)
     cyl = Cylinder((0.0, 0.0, H + R), (0.0, 1.0, 0.0), R)
-    prof = foundation_profile(cyl, DELTA, E, H, nx=400, ny=4)
+    prof = foundation_profile(cyl, DELTA, E, H, grid=PadGrid(nx=400, ny=4))
     seg = R * R * np.arccos(1 - DELTA / R) - (R - DELTA) * np.sqrt(2 * R * DELTA - DELTA**2)
     assert prof.F == pytest.approx(E / H * 0.04 * seg, rel=1e-3)
 
@@ -150,9 +151,13 @@ def test_plane_and_cylinder_obstacles(caplog):
 def test_no_contact_gives_none_and_the_scale_is_covariant():
     assert foundation_profile(Sphere((0.0, 0.0, H + R), R), 0.0, E, H) is None
     s = 2.0
-    p1 = foundation_profile(Sphere((0.0, 0.0, H + R), R), DELTA, E, H, nx=50, ny=50)
+    p1 = foundation_profile(Sphere((0.0, 0.0, H + R), R), DELTA, E, H, grid=PadGrid(nx=50, ny=50))
     p2 = foundation_profile(
-        Sphere((0.0, 0.0, s * (H + R)), s * R), s * DELTA, E, s * H, width=0.08, length=0.08, nx=50, ny=50
+        Sphere((0.0, 0.0, s * (H + R)), s * R),
+        s * DELTA,
+        E,
+        s * H,
+        grid=PadGrid(width=0.08, length=0.08, nx=50, ny=50),
     )
     # lengths × s at fixed E: k = E/h ÷ s, u × s, so p fixed, F × s², τ × s³
     assert p2.F == pytest.approx(s**2 * p1.F, rel=1e-9)
@@ -167,16 +172,19 @@ def test_no_contact_gives_none_and_the_scale_is_covariant():
         ({"delta": float("nan")}, "finite"),
         ({"E": 1.0}, "1 MPa = 1e6"),
         ({"h": 5.0}, "millimetres"),  # h in mm
-        ({"nx": 0}, "nx"),
+        ({"grid": {"nx": 0}}, "nx"),
+        ({"grid": {"edge": "clip"}}, "edge must be 'warn' or 'cut'"),
         ({"depth": "radial"}, "depth"),
         ({"obstacle": "sphere"}, "signed_distance"),
         ({"obstacle": Sphere((0.0, 0.0, H + R - 0.006), R)}, "deeper|thickness"),
     ],
 )
 def test_careless_input_raises_saying_what_and_the_fix(kwargs, match):
-    args = {"obstacle": Sphere((0.0, 0.0, H + R), R), "delta": DELTA, "E": E, "h": H, "nx": 20, "ny": 20}
+    args = {"obstacle": Sphere((0.0, 0.0, H + R), R), "delta": DELTA, "E": E, "h": H}
+    grid = {"nx": 20, "ny": 20} | kwargs.get("grid", {})
+    rest = {k: v for k, v in kwargs.items() if k != "grid"}
     with pytest.raises(ValueError, match=match):
-        foundation_profile(**(args | kwargs))
+        foundation_profile(**(args | rest), grid=PadGrid(**grid))
 
 
 def test_closed_forms_validate_too():

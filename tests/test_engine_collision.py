@@ -66,12 +66,12 @@ def _deepest_pad_contact(mesh, settings: EngineSettings) -> float:
     """Penetration [m] of the deepest pad-object contact of the open gripper at a dumbbell's neck."""
     import mujoco
 
-    from workbench.engine_trials import build_scene
+    from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, build_scene
 
     faces = ([-0.0105, 0.0, 0.0], [0.0105, 0.0, 0.0])  # 0.5 mm before the neck's surface
     model, info = build_scene(
-        mesh, faces, [1.0, 0.0, 0.0], force=10.0, mu=0.5, mass=0.05, pad=(0.01, 0.01, 0.005),
-        settings=settings, table=False,
+        mesh, faces, [1.0, 0.0, 0.0], force=10.0, obj=EngineObject(mass=0.05, mu=0.5),
+        pad=EnginePad(size=(0.01, 0.01, 0.005)), settings=settings, phases=TrialPhases(table=False),
     )  # fmt: skip
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
@@ -88,11 +88,12 @@ def test_the_pads_meet_the_neck_of_the_slabs_and_start_inside_the_hull():
     """The open pads 0.5 mm before a dumbbell's 10 mm neck: the slabs leave them clear; as its hull
     (a 30 mm cylinder) the object has no neck and the pads start 20 mm inside it."""
     pytest.importorskip("mujoco")
-    from workbench.engine_trials import simulate_grasp
+    from workbench.engine_trials import EngineObject, EnginePad, simulate_grasp
 
     mesh = _dumbbell()
     assert _deepest_pad_contact(mesh, EngineSettings()) <= 0.0
     assert _deepest_pad_contact(mesh, EngineSettings(object_slab=0.0)) > 0.015
     grasp = {"p1": [-0.01, 0.0, 0.0], "p2": [0.01, 0.0, 0.0], "axis": [1.0, 0.0, 0.0]}
-    held = simulate_grasp(mesh, grasp, force=10.0, mu=0.5, mass=0.05, pad=(0.01, 0.01, 0.005))
+    obj, pad = EngineObject(mass=0.05, mu=0.5), EnginePad(size=(0.01, 0.01, 0.005))
+    held = simulate_grasp(mesh, grasp, force=10.0, obj=obj, pad=pad)
     assert held.held and held.drift < 1e-3  # 2 μ F = 10 N against 0.5 N

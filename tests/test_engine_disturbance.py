@@ -10,7 +10,7 @@ import trimesh
 
 mujoco = pytest.importorskip("mujoco")
 
-from workbench.engine_trials import probes  # noqa: E402
+from workbench.engine_trials import EngineObject, EnginePad, probes  # noqa: E402
 from workbench.engine_trials.disturbance import DisturbancePhases, simulate_disturbance  # noqa: E402
 from workbench.engine_trials.pad import conform_pad, flexcomp_xml, pad_bodies  # noqa: E402
 from workbench.engine_trials.settings import EngineSettings  # noqa: E402
@@ -19,10 +19,11 @@ from workbench.sources.scenes import elliptic_cylinder_solid  # noqa: E402
 BOX = trimesh.creation.box(extents=(0.05, 0.04, 0.06))
 GRASP = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
 F, MU, PAD = 10.0, 0.5, (0.02, 0.04, 0.005)
+OBJ = EngineObject(mass=0.1, mu=MU)
 
 
 def _trial(wrench):
-    return simulate_disturbance(BOX, GRASP, wrench, force=F, mu=MU, mass=0.1, pad=PAD)
+    return simulate_disturbance(BOX, GRASP, wrench, force=F, obj=OBJ, pad=EnginePad(size=PAD))
 
 
 def test_a_pull_across_the_grasp_axis_is_resisted_below_two_mu_f_only():
@@ -98,18 +99,21 @@ def test_a_moulded_pad_starts_at_the_gap_from_a_curved_object():
 
 def test_careless_disturbance_input_is_refused():
     with pytest.raises(ValueError, match="wrench must be 6 finite"):
-        simulate_disturbance(BOX, GRASP, [0.0, 1.0, 0.0], force=F, mu=MU, mass=0.1)
+        simulate_disturbance(BOX, GRASP, [0.0, 1.0, 0.0], force=F, obj=OBJ)
     with pytest.raises(ValueError, match="wrench must be 6 finite"):
-        simulate_disturbance(BOX, GRASP, [0.0, np.nan, 0, 0, 0, 0], force=F, mu=MU, mass=0.1)
+        simulate_disturbance(BOX, GRASP, [0.0, np.nan, 0, 0, 0, 0], force=F, obj=OBJ)
     with pytest.raises(ValueError, match="phases must be a DisturbancePhases"):
-        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, mu=MU, mass=0.1, phases={"ramp": 1})
+        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, obj=OBJ, phases={"ramp": 1})
     with pytest.raises(ValueError, match="ramp must be a duration"):
         DisturbancePhases(ramp=0.0)
     with pytest.raises(ValueError, match="max_turn_deg"):
         DisturbancePhases(max_turn_deg=180.0)
     # a torque in N mm (a 1 N weight on a 40 mm lever given as 40): the lever it implies is 40 m
     with pytest.raises(ValueError, match="lever"):
-        simulate_disturbance(BOX, GRASP, [0.0, 0.0, -1.0, 40.0, 0.0, 0.0], force=F, mu=MU, mass=0.1)
+        simulate_disturbance(BOX, GRASP, [0.0, 0.0, -1.0, 40.0, 0.0, 0.0], force=F, obj=OBJ)
+    with pytest.raises(ValueError, match="record_every must be an integer >= 1"):
+        DisturbancePhases(record_every=0)
     # a record_every that leaves the 0.3 s hold fewer than 20 recorded poses
+    coarse = DisturbancePhases(record_every=10**7)
     with pytest.raises(ValueError, match=r"DisturbancePhases.hold \(0.3 s = 300 steps.*record_every <= 15"):
-        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, mu=MU, mass=0.1, record_every=10**7)
+        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, obj=OBJ, phases=coarse)

@@ -10,7 +10,7 @@ import trimesh
 mujoco = pytest.importorskip("mujoco")
 
 from workbench import config  # noqa: E402
-from workbench.engine_trials import TrialPhases, probes, simulate_grasp  # noqa: E402
+from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, probes, simulate_grasp  # noqa: E402
 
 G_ACC = 9.81
 
@@ -62,9 +62,9 @@ def _peak_lift_acceleration(phases: TrialPhases) -> float:
 
 
 def test_a_box_held_at_ten_times_its_weight_holds_and_a_slippery_heavy_one_drops():
-    light = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1)  # 2 μ F = 10 m g
+    light = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5))  # 2 μ F = 10 m g
     assert light.held and light.drift < 2e-4 and light.turn_deg < 0.5
-    heavy = simulate_grasp(BOX, GRASP, force=10.0, mu=0.05, mass=2.0)  # 2 μ F = m g / 20
+    heavy = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=2.0, mu=0.05))  # 2 μ F = m g / 20
     # it stays on the table while the gripper rises the lift height without it
     lift = TrialPhases().lift_height
     assert not heavy.held and heavy.drift == pytest.approx(lift, rel=0.05)
@@ -76,11 +76,11 @@ def test_the_box_drops_where_coulomb_says():
     a = _peak_lift_acceleration(TrialPhases())
     for ratio, held in ((1.10, True), (0.95, False)):
         mass = 2 * 0.5 * 10.0 / (G_ACC + a) / ratio
-        assert simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=mass).held is held
+        assert simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=mass, mu=0.5)).held is held
 
 
 def test_lift_and_rotate_turns_the_gripper_and_a_held_box_with_it():
-    r = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, task="lift_and_rotate")
+    r = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5), task="lift_and_rotate")
     assert r.held and r.turn_deg < 0.5
     p = TrialPhases()
     assert r.times[-1] == pytest.approx(
@@ -90,13 +90,17 @@ def test_lift_and_rotate_turns_the_gripper_and_a_held_box_with_it():
 
 def test_careless_trial_input_is_refused():
     with pytest.raises(ValueError, match="probably in grams"):
-        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=100.0)
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=100.0, mu=0.5))
+    obj = EngineObject(mass=0.1, mu=0.5)
     with pytest.raises(ValueError, match="task must be one of"):
-        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, task="lift")
+        simulate_grasp(BOX, GRASP, force=10.0, obj=obj, task="lift")
     inside_out = BOX.copy()
     inside_out.invert()
     with pytest.raises(ValueError, match="inside out"):
-        simulate_grasp(inside_out, GRASP, force=10.0, mu=0.5, mass=0.1)
+        simulate_grasp(inside_out, GRASP, force=10.0, obj=obj)
+    # a friction left to a gripper's (None) is refused where no gripper gives it
+    with pytest.raises(ValueError, match=r"EngineObject.mu \(the pad–object friction\) must be given"):
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1))
 
 
 def test_careless_engine_settings_are_refused():
@@ -137,17 +141,19 @@ def test_careless_pads_phases_and_timesteps_are_refused():
     # limit (mm), a 0.1 s step whose flex MuJoCo calls ill-conditioned, a negative lift time
     from workbench.engine_trials import EngineSettings
 
-    kw = {"force": 10.0, "mu": 0.5, "mass": 0.1}
     cases = (
-        ({"pad": (20, 40, 5)}, r"pad width .*probably in millimetres — pass 0.02"),
-        ({"pad_E": 1.0}, r"pad_E .*probably in MPa — pass 1e\+06"),
-        ({"pad_nu": 45}, r"pad_nu .*per cent — pass 0.45"),
+        ({"size": (20, 40, 5)}, r"pad width .*probably in millimetres — pass 0.02"),
+        ({"E": 1.0}, r"pad_E .*probably in MPa — pass 1e\+06"),
+        ({"nu": 45}, r"pad_nu .*per cent — pass 0.45"),
         ({"up": (0, 0, 0)}, "up must be a non-zero finite"),
-        ({"com": (0, 0, 30)}, "far outside the object's bounding box"),
     )
     for extra, match in cases:
         with pytest.raises(ValueError, match=match):
-            simulate_grasp(BOX, GRASP, **kw, **extra)
+            EnginePad(**extra)
+    with pytest.raises(ValueError, match="far outside the object's bounding box"):
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5, com=(0, 0, 30)))
+    with pytest.raises(ValueError, match="pad must be an EnginePad"):
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5), pad=(0.02, 0.04, 0.005))
     with pytest.raises(ValueError, match=r"max_drift .*probably in millimetres — pass 0.005"):
         TrialPhases(max_drift=5)
     with pytest.raises(ValueError, match=r"TrialPhases.lift must be a duration in \(0, 60\] s"):
@@ -166,7 +172,7 @@ def test_a_turn_limit_in_radians_and_record_every_zero_are_refused():
         DisturbancePhases(max_turn_deg=0.0873)
     # trial 7: record_every=0 was a ZeroDivisionError seconds into the run
     with pytest.raises(ValueError, match="record_every must be an integer >= 1"):
-        simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, record_every=0)
+        TrialPhases(record_every=0)
 
 
 def test_a_record_every_too_coarse_for_the_verdict_is_refused_and_the_bound_holds():
@@ -175,13 +181,15 @@ def test_a_record_every_too_coarse_for_the_verdict_is_refused_and_the_bound_hold
     from workbench.engine_trials import DisturbancePhases, check_record_every, simulate_disturbance
     from workbench.engine_trials.trial import _judged
 
-    kw = {"force": 10.0, "mu": 0.05, "mass": 2.0}  # slides: 2 μ F = m g / 20
+    kw = {"force": 10.0, "obj": EngineObject(mass=2.0, mu=0.05)}  # slides: 2 μ F = m g / 20
     coarse = r"TrialPhases.hold \(0.5 s = 500 steps.*at least 20 of them — pass record_every <= 25"
     for every in (10**7, 1000, 26):
         with pytest.raises(ValueError, match=coarse):
-            simulate_grasp(BOX, GRASP, **kw, record_every=every)
+            simulate_grasp(BOX, GRASP, **kw, phases=TrialPhases(record_every=every))
     with pytest.raises(ValueError, match=r"DisturbancePhases.hold .* pass record_every <= 15"):
-        simulate_disturbance(BOX, GRASP, [0.0] * 6, force=10.0, mu=0.5, mass=0.1, record_every=16)
+        simulate_disturbance(
+            BOX, GRASP, [0.0] * 6, force=10.0, obj=kw["obj"], phases=DisturbancePhases(record_every=16)
+        )
     # the bound: the shortest judged phase over 20 records, counted in steps (round, not floor,
     # so 0.3 s / 1 ms is 300 steps); lift_and_rotate adds its 1 s turn, not a shorter phase
     p = TrialPhases()
@@ -198,7 +206,7 @@ def test_a_record_every_too_coarse_for_the_verdict_is_refused_and_the_bound_hold
             check_record_every(51, _judged(p, "lift_and_rotate"), 1e-3)
     # the neighbour at the bound judges the slide as the default does: the box stays on the
     # table while the gripper rises the lift height
-    r = simulate_grasp(BOX, GRASP, **kw, record_every=25)
+    r = simulate_grasp(BOX, GRASP, **kw, phases=TrialPhases(record_every=25))
     assert not r.held and r.drift == pytest.approx(p.lift_height, rel=0.05)
     assert r.reason.startswith("the object slid")
     assert np.diff(r.times)[:-1] == pytest.approx(0.025)
@@ -208,20 +216,20 @@ def test_gravity_along_the_pads_up_is_refused_and_across_or_against_it_runs():
     """Trial 11 C11: down=(0, 0, 1) with up=(0, 0, 1) was simulated as an ordinary lift."""
     from workbench.engine_trials.trial import _check_up_down
 
-    kw = {"force": 10.0, "mu": 0.5, "mass": 0.1}
     along = (
         r"down \[0.0, 0.0, 1.0\] \(gravity\) is 0 deg from up .*at least 90 deg"
         r".*pass down = \[0.0, 0.0, -1.0\], or.* up = \[0.0, 0.0, -1.0\]"
     )
     with pytest.raises(ValueError, match=along):
-        simulate_grasp(BOX, GRASP, **kw, down=(0.0, 0.0, 1.0))
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5, down=(0.0, 0.0, 1.0)))
     with pytest.raises(ValueError, match="is 80 deg from up"):
         _check_up_down((0.0, 0.0, 1.0), np.array([np.cos(np.radians(10)), 0.0, np.sin(np.radians(10))]))
     # across the pads (a pad lying flat under gravity) and against up pass
     for down in ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.6, 0.0, -0.8)):
         _check_up_down((0.0, 0.0, 1.0), np.array(down))
     # an object upside down in its frame, the pads' up flipped with it: the box is held as upright
-    r = simulate_grasp(BOX, GRASP, **kw, down=(0.0, 0.0, 1.0), up=(0.0, 0.0, -1.0))
+    upside_down = EngineObject(mass=0.1, mu=0.5, down=(0.0, 0.0, 1.0))
+    r = simulate_grasp(BOX, GRASP, force=10.0, obj=upside_down, pad=EnginePad(up=(0.0, 0.0, -1.0)))
     assert r.held and r.drift < 2e-4 and r.turn_deg < 0.5
 
 
@@ -255,7 +263,7 @@ def test_open_pads_that_start_inside_the_object_are_a_miss_not_a_hold():
     pose = np.eye(4)
     pose[:3, :3] = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1.0]]).T
     pose[:3, 3] = [0.0, 0.0, 0.160098]  # the tooltips at the cylinder's mid-height
-    r = simulate_gripper(wide, yumi(), pose, mass=0.2)
+    r = simulate_gripper(wide, yumi(), pose, obj=EngineObject(mass=0.2))
     assert not r.held and r.steps == 0 and "inside the object" in r.reason
     # the depth is the cylinder's radius beyond the half-opening (25 mm), ~12 mm on each side
     jaws = yumi().jaws(pose)
@@ -277,11 +285,11 @@ def test_a_trial_says_why_it_failed():
 
     from workbench.engine_trials import EngineWarning
 
-    slip = simulate_grasp(BOX, GRASP, force=10.0, mu=0.05, mass=2.0)
+    slip = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=2.0, mu=0.05))
     assert not slip.held and slip.reason.startswith("the object slid")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        ok = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1)
+        ok = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5))
     assert ok.held and ok.reason == "" and ok.engine_warnings == {}
     assert not [w for w in caught if issubclass(w.category, EngineWarning)]
 
@@ -293,7 +301,8 @@ def test_mujocos_warnings_are_recorded_and_raised_as_an_engine_warning():
     from workbench.engine_trials import EngineWarning
 
     with pytest.warns(EngineWarning, match=r"MuJoCo warned \{'mjWARN_INERTIA': \d+\} .*may not be reliable"):
-        r = simulate_grasp(BOX, GRASP, force=10.0, mu=0.5, mass=0.1, pad=(0.02, 0.04, 0.05))
+        obj, pad = EngineObject(mass=0.1, mu=0.5), EnginePad(size=(0.02, 0.04, 0.05))
+        r = simulate_grasp(BOX, GRASP, force=10.0, obj=obj, pad=pad)
     assert r.engine_warnings.get("mjWARN_INERTIA", 0) > 0
     assert r.row()["engine_warnings"] == r.engine_warnings
 
@@ -309,11 +318,11 @@ def test_a_yumi_trial_at_its_recorded_pose_and_a_gripper_that_misses():
     cube = trimesh.load(default_mesh_path(), force="mesh")
     pose, down = trials.gripper_pose[0], trials.down[0]
     assert trials.success[trials.grasp_index == 0].all()
-    r = simulate_gripper(cube, yumi(), pose, mass=trials.mass, down=down)
+    r = simulate_gripper(cube, yumi(), pose, obj=EngineObject(mass=trials.mass, down=down))
     assert r.held and r.drift < 1e-3 and r.reason == ""
     away = pose.copy()
     away[:3, 3] += 0.1 * np.cross(down, pose[:3, 0])  # sideways, across gravity and the jaw axis
-    miss = simulate_gripper(cube, yumi(), away, mass=trials.mass, down=down)
+    miss = simulate_gripper(cube, yumi(), away, obj=EngineObject(mass=trials.mass, down=down))
     assert not miss.held and "touched nothing" in miss.reason
 
 
@@ -327,5 +336,5 @@ def test_a_mesh_in_millimetres_is_refused_with_a_remedy_the_trials_take():
     box = trimesh.creation.box((40.0, 40.0, 80.0))  # a 40 x 40 x 80 mm block given in mm
     grasp = {"p1": [-20.0, 0, 0], "p2": [20.0, 0, 0], "axis": [1.0, 0, 0]}
     with pytest.raises(ValueError, match=r"apply_scale\(0.001\)") as err:
-        simulate_grasp(box, grasp, force=10.0, mu=0.5, mass=0.1)
+        simulate_grasp(box, grasp, force=10.0, obj=EngineObject(mass=0.1, mu=0.5))
     assert "units=" not in str(err.value) and "allow_scale" not in str(err.value)

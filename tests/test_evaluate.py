@@ -8,7 +8,16 @@ import numpy as np
 import pytest
 
 from workbench import config
-from workbench.grasp import Perturbation, contact_sets, evaluate_grasp, gravity_wrench, resists
+from workbench.grasp import (
+    Jaws,
+    ModelOptions,
+    Perturbation,
+    Task,
+    contact_sets,
+    evaluate_grasp,
+    gravity_wrench,
+    resists,
+)
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
 MU = 0.5
@@ -24,27 +33,27 @@ def test_evaluate_grasp_applies_force_and_checks_given_profiles():
 
     box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
     g = {"p1": np.array([-0.02, 0.0, 0.0]), "p2": np.array([0.02, 0.0, 0.0]), "axis": np.array([1.0, 0, 0])}
-    base = evaluate_grasp(box, g, model="6dls", force=10.0, mu=MU, mass=0.3, com=[0, 0, 0])
+    task, opts = Task(mass=0.3, com=[0, 0, 0]), ModelOptions(model="6dls", mu=MU)
+    base = evaluate_grasp(box, g, task, jaws=Jaws(force=10.0), options=opts)
     for force in (2.0, 10.0, 100.0):
-        ev = evaluate_grasp(
-            box, g, model="6dls", force=force, mu=MU, mass=0.3, com=[0, 0, 0], profiles=base.profiles
-        )
+        ev = evaluate_grasp(box, g, task, jaws=Jaws(force=force), options=opts, profiles=base.profiles)
         # the minimal reading does not depend on the reading the profiles came with, up to
         # the residual band (config.TOL.resist_rtol of the capacity ~force (1 + μ) per jaw)
         band = 2 * config.TOL.resist_rtol * max(force, 10.0) * (1 + MU)
         assert force * ev.min_force.scale == pytest.approx(10.0 * base.min_force.scale, abs=band)
         assert ev.contacts[0].force == pytest.approx(force * base.contacts[0].force / 10.0, rel=1e-9)
     # q_robust without noise is the verdict itself, for the gravity task and a given wrench
+    robust = ModelOptions(model="6dls", mu=MU, robust=NO_NOISE)
     for kw in ({"mass": 0.3, "com": [0, 0, 0]}, {"w_ext": gravity_wrench(0.3, [0, 0, 0])}):
         for force in (0.9 * 10.0 * base.min_force.scale, 1.1 * 10.0 * base.min_force.scale):
-            ev = evaluate_grasp(box, g, model="6dls", force=force, mu=MU, robust=NO_NOISE, **kw)
+            ev = evaluate_grasp(box, g, Task(**kw), jaws=Jaws(force=force), options=robust)
             assert ev.q_robust == float(ev.resisted) and ev.resisted == (force > 10.0 * base.min_force.scale)
     flipped = [p.__class__(p.centers, -p.normals, p.areas, p.pressures) for p in base.profiles]
     with pytest.raises(ValueError, match="pull"):
-        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=flipped)
+        evaluate_grasp(box, g, task, options=opts, profiles=flipped)
     far = [p.transformed(None, [0.5, 0, 0]) for p in base.profiles]
     with pytest.raises(ValueError, match="pressure centre"):
-        evaluate_grasp(box, g, model="6dls", mu=MU, mass=0.3, com=[0, 0, 0], profiles=far)
+        evaluate_grasp(box, g, task, options=opts, profiles=far)
     sets = [c for p in flipped for c in contact_sets(p, "soft_point")]
     with pytest.warns(UserWarning, match="push away"):
         resists(sets, gravity_wrench(0.3, [0, 0, 0]), MU)
@@ -69,9 +78,8 @@ def test_minimal_force_of_two_opposing_jaws_holding_a_weight(cylinder_jaws, mode
     Σ p a, larger than the axial reading |Σ p a n_x| on a curved contact, so the minimal
     reading is (m g / 2 μ) |Σ p a n_x| / Σ p a (both sums by hand from the profiles)."""
     mass, force = 0.3, 10.0
-    ev = evaluate_grasp(
-        None, GRASP, profiles=cylinder_jaws, model=model, force=force, mu=MU, mass=mass, com=[0, 0, 0]
-    )
+    task, opts = Task(mass=mass, com=[0, 0, 0]), ModelOptions(model=model, mu=MU)
+    ev = evaluate_grasp(None, GRASP, task, jaws=Jaws(force=force), options=opts, profiles=cylinder_jaws)
     assert ev.model == model and ev.resisted
     np.testing.assert_allclose(ev.w_ext, [0, 0, -mass * G_ACC, 0, 0, 0], atol=1e-15)
     for prof in ev.profiles:  # each scaled to the reading along the grasp axis
@@ -85,9 +93,7 @@ def test_minimal_force_of_two_opposing_jaws_holding_a_weight(cylinder_jaws, mode
     assert set(ev.timings_ms) == {"profiles", "contact_model", "resists", "min_grasp_force"}
     # below the minimal reading the same grasp slips, and the minimal reading stays
     low = 0.9 * force * ev.min_force.scale
-    weak = evaluate_grasp(
-        None, GRASP, profiles=cylinder_jaws, model=model, force=low, mu=MU, mass=mass, com=[0, 0, 0]
-    )
+    weak = evaluate_grasp(None, GRASP, task, jaws=Jaws(force=low), options=opts, profiles=cylinder_jaws)
     assert not weak.resisted and low * weak.min_force.scale == pytest.approx(
         force * ev.min_force.scale, abs=band
     )
@@ -98,15 +104,14 @@ def test_point_jaws_cannot_hold_a_weight_off_their_axis(cylinder_jaws):
     = (−m g y, 0, 0)); two point contacts on that axis have no moment about it (Eq. 2.100)
     at any force, while soft points resist it with torsional friction."""
     mass, y = 0.3, 0.01
-    kw = {"profiles": cylinder_jaws, "force": 10.0, "mu": MU, "mass": mass, "com": [0, y, 0]}
-    ev = evaluate_grasp(None, GRASP, model="point", **kw)
+    task, kw = Task(mass=mass, com=[0, y, 0]), {"jaws": Jaws(force=10.0), "profiles": cylinder_jaws}
+    ev = evaluate_grasp(None, GRASP, task, options=ModelOptions("point", MU), **kw)
     np.testing.assert_allclose(ev.w_ext, [0, 0, -mass * G_ACC, -mass * G_ACC * y, 0, 0], atol=1e-15)
     assert not ev.resisted and not ev.min_force.feasible
-    assert evaluate_grasp(None, GRASP, model="soft_point", **kw).min_force.feasible
+    assert evaluate_grasp(None, GRASP, task, options=ModelOptions("soft_point", MU), **kw).min_force.feasible
     # the same task as w_ext gives the same verdict; no minimal force asked: None
-    same = evaluate_grasp(
-        None, GRASP, model="point", profiles=cylinder_jaws, mu=MU, w_ext=ev.w_ext, min_force=False
-    )
+    no_min = ModelOptions(model="point", mu=MU, min_force=False)
+    same = evaluate_grasp(None, GRASP, Task(w_ext=ev.w_ext), options=no_min, profiles=cylinder_jaws)
     assert not same.resisted and same.min_force is None and same.q_robust is None
 
 
@@ -116,6 +121,7 @@ def test_point_jaws_cannot_hold_a_weight_off_their_axis(cylinder_jaws):
         ({"model": "6d"}, r"model must be one of \('point', "),
         ({"mu": -0.5}, "mu"),
         ({"mass": None}, "give the task as w_ext"),
+        ({"com": None}, r"give the task as w_ext .*evaluate_grasp takes no default centre of mass"),
         ({"w_ext": np.zeros(6)}, "either as w_ext or as mass and com, not both"),
         ({"profiles": None}, "give the object mesh"),
         ({"profiles": "jaws"}, "profiles must be a list of the two jaws' ContactProfiles"),
@@ -128,9 +134,26 @@ def test_careless_arguments_are_refused_before_any_work(cylinder_jaws, kw, match
     args = {"profiles": cylinder_jaws, "mu": MU, "mass": 0.3, "com": [0, 0, 0], **kw}
     grasp = args.pop("grasp", GRASP)
     with pytest.raises(ValueError, match=match):
-        evaluate_grasp(None, grasp, **args)
+        _evaluate(None, grasp, **args)
     with pytest.raises(ValueError, match="got a list of 1"):
-        evaluate_grasp(None, GRASP, profiles=cylinder_jaws[:1], mu=MU, mass=0.3, com=[0, 0, 0])
+        _evaluate(None, GRASP, profiles=cylinder_jaws[:1], mu=MU, mass=0.3, com=[0, 0, 0])
+
+
+#: the group of each flat keyword argument of the old call
+_GROUP = {"w_ext": "task", "mass": "task", "com": "task", "down": "task", "force": "jaws", "pad": "jaws"}
+_GROUP |= {"model": "options", "mu": "options"}
+
+
+def _evaluate(mesh, grasp, **kw):
+    """evaluate_grasp with its Task, Jaws and ModelOptions made from flat keyword arguments inside
+    the caller's ``pytest.raises`` (a careless value is refused where its group is made)."""
+    groups: dict = {"task": {}, "jaws": {}, "options": {}}
+    rest = {k: v for k, v in kw.items() if k not in _GROUP}
+    for k in kw.keys() & _GROUP.keys():
+        groups[_GROUP[k]][k] = kw[k]
+    task = Task(**groups["task"])
+    jaws, opts = Jaws(**groups["jaws"]), ModelOptions(**groups["options"])
+    return evaluate_grasp(mesh, grasp, task, jaws=jaws, options=opts, **rest)
 
 
 def test_gravity_takes_a_direction(cylinder_jaws):
@@ -139,9 +162,9 @@ def test_gravity_takes_a_direction(cylinder_jaws):
     of two soft points is the same by symmetry of the friction circle (their friction is a
     polygon: within its 8-gon's in/out radius ratio cos(π/8))."""
     mass = 0.3
-    kw = dict(profiles=cylinder_jaws, model="soft_point", force=10.0, mu=MU, mass=mass, com=[0, 0, 0])
-    z = evaluate_grasp(None, GRASP, **kw)
-    y = evaluate_grasp(None, GRASP, down=(0, -2.0, 0), **kw)
+    kw = dict(profiles=cylinder_jaws, jaws=Jaws(force=10.0), options=ModelOptions("soft_point", MU))
+    z = evaluate_grasp(None, GRASP, Task(mass=mass, com=[0, 0, 0]), **kw)
+    y = evaluate_grasp(None, GRASP, Task(mass=mass, com=[0, 0, 0], down=(0, -2.0, 0)), **kw)
     np.testing.assert_allclose(y.w_ext, [0, -mass * G_ACC, 0, 0, 0, 0], atol=1e-15)
     assert y.resisted
     assert np.cos(np.pi / 8) - 1e-9 <= z.min_force.scale / y.min_force.scale <= 1 / np.cos(np.pi / 8) + 1e-9

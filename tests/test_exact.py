@@ -38,12 +38,12 @@ def test_exact_resistance_of_two_flat_discs():
         assert resists_exact(ex, np.array([0, 0, -factor * 2 * MU * Fd, 0, 0, 0]), MU)[0] == expect
         assert resists_exact(ex, np.array([0, 0, 0, factor * 2 * torsion, 0, 0]), MU)[0] == expect
     # the sampled 6DFW hull is an inner approximation of the same set
-    from workbench.grasp.models import contact_sets
+    from workbench.grasp.models import ModelParameters, contact_sets
 
     rng = np.random.default_rng(2)
     W = rng.normal(size=(40, 6)) * np.r_[np.full(3, 0.8 * MU * Fd), np.full(3, 1.2 * torsion)]
     W[:, 0] = 0.0  # nothing along the grasp axis
-    hull = [c for d in discs for c in contact_sets(d, "6dfw", n_wrenches=300)]
+    hull = [c for d in discs for c in contact_sets(d, "6dfw", ModelParameters(n_wrenches=300))]
     dense = np.array([bool(resists_lp(hull, w, MU)) for w in W])
     exact = np.array([resists_exact(ex, w, MU)[0] for w in W])
     assert (exact | ~dense).all() and 0 < exact.mean() < 1

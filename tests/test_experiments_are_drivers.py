@@ -12,34 +12,40 @@ TESTS = Path(__file__).resolve().parent
 PREFIX = "workbench.experiments"
 
 
-def private_uses(source: str) -> list[str]:
-    """``module:name`` of every ``_private`` name of an experiment module that ``source``
-    imports (``from workbench.experiments.X import _y``) or reads off an imported experiment
-    module (``import workbench.experiments.X as m`` / ``from workbench.experiments import X as m``,
-    then ``m._y``)."""
-    tree = ast.parse(source)
+def _experiment_imports(tree: ast.AST) -> tuple[dict[str, str], list[str]]:
+    """(``{alias: experiment module}`` of the modules imported whole, ``module:name`` of the
+    private names imported from one)."""
     aliases: dict[str, str] = {}
     found = []
     for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith(PREFIX):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith(PREFIX):
             for a in node.names:
                 if node.module == PREFIX:
                     aliases[a.asname or a.name] = f"{PREFIX}.{a.name}"
                 elif a.name.startswith("_"):
                     found.append(f"{node.module}:{a.name}")
         elif isinstance(node, ast.Import):
-            for a in node.names:
-                if a.name.startswith(PREFIX + ".") and a.asname:
-                    aliases[a.asname] = a.name
-    for node in ast.walk(tree):
-        if (
-            isinstance(node, ast.Attribute)
-            and isinstance(node.value, ast.Name)
-            and node.value.id in aliases
-            and node.attr.startswith("_")
-            and not node.attr.startswith("__")
-        ):
-            found.append(f"{aliases[node.value.id]}:{node.attr}")
+            whole = [a for a in node.names if a.name.startswith(PREFIX + ".") and a.asname]
+            aliases.update({a.asname: a.name for a in whole})
+    return aliases, found
+
+
+def private_uses(source: str) -> list[str]:
+    """``module:name`` of every ``_private`` name of an experiment module that ``source``
+    imports (``from workbench.experiments.X import _y``) or reads off an imported experiment
+    module (``import workbench.experiments.X as m`` / ``from workbench.experiments import X as m``,
+    then ``m._y``)."""
+    tree = ast.parse(source)
+    aliases, found = _experiment_imports(tree)
+    found += [
+        f"{aliases[node.value.id]}:{node.attr}"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id in aliases
+        and node.attr.startswith("_")
+        and not node.attr.startswith("__")
+    ]
     return sorted(set(found))
 
 

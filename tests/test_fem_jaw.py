@@ -95,7 +95,16 @@ def test_an_fem_profile_enters_grasp_analysis_through_evaluate_grasp_like_a_reac
     """evaluate_grasp(profiles=...) takes the FEM pad's jaws as it takes REACH's: the verdict and
     the minimal force are those of the same steps done by hand on those profiles, and each
     jaw's normal force along its approach is the pad's reaction, the reading."""
-    from workbench.grasp import CutStore, contact_sets, evaluate_grasp, min_grasp_force, resists
+    from workbench.grasp import (
+        CutStore,
+        Jaws,
+        ModelOptions,
+        Task,
+        contact_sets,
+        evaluate_grasp,
+        min_grasp_force,
+        resists,
+    )
     from workbench.limit_surface import LimitSurfaceCache
     from workbench.sources.jaws import with_axis_force
 
@@ -106,7 +115,8 @@ def test_an_fem_profile_enters_grasp_analysis_through_evaluate_grasp_like_a_reac
     jaws = fem_jaw_profiles(cyl, grasp, F, pad=pad)
     w = np.array([0.0, 0.0, -4.0, 0.005, 0.0, 0.0])  # a 4 N weight hung slightly off the axis
     face = (GEOM.width, GEOM.length)
-    ev = evaluate_grasp(None, grasp, profiles=jaws, force=F, mu=mu, w_ext=w, pad=face)
+    task, at_face, opts = Task(w_ext=w), Jaws(force=F, pad=face), ModelOptions(mu=mu)
+    ev = evaluate_grasp(None, grasp, task, jaws=at_face, options=opts, profiles=jaws)
 
     cache, cuts = LimitSurfaceCache(), CutStore()
     hand = [with_axis_force(p, a, F) for p, a in zip(jaws, (axis, -axis), strict=True)]
@@ -123,13 +133,13 @@ def test_an_fem_profile_enters_grasp_analysis_through_evaluate_grasp_like_a_reac
 
     # the same checks as for REACH profiles, whatever the source
     with pytest.raises(ValueError, match="list of the two jaws"):
-        evaluate_grasp(None, grasp, profiles=jaws[0], force=F, mu=mu, w_ext=w, pad=face)
+        evaluate_grasp(None, grasp, task, jaws=at_face, options=opts, profiles=jaws[0])
     with pytest.raises(ValueError, match="pad's diagonal"):
-        evaluate_grasp(None, grasp, profiles=jaws[::-1], force=F, mu=mu, w_ext=w, pad=face)
+        evaluate_grasp(None, grasp, task, jaws=at_face, options=opts, profiles=jaws[::-1])
     flipped = ContactProfile(jaws[0].centers, -jaws[0].normals, jaws[0].areas, jaws[0].pressures)
     with pytest.raises(ValueError, match="would pull"):
-        evaluate_grasp(None, grasp, profiles=[flipped, jaws[1]], force=F, mu=mu, w_ext=w, pad=face)
+        evaluate_grasp(None, grasp, task, jaws=at_face, options=opts, profiles=[flipped, jaws[1]])
     with pytest.raises(ValueError, match="pad must be"):
-        evaluate_grasp(None, grasp, profiles=jaws, force=F, mu=mu, w_ext=w, pad=(0.0, 0.02))
+        evaluate_grasp(None, grasp, task, jaws=Jaws(force=F, pad=(0.0, 0.02)), options=opts, profiles=jaws)
     with pytest.raises(ValueError, match="give the object mesh"):
-        evaluate_grasp(None, grasp, force=F, mu=mu, w_ext=w)
+        evaluate_grasp(None, grasp, task, jaws=Jaws(force=F), options=opts)

@@ -9,7 +9,7 @@ from skfem.helpers import ddot, det, grad, inv, mul, transpose
 from workbench.fem.contact import solve_contact
 from workbench.fem.elasticity import GAUSS_1, GAUSS_2, basis, stiffness
 from workbench.fem.material import Material
-from workbench.fem.nonlinear import NonlinearPad
+from workbench.fem.nonlinear import NonlinearControls, NonlinearPad
 from workbench.fem.obstacles import Sphere
 from workbench.fem.pad import PadGeometry, condense_pad
 
@@ -160,3 +160,26 @@ def test_a_vertex_touching_the_face_to_round_off_is_not_a_load():
         forces.append(NonlinearPad(geom, Material(1e6, 0.45)).solve(MeshObstacle(cyl), [3e-4])[3e-4].force)
     # 1 nm less approach out of 0.3 mm: the force changes by ~1.5 x 1e-9/3e-4 (F ~ δ^1.5 or less)
     assert forces[0] == pytest.approx(forces[1], rel=1.5 * 1e-9 / 3e-4 + 1e-9)
+
+
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ({"penalty": 0.0}, r"penalty must be a finite number > 0; got 0.0"),
+        ({"gap_tol": float("nan")}, r"gap_tol must be a finite number > 0; got nan"),
+        ({"newton_rtol": "1e-7"}, r"newton_rtol must be a finite number > 0; got '1e-7'"),
+        ({"max_newton": 0}, r"max_newton must be an integer >= 1; got 0"),
+        ({"max_uzawa": 2.0}, r"max_uzawa must be an integer >= 1; got 2.0"),
+        ({"max_bisections": True}, r"max_bisections must be an integer >= 0; got True"),
+    ],
+)
+def test_nonlinear_controls_refuse_what_the_solver_cannot_use(bad, message):
+    with pytest.raises(ValueError, match=message):
+        NonlinearControls(**bad)
+    assert NonlinearControls(max_bisections=0).max_bisections == 0  # 0: no halving, allowed
+
+
+def test_solve_takes_its_controls_as_one_object_only():
+    nl = NonlinearPad(GEOM, MAT)
+    with pytest.raises(ValueError, match="controls must be a NonlinearControls"):
+        nl.solve(Sphere((0, 0, GEOM.thickness + 0.01), 0.01), [1e-4], controls={"penalty": 5.0})

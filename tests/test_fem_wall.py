@@ -6,7 +6,16 @@ import pytest
 
 from workbench.fem.bottle import Bottle, bottle_family
 from workbench.fem.material import Material
-from workbench.fem.wall import PET, build_wall, circle_surface, ring_pinch, ring_wall, squeeze, wall_mesh
+from workbench.fem.wall import (
+    PET,
+    SqueezeControls,
+    build_wall,
+    circle_surface,
+    ring_pinch,
+    ring_wall,
+    squeeze,
+    wall_mesh,
+)
 
 R, T = 0.035, 0.5e-3
 
@@ -47,16 +56,16 @@ def test_squeeze_ring_load_line():
     P = 1e-3
     r = squeeze(_ring(64), np.array([0, 0, T / 2]), np.array([1.0, 0, 0]), force=P)
     exact = (np.pi / 4 - 2 / np.pi) * (P / T) * R**3 / D
-    assert r["delta"] / exact - 1 == pytest.approx(0.0, abs=0.006)
-    np.testing.assert_allclose(r["jaw_forces"], [P, P], rtol=1e-8)
+    assert r.delta / exact - 1 == pytest.approx(0.0, abs=0.006)
+    np.testing.assert_allclose(r.jaw_forces, [P, P], rtol=1e-8)
     # linear wall, line contact that cannot grow: stiffness independent of the force
     r2 = squeeze(_ring(64), np.array([0, 0, T / 2]), np.array([1.0, 0, 0]), force=10 * P)
-    assert r2["stiffness"] == pytest.approx(r["stiffness"], rel=1e-8)
+    assert r2.stiffness == pytest.approx(r.stiffness, rel=1e-8)
     # stiffness scales with E (linear elasticity)
     r3 = squeeze(
         _ring(64, Material(2 * PET.E, PET.nu)), np.array([0, 0, T / 2]), np.array([1.0, 0, 0]), force=P
     )
-    assert r3["stiffness"] == pytest.approx(2 * r["stiffness"], rel=1e-8)
+    assert r3.stiffness == pytest.approx(2 * r.stiffness, rel=1e-8)
 
 
 @pytest.fixture(scope="module")
@@ -71,13 +80,13 @@ def test_squeeze_bottle_contact(bottle_wall):
     c, _, _, phi = b.section(0.5 * H)
     axis = np.array([np.cos(phi), np.sin(phi), 0.0])
     r = squeeze(wall, np.r_[c, 0.5 * H], axis, force=10.0)
-    np.testing.assert_allclose(r["jaw_forces"], [10.0, 10.0], rtol=1e-6)
+    np.testing.assert_allclose(r.jaw_forces, [10.0, 10.0], rtol=1e-6)
     # the first-touch points lie on the wall (outer nodes of the quadratic mesh: sag only)
-    d, _ = b.signed_distance(r["contact_points"])
+    d, _ = b.signed_distance(r.contact_points)
     assert np.abs(d).max() < 0.2e-3
     # after the solve no footprint node is pushed through a jaw: re-solving from the
     # converged candidate set changes nothing (the growth loop terminated cleanly)
-    assert r["candidate_rounds"] <= 3 and r["contact_nodes"] >= 2
+    assert r.candidate_rounds <= 3 and r.contact_nodes >= 2
 
 
 def _square_surface(half: float):
@@ -112,10 +121,10 @@ def test_squeeze_flat_face_grows_few_nodes_to_the_full_answer():
     wall = build_wall(_square_surface(0.03), thickness=0.5e-3, n_theta=32, n_z=12, z_range=(0.0, 0.08))
     c, ax = np.array([0.0, 0.0, 0.04]), np.array([1.0, 0.0, 0.0])
     grown = squeeze(wall, c, ax)
-    full = squeeze(wall, c, ax, margin=1.0, max_start=10**6, max_add=10**6)
-    assert grown["converged"] and full["converged"]
-    assert grown["stiffness"] == pytest.approx(full["stiffness"], rel=1e-9)
-    assert grown["compliance_solves"] < 0.6 * full["compliance_solves"]
+    full = squeeze(wall, c, ax, controls=SqueezeControls(margin=1.0, max_start=10**6, max_add=10**6))
+    assert grown.converged and full.converged
+    assert grown.stiffness == pytest.approx(full.stiffness, rel=1e-9)
+    assert grown.compliance_solves < 0.6 * full.compliance_solves
 
 
 def test_squeeze_equal_jaw_forces_off_centre(bottle_wall):
@@ -127,10 +136,10 @@ def test_squeeze_equal_jaw_forces_off_centre(bottle_wall):
     axis = np.array([np.cos(phi + 0.3), np.sin(phi + 0.3), 0.0])
     side = np.cross([0.0, 0.0, 1.0], axis)
     r = squeeze(wall, np.r_[c, 0.3 * H] + 0.01 * side, axis, force=10.0)
-    assert r["converged"]
-    np.testing.assert_allclose(r["jaw_forces"], [10.0, 10.0], rtol=1e-8)
-    assert r["delta"] == pytest.approx(r["jaw_travel"].sum(), rel=1e-12)
-    assert r["jaw_travel"].min() > 0
+    assert r.converged
+    np.testing.assert_allclose(r.jaw_forces, [10.0, 10.0], rtol=1e-8)
+    assert r.delta == pytest.approx(r.jaw_travel.sum(), rel=1e-12)
+    assert r.jaw_travel.min() > 0
 
 
 def test_squeeze_bad_input(bottle_wall):
@@ -142,10 +151,46 @@ def test_squeeze_bad_input(bottle_wall):
         squeeze(wall, np.array([0, 0, 2 * H]), np.array([1.0, 0, 0]))
     # the footprint reaches the clamped base: the jaws rest on it (rigid), not an error
     low = squeeze(wall, np.array([0, 0, 0.05 * H]), np.array([1.0, 0, 0]))
-    assert low["on_clamp"] and low["delta"] <= 2 * low["clamp_gap"] + 1e-12
-    assert not squeeze(wall, np.array([0, 0, 0.5 * H]), np.array([1.0, 0, 0]))["on_clamp"]
+    assert low.on_clamp and low.delta <= 2 * low.clamp_gap + 1e-12
+    assert not squeeze(wall, np.array([0, 0, 0.5 * H]), np.array([1.0, 0, 0])).on_clamp
     with pytest.raises(ValueError, match="positive wall thickness"):
         wall_mesh(circle_surface(0.03), 0.0, 16, 3, (0.0, 0.05))
+
+
+def test_squeeze_answers_one_set_of_fields_on_every_path():
+    """A jaw starting on the clamped base rim (no solve) and a solved squeeze give the same
+    frozen answer: the clamped one with inf stiffness, no closing, NaN jaw forces and the width
+    between the first touches (the tube's outer diameter); the arrays cannot be written."""
+    import dataclasses
+
+    wall = build_wall(circle_surface(0.03), n_theta=16, n_z=4, z_range=(0.0, 0.04))
+    ax = np.array([1.0, 0.0, 0.0])
+    clamped = squeeze(wall, np.array([0.0, 0.0, 0.0]), ax)  # the footprint's outermost nodes: the rim
+    assert clamped.status == "clamped" and "clamped" in clamped.reason
+    assert clamped.stiffness == np.inf and clamped.delta == 0.0 and clamped.on_clamp
+    assert clamped.width == pytest.approx(0.06, rel=1e-12) and not clamped.implausible
+    assert np.isnan(clamped.jaw_forces).all() and (clamped.jaw_travel == 0).all()
+    assert clamped.contact_points.shape == (2, 3) and clamped.lcp_solves == 0
+    solved = squeeze(wall, np.array([0.0, 0.0, 0.03]), ax)
+    assert solved.status == "solved" and solved.converged and solved.reason is None
+    assert solved.delta == pytest.approx(solved.jaw_travel.sum(), rel=1e-12)
+    assert solved.width == pytest.approx(0.06, rel=1e-12)
+    assert [f.name for f in dataclasses.fields(clamped)] == [f.name for f in dataclasses.fields(solved)]
+    for arr in (solved.jaw_travel, solved.jaw_forces, solved.contact_points, clamped.jaw_forces):
+        with pytest.raises(ValueError, match="read-only"):
+            arr[0] = 1.0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        solved.stiffness = 1.0
+
+
+def test_squeeze_controls_refuse_a_bad_setting():
+    with pytest.raises(ValueError, match="margin must be a distance >= 0"):
+        SqueezeControls(margin=-1.0)
+    with pytest.raises(ValueError, match="max_rounds must be an integer >= 1; got 0"):
+        SqueezeControls(max_rounds=0)
+    wall = build_wall(circle_surface(0.03), n_theta=16, n_z=4, z_range=(0.0, 0.04))
+    with pytest.raises(ValueError, match="controls must be a SqueezeControls"):
+        squeeze(wall, np.array([0.0, 0.0, 0.03]), np.array([1.0, 0.0, 0.0]), controls={"margin": 1.0})
 
 
 def test_every_dof_has_its_component():

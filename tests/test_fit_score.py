@@ -8,6 +8,7 @@ import pytest
 from workbench import fit_quartic
 from workbench.limit_surface.fit_score import (
     MODELS,
+    Scoring,
     check_model,
     convexity,
     fit_and_score,
@@ -55,9 +56,8 @@ def test_unknowns_are_the_coefficient_counts():
 @pytest.mark.parametrize("model", sorted(MODELS))
 def test_an_exact_ellipsoid_is_fitted_with_zero_error(case, model):
     A, W, xi, W_test, wm = case
-    fs = fit_and_score(
-        model, W, w_max=wm, twists=xi, test=W_test, wrenches_of=_support_points(A), support_directions=500
-    )
+    scoring = Scoring(W_test, wrenches_of=_support_points(A), support_directions=500)
+    fs = fit_and_score(model, W, w_max=wm, twists=xi, scoring=scoring)
     # (wᵀ A w)² is an SOS-convex quartic, so every model contains the exact surface; the
     # ellipsoids are linear least squares (round-off), the quartics a conic solve (~1e-7)
     tol = 1e-9 if model.startswith("ellipsoid") else 1e-5
@@ -77,10 +77,7 @@ def test_scores_match_a_slow_numpy_loop(case, rng):
         "ellipsoid_lsq",
         W_big,
         w_max=wm * 1.1,
-        test=W_test,
-        wrenches_of=_support_points(A),
-        support_directions=300,
-        support_seed=7,
+        scoring=Scoring(W_test, wrenches_of=_support_points(A), support_directions=300, support_seed=7),
     )
     f = [float(w @ A_big @ w) for w in W_test]  # the fit is A_big itself (exact data)
     assert fs.test_error == pytest.approx(np.mean([abs(v - 1) for v in f]), rel=1e-7)
@@ -129,6 +126,7 @@ def test_convexity_is_the_eigenvalue_ratio(case):
         ({"model": "ellipsoid_lsq", "twists": np.ones((3, 6))}, "twists must have the wrenches' shape"),
         ({"model": "ellipsoid_lsq", "test": np.ones((3, 5))}, r"test must have shape \(K, 6\)"),
         ({"model": "ellipsoid_lsq", "wrenches_of": 3}, "wrenches_of must map"),
+        ({"model": "ellipsoid_lsq", "wrenches_of": abs, "support_seed": -1}, "support_seed"),
         ({"model": "quartic_values", "solver": "NOPE"}, r"one of \['CLARABEL', 'SCS'.*got 'NOPE'"),
         ({"model": "ellipsoid_lsq", "solver": "NOPE"}, r"solver must name a conic solver .*got 'NOPE'"),
         ({"model": "ellipsoid_sdp", "solver": "OSQP"}, r"semidefinite support.*got 'OSQP'"),
@@ -137,8 +135,9 @@ def test_convexity_is_the_eigenvalue_ratio(case):
 def test_bad_input_is_refused(case, kwargs, match):
     _, W, _, _, wm = case
     args = {"w_max": wm, **kwargs}
+    scored = {k: args.pop(k) for k in ("test", "wrenches_of", "support_seed") if k in args}
     with pytest.raises(ValueError, match=match):
-        fit_and_score(args.pop("model"), W, **args)
+        fit_and_score(args.pop("model"), W, scoring=Scoring(**scored), **args)
 
 
 def test_a_solver_failure_falls_back_and_is_logged(case, monkeypatch, caplog):

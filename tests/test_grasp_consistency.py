@@ -13,7 +13,10 @@ from workbench import config
 from workbench.grasp import (
     MODELS,
     CutStore,
+    Jaws,
+    ModelOptions,
     Perturbation,
+    Task,
     antipodal_grasps,
     contact_sets,
     evaluate_grasp,
@@ -23,6 +26,7 @@ from workbench.grasp import (
     resists,
 )
 from workbench.grasp.exact import ExactContacts, resists_exact
+from workbench.grasp.models import ModelParameters
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
@@ -56,7 +60,7 @@ def _agree(sets, w, cuts):
         grasp = _scaled(sets, factor * m.scale)
         r = resists(grasp, w, MU, cuts=cuts)
         assert bool(r) is expect, (factor, r)
-        assert q_robust(grasp, MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w, cuts=cuts) == float(expect)
+        assert q_robust(grasp, MU, w, NO_NOISE, cuts=cuts) == float(expect)
     return m
 
 
@@ -64,7 +68,8 @@ def _agree(sets, w, cuts):
 @pytest.mark.parametrize("model", [m for m in MODELS if m != "point"])
 def test_three_grasp_functions_agree_on_the_elliptic_cylinder(scene, model):
     profiles, cache = scene
-    sets = [c for p in profiles for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=400)]
+    params = ModelParameters(M=100, n_wrenches=400)
+    sets = [c for p in profiles for c in contact_sets(p, model, params, cache=cache)]
     w = gravity_wrench(0.3, [0.0, 0.0, 0.01])
     m = _agree(sets, w, CutStore())
     # friction carries the weight: Coulomb gives μ Σ f >= mg, so Σ f >= mg / μ — exactly for
@@ -83,7 +88,7 @@ def test_point_contacts_never_resist_torsion_about_the_grasp_axis(scene):
     w = gravity_wrench(0.3, [0.0, 0.01, 0.0])  # τ_x = −0.01 · mg about the grasp axis x
     assert not min_grasp_force(sets, w, MU).feasible
     assert not resists(_scaled(sets, 100.0), w, MU)
-    assert q_robust(_scaled(sets, 100.0), MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w) == 0.0
+    assert q_robust(_scaled(sets, 100.0), MU, w, NO_NOISE) == 0.0
 
 
 @pytest.mark.jit_only("over 15 s as pure Python")
@@ -101,13 +106,15 @@ def test_known_force_models_are_continuous_in_the_jaw_forces(model):
         for mismatch in (1.0, 1.0002, 1 + 0.5 * r):
             prof = elliptic_cylinder_grasp(force=force, n_elements=150)
             prof[1] = prof[1].with_pressures(prof[1].pressures * mismatch)
-            sets = [c for p in prof for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=300)]
+            params = ModelParameters(M=100, n_wrenches=300)
+            sets = [c for p in prof for c in contact_sets(p, model, params, cache=cache)]
             verdicts.append(bool(resists(sets, w, MU)))
         assert verdicts == [force >= 10.0] * 3, (force, verdicts)  # the same at every mismatch
     if model in ("planar", "3dls_nonplanar"):
         prof = elliptic_cylinder_grasp(force=10.0, n_elements=150)
         prof[1] = prof[1].with_pressures(prof[1].pressures * (1 + 3 * r))
-        sets = [c for p in prof for c in contact_sets(p, model, cache=cache, M=100, n_wrenches=300)]
+        params = ModelParameters(M=100, n_wrenches=300)
+        sets = [c for p in prof for c in contact_sets(p, model, params, cache=cache)]
         assert not resists(sets, w, MU)
 
 
@@ -125,7 +132,8 @@ def test_min_grasp_force_of_the_sampled_6dfw_bounds_the_exact_one_from_above(sce
         mid = np.sqrt(lo * hi)
         lo, hi = (lo, mid) if resists_exact(ex, w, MU, forces=ex.F * mid)[0] else (mid, hi)
     s_exact = hi
-    sampled = min_grasp_force([c for p in profiles for c in contact_sets(p, "6dfw", n_wrenches=600)], w, MU)
+    params = ModelParameters(n_wrenches=600)
+    sampled = min_grasp_force([c for p in profiles for c in contact_sets(p, "6dfw", params)], w, MU)
     ell = min_grasp_force([c for p in profiles for c in contact_sets(p, "6dls", cache=cache)], w, MU)
     assert sampled.scale >= s_exact * (1 - 2e-3)
     assert sampled.scale <= 1.15 * s_exact  # 600 samples miss little of this set
@@ -158,7 +166,7 @@ def test_bad_inputs_raise_with_a_fix():
             with pytest.raises(ValueError, match="mu"):
                 fn(sets, w, bad)
         with pytest.raises(ValueError, match="mu"):
-            q_robust(sets, bad, 0.3, [0, 0, 0])
+            q_robust(sets, bad, Task(mass=0.3, com=[0, 0, 0]))
     with pytest.raises(ValueError, match="mass"):
         gravity_wrench(-1.0, [0, 0, 0])  # pointed up before
     with pytest.raises(ValueError, match="com"):
@@ -181,17 +189,16 @@ def test_one_call_evaluation_on_a_thesis_bottle_agrees_across_functions():
     grasps = antipodal_grasps(mesh, 3, MU, seed=1)
     assert grasps
     cache, cuts = LimitSurfaceCache(), CutStore()
-    first = evaluate_grasp(mesh, grasps[0], model="soft_point", force=4.0, mu=MU, mass=0.3, com=[0, 0, 0])
+    task, jaws = Task(mass=0.3, com=[0, 0, 0]), Jaws(force=4.0)
+    first = evaluate_grasp(mesh, grasps[0], task, jaws=jaws, options=ModelOptions("soft_point", MU))
     per_jaw = {}
     for model in MODELS:
         ev = evaluate_grasp(
             mesh,
             grasps[0],
-            model=model,
-            force=4.0,
-            mu=MU,
-            mass=0.3,
-            com=[0, 0, 0],
+            task,
+            jaws=jaws,
+            options=ModelOptions(model, MU),
             profiles=first.profiles,
             cache=cache,
             cuts=cuts,
@@ -219,16 +226,16 @@ def test_antipodal_grasps_drop_edge_contacts():
     import trimesh
 
     from workbench.sources.jaws import jaw_frame
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     cyl = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=96)
-    everything = antipodal_grasps(cyl, 20, 0.5, seed=3, pad=None)
+    everything = antipodal_grasps(cyl, 20, 0.5, jaws=None, seed=3)
     kept = antipodal_grasps(cyl, 20, 0.5, seed=3)
     tilts = [abs(g["axis"][2]) for g in kept]
     assert len(kept) >= 10 and max(tilts) < max(abs(g["axis"][2]) for g in everything)
     for g in kept[:5]:
         for p, a in ((g["p1"], g["axis"]), (g["p2"], -g["axis"])):
-            prof = reach_profile(cyl, p, a, closing=1e-3)
+            prof = reach_profile(cyl, p, a, press=WinklerPress(closing=1e-3))
             _, e1, e2 = jaw_frame(a, (0, 0, 1))
             off = prof.pressure_center - p
             assert abs(off @ e1) < 0.75 * 0.01 and abs(off @ e2) < 0.75 * 0.02
@@ -244,14 +251,14 @@ def test_reach_profile_area_does_not_depend_on_the_triangulation():
     pressure on the side walls parallel to the approach."""
     import trimesh
 
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
     for level in range(4):
         mesh = box
         for _ in range(level):
             mesh = mesh.subdivide()
-        prof = reach_profile(mesh, (-0.02, 0.0, 0.0), (1.0, 0.0, 0.0), closing=1e-3)
+        prof = reach_profile(mesh, (-0.02, 0.0, 0.0), (1.0, 0.0, 0.0), press=WinklerPress(closing=1e-3))
         # elements are kept by their centres on a 1 mm grid: 8 cm² to half an element row
         assert prof.areas.sum() == pytest.approx(8e-4, rel=0.01), level
         assert np.allclose(prof.normals, [-1.0, 0.0, 0.0])  # only the face under the pad
@@ -266,7 +273,7 @@ def test_frictionless_contacts_resist_only_what_normal_forces_can(model):
     each contact wrench is its normal wrench; two opposing jaws balance each other but no
     weight."""
     profiles = elliptic_cylinder_grasp(force=10.0, n_elements=150)
-    sets = [c for p in profiles for c in contact_sets(p, model, M=60, n_wrenches=200)]
+    sets = [c for p in profiles for c in contact_sets(p, model, ModelParameters(M=60, n_wrenches=200))]
     assert resists(sets, np.zeros(6), 0.0)
     assert not resists(sets, gravity_wrench(0.1, [0, 0, 0]), 0.0)
     assert not min_grasp_force(sets, gravity_wrench(0.1, [0, 0, 0]), 0.0).feasible
@@ -285,7 +292,7 @@ def test_point_contacts_agree_under_a_tiny_misalignment():
         w = gravity_wrench(0.9, [0, 0, 0])
         m = min_grasp_force(sets, w, MU)
         assert bool(resists(sets, w, MU)) is expect and m.feasible is expect
-        assert q_robust(sets, MU, 1.0, np.zeros(3), NO_NOISE, w_ext=w) == float(expect)
+        assert q_robust(sets, MU, w, NO_NOISE) == float(expect)
         if expect:
             assert m.scale == pytest.approx(0.9 * 9.81 / (2 * MU * 10.0), rel=1e-3)
 
@@ -295,28 +302,30 @@ def test_careless_inputs_name_the_fix():
 
     box = trimesh.creation.box(extents=(0.04, 0.06, 0.10))
     g = {"p1": np.array([-0.02, 0.0, 0.0]), "p2": np.array([0.02, 0.0, 0.0]), "axis": np.array([1.0, 0, 0])}
+    task, opts = Task(mass=0.3, com=[0, 0, 0]), ModelOptions(mu=MU)
     with pytest.raises(ValueError, match="'axis'"):
-        evaluate_grasp(box, {"p1": g["p1"], "p2": g["p2"]}, mu=MU, mass=0.3, com=[0, 0, 0])
+        evaluate_grasp(box, {"p1": g["p1"], "p2": g["p2"]}, task, options=opts)
     with pytest.raises(ValueError, match="another unit"):
-        evaluate_grasp(box, g, mu=MU, mass=0.3, com=[0, 10.0, 0])  # COM in mm on a metre mesh
+        evaluate_grasp(box, g, Task(mass=0.3, com=[0, 10.0, 0]), options=opts)  # COM in mm on a metre mesh
     with pytest.raises(ValueError, match="p1 and p2 swapped"):
-        evaluate_grasp(box, {**g, "axis": -g["axis"]}, mu=MU, mass=0.3, com=[0, 0, 0])
+        evaluate_grasp(box, {**g, "axis": -g["axis"]}, task, options=opts)
     for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)
         with pytest.raises(
             ValueError, match=r"force \(each jaw's reading \[N\]\) must be a (jaw force in|number)"
         ):
-            evaluate_grasp(box, g, force=force, mu=MU, mass=0.3, com=[0, 0, 0])
+            evaluate_grasp(box, g, task, jaws=Jaws(force=force), options=opts)
     for pad in ((-0.02, 0.04), (0.02,), "0.02"):  # on the REACH path, before the footprint is cast
         with pytest.raises(
             ValueError, match=r"pad must be the jaw face \(width, length\) \[m\], two numbers > 0"
         ):
-            evaluate_grasp(box, g, pad=pad, mu=MU, mass=0.3, com=[0, 0, 0])
+            evaluate_grasp(box, g, task, jaws=Jaws(pad=pad), options=opts)
     sets = [c for p in elliptic_cylinder_grasp(force=10.0, n_elements=100) for c in contact_sets(p, "point")]
     with pytest.raises(ValueError, match="list of ContactSet"):
         resists(sets[0], np.zeros(6), MU)
     with pytest.raises(ValueError, match="sigma_mu"):
         Perturbation(sigma_mu=-0.1)
-    assert 0.0 <= q_robust(sets, MU, 0.1, [0, 0, 0], None) <= 1.0  # None: the default perturbation
+    task = Task(mass=0.1, com=[0, 0, 0])
+    assert 0.0 <= q_robust(sets, MU, task, None) <= 1.0  # None: the default perturbation
 
 
 def _reference_residual(sets, w, mu, grouped):
@@ -346,7 +355,7 @@ def test_reach_jaw_is_one_force_group(scene):
     hull) and its vertex form agree with an independent cvxpy program of the grouped
     vertex sets, and the solution's forces keep each jaw's distribution."""
     profiles, _ = scene
-    sets = [c for p in profiles for c in contact_sets(p, "reach", n_edges=6)]
+    sets = [c for p in profiles for c in contact_sets(p, "reach", ModelParameters(n_edges=6))]
     assert len({c.group for c in sets}) == 2
     rng = np.random.default_rng(3)
     W = np.c_[rng.normal(0, 3.0, (24, 3)), rng.normal(0, 0.03, (24, 3))]

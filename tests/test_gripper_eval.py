@@ -9,6 +9,7 @@ import pytest
 import trimesh
 
 from workbench.grasp.gripper_eval import check_task, evaluate_gripper, judge_contact
+from workbench.grasp.inputs import GripperOptions, Task
 from workbench.grasp.pose_robust import PoseNoise, pose_samples
 from workbench.sources.gripper import yumi
 from workbench.sources.trials import default_mesh_path
@@ -47,7 +48,7 @@ def _top_down(x: float = 0.0, y: float = 0.0, depth: float = 0.012) -> np.ndarra
 )
 def test_square_grasp_holds_with_the_analytic_minimal_force(cube, model, rtol):
     g = yumi()
-    ev = evaluate_gripper(cube, g, _top_down(), model=model, mass=MASS, down=(0, 0, -1))
+    ev = evaluate_gripper(cube, g, _top_down(), Task(mass=MASS, down=(0, 0, -1)), model=model)
     assert ev.contact.touches and ev.verdict.resisted
     # gravity along the pads' plane through the centre of mass: two friction forces mu f
     # carry m g, so f_min = m g / (2 mu) (no torsion needed)
@@ -58,13 +59,13 @@ def test_square_grasp_holds_with_the_analytic_minimal_force(cube, model, rtol):
 
 
 def test_point_contacts_say_why_they_do_not_hold(cube):
-    ev = evaluate_gripper(cube, yumi(), _top_down(y=0.004), model="point", mass=MASS)
+    ev = evaluate_gripper(cube, yumi(), _top_down(y=0.004), Task(mass=MASS), model="point")
     assert not ev.verdict.resisted and ev.verdict.margin == 0.0
     assert "no torque about that line" in ev.verdict.reason
 
 
 def test_a_pad_beside_the_cube_is_no_contact_not_an_exception(cube):
-    ev = evaluate_gripper(cube, yumi(), _top_down(y=0.05), model="6dls", mass=MASS)
+    ev = evaluate_gripper(cube, yumi(), _top_down(y=0.05), Task(mass=MASS), model="6dls")
     assert not ev.contact.touches and not ev.verdict.resisted
     assert ev.verdict.reason.startswith("no contact") and ev.verdict.margin == 0.0
     # the gripper's centre at y = 50 mm, the cube's box ends at 15 mm: 35 mm outside, said so
@@ -74,9 +75,9 @@ def test_a_pad_beside_the_cube_is_no_contact_not_an_exception(cube):
 def test_pose_robustness_recomputes_the_contact(cube):
     # the pad's 20 mm width overlaps the face by 1 mm at y = 24 mm: with 3 mm of pose noise
     # about a third of the samples slide off the face; centred, none does
-    noise = PoseNoise(12, 0.003, 0.003)
-    edge = evaluate_gripper(cube, yumi(), _top_down(y=0.024), model="soft_point", mass=MASS, robust=noise)
-    centre = evaluate_gripper(cube, yumi(), _top_down(), model="soft_point", mass=MASS, robust=noise)
+    kw = {"model": "soft_point", "options": GripperOptions(robust=PoseNoise(12, 0.003, 0.003))}
+    edge = evaluate_gripper(cube, yumi(), _top_down(y=0.024), Task(mass=MASS), **kw)
+    centre = evaluate_gripper(cube, yumi(), _top_down(), Task(mass=MASS), **kw)
     misses = sum(not s.reason == "" and s.reason.startswith("no contact") for s in edge.samples)
     assert 1 <= misses <= 11 and edge.p_held <= 1 - misses / 12
     assert centre.p_held == 1.0 and centre.q_pose > 0.99
@@ -89,18 +90,21 @@ def test_pose_robustness_recomputes_the_contact(cube):
         ({"mass": 3.0}, "grams"),  # 3 g given as 3.0 kg
         ({"mass": MASS, "mu": 30.0}, "per cent — pass 0.3"),
         ({"mass": MASS, "down": (0, 0, 0)}, "down"),
+        ({"w_ext": [0, 0, -0.03, 0, 0, 0]}, r"holds the object against gravity: give the task as Task"),
     ],
 )
 def test_careless_task_input_is_refused(cube, kwargs, match):
+    task = {k: v for k, v in kwargs.items() if k != "mu"}
     with pytest.raises(ValueError, match=match):
-        evaluate_gripper(cube, yumi(), _top_down(), model="6dls", **kwargs)
+        opts = GripperOptions(mu=kwargs.get("mu"))
+        evaluate_gripper(cube, yumi(), _top_down(), Task(**task), model="6dls", options=opts)
 
 
 def test_a_pose_in_millimetres_is_refused(cube):
     T = _top_down()
     T[:3, 3] *= 1e3 * 20
     with pytest.raises(ValueError, match="millimetres"):
-        evaluate_gripper(cube, yumi(), T, model="6dls", mass=MASS)
+        evaluate_gripper(cube, yumi(), T, Task(mass=MASS), model="6dls")
 
 
 def test_check_task_returns_the_unit_down(cube):
@@ -112,7 +116,9 @@ def test_judge_contact_refuses_an_unknown_model(cube):
 
     c = gripper_contact(cube, yumi(), _top_down())
     with pytest.raises(ValueError, match="model"):
-        judge_contact(c, "REACH", mu=0.3, mass=MASS, com=np.zeros(3), down=(0, 0, -1))
+        judge_contact(c, "REACH", Task(mass=MASS, com=np.zeros(3), down=(0, 0, -1)), mu=0.3)
+    with pytest.raises(ValueError, match=r"give the task's com \(3,\) \[m\]: judge_contact has no mesh"):
+        judge_contact(c, "soft_point", Task(mass=MASS), mu=0.3)
 
 
 def test_two_hard_points_minimal_force_is_none_even_where_highs_is_undecided(cube):
@@ -138,7 +144,7 @@ def test_two_hard_points_minimal_force_is_none_even_where_highs_is_undecided(cub
 def test_an_object_wider_than_the_opening_is_a_miss():
     # a 6 cm box in a gripper that opens 5 cm: no grasp, said so
     box = trimesh.creation.box((0.06, 0.06, 0.03))
-    ev = evaluate_gripper(box, yumi(), _top_down(depth=0.005), model="6dls", mass=0.05)
+    ev = evaluate_gripper(box, yumi(), _top_down(depth=0.005), Task(mass=0.05), model="6dls")
     assert not ev.contact.touches and "wider than the gripper's opening" in ev.verdict.reason
     assert ev.verdict.margin == 0.0
 
@@ -146,12 +152,12 @@ def test_an_object_wider_than_the_opening_is_a_miss():
 def test_several_models_share_one_set_of_contacts(cube):
     from workbench.grasp.gripper_eval import evaluate_models
 
-    noise = PoseNoise(4, 0.003, 0.003)
+    noise = GripperOptions(robust=PoseNoise(4, 0.003, 0.003))
     # soft and hard points: no limit-surface fit, so the pure-Python run stays quick
     pose = _top_down(y=0.02)
-    both = evaluate_models(cube, yumi(), pose, models=("soft_point", "point"), mass=MASS, robust=noise)
+    both = evaluate_models(cube, yumi(), pose, Task(mass=MASS), models=("soft_point", "point"), options=noise)
     assert both["soft_point"].contact is both["point"].contact
-    one = evaluate_gripper(cube, yumi(), pose, model="soft_point", mass=MASS, robust=noise)
+    one = evaluate_gripper(cube, yumi(), pose, Task(mass=MASS), model="soft_point", options=noise)
     assert one.q_pose == both["soft_point"].q_pose and one.verdict.scale == both["soft_point"].verdict.scale
     assert one.q_pose > 0.9 and both["point"].q_pose == 0.0  # hard points hold no torque about their line
 
@@ -162,4 +168,4 @@ def test_gravity_against_the_approach_is_warned(cube):
     from workbench.plausible import ImplausibleWarning
 
     with pytest.warns(ImplausibleWarning, match="is down an up vector"):
-        evaluate_gripper(cube, yumi(), _top_down(), model="soft_point", mass=MASS, down=(0, 0, 1))
+        evaluate_gripper(cube, yumi(), _top_down(), Task(mass=MASS, down=(0, 0, 1)), model="soft_point")

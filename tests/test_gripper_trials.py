@@ -19,13 +19,14 @@ from workbench.grasp.gripper_trials import (
     robust_fields,
     verdict_scores,
 )
+from workbench.grasp.inputs import Task
 from workbench.grasp.pose_robust import PoseNoise
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.sources.gripper import yumi
 from workbench.sources.trials import default_mesh_path
 
 MASS = 0.003  # kg, the REACH cube
-TASK = {"mu": 0.3, "mass": MASS, "com": np.zeros(3), "down": (0.0, 0.0, -1.0)}
+TASK = {"task": Task(mass=MASS, com=np.zeros(3), down=(0.0, 0.0, -1.0)), "mu": 0.3}  # judge_contact's
 
 
 @pytest.fixture(scope="module")

@@ -80,7 +80,7 @@ def test_the_wall_built_from_a_mesh_matches_the_analytic_tube():
     """Same tube, surface from the mesh vs from the formula: same squeeze stiffness."""
     kw = dict(thickness=0.5e-3, n_theta=32, n_z=8, z_range=(0.005, 0.095))
     walls = [build_wall(surf, **kw) for surf in (radial_surface(_cylinder()), circle_surface(0.03))]
-    s = [squeeze(w, np.array([0.0, 0.0, 0.06]), np.array([1.0, 0.0, 0.0]))["stiffness"] for w in walls]
+    s = [squeeze(w, np.array([0.0, 0.0, 0.06]), np.array([1.0, 0.0, 0.0])).stiffness for w in walls]
     assert s[0] == pytest.approx(s[1], rel=2e-3)
 
 

@@ -16,7 +16,7 @@ import pytest
 import trimesh
 
 from workbench import ContactProfile, config
-from workbench.grasp import CutStore, contact_sets, evaluate_grasp, resists
+from workbench.grasp import CutStore, Jaws, ModelOptions, Task, contact_sets, evaluate_grasp, resists
 from workbench.grasp.models import MODELS, planar_profile, plane_frame_profile
 from workbench.limit_surface import LimitSurfaceCache, fit_ellipsoid
 from workbench.limit_surface.normalize import check_w_max, prepare
@@ -151,12 +151,10 @@ def test_every_model_on_every_profile_source(made, ls_cache, source, model):
     ev = evaluate_grasp(
         None,
         grasp,
+        Task(w_ext=w_in),
+        jaws=Jaws(force=FORCE, pad=face),
+        options=ModelOptions(model=model, mu=MU),
         profiles=profiles,
-        model=model,
-        force=FORCE,
-        mu=MU,
-        w_ext=w_in,
-        pad=face,
         cache=ls_cache,
         cuts=CutStore(),
     )

@@ -8,7 +8,7 @@ from workbench.grasp import resists
 
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_every_model_on_the_elliptic_cylinder_grasp():
-    from workbench.grasp.models import MODELS, contact_sets, planar_profile
+    from workbench.grasp.models import MODELS, ModelParameters, contact_sets, planar_profile
     from workbench.limit_surface import LimitSurfaceCache
     from workbench.sources.scenes import elliptic_cylinder_grasp
 
@@ -23,7 +23,8 @@ def test_every_model_on_the_elliptic_cylinder_grasp():
     lift = np.array([0, -0.9 * 2 * mu * 25.0, 0, 0, 0, 0])  # a weight along -y
     twist = np.array([0, 0, 0, 0.02, 0, 0])  # torque about the grasp axis
     for name in MODELS:
-        sets = [c for p in profiles for c in contact_sets(p, name, cache=cache, M=100, n_wrenches=400)]
+        params = ModelParameters(M=100, n_wrenches=400)
+        sets = [c for p in profiles for c in contact_sets(p, name, params, cache=cache)]
         # outer QP where the model has half-spaces (the thesis's QP), else the exact LP
         assert resists(sets, lift, mu), name  # friction force ~2μF > 0.9·2μF
         assert resists(sets, np.zeros(6), mu), name

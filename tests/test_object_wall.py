@@ -43,9 +43,7 @@ def test_plain_open_edge_and_the_lip_stiffens_it():
     geo_l, wall_l = object_wall(lipped, n_theta=32, n_z=16)
     assert geo_p.lip is None and not geo_p.clamp_top and geo_l.lip is not None
     z = 0.070  # a grasp near the top: the ring (lip) must stiffen it, a lot
-    k = [
-        squeeze(w, np.array([0.0, 0.0, z]), np.array([1.0, 0.0, 0.0]))["stiffness"] for w in (wall_p, wall_l)
-    ]
+    k = [squeeze(w, np.array([0.0, 0.0, z]), np.array([1.0, 0.0, 0.0])).stiffness for w in (wall_p, wall_l)]
     assert k[1] > 2 * k[0]
     with pytest.raises(ValueError, match="no lip"):
         object_wall(plain, top="lip")

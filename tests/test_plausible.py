@@ -168,13 +168,15 @@ def test_evaluate_grasp_refuses_the_issues_force_and_friction():
     import trimesh
 
     from workbench.grasp.evaluate import evaluate_grasp
+    from workbench.grasp.inputs import Jaws, ModelOptions, Task
 
     box = trimesh.creation.box((0.04, 0.04, 0.04))
     g = {"p1": np.array([-0.02, 0, 0.0]), "p2": np.array([0.02, 0, 0.0]), "axis": np.array([1.0, 0, 0])}
+    task = Task(mass=0.05, com=[0, 0, 0])
     with pytest.raises(ValueError, match="millinewtons — pass 10"):
-        evaluate_grasp(box, g, force=1e4, model="point")
+        evaluate_grasp(box, g, task, jaws=Jaws(force=1e4), options=ModelOptions(model="point"))
     with pytest.raises(ValueError, match="per cent — pass 0.5"):
-        evaluate_grasp(box, g, mu=50, model="point")
+        evaluate_grasp(box, g, task, options=ModelOptions(model="point", mu=50))
 
 
 # ---------------------------------------------------------------- impossible derived quantities
@@ -194,15 +196,15 @@ def test_an_impossible_closing_is_flagged_not_reported_as_a_stiffness():
     kw = {"n_theta": 16, "n_z": 6, "z_range": (0.0, 0.06), "clamp_top": True}
     c, ax = np.array([0.0, 0.0, 0.03]), np.array([1.0, 0.0, 0.0])
     pet = squeeze(build_wall(surface, PET, **kw), c, ax, force=10.0)
-    assert pet["width"] == pytest.approx(0.06, rel=1e-9)  # the tube's outer diameter
-    assert not pet["implausible"] and pet["delta"] < 0.01 * pet["width"]
+    assert pet.width == pytest.approx(0.06, rel=1e-9)  # the tube's outer diameter
+    assert not pet.implausible and pet.delta < 0.01 * pet.width
     with pytest.warns(ImplausibleWarning, match="wall Young's modulus"):
         soft_wall = build_wall(surface, Material(2e5, 0.4), **kw)
     soft = squeeze(soft_wall, c, ax, force=10.0)
     # not exactly 1/E-proportional (the jaws' gaps to the footprint are metres, not scaled), but
     # orders of magnitude beyond the tube: more nodes reach a jaw
-    assert soft["delta"] > 1e3 * pet["delta"]
-    assert soft["implausible"] and soft["delta"] > soft["width"]
+    assert soft.delta > 1e3 * pet.delta
+    assert soft.implausible and soft.delta > soft.width
     import trimesh
 
     from workbench.fem.object_wall import wall_geometry
@@ -213,7 +215,7 @@ def test_an_impossible_closing_is_flagged_not_reported_as_a_stiffness():
     with pytest.warns(ImplausibleWarning):
         wall = geo.build(Material(2e5, 0.4), n_theta=16)
     L = np.array([[0.03, 0.0, 0.04], [-0.03, 0.0, 0.04]])
-    (row,) = stiffness_at(wall, geo.surface, L, z_range=geo.z_range, force=10.0)
+    (row,) = stiffness_at(wall, geo, L, force=10.0)
     assert row["implausible"] and row["failed"] and np.isnan(row["stiffness"])
     assert "impossible" in row["reason"] and "60 mm width" in row["reason"]
 
@@ -230,15 +232,16 @@ def test_the_trials_silent_accepts_are_refused():
     from workbench.fem.material import Material
     from workbench.fem.pad import PadGeometry
     from workbench.grasp.evaluate import evaluate_grasp
+    from workbench.grasp.inputs import ModelOptions, Task
     from workbench.grasp.robust import Perturbation
-    from workbench.grasp.sampling import antipodal_grasps
+    from workbench.grasp.sampling import GraspSampling, antipodal_grasps
     from workbench.sources.fem_jaw import fem_jaw_profiles
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box((0.06, 0.04, 0.1))  # 240 mL
     g = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
     with pytest.raises(ValueError, match="240 cm³ object: its mean density.*got 33333.*grams\\? pass 0.008"):
-        evaluate_grasp(box, g, model="soft_point", force=10.0, mu=0.5, mass=8.0, com=[0, 0, 0])
+        evaluate_grasp(box, g, Task(mass=8.0, com=[0, 0, 0]), options=ModelOptions("soft_point", 0.5))
     with pytest.raises(ValueError, match="PadGeometry.width .* millimetres — pass 0.02"):
         fem_jaw_profiles(box, g, 10.0, geometry=PadGeometry(width=20, length=40))
     with pytest.raises(ValueError, match="PadGeometry.thickness .* millimetres — pass 0.005"):
@@ -250,9 +253,9 @@ def test_the_trials_silent_accepts_are_refused():
     with pytest.raises(ValueError, match="Perturbation.sigma_mu .* per cent — pass 0.1"):
         Perturbation(sigma_mu=10)
     with pytest.raises(ValueError, match=r"pad compression in \[0, 0.02\] m; got 0.03"):
-        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], closing=0.03)
+        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], press=WinklerPress(closing=0.03))
     with pytest.raises(ValueError, match="max_width .* millimetres — pass 0.1"):
-        antipodal_grasps(box, 5, mu=0.5, max_width=100)
+        antipodal_grasps(box, 5, mu=0.5, sampling=GraspSampling(max_width=100))
     with pytest.raises(ValueError, match="E must be a Young's modulus .* got '1e6' \\(str\\)"):
         Material("1e6", 0.45)
 
@@ -279,7 +282,7 @@ def test_a_closing_beyond_small_deflections_is_warned(caplog):
         with caplog.at_level(logging.WARNING, logger="workbench.fem.wall"):
             r = squeeze(wall, c, ax, force=10.0)
         warned = any("beyond the small deflections" in m for m in caplog.messages)
-        assert warned == (0.1 * r["width"] < r["delta"] < r["width"]), (E, r["delta"])
+        assert warned == (0.1 * r.width < r.delta < r.width), (E, r.delta)
         seen.append(warned)
     assert seen[0] is False and any(seen)  # PET is small; a soft enough wall is not
 
@@ -339,19 +342,20 @@ def test_press_pad_stiffness_offset_and_task_load_are_judged():
     import trimesh
 
     from workbench.grasp.evaluate import evaluate_grasp
+    from workbench.grasp.inputs import ModelOptions, Task
     from workbench.sources.gripper import PadShape
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box((0.06, 0.04, 0.1))
     with pytest.raises(ValueError, match=r"stiffness \(the pad's Winkler modulus \[Pa/m\]\)"):
-        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], stiffness=200.0)
+        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], press=WinklerPress(stiffness=200.0))
     with pytest.raises(ValueError, match=r"max_edge .* got 1.0"):
-        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], max_edge=1.0)
+        reach_profile(box, [0, -0.02, 0], [0, 1.0, 0], press=WinklerPress(max_edge=1.0))
     with pytest.raises(ValueError, match="pad offset .* millimetres — pass 0.01"):
         PadShape.rectangle(0.02, 0.008, offset=(10.0, 0.0))
     g = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
     with pytest.raises(ValueError, match=r"w_ext's force \|f\| \[N\] must be a weight"):
-        evaluate_grasp(box, g, model="point", w_ext=[0, 0, -1e6, 0, 0, 0], mu=0.5)
+        evaluate_grasp(box, g, Task(w_ext=[0, 0, -1e6, 0, 0, 0]), options=ModelOptions("point", 0.5))
 
 
 def test_the_third_trials_silent_accepts_are_refused():

@@ -6,7 +6,7 @@ import pytest
 
 from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, w_max
 from workbench.coarsen import coarsen_profile
-from workbench.limit_surface.fit_score import fit_and_score, fit_model
+from workbench.limit_surface.fit_score import Scoring, fit_and_score, fit_model
 from workbench.limit_surface.profile_fits import (
     ABLATION_VARIANTS,
     MODELS,
@@ -45,7 +45,7 @@ def test_the_row_holds_both_protocols_errors_as_fitted_directly():
     pn = prof.normalized()
     W = frictional_wrenches(pn, sample_twists_thesis(150, pn, 5, pitch_range=(-1.0, 1.0)))
     W_test = frictional_wrenches(pn, sample_twists_thesis(100, pn, 5 + 10**6, pitch_range=(-1.0, 1.0)))
-    ref = fit_and_score("ellipsoid_lsq", W, w_max=w_max(pn), test=W_test)
+    ref = fit_and_score("ellipsoid_lsq", W, w_max=w_max(pn), scoring=Scoring(W_test))
     assert (
         row["ellipsoid_lsq_error"] == ref.test_error and row["ellipsoid_lsq_train_error"] == ref.train_error
     )

@@ -13,7 +13,7 @@ import pytest
 import trimesh
 
 from workbench import ContactProfile, config
-from workbench.grasp import evaluate_grasp
+from workbench.grasp import Jaws, ModelOptions, Task, evaluate_grasp
 from workbench.profile import ProfileSource
 from workbench.sources.jaws import with_axis_force
 
@@ -39,10 +39,9 @@ def fem():
     return pad, cyl, fem_jaw_profiles(cyl, GRASP, FORCE, pad=pad)
 
 
-def _evaluate(profiles, force=FORCE, grasp=GRASP, **kw):
-    return evaluate_grasp(
-        None, grasp, profiles=profiles, model="soft_point", force=force, mu=MU, w_ext=W, pad=FACE, **kw
-    )
+def _evaluate(profiles, force=FORCE, grasp=GRASP):
+    jaws, opts = Jaws(force=force, pad=FACE), ModelOptions(model="soft_point", mu=MU)
+    return evaluate_grasp(None, grasp, Task(w_ext=W), jaws=jaws, options=opts, profiles=profiles)
 
 
 def test_an_fem_profile_records_the_readings_its_pad_can_produce(fem):

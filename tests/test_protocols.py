@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis, w_max
-from workbench.limit_surface.fit_score import fit_and_score
+from workbench.limit_surface.fit_score import Scoring, fit_and_score
 from workbench.limit_surface.protocols import (
     ExactContact,
     fit_score,
@@ -64,10 +64,7 @@ def test_fit_scores_leaves_out_an_underdetermined_quartic():
         "ellipsoid_lsq",
         W[:130],
         w_max=w_max(prof),
-        test=W,
-        wrenches_of=lambda xi: frictional_wrenches(prof, xi),
-        support_directions=50,
-        support_seed=0,
+        scoring=Scoring(W, lambda xi: frictional_wrenches(prof, xi), support_directions=50, support_seed=0),
     )
     got = enough["ellipsoid_lsq"]
     assert (got.test_error, got.train_error, got.support.radial_mean) == (

@@ -10,11 +10,12 @@ def test_reach_profile_of_a_sphere_is_winkler():
     """Flat pad closing δ on a sphere: F = π R k δ² (Winkler, δ ≪ R), contact on the axis."""
     import trimesh
 
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     R, k, d = 0.03, 2e8, 1e-3
     s = trimesh.creation.icosphere(subdivisions=5, radius=R)
-    p = reach_profile(s, [0, R, 0], [0, -1, 0], [0, 0, 1], closing=d, stiffness=k, max_edge=0.5e-3)
+    press = WinklerPress(closing=d, stiffness=k, max_edge=0.5e-3)
+    p = reach_profile(s, [0, R, 0], [0, -1, 0], [0, 0, 1], press=press)
     assert p.F == pytest.approx(np.pi * R * k * d**2, rel=0.01)
     np.testing.assert_allclose(p.pressure_center[[0, 2]], 0.0, atol=1e-4)
     assert np.sqrt(np.hypot(p.centers[:, 0], p.centers[:, 2]).max() ** 2) == pytest.approx(
@@ -34,10 +35,10 @@ def test_grasp_pipeline_on_a_thesis_object_if_available():
 
     import trimesh
 
-    from workbench.grasp.models import contact_sets
-    from workbench.grasp.sampling import antipodal_grasps
+    from workbench.grasp.models import ModelParameters, contact_sets
+    from workbench.grasp.sampling import GraspSampling, antipodal_grasps
     from workbench.sources.jaws import with_axis_force
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     path = (
         Path(__file__).resolve().parents[2]
@@ -46,17 +47,18 @@ def test_grasp_pipeline_on_a_thesis_object_if_available():
     if not path.exists():
         pytest.skip("thesis objects not available")
     mesh = trimesh.load(path, force="mesh")
-    grasps = antipodal_grasps(mesh, 3, 0.5, seed=0, table_z=0.0, clearance=0.03, max_width=0.1)
+    grasps = antipodal_grasps(mesh, 3, 0.5, GraspSampling(table_z=0.0, clearance=0.03, max_width=0.1), seed=0)
     assert grasps
     g = grasps[0]
     # both jaws press with the same grasp-axis force (a force-sensor reading, §4.1.3.2)
     F = 10.0
+    press = WinklerPress(closing=1e-3, max_edge=1e-3)
     profiles = [
-        with_axis_force(reach_profile(mesh, g["p1"], g["axis"], closing=1e-3, max_edge=1e-3), g["axis"], F),
-        with_axis_force(reach_profile(mesh, g["p2"], -g["axis"], closing=1e-3, max_edge=1e-3), g["axis"], F),
+        with_axis_force(reach_profile(mesh, g["p1"], g["axis"], press=press), g["axis"], F),
+        with_axis_force(reach_profile(mesh, g["p2"], -g["axis"], press=press), g["axis"], F),
     ]
     assert all(len(p) > 10 for p in profiles)
-    sets = [c for p in profiles for c in contact_sets(p, "6dls", M=100, n_wrenches=400)]
+    sets = [c for p in profiles for c in contact_sets(p, "6dls", ModelParameters(M=100, n_wrenches=400))]
     light = gravity_wrench(0.2 * 0.5 * F / 9.81, mesh.center_mass)
     heavy = gravity_wrench(5 * 0.5 * F / 9.81, mesh.center_mass)
     assert resists(sets, light, 0.5) and not resists(sets, heavy, 0.5)
@@ -67,12 +69,11 @@ def _flat_press(outline, center, max_edge):
     e1 = e2 × a = -x), uniform compression."""
     import trimesh
 
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box((0.06, 0.06, 0.02))
-    return reach_profile(
-        box, center, [0, 0, -1], [0, 1, 0], outline=outline, closing=1e-3, stiffness=1e9, max_edge=max_edge
-    )
+    press = WinklerPress(closing=1e-3, stiffness=1e9, max_edge=max_edge)
+    return reach_profile(box, center, [0, 0, -1], [0, 1, 0], outline=outline, press=press)
 
 
 @pytest.mark.parametrize("max_edge", [1e-3, 0.5e-3])
@@ -158,16 +159,17 @@ def test_reach_profile_window_and_outline_errors():
     """window=(lo, hi) searches only that range along the approach; bad outlines and windows raise."""
     import trimesh
 
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box((0.06, 0.06, 0.02))
     poly = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]
     far = [0, 0, 0.03]  # 20 mm above the face
     with pytest.raises(ValueError, match="covers no part"):
         reach_profile(box, far, [0, 0, -1], [0, 1, 0], outline=poly)  # default ±10 mm
-    p = reach_profile(box, far, [0, 0, -1], [0, 1, 0], outline=poly, window=(0, 0.025), closing=1e-3)
+    press = WinklerPress(window=(0, 0.025), closing=1e-3)
+    p = reach_profile(box, far, [0, 0, -1], [0, 1, 0], outline=poly, press=press)
     assert abs(p.areas.sum() - 4e-4) <= 0.25 * 0.08 * 1e-3
     with pytest.raises(ValueError, match="millimetres"):
-        reach_profile(box, far, [0, 0, -1], outline=np.asarray(poly) * 1000, window=(0, 0.025))
+        reach_profile(box, far, [0, 0, -1], outline=np.asarray(poly) * 1000, press=press)
     with pytest.raises(ValueError, match="lo < hi"):
-        reach_profile(box, far, [0, 0, -1], outline=poly, window=(0.025, 0))
+        reach_profile(box, far, [0, 0, -1], outline=poly, press=WinklerPress(window=(0.025, 0)))

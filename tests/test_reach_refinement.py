@@ -12,6 +12,7 @@ import trimesh
 
 H = 1e-3  # max_edge [m], the default of reach_profile
 K, CLOSING = 2e8, 1e-3  # Winkler stiffness [Pa/m] and closing [m] of the presses below
+PRESS = {"stiffness": K, "closing": CLOSING}  # the WinklerPress of the presses below
 
 
 def _elliptic_cylinder():
@@ -48,11 +49,11 @@ def test_a_pads_profile_on_the_sliver_cylinder_is_not_over_refined():
     """The pad (20 × 40 mm) on the flat side of the ellipse: its profile needs no more pieces than
     4× (A/(√3/4 h²) + the long edges under the pad / h), the bound above summed over the side faces
     the pad spans (each 40 mm of its length); the old refinement gave 62,527."""
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     mesh = _elliptic_cylinder()
     prof = reach_profile(
-        mesh, (0.0, 0.02, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), stiffness=K, closing=CLOSING
+        mesh, (0.0, 0.02, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, 1.0), press=WinklerPress(**PRESS)
     )
     side = np.abs(mesh.face_normals[:, 2]) < 0.5
     under = (
@@ -139,11 +140,11 @@ def test_a_face_inside_the_pad_carries_k_closing_over_its_area():
     """Closed form: a flat 18 × 36 mm box face inside the 20 × 40 mm pad, pressed by 1 mm, carries
     the uniform pressure k·closing over its whole area, centred on it (sides parallel to the
     approach carry none)."""
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box(extents=(0.05, 0.018, 0.036))
     prof = reach_profile(
-        box, (0.025, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), stiffness=K, closing=CLOSING
+        box, (0.025, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), press=WinklerPress(**PRESS)
     )
     assert prof.F == pytest.approx(K * CLOSING * 0.018 * 0.036, rel=1e-12)
     np.testing.assert_allclose(prof.pressures, K * CLOSING, rtol=1e-12)
@@ -157,11 +158,11 @@ def test_a_pad_inside_a_face_carries_k_closing_over_the_pad_up_to_the_edge_cut()
     k·closing·(20 - 4h/3)(40 - 4h/3) <= F <= k·closing·(20 + 4h/3)(40 + 4h/3).  The cut of a face
     is symmetric under the half turn about the face's centre (its two triangles swap), so the
     pressure centre is the pad's, to round-off."""
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box(extents=(0.06, 0.04, 0.08))
     prof = reach_profile(
-        box, (0.03, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), stiffness=K, closing=CLOSING
+        box, (0.03, 0.0, 0.0), (-1.0, 0.0, 0.0), (0.0, 0.0, 1.0), press=WinklerPress(**PRESS)
     )
     g = 4 * H / 3
     assert K * CLOSING * (0.02 - g) * (0.04 - g) <= prof.F <= K * CLOSING * (0.02 + g) * (0.04 + g)
@@ -174,12 +175,12 @@ def test_a_pad_over_the_middle_third_of_a_face_is_cut_exactly():
     lines of the cut (k a multiple of 3), so no piece's centre is on them and the pieces kept are
     exactly those under the pad: F = k·closing·(10 mm)² and the centre the face's, to round-off
     (the old subdivision, 64 parts a side, put centres on these edges and kept 96.7 mm²)."""
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     cube = trimesh.creation.box(extents=(0.03, 0.03, 0.03))
     for center, approach in (((0.015, 0.0, 0.0), (-1.0, 0.0, 0.0)), ((0.0, -0.015, 0.0), (0.0, 1.0, 0.0))):
         prof = reach_profile(
-            cube, center, approach, (0.0, 0.0, 1.0), pad=(0.01, 0.01), stiffness=K, closing=CLOSING
+            cube, center, approach, (0.0, 0.0, 1.0), pad=(0.01, 0.01), press=WinklerPress(**PRESS)
         )
         assert prof.F == pytest.approx(K * CLOSING * 0.01**2, rel=1e-12)
         np.testing.assert_allclose(prof.pressure_center, center, atol=1e-15)

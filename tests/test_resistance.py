@@ -112,11 +112,11 @@ def _cone_solver_failing():
 
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp():
-    from workbench.grasp.models import contact_sets
+    from workbench.grasp.models import ModelParameters, contact_sets
     from workbench.sources.scenes import elliptic_cylinder_grasp
 
     profiles = elliptic_cylinder_grasp(force=25.0, n_elements=200)
-    sets = [c for p in profiles for c in contact_sets(p, "6dls", M=100, n_wrenches=400)]
+    sets = [c for p in profiles for c in contact_sets(p, "6dls", ModelParameters(M=100, n_wrenches=400))]
     rng = np.random.default_rng(4)
     W = np.zeros((40, 6))
     W[:, 1] = -rng.uniform(2, 14, 40)
@@ -130,7 +130,7 @@ def test_ellipsoid_socp_matches_the_cutting_planes_and_lies_inside_the_outer_qp(
     assert np.array_equal(socp, [bool(r) for r in res])  # two exact routes to the model's own answer
     # low-rank (flat) ellipsoids: the cone acts in the model's subspace, equalities pin the rest
     for name in ("planar", "3dls_nonplanar"):
-        flat = [c for p in profiles for c in contact_sets(p, name, M=100, n_wrenches=400)]
+        flat = [c for p in profiles for c in contact_sets(p, name, ModelParameters(M=100, n_wrenches=400))]
         a = np.array([bool(wrench_resistance(flat, w, 0.3)) for w in W[:15]])
         with _cone_solver_failing():
             b = np.array([bool(wrench_resistance(flat, w, 0.3)) for w in W[:15]])

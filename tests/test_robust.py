@@ -3,20 +3,20 @@
 import numpy as np
 from grasp_helpers import MU, F, antipodal
 
-from workbench.grasp import Perturbation, q_robust
+from workbench.grasp import Perturbation, Task, q_robust
 
 
 def test_q_robust_deterministic_and_bounded():
     grasp = antipodal(soft=0.004, n=16)
     none = Perturbation(n_samples=5, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
-    assert q_robust(grasp, MU, 0.9 * 2 * MU * F / 9.81, [0, 0, 0], none) == 1.0
-    assert q_robust(grasp, MU, 1.1 * 2 * MU * F / 9.81, [0, 0, 0], none) == 0.0
+    assert q_robust(grasp, MU, Task(mass=0.9 * 2 * MU * F / 9.81, com=[0, 0, 0]), none) == 1.0
+    assert q_robust(grasp, MU, Task(mass=1.1 * 2 * MU * F / 9.81, com=[0, 0, 0]), none) == 0.0
     p = Perturbation(n_samples=40)
     m = 1.0 * 2 * MU * F / 9.81  # at the limit: perturbations split the outcomes
-    q1 = q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
-    assert q1 == q_robust(grasp, MU, m, [0, 0, 0.005], p, seed=7)
+    q1 = q_robust(grasp, MU, Task(mass=m, com=[0, 0, 0.005]), p, seed=7)
+    assert q1 == q_robust(grasp, MU, Task(mass=m, com=[0, 0, 0.005]), p, seed=7)
     assert 0.0 < q1 < 1.0
-    assert q_robust(grasp, MU, 0.5 * m, [0, 0, 0.005], p, seed=7) >= q1
+    assert q_robust(grasp, MU, Task(mass=0.5 * m, com=[0, 0, 0.005]), p, seed=7) >= q1
 
 
 def test_q_robust_rotations_are_rodrigues_of_the_sampled_vectors():

@@ -12,7 +12,15 @@ import numpy as np
 import pytest
 import trimesh
 
-from workbench.grasp.sampling import DROP_REASONS, Grasps, antipodal_grasps, edge_touch, horizontal_grasps
+from workbench.grasp.inputs import Jaws
+from workbench.grasp.sampling import (
+    DROP_REASONS,
+    Grasps,
+    GraspSampling,
+    antipodal_grasps,
+    edge_touch,
+    horizontal_grasps,
+)
 
 
 def _adds_up(g: Grasps) -> None:
@@ -26,8 +34,8 @@ def test_pad_edge_count_is_the_edge_check_of_every_antipodal_pair():
     one by one), the other reasons' counts are the same, and every candidate is accounted for."""
     cyl = trimesh.creation.cylinder(radius=0.03, height=0.1, sections=48)
     m = 60  # n = max_samples: every candidate is tried
-    every = antipodal_grasps(cyl, m, 0.5, seed=3, max_samples=m, pad=None)
-    kept = antipodal_grasps(cyl, m, 0.5, seed=3, max_samples=m)
+    every = antipodal_grasps(cyl, m, 0.5, GraspSampling(max_samples=m), jaws=None, seed=3)
+    kept = antipodal_grasps(cyl, m, 0.5, GraspSampling(max_samples=m), seed=3)
     assert every.n_candidates == kept.n_candidates == m
     _adds_up(every)
     _adds_up(kept)
@@ -52,7 +60,7 @@ def test_every_candidate_too_wide_is_counted_and_warned(caplog):
     candidate spans 0.2 m, over a 0.1 m opening — all max_samples dropped as too wide."""
     cube = trimesh.creation.box(extents=(0.2, 0.2, 0.2))
     with caplog.at_level(logging.WARNING, logger="workbench.grasp.sampling"):
-        g = antipodal_grasps(cube, 5, 0.0, max_width=0.1, max_samples=40, pad=None)
+        g = antipodal_grasps(cube, 5, 0.0, GraspSampling(max_width=0.1, max_samples=40), jaws=None)
     assert list(g) == [] and g.n_candidates == 40
     assert g.dropped == {**dict.fromkeys(DROP_REASONS, 0), "too_wide": 40}
     (rec,) = [r for r in caplog.records if r.levelno == logging.WARNING]
@@ -64,7 +72,8 @@ def test_every_candidate_too_wide_is_counted_and_warned(caplog):
 
 def test_every_candidate_near_the_table():
     cube = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
-    g = antipodal_grasps(cube, 3, 0.0, table_z=0.0249, max_samples=25, pad=None)  # just under its top
+    under_top = GraspSampling(table_z=0.0249, max_samples=25)  # just under its top
+    g = antipodal_grasps(cube, 3, 0.0, under_top, jaws=None)
     assert len(g) == 0 and g.dropped == {**dict.fromkeys(DROP_REASONS, 0), "near_table": 25}
 
 
@@ -84,13 +93,14 @@ def test_arguments_that_would_drop_every_candidate_are_refused(kwargs, words):
     """A new user's trial: these returned 0 grasps, blaming too_wide / pad_edge, not the argument."""
     cube = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
     with pytest.raises(ValueError, match=re.escape(words)):
-        antipodal_grasps(cube, 3, 0.5, max_samples=25, **kwargs)
+        up = kwargs.pop("up", (0.0, 0.0, 1.0))
+        antipodal_grasps(cube, 3, 0.5, GraspSampling(max_samples=25, **kwargs), jaws=Jaws(up=up))
 
 
 def test_n_reached_stops_early_and_logs_no_warning(caplog):
     sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.03)
     with caplog.at_level(logging.INFO, logger="workbench.grasp.sampling"):
-        g = antipodal_grasps(sphere, 5, 0.3, seed=0, pad=None)
+        g = antipodal_grasps(sphere, 5, 0.3, jaws=None, seed=0)
     assert len(g) == 5 and g.n_candidates == 5 + sum(g.dropped.values()) <= 100
     assert not [r for r in caplog.records if r.levelno >= logging.WARNING]
     assert any(f"5 kept of {g.n_candidates} candidates" in r.getMessage() for r in caplog.records)
@@ -114,7 +124,7 @@ def test_known_number_of_grid_lines_dropped_at_a_pad_edge_or_the_cone():
 
 def test_grasps_is_the_list_it_was():
     sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.03)
-    g = antipodal_grasps(sphere, 4, 0.3, seed=0, pad=None)
+    g = antipodal_grasps(sphere, 4, 0.3, jaws=None, seed=0)
     assert isinstance(g, list) and len(g) == 4 and g[0] is list(g)[0] and g[-1]["width"] > 0
     assert type(g[:2]) is list  # a slice is a plain list
     for back in (pickle.loads(pickle.dumps(g)), copy.deepcopy(g)):  # to a Dask worker and back
@@ -129,9 +139,9 @@ def test_bad_input_raises_before_the_work():
     pad-edge check, which counted it as an edge touch: all grasps dropped, silently."""
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.03)
     with pytest.raises(ValueError, match="pad"):
-        antipodal_grasps(sphere, 3, 0.3, pad=(20, 40))
+        antipodal_grasps(sphere, 3, 0.3, jaws=Jaws(pad=(20, 40)))
     with pytest.raises(ValueError, match="edge_depth must be a closing > 0"):
-        antipodal_grasps(sphere, 3, 0.3, edge_depth=0.0)
+        antipodal_grasps(sphere, 3, 0.3, GraspSampling(edge_depth=0.0))
     with pytest.raises(ValueError, match="pad"):
         horizontal_grasps(sphere, [0.0], 4, 0.3, pad=(20, 40))
     with pytest.raises(ValueError, match="pad"):
@@ -139,7 +149,7 @@ def test_bad_input_raises_before_the_work():
     with pytest.raises(ValueError, match="n must be an integer >= 1; got 0"):
         antipodal_grasps(sphere, 0, 0.3)
     with pytest.raises(ValueError, match="max_samples must be an integer >= 1; got 2.5"):
-        antipodal_grasps(sphere, 3, 0.3, max_samples=2.5)
+        antipodal_grasps(sphere, 3, 0.3, GraspSampling(max_samples=2.5))
     with pytest.raises(ValueError, match="progress must be True .* got 'yes'"):
         antipodal_grasps(sphere, 3, 0.3, progress="yes")
 
@@ -147,14 +157,14 @@ def test_bad_input_raises_before_the_work():
 def test_progress_bar_on_stderr_only_when_asked(capsys):
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.03)
     cube = trimesh.creation.box(extents=(0.05, 0.05, 0.05))
-    antipodal_grasps(sphere, 3, 0.3, seed=0, pad=None, max_samples=20, progress=True)
+    antipodal_grasps(sphere, 3, 0.3, GraspSampling(max_samples=20), jaws=None, seed=0, progress=True)
     horizontal_grasps(cube, [0.0], 4, 0.3, pad=None, progress=True)
     out, err = capsys.readouterr()
     assert out == ""
     assert "antipodal_grasps" in err and "/20 " in err and "kept=3" in err
     assert "horizontal_grasps" in err and "4/4 " in err
     for progress in (False, None):  # None: stderr captured here is no terminal
-        antipodal_grasps(sphere, 3, 0.3, seed=0, pad=None, max_samples=20, progress=progress)
+        antipodal_grasps(sphere, 3, 0.3, GraspSampling(max_samples=20), jaws=None, seed=0, progress=progress)
         horizontal_grasps(cube, [0.0], 4, 0.3, pad=None, progress=progress)
         assert capsys.readouterr() == ("", "")
 
@@ -175,7 +185,7 @@ def test_automatic_bar_on_a_terminal_only_for_long_calls(monkeypatch):
         term = Terminal()
         monkeypatch.setattr(sys, "stderr", term)
         with config.override(progress_delay_s=delay):
-            antipodal_grasps(sphere, 3, 0.3, seed=0, pad=None, max_samples=20)
+            antipodal_grasps(sphere, 3, 0.3, GraspSampling(max_samples=20), jaws=None, seed=0)
         assert ("antipodal_grasps" in term.getvalue()) is shown, delay
 
 
@@ -195,7 +205,7 @@ def test_reach_profile_is_the_same_from_the_cached_fine_surface(monkeypatch):
         out = []
         for p, a in zip(pts, approaches, strict=True):
             try:
-                prof = reach.reach_profile(mesh, p, a, closing=1e-3, max_edge=1e-3)
+                prof = reach.reach_profile(mesh, p, a, press=reach.WinklerPress(closing=1e-3, max_edge=1e-3))
             except ValueError as exc:
                 out.append(str(exc))
                 continue

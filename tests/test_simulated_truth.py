@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from workbench.grasp.exact import ExactContacts
-from workbench.grasp.simulated_truth import required_force_scale, simulated_success
+from workbench.grasp.simulated_truth import TruthModel, required_force_scale, simulated_success
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
 F0, MU = 10.0, 0.5
@@ -52,41 +52,37 @@ def test_required_force_scale_is_the_friction_limit(exact, profiles):
 
 
 def test_simulated_success_force_and_closing(exact, profiles):
-    kw = dict(safety=1.25, force_cap=20.0, noise_samples=3, sigma_mu=0.0, sigma_force=0.0)
+    def gripper(closing_limit: float, sigma_mu: float = 0.0, noise_samples: int = 3) -> TruthModel:
+        return TruthModel(1.25, 20.0, closing_limit, noise_samples, sigma_mu, sigma_force=0.0)
+
     rng = np.random.default_rng(1)
     need = 6.0 * F0 / (2 * MU * _sum_pa(profiles))  # the jaw reading that holds 6 N: 5.41 N
     # applied 1.25 x 5.41 = 6.77 N: a 1000 N/m wall closes 6.8 mm
     ok, f_req = simulated_success(
-        exact, _lift(6.0)[None], MU, F0, stiffness=1000.0, closing_limit=10e-3, rng=rng, **kw
+        exact, _lift(6.0)[None], MU, F0, stiffness=1000.0, model=gripper(10e-3), rng=rng
     )
     assert ok and f_req == pytest.approx(need, rel=2e-3)
-    ok, _ = simulated_success(
-        exact, _lift(6.0)[None], MU, F0, stiffness=1000.0, closing_limit=5e-3, rng=rng, **kw
-    )
+    ok, _ = simulated_success(exact, _lift(6.0)[None], MU, F0, stiffness=1000.0, model=gripper(5e-3), rng=rng)
     assert not ok  # crushed: 6.8 mm > 5 mm
-    ok, _ = simulated_success(
-        exact, _lift(6.0)[None], MU, F0, stiffness=np.inf, closing_limit=0.0, rng=rng, **kw
-    )
+    ok, _ = simulated_success(exact, _lift(6.0)[None], MU, F0, stiffness=np.inf, model=gripper(0.0), rng=rng)
     assert ok  # rigid: no closing
     # 25 N needs a 22.6 N reading, more than the gripper's 20 N: fails, and the noise is never drawn
     state = rng.bit_generator.state
     ok, f_req = simulated_success(
-        exact, _lift(25.0)[None], MU, F0, stiffness=np.inf, closing_limit=1.0, rng=rng, **kw
+        exact, _lift(25.0)[None], MU, F0, stiffness=np.inf, model=gripper(1.0), rng=rng
     )
     assert not ok and f_req == np.inf and rng.bit_generator.state == state
     # 18 N needs a 16.2 N reading; at safety 1.25 the gripper is capped at 20 N (x 1.23), which a
     # 30 % friction noise drops below the need in ~27 % of the draws: most hold
-    noisy = dict(kw, sigma_mu=0.3, noise_samples=200)
     ok, f_req = simulated_success(
         exact,
         _lift(18.0)[None],
         MU,
         F0,
         stiffness=np.inf,
-        closing_limit=1.0,
+        model=gripper(1.0, sigma_mu=0.3, noise_samples=200),
         rng=np.random.default_rng(0),
-        **noisy,
     )
     assert f_req == pytest.approx(18.0 * F0 / (2 * MU * _sum_pa(profiles)), rel=2e-3) and ok
     with pytest.raises(ValueError, match="reading"):
-        simulated_success(exact, _lift(1.0)[None], MU, 0.0, stiffness=1.0, closing_limit=1.0, rng=rng, **kw)
+        simulated_success(exact, _lift(1.0)[None], MU, 0.0, stiffness=1.0, model=gripper(1.0), rng=rng)

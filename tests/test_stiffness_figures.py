@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from workbench.runner.stiffness_figures import plot_stiffness_validation, render_stiffness_maps
+from workbench.runner.stiffness_figures import MapStyle, plot_stiffness_validation, render_stiffness_maps
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +63,9 @@ def test_stiffness_maps(case, tmp_path):
     mesh, L, s, p, _, _ = case
     path = render_stiffness_maps(mesh.vertices, mesh.faces, L, s, p, tmp_path / "m.png", title="cylinder")
     assert path.exists() and path.stat().st_size > 20_000
-    plain = render_stiffness_maps(mesh.vertices, mesh.faces, L, s, p, tmp_path / "p.png", surface=False)
+    plain = render_stiffness_maps(
+        mesh.vertices, mesh.faces, L, s, p, tmp_path / "p.png", style=MapStyle(surface=False)
+    )
     assert plain.exists() and plain.stat().st_size > 10_000
 
 
@@ -76,3 +78,10 @@ def test_stiffness_maps_reject_mismatched_lengths(case, tmp_path):
     with pytest.raises(ValueError, match=r"faces must be \(F, 3\) integer"):
         render_stiffness_maps(mesh.vertices, mesh.faces.astype(float), L, s, p, tmp_path / "m.png")
     assert not (tmp_path / "m.png").exists()
+
+
+def test_map_style_checks_its_options():
+    with pytest.raises(ValueError, match=r"rigid_threshold must be a stiffness > 0 \[N/m\].*got 0.0"):
+        MapStyle(rigid_threshold=0.0)
+    with pytest.raises(ValueError, match="model must be a str naming the prediction"):
+        MapStyle(model=3)

@@ -32,14 +32,14 @@ def test_a_peer_refuses_a_friction_coefficient_in_per_cent_as_the_core_does():
 
 def test_a_peer_names_the_unit_slip_of_a_pad_modulus_thickness_and_width():
     from workbench.fem.obstacles import Sphere
-    from workbench.peers.elastic_foundation import foundation_modulus, foundation_profile
+    from workbench.peers.elastic_foundation import PadGrid, foundation_modulus, foundation_profile
 
     with pytest.raises(ValueError, match=r"probably in MPa — pass 1e\+06.*1 MPa = 1e6"):
         foundation_modulus(1.0, 0.005)  # E in MPa
     with pytest.raises(ValueError, match="pad thickness .* probably in millimetres — pass 0.005"):
         foundation_modulus(E, 5.0)  # h in mm
     with pytest.raises(ValueError, match="pad size .* probably in millimetres — pass 0.04"):
-        foundation_profile(Sphere((0.0, 0.0, 0.005 + R), R), DELTA, E, 0.005, width=40.0, length=0.04)
+        foundation_profile(Sphere((0.0, 0.0, 0.005 + R), R), DELTA, E, 0.005, grid=PadGrid(width=40.0))
     with pytest.raises(ValueError, match=r"Poisson ratio in \(-1, 0.5\); got 0.5"):
         foundation_modulus(E, 0.005, 0.5, "confined")
 
@@ -218,10 +218,10 @@ def test_wall_stiffness_takes_the_geometry_object_wall_returns(cup_wall):
     geo, wall = cup_wall
     L = np.array([[0.03, 0.0, 0.04], [-0.03, 0.0, 0.04]])
     (row,) = stiffness_at(wall, geo, L, force=10.0)
-    ref = squeeze(wall, np.array([0.0, 0.0, 0.04]), np.array([-1.0, 0.0, 0.0]), force=10.0)["stiffness"]
+    ref = squeeze(wall, np.array([0.0, 0.0, 0.04]), np.array([-1.0, 0.0, 0.0]), force=10.0).stiffness
     assert row["stiffness"] == pytest.approx(ref, rel=1e-9) and not row["failed"]
-    (explicit,) = stiffness_at(wall, geo.surface, L, z_range=geo.z_range, force=10.0)
-    assert explicit["stiffness"] == row["stiffness"]
+    (side_wall,) = stiffness_at(wall, geo.surface, L, force=10.0)  # no lip: the same heights
+    assert side_wall["stiffness"] == row["stiffness"]
 
 
 def test_wall_stiffness_refuses_another_surface_type_or_swapped_arguments(cup_wall):

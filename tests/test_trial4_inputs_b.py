@@ -14,7 +14,7 @@ import trimesh
 from workbench.fem.material import Material
 from workbench.fem.obstacles import MeshObstacle
 from workbench.fem.pad import PadGeometry
-from workbench.grasp import evaluate_grasp
+from workbench.grasp import Jaws, ModelOptions, Task, evaluate_grasp
 from workbench.grasp.contacts import point_contact, soft_point_contact
 from workbench.grasp.work import work
 
@@ -34,12 +34,19 @@ def _mm(grasp):
 
 def test_a_millimetre_mesh_with_a_mass_is_evaluated_in_metres(box):
     # the mass check read the unconverted mesh (a 1.2e5 cm³ box: "a mesh in millimetres?") and
-    # refused the very call units="mm" exists for; now the same answer as the metre mesh
+    # refused the very call units="mm" exists for; now the mesh is converted by the one gate of
+    # every mesh input first, and the answer is the metre mesh's
+    from workbench.units import mesh_in_metres
+
     mm = box.copy()
     mm.apply_scale(1e3)
-    kw = {"model": "soft_point", "force": FORCE, "mu": MU, "mass": MASS, "com": [0, 0, 0]}
-    in_m = evaluate_grasp(box, _mm(G), **kw)
-    in_mm = evaluate_grasp(mm, _mm(G), units="mm", **kw)
+    task = Task(mass=MASS, com=[0, 0, 0])
+    kw = {"jaws": Jaws(force=FORCE), "options": ModelOptions("soft_point", MU)}
+    in_m = evaluate_grasp(box, _mm(G), task, **kw)
+    in_mm = evaluate_grasp(mesh_in_metres(mm, "object", units="mm"), _mm(G), task, **kw)
+    # a millimetre mesh as it is: named, with the call to make
+    with pytest.raises(ValueError, match=r"spans 60 m .*millimetres: convert it first: .*mesh_in_metres"):
+        evaluate_grasp(mm, _mm(G), task, **kw)
     # two flat jaws on a box, gravity across the axis: friction holds m g with 2 μ F s
     assert in_m.min_force.scale == pytest.approx(MASS * 9.81 / (2 * MU * FORCE), rel=2e-3)
     assert in_mm.min_force.scale == pytest.approx(in_m.min_force.scale, rel=1e-9)
@@ -52,7 +59,8 @@ def test_an_inside_out_mesh_is_refused_by_name(box):
     inside_out.invert()
     assert inside_out.is_watertight and inside_out.volume < 0
     with pytest.raises(ValueError, match=r"inside out.*mesh.invert\(\)"):
-        evaluate_grasp(inside_out, _mm(G), model="soft_point", mu=MU, mass=MASS, com=[0, 0, 0])
+        task = Task(mass=MASS, com=[0, 0, 0])
+        evaluate_grasp(inside_out, _mm(G), task, options=ModelOptions(model="soft_point", mu=MU))
     with pytest.raises(ValueError, match=r"MeshObstacle is inside out"):
         MeshObstacle(inside_out)
     # the right way out presses with a force (the check refuses only the inverted one)
@@ -73,15 +81,15 @@ def _above(box):
 
 def test_a_task_torque_in_newton_millimetres_is_refused(box):
     # [0, 0, -2.9 N, 0, 0, 29 "N·m"]: a 2.9 N load 10 m from the origin; the torque was meant in N·mm
-    kw = {"model": "soft_point", "force": FORCE, "mu": MU}
+    kw = {"jaws": Jaws(force=FORCE), "options": ModelOptions(model="soft_point", mu=MU)}
     with pytest.raises(ValueError, match=r"at least 10 m from the object origin.*probably in N·mm"):
-        evaluate_grasp(box, _mm(G), w_ext=[0, 0, -2.9, 0, 0, 29.0], **kw)
+        evaluate_grasp(box, _mm(G), Task(w_ext=[0, 0, -2.9, 0, 0, 29.0]), **kw)
     # the same task in N·m is evaluated, and its answer is the closed form's: μF·2 resists 2.9 N
-    ok = evaluate_grasp(box, _mm(G), w_ext=[0, 0, -2.9, 0, 0, 0.029], **kw)
+    ok = evaluate_grasp(box, _mm(G), Task(w_ext=[0, 0, -2.9, 0, 0, 0.029]), **kw)
     assert ok.resisted
     # a pure torque far beyond any gripper's is refused, an ordinary one passes
     with pytest.raises(ValueError, match=r"torque .*in \[0, 200\] N·m; got 2900.*N·mm"):
-        evaluate_grasp(box, _mm(G), w_ext=[0, 0, 0, 0, 2900.0, 0], **kw)
+        evaluate_grasp(box, _mm(G), Task(w_ext=[0, 0, 0, 0, 2900.0, 0]), **kw)
 
 
 def test_a_torsion_length_in_millimetres_is_refused():
@@ -128,22 +136,24 @@ def test_a_stiffness_in_newtons_per_millimetre_is_named():
 @pytest.mark.jit_only("the 6DLS fit is over 15 s as pure Python")
 def test_one_model_name_is_one_model(box):
     from workbench.grasp.gripper_eval import evaluate_models
+    from workbench.grasp.inputs import Task
     from workbench.sources.gripper import yumi
 
     T = np.eye(4)
     T[:3, :3] = [[1, 0, 0], [0, -1, 0], [0, 0, -1]]  # approach along −z, jaws closing along x
     T[2, 3] = 0.03 - 0.01 + yumi().tooltips[0][2, 3]
     small = trimesh.creation.box(extents=(0.03, 0.03, 0.06))
-    one = evaluate_models(small, yumi(), T, models="soft_point", mass=0.05)
+    one = evaluate_models(small, yumi(), T, Task(mass=0.05), models="soft_point")
     assert list(one) == ["soft_point"]
-    both = evaluate_models(small, yumi(), T, models=("soft_point",), mass=0.05)
+    both = evaluate_models(small, yumi(), T, Task(mass=0.05), models=("soft_point",))
     assert one["soft_point"].verdict.scale == both["soft_point"].verdict.scale
     with pytest.raises(ValueError, match="at least one contact model"):
-        evaluate_models(small, yumi(), T, models=(), mass=0.05)
+        evaluate_models(small, yumi(), T, Task(mass=0.05), models=())
 
 
 def test_the_minimal_force_scale_of_a_grasp_that_cannot_hold_is_inf(box):
     # μ = 0 holds nothing: the total was inf but the scale NaN; both say "no force" now
-    ev = evaluate_grasp(box, _mm(G), model="soft_point", force=FORCE, mu=0.0, mass=MASS, com=[0, 0, 0])
+    task, opts = Task(mass=MASS, com=[0, 0, 0]), ModelOptions(model="soft_point", mu=0.0)
+    ev = evaluate_grasp(box, _mm(G), task, jaws=Jaws(force=FORCE), options=opts)
     assert not ev.resisted
     assert ev.min_force.total == np.inf and ev.min_force.scale == np.inf

@@ -132,7 +132,7 @@ def test_mujoco_cone_refuses_a_sliding_coefficient_in_per_cent():
 def test_reach_profile_refuses_a_zero_approach_before_numpy_divides_by_it():
     import trimesh
 
-    from workbench.sources.reach import reach_profile
+    from workbench.sources.reach import WinklerPress, reach_profile
 
     box = trimesh.creation.box((0.06, 0.06, 0.02))
     top = (0.0, 0.0, 0.01)
@@ -150,7 +150,8 @@ def test_reach_profile_refuses_a_zero_approach_before_numpy_divides_by_it():
             reach_profile(box, top, approach=(0, 0, -1), up=(0, 0, 2))
     # the 20 x 40 mm pad flat on the 60 x 60 mm top face: p = k · closing everywhere, area 8 cm²
     # up to the band of elements its boundary cuts (<= 0.25 · perimeter · max_edge)
-    p = reach_profile(box, top, approach=(0, 0, -1), up=(0, 1, 0), closing=1e-3, stiffness=2e8, max_edge=1e-3)
+    press = WinklerPress(closing=1e-3, stiffness=2e8, max_edge=1e-3)
+    p = reach_profile(box, top, approach=(0, 0, -1), up=(0, 1, 0), press=press)
     np.testing.assert_allclose(p.pressures, 2e8 * 1e-3, rtol=1e-12)
     assert abs(p.areas.sum() - 0.02 * 0.04) <= 0.25 * 0.12 * 1e-3
     assert np.linalg.norm(p.pressure_center - top) <= 0.2 * 1e-3

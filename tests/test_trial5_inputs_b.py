@@ -37,7 +37,7 @@ def test_a_work_epsilon_in_millimetres_is_refused():
 
 
 def test_a_seed_that_is_not_an_integer_is_refused():
-    from workbench.grasp import Perturbation, q_robust
+    from workbench.grasp import Perturbation, Task, q_robust
     from workbench.grasp.contacts import soft_point_contact
 
     sets = [
@@ -46,23 +46,24 @@ def test_a_seed_that_is_not_an_integer_is_refused():
     ]
     noise = Perturbation(n_samples=4)
     with pytest.raises(ValueError, match=r"seed must be an integer >= 0 .*got 'abc'"):
-        q_robust(sets, 0.5, 0.1, [0, 0, 0], noise, seed="abc")
+        q_robust(sets, 0.5, Task(mass=0.1, com=[0, 0, 0]), noise, seed="abc")
     # two soft points 2 μ F = 10 N against 0.98 N: every sample holds
-    assert q_robust(sets, 0.5, 0.1, [0, 0, 0], noise, seed=3) == 1.0
+    assert q_robust(sets, 0.5, Task(mass=0.1, com=[0, 0, 0]), noise, seed=3) == 1.0
 
 
 @pytest.mark.jit_only("the 6DFC fit is over 15 s as pure Python")
 def test_an_outer_linearisation_too_coarse_to_be_bounded_is_refused():
     # a 6DFC linearised by one outer direction held 100 N sideways with a 10 N grip
     from workbench.grasp import contact_sets, resists
+    from workbench.grasp.models import ModelParameters
     from workbench.sources.scenes import elliptic_cylinder_grasp
 
     jaws = elliptic_cylinder_grasp(force=10.0, n_elements=100)
     with pytest.raises(
         ValueError, match=r"M = 1 outer directions leave the linearised limit surface open.*M >= 64"
     ):
-        contact_sets(jaws[0], "6dfc", M=1)
-    sets = [c for p in jaws for c in contact_sets(p, "6dfc", M=64)]
+        contact_sets(jaws[0], "6dfc", ModelParameters(M=1))
+    sets = [c for p in jaws for c in contact_sets(p, "6dfc", ModelParameters(M=64))]
     # the capacity along the jaws' length is about 2 μ F: 100 N is not held, 1 N is
     assert not resists(sets, [0, 0, 100.0, 0, 0, 0], 0.5, representation="outer").resisted
     assert resists(sets, [0, 0, 1.0, 0, 0, 0], 0.5, representation="outer").resisted

@@ -137,6 +137,7 @@ def test_b09_an_odd_or_too_small_6dfw_count_is_refused_naming_n_wrenches():
     """B09: ``contact_sets(jaw, '6dfw', n_wrenches=0)`` (and 1, 3) — refused as "n must be an
     integer >= 1 (a number of twists)", a parameter never passed; 3 silently gave 2 wrenches."""
     from workbench.grasp import contact_sets
+    from workbench.grasp.models import ModelParameters
 
     p = _patch()
     for n in (0, 1):
@@ -146,12 +147,12 @@ def test_b09_an_odd_or_too_small_6dfw_count_is_refused_naming_n_wrenches():
             r"sampler draws n screw motions and the n translations along the same axes, 2n wrenches, "
             rf"so an odd count cannot be met\); got {n} — pass e\.g\. the default 600",
         ):
-            contact_sets(p, "6dfw", n_wrenches=n)
+            contact_sets(p, "6dfw", ModelParameters(n_wrenches=n))
     with pytest.raises(ValueError, match=r"got 3 — pass 2 or 4"):
-        contact_sets(p, "6dfw", n_wrenches=3)
+        contact_sets(p, "6dfw", ModelParameters(n_wrenches=3))
     with pytest.raises(ValueError, match=r"n_wrenches must be an even integer >= 2"):
-        contact_sets(p, "3dls_nonplanar", n_wrenches=101)
-    (s,) = contact_sets(p, "6dfw", n_wrenches=4)
+        contact_sets(p, "3dls_nonplanar", ModelParameters(n_wrenches=101))
+    (s,) = contact_sets(p, "6dfw", ModelParameters(n_wrenches=4))
     assert s.friction.shape == (4, 6)
     # rows 3 and 4 are the translations along the two Fibonacci axes ±(0.87, 0, ∓0.5)... of a
     # flat patch normal to x: pure forces, |f_t| = μ F = 1 at μ = 1 and unit force, no torque
@@ -273,7 +274,7 @@ def test_c07_c23_an_unknown_qp_solver_is_refused_by_name_before_solving():
 def test_d16_a_dict_for_the_task_wrench_is_refused():
     """D16: ``evaluate_grasp(box, g, w_ext={'fz': -2.9})`` — TypeError: float() argument must
     be ... not 'dict'."""
-    from workbench.grasp import evaluate_grasp
+    from workbench.grasp import Task, evaluate_grasp
     from workbench.grasp.gws import check_wrench
 
     with pytest.raises(
@@ -281,14 +282,14 @@ def test_d16_a_dict_for_the_task_wrench_is_refused():
         match=r"w_ext must be a \(6,\) wrench \[f_x, f_y, f_z, τ_x, τ_y, τ_z\] of numbers \[N, N·m\]; got "
         r"dict \{'fz': -2\.9\} — pass an array, e\.g\. np\.array\(\[0, 0, -2\.9, 0, 0, 0\]\)",
     ):
-        evaluate_grasp(_box(), _grasp(), w_ext={"fz": -2.9})
+        evaluate_grasp(_box(), _grasp(), Task(w_ext={"fz": -2.9}))
     np.testing.assert_array_equal(check_wrench([0, 0, -2.9, 0, 0, 0]), [0, 0, -2.9, 0, 0, 0])
 
 
 def test_d43_a_centre_of_mass_outside_the_object_is_refused():
     """D43: ``evaluate_grasp(box, g, mass=0.3, com=[0, 0.05, 0.04])`` — a com 30 mm outside the
     box (it reaches y = 0.02) was accepted."""
-    from workbench.grasp import evaluate_grasp
+    from workbench.grasp import Task, evaluate_grasp
     from workbench.grasp.robust import check_com
 
     box = _box()
@@ -298,7 +299,7 @@ def test_d43_a_centre_of_mass_outside_the_object_is_refused():
         r"config\.TOL\.com_hull_rtol = 0\.05 x its size 80 mm: a centre of mass is a weighted mean of the "
         r"object's points and lies inside their hull — .* pass mesh\.center_mass = \[0\.0, 0\.0, 0\.04\]",
     ):
-        evaluate_grasp(box, _grasp(), mass=0.3, com=[0, 0.05, 0.04])
+        evaluate_grasp(box, _grasp(), Task(mass=0.3, com=[0, 0.05, 0.04]))
     # within 5 % of 80 mm (4 mm) of the hull: a faceted mesh or a measured com; a com in mm: its unit
     np.testing.assert_array_equal(check_com([0, 0.023, 0.04], box), [0, 0.023, 0.04])
     with pytest.raises(ValueError, match=r"lies 5 mm outside the object's convex hull"):
@@ -312,7 +313,7 @@ def test_d43_a_centre_of_mass_outside_the_object_is_refused():
 def test_d53_a_torque_half_a_metre_off_the_force_is_warned_about():
     """D53: ``evaluate_grasp(box, g, w_ext=[0, 0, -10, 5, 0, 0])`` — a 5 N·mm torque typed as
     5 N·m puts the 10 N load 0.5 m off the origin (an 80 mm box): accepted without a word."""
-    from workbench.grasp import evaluate_grasp
+    from workbench.grasp import ModelOptions, Task, evaluate_grasp
     from workbench.grasp.robust import check_task_wrench
 
     with pytest.warns(
@@ -321,7 +322,10 @@ def test_d53_a_torque_half_a_metre_off_the_force_is_warned_about():
         r"off the object\?\) = 0\.5 m is above the usual 0\.3 m of a lever arm",
     ):
         ev = evaluate_grasp(
-            _box(), _grasp(), model="soft_point", w_ext=[0, 0, -10.0, 5.0, 0, 0], min_force=False
+            _box(),
+            _grasp(),
+            Task(w_ext=[0, 0, -10.0, 5.0, 0, 0]),
+            options=ModelOptions(model="soft_point", min_force=False),
         )
     # still answered for the wrench as given: not resisted — each jaw's friction (mu F = 5 N) acts
     # 50 mm from the origin and its torsion lever is a few mm, under 1 N·m together
@@ -336,7 +340,7 @@ def test_d53_a_torque_half_a_metre_off_the_force_is_warned_about():
 def test_c24_a_path_for_the_cache_is_refused_naming_limit_surface_cache(tmp_path):
     """C24: ``evaluate_grasp(box, g, model='6dls', cache='some/dir')`` — AttributeError: 'str'
     object has no attribute 'contact_model' (after the jaws' profiles were made)."""
-    from workbench.grasp import contact_sets, evaluate_grasp
+    from workbench.grasp import ModelOptions, Task, contact_sets, evaluate_grasp
     from workbench.limit_surface import LimitSurfaceCache
 
     d = str(tmp_path / "lscache")
@@ -345,7 +349,7 @@ def test_c24_a_path_for_the_cache_is_refused_naming_limit_surface_cache(tmp_path
         match=rf"cache must be a LimitSurfaceCache or None; got str '{d}' — pass "
         rf"LimitSurfaceCache\('{d}'\) to keep the limit surfaces in that directory",
     ):
-        evaluate_grasp(_box(), _grasp(), model="6dls", mass=0.3, com=[0, 0, 0.04], cache=d)
+        evaluate_grasp(_box(), _grasp(), Task(mass=0.3, com=[0, 0, 0.04]), options=ModelOptions(), cache=d)
     with pytest.raises(ValueError, match=r"cache must be a LimitSurfaceCache or None; got dict"):
         contact_sets(_small(), "6dls", cache={})
     # the fix keeps the fitted surface there: one file, read back by a second cache

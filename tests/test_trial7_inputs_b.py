@@ -19,11 +19,11 @@ def _box() -> trimesh.Trimesh:
     return trimesh.creation.box(extents=BOX)
 
 
-def _evaluate(mesh, grasp=GRASP, **kw):
-    from workbench.grasp import evaluate_grasp
+def _evaluate(mesh, grasp=GRASP, com=(0.0, 0.0, 0.0)):
+    from workbench.grasp import Jaws, ModelOptions, Task, evaluate_grasp
 
-    args = dict(model="soft_point", force=10.0, mu=0.5, mass=0.3, com=[0.0, 0.0, 0.0])
-    return evaluate_grasp(mesh, grasp, **{**args, **kw})
+    task, opts = Task(mass=0.3, com=com), ModelOptions(model="soft_point", mu=0.5)
+    return evaluate_grasp(mesh, grasp, task, jaws=Jaws(force=10.0), options=opts)
 
 
 def test_d33_nan_vertices_are_named_not_called_inside_out():
@@ -52,7 +52,7 @@ def test_e12_antipodal_grasps_refuse_an_inside_out_mesh_by_name():
         antipodal_grasps(inverted, 5, mu=0.5)
     # the same box the right way out: an antipodal pair of a box lies on opposite faces, one of
     # its sides apart along their normal
-    grasps = antipodal_grasps(_box(), 3, mu=0.5, pad=None, seed=0)
+    grasps = antipodal_grasps(_box(), 3, mu=0.5, jaws=None, seed=0)
     assert len(grasps) == 3
     for g in grasps:
         n1, n2 = np.asarray(g["n1"]), np.asarray(g["n2"])
@@ -95,22 +95,22 @@ def test_f16_an_approach_pointing_away_from_the_object_is_refused():
     """fem_jaw_profile(box, p1, -axis, 10): the jaw at p1 moving away from the box returned a 10 N
     profile on the opposite face, 60 mm from p1."""
     from workbench.fem.pad import PadGeometry
-    from workbench.sources.fem_jaw import fem_jaw_profile
+    from workbench.sources.fem_jaw import FemPad, fem_jaw_profile
 
-    geometry = PadGeometry(nx=10, ny=20, nz=3)
+    pad = FemPad(PadGeometry(nx=10, ny=20, nz=3), cache_dir=False)
     with pytest.raises(
         ValueError,
         match=r"approach \[-1\.0, 0\.0, 0\.0\] points away from the object at point \[-0\.03, 0\.0, 0\.0\].*"
         r"touches nothing on this side.*approach = -normal = \[1\.0, 0\.0, 0\.0\]",
     ):
-        fem_jaw_profile(_box(), P1, -AXIS, 10.0, geometry=geometry, cache_dir=False)
+        fem_jaw_profile(_box(), P1, -AXIS, 10.0, pad=pad)
     # the same rule names a point in millimetres (30 mm read as 30 m)
     with pytest.raises(
         ValueError, match=r"point .*probably in millimetres — pass metres .*\[-0\.03, 0\.0, 0\.0\]"
     ):
-        fem_jaw_profile(_box(), P1 * 1000, AXIS, 10.0, geometry=geometry, cache_dir=False)
+        fem_jaw_profile(_box(), P1 * 1000, AXIS, 10.0, pad=pad)
     # approaching into the object, the pad presses the face at p1: centred there by symmetry
-    prof = fem_jaw_profile(_box(), P1, AXIS, 10.0, geometry=geometry, cache_dir=False)
+    prof = fem_jaw_profile(_box(), P1, AXIS, 10.0, pad=pad)
     assert np.abs(prof.pressure_center - P1).max() < 1e-9
     assert prof.normal_wrench[:3] @ AXIS == pytest.approx(10.0, rel=1e-9)
 
@@ -204,9 +204,9 @@ def test_j06_a_zero_quadrature_tolerance_is_refused_by_its_key_before_the_run():
 
 
 def test_d27_a_grasp_in_millimetres_is_named_as_one():
-    """evaluate_grasp(box_mm, g_mm, units='mm'): "the pad footprint … around [-30, 0, 40] covers no
+    """evaluate_grasp(box_mm in metres, g_mm): "the pad footprint … around [-30, 0, 40] covers no
     part of the object … check center, approach and units", the point 30 m from an 80 mm box."""
-    from workbench.units import far_from_object
+    from workbench.units import far_from_object, mesh_in_metres
 
     box_mm = _box().apply_scale(1000.0)
     g_mm = {"p1": [-30.0, 0.0, 10.0], "p2": [30.0, 0.0, 10.0], "axis": AXIS}
@@ -216,7 +216,7 @@ def test_d27_a_grasp_in_millimetres_is_named_as_one():
         r"object's own size \(0\.08 m\): it is probably in millimetres — pass metres "
         r"\(× 0\.001: \[-0\.03, 0\.0, 0\.01\]",
     ):
-        _evaluate(box_mm, g_mm, units="mm", com=[0.0, 0.0, 0.01])
+        _evaluate(mesh_in_metres(box_mm, "object", units="mm"), g_mm, com=[0.0, 0.0, 0.01])
     bounds = _box().bounds
     assert far_from_object([-0.03, 0.0, 0.01], bounds) is None  # on the face
     # the object's own size (its 80 mm side) outside its box is the limit: 70 mm off passes, 90 mm not

@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from workbench import ContactProfile
-from workbench.grasp.models import contact_sets
+from workbench.grasp.models import ModelParameters, contact_sets
 from workbench.plausible import check
 
 
@@ -28,13 +28,13 @@ def test_c13_n_wrenches_zero_is_refused_and_an_unused_one_is_said_to_be_unused(c
     the 6DFW samples of '6dfw' / '3dls_nonplanar')."""
     prof = _disc()
     with pytest.raises(ValueError, match=r"n_wrenches must be an even integer >= 2"):
-        contact_sets(prof, "6dls", n_wrenches=0)
+        contact_sets(prof, "6dls", ModelParameters(n_wrenches=0))
     # a valid count on a model that does not use it (one kwargs dict for every model of a loop)
     # is logged, not warned
     with caplog.at_level(logging.INFO, logger="workbench.grasp.models"):
-        contact_sets(prof, "6dls", n_wrenches=100)
+        contact_sets(prof, "6dls", ModelParameters(n_wrenches=100))
     assert "n_wrenches=100 has no effect on '6dls'" in caplog.text
-    assert len(contact_sets(prof, "6dfw", n_wrenches=100)) == 1
+    assert len(contact_sets(prof, "6dfw", ModelParameters(n_wrenches=100))) == 1
 
 
 def test_c111_a_string_obstacle_is_refused_naming_the_obstacle_types():
@@ -87,9 +87,9 @@ def test_c146_engine_grasp_points_off_the_surface_are_refused_before_simulating(
     """simulate_grasp with p1, p2 10 mm off a capsule's surface ran a full trial and then said
     both jaws touched nothing; evaluate_grasp refuses the same grasp up front."""
     pytest.importorskip("mujoco")
-    from workbench.engine_trials import simulate_grasp
+    from workbench.engine_trials import EngineObject, simulate_grasp
 
     capsule = trimesh.creation.capsule(height=0.04, radius=0.02)
     off = {"p1": [-0.03, 0.0, 0.0], "p2": [0.03, 0.0, 0.0], "axis": [1.0, 0.0, 0.0]}
     with pytest.raises(ValueError, match=r"grasp point p1 is 10 mm from the object's surface"):
-        simulate_grasp(capsule, off, force=5.0, mu=0.5, mass=0.1)
+        simulate_grasp(capsule, off, force=5.0, obj=EngineObject(mass=0.1, mu=0.5))

@@ -28,14 +28,12 @@ def test_82_an_obstacle_the_pad_never_reaches_is_refused_not_pressed_at_zero_new
 
 
 def test_166_conform_must_be_a_bool():
-    """simulate_disturbance(..., conform="no"): the string read as True and moulded the pads."""
-    pytest.importorskip("mujoco")
-    from workbench.engine_trials import simulate_disturbance
+    """simulate_disturbance(..., conform="no"): the string read as True and moulded the pads (the
+    flag is now the pad's, EnginePad.conform)."""
+    from workbench.engine_trials import EnginePad
 
-    box = trimesh.creation.box(extents=(0.05, 0.04, 0.06))
-    g = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
     with pytest.raises(ValueError, match=r"conform must be True or False .*got 'no'"):
-        simulate_disturbance(box, g, [0.0, 0.0, -0.7, 0, 0, 0], force=1.0, mu=0.5, mass=0.06, conform="no")
+        EnginePad(conform="no")
 
 
 def test_16_a_thin_mesh_is_named_as_the_cause_of_an_absurd_density():
@@ -100,9 +98,10 @@ def test_trial10_save_png_seed_and_wrench_name():
         with pytest.raises(ValueError, match=r"seed must be an integer >= 0"):
             contact_sets(prof, model, seed=-3)
     pytest.importorskip("mujoco")
-    from workbench.engine_trials import simulate_disturbance
+    from workbench.engine_trials import EngineObject, simulate_disturbance
 
     box = trimesh.creation.box(extents=(0.05, 0.04, 0.06))
     g = {"p1": [0.0, -0.02, 0.0], "p2": [0.0, 0.02, 0.0], "axis": [0.0, 1.0, 0.0]}
     with pytest.raises(ValueError, match=r"^wrench's "):
-        simulate_disturbance(box, g, [0.0, 0.0, -0.1, 0.0, 0.0, 500.0], force=5.0, mu=0.5, mass=0.1)
+        obj = EngineObject(mass=0.1, mu=0.5)
+        simulate_disturbance(box, g, [0.0, 0.0, -0.1, 0.0, 0.0, 500.0], force=5.0, obj=obj)

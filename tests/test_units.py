@@ -11,8 +11,8 @@ import trimesh
 from workbench import ContactProfile, config
 from workbench.grasp.sampling import antipodal_grasps
 from workbench.plausible import ImplausibleWarning
-from workbench.sources.reach import reach_profile
-from workbench.units import check_extent, length_factor
+from workbench.sources.reach import WinklerPress, reach_profile
+from workbench.units import check_extent, length_factor, mesh_in_metres
 
 R = 0.03  # a thesis-size object: 6 cm across
 
@@ -77,22 +77,24 @@ def test_antipodal_grasps_metre_mesh_passes_mm_mesh_raises(sphere_m, sphere_mm):
 
 def test_antipodal_grasps_units_mm_scales_a_copy(sphere_m, sphere_mm):
     before = sphere_mm.vertices.copy()
-    g_mm = antipodal_grasps(sphere_mm, 8, 0.5, seed=0, units="mm")
+    g_mm = antipodal_grasps(mesh_in_metres(sphere_mm, "object", units="mm"), 8, 0.5, seed=0)
     g_m = antipodal_grasps(sphere_m, 8, 0.5, seed=0)
     assert np.array_equal(sphere_mm.vertices, before)  # the caller's mesh is untouched
     for a, b in zip(g_mm, g_m, strict=True):
         np.testing.assert_allclose(a["p1"], b["p1"], rtol=0, atol=1e-12 * R)
         assert a["width"] == pytest.approx(b["width"], rel=1e-12)
     with pytest.raises(ValueError, match="less than TOL.min_object_extent_m"):
-        antipodal_grasps(sphere_m, 8, 0.5, seed=0, units="mm")  # a metre mesh converted again
+        mesh_in_metres(sphere_m, "object", units="mm")  # a metre mesh converted again
 
 
 def test_reach_profile_units(sphere_m, sphere_mm):
-    kw = {"closing": 1e-4, "max_edge": 0.5e-3}
+    kw = {"press": WinklerPress(closing=1e-4, max_edge=0.5e-3)}
     p = reach_profile(sphere_m, [0, R, 0], [0, -1, 0], [0, 0, 1], **kw)
-    with pytest.raises(ValueError, match="reach_profile spans 60 m .* millimetres: pass units='mm'"):
+    fix = r"mesh_in_metres\(mesh, 'object', units='mm'\)"
+    with pytest.raises(ValueError, match=rf"reach_profile spans 60 m .* millimetres: .*{fix}"):
         reach_profile(sphere_mm, [0, R, 0], [0, -1, 0], [0, 0, 1], **kw)  # was "max_iter exceeded!"
-    q = reach_profile(sphere_mm, [0, R, 0], [0, -1, 0], [0, 0, 1], units="mm", **kw)  # center in metres
+    in_m = mesh_in_metres(sphere_mm, "object", units="mm")
+    q = reach_profile(in_m, [0, R, 0], [0, -1, 0], [0, 0, 1], **kw)  # center in metres
     assert len(q) == len(p)
     assert q.F == pytest.approx(p.F, rel=1e-12)
     np.testing.assert_allclose(q.pressure_center, p.pressure_center, rtol=0, atol=1e-12 * R)

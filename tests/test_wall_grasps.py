@@ -29,7 +29,7 @@ def test_stiffness_is_the_squeeze_at_the_midpoint(tube):
     locs = np.vstack([a[:1], b[:1], a[1:], b[1:]])  # points i and i + n form grasp i
     rows = stiffness_at(wall, surf, locs)
     for row, z in zip(rows, (0.06, 0.04), strict=True):
-        ref = squeeze(wall, np.array([0.0, 0.0, z]), np.array([-1.0, 0.0, 0.0]))["stiffness"]
+        ref = squeeze(wall, np.array([0.0, 0.0, z]), np.array([-1.0, 0.0, 0.0])).stiffness
         assert row["stiffness"] == pytest.approx(ref, rel=1e-9)
         assert not row["rigid"] and not row["failed"] and row["reason"] is None
 

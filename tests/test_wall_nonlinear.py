@@ -16,10 +16,19 @@ def test_small_closing_is_the_linear_squeeze():
     wall = build_wall(circle_surface(0.03), Material(2.5e9, 0.4), n_theta=16, n_z=6, z_range=(0.0, 0.06))
     c = np.array([0.0, 0.0, 0.03])
     lin = squeeze(wall, c, np.array([1.0, 0.0, 0.0]), force=1.0)
-    f_small = 0.02 * lin["stiffness"] * 1e-5  # the force at a closing of 0.01 mm
+    f_small = 0.02 * lin.stiffness * 1e-5  # the force at a closing of 0.01 mm
     nl = squeeze_nonlinear(wall, c, force=f_small, step=0.5e-5, max_closing=1e-4)
-    assert nl["stiffness"] == pytest.approx(lin["stiffness"], rel=0.01)
-    np.testing.assert_allclose(nl["jaw_forces"][-1, 0], nl["jaw_forces"][-1, 1], rtol=1e-3)
+    assert nl.stiffness == pytest.approx(lin.stiffness, rel=0.01)
+    np.testing.assert_allclose(nl.jaw_forces[-1, 0], nl.jaw_forces[-1, 1], rtol=1e-3)
+    # the answer says why the curve stopped; its arrays cannot be written
+    assert nl.status == "reached" and nl.reason is None and not nl.on_clamp
+    assert nl.closing.shape == (nl.jaw_forces.shape[0],) and nl.closing[0] == 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        nl.closing[0] = 1.0
+    # a curve stopped by max_closing below the force (about 1/20 of it there): no stiffness, and
+    # the status says why
+    short = squeeze_nonlinear(wall, c, force=1e3 * f_small, step=0.5e-5, max_closing=1e-5)
+    assert short.status == "max_closing" and "max_closing" in short.reason and np.isnan(short.stiffness)
     with pytest.raises(ValueError, match="positive jaw force"):
         squeeze_nonlinear(wall, c, force=0.0)
     with pytest.raises(ValueError, match="misses the object"):

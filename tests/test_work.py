@@ -18,7 +18,7 @@ from workbench.grasp import (
     q_work,
     work,
 )
-from workbench.grasp.models import contact_sets
+from workbench.grasp.models import ModelParameters, contact_sets
 from workbench.grasp.work import displacements
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
@@ -210,7 +210,7 @@ def test_minimal_force_of_a_curved_jaw_obeys_coulomb_and_outer_is_only_a_lower_b
     mass, mu = 0.3, 0.5
     profiles = elliptic_cylinder_grasp(0.03, 0.02, half_angle, 0.03, 2.4, 10.0, 300)
     assert max(np.abs(p.normals[:, 2]).max() for p in profiles) < 1e-12  # no normal carries weight
-    contacts = [contact_sets(p, "6dls", M=200, seed=0)[0] for p in profiles]
+    contacts = [contact_sets(p, "6dls", ModelParameters(M=200), seed=0)[0] for p in profiles]
     w, s = gravity_wrench(mass, [0.0, 0.0, 0.0]), np.array([1e3, 1e3])
     bound = mass * G / mu
     model = minimal_work(contacts, w, mu, s)

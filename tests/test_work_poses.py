@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from workbench.grasp import contact_sets, gravity_wrench, min_grasp_force, minimal_work, point_contact
+from workbench.grasp.models import ModelParameters
 from workbench.grasp.tasks import TASKS, lever_disturbances, task_wrenches
 from workbench.grasp.work import displacements, minimal_work_poses
 from workbench.sources.scenes import elliptic_cylinder_grasp
@@ -47,7 +48,7 @@ def _same(res, ref, exact: bool = True) -> bool:
 def jaws():
     profiles = elliptic_cylinder_grasp(force=10.0)
     return {
-        "6dls": [contact_sets(p, "6dls", M=60)[0] for p in profiles],
+        "6dls": [contact_sets(p, "6dls", ModelParameters(M=60))[0] for p in profiles],
         "point": [
             point_contact([0.03, 0, 0], [1, 0, 0], 10.0),
             point_contact([-0.03, 0, 0], [-1, 0, 0], 10.0),
@@ -248,7 +249,7 @@ def test_min_lp_meets_the_facets_for_a_light_object():
     lo, hi = mesh.bounds[:, 2]
     g = horizontal_grasps(mesh, np.linspace(lo, hi, 10)[1:-1], 6, 0.5, pad=None)[2]
     profiles = jaw_profiles(mesh, g, 10.0, pad=(0.02, 0.04), closing=1e-3, allow_scale=True)
-    contacts = [contact_sets(p, "6dls", M=200, seed=0)[0] for p in profiles]
+    contacts = [contact_sets(p, "6dls", ModelParameters(M=200), seed=0)[0] for p in profiles]
     for w in task_wrenches("lift_and_rotate", 0.05, [0.002, 0.0, -0.02], g["axis"]):
         prog = assemble(contacts, w, 0.5, "outer", None, minforce="sum")
         cost, tol, ref = _linprog_min_force(prog)

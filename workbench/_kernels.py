@@ -15,7 +15,7 @@ from .config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
 
 
 @njit(inline="always", **NUMBA_FLAGS)
-def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):
+def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):  # noqa: PLR0913 — inlined Numba kernel: flat scalars
     """Tangential velocity ``t`` at one element and ``wgt / |t|`` (Eq. 3.6).
 
     Returns ``(tx, ty, tz, s)`` with ``s = 0`` where the element sticks
@@ -39,7 +39,7 @@ def _slip_scale(vx, vy, vz, wx, wy, wz, rx, ry, rz, nx, ny, nz, wgt, rtol2):
 
 
 @njit(**NUMBA_FLAGS_PARALLEL)
-def _fw_segments(twists, seg_twist, seg_lo, seg_hi, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):
+def _fw_segments(twists, seg_twist, seg_lo, seg_hi, rx, ry, rz, nx, ny, nz, wgt, mu, rtol2, out):  # noqa: PLR0913 — Numba kernel: flat arrays
     """Frictional wrenches of segments, Eqs. 3.6–3.8: segment j sums the
     elements ``seg_lo[j]:seg_hi[j]`` under twist ``twists[seg_twist[j]]``.
 

@@ -306,7 +306,7 @@ class ContactProfile:
     triggers the warning.
     """
 
-    def __init__(
+    def __init__(  # noqa: PLR0913 - the four element arrays, then keyword-only metadata
         self,
         centers: Any,
         normals: Any,

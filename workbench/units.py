@@ -137,6 +137,14 @@ def mesh_in_metres(
     return closed_mesh(mesh, what, units=units, allow_scale=allow_scale, fix=fix, override=override)
 
 
+#: the remedy of a mesh in another unit, for the functions that take a mesh in metres only
+#: (``closed_mesh(..., fix=MESH_UNIT_FIX)``: ``units`` and ``factor`` are filled in)
+MESH_UNIT_FIX = (
+    "convert it first: workbench.units.mesh_in_metres(mesh, 'object', units={units!r}) "
+    "(or scale it by {factor:g}, e.g. mesh.apply_scale({factor:g}))"
+)
+
+
 def closed_mesh(
     mesh: Any,
     what: str,

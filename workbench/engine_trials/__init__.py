@@ -25,6 +25,8 @@ from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
     TASKS,
+    EngineObject,
+    EnginePad,
     EngineWarning,
     TrialOutcome,
     TrialPhases,
@@ -38,6 +40,8 @@ from .trial import (
 __all__ = [
     "TASKS",
     "DisturbancePhases",
+    "EngineObject",
+    "EnginePad",
     "EngineSettings",
     "EngineWarning",
     "TrialOutcome",

@@ -17,15 +17,18 @@ import numpy as np
 from .settings import EngineSettings
 from .trial import (
     _DRIFT_EXAMPLES,
+    EngineObject,
+    EnginePad,
     TrialOutcome,
     TrialPhases,
+    _check_force,
     _check_grasp,
-    _check_pad,
     _check_run,
     _check_trial,
     _miss,
     _starts_inside,
     build_scene,
+    check_record_count,
     check_record_every,
     check_turn_limit,
     step_trial,
@@ -49,10 +52,13 @@ class DisturbancePhases:
     # settling; an unresisted wrench accelerates the free object away, far past both limits
     max_drift: float = 5e-3  # [m]
     max_turn_deg: float = 5.0  # [deg]
+    # engine steps between the recorded poses the verdict reads (:func:`~.trial.check_record_every`)
+    record_every: int = 10
 
     def __post_init__(self) -> None:
         from ..plausible import check
 
+        check_record_count(self.record_every)
         for name in ("close", "settle", "ramp", "hold"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):
@@ -84,27 +90,21 @@ def simulate_disturbance(
     wrench,
     *,
     force: float,
-    mu: float,
-    mass: float,
-    com=None,
-    pad=(0.02, 0.04, 0.005),
-    pad_E: float = 1e6,
-    pad_nu: float = 0.45,
-    up=(0.0, 0.0, 1.0),
-    conform: bool = False,
+    obj: EngineObject,
+    pad: EnginePad | None = None,
     settings: EngineSettings | None = None,
     phases: DisturbancePhases | None = None,
-    record_every: int = 10,
 ) -> TrialOutcome:
     """Does the grasp ``grasp`` (``p1``, ``p2``, ``axis`` in the frame of the watertight
-    ``mesh`` [m]) with jaw force ``force`` [N] and pad–object friction ``mu`` resist
-    ``wrench`` (6,: force [N] and torque [N m] about the mesh frame's origin, in that frame)?
-    The object (``mass`` [kg] at ``com`` (3,) [m]) floats free, without gravity; ``pad`` =
-    (width, length, thickness) [m], ``pad_E`` [Pa], ``pad_nu``, its length along ``up`` (3,);
-    ``conform``: the pads moulded to the object (:func:`~.pad.conform_pad`), else flat.
+    ``mesh`` [m]) with jaw force ``force`` [N] resist ``wrench`` (6,: force [N] and torque [N m]
+    about the mesh frame's origin, in that frame)?  The object ``obj`` (its mass [kg] at its
+    centre of mass (3,) [m], its friction μ with the pads) floats free, without gravity
+    (``obj.down`` only lays its collision slabs); ``pad``: each jaw's silicone
+    (:class:`~.trial.EnginePad`), its length along ``pad.up``; ``pad.conform``: the pads moulded
+    to the object (:func:`~.pad.conform_pad`), else flat.
 
-    ``record_every``: engine steps between the recorded poses the verdict reads; ramp and hold
-    must each span at least ``config.TOL.engine_min_samples_per_phase`` of them
+    ``phases.record_every``: engine steps between the recorded poses the verdict reads; ramp and
+    hold must each span at least ``config.TOL.engine_min_samples_per_phase`` of them
     (:func:`~.trial.check_record_every`): at most 15 at the default phases and 1 ms step, 10 by
     default.
 
@@ -113,23 +113,20 @@ def simulate_disturbance(
     phases = DisturbancePhases() if phases is None else phases
     if not isinstance(phases, DisturbancePhases):
         raise ValueError(f"phases must be a DisturbancePhases; got {type(phases).__name__}")
-    mesh, mu, com, _ = _check_trial(
-        mesh, "simulate_disturbance", "vertical_lifting", mu, mass, com, pad_nu, (0, 0, -1)
-    )
+    mesh, obj = _check_trial(mesh, "simulate_disturbance", "vertical_lifting", obj)
     _, settings = _check_run(None, settings)
     w = _check_wrench(wrench)
     judged = {"DisturbancePhases.ramp": phases.ramp, "DisturbancePhases.hold": phases.hold}
-    check_record_every(record_every, judged, settings.timestep)
-    _check_pad(force, pad, pad_E, up)
+    check_record_every(phases.record_every, judged, settings.timestep)
+    pad = _check_force(force, pad)
     p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)
-    inside = "" if conform else _starts_inside(mesh, faces, axis, up, pad)
+    inside = "" if pad.conform else _starts_inside(mesh, faces, axis, pad.up, pad.size)
     if inside:
         return _miss(inside)
     model, info = build_scene(
-        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
-        up=up, settings=settings, table=False, conform=conform,
-        phases=TrialPhases(gap=phases.gap),
+        mesh, faces, axis, force=force, obj=obj, pad=pad, settings=settings,
+        phases=TrialPhases(gap=phases.gap, table=False),
     )  # fmt: skip
     obj = info["object"]
     t_settle = phases.close + phases.settle
@@ -145,4 +142,6 @@ def simulate_disturbance(
         data.xfrc_applied[obj, :3] = s * w[:3]
         data.xfrc_applied[obj, 3:] = s * (w[3:] + np.cross(lever, w[:3]))
 
-    return step_trial(model, info, control, t_settle, t_load + phases.hold, phases, record_every, judged)
+    return step_trial(
+        model, info, control, t_settle, t_load + phases.hold, phases, phases.record_every, judged
+    )

@@ -369,7 +369,7 @@ def _check_depths(depths) -> np.ndarray:
     return np.sort(d)
 
 
-def indent_pad(
+def indent_pad(  # noqa: PLR0913 - four scalars of the test, then keyword-only objects already grouped
     indenter: str = "flat",
     radius: float | None = None,
     depths=(0.25e-3, 0.5e-3, 1e-3),

@@ -27,7 +27,7 @@ def reach_trial(grasp: int) -> dict:
     its real success rate over the repeats, the engine's verdict, reason, drift [mm], turn
     [deg], wall and simulated seconds, engine warnings."""
     from ..sources.gripper import yumi
-    from .trial import simulate_gripper
+    from .trial import EngineObject, simulate_gripper
 
     trials, mesh = reach_cube_inputs()
     known = sorted(set(trials.grasp_index.tolist()))
@@ -37,7 +37,8 @@ def reach_trial(grasp: int) -> dict:
         )
     i = int(np.flatnonzero(trials.grasp_index == grasp)[0])
     t0 = time.perf_counter()
-    r = simulate_gripper(mesh, yumi(), trials.gripper_pose[i], mass=trials.mass, down=trials.down[i])
+    obj = EngineObject(mass=trials.mass, down=trials.down[i])
+    r = simulate_gripper(mesh, yumi(), trials.gripper_pose[i], obj=obj)
     real = trials.success[trials.grasp_index == grasp]
     return {
         "grasp": int(grasp),

@@ -6,7 +6,7 @@ from __future__ import annotations
 import logging
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -32,16 +32,30 @@ class EngineWarning(UserWarning):
     the verdict unreliable."""
 
 
+def check_record_count(record_every) -> int:
+    """``record_every`` if it is an integer >= 1 (engine steps between recorded poses), else a
+    ValueError; :func:`check_record_every` adds the bound the judged phases set."""
+    if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
+        raise ValueError(
+            f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
+        )
+    return int(record_every)
+
+
+def check_flag(name: str, flag, meaning: str) -> bool:
+    """``flag`` if it is a bool (a string such as "no" would read as True), else a ValueError."""
+    if not isinstance(flag, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False ({meaning}); got {flag!r}")
+    return bool(flag)
+
+
 def check_record_every(record_every, judged: dict, timestep: float) -> int:
     """``record_every`` (engine steps between the poses a trial records and its verdict reads) if
     it is an integer >= 1 that leaves every judged phase (``judged``: {name: duration [s]}) at
     least ``config.TOL.engine_min_samples_per_phase`` recorded poses at ``timestep`` [s] — at most
     ``max(1, round(shortest / timestep) // 20)``, 25 for the default phases (hold 0.5 s) and 15 for
     a disturbance's (hold 0.3 s) at 1 ms — else a ValueError saying the bound."""
-    if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
-        raise ValueError(
-            f"record_every must be an integer >= 1 (steps between records); got {record_every!r}"
-        )
+    check_record_count(record_every)
     fewest = config.TOL.engine_min_samples_per_phase
     name, shortest = min(judged.items(), key=lambda kv: kv[1])
     steps = int(round(shortest / timestep))
@@ -80,10 +94,16 @@ class TrialPhases:
     # held: the object moved less than this relative to the gripper from the end of settling
     max_drift: float = 5e-3  # [m]
     max_turn_deg: float = 5.0  # [deg]
+    # engine steps between the recorded poses the verdict reads (:func:`check_record_every`)
+    record_every: int = 10
+    # a plane under the object, touching it only (False: the object floats free)
+    table: bool = True
 
     def __post_init__(self) -> None:
         from ..plausible import check
 
+        check_record_count(self.record_every)
+        check_flag("table", self.table, "a table under the object, or none")
         for name in ("close", "settle", "gravity_ramp", "lift", "rotate", "hold"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):
@@ -109,6 +129,71 @@ class TrialPhases:
         if not self.max_drift > 0:
             raise ValueError(f"TrialPhases.max_drift must be > 0 [m]; got {self.max_drift!r}")
         check_turn_limit(self.max_turn_deg, "TrialPhases.max_turn_deg")
+
+
+def _vector(v) -> tuple[float, ...]:
+    """``v`` (3,) as a tuple of floats (a value: no array shared with the caller)."""
+    return tuple(float(x) for x in np.asarray(v, float).ravel())
+
+
+@dataclass(frozen=True)
+class EnginePad:
+    """Each jaw's silicone pad in a trial: ``size`` = (width, length, thickness) [m], Young's
+    modulus ``E`` [Pa] and Poisson's ratio ``nu``, its length along ``up`` (3,) [the object
+    frame's]; ``conform``: moulded to the object at the phases' gap (:func:`~.pad.conform_pad`),
+    else flat.  The grid the engine meshes it with is ``EngineSettings.pad_grid``.  Each value is
+    checked by its plausible range (a size in mm, a modulus in MPa, ν in per cent are refused)."""
+
+    size: tuple[float, float, float] = (0.02, 0.04, 0.005)
+    E: float = 1e6
+    nu: float = 0.45
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    conform: bool = False
+
+    def __post_init__(self) -> None:
+        from ..plausible import check
+        from ..sources.jaws import check_direction
+
+        size = self.size
+        if not (isinstance(size, (tuple, list, np.ndarray)) and len(size) == 3):
+            raise ValueError(f"pad must be (width, length, thickness) [m]; got {size!r}")
+        check("pad_size", size[0], "pad width [m]")
+        check("pad_size", size[1], "pad length [m]")
+        check("pad_thickness", size[2], "pad thickness [m]")
+        check("pad_modulus", self.E, "pad_E")
+        check("poisson", self.nu, "pad_nu")
+        check_direction(self.up, "up", "the pads' length direction, across the grasp axis")
+        check_flag("conform", self.conform, "the pads moulded to the object, or flat")
+        object.__setattr__(self, "size", tuple(float(x) for x in size))
+        object.__setattr__(self, "up", _vector(self.up))
+
+
+@dataclass(frozen=True)
+class EngineObject:
+    """The gripped object's physics in a trial (its shape is the mesh): ``mass`` [kg] at ``com``
+    (3,) [m; None: the mesh's centroid], friction ``mu`` with the pads (None: the gripper's, in
+    :func:`simulate_gripper` only), gravity along ``down`` (3,, the object frame's; a
+    disturbance trial has no gravity and only lays the object's collision slabs across it).
+    The rules that need the mesh (density, a centre of mass inside the hull) are applied by the
+    simulators."""
+
+    mass: float
+    mu: float | None = None
+    com: tuple[float, float, float] | None = None
+    down: tuple[float, float, float] = (0.0, 0.0, -1.0)
+
+    def __post_init__(self) -> None:
+        from ..grasp.robust import check_com, check_object_mass
+        from ..sources.jaws import check_direction
+        from ..wrench import check_mu
+
+        if self.mu is not None:
+            check_mu(self.mu)
+        check_object_mass(self.mass)
+        if self.com is not None:
+            object.__setattr__(self, "com", _vector(check_com(self.com)))
+        check_direction(self.down, "down", "gravity's direction in the object frame")
+        object.__setattr__(self, "down", _vector(self.down))
 
 
 #: other verdict limits an experiment re-reads from its recorded trials (largest drift [mm],
@@ -259,46 +344,34 @@ def build_scene(
     axis,
     *,
     force: float,
-    mu: float,
-    mass: float,
-    com=None,
-    pad=(0.02, 0.04, 0.005),
-    pad_E: float = 1e6,
-    pad_nu: float = 0.45,
-    up=(0.0, 0.0, 1.0),
-    down=(0.0, 0.0, -1.0),
+    obj: EngineObject,
+    pad: EnginePad | None = None,
     settings: EngineSettings | None = None,
     phases: TrialPhases | None = None,
-    table: bool = True,
-    conform: bool = False,
 ):
-    """(MjModel, info) of a trial scene: the object (frame = world at the start), a gripper
-    (a lifting carriage and a turning wrist) with two jaws on slide joints along ``axis`` (3,;
-    jaw 1 closes along it, jaw 2 against it), each with a flex pad whose face centre starts at
-    ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip counts.  ``table``: a plane
-    under the object (False: the object floats free); ``conform``: each pad moulded to the
-    object at ``phases.gap`` (:func:`~.pad.conform_pad`), not flat."""
+    """(MjModel, info) of a trial scene: the object ``obj`` (its frame = world at the start;
+    ``obj.mu`` given), a gripper (a lifting carriage and a turning wrist) with two jaws on slide
+    joints along ``axis`` (3,; jaw 1 closes along it, jaw 2 against it), each with a flex ``pad``
+    whose face centre starts at ``faces[k]`` (3,) [m]; ``info`` holds ids and the pads' tip
+    counts.  ``phases.table``: a plane under the object (False: the object floats free);
+    ``pad.conform``: each pad moulded to the object at ``phases.gap`` (:func:`~.pad.conform_pad`),
+    not flat."""
     import_mujoco()  # the extra's ImportError before any work
     settings = EngineSettings() if settings is None else settings
     phases = TrialPhases() if phases is None else phases
-    # a string ("no") would read as True
-    for name, flag, meaning in (
-        ("table", table, "a table under the object, or none"),
-        ("conform", conform, "the pads moulded to the object, or flat"),
-    ):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise ValueError(f"{name} must be True or False ({meaning}); got {flag!r}")
+    pad = EnginePad() if pad is None else pad
     from ..sources.jaws import check_direction
 
     axis = check_direction(axis, "axis", "the grasp axis, jaw 1's closing direction")
     f1, f2 = (np.asarray(f, float) for f in faces)
-    com = np.asarray(mesh.center_mass if com is None else com, float)
-    asset, body = _object_xml(mesh, mass, com, mu, settings, down)
+    mu, down, size = obj.mu, obj.down, pad.size
+    com = np.asarray(mesh.center_mass if obj.com is None else obj.com, float)
+    asset, body = _object_xml(mesh, obj.mass, com, mu, settings, down)
     jaws = []
     for k, (face, a) in enumerate(((f1, axis), (f2, -axis)), start=1):
-        pad_xml = flexcomp_xml(f"pad{k}", tuple(pad), pad_E, pad_nu, face, a, np.asarray(up, float), settings)
+        pad_xml = flexcomp_xml(f"pad{k}", size, pad.E, pad.nu, face, a, np.asarray(pad.up, float), settings)
         ax = " ".join(f"{x:.12g}" for x in a)
-        back = face - (pad[2] + 1e-3) * a
+        back = face - (size[2] + 1e-3) * a
         bp = " ".join(f"{x:.9g}" for x in back)
         jaws.append(
             f'<body name="jaw{k}" gravcomp="1"><joint name="jaw{k}" type="slide" axis="{ax}" damping="200" '
@@ -316,7 +389,7 @@ def build_scene(
     table = (
         f'<geom name="table" type="plane" size="0 0 1" pos="{tp}" zaxis="{ld}" contype="1" '
         f'conaffinity="1" {settings.contact_attrs(phases.table_mu)}/>'
-        if table
+        if phases.table
         else ""
     )
     ax = " ".join(f"{x:.12g}" for x in axis)
@@ -339,8 +412,8 @@ def build_scene(
     tips = []
     for k, a in ((1, axis), (2, -axis)):
         _, _, face = pad_bodies(spec, f"pad{k}", a)
-        if conform:
-            conform_pad(spec, f"pad{k}", a, float(pad[2]), mesh, phases.gap)
+        if pad.conform:
+            conform_pad(spec, f"pad{k}", a, float(size[2]), mesh, phases.gap)
         tips.append(add_tips(spec, f"pad{k}", a, mu, settings, face=face))
     model = compile_spec(spec)
     info = {
@@ -358,17 +431,19 @@ def _rotvec_deg(R: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
-def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down):
-    """The inputs the simulators share, checked: ``(mesh, mu, com, down)`` (the mesh watertight,
-    outward, in metres; μ; the mass by the density rule; the centre of mass near the object; the
-    pad's ν; gravity a direction); :func:`_check_run` checks the phases and settings next."""
+def _check_trial(mesh, caller: str, task, obj: EngineObject):
+    """The inputs the simulators share, checked: ``(mesh, obj)`` (the mesh watertight, outward,
+    in metres; ``obj`` an :class:`EngineObject` with μ given, its mass by the density rule, its
+    centre of mass near the object — filled in from the mesh when None — and gravity a unit
+    direction); :func:`_check_run` checks the phases and settings next."""
     import_mujoco()  # the extra's ImportError before any other message
     from ..grasp.robust import check_com, check_object_mass
-    from ..plausible import check
     from ..sources.jaws import check_direction
     from ..units import closed_mesh
     from ..wrench import check_mu
 
+    if not isinstance(obj, EngineObject):
+        raise ValueError(f"obj must be an EngineObject (mass, mu, com, down); got {type(obj).__name__}")
     if task not in TASKS:
         raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
     # the trials take metres only (no units= argument): the remedy is to scale the mesh
@@ -378,12 +453,16 @@ def _check_trial(mesh, caller: str, task, mu, mass, com, pad_nu, down):
         fix="scale it by {factor:g} first: mesh.apply_scale({factor:g})",
         override=None,
     )
-    mu = check_mu(mu)
-    check_object_mass(mass, mesh)
-    com = check_com(mesh.center_mass if com is None else com, mesh)
-    check("poisson", pad_nu, "pad_nu")
-    down = check_direction(down, "down", "gravity's direction in the object frame")
-    return mesh, mu, com, down
+    if obj.mu is None:
+        raise ValueError(
+            f"EngineObject.mu (the pad–object friction) must be given to {caller}; None takes the "
+            "gripper's only in simulate_gripper"
+        )
+    mu = check_mu(obj.mu)
+    check_object_mass(obj.mass, mesh)
+    com = check_com(mesh.center_mass if obj.com is None else obj.com, mesh)
+    down = check_direction(obj.down, "down", "gravity's direction in the object frame")
+    return mesh, replace(obj, mu=mu, com=com, down=down)
 
 
 def _check_run(phases, settings) -> tuple[TrialPhases, EngineSettings]:
@@ -398,20 +477,19 @@ def _check_run(phases, settings) -> tuple[TrialPhases, EngineSettings]:
     return phases, settings
 
 
-def _check_pad(force, pad, pad_E, up) -> None:
-    """The jaw force [N] and the pads' size (width, length, thickness) [m], modulus [Pa] and
-    length direction ``up``, checked by their plausible ranges."""
+def _check_force(force, pad) -> EnginePad:
+    """The jaw force [N], checked by its plausible range, and ``pad`` an :class:`EnginePad` (which
+    checks its own values; None: the default pad)."""
     from ..plausible import check
-    from ..sources.jaws import check_direction
 
     check("jaw_force", force, "force")
-    if not (isinstance(pad, (tuple, list, np.ndarray)) and len(pad) == 3):
-        raise ValueError(f"pad must be (width, length, thickness) [m]; got {pad!r}")
-    check("pad_size", pad[0], "pad width [m]")
-    check("pad_size", pad[1], "pad length [m]")
-    check("pad_thickness", pad[2], "pad thickness [m]")
-    check("pad_modulus", pad_E, "pad_E")
-    check_direction(up, "up", "the pads' length direction, across the grasp axis")
+    pad = EnginePad() if pad is None else pad
+    if not isinstance(pad, EnginePad):
+        raise ValueError(
+            f"pad must be an EnginePad (size, E, nu, up, conform); got {type(pad).__name__} — "
+            "EnginePad(size=(width, length, thickness)) for a size [m]"
+        )
+    return pad
 
 
 def _check_up_down(up, down: np.ndarray) -> None:
@@ -437,30 +515,24 @@ def simulate_grasp(
     grasp: dict,
     *,
     force: float,
-    mu: float,
-    mass: float,
-    com=None,
+    obj: EngineObject,
+    pad: EnginePad | None = None,
     task: str = "vertical_lifting",
-    pad=(0.02, 0.04, 0.005),
-    pad_E: float = 1e6,
-    pad_nu: float = 0.45,
-    up=(0.0, 0.0, 1.0),
-    down=(0.0, 0.0, -1.0),
     settings: EngineSettings | None = None,
     phases: TrialPhases | None = None,
-    record_every: int = 10,
 ) -> TrialOutcome:
     """Simulate one trial of the grasp ``grasp`` (``p1``, ``p2``, ``axis`` in the frame of the
-    watertight ``mesh`` [m]) with jaw force ``force`` [N], pad–object friction ``mu``, object
-    ``mass`` [kg] at ``com`` (3,) [m; default the mesh's centroid], gravity along ``down`` (3,,
-    the object frame's) and ``task`` ("vertical_lifting" or "lift_and_rotate": the gripper then
-    turns by 90° about the grasp axis).  ``pad`` = (width, length, thickness) [m], ``pad_E``
-    [Pa], ``pad_nu``: the silicone of each jaw, its length along ``up`` (3,), which must be at
-    least 90 deg from ``down`` (gravity may lie across the pads or along their length against
-    ``up``, never along ``up``: a sign slip).
+    watertight ``mesh`` [m]) with jaw force ``force`` [N] on the object ``obj`` (its mass [kg],
+    pad–object friction μ, centre of mass (3,) [m; default the mesh's centroid] and gravity's
+    direction ``down`` (3,, the object frame's)) and ``task`` ("vertical_lifting" or
+    "lift_and_rotate": the gripper then turns by 90° about the grasp axis).  ``pad``: the silicone
+    of each jaw (:class:`EnginePad`), its length along ``pad.up``, which must be at least 90 deg
+    from ``obj.down`` (gravity may lie across the pads or along their length against ``up``,
+    never along ``up``: a sign slip); a conforming pad is moulded to the object and not judged
+    by where its flat face would start.
 
-    ``record_every``: engine steps between the recorded poses the verdict reads; each judged
-    phase (lift, the turn of lift_and_rotate, hold) must span at least
+    ``phases.record_every``: engine steps between the recorded poses the verdict reads; each
+    judged phase (lift, the turn of lift_and_rotate, hold) must span at least
     ``config.TOL.engine_min_samples_per_phase`` of them (:func:`check_record_every`): at most 25 at
     the default phases and 1 ms step, 10 by default.
 
@@ -469,21 +541,20 @@ def simulate_grasp(
     ``engine_warnings`` and raised as an :class:`EngineWarning`.
     """
 
-    mesh, mu, com, down = _check_trial(mesh, "simulate_grasp", task, mu, mass, com, pad_nu, down)
+    mesh, obj = _check_trial(mesh, "simulate_grasp", task, obj)
     phases, settings = _check_run(phases, settings)
-    _check_pad(force, pad, pad_E, up)
-    _check_up_down(up, down)
-    check_record_every(record_every, _judged(phases, task), settings.timestep)
+    pad = _check_force(force, pad)
+    _check_up_down(pad.up, np.asarray(obj.down))
+    check_record_every(phases.record_every, _judged(phases, task), settings.timestep)
     p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
-    inside = _starts_inside(mesh, faces, axis, up, pad)
+    inside = "" if pad.conform else _starts_inside(mesh, faces, axis, pad.up, pad.size)
     if inside:
         return _miss(inside)
     model, info = build_scene(
-        mesh, faces, axis, force=force, mu=mu, mass=mass, com=com, pad=pad, pad_E=pad_E, pad_nu=pad_nu,
-        up=up, down=down, settings=settings, phases=phases,
-    )  # fmt: skip
-    return _run(model, info, force, down, task, phases, record_every)
+        mesh, faces, axis, force=force, obj=obj, pad=pad, settings=settings, phases=phases
+    )
+    return _run(model, info, force, obj.down, task, phases)
 
 
 def _judged(phases: TrialPhases, task: str) -> dict:
@@ -494,10 +565,9 @@ def _judged(phases: TrialPhases, task: str) -> dict:
     return judged
 
 
-def _run(
-    model, info: dict, force: float, down, task: str, phases: TrialPhases, record_every: int = 10
-) -> TrialOutcome:
-    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold)."""
+def _run(model, info: dict, force: float, down, task: str, phases: TrialPhases) -> TrialOutcome:
+    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold), recording
+    every ``phases.record_every`` steps."""
     g_dir = np.asarray(down, float) / np.linalg.norm(down)
     t_grav = phases.gravity_ramp
     t_close = t_grav + phases.close
@@ -516,9 +586,8 @@ def _run(
             v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
             data.ctrl[3] = turn * (3 * v**2 - 2 * v**3)
 
-    return step_trial(
-        model, info, control, t_settle, t_turn + phases.hold, phases, record_every, _judged(phases, task)
-    )
+    t_end, judged = t_turn + phases.hold, _judged(phases, task)
+    return step_trial(model, info, control, t_settle, t_end, phases, phases.record_every, judged)
 
 
 def step_trial(
@@ -673,15 +742,11 @@ def simulate_gripper(
     gripper,
     pose,
     *,
-    mass: float,
-    down=(0.0, 0.0, -1.0),
-    com=None,
-    mu: float | None = None,
+    obj: EngineObject,
     task: str = "vertical_lifting",
     pad_nu: float = 0.45,
     settings: EngineSettings | None = None,
     phases: TrialPhases | None = None,
-    record_every: int = 10,
 ) -> TrialOutcome:
     """Simulate one trial of ``gripper`` (a :class:`~workbench.sources.gripper.Gripper`, e.g.
     ``yumi()``) at ``pose`` (4, 4: the gripper frame in the object frame [m], e.g. a physical
@@ -690,27 +755,32 @@ def simulate_gripper(
 
     Each pad is the rectangle that bounds the gripper's pad outline (in its tooltip frame, the
     outline's centre offset kept), ``gripper.pad.thickness`` thick, of ``gripper.pad.modulus``
-    and ``pad_nu``.  ``mu`` defaults to ``gripper.mu``; ``mass`` [kg] at ``com`` (3,) [m], gravity
-    along ``down`` (3,; the object frame's, e.g. the trial's); ``task`` as :func:`simulate_grasp`.
+    and ``pad_nu``.  The object ``obj``: its μ defaults (None) to ``gripper.mu``; its mass [kg]
+    at its centre of mass (3,) [m], gravity along its ``down`` (3,; the object frame's, e.g. the
+    trial's); ``task`` and ``phases`` (its ``record_every``) as :func:`simulate_grasp`.
     """
     from ..sources.gripper import check_gripper
 
     gripper = check_gripper(gripper)
-    mu = gripper.mu if mu is None else mu
-    mesh, mu, com, down = _check_trial(mesh, "simulate_gripper", task, mu, mass, com, pad_nu, down)
+    if isinstance(obj, EngineObject) and obj.mu is None:
+        obj = replace(obj, mu=gripper.mu)
+    mesh, obj = _check_trial(mesh, "simulate_gripper", task, obj)
     phases, settings = _check_run(phases, settings)
-    check_record_every(record_every, _judged(phases, task), settings.timestep)
+    check_record_every(phases.record_every, _judged(phases, task), settings.timestep)
     jaws = gripper.jaws(pose)  # checks the pose
     lo, hi = jaws[0].outline.min(axis=0), jaws[0].outline.max(axis=0)
     c, size = (lo + hi) / 2, hi - lo
     faces = [j.origin + c[0] * j.e1 + c[1] * j.e2 for j in jaws]
-    pad = (float(size[0]), float(size[1]), gripper.pad.thickness)
-    inside = _starts_inside(mesh, faces, jaws[0].closing, jaws[0].e2, pad)
+    pad = EnginePad(
+        size=(float(size[0]), float(size[1]), gripper.pad.thickness),
+        E=gripper.pad.modulus,
+        nu=pad_nu,
+        up=jaws[0].e2,
+    )
+    inside = _starts_inside(mesh, faces, jaws[0].closing, pad.up, pad.size)
     if inside:
         return _miss(inside)
     model, info = build_scene(
-        mesh, faces, jaws[0].closing, force=gripper.force, mu=mu, mass=mass, com=com,
-        pad=(float(size[0]), float(size[1]), gripper.pad.thickness), pad_E=gripper.pad.modulus,
-        pad_nu=pad_nu, up=jaws[0].e2, down=down, settings=settings, phases=phases,
-    )  # fmt: skip
-    return _run(model, info, gripper.force, down, task, phases, record_every)
+        mesh, faces, jaws[0].closing, force=gripper.force, obj=obj, pad=pad, settings=settings, phases=phases
+    )
+    return _run(model, info, gripper.force, obj.down, task, phases)

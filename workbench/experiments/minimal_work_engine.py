@@ -190,7 +190,7 @@ def _sample(grasps: list[dict], config: dict) -> list[dict]:
 
 def _trial(job: tuple, config: dict) -> dict:
     """One engine trial (driver or Dask worker): ``(object, grasp, task, p1, p2, axis)``."""
-    from workbench.engine_trials import TrialPhases, simulate_grasp
+    from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, simulate_grasp
 
     name, _, task, p1, p2, axis = job
     mesh = load_mesh(str(object_files(config["data_dir"], name)[0]))
@@ -198,13 +198,17 @@ def _trial(job: tuple, config: dict) -> dict:
         mesh,
         {"p1": p1, "p2": p2, "axis": axis},
         force=config["engine_force"],
-        mu=config["mu"],
-        mass=config["mass_kg"][name],
-        com=mesh.convex_hull.center_mass,  # the filled object's centre, as minimal-work's
+        obj=EngineObject(
+            mass=config["mass_kg"][name],
+            mu=config["mu"],
+            com=mesh.convex_hull.center_mass,  # the filled object's centre, as minimal-work's
+        ),
         task=task,
-        pad=(config["jaw"][0], config["jaw"][1], config["pad_thickness"]),
-        pad_E=config["pad_E"],
-        pad_nu=config["pad_nu"],
+        pad=EnginePad(
+            size=(config["jaw"][0], config["jaw"][1], config["pad_thickness"]),
+            E=config["pad_E"],
+            nu=config["pad_nu"],
+        ),
         phases=TrialPhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
     )
     return outcome.row()

@@ -389,21 +389,11 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
             "field": ("elements",),
             "seconds": t,
         }
-    from workbench.peers.elastic_foundation import foundation_profile
+    from workbench.peers.elastic_foundation import PadGrid, foundation_profile
 
     n = config["foundation_cells"][-1]
-    fp = partial(
-        foundation_profile,
-        obs,
-        delta,
-        E,
-        h,
-        width=w,
-        length=ln,
-        nx=n,
-        ny=n,
-        edge="warn" if case == "sphere" else "cut",
-    )
+    winkler = PadGrid(w, ln, n, n, edge="warn" if case == "sphere" else "cut")
+    fp = partial(foundation_profile, obs, delta, E, h, grid=winkler)
     t, prof = median_runtime(fp, rep)
     rows["foundation"] = {
         "profile": prof,
@@ -662,21 +652,11 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
 
         t, (s, prof) = median_runtime(q, rep)
         add("condensed", "x".join(map(str, cells)), t, prof, {**fem_row(pad, a0, s, prof)})
-    from workbench.peers.elastic_foundation import foundation_profile
+    from workbench.peers.elastic_foundation import PadGrid, foundation_profile
 
     for n in config["foundation_cells"]:
-        fp = partial(
-            foundation_profile,
-            obs,
-            d,
-            config["E"],
-            geom.thickness,
-            width=geom.width,
-            length=geom.length,
-            nx=n,
-            ny=n,
-            edge="warn" if case == "sphere" else "cut",
-        )
+        winkler = PadGrid(geom.width, geom.length, n, n, edge="warn" if case == "sphere" else "cut")
+        fp = partial(foundation_profile, obs, d, config["E"], geom.thickness, grid=winkler)
         t, prof = median_runtime(fp, rep)
         add(
             "foundation",

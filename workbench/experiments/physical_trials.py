@@ -36,6 +36,7 @@ from workbench.grasp.gripper_trials import (
     robust_fields,
     verdict_scores,
 )
+from workbench.grasp.inputs import Task
 from workbench.grasp.models import MODELS
 from workbench.grasp.pose_robust import PoseNoise
 from workbench.limit_surface import LimitSurfaceCache
@@ -146,15 +147,16 @@ def _grasp_row(job, config: dict) -> list:
     trials, mesh, gripper = _inputs(config)
     grasp = trials.grasps()[g]
     mu = config["mu"] or gripper.mu
-    task = {"mu": mu, "mass": _mass(config, trials), "com": np.asarray(mesh.center_mass), "down": grasp.down}
+    task = Task(mass=_mass(config, trials), com=mesh.center_mass, down=grasp.down)
+    judge = {"task": task, "mu": mu}
     cache = LimitSurfaceCache()
     models = config["models"]
     row = {"grasp": g, "seed": s}
     if s == 0:
-        row.update(nominal_fields(mesh, gripper, grasp.pose, models, task, cache))
+        row.update(nominal_fields(mesh, gripper, grasp.pose, models, judge, cache))
     noise = PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"])
     rng = pose_seed(config["seed"], g, s)
-    row.update(robust_fields(mesh, gripper, grasp.pose, noise, rng, models, task, cache))
+    row.update(robust_fields(mesh, gripper, grasp.pose, noise, rng, models, judge, cache))
     return [(f"{g}/{s}", row)]
 
 

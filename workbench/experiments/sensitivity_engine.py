@@ -142,6 +142,7 @@ def _row(task: tuple, config: dict) -> dict:
     kind, seed = task[0], task[1]
     W, forces, mu_true, f_true = _inputs(config, seed)
     if kind == "engine":
+        from workbench.engine_trials import EngineObject, EnginePad
         from workbench.engine_trials.disturbance import DisturbancePhases, simulate_disturbance
 
         i = task[2]
@@ -151,15 +152,15 @@ def _row(task: tuple, config: dict) -> dict:
             {"p1": [-a, 0.0, 0.0], "p2": [a, 0.0, 0.0], "axis": [1.0, 0.0, 0.0]},
             W[i],
             force=float(f_true[i]),
-            mu=float(mu_true[i]),
-            mass=config["object_mass"],
-            com=[0.0, 0.0, 0.0],
+            obj=EngineObject(mass=config["object_mass"], mu=float(mu_true[i]), com=[0.0, 0.0, 0.0]),
             # each pad exactly the patch: 2 b sin(half_angle) across, the contact length along z
-            pad=(2 * b * np.sin(h), length, config["pad_thickness"]),
-            pad_E=config["pad_E"],
-            pad_nu=config["pad_nu"],
-            up=(0.0, 0.0, 1.0),
-            conform=True,
+            pad=EnginePad(
+                size=(2 * b * np.sin(h), length, config["pad_thickness"]),
+                E=config["pad_E"],
+                nu=config["pad_nu"],
+                up=(0.0, 0.0, 1.0),
+                conform=True,
+            ),
             phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
         )
         return outcome.row()

@@ -39,7 +39,7 @@ from workbench.grasp.crossval import seed_summary
 from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
 from workbench.grasp.lever_scene import scene_inputs
-from workbench.grasp.models import MODELS, contact_sets
+from workbench.grasp.models import MODELS, ModelParameters, contact_sets
 from workbench.grasp.precision import scores
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.runner.experiment_keys import Key, check_key
@@ -209,6 +209,7 @@ def _row(task: tuple, config: dict) -> dict:
     grasp = {key: g[key] for key in ("p1", "p2", "axis")}
     mesh = _mesh(config, k)
     if kind == "engine":
+        from workbench.engine_trials import EngineObject, EnginePad
         from workbench.engine_trials.disturbance import DisturbancePhases, simulate_disturbance
 
         outcome = simulate_disturbance(
@@ -216,13 +217,8 @@ def _row(task: tuple, config: dict) -> dict:
             grasp,
             W[i],
             force=float(f_true[i]),
-            mu=float(mu_true[i]),
-            mass=config["object_mass"],
-            com=mesh.center_mass,
-            pad=PAD,
-            pad_E=config["pad_E"],
-            pad_nu=config["pad_nu"],
-            up=(0.0, 0.0, 1.0),
+            obj=EngineObject(mass=config["object_mass"], mu=float(mu_true[i]), com=mesh.center_mass),
+            pad=EnginePad(size=PAD, E=config["pad_E"], nu=config["pad_nu"], up=(0.0, 0.0, 1.0)),
             phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
         )
         return {**outcome.row(), "pool_index": k}
@@ -237,9 +233,10 @@ def _row(task: tuple, config: dict) -> dict:
     # the truth at the true force: the sensor's profiles scaled by the true / read force
     held = bool(resists_exact(exact, W[i], float(mu_true[i]), forces=exact.F * (f_true[i] / forces[i]))[0])
     pred, ms = {}, {}
+    params = ModelParameters(M=config["M"])
     for m in config["models"]:
         t0 = time.perf_counter()
-        sets = [c for p in profiles for c in contact_sets(p, m, cache=_process_cache(), M=config["M"])]
+        sets = [c for p in profiles for c in contact_sets(p, m, params, cache=_process_cache())]
         pred[m] = bool(resists(sets, W[i], config["mu"], cuts=CutStore()))
         ms[m] = (time.perf_counter() - t0) * 1e3
     return {

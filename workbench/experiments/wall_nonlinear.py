@@ -184,7 +184,7 @@ def _linear_all(wall, geo, L: np.ndarray, measured: np.ndarray) -> dict:
     on E that matches the measured stiffness in the median of log ratios (``s ∝ E``)."""
     from workbench.fem.wall_grasps import stiffness_at
 
-    lin = stiffness_at(wall, geo.surface, L, z_range=geo.z_range)
+    lin = stiffness_at(wall, geo, L)
     s = np.array([r["stiffness"] for r in lin])
     ok = np.isfinite(s) & (s < 1e9) & (measured < 1e9)  # 1e9 N/m: the map's and ours' "rigid"
     return {"s_pet": s, "ok": ok, "scale": float(np.exp(np.median(np.log(measured[ok] / s[ok]))))}
@@ -227,13 +227,13 @@ def _grasp_curves(k: int, geo, E: float, L: np.ndarray, config: dict) -> dict:
     )
     lin = squeeze(w, centre, np.array([1.0, 0.0, 0.0]), force=config["force"])
     return {
-        "closing": res["closing"].tolist(),
-        "jaw_forces": res["jaw_forces"].tolist(),
-        "newton_iterations": res["newton_iterations"],
-        "on_clamp": res["on_clamp"],
-        "seconds": res["seconds"],
-        "s_linear": float(lin["stiffness"]),
-        "on_clamp_linear": bool(lin["on_clamp"]),
+        "closing": res.closing.tolist(),
+        "jaw_forces": res.jaw_forces.tolist(),
+        "newton_iterations": res.newton_iterations,
+        "on_clamp": res.on_clamp,
+        "seconds": res.seconds,
+        "s_linear": float(lin.stiffness),
+        "on_clamp_linear": bool(lin.on_clamp),
     }
 
 

@@ -127,7 +127,7 @@ def ring_rows(config: dict) -> list[dict]:
             {
                 "n_theta": n,
                 "perpendicular_rel_err": perp["rel_err"],
-                "load_line_rel_err": sq["delta"] / exact - 1,
+                "load_line_rel_err": sq.delta / exact - 1,
                 "dofs": int(perp["dofs"]),
             }
         )
@@ -152,11 +152,11 @@ def _map_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
             "height_fraction": hf,
             "angle": a,
             # an impossible closing (jaws meeting inside the object) is flagged, not a stiffness
-            "stiffness_N_per_m": None if r["implausible"] else r["stiffness"],
-            "implausible": r["implausible"],
-            "closing_mm": r["delta"] * 1e3,
-            "contact_nodes": r["contact_nodes"],
-            "contact_points": r["contact_points"].tolist(),
+            "stiffness_N_per_m": None if r.implausible else r.stiffness,
+            "implausible": r.implausible,
+            "closing_mm": r.delta * 1e3,
+            "contact_nodes": r.contact_nodes,
+            "contact_points": r.contact_points.tolist(),
             "ms": (time.perf_counter() - t0) * 1e3,
             "build_s": wall.seconds,
         }
@@ -471,9 +471,8 @@ def _squeeze_object(config: dict, geo, L: np.ndarray, ckpt: Checkpoint) -> float
         for i in tqdm(todo, desc=f"wall stiffness {Path(config['object']).stem}", unit="grasp"):
             (row,) = stiffness_at(
                 wall,
-                geo.surface,
+                geo,
                 L[[i, i + n]],
-                z_range=geo.z_range,
                 force=config["force"],
                 jaw=tuple(config["jaw"]),
                 rigid_closing=config["rigid_closing_mm"] * 1e-3,

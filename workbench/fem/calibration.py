@@ -131,7 +131,7 @@ def split_scores_of(predict, measured: np.ndarray, *, n_splits: int = 200, seed:
     return out
 
 
-def missing_physics(
+def missing_physics(  # noqa: PLR0913 — four (n,) arrays of one grasp list, then independent keyword settings
     model: np.ndarray,
     measured: np.ndarray,
     *,

@@ -166,7 +166,7 @@ def wall_stiffness(path: str, wall: WallSettings, P: np.ndarray, grasp_ids: list
     from .wall_grasps import stiffness_at
 
     geo, w = linear_wall(path, wall)
-    return stiffness_at(w, geo.surface, P, z_range=geo.z_range, jaw=wall.jaw, grasp_ids=list(grasp_ids))
+    return stiffness_at(w, geo, P, jaw=wall.jaw, grasp_ids=list(grasp_ids))
 
 
 def calibrated_stiffness(row: Mapping, scale: float) -> float:
@@ -255,8 +255,8 @@ def load_curve(
         log.warning("nonlinear work %s: %s", label, e)
         return {"curve": None, "error": str(e)}
     return {
-        "curve": {"closing": res["closing"].tolist(), "jaw_forces": res["jaw_forces"].tolist()},
-        "on_clamp": res["on_clamp"],
+        "curve": {"closing": res.closing.tolist(), "jaw_forces": res.jaw_forces.tolist()},
+        "on_clamp": res.on_clamp,
         "seconds": time.perf_counter() - t0,
     }
 

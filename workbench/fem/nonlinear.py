@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -45,6 +46,35 @@ from .pad import PadGeometry, top_face_nodes
 from .sparse_factor import Refactor, csr_slots, nested_dissection
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class NonlinearControls:
+    """How :meth:`NonlinearPad.solve` iterates (its defaults are every experiment's).
+
+    penalty : nodal penalty ``k_i = penalty · E A_i / h_z`` of the augmented Lagrangian;
+    gap_tol : allowed penetration as a fraction of the jaw displacement;
+    newton_rtol : Newton's residual tolerance relative to the internal and contact forces;
+    max_newton : Newton iterations per Uzawa update; max_uzawa : Uzawa updates per load step;
+    max_bisections : halvings of a failed load step before ``RuntimeError``."""
+
+    penalty: float = 10.0
+    gap_tol: float = 1e-3
+    newton_rtol: float = 1e-7
+    max_newton: int = 25
+    max_uzawa: int = 30
+    max_bisections: int = 5
+
+    def __post_init__(self) -> None:
+        for name in ("penalty", "gap_tol", "newton_rtol"):
+            value = getattr(self, name)
+            number = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+            if not (number and np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
+        for name, least in (("max_newton", 1), ("max_uzawa", 1), ("max_bisections", 0)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < least:
+                raise ValueError(f"{name} must be an integer >= {least}; got {value!r}")
 
 
 class _Quadrature:
@@ -209,34 +239,36 @@ class NonlinearPad:
         deltas,
         *,
         step: float | None = None,
-        penalty: float = 10.0,
-        gap_tol: float = 1e-3,
-        newton_rtol: float = 1e-7,
-        max_newton: int = 25,
-        max_uzawa: int = 30,
-        max_bisections: int = 5,
+        controls: NonlinearControls | None = None,
     ) -> dict[float, ContactSolution]:
         """Solutions at each jaw displacement in ``deltas`` [m] (increasing).
 
         Load steps of at most ``step`` (default h/10), each started from a secant
         predictor; a step that fails (Newton, inversion, Uzawa) is retried with half
-        the increment up to ``max_bisections`` times before ``RuntimeError``.
-        penalty : nodal penalty ``k_i = penalty · E A_i / h_z`` of the augmented
-            Lagrangian; gap_tol : allowed penetration as a fraction of the jaw displacement.
+        the increment up to ``controls.max_bisections`` times before ``RuntimeError``.
+        controls : the augmented Lagrangian's and Newton's settings (:class:`NonlinearControls`;
+        default its defaults).
         """
+        c = NonlinearControls() if controls is None else controls
+        if not isinstance(c, NonlinearControls):
+            raise ValueError(
+                f"controls must be a NonlinearControls (workbench.fem.nonlinear); got {type(c).__name__} "
+                "— pass NonlinearControls(penalty=..., gap_tol=...) or leave it out for the defaults"
+            )
         g, h = self.geometry, self.geometry.thickness
         deltas = sorted(float(d) for d in deltas)
         step = h / 10 if step is None else step
+        max_bisections = c.max_bisections
         hz = float(np.diff(np.unique(np.round(self.mesh.p[2], 12))).min())
         opts = {
             "hz": hz,
-            "max_uzawa": max_uzawa,
-            "max_newton": max_newton,
-            "newton_rtol": newton_rtol,
-            "gap_tol": gap_tol,
+            "max_uzawa": c.max_uzawa,
+            "max_newton": c.max_newton,
+            "newton_rtol": c.newton_rtol,
+            "gap_tol": c.gap_tol,
             "chol": None,  # sparse_factor.Refactor of the tangent's free block, built on first use
         }
-        k = penalty * self.material.E * self.area0 / hz  # (n,) nodal penalty stiffness [N/m]
+        k = c.penalty * self.material.E * self.area0 / hz  # (n,) nodal penalty stiffness [N/m]
         X0 = np.column_stack([self.face_xy, np.full(self.face.size, h)])
         for d in deltas:
             face_gaps(g, self.face_xy, obstacle, d)  # deeper-than-layer check up front

@@ -181,33 +181,50 @@ def build_wall(
     n_theta: int = 48,
     n_z: int = 24,
     z_range: tuple[float, float] = (0.0, 0.1),
-    clamp_bottom: bool = True,
     clamp_top: bool = False,
-    plane_strain: bool = False,
 ) -> Wall:
-    """Mesh the wall (see module docstring); its stiffness is assembled and factorised on first
-    use (:attr:`Wall.lu`).
+    """Mesh the wall (see module docstring), clamped at its bottom rim; its stiffness is
+    assembled and factorised on first use (:attr:`Wall.lu`).
 
+    surface, thickness : as :func:`wall_mesh`; ``n_theta × n_z`` hexes around × along the
+    heights ``z_range`` (lo, hi) [m];
     clamp_top : also clamp the top rim (a wall closed by a stiff shoulder, neck or cap);
         default free (an open cup).
-    plane_strain : fix ``u_z`` everywhere (a slab of a long tube, for :func:`ring_pinch`);
-        then the rigid-body modes in the plane are removed by the symmetry
-        conditions ``u_y = 0`` at θ = 0, π and ``u_x = 0`` at θ = ±π/2 (n_theta % 4 == 0).
+    The plane-strain slab of Roark's ring is :func:`ring_wall`.
     """
+    return _build_wall(surface, material, thickness, (n_theta, n_z, z_range), _Supports(top=clamp_top))
+
+
+@dataclass(frozen=True)
+class _Supports:
+    """The fixed dofs of a wall (:func:`_build_wall`): ``bottom`` / ``top`` clamp that rim;
+    ``plane_strain`` fixes ``u_z`` everywhere (a slab of a long tube, for :func:`ring_pinch`),
+    and then the rigid-body modes in the plane are removed by the symmetry conditions
+    ``u_y = 0`` at θ = 0, π and ``u_x = 0`` at θ = ±π/2 (n_theta % 4 == 0)."""
+
+    bottom: bool = True
+    top: bool = False
+    plane_strain: bool = False
+
+
+def _build_wall(
+    surface, material: Material, thickness: float | Callable, grid: tuple, supports: _Supports
+) -> Wall:
+    """:func:`build_wall` with ``grid`` = (n_theta, n_z, z_range) and any ``supports``."""
     from workbench.plausible import check
 
     check("wall_modulus", material.E, "material.E (the wall's Young's modulus [Pa])")
     if not callable(thickness):
         check("wall_thickness", thickness, "thickness")
     t0 = time.perf_counter()
-    mesh, outer, bottom, top = wall_mesh(surface, thickness, n_theta, n_z, z_range)
+    mesh, outer, bottom, top = wall_mesh(surface, thickness, *grid)
     basis = Basis(mesh, ElementVector(ElementHex2()), quadrature=GAUSS_3)
     fixed = np.zeros(basis.N, dtype=bool)
-    if clamp_bottom:
+    if supports.bottom:
         fixed[basis.get_dofs(facets=_facets_within(mesh, bottom)).all()] = True
-    if clamp_top:
+    if supports.top:
         fixed[basis.get_dofs(facets=_facets_within(mesh, top)).all()] = True
-    if plane_strain:
+    if supports.plane_strain:
         comp = components(basis)
         fixed[comp == 2] = True
         ang = np.arctan2(basis.doflocs[1], basis.doflocs[0])
@@ -296,15 +313,12 @@ def ring_wall(radius: float, thickness: float, material: Material = PET, n_theta
     """A plane-strain slab (one element, ``thickness`` long) of a tube with mid-surface
     ``radius`` — the thin ring of Roark's formulas."""
     _check_ring(radius, thickness)
-    return build_wall(
+    return _build_wall(
         circle_surface(radius + thickness / 2),
         material,
-        thickness=thickness,
-        n_theta=n_theta,
-        n_z=1,
-        z_range=(0.0, thickness),
-        clamp_bottom=False,
-        plane_strain=True,
+        thickness,
+        (n_theta, 1, (0.0, thickness)),
+        _Supports(bottom=False, plane_strain=True),
     )
 
 
@@ -366,6 +380,85 @@ def check_wall(wall: Any, usage: str = "squeeze(wall, centre, axis)") -> Wall:
     )
 
 
+@dataclass(frozen=True)
+class SqueezeControls:
+    """How :func:`squeeze` solves the contact (its defaults are every experiment's).
+
+    The contact set is grown from the footprint nodes within ``margin`` [m] of first touch
+    (at most ``max_start`` per jaw, spread over the footprint) by at most ``max_add`` nodes
+    per round that pass through a jaw, for at most ``max_rounds`` rounds; each round closes
+    the jaws by at most ``max_iter`` Newton steps on their travels."""
+
+    margin: float = 0.2e-3
+    max_iter: int = 20
+    max_start: int = 24
+    max_add: int = 48
+    max_rounds: int = 30
+
+    def __post_init__(self) -> None:
+        number = isinstance(self.margin, int | float | np.integer | np.floating)
+        if isinstance(self.margin, bool) or not (number and np.isfinite(self.margin) and self.margin >= 0):
+            raise ValueError(f"margin must be a distance >= 0 [m] from first touch; got {self.margin!r}")
+        for name in ("max_iter", "max_start", "max_add", "max_rounds"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+                raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+
+
+def _read_only(values, dtype=float) -> np.ndarray:
+    """A read-only copy of ``values`` as an array of ``dtype``."""
+    out = np.array(values, dtype=dtype)
+    out.flags.writeable = False
+    return out
+
+
+@dataclass(frozen=True)
+class Squeeze:
+    """The answer of :func:`squeeze`: the same fields on every path, arrays read-only.
+
+    status : ``"solved"`` (the contact was solved; ``converged`` says whether to the target
+        force and with no footprint node through a jaw) or ``"clamped"`` (a jaw first touches
+        a clamped node of its footprint: it cannot close, no contact solve ran);
+    reason : None for a converged solve, else why not (the clamp, or the unmet limit);
+    stiffness : force / delta [N/m] (inf when clamped);
+    delta : the jaw closing [m], sum of both jaws' travel (0 when clamped);
+    width : the object's width [m] between the two jaws' first touches;
+    implausible : ``delta >= width``: the jaws would meet inside the object — an impossible
+        result of the linear model, flagged, not a stiffness (False when clamped);
+    on_clamp : a jaw rests on a clamped node of its footprint (the base): the grasp is as
+        stiff as the clamp, rigid (always when clamped);
+    clamp_gap : [m] that jaw's travel from its first touch to the clamped node (when not
+        on_clamp: the smaller jaw's, inf when no clamped node is under a jaw);
+    jaw_travel : (2,) [m] each jaw's travel from first touch (zeros when clamped);
+    jaw_forces : (2,) [N] both jaws' forces (NaN when clamped);
+    contact_points : (2, 3) [m] the first touches of the grasp axis with the wall;
+    contact_nodes : nodes in contact at the end; lcp_solves, candidate_rounds,
+    compliance_solves : the LCP solves, rounds of the contact set and sparse solves
+    (0 when clamped); converged : bool (True when clamped: nothing to solve).
+    """
+
+    status: str
+    reason: str | None
+    stiffness: float
+    delta: float
+    width: float
+    implausible: bool
+    on_clamp: bool
+    clamp_gap: float
+    jaw_travel: np.ndarray
+    jaw_forces: np.ndarray
+    contact_points: np.ndarray
+    contact_nodes: int
+    lcp_solves: int
+    candidate_rounds: int
+    converged: bool
+    compliance_solves: int
+
+    def __post_init__(self) -> None:
+        for name in ("jaw_travel", "jaw_forces", "contact_points"):
+            object.__setattr__(self, name, _read_only(getattr(self, name)))
+
+
 def squeeze(
     wall: Wall,
     centre: np.ndarray,
@@ -373,35 +466,26 @@ def squeeze(
     *,
     jaw: tuple[float, float] = (0.02, 0.04),
     force: float = 10.0,
-    margin: float = 0.2e-3,
-    max_iter: int = 20,
-    max_start: int = 24,
-    max_add: int = 48,
-    max_rounds: int = 30,
-) -> dict:
+    controls: SqueezeControls | None = None,
+) -> Squeeze:
     """Squeeze the wall between two rigid flat jaws closing along ``axis`` through ``centre``.
 
     centre : (3,) a point on the grasp axis [m]; axis : (3,) horizontal grasp axis;
     jaw : (width, length) [m] of the jaw faces (length vertical);
-    force : target jaw force [N] (thesis: 10 N).
+    force : target jaw force [N] (thesis: 10 N);
+    controls : the contact solve's settings (:class:`SqueezeControls`; default its defaults).
     The jaws press with equal forces (the object is free between them; the wall's
     clamps stand for its stiff base and shoulder, so they carry no net force), each
-    travelling its own distance ``jaw_travel`` (2,) [m] from first touch.
-    Returns ``stiffness`` = force / Δ [N/m], the jaw closing ``delta`` [m] (sum of
-    both jaws' travel), ``width`` [m] the object's width between the first touches and
-    ``implausible`` (``delta >= width``: the jaws would meet inside the object — an
-    impossible result of the linear model, flagged, not a stiffness), the forces of both jaws, the contact
-    points of the grasp axis with the wall, and the number of LCP solves;
-    ``on_clamp`` is True when a jaw would travel past a clamped node of its
-    footprint (``clamp_gap`` [m] from that jaw's first touch): the jaw then rests on the
-    clamped edge (the base) and the grasp is as stiff as the clamp — rigid.
+    travelling its own distance from first touch.  Returns a :class:`Squeeze`: the stiffness
+    ``force / Δ`` [N/m], the closing ``Δ`` [m], the object's width between the first touches,
+    the ``implausible`` flag (``Δ >= width``), ``on_clamp`` when a jaw would travel past a
+    clamped node of its footprint (``clamp_gap`` [m] from that jaw's first touch: the jaw then
+    rests on the clamped edge, the base, and the grasp is as stiff as the clamp — rigid), the
+    forces and travels of both jaws, the contact points and the solver's counts.
 
-    The contact set is grown from the nodes within ``margin`` [m] of first touch (at
-    most ``max_start`` per jaw, spread over the footprint) by at most ``max_add``
-    nodes per round that pass through a jaw, for at most ``max_rounds`` rounds;
+    The contact set grows from a few near-touching nodes (:class:`SqueezeControls`);
     ``converged`` says both jaw forces are the target and no footprint node passes
-    through a jaw at the end (else a warning is logged); ``compliance_solves`` counts
-    the sparse solves.
+    through a jaw at the end (else a warning is logged).
 
     Discretisation: the footprint is the nodes inside the jaw face, so ``stiffness`` steps
     when a jaw edge crosses a row of nodes — an error of the order of the row spacing over the
@@ -416,32 +500,40 @@ def squeeze(
     from workbench.sources.jaws import check_pad
 
     check_pad(jaw)  # (width, length) [m]: (20, 40) for 0.02 m is refused
+    controls = SqueezeControls() if controls is None else controls
+    if not isinstance(controls, SqueezeControls):
+        raise ValueError(
+            f"controls must be a SqueezeControls (workbench.fem.wall); got {type(controls).__name__} — "
+            "pass SqueezeControls(margin=..., max_iter=...) or leave it out for the defaults"
+        )
     axis = _grasp_axis(axis)
     fp = _footprint(wall, centre, axis, jaw)
     if (fp.stop <= 0).any() or not ((fp.owner == 0).any() and (fp.owner == 1).any()):
         # a jaw first touches the clamped edge: it cannot close at all
         return _clamped_result(fp)
-    state = _grow_contact(wall, fp, force, margin, max_iter, _Growth(max_start, max_add, max_rounds))
+    state = _grow_contact(wall, fp, force, controls)
     delta = float(state.travel.sum())
     width = float(np.linalg.norm(fp.touch[0] - fp.touch[1]))
     _warn_closing(delta, force, width)
     travel, stop = state.travel, fp.stop
-    return {
-        "width": width,
-        "implausible": bool(delta >= width),
-        "on_clamp": bool((travel > stop).any()),
-        "clamp_gap": float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
-        "stiffness": force / delta,
-        "delta": delta,
-        "jaw_travel": travel,
-        "jaw_forces": state.f,
-        "contact_points": np.array(fp.touch),
-        "contact_nodes": int((state.lam > 0).sum()),
-        "lcp_solves": state.solves,
-        "candidate_rounds": state.rounds,
-        "converged": state.converged,
-        "compliance_solves": int(state.have.sum()),
-    }
+    return Squeeze(
+        status="solved",
+        reason=state.reason,
+        stiffness=force / delta,
+        delta=delta,
+        width=width,
+        implausible=bool(delta >= width),
+        on_clamp=bool((travel > stop).any()),
+        clamp_gap=float(stop[np.argmax(travel > stop)]) if (travel > stop).any() else float(stop.min()),
+        jaw_travel=travel,
+        jaw_forces=state.f,
+        contact_points=np.array(fp.touch),
+        contact_nodes=int((state.lam > 0).sum()),
+        lcp_solves=state.solves,
+        candidate_rounds=state.rounds,
+        converged=state.converged,
+        compliance_solves=int(state.have.sum()),
+    )
 
 
 def _grasp_axis(axis: np.ndarray) -> np.ndarray:
@@ -503,30 +595,26 @@ def _footprint(wall: Wall, centre: np.ndarray, axis: np.ndarray, jaw: tuple[floa
     return _Footprint(nodes[keep], dirs[keep], gaps[keep], owner[keep], lat[keep], vert[keep], stop, touch)
 
 
-def _clamped_result(fp: _Footprint) -> dict:
+def _clamped_result(fp: _Footprint) -> Squeeze:
     """:func:`squeeze`'s answer when a jaw first touches the clamped edge (it cannot close)."""
-    return {
-        "stiffness": np.inf,
-        "delta": 0.0,
-        "jaw_forces": np.full(2, np.nan),
-        "contact_points": np.array(fp.touch),
-        "contact_nodes": 0,
-        "lcp_solves": 0,
-        "candidate_rounds": 0,
-        "converged": True,
-        "compliance_solves": 0,
-        "on_clamp": True,
-        "clamp_gap": max(float(fp.stop.min()), 0.0),
-    }
-
-
-@dataclass(frozen=True)
-class _Growth:
-    """How :func:`squeeze` grows the contact set (its arguments of the same names)."""
-
-    max_start: int
-    max_add: int
-    max_rounds: int
+    return Squeeze(
+        status="clamped",
+        reason="a jaw first touches a clamped node of its footprint (the clamped edge): it cannot close",
+        stiffness=np.inf,
+        delta=0.0,
+        width=float(np.linalg.norm(fp.touch[0] - fp.touch[1])),
+        implausible=False,
+        on_clamp=True,
+        clamp_gap=max(float(fp.stop.min()), 0.0),
+        jaw_travel=np.zeros(2),
+        jaw_forces=np.full(2, np.nan),
+        contact_points=np.array(fp.touch),
+        contact_nodes=0,
+        lcp_solves=0,
+        candidate_rounds=0,
+        converged=True,
+        compliance_solves=0,
+    )
 
 
 @dataclass
@@ -541,18 +629,19 @@ class _Contact:
     solves: int = 0  # LCP solves
     rounds: int = 0  # candidate rounds
     converged: bool = False
+    reason: str | None = None  # why not converged (None when it did)
 
 
-def _grow_contact(
-    wall: Wall, fp: _Footprint, force: float, margin: float, max_iter: int, growth: _Growth
-) -> _Contact:
+def _grow_contact(wall: Wall, fp: _Footprint, force: float, controls: SqueezeControls) -> _Contact:
     """Condense only a few near-touching nodes and add the footprint nodes the wall pushes
     through a jaw, round by round: a rigid jaw on a convex wall touches a handful of nodes,
     and on a flat face (a box) the contact gathers at the jaw's edges, so the contact set is
-    small even when the whole footprint starts within ``margin``.  Each compliance column (one
-    sparse solve) is read at every footprint node and kept, so a round costs only its new
-    nodes' solves and the check costs none."""
-    active = _spread(np.flatnonzero(fp.gaps < margin), fp.gaps, fp.owner, fp.lat, fp.vert, growth.max_start)
+    small even when the whole footprint starts within ``controls.margin``.  Each compliance
+    column (one sparse solve) is read at every footprint node and kept, so a round costs only
+    its new nodes' solves and the check costs none."""
+    active = _spread(
+        np.flatnonzero(fp.gaps < controls.margin), fp.gaps, fp.owner, fp.lat, fp.vert, controls.max_start
+    )
     k = fp.nodes.size
     st = _Contact(np.zeros((k, k)), np.zeros(k, dtype=bool), np.full(2, 0.5e-3), np.zeros(2))
     while True:
@@ -563,7 +652,7 @@ def _grow_contact(
             st.have[new] = True
         A = st.cols[np.ix_(active, active)]
         A = 0.5 * (A + A.T)
-        force_ok = _close_jaws(st, A, fp.gaps[active], fp.owner[active], force, max_iter)
+        force_ok = _close_jaws(st, A, fp.gaps[active], fp.owner[active], force, controls.max_iter)
         gap_all = fp.gaps - st.travel[fp.owner] + st.cols[:, active] @ st.lam
         # a node penetrating beyond 1e-9 of the jaws' travel joins the contact set (above the solve's
         # round-off)
@@ -572,15 +661,17 @@ def _grow_contact(
             st.converged = force_ok
             if not force_ok:
                 log.warning("squeeze: jaw forces %s N, target %.6g N", st.f, force)
+                st.reason = f"the jaw forces {st.f.tolist()} N missed the target {force:.6g} N"
             return st
-        if st.rounds >= growth.max_rounds:
+        if st.rounds >= controls.max_rounds:
             log.warning(
                 "squeeze: %d footprint nodes still pass through a jaw after %d rounds", viol.size, st.rounds
             )
+            st.reason = f"{viol.size} footprint nodes still pass through a jaw after {st.rounds} rounds"
             return st
         # the deepest violators first, at most max_add per round (a flat face's whole footprint
         # would otherwise come in at once)
-        viol = viol[np.argsort(gap_all[viol])][: growth.max_add]
+        viol = viol[np.argsort(gap_all[viol])][: controls.max_add]
         active = np.union1d(active, viol)
 
 

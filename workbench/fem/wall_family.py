@@ -60,7 +60,7 @@ def mesh_convergence(
                 {
                     "mesh": f"{nt}x{nz}",
                     "angle": ang,
-                    "stiffness_N_per_m": r["stiffness"],
+                    "stiffness_N_per_m": r.stiffness,
                     "build_s": wall.seconds,
                 }
             )

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .mesh_wall import RadialSurface
-from .wall import Wall, check_wall, squeeze
+from .wall import Squeeze, Wall, check_wall, squeeze
 
 log = logging.getLogger(__name__)
 
@@ -79,7 +79,7 @@ def grasp_pairs(
     side wall leaves out) must lie within ``max_offset`` of it too.
     """
     L = _as_locations(locations, "locations")
-    surface = _surface_of(surface, None)[0]  # a WallGeometry's side wall, or a ValueError
+    surface = _surface_of(surface)[0]  # a WallGeometry's side wall, or a ValueError
     fix = "the locations must lie on this mesh, in its frame and in metres"
     beyond = np.maximum(surface.bounds[0] - L, L - surface.bounds[1]).max(axis=1)
     if (beyond > max_offset).any():
@@ -154,34 +154,24 @@ def axis_normal_angles(surface: RadialSurface, a: np.ndarray, b: np.ndarray) -> 
     return np.maximum(*out)
 
 
-def _surface_of(
-    geometry: Any, z_range: tuple[float, float] | None
-) -> tuple[RadialSurface, tuple[float, float]]:
-    """The outer surface and the modelled heights of ``geometry``: a :class:`RadialSurface`
-    (heights ``z_range`` or its own), or a :class:`~workbench.fem.object_wall.WallGeometry`
-    (its ``surface``; heights ``z_range`` or its own, side wall plus lip); ``ValueError`` else."""
+def _surface_of(geometry: Any) -> tuple[RadialSurface, tuple[float, float]]:
+    """The outer surface and the modelled heights (lo, hi) [m] of ``geometry``: a
+    :class:`RadialSurface` (its own heights), or a :class:`~workbench.fem.object_wall.WallGeometry`
+    (its ``surface``; its heights, side wall plus lip); ``ValueError`` else."""
     from .object_wall import WallGeometry
 
     if isinstance(geometry, WallGeometry):
         surface = geometry.surface
-        default = geometry.z_range
+        heights = geometry.z_range
     elif isinstance(geometry, RadialSurface):
-        surface, default = geometry, geometry.z_range
+        surface, heights = geometry, geometry.z_range
     else:
         raise ValueError(
             "surface must be the object's outer surface, a RadialSurface (radial_surface(mesh)) or the "
             f"WallGeometry that object_wall / wall_geometry return; got {type(geometry).__name__} — "
             "pass geo (or geo.surface) from geo, wall = object_wall(mesh)"
         )
-    if z_range is None:
-        return surface, (float(default[0]), float(default[1]))
-    try:
-        lo, hi = (float(z) for z in z_range)
-    except (TypeError, ValueError):
-        raise ValueError(f"z_range must be two heights (lo, hi) [m]; got {z_range!r}") from None
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-        raise ValueError(f"z_range must be two finite heights lo < hi [m]; got {z_range!r}")
-    return surface, (lo, hi)
+    return surface, (float(heights[0]), float(heights[1]))
 
 
 def stiffness_at(
@@ -193,7 +183,6 @@ def stiffness_at(
     jaw: tuple[float, float] = (0.02, 0.04),
     max_offset: float = 1e-3,
     rigid_closing: float = 0.0,
-    z_range: tuple[float, float] | None = None,
     grasp_ids: Any = None,
 ) -> list[dict]:
     """One dict per grasp of ``locations`` (2n, 3): ``stiffness`` [N/m], ``delta`` [m],
@@ -202,14 +191,13 @@ def stiffness_at(
     (the squeeze's value, also for a grasp flagged rigid by its closing), ``seconds``.
 
     wall : the wall built on ``surface`` (:func:`workbench.fem.wall.build_wall`);
-    surface : the object's outer surface, a :class:`RadialSurface`, or the
-    :class:`workbench.fem.object_wall.WallGeometry` that ``object_wall`` returns with the wall
-    (``geo, wall = object_wall(mesh)``: its ``surface`` is used, and its ``z_range`` — side wall
-    plus lip — is the default heights); anything else is a ``ValueError``;
+    surface : the object's outer surface, a :class:`RadialSurface` (the modelled heights are
+    its ``z_range``, the side wall's), or the :class:`workbench.fem.object_wall.WallGeometry`
+    that ``object_wall`` returns with the wall (``geo, wall = object_wall(mesh)``: its
+    ``surface`` is used, and its ``z_range`` — side wall plus lip — is the modelled heights);
+    anything else is a ``ValueError``;
     force : jaw force [N] (thesis: 10 N); jaw : (width, length) of the jaw faces [m];
     rigid_closing : closings [m] below this are reported rigid (0: never);
-    z_range : heights [m] of the modelled wall (default the side wall's,
-    ``surface.z_range``, or the WallGeometry's, which adds the lip);
     grasp_ids : (n,) the grasps' numbers in the caller's list, used in log messages
     (default 0 … n − 1).
     """
@@ -218,7 +206,7 @@ def stiffness_at(
     from workbench.config import TOL
 
     check_wall(wall, "stiffness_at(wall, geo, locations)")
-    surface, (lo, hi) = _surface_of(surface, z_range)
+    surface, (lo, hi) = _surface_of(surface)
     p1, p2 = grasp_pairs(locations, surface, max_offset=max_offset)
     angles = axis_normal_angles(surface, p1, p2)
     limit = TOL.antipodal_max_deg  # read at call time
@@ -237,8 +225,8 @@ def stiffness_at(
         else:
             try:
                 res = squeeze(wall, (a + b) / 2, b - a, jaw=jaw, force=force)
-                s = float(res["stiffness"])
-                row.update(stiffness=s, fem_stiffness=s, delta=float(res["delta"]))
+                s = float(res.stiffness)
+                row.update(stiffness=s, fem_stiffness=s, delta=float(res.delta))
                 row.update(_squeeze_flags(res, rigid_closing))
             except ValueError as exc:
                 row.update(failed=True, reason=str(exc))
@@ -302,34 +290,34 @@ def _not_squeezed(
     return None
 
 
-def _squeeze_flags(res: dict, rigid_closing: float) -> dict:
+def _squeeze_flags(res: Squeeze, rigid_closing: float) -> dict:
     """The flags and reason of a squeezed grasp (:func:`workbench.fem.wall.squeeze`'s ``res``):
     implausible (failed), on the clamped edge or closing below ``rigid_closing`` [m] (rigid),
     or none."""
-    if res.get("implausible", False):
+    if res.implausible:
         return {
             "stiffness": np.nan,
             "failed": True,
             "implausible": True,
-            "reason": f"impossible: the jaws close by {res['delta']:.4g} m at the target force, "
-            f"more than the object's {res['width'] * 1e3:.3g} mm width (the linear wall model "
+            "reason": f"impossible: the jaws close by {res.delta:.4g} m at the target force, "
+            f"more than the object's {res.width * 1e3:.3g} mm width (the linear wall model "
             "does not hold; a modulus or thickness in another unit?)",
         }
-    if res["on_clamp"]:
+    if res.on_clamp:
         return {
             "stiffness": RIGID_STIFFNESS,
             "rigid": True,
             "reason": (
                 "a jaw rests on the clamped edge after "
-                f"{res['clamp_gap'] * 1e3:.3g} mm of its own travel from first touch "
-                f"(closing of both jaws {res['delta'] * 1e3:.3g} mm at the target force)"
+                f"{res.clamp_gap * 1e3:.3g} mm of its own travel from first touch "
+                f"(closing of both jaws {res.delta * 1e3:.3g} mm at the target force)"
             ),
         }
-    if res["delta"] < rigid_closing:
+    if res.delta < rigid_closing:
         return {
             "stiffness": RIGID_STIFFNESS,
             "rigid": True,
-            "reason": f"closing {res['delta'] * 1e3:.3f} mm below {rigid_closing * 1e3:g} mm",
+            "reason": f"closing {res.delta * 1e3:.3f} mm below {rigid_closing * 1e3:g} mm",
         }
     return {}
 

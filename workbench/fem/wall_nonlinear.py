@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -40,6 +41,51 @@ from .svk import svk_tangent
 from .wall import Wall, check_wall, turn_matrix
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class NonlinearSqueeze:
+    """The answer of :func:`squeeze_nonlinear`: one load curve, arrays read-only.
+
+    status : why the curve stops — ``"reached"`` (the mean jaw force reached the target),
+        ``"on_clamp"`` (a jaw would pass a clamped node of its footprint: it rests on the base,
+        the grasp is rigid from there) or ``"max_closing"`` (the closing reached
+        ``max_closing`` below the target force);
+    reason : None when reached, else the same in words;
+    closing : (k,) [m] the load curve's closings (both jaws together), from 0;
+    jaw_forces : (k, 2) [N] both jaws' forces at each closing, from 0;
+    stiffness : force / closing at the target force [N/m] (linear interpolation on the
+        curve; NaN when the curve stops below it);
+    work : ∫ f dΔ up to the target force [J] (NaN likewise);
+    newton_iterations : Newton iterations of all steps; on_clamp : ``status == "on_clamp"``;
+    lu_fallbacks : Newton steps whose tangent was not positive definite (factored by SuperLU
+        instead of Cholesky: :class:`workbench.fem.sparse_factor.Refactor`);
+    seconds : the solve's wall time [s].
+    """
+
+    status: str
+    reason: str | None
+    closing: np.ndarray
+    jaw_forces: np.ndarray
+    stiffness: float
+    work: float
+    newton_iterations: int
+    on_clamp: bool
+    lu_fallbacks: int
+    seconds: float
+
+    def __post_init__(self) -> None:
+        for name in ("closing", "jaw_forces"):
+            arr = np.array(getattr(self, name), dtype=float)
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+
+
+#: the words of each :attr:`NonlinearSqueeze.status` but "reached"
+_STOPPED = {
+    "on_clamp": "a jaw reached a clamped node of its footprint (the base) below the target force",
+    "max_closing": "the closing reached max_closing below the target force",
+}
 
 
 def squeeze_nonlinear(
@@ -52,19 +98,16 @@ def squeeze_nonlinear(
     step: float = 1e-3,
     newton_tol: float = 1e-7,
     max_newton: int = 40,
-) -> dict:
+) -> NonlinearSqueeze:
     """Close two rigid jaws along x through ``centre`` (3,) [m] on a nonlinear wall.
 
     wall : built in the grasp frame (x = grasp axis; :func:`grasp_frame_wall`);
     jaw : (width, length) [m]; the closing grows by ``step`` [m] (both jaws together)
     until the mean jaw force exceeds ``force`` [N] or the closing reaches
-    ``max_closing`` [m].  Returns the load curve ``closing`` (k,) [m] and ``jaw_forces``
-    (k, 2) [N] (from 0), ``stiffness`` = force / closing at ``force`` (linear
-    interpolation on the curve; NaN if not reached), ``work`` = ∫ f dΔ [J] up to it,
-    Newton iterations and seconds; ``on_clamp`` when the curve stopped because a jaw
-    reached a clamped node of its footprint (the base: the grasp is rigid from there);
-    ``lu_fallbacks``: Newton steps whose tangent was not positive definite (factored by
-    SuperLU instead of Cholesky: :class:`workbench.fem.sparse_factor.Refactor`).
+    ``max_closing`` [m]; each step's Newton iterations stop when the largest displacement
+    increment is below ``newton_tol`` × the closing, or after ``max_newton``.  Returns a
+    :class:`NonlinearSqueeze`: the load curve, the stiffness and work at ``force``, why the
+    curve stopped, the Newton counts and seconds.
     """
     check_wall(wall, "squeeze_nonlinear(wall, centre) with wall, centre = grasp_frame_wall(...)")
     if not (np.isfinite(force) and force > 0):
@@ -85,18 +128,22 @@ def squeeze_nonlinear(
         closing.append(d)
         forces.append(f)
         log.info("squeeze_nonlinear: closing %.2f mm, jaw forces %.3f %.3f N", d * 1e3, *f)
+    reached = bool(np.mean(forces[-1]) >= force)
     closing, forces = np.array(closing), np.array(forces)
     stiff, work = curve_stiffness(closing, forces, force)
-    return {
-        "closing": closing,
-        "jaw_forces": forces,
-        "stiffness": stiff,
-        "work": work,
-        "newton_iterations": sv.iters,
-        "on_clamp": on_clamp,
-        "lu_fallbacks": 0 if sv.chol is None else sv.chol.fallbacks,
-        "seconds": time.perf_counter() - t0,
-    }
+    status = "on_clamp" if on_clamp else ("reached" if reached else "max_closing")
+    return NonlinearSqueeze(
+        status=status,
+        reason=_STOPPED.get(status),
+        closing=closing,
+        jaw_forces=forces,
+        stiffness=stiff,
+        work=work,
+        newton_iterations=sv.iters,
+        on_clamp=on_clamp,
+        lu_fallbacks=0 if sv.chol is None else sv.chol.fallbacks,
+        seconds=time.perf_counter() - t0,
+    )
 
 
 class _Solve:
@@ -266,4 +313,11 @@ def grasp_frame_wall(geo: Any, material: Any, a: np.ndarray, b: np.ndarray, n_th
     return wall, turn_matrix(ang) @ ((np.asarray(a, float) + np.asarray(b, float)) / 2)
 
 
-__all__ = ["curve_stiffness", "curve_work", "grasp_frame_wall", "squeeze_nonlinear", "svk_tangent"]
+__all__ = [
+    "NonlinearSqueeze",
+    "curve_stiffness",
+    "curve_work",
+    "grasp_frame_wall",
+    "squeeze_nonlinear",
+    "svk_tangent",
+]

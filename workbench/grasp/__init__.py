@@ -9,7 +9,9 @@ balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py �
 resistance margin by bisection; precision.py — precision, recall, matched precision;
 simulated_truth.py — the minimal-work study's simulated outcome (exact 6DFW sets, noise,
 wall closing); evaluate.py — one call from a grasp and its jaws' profiles (any source,
-workbench.sources) to the verdict.  Profiles are made in workbench.sources, not here.
+workbench.sources) to the verdict; inputs.py — its grouped inputs (Task, Jaws, ModelOptions),
+the Task shared with gripper_eval.py's evaluation of a gripper at a pose (GripperOptions).
+Profiles are made in workbench.sources, not here.
 """
 
 from .contacts import (
@@ -24,8 +26,9 @@ from .contacts import (
 )
 from .evaluate import GraspEvaluation, evaluate_grasp
 from .gws import WrenchHull, build_gws, grasp_map, gws_points
+from .inputs import GripperOptions, Jaws, ModelOptions, Task
 from .margin import margin_vs_truth, resistance_margin
-from .models import MODELS, contact_sets
+from .models import MODELS, ModelParameters, contact_sets
 from .precision import matched_precision, scores
 from .resistance import (
     CutStore,
@@ -37,50 +40,56 @@ from .resistance import (
     wrench_resistance,
 )
 from .robust import Perturbation, gravity_wrench, q_robust
-from .sampling import antipodal_grasps
+from .sampling import GraspSampling, antipodal_grasps
 from .stiffness_map import StiffnessMap, leave_one_out
 from .threshold import balanced_accuracy, fit_normaliser
 from .work import MinimalWork, minimal_work, q_force, q_work, work
 
 __all__ = [
-    "margin_vs_truth",
-    "matched_precision",
-    "resistance_margin",
-    "scores",
-    "MODELS",
     "ContactSet",
-    "GraspEvaluation",
-    "antipodal_grasps",
-    "contact_sets",
-    "evaluate_grasp",
     "CutStore",
+    "GraspEvaluation",
+    "GraspSampling",
+    "GripperOptions",
+    "Jaws",
+    "MODELS",
     "MinimalForce",
-    "Resistance",
+    "MinimalWork",
+    "ModelOptions",
+    "ModelParameters",
     "Perturbation",
+    "Resistance",
+    "StiffnessMap",
+    "Task",
     "WrenchHull",
+    "antipodal_grasps",
+    "balanced_accuracy",
     "build_gws",
     "contact_map",
+    "contact_sets",
+    "evaluate_grasp",
+    "fit_normaliser",
     "grasp_map",
     "gravity_wrench",
     "gws_points",
+    "leave_one_out",
     "limit_surface_contact",
+    "margin_vs_truth",
+    "matched_precision",
     "min_grasp_force",
+    "minimal_work",
     "normal_frame",
     "point_contact",
+    "q_force",
     "q_robust",
+    "q_work",
     "reach_contacts",
+    "resistance_margin",
     "resists",
     "resists_lp",
+    "scores",
     "soft_point_contact",
+    "work",
     "wrench_hull_contact",
     "wrench_resistance",
-    "StiffnessMap",
-    "leave_one_out",
-    "balanced_accuracy",
-    "fit_normaliser",
-    "MinimalWork",
-    "minimal_work",
-    "q_force",
-    "q_work",
-    "work",
 ]

@@ -19,6 +19,9 @@
    not refitted);
 4. :func:`~.resistance.resists`, and on request :func:`~.resistance.min_grasp_force`
    and :func:`~.robust.q_robust`, all with the same meaning of "resisted".
+
+Its inputs come in groups (:mod:`~.inputs`): the :class:`~.inputs.Task` (the load, shared with
+the gripper evaluation), the :class:`~.inputs.Jaws` and the :class:`~.inputs.ModelOptions`.
 """
 
 from __future__ import annotations
@@ -33,13 +36,13 @@ import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
 from ..profile import ContactProfile
-from ..sources.jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile
+from ..sources.jaws import check_grasp, checked_jaw_profile
 from ..sources.reach import jaw_profiles
 from .contacts import ContactSet
-from .gws import check_mu
-from .models import MODELS, contact_sets
+from .inputs import Jaws, ModelOptions, Task, checked_input
+from .models import contact_sets
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
-from .robust import Perturbation, check_com, check_object_mass, check_task_wrench, gravity_wrench, q_robust
+from .robust import check_com, check_object_mass, gravity_wrench, q_robust
 
 log = logging.getLogger(__name__)
 
@@ -75,45 +78,42 @@ class GraspEvaluation:
 def evaluate_grasp(
     mesh,
     grasp: dict,
+    task: Task,
     *,
-    model: str = "6dls",
-    force: float = 10.0,
-    mu: float = 0.5,
-    w_ext=None,
-    mass: float | None = None,
-    com=None,
-    min_force: bool = True,
-    robust: Perturbation | None = None,
-    representation: str = "model",
+    jaws: Jaws | None = None,
+    options: ModelOptions | None = None,
+    profiles: list[ContactProfile] | None = None,
     cache: LimitSurfaceCache | None = None,
     cuts: CutStore | None = None,
-    profiles: list[ContactProfile] | None = None,
-    up=(0.0, 0.0, 1.0),
-    pad: tuple[float, float] = (0.02, 0.04),
-    units: str | None = None,
-    allow_scale: bool = False,
-    seed: int = 0,
-    down=(0.0, 0.0, -1.0),
 ) -> GraspEvaluation:
-    """Evaluate an antipodal grasp of ``mesh`` (metres) under contact model ``model``, with
-    the jaws' REACH profiles made from the mesh or the given ``profiles`` of any source.
+    """Evaluate an antipodal grasp of ``mesh`` (metres) under the contact model ``options.model``,
+    with the jaws' REACH profiles made from the mesh or the given ``profiles`` of any source.
 
-    mesh : the object (a watertight trimesh); may be None when ``profiles`` are given
-        (then a ``com`` is not checked against the object's box).
+    mesh : the object (a watertight trimesh in metres); may be None when ``profiles`` are given
+        (then a ``com`` is not checked against the object's box, nor the mass against its volume).
+        A mesh in another unit is converted first by the one gate of every mesh input,
+        ``workbench.units.mesh_in_metres(mesh, "object", units="mm")``: this call takes no
+        ``units`` / ``allow_scale`` of its own (the unit belongs to the mesh; with the task, the
+        jaws and the model options in three groups and the reuse objects apart, the call keeps
+        to eight arguments).  A mesh of an unusual size on purpose is refused here: make its
+        jaws' profiles with ``workbench.sources.reach.jaw_profiles(..., allow_scale=True)`` and
+        pass them with ``mesh=None``.
     grasp : one dict of :func:`~.sampling.antipodal_grasps` (``p1``, ``p2`` [m], ``axis``).
-    force : force-sensor reading of *each* jaw along the grasp axis [N] (§4.1.3.2); a
-        profile's ``F`` (Σ p a, the sum of element normal forces) exceeds it on curved
-        contacts.  The minimal reading is ``force * result.min_force.scale``.
-    mu : friction coefficient.
-    w_ext : the task wrench (6,) about the object origin; or ``mass`` [kg] and ``com``
-        (3,) [m] (inside the object's bounding box) for holding against gravity along
-        ``down`` (3,; the object frame's −z unless given, e.g. a trial's gravity in the object's
-        frame).  A gripper given as a 4×4 pose: :func:`~.gripper_eval.evaluate_gripper`.
-    min_force : also solve the minimal grasp force (same model, ``objective="scale"``).
-    robust : a :class:`Perturbation` to also compute ``q_robust`` (Eq. 2.101).
-    representation : "model" (default), "outer" or "inner" (see :func:`resists`).
-    cache, cuts : reuse limit surfaces / cutting planes across calls (pass the same
-        objects when evaluating many grasps).
+    task : a :class:`~.inputs.Task`: the task wrench ``w_ext`` (6,) about the object origin, or
+        ``mass`` [kg] and ``com`` (3,) [m] (inside the object's bounding box; required here) for
+        holding against gravity along ``down`` (3,).  A gripper given as a 4×4 pose:
+        :func:`~.gripper_eval.evaluate_gripper`, with the same Task.
+    jaws : a :class:`~.inputs.Jaws` (default ``Jaws()``): ``force``, the force-sensor reading of
+        *each* jaw along the grasp axis [N] (§4.1.3.2) — a profile's ``F`` (Σ p a, the sum of
+        element normal forces) exceeds it on curved contacts; the minimal reading is
+        ``jaws.force * result.min_force.scale`` — and ``pad``, ``up``: the jaws' face size
+        ``(width, length)`` [m] and length axis (REACH's footprint; for given profiles the bound
+        of the check that each lies at its jaw: pass the FEM pad's ``(width, length)``).
+    options : a :class:`~.inputs.ModelOptions` (default ``ModelOptions()``): ``model``, ``mu``,
+        ``representation`` ("model", "outer" or "inner", see :func:`resists`), ``min_force``
+        (also solve the minimal grasp force, same model, ``objective="scale"``), ``robust`` (a
+        :class:`Perturbation` to also compute ``q_robust``, Eq. 2.101) and ``seed`` (the contact
+        models' sampler seed).
     profiles : the two jaws' profiles ``[jaw at p1, jaw at p2]`` from any source in
         :mod:`workbench.sources` (REACH computed before, the FEM pad's
         :func:`~workbench.sources.fem_jaw.fem_jaw_profiles`, a closed-form scene); the mesh
@@ -121,72 +121,59 @@ def evaluate_grasp(
         (:func:`~workbench.sources.jaws.checked_jaw_profile`: a ContactProfile at its jaw —
         pressure centre in the pad's footprint around the jaw point and near it along the
         approach, ``config.TOL.jaw_profile_plane_rtol`` / ``jaw_profile_depth_rtol`` — that
-        pushes the object along its approach) and scaled to ``force``; a ValueError says which
+        pushes the object along its approach) and scaled to ``jaws.force``; a ValueError says which
         check failed.  A profile that records its source (:class:`~workbench.profile.ProfileSource`,
         e.g. the FEM pad's) is not scaled to a reading the source cannot produce (refused) and,
-        if its distribution changes with force, a ``UserWarning`` says when ``force`` is far
+        if its distribution changes with force, a ``UserWarning`` says when ``jaws.force`` is far
         from the reading it was made at (``config.TOL.profile_force_ratio_warn``).
-    up, pad : the jaws' length axis and face size ``(width, length)`` [m] (REACH's
-        footprint; for given profiles the bound of the check that each lies at its jaw:
-        pass the FEM pad's ``(width, length)``).
-    units, allow_scale : the unit of ``mesh.vertices`` ("mm" converts a copy; the grasp
-        stays in metres) and the escape from the size check (:mod:`workbench.units`).
-    seed : sampler seed of the contact models.
+    cache, cuts : reuse limit surfaces / cutting planes across calls (pass the same
+        objects when evaluating many grasps).
     """
-    cache, mesh, units = _checked_setup(model, mu, force, pad, cache, mesh, units, allow_scale)
-    w = _task_wrench(w_ext, mass, com, mesh, down)
+    task = checked_input(task, Task, "task")
+    jaws = checked_input(jaws, Jaws, "jaws")
+    opts = checked_input(options, ModelOptions, "options")
+    cache, mesh = _checked_setup(cache, mesh)
+    w = _task_wrench(task, mesh)
     cuts = CutStore() if cuts is None else cuts
     t: dict = {}
-    jaw_profs = _timed(
-        t, "profiles", lambda: _stage_profiles(mesh, grasp, profiles, force, up, pad, units, allow_scale)
-    )
+    jaw_profs = _timed(t, "profiles", lambda: _stage_profiles(mesh, grasp, profiles, jaws))
     contacts = _timed(
         t,
         "contact_model",
-        lambda: [c for p in jaw_profs for c in contact_sets(p, model, cache=cache, seed=seed)],
+        lambda: [c for p in jaw_profs for c in contact_sets(p, opts.model, cache=cache, seed=opts.seed)],
     )
-    solve_kw = {"representation": representation, "cuts": cuts}
-    verdict = _timed(t, "resists", lambda: resists(contacts, w, mu, **solve_kw))
+    solve_kw = {"representation": opts.representation, "cuts": cuts}
+    verdict = _timed(t, "resists", lambda: resists(contacts, w, opts.mu, **solve_kw))
     mf = None
-    if min_force:
-        mf = _timed(t, "min_grasp_force", lambda: min_grasp_force(contacts, w, mu, **solve_kw))
+    if opts.min_force:
+        mf = _timed(t, "min_grasp_force", lambda: min_grasp_force(contacts, w, opts.mu, **solve_kw))
     q = None
-    if robust is not None:
-        # a given w_ext is resisted as is (mass and com are then unused by q_robust)
-        q = _timed(
-            t,
-            "q_robust",
-            lambda: q_robust(
-                contacts,
-                mu,
-                1.0 if mass is None else mass,
-                np.zeros(3) if com is None else com,
-                robust,
-                seed=seed,
-                w_ext=w if w_ext is not None else None,
-                down=down,
-                **solve_kw,
-            ),
-        )
-    return GraspEvaluation(model, w, verdict, mf, q, jaw_profs, contacts, t)
+    if opts.robust is not None:
+        q = _timed(t, "q_robust", lambda: _q_robust(contacts, task, w, opts, solve_kw))
+    return GraspEvaluation(opts.model, w, verdict, mf, q, jaw_profs, contacts, t)
 
 
-def _checked_setup(model: str, mu: float, force: float, pad, cache, mesh, units, allow_scale: bool) -> tuple:
-    """The arguments of :func:`evaluate_grasp` checked before any work: (the limit-surface
-    cache, the mesh in metres or None, the unit still to apply — None once the mesh is in metres)."""
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}; got {model!r}")
-    check_mu(mu)
-    check_jaw_force(force)
-    check_pad(pad)  # before the mesh step: a bad pad is not "a footprint that covers nothing"
+def _q_robust(
+    contacts: list[ContactSet], task: Task, w: np.ndarray, opts: ModelOptions, solve_kw: dict
+) -> float:
+    """:func:`~.robust.q_robust` of :func:`evaluate_grasp`: a given w_ext is resisted as is (``w``),
+    else gravity on the perturbed mass at the perturbed com."""
+    load = w if task.w_ext is not None else task
+    return q_robust(contacts, opts.mu, load, opts.robust, seed=opts.seed, **solve_kw)
+
+
+def _checked_setup(cache, mesh) -> tuple:
+    """The reuse cache and the mesh of :func:`evaluate_grasp` checked before any work: (the
+    limit-surface cache, the mesh — closed, outward, of a graspable size in metres — or None)."""
     cache = LimitSurfaceCache.check(cache)  # before the profiles are made: a path is not a cache
     if mesh is not None:
-        # metres first: the mass and com checks below read the mesh's volume and box
-        from ..units import closed_mesh
+        # the mass and com checks below read the mesh's volume and box
+        from ..units import MESH_UNIT_FIX, closed_mesh
 
-        mesh = closed_mesh(mesh, "mesh passed to evaluate_grasp", units=units, allow_scale=allow_scale)
-        units = None
-    return cache, mesh, units
+        mesh = closed_mesh(mesh, "mesh passed to evaluate_grasp", fix=MESH_UNIT_FIX, override=None)
+    return cache, mesh
+
+
 
 
 def _timed(timings: dict, stage: str, run: Callable[[], Any]) -> Any:
@@ -197,32 +184,33 @@ def _timed(timings: dict, stage: str, run: Callable[[], Any]) -> Any:
     return out
 
 
-def _stage_profiles(mesh, grasp: dict, profiles, force: float, up, pad, units, allow_scale: bool) -> list:
+def _stage_profiles(mesh, grasp: dict, profiles, jaws: Jaws) -> list:
     """Step 1–2 of the module docstring: the jaws' REACH profiles made from ``mesh``, or the given
-    ``profiles`` checked and scaled to ``force``."""
+    ``profiles`` checked and scaled to ``jaws.force``."""
     if profiles is not None:
-        return _given_profiles(profiles, grasp, force, pad)
+        return _given_profiles(profiles, grasp, jaws.force, jaws.pad)
     if mesh is None:
         raise ValueError(
             "give the object mesh (the jaws' REACH profiles are made from it) or the two jaws' "
             "profiles=[jaw at p1, jaw at p2] from any source (workbench.sources)"
         )
-    return jaw_profiles(mesh, grasp, force, up=up, pad=pad, units=units, allow_scale=allow_scale)
+    return jaw_profiles(mesh, grasp, jaws.force, up=jaws.up, pad=jaws.pad)
 
 
-def _task_wrench(w_ext, mass: float | None, com, mesh, down) -> np.ndarray:
-    """The task wrench (6,) of :func:`evaluate_grasp`: ``w_ext`` checked, or gravity on ``mass``
-    [kg] at ``com`` (3,) [m] along ``down`` (checked against ``mesh`` when given); a ValueError
-    unless exactly one of the two is given."""
-    if w_ext is None:
-        if mass is None or com is None:
-            raise ValueError("give the task as w_ext (6,) or as mass [kg] and com (3,) [m]")
-        check_com(com, mesh)  # before gravity_wrench's generic check: the object's box says more
-        check_object_mass(mass, mesh)
-        return gravity_wrench(mass, com, down=down)
-    if mass is not None or com is not None:
-        raise ValueError("give the task either as w_ext or as mass and com, not both")
-    return check_task_wrench(w_ext)
+def _task_wrench(task: Task, mesh) -> np.ndarray:
+    """The task wrench (6,) of :func:`evaluate_grasp`: the Task's ``w_ext``, or gravity on its
+    ``mass`` [kg] at ``com`` (3,) [m] along ``down`` (checked against ``mesh`` when given); a
+    ValueError for a gravity task without its ``com``."""
+    if task.w_ext is not None:
+        return np.array(task.w_ext)
+    if task.com is None:
+        raise ValueError(
+            "give the task as w_ext (6,) or as mass [kg] and com (3,) [m]: evaluate_grasp takes no default "
+            "centre of mass (Task(mass=..., com=mesh.center_mass) for a uniform density)"
+        )
+    check_com(task.com, mesh)  # before gravity_wrench's generic check: the object's box says more
+    check_object_mass(task.mass, mesh)
+    return gravity_wrench(task.mass, task.com, down=task.down)
 
 
 def _given_profiles(profiles, grasp: dict, force: float, pad: tuple[float, float]) -> list[ContactProfile]:

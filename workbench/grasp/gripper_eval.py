@@ -10,7 +10,8 @@ force it needs (Eq. 4.4): its ``margin`` ``1 − f_min / f`` is the thesis's for
 cannot hold it.  :func:`evaluate_gripper` composes them, and with a
 :class:`~.pose_robust.PoseNoise` recomputes the contact at N_r perturbed poses and reports
 the mean margin and the fraction held (6DFC §V-B.1); :func:`evaluate_models` does it for
-several models on the same contacts.
+several models on the same contacts.  The object's load is a :class:`~.inputs.Task` (the same as
+:func:`~.evaluate.evaluate_grasp`'s, gravity only here), the rest a :class:`~.inputs.GripperOptions`.
 """
 
 from __future__ import annotations
@@ -22,8 +23,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
+from .inputs import GripperOptions, Task, check_down_direction, checked_input
 from .models import MODELS, check_model, contact_sets
-from .pose_robust import PoseNoise, check_pose, pose_samples
+from .pose_robust import check_pose, pose_samples
 from .resistance import CutStore, min_grasp_force, resists
 from .robust import check_com, check_object_mass, gravity_wrench
 from .settle import SettledContact, settle_contact
@@ -78,19 +80,13 @@ def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
     mass [kg] against the object's volume (a mean density above the plausible range of
     :data:`workbench.plausible.RANGES` ``"density"`` is refused as a mass in grams, one below it
     warned as a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
-    or a slip); down a non-zero (3,) direction.
+    or a slip); down a non-zero (3,) direction (:func:`~.inputs.check_down_direction`).
     """
     from ..sources.gripper import check_pad_mu
 
     check_pad_mu(mu)
     check_object_mass(mass, mesh)
-    d = np.asarray(down, dtype=float)
-    if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
-        raise ValueError(
-            "down must be a non-zero (3,) gravity direction in the object frame; "
-            f"got {np.asarray(down).tolist()}"
-        )
-    return d / np.linalg.norm(d)
+    return check_down_direction(down)
 
 
 def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float = 1e-3) -> SettledContact:
@@ -127,23 +123,23 @@ def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float
 def judge_contact(
     contact: SettledContact,
     model: str,
+    task: Task,
     *,
     mu: float,
-    mass: float,
-    com,
-    down,
     cache: LimitSurfaceCache | None = None,
     cuts: CutStore | None = None,
     seed: int = 0,
 ) -> Verdict:
-    """Whether ``model`` (one of :data:`~.models.MODELS`) says ``contact`` holds the object of
-    ``mass`` [kg] at ``com`` (3,) [m] against gravity along ``down`` (3,; object frame, before
-    the settle's turn, which is applied here), at the contact's force, and its margin."""
+    """Whether ``model`` (one of :data:`~.models.MODELS`) says ``contact`` holds the object of the
+    gravity ``task`` (a :class:`~.inputs.Task`: ``mass`` [kg] at ``com`` (3,) [m], both given,
+    against gravity along ``down`` (3,; object frame, before the settle's turn, which is applied
+    here)) at the contact's force with friction ``mu``, and its margin."""
     check_model(model)
+    task = _gravity_task(task, need_com=True)
     if not contact.touches:
         return Verdict(model, False, 0.0, np.inf, f"no contact: {contact.reason}")
-    d = contact.rotation @ np.asarray(down, float)  # the object turned as it settled
-    w = gravity_wrench(mass, com, down=d)
+    d = contact.rotation @ np.asarray(task.down, float)  # the object turned as it settled
+    w = gravity_wrench(task.mass, task.com, down=d)
     cache = LimitSurfaceCache.check(cache)
     cuts = CutStore() if cuts is None else cuts
     sets = [c for p in contact.profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
@@ -161,6 +157,24 @@ def judge_contact(
         if model == "point":
             reason += ": two point contacts on one line resist no torque about that line"
     return Verdict(model, bool(held), margin if held else 0.0, scale, reason)
+
+
+def _gravity_task(task: Task, *, need_com: bool = False) -> Task:
+    """``task`` if it is a gravity :class:`~.inputs.Task` (``mass``, ``com``, ``down``) — the
+    gripper holds the object against gravity, so a ``w_ext`` task is refused, and without a mesh
+    to take its centre of mass from (``need_com``) so is one without ``com``."""
+    task = checked_input(task, Task, "task")
+    if task.w_ext is not None:
+        raise ValueError(
+            "the gripper evaluation holds the object against gravity: give the task as "
+            "Task(mass=..., com=..., down=...), not w_ext (a wrench task: evaluate_grasp)"
+        )
+    if need_com and task.com is None:
+        raise ValueError(
+            "give the task's com (3,) [m]: judge_contact has no mesh to take its centre of mass from "
+            "(Task(mass=..., com=mesh.center_mass, down=...))"
+        )
+    return task
 
 
 def check_down(pose, down) -> None:
@@ -183,48 +197,97 @@ def check_down(pose, down) -> None:
         )
 
 
-def evaluate_gripper(mesh, gripper, pose, *, model: str = "6dls", **kwargs) -> GripperEvaluation:
+def evaluate_gripper(
+    mesh,
+    gripper,
+    pose,
+    task: Task,
+    *,
+    model: str = "6dls",
+    options: GripperOptions | None = None,
+    cache: LimitSurfaceCache | None = None,
+    cuts: CutStore | None = None,
+) -> GripperEvaluation:
     """Evaluate ``gripper`` at ``pose`` under one contact model ``model``: :func:`evaluate_models`
     with ``models=(model,)`` (its arguments and defaults; settling on, no pose robustness unless
-    ``robust`` is given)."""
-    return evaluate_models(mesh, gripper, pose, models=(model,), **kwargs)[model]
+    ``options.robust`` is given)."""
+    out = evaluate_models(mesh, gripper, pose, task, models=(model,), options=options, cache=cache, cuts=cuts)
+    return out[model]
 
 
 def evaluate_models(
     mesh,
     gripper,
     pose,
+    task: Task,
     *,
     models=MODELS,
-    mass: float,
-    com=None,
-    down=(0.0, 0.0, -1.0),
-    mu: float | None = None,
-    robust: PoseNoise | None = None,
-    settle: bool = True,
-    seed: int = 0,
+    options: GripperOptions | None = None,
     cache: LimitSurfaceCache | None = None,
     cuts: CutStore | None = None,
 ) -> dict[str, GripperEvaluation]:
     """Evaluate ``gripper`` at ``pose`` (4, 4: the gripper frame in the object frame [m]) on
-    ``mesh`` (metres) under each contact model of ``models``, holding ``mass`` [kg] at ``com``
-    (3,) [m; default the mesh's centre of mass] against gravity along ``down`` (3,; gravity's
-    direction in the object frame, e.g. :attr:`~workbench.sources.trials.TrialGrasp.down`).
+    ``mesh`` (metres) under each contact model of ``models``, holding the object of the gravity
+    ``task`` (a :class:`~.inputs.Task`: ``mass`` [kg] at ``com`` (3,) [m; None: the mesh's centre
+    of mass] against gravity along ``down`` (3,; gravity's direction in the object frame, e.g.
+    :attr:`~workbench.sources.trials.TrialGrasp.down`)).
     The contacts — nominal and at each pose sample — are computed once and shared by the models.
 
-    mu : the pad's friction coefficient (default ``gripper.mu``).
-    robust : a :class:`~.pose_robust.PoseNoise`: also recompute the contact at N_r perturbed
-        poses; then ``q_pose`` is the mean ``margin`` over the samples (a miss counts 0) and
-        ``p_held`` the fraction of samples held (both None without it).
-    settle : True (default): the object free to settle between the pads (:mod:`~.settle`);
-        False: each pad pressed alone at the pose as given.
-    seed : pose samples and the models' samplers.
+    options : a :class:`~.inputs.GripperOptions` (default ``GripperOptions()``): ``mu``, the pad's
+        friction coefficient (None: ``gripper.mu``); ``robust``, a :class:`~.pose_robust.PoseNoise`
+        — also recompute the contact at N_r perturbed poses; then ``q_pose`` is the mean ``margin``
+        over the samples (a miss counts 0) and ``p_held`` the fraction of samples held (both None
+        without it); ``settle`` — True (default): the object free to settle between the pads
+        (:mod:`~.settle`), False: each pad pressed alone at the pose as given; ``seed`` — pose
+        samples and the models' samplers.
+    cache, cuts : reuse limit surfaces / cutting planes across calls.
 
     ``verdict.margin`` is ``1 − f_min / f``: the share of the gripper's force ``f`` not needed
     to hold the object (the thesis's force quality, §4.3.3.2).  For a light object it sits near
     1 on every grasp that touches and its differences come from the torque the weight puts on
     the contact; ``verdict.scale`` (``f_min / f``) says the same unclipped.
     """
+    models = _checked_models(models)
+    from ..sources.gripper import check_gripper
+
+    gripper = check_gripper(gripper)  # a preset's name is refused with the call to make
+    opts = checked_input(options, GripperOptions, "options")
+    mu, task = _checked_task(mesh, gripper, pose, task, opts)
+    judge = {
+        "mu": mu,
+        "cache": LimitSurfaceCache.check(cache),
+        "cuts": CutStore() if cuts is None else cuts,
+        "seed": opts.seed,
+    }
+    t0 = time.perf_counter()
+    contact = gripper_contact(mesh, gripper, pose, settle=opts.settle)
+    t_contact = (time.perf_counter() - t0) * 1e3
+    samples, t_samples = [], 0.0
+    if opts.robust is not None:
+        t0 = time.perf_counter()
+        poses = pose_samples(pose, opts.robust, opts.seed)
+        samples = [gripper_contact(mesh, gripper, T, settle=opts.settle) for T in poses]
+        t_samples = (time.perf_counter() - t0) * 1e3
+    out = {}
+    for m in models:
+        t = {"contact": t_contact}
+        t0 = time.perf_counter()
+        v = judge_contact(contact, m, task, **judge)
+        t["judge"] = (time.perf_counter() - t0) * 1e3
+        if opts.robust is None:
+            out[m] = GripperEvaluation(v, contact, timings_ms=t)
+            continue
+        t0 = time.perf_counter()
+        judged = tuple(judge_contact(sc, m, task, **judge) for sc in samples)
+        t["pose_robust"] = t_samples + (time.perf_counter() - t0) * 1e3  # contacts shared by the models
+        q = float(np.mean([s.margin for s in judged]))
+        p = float(np.mean([s.resisted for s in judged]))
+        out[m] = GripperEvaluation(v, contact, q, p, judged, t)
+    return out
+
+
+def _checked_models(models) -> tuple[str, ...]:
+    """``models`` of :func:`evaluate_models` as a tuple of checked names."""
     if isinstance(models, str):  # one model by name: ("6dls",), not the characters of "6dls"
         models = (models,)
     models = tuple(models)
@@ -232,40 +295,21 @@ def evaluate_models(
         raise ValueError(f"models must name at least one contact model of {MODELS}; got none")
     for m in models:
         check_model(m)
-    from ..sources.gripper import check_gripper
+    return models
 
-    gripper = check_gripper(gripper)  # a preset's name is refused with the call to make
-    mu = gripper.mu if mu is None else mu
+
+def _checked_task(mesh, gripper, pose, task: Task, opts: GripperOptions) -> tuple[float, Task]:
+    """(μ, the task with its unit ``down`` and its ``com`` checked inside ``mesh`` — the mesh's
+    centre of mass when not given) of :func:`evaluate_models`, after the gripper-level checks
+    (:func:`check_task`, :func:`check_down`)."""
+    task = _gravity_task(task)
+    mu = gripper.mu if opts.mu is None else opts.mu
     if mu is None:
-        raise ValueError("give mu: the gripper has no friction coefficient of its own (Gripper.mu is None)")
-    d = check_task(mesh, mass, mu, down)
+        raise ValueError(
+            "give mu (GripperOptions(mu=...)): the gripper has no friction coefficient of its own "
+            "(Gripper.mu is None)"
+        )
+    d = check_task(mesh, task.mass, mu, task.down)
     check_down(check_pose(pose, "gripper pose"), d)
-    c = check_com(mesh.center_mass if com is None else com, mesh)
-    cache = LimitSurfaceCache.check(cache)
-    cuts = CutStore() if cuts is None else cuts
-    task = {"mu": mu, "mass": mass, "com": c, "down": d, "cache": cache, "cuts": cuts, "seed": seed}
-    t0 = time.perf_counter()
-    contact = gripper_contact(mesh, gripper, pose, settle=settle)
-    t_contact = (time.perf_counter() - t0) * 1e3
-    samples = []
-    t_samples = 0.0
-    if robust is not None:
-        t0 = time.perf_counter()
-        samples = [gripper_contact(mesh, gripper, T, settle=settle) for T in pose_samples(pose, robust, seed)]
-        t_samples = (time.perf_counter() - t0) * 1e3
-    out = {}
-    for m in models:
-        t = {"contact": t_contact}
-        t0 = time.perf_counter()
-        v = judge_contact(contact, m, **task)
-        t["judge"] = (time.perf_counter() - t0) * 1e3
-        if robust is None:
-            out[m] = GripperEvaluation(v, contact, timings_ms=t)
-            continue
-        t0 = time.perf_counter()
-        judged = tuple(judge_contact(sc, m, **task) for sc in samples)
-        t["pose_robust"] = t_samples + (time.perf_counter() - t0) * 1e3  # contacts shared by the models
-        q = float(np.mean([s.margin for s in judged]))
-        p = float(np.mean([s.resisted for s in judged]))
-        out[m] = GripperEvaluation(v, contact, q, p, judged, t)
-    return out
+    c = check_com(mesh.center_mass if task.com is None else task.com, mesh)
+    return mu, replace(task, com=c, down=d)

@@ -10,8 +10,9 @@ Rows are flat dicts keyed ``<label>/<model>/<field>`` as the physical-trials exp
 checkpoints them.  Scores: thresholds only by leave-one-grasp-out cross-validation
 (:func:`~.crossval.crossval_scores`: a grasp's trials never choose its own threshold).
 
-``task`` is the keyword arguments of :func:`~.gripper_eval.judge_contact` but the model:
-``{"mu", "mass" [kg], "com" (3,) [m], "down" (3,)}``.  ``trials`` is a trial file as read by
+``judge`` is the arguments of :func:`~.gripper_eval.judge_contact` but the contact, the model and
+the cache: ``{"task": Task(mass=... [kg], com=(3,) [m], down=(3,)), "mu": ...}`` (a
+:class:`~.inputs.Task`).  ``trials`` is a trial file as read by
 :func:`workbench.sources.trials.read_trials` (``grasp_index`` (n,) int, ``success`` (n,) bool).
 """
 
@@ -47,19 +48,19 @@ def pose_seed(seed: int, g: int, s: int) -> np.random.Generator:
 
 
 def judge_models(
-    contact, models: Sequence[str], task: Mapping, cache: LimitSurfaceCache
+    contact, models: Sequence[str], judge: Mapping, cache: LimitSurfaceCache
 ) -> tuple[dict, dict]:
     """({model: Verdict}, {model: seconds}) for one contact judged by every model of ``models``."""
     out, secs = {}, {}
     for m in models:
         t0 = time.perf_counter()
-        out[m] = judge_contact(contact, m, cache=cache, **task)
+        out[m] = judge_contact(contact, m, cache=cache, **judge)
         secs[m] = time.perf_counter() - t0
     return out, secs
 
 
 def nominal_fields(
-    mesh, gripper, pose: np.ndarray, models: Sequence[str], task: Mapping, cache: LimitSurfaceCache
+    mesh, gripper, pose: np.ndarray, models: Sequence[str], judge: Mapping, cache: LimitSurfaceCache
 ) -> dict:
     """The row's fields of the recorded ``pose`` (4, 4): the contact settled (``nominal/…``)
     and pressed jaw by jaw (``pressed/…``), each judged by every model."""
@@ -68,7 +69,7 @@ def nominal_fields(
         t0 = time.perf_counter()
         c = gripper_contact(mesh, gripper, pose, settle=settle)
         row[f"{label}_contact_s"] = time.perf_counter() - t0
-        verdicts, secs = judge_models(c, models, task, cache)
+        verdicts, secs = judge_models(c, models, judge, cache)
         row[f"{label}_touches"] = c.touches
         row[f"{label}_tilt_deg"] = float(np.degrees(c.tilt))
         row[f"{label}_torque"] = c.torque
@@ -92,7 +93,7 @@ def robust_fields(
     noise: PoseNoise,
     rng: np.random.Generator,
     models: Sequence[str],
-    task: Mapping,
+    judge: Mapping,
     cache: LimitSurfaceCache,
 ) -> dict:
     """The row's robust fields: N_r contacts at poses around ``pose`` (4, 4) drawn by ``noise``
@@ -108,7 +109,7 @@ def robust_fields(
         c = gripper_contact(mesh, gripper, T)
         contact_s.append(time.perf_counter() - t0)
         misses += not c.touches
-        verdicts, secs = judge_models(c, models, task, cache)
+        verdicts, secs = judge_models(c, models, judge, cache)
         for m, v in verdicts.items():
             margins[m].append(v.margin)
             held[m].append(v.resisted)

@@ -25,7 +25,7 @@ from ..limit_surface import LimitSurfaceCache, SamplerSpec
 from ..profile import ContactProfile
 from ..sources.scenes import elliptic_cylinder_grasp
 from .contacts import ContactSet
-from .models import contact_sets
+from .models import ModelParameters, contact_sets
 from .resistance import CutStore, resists
 from .tasks import lever_disturbances
 
@@ -65,7 +65,8 @@ def scene_sets(
     linearisation directions; limit surfaces trained by the sampler kind ``sampler``
     (:class:`~workbench.limit_surface.SamplerSpec`; None: the configured default)."""
     spec = None if sampler is None else SamplerSpec(kind=sampler)
-    return [c for p in profiles for c in contact_sets(p, model, cache=cache, M=config["M"], sampler=spec)]
+    params = ModelParameters(M=config["M"], sampler=spec)
+    return [c for p in profiles for c in contact_sets(p, model, params, cache=cache)]
 
 
 def predict_resisted(

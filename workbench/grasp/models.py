@@ -1,7 +1,7 @@
 """Every contact model of a contact profile, by name (thesis §4.1.3.3, §4.1.4.3; 6DFC §V).
 
-``contact_sets(profile, name, ...)`` returns the :class:`~.contacts.ContactSet` list
-one jaw contributes under model ``name``:
+``contact_sets(profile, name, params)`` returns the :class:`~.contacts.ContactSet` list
+one jaw contributes under model ``name`` (its settings a :class:`ModelParameters`):
 
 ==================  =====================================================================
 ``point``           hard point contact (Eqs. 2.44, 2.47) at the pressure centre along the
@@ -34,7 +34,7 @@ Limit surfaces go through a :class:`~workbench.limit_surface.LimitSurfaceCache`
 from __future__ import annotations
 
 import logging
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -177,18 +177,51 @@ def _check_profile(profile: Any) -> None:
         )
 
 
+@dataclass(frozen=True)
+class ModelParameters:
+    """How :func:`contact_sets` builds a contact model; each setting applies to the models named.
+
+    M : linearisation directions of 6DLS/6DFC/3DLS (their ``representation="inner"|"outer"``).
+    n_edges : the friction-cone polygon's edges of point-like contacts (point, soft point, REACH).
+    n_wrenches : 6DFW samples of ``6dfw``/``3dls_nonplanar``, an even number >= 2 (n screw motions
+        + n translations); checked when made, whatever the model (a bad value is never right).
+    reach_triangles : REACH element clusters.
+    quartic : the quartic limit surface for ``6dls``/``planar``/``3dls_nonplanar``.
+    sampler : the training wrenches of the limit surfaces (6DLS, 6DFC, planar; None:
+        ``SamplerSpec()``, see its kinds).
+    """
+
+    M: int = 200
+    n_edges: int = 8
+    n_wrenches: int = 600
+    reach_triangles: int = 16
+    quartic: bool = False
+    sampler: SamplerSpec | None = None
+
+    def __post_init__(self) -> None:
+        _check_n_wrenches(self.n_wrenches)
+
+
+def _checked_params(params: Any) -> ModelParameters:
+    """``params`` if it is a :class:`ModelParameters`, its defaults for None, else a ValueError
+    naming what to pass (a dict of the old keyword arguments is not taken for it)."""
+    if params is None:
+        return ModelParameters()
+    if not isinstance(params, ModelParameters):
+        raise ValueError(
+            f"params must be a workbench.grasp.models.ModelParameters; got {type(params).__name__}"
+            + (" — pass ModelParameters(**params)" if isinstance(params, dict) else "")
+        )
+    return params
+
+
 def contact_sets(
     profile: ContactProfile,
     name: str,
+    params: ModelParameters | None = None,
     *,
     cache: LimitSurfaceCache | None = None,
-    M: int = 200,
-    n_edges: int = 8,
-    n_wrenches: int = 600,
-    reach_triangles: int = 16,
-    quartic: bool = False,
     seed: int = 0,
-    sampler: SamplerSpec | None = None,
 ) -> list[ContactSet]:
     """The contact sets of one jaw's ``profile`` under model ``name``: one of
     ``point``, ``soft_point``, ``planar``, ``3dls_nonplanar``, ``6dfw``, ``reach``,
@@ -196,18 +229,17 @@ def contact_sets(
 
     Only what the model needs is computed: no limit surface for point/soft point/REACH,
     no 6DFW sampling except for ``6dfw``/``3dls_nonplanar``, no quartic unless asked.
+    params : the model settings (:class:`ModelParameters`: M, n_edges, n_wrenches,
+        reach_triangles, quartic, sampler; None: its defaults).
     cache : limit surfaces of the same normalised profile are reused (and scaled by F).
-    M : linearisation directions of 6DLS/6DFC/3DLS (their ``representation="inner"|"outer"``);
-    n_edges : friction-cone polygon of point-like contacts; n_wrenches : 6DFW samples of
-    ``6dfw``/``3dls_nonplanar``, an even number >= 2 (n screw motions + n translations);
-    reach_triangles : REACH element clusters; quartic : the quartic limit surface for
-    ``6dls``/``planar``; seed : sampler seed; sampler : training wrenches of the limit
-    surfaces (6DLS, 6DFC, planar; default ``SamplerSpec()``, see its kinds).
+    seed : the samplers' seed, an integer >= 0.
     """
+    params = _checked_params(params)
+    M, n_edges, n_wrenches = params.M, params.n_edges, params.n_wrenches
+    reach_triangles, quartic, sampler = params.reach_triangles, params.quartic, params.sampler
     check_model(name)
     _check_profile(profile)
     cache = LimitSurfaceCache.check(cache)
-    _check_n_wrenches(n_wrenches)  # refused whatever the model: a bad value is never right
     from ..seeds import check_seed
 
     seed = check_seed(seed, "seed", generator=False)  # every model, not only those that sample

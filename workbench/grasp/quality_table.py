@@ -16,7 +16,7 @@ from .threshold import balanced_accuracy_interval, fit_normaliser, held_out_accu
 __all__ = ["quality_table"]
 
 
-def quality_table(
+def quality_table(  # noqa: PLR0913 — labelled grasps, metrics, threshold, bootstrap: no natural group
     truth,
     train,
     groups,

@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 
 from ..seeds import check_seed
 from .contacts import check_object_point
-from .gws import check_contacts, check_mu
+from .gws import check_contacts, check_mu, check_wrench
 from .resistance import REPRESENTATIONS, CutStore, resists
 
 G_ACC = 9.81  # m/s²
@@ -226,26 +226,24 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
 def q_robust(
     contacts,
     mu: float,
-    mass: float,
-    com,
+    task,
     perturbation: Perturbation | None = None,
     *,
     seed: int | np.random.Generator = 0,
     representation: str = "model",
     cuts: CutStore | None = None,
-    w_ext=None,
-    down=(0.0, 0.0, -1.0),
 ) -> float:
     """Eq. 2.101 for the task "hold against gravity" (vertical lifting): the fraction
     of perturbed samples that :func:`~workbench.grasp.resistance.resists` says hold —
     the same meaning of "resisted", the same ``representation`` (default: the contact
     models themselves).
 
-    w_ext : a fixed disturbance (6,) to resist instead of the gravity wrench of
-        ``mass`` at ``com`` (then σ_mass and σ_com do not apply, and ``mass``/``com``
-        are not used).
+    task : a :class:`~.inputs.Task` — gravity on its ``mass`` [kg] at ``com`` (3,) [m] along its
+        ``down`` (3,; gravity's direction in the object frame), each perturbed per sample; or its
+        fixed ``w_ext`` — or a fixed disturbance (6,) [N, N·m] given as an array, any finite
+        wrench (as :func:`~.resistance.resists` takes), resisted as is (σ_mass and σ_com do not
+        apply to a fixed wrench).
     cuts : a cut store shared by the samples (a fresh one if None).
-    down : (3,) gravity's direction in the object frame.
 
     The contacts ride along rigidly: no contact is recomputed at the perturbed pose (a pad
     that would slide off the object still holds).  Robustness that moves the gripper and
@@ -256,8 +254,7 @@ def q_robust(
     check_mu(mu)
     if representation not in REPRESENTATIONS:
         raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
-    if w_ext is None:
-        gravity_wrench(mass, com, down=down)  # validates mass, com and down
+    w_ext, mass, com, down = _robust_load(task)
     p = Perturbation() if perturbation is None else perturbation
     if not isinstance(p, Perturbation):
         raise ValueError(f"perturbation must be a Perturbation (or None: defaults); got {type(p).__name__}")
@@ -277,3 +274,15 @@ def q_robust(
         w = gravity_wrench(masses[i], coms[i], down=down) if w_ext is None else w_ext
         ok += bool(resists(moved, w, mus[i], representation=representation, cuts=cuts))
     return ok / K
+
+
+def _robust_load(task) -> tuple:
+    """``(w_ext, mass, com, down)`` of :func:`q_robust`'s ``task``: a fixed wrench (6,) and
+    None, None, None, or None and gravity's mass [kg], com (3,) [m] and down (3,), checked.
+    A Task is recognised by its fields (this module is below :mod:`~.inputs`, which imports it)."""
+    if not all(hasattr(task, k) for k in ("w_ext", "mass", "com", "down")):
+        return check_wrench(task, "task (a Task, or a fixed disturbance (6,))"), None, None, None
+    if task.w_ext is not None:
+        return check_wrench(task.w_ext, "task.w_ext"), None, None, None
+    gravity_wrench(task.mass, task.com, down=task.down)  # validates mass, com and down
+    return None, task.mass, task.com, task.down

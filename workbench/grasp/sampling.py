@@ -21,9 +21,12 @@ from __future__ import annotations
 import logging
 import sys
 from collections.abc import Iterator
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numpy as np
+
+from .inputs import Jaws
 
 log = logging.getLogger(__name__)
 
@@ -46,13 +49,18 @@ DROP_REASONS: dict[str, tuple[str, str]] = {
     "near_table": ("a contact is within clearance of the table", "a smaller clearance or a lower table_z"),
     "pad_edge": (
         "a flat jaw first meets the surface at its pad edge (edge_touch)",
-        "a smaller pad=(width, length), a larger edge_depth, or pad=None to keep every antipodal pair",
+        "a smaller Jaws(pad=(width, length)), a larger GraspSampling(edge_depth=...), or jaws=None to "
+        "keep every antipodal pair",
     ),
 }
 
 # the pad-edge check's fine surface [m]: the mesh refined to 1 mm under the pad (edge_touch);
 # the samplers have the whole mesh subdivided to it once, for all their presses
 _EDGE_MAX_EDGE = 1e-3
+
+#: the jaws :func:`antipodal_grasps` checks for pad-edge contact unless told: ``Jaws()``, a
+#: 20 × 40 mm pad with its length axis along +z
+_JAWS = Jaws()
 
 
 class Grasps(list):
@@ -121,10 +129,10 @@ def check_edge_args(pad, edge_depth) -> None:
     check_press_closing(edge_depth, "edge_depth")
 
 
-def _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance=0.0) -> None:
+def _check_sampler_args(min_width, max_width, clearance=0.0) -> None:
     """ValueError for arguments that would make every candidate fail and blame the geometry:
     widths that are not a gripper's opening (:mod:`workbench.plausible`, e.g. 100 for 0.1 m) or
-    out of order, a table above the object, a zero ``up``."""
+    out of order, a clearance that is no height above a table."""
     from ..plausible import check
 
     lo = check("opening", min_width, "min_width (the narrowest jaw opening [m])") if min_width else 0.0
@@ -133,9 +141,10 @@ def _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance=0.0) 
         raise ValueError(f"min_width must be < max_width; got {min_width!r} >= {max_width!r}")
     if clearance:
         check("lever", clearance, "clearance (the contacts' height above the table [m])")
-    u = np.asarray(up, dtype=float)
-    if u.shape != (3,) or not np.isfinite(u).all() or np.linalg.norm(u) == 0:
-        raise ValueError(f"up must be a non-zero (3,) direction; got {up!r}")
+
+
+def _check_table(mesh, table_z) -> None:
+    """ValueError for a table above the object or far below it (another unit than the mesh?)."""
     if table_z is not None:
         z_lo, z_hi = mesh.bounds[:, 2]
         if not np.isfinite(table_z) or table_z >= z_hi or table_z < z_lo - (z_hi - z_lo):
@@ -144,6 +153,56 @@ def _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance=0.0) 
                 f"bottom than its height: the table is under the object, usually at its bottom z = "
                 f"{z_lo:.4g} m (None: no table; another unit than the mesh?)"
             )
+
+
+def _check_count(name: str, value) -> None:
+    """ValueError unless ``value`` is an integer >= 1 (``name`` names it)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
+
+
+@dataclass(frozen=True)
+class GraspSampling:
+    """Which candidates :func:`antipodal_grasps` draws and which it keeps (lengths in metres).
+
+    max_width, min_width : the jaw opening's range [m], each a gripper's opening
+        (:mod:`workbench.plausible`; ``min_width`` 0: no lower bound), ``min_width < max_width``.
+    table_z : the height [m] of the table under the object, or None (no table); checked against
+        the mesh by the sampler (under the object, not farther below it than its height).
+    clearance : how far above the table both contacts must lie [m].
+    max_samples : the candidates drawn, an integer >= 1 (None: ``20 n``).
+    edge_depth : how far past first touch a jaw is pressed by the pad-edge check [m], a
+        closing > 0 (:func:`edge_touch`); used when the sampler is given jaws.
+
+    Checked when made: a careless value (a width in millimetres, widths out of order) is
+    refused here with the message it had as a keyword of the sampler.
+    """
+
+    max_width: float = 0.1
+    min_width: float = 0.005
+    table_z: float | None = None
+    clearance: float = 0.01
+    max_samples: int | None = None
+    edge_depth: float = 1e-3
+
+    def __post_init__(self) -> None:
+        from ..sources.reach import check_press_closing
+
+        _check_count("max_samples", 1 if self.max_samples is None else self.max_samples)
+        check_press_closing(self.edge_depth, "edge_depth")
+        _check_sampler_args(self.min_width, self.max_width, self.clearance)
+
+
+class _Cast(NamedTuple):
+    """The rays of one sampler call: the mesh, every hit ``locs`` (h, 3) [m] and its triangle
+    ``tri_idx`` (h,), the friction cone's half-angle ``half`` [rad] and the pad-edge check
+    ``edge`` — ``(pad, up, edge_depth)`` of :func:`edge_touch` — or None (no check)."""
+
+    mesh: Any
+    locs: np.ndarray
+    tri_idx: np.ndarray
+    half: float
+    edge: tuple | None
 
 
 def _subdivide_once(mesh, presses: int, pad) -> None:
@@ -162,9 +221,10 @@ def _subdivide_once(mesh, presses: int, pad) -> None:
         log.info("pad-edge checks refine the faces under each pad, press by press: %s", exc)
 
 
-def _edge_pair(mesh, p1, p2, axis, up, pad, edge_depth) -> bool:
+def _edge_pair(mesh, p1, p2, axis, edge: tuple) -> bool:
     """Whether either jaw of the grasp (jaw 1 at ``p1`` along ``axis``, jaw 2 at ``p2`` against
-    it) first meets the surface at its pad edge (:func:`edge_touch`)."""
+    it) first meets the surface at its pad edge (:func:`edge_touch`; ``edge = (pad, up, edge_depth)``)."""
+    pad, up, edge_depth = edge
     return edge_touch(mesh, p1, axis, up, pad, edge_depth) or edge_touch(mesh, p2, -axis, up, pad, edge_depth)
 
 
@@ -185,39 +245,34 @@ def antipodal_grasps(
     mesh,
     n: int,
     mu: float,
+    sampling: GraspSampling | None = None,
     *,
-    max_width: float = 0.1,
-    min_width: float = 0.005,
-    table_z: float | None = None,
-    clearance: float = 0.01,
+    jaws: Jaws | None = _JAWS,
     seed: int | np.random.Generator = 0,
-    max_samples: int | None = None,
-    units: str | float | None = None,
-    allow_scale: bool = False,
-    pad: tuple[float, float] | None = (0.02, 0.04),
-    up=(0.0, 0.0, 1.0),
-    edge_depth: float = 1e-3,
     progress: bool | None = None,
 ) -> Grasps:
     """Up to ``n`` antipodal grasps ``{p1, p2, n1, n2, axis, center, width}`` [m], as
     :class:`Grasps`: a list of those dicts whose ``dropped`` counts the candidates not kept
     per reason (:data:`DROP_REASONS`) and ``n_candidates`` those tried.
 
-    ``max_samples`` candidates (default ``20 n``) are drawn and tried in turn until ``n``
-    grasps are kept; fewer than ``n`` logs a WARNING with the counts per reason and what
-    usually helps.
+    sampling : a :class:`GraspSampling` (None: its defaults) — the jaw opening's range, the
+        table and the contacts' clearance above it, the candidates drawn and the pad-edge
+        check's depth.  ``sampling.max_samples`` candidates (default ``20 n``) are drawn and
+        tried in turn until ``n`` grasps are kept; fewer than ``n`` logs a WARNING with the
+        counts per reason and what usually helps.
 
-    ``units`` is the unit of ``mesh.vertices`` (``None``: metres; "mm" scales a
-    copy by 1e-3); every other length argument and every result is in metres.  A
-    mesh spanning more than ``TOL.max_object_extent_m`` or less than
-    ``TOL.min_object_extent_m`` raises ``ValueError`` naming the likely unit
-    (``allow_scale=True`` accepts it): a millimetre mesh read as metres would
-    otherwise yield no grasp at all, every width exceeding ``max_width``.
+    mesh : a watertight trimesh in metres; every length argument and every result is in metres.
+        A mesh in another unit is converted first:
+        ``workbench.units.mesh_in_metres(mesh, "object", units="mm")``.  A mesh spanning more than
+        ``TOL.max_object_extent_m`` or less than ``TOL.min_object_extent_m`` raises ``ValueError``
+        naming the likely unit and that conversion: a millimetre mesh read as metres would
+        otherwise yield no grasp at all, every width exceeding ``max_width``.
 
-    pad, up, edge_depth : grasps whose flat jaws (``pad = (width, length)`` [m], length
-        axis along ``up``) would first meet the surface at a pad edge more than
-        ``edge_depth`` [m] before the contact point are dropped (reason ``"pad_edge"``; see
-        :func:`edge_touch`); ``pad=None`` keeps every antipodal pair.
+    jaws : the flat jaws (:class:`~.inputs.Jaws`; ``pad = (width, length)`` [m], length axis
+        along ``up``; its ``force`` is not used here): grasps whose jaws would first meet the
+        surface at a pad edge more than ``sampling.edge_depth`` [m] before the contact point are
+        dropped (reason ``"pad_edge"``; see :func:`edge_touch`); default ``Jaws()`` (a
+        20 × 40 mm pad, length along +z); ``jaws=None`` keeps every antipodal pair.
     progress : True shows a progress bar of the candidates on stderr, False never, None
         (default) when stderr is a terminal and the call runs longer than a few seconds.
     seed : an int >= 0 or a ``numpy.random.Generator`` (:func:`workbench.seeds.check_seed`).
@@ -225,25 +280,14 @@ def antipodal_grasps(
     import trimesh
 
     from ..seeds import check_seed
-    from ..units import mesh_in_metres
-    from .gws import check_mu
 
-    if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
-        raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
-    mesh = mesh_in_metres(mesh, "mesh passed to antipodal_grasps", units=units, allow_scale=allow_scale)
-    check_mu(mu)
-    for name, value in (("n", n), ("max_samples", 1 if max_samples is None else max_samples)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1; got {value!r}")
-    if pad is not None:
-        check_edge_args(pad, edge_depth)
-    _check_sampler_args(mesh, min_width, max_width, table_z, up, clearance)
+    mesh, sampling, jaws = _checked_antipodal(mesh, n, mu, sampling, jaws)
     rng = np.random.default_rng(check_seed(seed))
     half = np.arctan(mu)
-    m = max_samples or 20 * n
+    m = sampling.max_samples or 20 * n
     bar = _progress_bar(progress, m, "antipodal_grasps")
-    if pad is not None:
-        _subdivide_once(mesh, m, pad)
+    if jaws is not None:
+        _subdivide_once(mesh, m, jaws.pad)
     pts, fid = trimesh.sample.sample_surface(mesh, m, seed=int(rng.integers(2**31)))
     n1 = mesh.face_normals[fid]
     axes = _cone_directions(rng, -n1, half)
@@ -253,10 +297,13 @@ def antipodal_grasps(
     # the hits of ray k are order[starts[k]:starts[k + 1]], in the order the intersector gave them
     order = np.argsort(ray_idx, kind="stable")
     starts = np.searchsorted(ray_idx[order], np.arange(m + 1))
-    geometry = (locs, tri_idx, eps, half, (min_width, max_width), table_z, clearance, pad, up, edge_depth)
+    edge = None if jaws is None else (jaws.pad, jaws.up, sampling.edge_depth)
+    cast = _Cast(mesh, locs, tri_idx, half, edge)
     result = _collect(
         (
-            _antipodal_candidate(mesh, pts[k], n1[k], axes[k], order[starts[k] : starts[k + 1]], *geometry)
+            _antipodal_candidate(
+                cast, eps, sampling, pts[k], n1[k], axes[k], order[starts[k] : starts[k + 1]]
+            )
             for k in range(m)
         ),
         bar,
@@ -277,6 +324,27 @@ def antipodal_grasps(
             m,
         )
     return result
+
+
+def _checked_antipodal(mesh, n, mu, sampling, jaws) -> tuple:
+    """The inputs of :func:`antipodal_grasps` checked before any work: (the mesh — closed,
+    outward, of a graspable size in metres —, the :class:`GraspSampling`, the jaws or None)."""
+    import trimesh
+
+    from ..units import MESH_UNIT_FIX, closed_mesh
+    from .gws import check_mu
+    from .inputs import checked_input
+
+    if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
+        raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
+    mesh = closed_mesh(mesh, "mesh passed to antipodal_grasps", fix=MESH_UNIT_FIX, override=None)
+    check_mu(mu)
+    _check_count("n", n)
+    sampling = checked_input(sampling, GraspSampling, "sampling")
+    if jaws is not None:
+        jaws = checked_input(jaws, Jaws, "jaws")
+    _check_table(mesh, sampling.table_z)
+    return mesh, sampling, jaws
 
 
 def _collect(candidates: Iterator[dict | str], bar: Any, n: int | None = None) -> Grasps:
@@ -301,12 +369,12 @@ def _collect(candidates: Iterator[dict | str], bar: Any, n: int | None = None) -
     return Grasps(out, dropped=dropped)
 
 
-def _antipodal_candidate(
-    mesh, p1, n1, axis, hits, locs, tri_idx, eps, half, widths, table_z, clearance, pad, up, edge_depth
-) -> dict | str:
+def _antipodal_candidate(cast: _Cast, eps: float, sampling: GraspSampling, p1, n1, axis, hits) -> dict | str:
     """The grasp of one candidate of :func:`antipodal_grasps` (jaw 1 at ``p1`` (3,) with
-    normal ``n1`` closing along ``axis``; ``hits`` its ray's rows of ``locs`` / ``tri_idx``),
-    or the key of :data:`DROP_REASONS` saying why it is not kept."""
+    normal ``n1`` closing along ``axis``; ``hits`` its ray's rows of ``cast.locs`` /
+    ``cast.tri_idx``; exits nearer than ``eps`` [m] are its own start), or the key of
+    :data:`DROP_REASONS` saying why it is not kept."""
+    mesh, locs, tri_idx, half, edge = cast
     if hits.size == 0:
         return "no_far_side"
     dist = (locs[hits] - p1) @ axis
@@ -316,15 +384,15 @@ def _antipodal_candidate(
     j = exits[np.argmax((locs[exits] - p1) @ axis)]
     p2, n2 = locs[j], mesh.face_normals[tri_idx[j]]
     width = float(np.linalg.norm(p2 - p1))
-    if width < widths[0]:
+    if width < sampling.min_width:
         return "too_narrow"
-    if width > widths[1]:
+    if width > sampling.max_width:
         return "too_wide"
     if np.arccos(np.clip(n2 @ axis, -1, 1)) > half:
         return "outside_cone"
-    if table_z is not None and min(p1[2], p2[2]) < table_z + clearance:
+    if sampling.table_z is not None and min(p1[2], p2[2]) < sampling.table_z + sampling.clearance:
         return "near_table"
-    if pad is not None and _edge_pair(mesh, p1, p2, axis, up, pad, edge_depth):
+    if edge is not None and _edge_pair(mesh, p1, p2, axis, edge):
         return "pad_edge"
     return {"p1": p1, "p2": p2, "n1": n1, "n2": n2, "axis": axis, "center": 0.5 * (p1 + p2), "width": width}
 
@@ -342,17 +410,16 @@ def edge_touch(mesh, p: np.ndarray, approach, up, pad, depth: float, rim: float 
     Raises ValueError for a bad ``pad`` or ``depth`` (rather than calling every grasp an edge touch).
     """
     from ..sources.jaws import jaw_frame
-    from ..sources.reach import reach_profile
+    from ..sources.reach import WinklerPress, reach_profile
 
     check_edge_args(pad, depth)
     a = np.asarray(approach, float) / np.linalg.norm(approach)
     up = np.asarray(up, float)
     if abs(a @ up) > 0.99 * np.linalg.norm(up):  # jaw length axis undefined: any perpendicular
         up = np.array([1.0, 0.0, 0.0]) if abs(a[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    press = WinklerPress(closing=depth, max_edge=_EDGE_MAX_EDGE)
     try:
-        prof = reach_profile(
-            mesh, p, a, up, pad=pad, closing=depth, max_edge=_EDGE_MAX_EDGE, allow_scale=True
-        )
+        prof = reach_profile(mesh, p, a, up, pad=pad, press=press, allow_scale=True)
     except ValueError:  # the pad touches nothing facing it: no face contact at all
         return True
     _, e1, e2 = jaw_frame(a, up)
@@ -369,7 +436,6 @@ def horizontal_grasps(
     centre=None,
     pad: tuple[float, float] | None = (0.02, 0.04),
     edge_depth: float = 1e-3,
-    units: str | float | None = None,
     progress: bool | None = None,
 ) -> Grasps:
     """Antipodal grasps with horizontal axes through a vertical axis, on a grid of
@@ -383,16 +449,17 @@ def horizontal_grasps(
     ``dropped`` counts ``no_far_side`` (the line meets the mesh less than twice),
     ``outside_cone`` and ``pad_edge``).
 
+    mesh : a closed trimesh in metres (one in another unit is converted first:
+        ``workbench.units.mesh_in_metres(mesh, "object", units="mm")``).
     centre : (2,) the vertical axis's (x, y) [m] (default the mesh box's centre).
     progress : as :func:`antipodal_grasps`.
     """
-    from ..units import closed_mesh
+    from ..units import MESH_UNIT_FIX, closed_mesh
     from .gws import check_mu
 
-    mesh = closed_mesh(mesh, "mesh passed to horizontal_grasps", units=units)
+    mesh = closed_mesh(mesh, "mesh passed to horizontal_grasps", fix=MESH_UNIT_FIX, override=None)
     check_mu(mu)
-    if isinstance(n_angles, bool) or not isinstance(n_angles, (int, np.integer)) or n_angles < 1:
-        raise ValueError(f"n_angles must be an integer >= 1; got {n_angles!r}")
+    _check_count("n_angles", n_angles)
     if pad is not None:
         check_edge_args(pad, edge_depth)
     z = np.atleast_1d(np.asarray(heights, float))
@@ -420,11 +487,10 @@ def horizontal_grasps(
         _subdivide_once(mesh, 2 * len(d), pad)
     order = np.argsort(ray_idx, kind="stable")
     starts = np.searchsorted(ray_idx[order], np.arange(len(d) + 1))
+    cast = _Cast(mesh, locs, tri_idx, half, None if pad is None else (pad, (0.0, 0.0, 1.0), edge_depth))
     result = _collect(
         (
-            _horizontal_candidate(
-                mesh, origins[k], d[k], order[starts[k] : starts[k + 1]], locs, tri_idx, half, pad, edge_depth
-            )
+            _horizontal_candidate(cast, origins[k], d[k], order[starts[k] : starts[k + 1]])
             for k in range(len(d))
         ),
         bar,
@@ -433,10 +499,11 @@ def horizontal_grasps(
     return result
 
 
-def _horizontal_candidate(mesh, origin, d, hits, locs, tri_idx, half, pad, edge_depth) -> dict | str:
+def _horizontal_candidate(cast: _Cast, origin, d, hits) -> dict | str:
     """The grasp on the line from ``origin`` along ``d`` of :func:`horizontal_grasps`
-    (``hits`` its rows of ``locs`` / ``tri_idx``), or the key of :data:`DROP_REASONS` saying
-    why it is not kept."""
+    (``hits`` its rows of ``cast.locs`` / ``cast.tri_idx``), or the key of :data:`DROP_REASONS`
+    saying why it is not kept."""
+    mesh, locs, tri_idx, half, edge = cast
     if hits.size < 2:
         return "no_far_side"
     t = (locs[hits] - origin) @ d
@@ -445,7 +512,7 @@ def _horizontal_candidate(mesh, origin, d, hits, locs, tri_idx, half, pad, edge_
     n1, n2 = mesh.face_normals[tri_idx[i1]], mesh.face_normals[tri_idx[i2]]
     if np.arccos(np.clip(-n1 @ d, -1, 1)) > half or np.arccos(np.clip(n2 @ d, -1, 1)) > half:
         return "outside_cone"
-    if pad is not None and _edge_pair(mesh, p1, p2, d, (0.0, 0.0, 1.0), pad, edge_depth):
+    if edge is not None and _edge_pair(mesh, p1, p2, d, edge):
         return "pad_edge"
     return {
         "p1": p1,

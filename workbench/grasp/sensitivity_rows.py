@@ -217,12 +217,10 @@ def _robust_row(
         q_robust(
             [c.with_force(c.force * forces[i]) for c in base],
             config["mu"],
-            1.0,  # unused: the disturbance is W[i]
-            np.zeros(3),
+            W[i],  # the disturbance
             p,
             seed=i,
             cuts=cuts,
-            w_ext=W[i],
         )
         >= 0.5  # the 6DFC paper's success threshold on q_robust (a fraction of the samples)
         for i in range(nr)

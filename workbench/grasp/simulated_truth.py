@@ -10,11 +10,13 @@ the quality metrics it judges.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .exact import ExactContacts, resists_exact
 
-__all__ = ["required_force_scale", "simulated_success"]
+__all__ = ["TruthModel", "required_force_scale", "simulated_success"]
 
 #: noisy friction and force factors ``1 + N(0, σ)`` are floored here: a draw of ~10 σ below
 #: the mean would otherwise give zero or negative friction / force (non-physical, and refused
@@ -47,6 +49,22 @@ def required_force_scale(
     return hi
 
 
+@dataclass(frozen=True)
+class TruthModel:
+    """The simulated gripper and its noise, the same for every grasp of a study: it closes to
+    ``safety ×`` the required force, at most ``force_cap`` [N per jaw]; a jaw closing beyond
+    ``closing_limit`` [m] fails the grasp; ``noise_samples`` draws of friction and force, with
+    relative standard deviations ``sigma_mu`` and ``sigma_force``.  Values only: an experiment's
+    config keys check them (e.g. ``minimal_work``'s ``force_cap``, ``sigma_mu``)."""
+
+    safety: float
+    force_cap: float  # [N per jaw]
+    closing_limit: float  # [m]
+    noise_samples: int
+    sigma_mu: float  # relative
+    sigma_force: float  # relative
+
+
 def simulated_success(
     exact: ExactContacts,
     poses: np.ndarray,
@@ -54,35 +72,31 @@ def simulated_success(
     reading: float,
     *,
     stiffness: float,
-    safety: float,
-    force_cap: float,
-    closing_limit: float,
-    noise_samples: int,
-    sigma_mu: float,
-    sigma_force: float,
+    model: TruthModel,
     rng: np.random.Generator,
 ) -> tuple[bool, float]:
     """(success, required jaw force [N]) of a grasp holding the wrenches ``poses`` (P, 6).
 
     ``reading`` [N] is the jaw force the profiles were made at (their sensor reading): the
     required force ``f_req`` is the largest over poses of :func:`required_force_scale` times
-    it (``inf`` when some pose is not resisted at ``force_cap`` [N]).  The gripper applies
-    ``f_app = min(safety f_req, force_cap)``; each of ``noise_samples`` draws scales friction
-    by ``1 + N(0, sigma_mu)`` and force by ``1 + N(0, sigma_force)`` (floored at
-    :data:`NOISE_FACTOR_FLOOR`).  Success iff more than half of the draws resist every pose
-    and the closing ``f_app / stiffness`` [m] (stiffness [N/m], ``inf``: rigid) is at most
-    ``closing_limit`` [m].  ``rng`` is drawn from only when ``f_req`` is finite.
+    it (``inf`` when some pose is not resisted at ``model.force_cap`` [N]).  The gripper
+    (:class:`TruthModel`) applies ``f_app = min(safety f_req, force_cap)``; each of
+    ``noise_samples`` draws scales friction by ``1 + N(0, sigma_mu)`` and force by
+    ``1 + N(0, sigma_force)`` (floored at :data:`NOISE_FACTOR_FLOOR`).  Success iff more than
+    half of the draws resist every pose and the closing ``f_app / stiffness`` [m] (stiffness
+    [N/m], ``inf``: rigid) is at most ``closing_limit`` [m].  ``rng`` is drawn from only when
+    ``f_req`` is finite.
     """
     if not (np.isfinite(reading) and reading > 0):
         raise ValueError(f"reading must be the profiles' jaw force > 0 [N]; got {reading!r}")
     F0 = reading
-    f_req = max(required_force_scale(exact, w, mu, force_cap / F0) for w in poses) * F0
+    f_req = max(required_force_scale(exact, w, mu, model.force_cap / F0) for w in poses) * F0
     if not np.isfinite(f_req):
         return False, f_req
-    f_app = min(safety * f_req, force_cap)
+    f_app = min(model.safety * f_req, model.force_cap)
     ok = 0
-    for _ in range(noise_samples):
-        mu_k = mu * max(1 + rng.normal(0, sigma_mu), NOISE_FACTOR_FLOOR)
-        f_k = f_app * max(1 + rng.normal(0, sigma_force), NOISE_FACTOR_FLOOR)
+    for _ in range(model.noise_samples):
+        mu_k = mu * max(1 + rng.normal(0, model.sigma_mu), NOISE_FACTOR_FLOOR)
+        f_k = f_app * max(1 + rng.normal(0, model.sigma_force), NOISE_FACTOR_FLOOR)
         ok += all(_resists(exact, w, mu_k, f_k / F0) for w in poses)
-    return bool(ok > noise_samples / 2 and f_app / stiffness <= closing_limit), f_req
+    return bool(ok > model.noise_samples / 2 and f_app / stiffness <= model.closing_limit), f_req

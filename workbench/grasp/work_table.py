@@ -189,7 +189,7 @@ def _row_head(name: str, k: int, g: dict, s_map: np.ndarray, s_fem: float) -> di
     }
 
 
-def _q_robust_memo(contacts: list, run: GraspRowSettings, mass: float, com: np.ndarray) -> Callable:
+def _q_robust_memo(contacts: list, run: GraspRowSettings) -> Callable:
     """``q_robust`` of a pose's wrench (6,), each distinct wrench once (the tasks share the 0° pose)."""
     from .robust import Perturbation, q_robust
 
@@ -199,7 +199,7 @@ def _q_robust_memo(contacts: list, run: GraspRowSettings, mass: float, com: np.n
         key = np.ascontiguousarray(w).tobytes()
         if key not in q_robust_of:
             perturb = Perturbation(n_samples=run.robust_samples)
-            q_robust_of[key] = q_robust(contacts, run.mu, mass, com, perturb, w_ext=w, seed=0)
+            q_robust_of[key] = q_robust(contacts, run.mu, w, perturb, seed=0)
         return q_robust_of[key]
 
     return q_of
@@ -209,7 +209,7 @@ def _task_entry(
     mw: list, ws: np.ndarray, q_of: Callable, exact, s_fem: float, run: GraspRowSettings, rng
 ) -> dict:
     """One task's entry of a row: its poses' minimal forces ``mw``, wrenches ``ws`` (k, 6)."""
-    from .simulated_truth import simulated_success
+    from .simulated_truth import TruthModel, simulated_success
 
     f_sum = max(m.f_sum for m in mw)
     W = max(m.W for m in mw)
@@ -222,12 +222,9 @@ def _task_entry(
         run.mu,
         run.grasp_force,
         stiffness=s_fem,
-        safety=run.safety,
-        force_cap=run.force_cap,
-        closing_limit=run.closing_limit,
-        noise_samples=run.noise_samples,
-        sigma_mu=run.sigma_mu,
-        sigma_force=run.sigma_force,
+        model=TruthModel(
+            run.safety, run.force_cap, run.closing_limit, run.noise_samples, run.sigma_mu, run.sigma_force
+        ),
         rng=rng,
     )
     return {
@@ -250,7 +247,7 @@ def grasp_row(name: str, k: int, g: dict, mesh, smap, s_fem: float, run: GraspRo
     ``s_fem`` [N/m] (inf: rigid), and the truth from ``seed``.  A grasp without FEM-pad
     profiles is a row with ``skipped`` (REACH's refusal is raised)."""
     from .exact import ExactContacts
-    from .models import contact_sets
+    from .models import ModelParameters, contact_sets
     from .tasks import task_wrenches
     from .work import minimal_work_poses
 
@@ -262,14 +259,14 @@ def grasp_row(name: str, k: int, g: dict, mesh, smap, s_fem: float, run: GraspRo
             raise
         log.warning("%s grasp %d skipped: %s", name, k, e)
         return {"object": name, "grasp": k, "skipped": str(e)}
-    contacts = [contact_sets(p, "6dls", M=run.M, seed=run.seed)[0] for p in profiles]
+    contacts = [contact_sets(p, "6dls", ModelParameters(M=run.M), seed=run.seed)[0] for p in profiles]
     s_map = smap(np.array([g["p1"], g["p2"]]))
     com, mass = mesh.convex_hull.center_mass, run.mass_kg[name]  # the filled object's centre
     exact = ExactContacts(profiles, seed=run.seed)
     rng = np.random.default_rng(seed)
     row = _row_head(name, k, g, s_map, s_fem)
     poses = {task: task_wrenches(task, mass, com, g["axis"]) for task in TASKS}
-    q_of = _q_robust_memo(contacts, run, mass, com)
+    q_of = _q_robust_memo(contacts, run)
     # every pose of both tasks on one LP (the 0° pose they share is solved once)
     mw_all = minimal_work_poses(
         contacts, np.vstack(list(poses.values())), run.mu, s_map, representation=run.work_representation

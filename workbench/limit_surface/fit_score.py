@@ -12,10 +12,10 @@ One name per fitted model, used by every experiment that compares them:
   (maximum dissipation; ``fit_quartic(twists=...)``), as the author's code does with
   other weights.
 
-:func:`fit_and_score` fits one of them (timed) and scores it: Eq. 3.18 and the
-radial error on test wrenches, Eq. 3.18 on the training wrenches, and — given
-the contact's exact wrenches — the sampler-independent support error
-(:mod:`.support_error`).
+:func:`fit_and_score` fits one of them (timed) and scores it: Eq. 3.18 on the
+training wrenches and, as its :class:`Scoring` asks, Eq. 3.18 and the radial error on
+test wrenches and — given the contact's exact wrenches — the sampler-independent
+support error (:mod:`.support_error`).
 """
 
 from __future__ import annotations
@@ -114,30 +114,55 @@ class FitScore:
         return self.model.info.get("fallback")
 
 
+@dataclass(frozen=True)
+class Scoring:
+    """What a fit is scored on besides its training wrenches (:func:`fit_and_score`).
+
+    test : (N, 6) wrenches of the same contact: Eq. 3.18 and the radial error (held-out
+        ones, or the thesis-code protocol's whole set); ``None``: not scored.
+    wrenches_of : ``(n, 6) twists -> (n, 6)`` exact wrenches of the contact (same μ and
+        normalisation as the training wrenches): the support error at ``support_directions``
+        uniform normals drawn with ``support_seed``; ``None``: no support error.
+
+    Checked on construction, before any fit: ``test`` is kept as the checked float array.
+    """
+
+    test: Any = None
+    wrenches_of: Callable[[np.ndarray], np.ndarray] | None = None
+    support_directions: int = 2000
+    support_seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.test is not None:
+            object.__setattr__(self, "test", check_wrenches(self.test, "test"))
+        if self.wrenches_of is not None:  # before the fit: a bad seed would only show after it
+            check_seed(self.support_seed, "support_seed")
+        if self.wrenches_of is not None and not callable(self.wrenches_of):
+            raise ValueError(
+                "wrenches_of must map (n, 6) twists to the contact's exact (n, 6) wrenches, e.g. "
+                f"partial(frictional_wrenches, profile, mu=mu); got {type(self.wrenches_of).__name__}"
+            )
+
+
 def fit_and_score(
     model: str,
     wrenches: Any,
     *,
     w_max: Any,
     twists: Any = None,
-    test: Any = None,
-    wrenches_of: Callable[[np.ndarray], np.ndarray] | None = None,
-    support_directions: int = 2000,
-    support_seed: int = 0,
+    scoring: Scoring | None = None,
     solver: str = "CLARABEL",
     alpha: float | None = None,
     repeats: int = 1,
 ) -> FitScore:
-    """Fit ``model`` (:data:`MODELS`) to ``wrenches`` (K, 6) and score it.
+    """Fit ``model`` (:data:`MODELS`) to ``wrenches`` (K, 6) and score it: Eq. 3.18 on them and
+    as ``scoring`` asks.
 
     w_max : (6,) exact maxima of the wrenches' contact (Eq. 3.10), or ``None`` for the
         sampled ones.
     twists : (K, 6) their twists (required by ``"quartic_normals"``).
-    test : (N, 6) wrenches of the same contact to score: Eq. 3.18 and the radial error
-        (held-out ones, or the thesis-code protocol's whole set).
-    wrenches_of : ``(n, 6) twists -> (n, 6)`` exact wrenches of the contact (same μ and
-        normalisation as ``wrenches``): the support error at ``support_directions``
-        uniform normals drawn with ``support_seed``.
+    scoring : the test wrenches and the support error's exact wrenches (:class:`Scoring`);
+        ``None``: the training error only.
     solver, alpha : as :func:`fit_model`.
     repeats : the fit is timed this many times (median; short fits vary with thread-pool
         contention) — the model is the same each time.
@@ -147,28 +172,20 @@ def fit_and_score(
     W = check_wrenches(wrenches)
     if twists is not None:
         twists = check_twists(W, twists)
-    if test is not None:
-        test = check_wrenches(test, "test")
     if isinstance(repeats, bool) or not (isinstance(repeats, int) and repeats >= 1):
         raise ValueError(f"repeats must be an integer >= 1 (fits timed, median kept); got {repeats!r}")
-    if wrenches_of is not None:  # before the fit: a bad seed would only show after it
-        check_seed(support_seed, "support_seed")
-    if wrenches_of is not None and not callable(wrenches_of):
-        raise ValueError(
-            "wrenches_of must map (n, 6) twists to the contact's exact (n, 6) wrenches, e.g. "
-            f"partial(frictional_wrenches, profile, mu=mu); got {type(wrenches_of).__name__}"
-        )
+    sc = Scoring() if scoring is None else scoring
     fit = partial(fit_model, model, W, w_max=w_max, twists=twists, solver=solver, alpha=alpha)
     fit_s, fitted = median_runtime(fit, repeats, warmup=0)
     support = None
-    if wrenches_of is not None:
-        support = support_error(fitted, wrenches_of, support_directions, seed=support_seed)
+    if sc.wrenches_of is not None:
+        support = support_error(fitted, sc.wrenches_of, sc.support_directions, seed=sc.support_seed)
     return FitScore(
         model=fitted,
         fit_s=fit_s,
         train_error=fitted.fitting_error(W),
-        test_error=None if test is None else fitted.fitting_error(test),
-        test_radial=None if test is None else fitted.fitting_error(test, "radial"),
+        test_error=None if sc.test is None else fitted.fitting_error(sc.test),
+        test_radial=None if sc.test is None else fitted.fitting_error(sc.test, "radial"),
         support=support,
     )
 
@@ -182,4 +199,13 @@ def convexity(model: LimitSurfaceModel, n_points: int = 10_000) -> float:
     return model.min_hessian_eigenvalue(n_points)
 
 
-__all__ = ["MODELS", "FitScore", "check_model", "convexity", "fit_and_score", "fit_model", "min_wrenches"]
+__all__ = [
+    "MODELS",
+    "FitScore",
+    "Scoring",
+    "check_model",
+    "convexity",
+    "fit_and_score",
+    "fit_model",
+    "min_wrenches",
+]

@@ -31,7 +31,7 @@ from ..sources.surfaces import ParametricSurface, check_rtol, mesh_profile, surf
 from ..twists import sample_twists_thesis
 from ..twists_author import box_sides, sample_twists_author
 from ..wrench import check_mu, frictional_wrenches, w_max
-from .fit_score import FitScore, fit_and_score, min_wrenches
+from .fit_score import FitScore, Scoring, fit_and_score, min_wrenches
 from .support_error import SharedWrenches
 from .thesis_code import ThesisCodeSample, thesis_code_split
 
@@ -132,7 +132,7 @@ class ExactContact:
         return self._wrenches(twists)
 
     def support_args(self, seed: int) -> dict:
-        """:func:`~.fit_score.fit_and_score`'s arguments of the support error on this contact,
+        """:class:`~.fit_score.Scoring`'s arguments of the support error on this contact,
         its normals drawn with ``seed``."""
         return {
             "wrenches_of": self.wrenches,
@@ -175,15 +175,16 @@ def fit_score(
     model: str,
     wrenches: np.ndarray,
     *,
+    test: Any = None,
     support_seed: int | None = None,
     **fit: Any,
 ) -> FitScore:
     """:func:`~.fit_score.fit_and_score` of ``model`` on raw ``wrenches`` (K, 6) of
-    ``contact``, normalised by its exact ``w_max``; with ``support_seed`` also the support
-    error at the contact's exact surface points.  ``fit``: ``twists``, ``test``, ``solver``,
-    ``alpha``, ``repeats`` of fit_and_score."""
+    ``contact``, normalised by its exact ``w_max``, scored on ``test`` (N, 6) wrenches (None:
+    not) and with ``support_seed`` also by the support error at the contact's exact surface
+    points.  ``fit``: ``twists``, ``solver``, ``alpha``, ``repeats`` of fit_and_score."""
     support = {} if support_seed is None else contact.support_args(support_seed)
-    return fit_and_score(model, wrenches, w_max=contact.w_max, **support, **fit)
+    return fit_and_score(model, wrenches, w_max=contact.w_max, scoring=Scoring(test, **support), **fit)
 
 
 def fit_scores(

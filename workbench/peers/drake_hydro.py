@@ -61,6 +61,7 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -69,7 +70,14 @@ from .. import peers as _checks
 from ..profile import ContactProfile
 from .elastic_foundation import foundation_modulus
 
-__all__ = ["AXIS_TILT_TOL", "DrakeHydroPad", "foundation_depth", "hydroelastic_modulus", "sphere_force_law"]
+__all__ = [
+    "AXIS_TILT_TOL",
+    "DrakeHydroPad",
+    "Meshing",
+    "foundation_depth",
+    "hydroelastic_modulus",
+    "sphere_force_law",
+]
 
 log = logging.getLogger(__name__)
 
@@ -206,6 +214,38 @@ def _obj_text(obstacle: Any) -> tuple[str, int]:
     return "\n".join(lines) + "\n", len(faces)
 
 
+@dataclass(frozen=True)
+class Meshing:
+    """How Drake discretises a :class:`DrakeHydroPad`'s contact.
+
+    resolution : the rigid sphere's or cylinder's tessellation hint [m], about its edge length
+        (None: ``R/80``); a mesh obstacle takes none (its own triangles are used).
+    cylinder_length : length [m] of Drake's finite cylinder standing in for an infinite one
+        (None: 4x the pad's larger side); Cylinder obstacles only.
+    representation : "polygon" (default) or "triangle" contact surfaces.
+
+    Checked on construction (a positive length each, the representation's name; the lengths
+    kept as floats); what depends on the obstacle (its kind, the pad's extent along a
+    cylinder's axis) the pad checks.
+    """
+
+    resolution: float | None = None
+    cylinder_length: float | None = None
+    representation: str = "polygon"
+
+    def __post_init__(self) -> None:
+        if self.resolution is not None:
+            object.__setattr__(
+                self, "resolution", _checks.length("resolution", self.resolution, "element_size")
+            )
+        if self.cylinder_length is not None:
+            object.__setattr__(
+                self, "cylinder_length", _checks.length("cylinder_length", self.cylinder_length)
+            )
+        if self.representation not in ("triangle", "polygon"):
+            raise ValueError(f"representation must be 'triangle' or 'polygon'; got {self.representation!r}")
+
+
 class DrakeHydroPad:
     """A compliant hydroelastic pad and a rigid obstacle in a Drake SceneGraph, queried per ``delta``.
 
@@ -225,17 +265,15 @@ class DrakeHydroPad:
     h : layer thickness [m]; the pad face is ``z = h``.  width, length : pad size [m] along x, y.
     E_hydro : hydroelastic modulus [Pa] (see :func:`hydroelastic_modulus`).
     box : "doubled" (``H = h``) or "layer" (``H = h/2``), see the module docstring.
-    resolution : the rigid sphere's or cylinder's tessellation hint [m], about its edge length
-        (default ``R/80``).  A mesh is used as given, so passing one with a MeshObstacle raises
-        ValueError (coarsen or refine the mesh itself).
-    representation : "polygon" (default) or "triangle" contact surfaces.
+    meshing : Drake's ``resolution``, ``cylinder_length`` and ``representation``
+        (:class:`Meshing`; None: ``Meshing()``).  A mesh is used as given, so a resolution with
+        a MeshObstacle raises ValueError (coarsen or refine the mesh itself).
     edge : what a contact reaching the pad box's sides means — Drake cuts it there silently:
         "warn" (log that the patch is truncated: enlarge the pad) or "cut" (on purpose, e.g. a
         cylinder or an elongated mesh spanning the pad); default "cut" for a Cylinder, else "warn".
-    cylinder_length : length [m] of Drake's cylinder standing in for the infinite one (default 4x
-        the pad's larger side); at least the pad's extent along the axis, ``|a_x| width +
-        |a_y| length``, so that its flat caps lie beyond the pad.  Cylinders only (ValueError
-        otherwise).
+    The cylinder's length (``meshing.cylinder_length``) must be at least the pad's extent along
+    the axis, ``|a_x| width + |a_y| length``, so that its flat caps lie beyond the pad; it is
+    for Cylinders only (ValueError otherwise).
 
     Attributes: ``kind`` ("sphere", "cylinder" or "mesh"), ``R`` (radius [m]; None for a mesh),
     ``center`` (the sphere's centre or the Drake cylinder's centre (3,) [m]; None for a mesh),
@@ -256,18 +294,15 @@ class DrakeHydroPad:
         width: float = 0.04,
         length: float = 0.04,
         box: str = "doubled",
-        resolution: float | None = None,
-        representation: str = "polygon",
-        cylinder_length: float | None = None,
+        meshing: Meshing | None = None,
         edge: str | None = None,
     ) -> None:
+        m = Meshing() if meshing is None else meshing
         self._set_geometry(obstacle, h, width, length, box)
         self.E_hydro = _checks.modulus("E_hydro (hydroelastic modulus)", E_hydro)
-        self._set_resolution(resolution)
-        self._set_cylinder_length(cylinder_length)
-        if representation not in ("triangle", "polygon"):
-            raise ValueError(f"representation must be 'triangle' or 'polygon'; got {representation!r}")
-        self.representation = representation
+        self._set_resolution(m.resolution)
+        self._set_cylinder_length(m.cylinder_length)
+        self.representation = m.representation
         edge = ("cut" if self.kind == "cylinder" else "warn") if edge is None else edge
         if edge not in ("warn", "cut"):
             raise ValueError(
@@ -312,11 +347,7 @@ class DrakeHydroPad:
                 )
             self.resolution: float | None = None
         else:
-            self.resolution = (
-                self.R / 80.0
-                if resolution is None
-                else _checks.length("resolution", resolution, "element_size")
-            )
+            self.resolution = self.R / 80.0 if resolution is None else resolution
 
     def _set_cylinder_length(self, cylinder_length: float | None) -> None:
         """The length of Drake's finite cylinder (default 4x the pad's larger side), at least the
@@ -327,7 +358,7 @@ class DrakeHydroPad:
             if cylinder_length is None:
                 self.cylinder_length = 4.0 * max(self.width, self.length)
             else:
-                self.cylinder_length = _checks.length("cylinder_length", cylinder_length)
+                self.cylinder_length = cylinder_length
                 if self.cylinder_length < span:
                     raise ValueError(
                         f"cylinder_length must be at least the pad's extent along the cylinder's axis, "

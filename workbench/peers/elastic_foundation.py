@@ -28,6 +28,7 @@ normal ``u(r) = δ - R + √(R² - r²)`` for ``r <= r0 = √(2Rδ - δ²)``:
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -36,6 +37,7 @@ from .. import peers as _checks
 from ..profile import ContactProfile
 
 __all__ = [
+    "PadGrid",
     "foundation_force",
     "foundation_modulus",
     "foundation_profile",
@@ -201,6 +203,32 @@ def _warn_at_edge(inside: np.ndarray, cx: int, cy: int, w: float, ln: float) -> 
         )
 
 
+@dataclass(frozen=True)
+class PadGrid:
+    """The Winkler pad's face as :func:`foundation_profile` samples it: ``width`` × ``length``
+    [m] in x × y, centred on the z axis, an ``nx`` × ``ny`` grid of cells, and what a contact
+    reaching its border means — ``edge="warn"`` (log that the grid truncates the patch: enlarge
+    the pad) or ``"cut"`` (the pad's end cuts the contact on purpose, e.g. a cylinder spanning
+    it).  Checked on construction; the sizes are kept as floats, the counts as ints."""
+
+    width: float = 0.04
+    length: float = 0.04
+    nx: int = 160
+    ny: int = 160
+    edge: str = "warn"
+
+    def __post_init__(self) -> None:
+        if self.edge not in ("warn", "cut"):
+            raise ValueError(
+                "edge must be 'warn' or 'cut' (the pad's border cuts the contact on purpose); "
+                f"got {self.edge!r}"
+            )
+        object.__setattr__(self, "width", _checks.length("width", self.width, "pad_size"))
+        object.__setattr__(self, "length", _checks.length("length", self.length, "pad_size"))
+        object.__setattr__(self, "nx", _checks.count("nx", self.nx, 1))
+        object.__setattr__(self, "ny", _checks.count("ny", self.ny, 1))
+
+
 def foundation_profile(
     obstacle: Any,
     delta: float,
@@ -209,12 +237,8 @@ def foundation_profile(
     *,
     nu: float | None = None,
     kind: str = "simple",
-    width: float = 0.04,
-    length: float = 0.04,
-    nx: int = 160,
-    ny: int = 160,
+    grid: PadGrid | None = None,
     depth: str = "vertical",
-    edge: str = "warn",
 ) -> ContactProfile | None:
     """Winkler pad pressed into ``obstacle`` by ``delta`` [m]: a :class:`ContactProfile`, or ``None``
     when nothing touches.
@@ -222,7 +246,9 @@ def foundation_profile(
     Geometry as in :func:`workbench.fem.press`: the pad's face is the plane ``z = h`` (the layer fills
     ``0 <= z <= h``, centred on the z axis, ``width`` × ``length`` [m] in x × y), the obstacle touches
     it at ``delta = 0`` and the jaw moves by ``+delta`` along z; so the same obstacle (e.g.
-    ``Sphere((0, 0, h + R), R)``) gives both models' profiles in the same frame.
+    ``Sphere((0, 0, h + R), R)``) gives both models' profiles in the same frame.  ``width``,
+    ``length``, ``nx``, ``ny`` and ``edge`` are those of ``grid`` (:class:`PadGrid`; None:
+    ``PadGrid()``, a 0.04 m square pad of 160 × 160 cells).
 
     The face is an ``nx`` × ``ny`` grid of cells; a cell whose centre ``X = (x, y, h + δ)`` lies
     inside the obstacle by ``u`` (``depth="vertical"``: along the pad normal, the springs' axis;
@@ -241,14 +267,8 @@ def foundation_profile(
     k = foundation_modulus(E, h, nu, kind)
     t = float(h)
     dlt = _check_delta(delta, t)
-    if edge not in ("warn", "cut"):
-        raise ValueError(
-            f"edge must be 'warn' or 'cut' (the pad's border cuts the contact on purpose); got {edge!r}"
-        )
-    w = _checks.length("width", width, "pad_size")
-    ln = _checks.length("length", length, "pad_size")
-    cx = _checks.count("nx", nx, 1)
-    cy = _checks.count("ny", ny, 1)
+    g = PadGrid() if grid is None else grid
+    w, ln, cx, cy = g.width, g.length, g.nx, g.ny
     if not hasattr(obstacle, "signed_distance"):
         raise ValueError(
             f"obstacle must have signed_distance(points) -> (d, n); got {type(obstacle).__name__} "
@@ -274,7 +294,7 @@ def foundation_profile(
             f"the obstacle penetrates {u.max():.4g} m, not less than the layer thickness h = {t:.4g} m: "
             "the jaw would hit the object — reduce delta"
         )
-    if edge == "warn":
+    if g.edge == "warn":
         _warn_at_edge(inside, cx, cy, w, ln)
     _, normals = obstacle.signed_distance(surf)
     area = np.full(inside.size, (w / cx) * (ln / cy))

@@ -80,7 +80,7 @@ def drake_pad(case: str, obs, geom: PadGeometry, config: dict, resolution_over_R
     ``ellipse_sections`` facets around, the bottle as :func:`bottle_mesh`), or ``(None, reason)``
     without Drake."""
     try:
-        from .drake_hydro import DrakeHydroPad, hydroelastic_modulus
+        from .drake_hydro import DrakeHydroPad, Meshing, hydroelastic_modulus
     except ImportError as exc:  # pragma: no cover - the module itself imports without Drake
         return None, str(exc)
     e_hydro = hydroelastic_modulus(config["E"], geom.thickness, geom.width, geom.length)
@@ -93,7 +93,13 @@ def drake_pad(case: str, obs, geom: PadGeometry, config: dict, resolution_over_R
         # the cylinders and the bottle's wall span the pad: cut there on purpose
         edge = "warn" if case == "sphere" else "cut"
         pad = DrakeHydroPad(
-            obs, geom.thickness, e_hydro, width=geom.width, length=geom.length, resolution=res, edge=edge
+            obs,
+            geom.thickness,
+            e_hydro,
+            width=geom.width,
+            length=geom.length,
+            meshing=Meshing(res),
+            edge=edge,
         )
         return pad, ""
     except ImportError as exc:

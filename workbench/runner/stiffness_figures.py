@@ -22,6 +22,7 @@ import logging
 import numbers
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -32,7 +33,7 @@ from ..stats import rank_correlation
 
 log = logging.getLogger(__name__)
 
-__all__ = ["plot_stiffness_validation", "render_stiffness_maps"]
+__all__ = ["MapStyle", "plot_stiffness_validation", "render_stiffness_maps"]
 
 #: acceptance band of the validation: median |log(s_pred / s_meas)| of the held-out grasps
 LOG_BAND = 0.35
@@ -61,11 +62,19 @@ def _check_options(path, band, rigid_threshold, model) -> None:
             f"band must be a finite width > 0 in |log(predicted / measured)| (natural log), e.g. {LOG_BAND}; "
             f"got {band!r}"
         )
+    _check_rigid_threshold(rigid_threshold)
+    _check_model_name(model)
+
+
+def _check_rigid_threshold(rigid_threshold) -> None:
     if rigid_threshold is not None and not _positive(rigid_threshold):
         raise ValueError(
             f"rigid_threshold must be a stiffness > 0 [N/m] (None: config.TOL.rigid_stiffness_threshold); "
             f"got {rigid_threshold!r}"
         )
+
+
+def _check_model_name(model) -> None:
     if not isinstance(model, str):
         raise ValueError(f"model must be a str naming the prediction (the y label); got {model!r}")
 
@@ -298,6 +307,25 @@ def _surface_values(
     return np.where(np.isfinite(out), out, np.nan)
 
 
+@dataclass(frozen=True)
+class MapStyle:
+    """How :func:`render_stiffness_maps` draws: with ``surface`` the mesh coloured by the
+    interpolated map (else only the grasps' spheres), ``rigid_threshold`` [N/m] from which a
+    stiffness is drawn rigid (grey; None: ``config.TOL.rigid_stiffness_threshold``, read at
+    drawing time), the predicted row's label ``model``, and each view's ``window_size``
+    (width, height) [pixels].  ``rigid_threshold`` and ``model`` are checked as
+    :func:`plot_stiffness_validation` checks them."""
+
+    surface: bool = True
+    rigid_threshold: float | None = None
+    model: str = "FEM, calibrated"
+    window_size: tuple[int, int] = (420, 460)
+
+    def __post_init__(self) -> None:
+        _check_rigid_threshold(self.rigid_threshold)
+        _check_model_name(self.model)
+
+
 def render_stiffness_maps(
     vertices,
     faces,
@@ -307,16 +335,13 @@ def render_stiffness_maps(
     path: Path,
     *,
     title: str = "",
-    surface: bool = True,
-    rigid_threshold: float | None = None,
-    model: str = "FEM, calibrated",
-    window_size: tuple[int, int] = (420, 460),
+    style: MapStyle | None = None,
 ) -> Path:
     """The measured and the predicted stiffness on the object's mesh; saved as PNG.
 
-    A 2 × 2 grid: rows measured | ``model``; columns the object seen from −y (front)
+    A 2 × 2 grid: rows measured | ``style.model``; columns the object seen from −y (front)
     and from +y (back), z up.  Each grasp's two jaw points are spheres coloured by the
-    stiffness; with ``surface`` the mesh is coloured by the interpolated map of the
+    stiffness; with ``style.surface`` the mesh is coloured by the interpolated map of the
     same values (:class:`~workbench.grasp.stiffness_map.StiffnessMap` at the
     vertices — rigid where the nearest grasp is rigid).  One logarithmic colour scale
     [N/m] over both rows; rigid (and failed) in grey.
@@ -329,16 +354,18 @@ def render_stiffness_maps(
         or inf is rigid.
     predicted : (n,) float — the model's stiffness per grasp [N/m]; NaN: failed.
     path : output PNG, written atomically.
-    rigid_threshold : [N/m]; None: ``config.TOL.rigid_stiffness_threshold``.
+    style : what to draw and how (:class:`MapStyle`); None: ``MapStyle()``.
 
     Returns ``path``.  Raises ``ValueError`` on arrays of the wrong shape or lengths
     that disagree (``locations`` must hold twice as many points as ``measured``).
     """
     from .viz import _pyvista, save_screenshot
 
+    st = MapStyle() if style is None else style
+    surface, window_size = st.surface, st.window_size
     V, Fc, L, s, p = _check_map_inputs(vertices, faces, locations, measured, predicted, title)
-    thr = _threshold(rigid_threshold)
-    point_vals, surf_vals, clim = _map_values(V, L, s, p, thr, model, surface)
+    thr = _threshold(st.rigid_threshold)
+    point_vals, surf_vals, clim = _map_values(V, L, s, p, thr, st.model, surface)
     pv = _pyvista()
     extent = float(np.ptp(V, axis=0).max())
     scene = _MapScene(

@@ -27,6 +27,8 @@ with an inner surface (the cup's 0.5 mm wall) is seen from outside only.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -43,7 +45,14 @@ from .jaws import check_direction, check_grasp, check_jaw_force, jaw_frame, with
 
 log = logging.getLogger(__name__)
 
-__all__ = ["check_jaw_reaches", "fem_jaw_profile", "fem_jaw_profiles", "jaw_rotation"]
+__all__ = [
+    "FemPad",
+    "check_jaw_reaches",
+    "condensed_fem_pad",
+    "fem_jaw_profile",
+    "fem_jaw_profiles",
+    "jaw_rotation",
+]
 
 
 def jaw_rotation(approach, up=(0.0, 0.0, 1.0)) -> np.ndarray:
@@ -85,6 +94,39 @@ def _touching(obstacle: MeshObstacle, R: np.ndarray, point: np.ndarray, X: np.nd
     )
 
 
+@dataclass(frozen=True)
+class FemPad:
+    """The FEM pad a jaw profile condenses when it is not given one already condensed.
+
+    geometry : a :class:`~workbench.fem.pad.PadGeometry` (default 20 × 40 × 5 mm), checked when
+        made by :func:`check_pad_geometry` (a pad in millimetres is refused before it is condensed).
+    material : a :class:`~workbench.fem.material.Material` (default E = 1 MPa, ν = 0.45).
+    cache_dir : :func:`~workbench.fem.pad.condense_pad`'s disk cache (None: its default, False: none).
+    """
+
+    geometry: PadGeometry = field(default_factory=PadGeometry)
+    material: Material = field(default_factory=Material)
+    cache_dir: Any = None
+
+    def __post_init__(self) -> None:
+        check_pad_geometry(self.geometry)
+
+
+def condensed_fem_pad(pad: CondensedPad | FemPad | None) -> CondensedPad:
+    """``pad`` condensed: a :class:`~workbench.fem.pad.CondensedPad` as given (its geometry
+    checked by :func:`check_pad_geometry`), a :class:`FemPad` (None: its defaults) condensed by
+    :func:`~workbench.fem.pad.condense_pad` (disk-cached unless ``cache_dir=False``)."""
+    if isinstance(pad, CondensedPad):
+        check_pad_geometry(pad.geometry)
+        return pad
+    spec = FemPad() if pad is None else pad
+    if not isinstance(spec, FemPad):
+        raise ValueError(
+            f"pad must be a CondensedPad (condense_pad), a FemPad or None; got {type(pad).__name__}"
+        )
+    return condense_pad(spec.geometry, spec.material, cache_dir=spec.cache_dir)
+
+
 def fem_jaw_profile(
     mesh,
     point,
@@ -92,12 +134,9 @@ def fem_jaw_profile(
     force: float,
     *,
     up=(0.0, 0.0, 1.0),
-    geometry: PadGeometry | None = None,
-    material: Material | None = None,
-    pad: CondensedPad | None = None,
+    pad: CondensedPad | FemPad | None = None,
     units: str | float | None = None,
     allow_scale: bool = False,
-    cache_dir=None,
 ) -> ContactProfile:
     """One jaw's FEM contact profile on ``mesh``, in the object frame, at the reading ``force``.
 
@@ -106,10 +145,11 @@ def fem_jaw_profile(
         approach line through it, its first touch may be elsewhere on the face).
     approach : (3,) direction from the jaw into the object.
     force : the gripper's reading [N] > 0: the pad's normal force along ``approach``.
-    geometry, material : the pad (default :class:`~workbench.fem.pad.PadGeometry`, 20 × 40 × 5 mm,
-        and :class:`~workbench.fem.material.Material`, E = 1 MPa, ν = 0.45); or ``pad``, a
-        condensed pad already built (:func:`~workbench.fem.pad.condense_pad`) — reuse it across
-        grasps, its condensation (tens of seconds, disk-cached) dominates the first call.
+    pad : the pad — a :class:`FemPad` (its geometry, material and disk cache; None: the default
+        20 × 40 × 5 mm pad of E = 1 MPa, ν = 0.45), condensed after the point and approach are
+        checked; or a condensed pad already built (:func:`~workbench.fem.pad.condense_pad`,
+        :func:`condensed_fem_pad`) — reuse it across grasps, its condensation (tens of seconds,
+        disk-cached) dominates the first call.
 
     Returns a :class:`~workbench.profile.ContactProfile` whose normal force along
     ``approach`` is ``force`` (to 1e-9 relative) and whose normals point out of the object,
@@ -130,12 +170,7 @@ def fem_jaw_profile(
         raise ValueError(f"point must be a finite (3,) position [m]; got {point!r}")
     R = jaw_rotation(approach, up)
     check_jaw_reaches(mesh, p, R[:, 2])  # before the pad is condensed
-    if pad is None:
-        pad = condense_pad(
-            check_pad_geometry(geometry or PadGeometry()), material or Material(), cache_dir=cache_dir
-        )
-    else:
-        check_pad_geometry(pad.geometry)
+    pad = condensed_fem_pad(pad)
     h = pad.geometry.thickness
     obstacle = MeshObstacle(mesh, allow_scale=True, facing=-R[:, 2])  # checked by closed_mesh above
     X = np.column_stack([pad.face_xy, np.full(len(pad.face_xy), h)])
@@ -233,12 +268,11 @@ def fem_jaw_profiles(mesh, grasp: dict, force: float, **kw) -> list[ContactProfi
     """Both jaws' FEM profiles of an antipodal ``grasp`` (``p1``, ``p2`` [m], ``axis`` from
     jaw 1 into the object, as :func:`workbench.grasp.sampling.horizontal_grasps` gives):
     jaw 1 at ``p1`` along ``axis``, jaw 2 at ``p2`` against it, each at the reading
-    ``force`` [N].  Keywords as :func:`fem_jaw_profile` (pass ``pad=`` to condense once)."""
+    ``force`` [N].  Keywords as :func:`fem_jaw_profile` (pass ``pad=`` to condense once), or
+    ``geometry=``, ``material=``, ``cache_dir=`` of a :class:`FemPad` in place of ``pad``."""
     p1, p2, axis = check_grasp(grasp)
     if kw.get("pad") is None:
-        kw["pad"] = condense_pad(
-            check_pad_geometry(kw.pop("geometry", None) or PadGeometry()),
-            kw.pop("material", None) or Material(),
-            cache_dir=kw.pop("cache_dir", None),
-        )
+        geometry, material = kw.pop("geometry", None) or PadGeometry(), kw.pop("material", None) or Material()
+        kw["pad"] = FemPad(geometry, material, kw.pop("cache_dir", None))
+    kw["pad"] = condensed_fem_pad(kw["pad"])  # once, for both jaws
     return [fem_jaw_profile(mesh, p, a, force, **kw) for p, a in ((p1, axis), (p2, -axis))]

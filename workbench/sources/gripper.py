@@ -543,7 +543,7 @@ def _tooltip_poses(data: dict, path) -> np.ndarray:
     return np.array(out)
 
 
-def gripper_from_yaml(
+def gripper_from_yaml(  # noqa: PLR0913 - each keyword overrides one field of the YAML files
     path,
     contact_yaml=None,
     *,

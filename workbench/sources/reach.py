@@ -18,6 +18,7 @@ counterpart: :mod:`workbench.sources.fem_jaw`); :func:`pad_profile` the jaw of a
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -28,7 +29,7 @@ from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 
-__all__ = ["fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
+__all__ = ["WinklerPress", "fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
 
 log = logging.getLogger(__name__)
 
@@ -54,6 +55,41 @@ def check_press_pad(stiffness, max_edge) -> bool:
     return True
 
 
+
+
+@dataclass(frozen=True)
+class WinklerPress:
+    """How :func:`reach_profile`'s Winkler pad presses and where it looks for the surface.
+
+    closing : how far the jaw closes past first touch [m] (:func:`check_press_closing`).
+    stiffness : the pad's Winkler modulus [Pa/m], its confined modulus over its layer thickness
+        (default 1 MPa / 5 mm); the pressure is ``stiffness · compression``.
+    max_edge : the object's faces are refined to sub-triangles of edges <= ``max_edge`` [m]
+        (:func:`check_press_pad` checks both).
+    window : ``(lo, hi)`` [m] or None — the range along the approach, relative to the jaw's
+        ``center``, searched for surface: faces reaching into it, and of those the sub-triangles
+        whose centre lies in it (a jaw open at ``center`` with ``stroke`` of travel:
+        ``(0, stroke)``).  None: faces reaching into ``±depth_window``, with no sub-triangle filter.
+    depth_window : the half-range [m] searched when ``window`` is None.
+
+    Checked when made, with the messages these had as keywords of :func:`reach_profile`.
+    """
+
+    closing: float = 1e-3
+    stiffness: float = 1.0e6 / 0.005
+    max_edge: float = 1e-3
+    window: tuple[float, float] | None = None
+    depth_window: float = 0.01
+
+    def __post_init__(self) -> None:
+        _check_window(self.window, self.depth_window)
+        if not (check_press_closing(self.closing) > 0 and check_press_pad(self.stiffness, self.max_edge)):
+            raise ValueError(
+                "closing, stiffness and max_edge must be > 0; got "
+                f"{self.closing!r}, {self.stiffness!r}, {self.max_edge!r}"
+            )
+
+
 def reach_profile(
     mesh,
     center,
@@ -62,38 +98,29 @@ def reach_profile(
     *,
     pad: tuple[float, float] = (0.02, 0.04),
     outline=None,
-    window: tuple[float, float] | None = None,
-    closing: float = 1e-3,
-    stiffness: float = 1.0e6 / 0.005,
-    max_edge: float = 1e-3,
-    depth_window: float = 0.01,
-    units: str | float | None = None,
+    press: WinklerPress | None = None,
     allow_scale: bool = False,
 ) -> ContactProfile:
     """A *profile source*: the REACH-style contact profile (pad ∩ mesh, Winkler pressure)
     of a jaw approaching ``center`` (on or near the object) along
-    ``approach`` (into the object), pad ``(width, length)`` [m], closing ``closing`` [m]
-    past first touch, pressure ``stiffness · compression`` [Pa/m].
+    ``approach`` (into the object), pad ``(width, length)`` [m], pressed as ``press`` says
+    (a :class:`WinklerPress`; None: its defaults): closing ``press.closing`` [m] past first
+    touch, pressure ``press.stiffness · compression`` [Pa/m], searched within ``press.window``.
 
     outline : (k, 2) [m] or None — the pad's footprint as a polygon in the jaw frame's
         ``(e1, e2)`` coordinates about ``center`` (:func:`~.jaws.jaw_frame`: e2 the part of
         ``up`` ⟂ approach, e1 = e2 × approach; :attr:`~.gripper.Jaw.outline`), in place of the
         centred ``pad`` rectangle (then ignored).
-    window : ``(lo, hi)`` [m] or None — the range along the approach, relative to ``center``,
-        searched for surface: faces reaching into it, and of those the sub-triangles whose centre
-        lies in it (a jaw open at ``center`` with ``stroke`` of travel: ``(0, stroke)``).  None: faces
-        reaching into ``±depth_window``, with no sub-triangle filter.
 
-    ``units`` is the unit of ``mesh.vertices`` only (``None``: metres; "mm" scales a
-    copy by 1e-3): ``center`` and every other length are in metres, as returned by
-    ``antipodal_grasps(mesh, ..., units=...)``.
+    ``mesh`` is a watertight trimesh in metres, as ``center`` and every other length; a mesh in
+    another unit is converted first: ``workbench.units.mesh_in_metres(mesh, "object", units="mm")``.
 
     Raises ``ValueError`` for a zero or non-finite ``approach`` or ``up`` (before anything is
     divided by its length), an ``up`` parallel to ``approach``, a non-watertight mesh, when the
     pad touches nothing, or for a mesh spanning more than ``TOL.max_object_extent_m`` or less than
     ``TOL.min_object_extent_m`` (a likely unit mistake; ``allow_scale=True`` accepts it).
     """
-    from ..units import closed_mesh
+    from ..units import MESH_UNIT_FIX, closed_mesh
 
     a = _check_direction(
         approach, "approach", "the jaw's closing direction, into the object, e.g. (0, 0, -1)"
@@ -105,12 +132,9 @@ def reach_profile(
     poly = None if outline is None else as_polygon(outline, "outline (the pad in jaw coordinates e1, e2)")
     if poly is None:
         check_pad(pad)
-    win = _check_window(window, depth_window)
-    mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
-    if not (check_press_closing(closing) > 0 and check_press_pad(stiffness, max_edge)):
-        raise ValueError(
-            f"closing, stiffness and max_edge must be > 0; got {closing!r}, {stiffness!r}, {max_edge!r}"
-        )
+    press = _checked_press(press)
+    win = _check_window(press.window, press.depth_window)
+    mesh = closed_mesh(mesh, "mesh passed to reach_profile", allow_scale=allow_scale, fix=MESH_UNIT_FIX)
     if np.linalg.norm(np.cross(a, u)) < 1e-9:
         across = tuple(int(k == np.argmin(np.abs(a))) for k in range(3))  # the axis least along a
         raise ValueError(
@@ -118,12 +142,23 @@ def reach_profile(
             f"part of up normal to approach); got up {np.asarray(up, float).tolist()} and approach "
             f"{np.asarray(approach, float).tolist()} — pass an up across the approach, e.g. {across}"
         )
-    out = _reach(
-        mesh, center, approach, up, _Press(pad, poly, win, window is not None, closing, stiffness, max_edge)
-    )
+    checked = _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
+    out = _reach(mesh, center, approach, up, checked)
     if isinstance(out, str):
         raise ValueError(out)
     return out
+
+
+def _checked_press(press) -> WinklerPress:
+    """``press`` if it is a :class:`WinklerPress`, its defaults for None, else a ValueError."""
+    if press is None:
+        return WinklerPress()
+    if not isinstance(press, WinklerPress):
+        raise ValueError(
+            f"press must be a workbench.sources.reach.WinklerPress or None; got {type(press).__name__}"
+            + (" — pass WinklerPress(**press)" if isinstance(press, dict) else "")
+        )
+    return press
 
 
 def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = None, max_edge: float = 1e-3):
@@ -484,13 +519,15 @@ def jaw_profiles(
     grasp axis (:func:`~.jaws.checked_jaw_profile`).  ``units`` is the unit of
     ``mesh.vertices`` only; the grasp is in metres.  Raises ValueError when a jaw would
     pull the object."""
+    from ..units import closed_mesh
+
     p1, p2, axis = check_grasp(grasp)
     check_jaw_force(force)
     check_pad(pad)
+    mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
+    press = WinklerPress(closing=closing)
     out = []
     for point, approach in ((p1, axis), (p2, -axis)):
-        prof = reach_profile(
-            mesh, point, approach, up, pad=pad, closing=closing, units=units, allow_scale=allow_scale
-        )
+        prof = reach_profile(mesh, point, approach, up, pad=pad, press=press, allow_scale=allow_scale)
         out.append(checked_jaw_profile(prof, point, approach, force, pad))
     return out
