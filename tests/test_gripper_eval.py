@@ -107,6 +107,15 @@ def test_a_pose_in_millimetres_is_refused(cube):
         evaluate_gripper(cube, yumi(), T, Task(mass=MASS), model="6dls")
 
 
+def test_a_mesh_in_millimetres_is_named_before_the_mass(cube):
+    # a new user's mm box was reported as "mass too light ... then 200", a fix Task refuses
+    mm = cube.copy()
+    mm.apply_scale(1e3)  # the REACH cube in millimetres: 30 m read as metres
+    with pytest.raises(ValueError, match=r"evaluate_models.*millimetres.*mesh_in_metres") as err:
+        evaluate_gripper(mm, yumi(), _top_down(), Task(mass=0.2), model="6dls")
+    assert "mass" not in str(err.value)
+
+
 def test_check_task_returns_the_unit_down(cube):
     np.testing.assert_allclose(check_task(cube, MASS, 0.3, (0, 0, -2.0)), [0, 0, -1.0])
 

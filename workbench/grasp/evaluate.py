@@ -51,7 +51,7 @@ log = logging.getLogger(__name__)
 class GraspEvaluation:
     """What :func:`evaluate_grasp` found.
 
-    resistance : the verdict for the task wrench (truthy iff resisted).
+    resistance : the verdict for the task wrench (truthy iff resisted); ``resisted`` is it as a bool.
     min_force : the smallest grasp force, or None: the minimal per-jaw reading is
         ``force * min_force.scale``; ``min_force.total`` is the sum of the contacts'
         normal-force magnitudes there (Σ p a, larger than 2 × the reading on curved
@@ -100,8 +100,9 @@ def evaluate_grasp(
         pass them with ``mesh=None``.
     grasp : one dict of :func:`~.sampling.antipodal_grasps` (``p1``, ``p2`` [m], ``axis``).
     task : a :class:`~.inputs.Task`: the task wrench ``w_ext`` (6,) about the object origin, or
-        ``mass`` [kg] and ``com`` (3,) [m] (inside the object's bounding box; required here) for
-        holding against gravity along ``down`` (3,).  A gripper given as a 4×4 pose:
+        ``mass`` [kg] and ``com`` (3,) [m] (inside the object's convex hull, up to
+        ``config.TOL.com_hull_rtol`` of its size; required here) for holding against gravity
+        along ``down`` (3,).  A gripper given as a 4×4 pose:
         :func:`~.gripper_eval.evaluate_gripper`, with the same Task.
     jaws : a :class:`~.inputs.Jaws` (default ``Jaws()``): ``force``, the force-sensor reading of
         *each* jaw along the grasp axis [N] (§4.1.3.2) — a profile's ``F`` (Σ p a, the sum of

@@ -249,8 +249,12 @@ def evaluate_models(
     """
     models = _checked_models(models)
     from ..sources.gripper import check_gripper
+    from ..units import MESH_UNIT_FIX, closed_mesh
 
     gripper = check_gripper(gripper)  # a preset's name is refused with the call to make
+    # the mesh's unit before the mass check, which reads its volume: a mesh in millimetres
+    # would otherwise be reported as a mass in the wrong unit
+    mesh = closed_mesh(mesh, "mesh passed to evaluate_models", fix=MESH_UNIT_FIX, override=None)
     opts = checked_input(options, GripperOptions, "options")
     mu, task = _checked_task(mesh, gripper, pose, task, opts)
     judge = {
