@@ -90,3 +90,16 @@ def test_a_one_element_contact_is_a_point_under_every_model():
         w_torsion = [20.0, 0.0, 0.0, 0.01, 0.0, 0.0]
         assert resists(sets, w_ok, 0.5), name
         assert not resists(sets, w_torsion, 0.5), name
+
+
+@pytest.mark.parametrize(
+    "given, meant",
+    [("6DLS", "6dls"), ("softpoint", "soft_point"), ("soft-point", "soft_point"), ("6DFC", "6dfc")],
+)
+def test_a_misspelt_model_name_is_refused_with_the_name_meant(given, meant):
+    from workbench.grasp.models import check_model
+
+    with pytest.raises(ValueError, match=rf"got '{given}' — did you mean '{meant}'\?$"):
+        check_model(given)
+    with pytest.raises(ValueError, match=r"got 'xyz'$"):  # nothing close: no guess
+        check_model("xyz")

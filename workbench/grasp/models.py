@@ -137,7 +137,12 @@ def check_model(name: str) -> str:
     """``name`` if it is one of :data:`MODELS`, else a ``ValueError`` listing them (also used
     by the experiments' ``check_config`` to refuse a model before any work)."""
     if name not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}; got {name!r}")
+        import difflib
+
+        key = str(name).lower().replace("-", "_").replace(" ", "_")
+        close = difflib.get_close_matches(key, MODELS, n=1, cutoff=0.6)
+        hint = f" — did you mean {close[0]!r}?" if close else ""
+        raise ValueError(f"model must be one of {MODELS}; got {name!r}{hint}")
     return name
 
 
