@@ -259,7 +259,9 @@ def antipodal_grasps(
         table and the contacts' clearance above it, the candidates drawn and the pad-edge
         check's depth.  ``sampling.max_samples`` candidates (default ``20 n``) are drawn and
         tried in turn until ``n`` grasps are kept; fewer than ``n`` logs a WARNING with the
-        counts per reason and what usually helps.
+        counts per reason and what usually helps.  The draws depend on ``n`` through that
+        default: the same seed with another ``n`` gives other grasps (fix ``max_samples`` to
+        make the first grasps of a larger ``n`` those of a smaller one).
 
     mesh : a watertight trimesh in metres; every length argument and every result is in metres.
         A mesh in another unit is converted first:
