@@ -168,3 +168,24 @@ def test_gravity_takes_a_direction(cylinder_jaws):
     np.testing.assert_allclose(y.w_ext, [0, -mass * G_ACC, 0, 0, 0, 0], atol=1e-15)
     assert y.resisted
     assert np.cos(np.pi / 8) - 1e-9 <= z.min_force.scale / y.min_force.scale <= 1 / np.cos(np.pi / 8) + 1e-9
+
+
+def test_an_unusual_mass_is_warned_once_per_call():
+    # the new-user trial saw each ImplausibleWarning twice: the Task checked the mass, then the
+    # evaluation checked it again against the mesh's volume
+    import warnings
+
+    import trimesh
+
+    from workbench.grasp import ModelOptions, Task, evaluate_grasp
+    from workbench.plausible import ImplausibleWarning
+
+    box = trimesh.creation.box((0.3, 0.08, 0.3))
+    grasp = {"p1": [0, 0.04, 0], "p2": [0, -0.04, 0], "axis": [0, -1, 0]}
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        task = Task(mass=15.0, com=box.center_mass)  # above the usual object mass, 2,083 kg/m³
+        evaluate_grasp(box, grasp, task, options=ModelOptions(model="point", min_force=False))
+    unusual = [w for w in seen if issubclass(w.category, ImplausibleWarning)]
+    assert len(unusual) == 1, [str(w.message)[:60] for w in unusual]
+    assert "15 kg is above the usual" in str(unusual[0].message)

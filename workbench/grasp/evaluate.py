@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -35,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
+from ..plausible import ImplausibleWarning
 from ..profile import ContactProfile
 from ..sources.jaws import check_grasp, checked_jaw_profile
 from ..sources.reach import jaw_profiles
@@ -210,8 +212,10 @@ def _task_wrench(task: Task, mesh) -> np.ndarray:
             "centre of mass (Task(mass=..., com=mesh.center_mass) for a uniform density)"
         )
     check_com(task.com, mesh)  # before gravity_wrench's generic check: the object's box says more
-    check_object_mass(task.mass, mesh)
-    return gravity_wrench(task.mass, task.com, down=task.down)
+    check_object_mass(task.mass, mesh, checked=True)  # the Task checked the mass itself
+    with warnings.catch_warnings():  # gravity_wrench's own mass check: the Task warned already
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        return gravity_wrench(task.mass, task.com, down=task.down)
 
 
 def _given_profiles(profiles, grasp: dict, force: float, pad: tuple[float, float]) -> list[ContactProfile]:

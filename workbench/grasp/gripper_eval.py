@@ -18,11 +18,13 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..limit_surface import LimitSurfaceCache
+from ..plausible import ImplausibleWarning
 from .inputs import GripperOptions, Task, check_down_direction, checked_input
 from .models import MODELS, check_model, contact_sets
 from .pose_robust import check_pose, pose_samples
@@ -74,18 +76,19 @@ class GripperEvaluation:
     timings_ms: dict = field(default_factory=dict)
 
 
-def check_task(mesh, mass: float, mu: float, down) -> np.ndarray:
+def check_task(mesh, mass: float, mu: float, down, *, checked: bool = False) -> np.ndarray:
     """Gripper-level careless-input checks; returns the unit ``down`` (3,).
 
     mass [kg] against the object's volume (a mean density above the plausible range of
     :data:`workbench.plausible.RANGES` ``"density"`` is refused as a mass in grams, one below it
     warned as a mesh in another unit); mu a friction coefficient in (0, 2] (30 is a percentage
     or a slip); down a non-zero (3,) direction (:func:`~.inputs.check_down_direction`).
+    ``checked``: the mass passed its own check already (a :class:`~.inputs.Task`'s).
     """
     from ..sources.gripper import check_pad_mu
 
     check_pad_mu(mu)
-    check_object_mass(mass, mesh)
+    check_object_mass(mass, mesh, checked=checked)
     return check_down_direction(down)
 
 
@@ -313,7 +316,9 @@ def _checked_task(mesh, gripper, pose, task: Task, opts: GripperOptions) -> tupl
             "give mu (GripperOptions(mu=...)): the gripper has no friction coefficient of its own "
             "(Gripper.mu is None)"
         )
-    d = check_task(mesh, task.mass, mu, task.down)
+    d = check_task(mesh, task.mass, mu, task.down, checked=True)
     check_down(check_pose(pose, "gripper pose"), d)
     c = check_com(mesh.center_mass if task.com is None else task.com, mesh)
-    return mu, replace(task, com=c, down=d)
+    with warnings.catch_warnings():  # the Task's values warned once when it was made
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        return mu, replace(task, com=c, down=d)

@@ -80,16 +80,18 @@ def check_mass(mass) -> float:
     return check("mass", mass, "mass")
 
 
-def check_object_mass(mass, mesh=None) -> float:
+def check_object_mass(mass, mesh=None, *, checked: bool = False) -> float:
     """``mass`` [kg] by :func:`check_mass`, and against the volume ``mesh`` encloses (its convex
     hull's: a hollow object's mesh may hold only its wall, while its mass counts the content): a
     mean density above the plausible range (:data:`workbench.plausible.RANGES` ``"density"``) is
     refused as a mass in grams (8 kg in a 240 mL box), one below it warned (a mesh in another
     unit, or a mass in tonnes).  The one rule of an object's mass: :func:`~.evaluate.evaluate_grasp`
-    and the gripper tasks (:func:`~.gripper_eval.check_task`) call it."""
+    and the gripper tasks (:func:`~.gripper_eval.check_task`) call it.  ``checked``: ``mass``
+    passed :func:`check_mass` already (a :class:`~.inputs.Task`'s), so its warnings are not
+    given twice."""
     from workbench.plausible import RANGES, check
 
-    m = check_mass(mass)
+    m = float(mass) if checked else check_mass(mass)
     if mesh is None or not getattr(mesh, "is_volume", False):
         return m
     volume = float(mesh.convex_hull.volume)
