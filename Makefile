@@ -77,9 +77,10 @@ test: $(STAMP) lint
 
 # The kernels' pure-Python path (same assertions, JIT off); CI runs it after `make test`.  The whole
 # suite but the tests marked jit_only (each says why); --check-kernels fails the run unless every
-# @njit function of the library ran as Python (tests/conftest.py, tests/njit_kernels.py).
+# @njit function of the library ran as Python (tests/conftest.py, tests/njit_kernels.py: under
+# pytest-xdist each worker reports the kernels it ran and the controller judges their union).
 test-nojit: $(STAMP)
-	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -m "not jit_only" --check-kernels
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist worksteal -m "not jit_only" --check-kernels
 
 # 6DFC Fig. 3 on the REACH trials: mAP and mAR against N_r and sigma_r for its four algorithms, two
 # sweeps of physical-trials (~10 min on 2 cores; kept out of make reproduce, which draws the figure

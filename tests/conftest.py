@@ -160,6 +160,21 @@ class KernelReach:
         return first_call
 
 
+class KernelTally:
+    """The pytest-xdist controller's view: the kernels each worker's :class:`KernelReach` saw
+    run (sent back as ``workeroutput``), merged as the workers finish."""
+
+    def __init__(self, kernels):
+        self.first = {}
+        self.pending = {f"{module}.{name}": None for module, name in kernels}
+
+    def merge(self, first):
+        for key, test in first.items():
+            if key in self.pending:
+                del self.pending[key]
+                self.first[key] = test
+
+
 def pytest_sessionstart(session):
     if not session.config.getoption("--check-kernels"):
         return
@@ -168,14 +183,28 @@ def pytest_sessionstart(session):
 
     if not numba.config.DISABLE_JIT:
         raise pytest.UsageError("--check-kernels needs NUMBA_DISABLE_JIT=1 (the kernels as Python)")
-    if session.config.getoption("numprocesses", None):  # pytest-xdist: each worker sees a share
-        raise pytest.UsageError("--check-kernels counts kernels in one process: run it without -n")
-    session.config._kernel_reach = KernelReach(njit_functions())
+    controller = session.config.getoption("numprocesses", None) and not hasattr(session.config, "workerinput")
+    # under pytest-xdist each worker records the kernels its share of the tests ran, and the
+    # controller (which runs no test) judges their union
+    cls = KernelTally if controller else KernelReach
+    session.config._kernel_reach = cls(njit_functions())
+
+
+@pytest.hookimpl(optionalhook=True)  # a pytest-xdist hook
+def pytest_testnodedown(node, error):
+    reach = getattr(node.config, "_kernel_reach", None)
+    if isinstance(reach, KernelTally):
+        reach.merge(getattr(node, "workeroutput", {}).get("kernels_first", {}))
 
 
 def pytest_sessionfinish(session, exitstatus):
     reach = getattr(session.config, "_kernel_reach", None)
-    if reach is not None and reach.pending and exitstatus == pytest.ExitCode.OK:
+    if reach is None:
+        return
+    if hasattr(session.config, "workerinput"):  # a worker sees a share: the controller judges
+        session.config.workeroutput["kernels_first"] = dict(reach.first)
+        return
+    if reach.pending and exitstatus == pytest.ExitCode.OK:
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 

@@ -50,6 +50,39 @@ def test_map_rows_serial_and_on_a_cluster_give_every_result_to_the_driver():
         assert map_rows(_square, range(2), lambda j, r: None) is None
 
 
+def _slow_square(x: int) -> list[int]:
+    import time
+
+    time.sleep(0.2)
+    return [x * x]
+
+
+def _fails(x: int) -> list[int]:
+    raise ValueError(f"row {x} failed")
+
+
+def test_map_rows_stops_when_the_cluster_is_left_without_workers_and_raises_a_tasks_error():
+    """Workers that die with their nannies used to leave the driver waiting forever."""
+    import time
+
+    from distributed import Client
+
+    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as c:
+        got: dict = {}
+        t0 = time.perf_counter()
+        with config.override(cluster_no_worker_s=1.0):
+            with pytest.raises(RuntimeError, match=r"no worker for \d+ s while \d+ task\(s\) wait"):
+                # the driver scales the cluster to no worker once the rows are submitted (without the
+                # check this waits forever)
+                no_workers = lambda: c.cluster.scale(0)  # noqa: E731
+                map_rows(_slow_square, range(20), got.__setitem__, client=c, meanwhile=no_workers)
+        # the check waits its 1 s (probing each second), not forever; a row or two may have finished
+        assert time.perf_counter() - t0 < 30 and len(got) < 20
+    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as c:
+        with pytest.raises(ValueError, match="row 3 failed"):
+            map_rows(_fails, [3], lambda j, r: None, client=c)
+
+
 def test_run_rows_says_where_the_rows_ran_and_returns_the_drivers_share():
     for workers, where in ((1, "serial"), (2, "dask (2 workers)")):
         got = {}

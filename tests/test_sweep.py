@@ -560,9 +560,19 @@ def test_a_sweep_whose_first_points_all_fail_stops_and_says_why(tmp_path, toy):
     from workbench import config
 
     out = tmp_path / "sw"
+    # each point sleeps, so that points are still pending when the third failure is counted: with
+    # instant points a slow driver (the no-JIT CI run) could see all 20 finish in one batch, and a
+    # sweep with nothing left to cancel completes (as the re-run below does)
     with config.override(sweep_stop_after_failures=3):
         with pytest.raises(SweepError, match="the first 3 points all failed.*last error: ValueError: x = "):
-            run_sweep("toy", {"x": [float(x) for x in range(20, 40)]}, out=out, client=toy, progress=False)
+            run_sweep(
+                "toy",
+                {"x": [float(x) for x in range(20, 40)]},
+                sets={"sleep": 0.25},
+                out=out,
+                client=toy,
+                progress=False,
+            )
     status = json.loads((out / "sweep.json").read_text())
     assert status["status"] == "stopped" and 3 <= status["n_failed"] < 20
     # a re-run whose points all fail again, with none left to run after them, completes
@@ -758,3 +768,24 @@ def test_a_point_runs_under_the_drivers_settings_and_restores_the_workers(tmp_pa
     res = run_point("x", {"out": str(tmp_path / "o")}, module="settings_toy", settings=settings)
     assert res["status"] == "ok" and res["summary"]["rtol"] == before / 7
     assert config.TOL.resist_rtol == before
+
+
+def test_a_sweep_whose_cluster_loses_every_worker_stops_and_keeps_its_points(tmp_path, toy):
+    from workbench import config
+
+    out = tmp_path / "sw"
+    with config.override(cluster_no_worker_s=1.0):
+        with pytest.raises(RuntimeError, match=r"no worker for \d+ s while \d+ task\(s\) wait"):
+            run_sweep(
+                "toy",
+                {"x": [float(x) for x in range(1, 9)]},
+                sets={"sleep": 0.3},
+                out=out,
+                client=toy,
+                progress=False,
+                # the cluster scales to no worker after the first point (without the check the
+                # sweep waits forever)
+                on_point=lambda key, row: toy.cluster.scale(0),
+            )
+    kept = pd.read_parquet(out / "table.parquet")
+    assert 1 <= len(kept) < 8 and (kept["status"] == "ok").all()

@@ -664,6 +664,12 @@ class RunSettings:
     # with no workers would otherwise hold the sweep at 0 % without a word.
     scheduler_wait_s: float = _field(30.0, _POS)
 
+    # Seconds a run on Dask (an experiment's rows, a sweep's points) waits with tasks pending and
+    # no worker in the cluster before it stops with an error: workers that died with their
+    # nannies (the memory of the machine exhausted) would otherwise hold the driver forever.
+    # Rows and points finished by then are kept (a re-run resumes).
+    cluster_no_worker_s: float = _field(120.0, _POS)
+
     # Seconds a sweep's TCP probe of a --scheduler host:port waits before the Dask client is
     # made: a refused connection (nothing listens there) or an unknown host then stops the
     # sweep at once instead of after scheduler_wait_s; a probe that times out (a firewall
@@ -697,8 +703,7 @@ class RunSettings:
 RUN = RunSettings()
 
 
-
-#: field name -> rule, read from each field of Tolerances and Defaults (tests/test_config.py
+#: field name -> rule, read from each field of Tolerances, Defaults and RunSettings (tests/test_config.py
 #: checks every field has one).
 _RULES: dict[str, Callable[[Any], Any]] = {
     f.name: f.metadata["rule"] for cls in (Tolerances, Defaults, RunSettings) for f in fields(cls)

@@ -294,13 +294,54 @@ def _map_dask(
             extra = _one_blas_thread(lambda _: meanwhile(), None) if meanwhile is not None else None
             # results arrive with the completions (a batch per event-loop turn): a fut.result() per
             # task crossed to the client's loop thread and back each time, a cost paid per row
-            for fut, res in as_completed(futures, with_results=True):
-                step(jobs[index[fut.key]], res)
+            ac, lost = as_completed(futures, with_results=True), WorkerLoss(client)
+            while not ac.is_empty():
+                if ac.has_ready():
+                    fut, res = next(ac)  # raises the task's exception, as iterating would
+                    step(jobs[index[fut.key]], res)
+                else:
+                    lost.check(ac.count())
+                    time.sleep(0.05)  # as_completed's own wait polls every 0.1 s too
         finally:
             client.cancel(futures)
     if stats is not None:
         stats.update(_stream_stats(_compute_seconds(ts.data), time.perf_counter() - t0))
     return extra
+
+
+class WorkerLoss:
+    """A driver's watch for a Dask cluster left without workers while tasks wait on it: the
+    nannies restart a worker that dies, but when they die too (the machine out of memory) the
+    tasks wait forever.  :meth:`check` raises once the cluster has had no worker for
+    ``config.RUN.cluster_no_worker_s`` (read at each check)."""
+
+    PROBE_S = 1.0  # seconds between two asks of the scheduler (one round trip each)
+
+    def __init__(self, client: Any) -> None:
+        self.client = client
+        self.since: float | None = None  # when the cluster was first seen without workers
+        self.next_probe = 0.0
+
+    def check(self, pending: int) -> None:
+        """Ask the scheduler (at most every :attr:`PROBE_S`) whether a worker is left; raise
+        RuntimeError when none has been for the configured time, ``pending`` tasks waiting."""
+        now = time.monotonic()
+        if now < self.next_probe:
+            return
+        self.next_probe = now + self.PROBE_S
+        if self.client.nthreads():
+            self.since = None
+            return
+        self.since = now if self.since is None else self.since
+        wait = config.RUN.cluster_no_worker_s
+        if now - self.since >= wait:
+            raise RuntimeError(
+                f"the Dask cluster has had no worker for {now - self.since:.0f} s while {pending} "
+                "task(s) wait: its workers died or were closed (out of memory? see the worker logs). "
+                "What was written so far stays (a checkpointed run resumes from it); on a cluster that "
+                "scales down to zero, wait longer with config.configure(cluster_no_worker_s=...) "
+                f"(now {wait:g} s)"
+            )
 
 
 def _compute_seconds(stream: list[dict]) -> dict[str, list[float]]:

@@ -1206,10 +1206,13 @@ def _run_points(
     points all failed."""
     from distributed import as_completed
 
+    from .parallel import WorkerLoss
+
     futures = _submit(client, points, todo)
     watch = _WorkerWatch(client)
     tally = _Tally(points.experiment, len(todo), progress, record, ckpt, need)
     ac = as_completed(list(futures))
+    lost = WorkerLoss(client)
     try:
         while futures:
             done = _collect(ac.next_batch(block=False), futures, watch, points)
@@ -1218,6 +1221,7 @@ def _run_points(
                 watch.finished(key)
                 tally.add(key, res, pending=bool(futures))
             if not done:
+                lost.check(len(futures))
                 time.sleep(0.05)  # as_completed's own wait polls every 0.1 s too
     except BaseException:
         client.cancel(list(futures))  # one call: a cancel per future is a round trip each
