@@ -32,20 +32,16 @@ __all__ = [
 
 
 @lru_cache(maxsize=1)
-def _default_roots() -> tuple[tuple[str, Path], ...]:
+def _package_folder() -> Path:
     from importlib.util import find_spec
 
-    out = []
-    for pkg in ("workbench",):
-        spec = find_spec(pkg)
-        out.append((pkg, Path(spec.submodule_search_locations[0])))
-    return tuple(out)
+    return Path(find_spec("workbench").submodule_search_locations[0])
 
 
 def package_roots() -> dict[str, Path]:
     """``{package: folder}`` of the installed package's root (``workbench``; its subpackages
-``workbench.fem``, ``workbench.experiments``, ``workbench.runner`` live in its folder)."""
-    return dict(_default_roots())
+    ``workbench.fem``, ``workbench.experiments``, ``workbench.runner`` live in its folder)."""
+    return {"workbench": _package_folder()}
 
 
 def _stamp(path: Path) -> tuple[str, str]:
