@@ -70,6 +70,18 @@ def test_list_and_option_order_unchanged(capsys, monkeypatch, tmp_path):
     assert seen["n_elements"] == module.QUICK_CONFIG["n_elements"]
 
 
+def test_run_says_how_many_rows_it_resumed(capsys, monkeypatch, tmp_path):
+    """A re-run that read every row back said nothing of it (a new-user trial): its headline's
+    timings looked measured in that run."""
+    module = importlib.import_module(EXPERIMENTS["sensitivity"])
+    for resumed, said in ((41, " (41 rows resumed from its checkpoint)"), (0, "")):
+        monkeypatch.setattr(module, "run", lambda config, n=resumed: {"n_resumed": n, "headline": ["h"]})
+        assert main(["run", "sensitivity", "--quick", "--out", str(tmp_path)]) == 0
+        first = capsys.readouterr().out.splitlines()[0]
+        assert first.startswith(f"sensitivity: wrote {tmp_path}/summary.json in ")
+        assert first.endswith(f" s{said}")
+
+
 def test_seed_is_refused_for_an_experiment_without_a_seed_key(capsys, monkeypatch, tmp_path):
     """``--seed 5`` on sensitivity-engine (whose grasps come from its ``seeds`` list) ran the
     seed-0 trials while summary.json recorded seed 5; ``--seed -3`` passed too.  Both are refused

@@ -1,6 +1,7 @@
 """A peer's errors against a reference (workbench.peers.comparison): zero for the reference
 itself, the known values for a contact with twice the pressure, MuJoCo's point contact measured
-by its coefficients, and margins that scale with the jaw force as the disturbances do."""
+by its coefficients, margins that scale with the jaw force as the disturbances do, the rows'
+contact areas (loaded elements; Hertz's π R δ) and the equal-jaw-force margins."""
 
 from __future__ import annotations
 
@@ -12,10 +13,23 @@ from workbench.fem.extract import extract_profile, face_grid, nodal_pressures
 from workbench.fem.material import Material
 from workbench.fem.obstacles import Sphere
 from workbench.fem.pad import PadGeometry, condense_pad
+from workbench.grasp.margin import MARGIN_SPAN
 from workbench.peers import metrics
-from workbench.peers.comparison import compare, fem_row, grasp_margins, reference_measures
-from workbench.peers.hertz import hertz_profile
+from workbench.peers.comparison import (
+    DISTURBANCE_FORCE_N,
+    compare,
+    contact_area,
+    equal_force_jaws,
+    equal_force_margins,
+    fem_row,
+    grasp_margins,
+    hertz_row,
+    profile_row,
+    reference_measures,
+)
+from workbench.peers.hertz import hertz_contact_radius, hertz_profile
 from workbench.peers.mujoco_cone import patch_coefficients
+from workbench.profile import ContactProfile
 
 MU = 0.5
 R, DELTA = 15e-3, 0.5e-3
@@ -94,3 +108,84 @@ def test_margins_scale_with_the_jaw_force_as_the_disturbances_do():
     assert m1["a"].shape == (3,) and (m1["a"] > 0).all()
     assert m1["a"].tolist() == m1["b"].tolist()  # the same disturbances for every peer
     assert m2["a"] == pytest.approx(m1["a"], rel=1e-9)  # friction is linear in the normal force
+
+
+def test_a_profiles_contact_area_counts_its_loaded_elements_only():
+    # four elements of 1, 2, 3, 4 mm², the second unloaded (as Drake's clipped rim can be)
+    c = np.c_[np.arange(4) * 1e-3, np.zeros(4), np.zeros(4)]
+    prof = ContactProfile(
+        c,
+        np.tile([0.0, 0.0, 1.0], (4, 1)),
+        np.array([1.0, 2.0, 3.0, 4.0]) * 1e-6,
+        np.array([5.0, 0.0, 1.0, 2.0]) * 1e3,
+    )
+    assert contact_area(prof) == pytest.approx(8e-6, rel=1e-15)
+    row = profile_row(prof)
+    assert row["profile"] is prof and row["area"] == contact_area(prof) and row["field"] == ("elements",)
+    loaded = prof.with_pressures(np.full(4, 1e3))
+    assert contact_area(loaded) == pytest.approx(10e-6, rel=1e-15)
+
+
+def test_the_hertz_row_has_the_hertz_contact_area(hertz):
+    prof, _, _ = hertz
+    row = hertz_row(prof, R, DELTA)
+    a = hertz_contact_radius(R, DELTA)
+    assert row["area"] == pytest.approx(np.pi * a * a, rel=1e-15)
+    assert row["area"] == pytest.approx(np.pi * 15e-3 * 0.5e-3, rel=1e-15)  # 23.56 mm²
+    assert row["profile"] is prof and row["field"] == ("elements",)
+    with pytest.raises(ValueError, match="delta"):
+        hertz_row(prof, R, -DELTA)
+
+
+@pytest.fixture(scope="module")
+def jaw():
+    """A Hertz contact below a sphere centred at ``center`` (the pad's face at z = 5 mm)."""
+    center = np.array([0.0, 0.0, 5e-3 + R])
+    return hertz_profile(R, DELTA, 1e6, 0.45, center=center), center
+
+
+def test_equal_force_jaws_carry_the_reference_force(jaw):
+    prof, _ = jaw
+    coef = patch_coefficients(MU, R, DELTA, "hertz")
+    rows = {
+        "twice": {"profile": prof.with_pressures(2 * prof.pressures)},
+        "cone": {"profile": None, "coefficients": coef},
+    }
+    jaws = equal_force_jaws(rows, prof, 3.0)
+    assert list(jaws) == ["twice", "cone"]
+    assert jaws["twice"]["kind"] == "profile"
+    assert metrics.jaw_force(jaws["twice"]["profile"]) == pytest.approx(3.0, rel=1e-12)
+    # the scale is uniform: the shape of the pressure field is the peer's
+    np.testing.assert_allclose(
+        jaws["twice"]["profile"].pressures / prof.pressures, 3.0 / metrics.jaw_force(prof), rtol=1e-12
+    )
+    cone = jaws["cone"]
+    assert cone["kind"] == "cone" and cone["force"] == 3.0 and cone["coefficients"] is coef
+    np.testing.assert_array_equal(cone["point"], prof.pressure_center)
+
+
+def test_equal_force_margins_do_not_depend_on_the_peers_or_the_references_force(jaw):
+    prof, center = jaw
+    kw = {"seed": 0, "n_disturbances": 3, "steps": 8}
+    rows = {
+        "same": {"profile": prof},
+        "twice": {"profile": prof.with_pressures(2 * prof.pressures)},
+        "cone": {"profile": None, "coefficients": patch_coefficients(MU, R, DELTA, "hertz")},
+    }
+    truth, m = equal_force_margins(rows, prof, center, MU, **kw)
+    assert list(m) == ["same", "twice", "cone"] and truth.shape == (3,) and (truth > 0).all()
+    # the truth is the reference's own grasp against disturbances scaled by f_ref / 25 N
+    f_ref = metrics.jaw_force(prof)
+    own = grasp_margins(
+        {"r": {"kind": "profile", "profile": prof}}, center, MU, scale=f_ref / DISTURBANCE_FORCE_N, **kw
+    )["r"]
+    assert truth.tolist() == own.tolist()
+    assert m["same"].tolist() == truth.tolist()
+    # a peer pressing twice as hard is compared at the reference's force: the same margins
+    res = 2.0 ** (2 * np.log2(MARGIN_SPAN) / 2 ** kw["steps"])
+    np.testing.assert_allclose(m["twice"], truth, rtol=res - 1)
+    # a reference three times as strong: the disturbances and every jaw scale with it, and
+    # friction is linear in the normal force — the same margins
+    truth3, m3 = equal_force_margins(rows, prof.with_pressures(3 * prof.pressures), center, MU, **kw)
+    np.testing.assert_allclose(truth3, truth, rtol=res - 1)
+    np.testing.assert_allclose(m3["cone"], m["cone"], rtol=res - 1)

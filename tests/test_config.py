@@ -48,6 +48,8 @@ def test_override_of_a_default_changes_the_samplers_and_configure_lasts(monkeypa
 def test_unknown_names_are_refused_with_the_names_to_use():
     with pytest.raises(ValueError, match=r"unknown tolerance/default/run-setting names \['no_such_rtol'\]"):
         config.configure(no_such_rtol=1.0)
+    with pytest.raises(ValueError, match=r"did you mean 'cluster_min_rows' for 'cluster_min_row'\?"):
+        config.configure(cluster_min_row=3)
     with pytest.raises(ValueError, match="unknown"), config.override(resist_rtol=1e-9, nope=2):
         pass
     assert config.TOL.resist_rtol != 1e-9

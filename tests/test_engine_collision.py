@@ -1,5 +1,6 @@
 """The object as the engine collides it (workbench.engine_trials.collision): convex slabs of a
-non-convex object against its analytic surface, and a grasp at a waist that only the slabs reach."""
+non-convex object against its analytic surface, a grasp at a waist that only the slabs reach, and
+how deep points lie inside the pieces (collision_gap.surface_gap)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import pytest
 import trimesh
 
 from workbench.engine_trials.collision import collision_pieces, convex_slabs
+from workbench.engine_trials.collision_gap import surface_gap
 from workbench.engine_trials.settings import EngineSettings
 
 
@@ -97,3 +99,38 @@ def test_the_pads_meet_the_neck_of_the_slabs_and_start_inside_the_hull():
     obj, pad = EngineObject(mass=0.05, mu=0.5), EnginePad(size=(0.01, 0.01, 0.005))
     held = simulate_grasp(mesh, grasp, force=10.0, obj=obj, pad=pad)
     assert held.held and held.drift < 1e-3  # 2 μ F = 10 N against 0.5 N
+
+
+def test_surface_gap_of_points_a_known_depth_inside_a_box():
+    """A box is its own collision piece: each point's gap is its distance to the nearest face
+    (by hand from the half-sizes 15 / 20 / 25 mm), 0 on a face and outside."""
+    box = trimesh.creation.box((0.03, 0.04, 0.05))
+    pts = np.array(
+        [
+            [0.013, 0.0, 0.0],  # 2 mm inside the face x = 15 mm
+            [0.0, -0.0195, 0.01],  # 0.5 mm inside y = -20 mm
+            [0.005, 0.01, 0.021],  # 4 mm below z = 25 mm (x: 10 mm, y: 10 mm)
+            [0.0, 0.0, 0.0],  # the centre: 15 mm from x = ±15 mm
+            [0.015, 0.0, 0.0],  # on a face
+            [0.02, 0.0, 0.0],  # 5 mm outside
+        ]
+    )
+    gap = surface_gap(box, pts, (0.0, 0.0, -1.0), 5e-3)
+    np.testing.assert_allclose(gap, [0.002, 0.0005, 0.004, 0.015, 0.0, 0.0], atol=1e-12)
+    # any leading shape: pairs of contact points give (k, 2)
+    pairs = surface_gap(box, pts.reshape(3, 2, 3), (0.0, 0.0, -1.0), 5e-3)
+    assert pairs.shape == (3, 2) and np.array_equal(pairs.ravel(), gap)
+    with pytest.raises(ValueError, match=r"points must be \(\.\.\., 3\) positions"):
+        surface_gap(box, pts.reshape(3, 6), (0.0, 0.0, -1.0), 5e-3)
+
+
+def test_surface_gap_at_a_waist_is_the_hulls_bridge_and_the_slabs_follow_it():
+    """A point on the hourglass's waist (r 20 mm at z 0): 8 mm inside its hull (r 28 mm there,
+    the ends' radius), and within slab thickness x slope of the surface as slabs."""
+    mesh = _hourglass()
+    p = np.array([[0.02, 0.0, 0.0]])
+    (hull_gap,) = surface_gap(mesh, p, (0.0, 0.0, -1.0), 0.0)
+    assert hull_gap == pytest.approx(0.028 - 0.02, rel=0.02)
+    h = 0.004
+    (slab_gap,) = surface_gap(mesh, p, (0.0, 0.0, -1.0), h)
+    assert 0.0 <= slab_gap <= h * (2 * 0.008 / 0.03) * 1.05

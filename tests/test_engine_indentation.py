@@ -16,6 +16,7 @@ from workbench.engine_trials.indentation import (
     DrakeSettings,
     IndentProtocol,
     indent_pad,
+    indenter_pad_mesh,
     pad_tets,
 )
 from workbench.fem.material import Material
@@ -44,6 +45,32 @@ def test_pad_tets_fill_the_pad_and_pin_its_back():
     # a graded geometry keeps its axes: every node of PadGeometry.axes() is a vertex
     x, y, z = SPHERE_MESH.axes()
     assert len(pad_tets(SPHERE_MESH)[0]) == len(x) * len(y) * len(z) == 1710
+
+
+def test_the_indenters_pad_meshes_resolve_their_contact_on_the_trials_pad():
+    """The probe's pads are the trials' 20 x 40 x 5 mm pad (indent_pad's reference): under the
+    flat a uniform 2 x 2 x 1 mm hex mesh; under a sphere 1 mm spacing within 4 mm of the face's
+    centre (and through the layer), so the contact radius sqrt(R d) = 1.58 mm (R 10 mm,
+    d 0.25 mm) spans at least three nodes across, coarser (growth 1.5) away from it."""
+    ref = PadGeometry()
+    for radius in (None, 0.01, 0.025):
+        g = indenter_pad_mesh(radius)
+        assert (g.width, g.length, g.thickness) == (ref.width, ref.length, ref.thickness)
+    x, y, z = indenter_pad_mesh(None).axes()
+    for axis, step, extent in ((x, 0.002, 0.02), (y, 0.002, 0.04), (z, 0.001, 0.005)):
+        np.testing.assert_allclose(np.diff(axis), step, rtol=1e-12)
+        assert axis[-1] - axis[0] == pytest.approx(extent, rel=1e-12)
+    x, y, z = indenter_pad_mesh(0.01).axes()
+    assert len(x) * len(y) * len(z) == 1710  # the graded pad of SPHERE_MESH
+    for axis in (x, y):
+        near = np.abs(axis) <= 0.004 + 1e-12
+        np.testing.assert_allclose(np.diff(axis[near]), 0.001, rtol=1e-9)
+        # growing by 1.5 away from the contact: 1.5, 2.25 mm, ... (the last step fits the edge)
+        np.testing.assert_allclose(np.diff(axis[axis >= 0.004 - 1e-12])[:2], [0.0015, 0.00225], rtol=1e-9)
+    np.testing.assert_allclose(np.diff(z), 0.001, rtol=1e-9)  # 1 mm through the 5 mm layer
+    a = np.sqrt(0.01 * 0.25e-3)
+    assert np.sum(np.abs(x) <= a) >= 3 and np.sum(np.abs(y) <= a) >= 3
+    assert indenter_pad_mesh(0.025) == indenter_pad_mesh(0.01) == SPHERE_MESH
 
 
 @pytest.mark.jit_only(SLOW_FEM)

@@ -296,3 +296,30 @@ def test_calibration_rejects_bad_groups_heights_and_all_failed_fits():
         missing_physics(model, 2 * s, width=np.full(8, 0.05), clamp_distance=np.full(8, np.inf))
     with pytest.raises(ValueError, match="width must be finite"):
         missing_physics(s, 2 * s, width=np.r_[np.full(7, 0.05), np.nan], clamp_distance=np.full(8, np.inf))
+
+
+def test_uncalibrated_scores_leave_out_rigid_and_failed_grasps():
+    """workbench.fem.calibration.uncalibrated_scores: the model as it comes against the map over
+    the grasps neither side calls rigid (the map: >= the rigid threshold) nor the model failed
+    at; log ratios by hand."""
+    from scipy.stats import spearmanr
+
+    from workbench.fem.calibration import uncalibrated_scores
+
+    measured = np.array([100.0, 200.0, 300.0, 400.0, RIGID_STIFFNESS, 600.0, 50.0])
+    model = np.array([25.0, 400.0, np.nan, 1200.0, 1000.0, 1200.0, 60.0])
+    rigid = np.array([False, False, False, False, False, True, False])
+    failed = np.array([False, False, True, False, False, False, False])
+    u = uncalibrated_scores(model, measured, rigid=rigid, failed=failed)
+    # grasps 0, 1, 3, 6: ratios 1/4, 2, 3, 1.2
+    assert u["n"] == 4
+    assert u["median_log_ratio"] == pytest.approx(0.5 * (np.log(1.2) + np.log(2.0)), rel=1e-14)
+    assert u["median_abs_log_ratio"] == pytest.approx(0.5 * (np.log(2.0) + np.log(3.0)), rel=1e-14)
+    ok = [0, 1, 3, 6]
+    assert u["spearman"] == pytest.approx(spearmanr(model[ok], measured[ok]).statistic, rel=1e-14)
+    # ranks (measured 2, 3, 4, 1; model 1, 3, 4, 2): 1 - 6 * 2 / (4 * 15)
+    assert u["spearman"] == pytest.approx(0.8, rel=1e-14)
+    few = uncalibrated_scores(model, measured, rigid=rigid | (measured < 250), failed=failed)
+    assert few["n"] == 1 and "fewer than 3 grasps" in few["note"]
+    with pytest.raises(ValueError, match="one length, one entry per grasp"):
+        uncalibrated_scores(model[:-1], measured, rigid=rigid, failed=failed)

@@ -1,13 +1,21 @@
 """Validation problems with closed-form answers (workbench.fem.validation): the Lamé
 thick cylinder's formula, its finite-element counterpart (convergence order, linearity),
-and the condensed-versus-full exactness check on a case with an exact answer.  The SRI
-scheme against Lamé (volumetric locking) is tested in tests/test_fem_elasticity.py."""
+the locking table, and the condensed-versus-full exactness check on a case with an exact
+answer and on the ten comparison cases.  The SRI scheme against Lamé (volumetric locking)
+is tested in tests/test_fem_elasticity.py."""
 
 import numpy as np
 import pytest
 
 from workbench.fem.material import Material
-from workbench.fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
+from workbench.fem.validation import (
+    compare_condensed_vs_full,
+    comparison_cases,
+    condensed_vs_full,
+    lame_cylinder_fe,
+    lame_inner_displacement,
+    locking_rows,
+)
 
 
 @pytest.mark.parametrize("E, nu, p, a, b", [(1e6, 0.3, 1.0, 1.0, 2.0), (2.5e9, 0.45, 3e5, 0.01, 0.013)])
@@ -68,3 +76,34 @@ def test_condensed_vs_full_on_a_uniaxially_compressed_layer():
     assert row["max_penetration_m"] <= 1e-9 * h
     assert row["condensed_ms"] > 0 and row["full_s"] > 0
     assert row["speed_ratio"] == pytest.approx(row["full_s"] / (row["condensed_ms"] * 1e-3), rel=1e-12)
+
+
+def test_locking_rows_sri_stays_near_lame_where_full_integration_locks():
+    """On 4 x 6 hexes: SRI within 1 % of Lamé (its O(h²) discretization error) at nu = 0.3 and
+    at nu = 0.4999 alike; full integration within 2 % at 0.3 but locked far below Lamé at
+    0.4999 (K/G = 5000), the first Poisson ratio's row first."""
+    rows = locking_rows([0.3, 0.4999], 4, 6)
+    assert [list(r) for r in rows] == [["nu", "sri_over_exact", "full_over_exact"]] * 2
+    assert [r["nu"] for r in rows] == [0.3, 0.4999]
+    assert all(abs(r["sri_over_exact"] - 1) < 0.01 for r in rows)
+    assert abs(rows[0]["full_over_exact"] - 1) < 0.02
+    assert rows[1]["full_over_exact"] < 0.2
+
+
+def test_the_ten_comparison_cases_are_exact_on_a_coarse_pad():
+    """Condensation is the exact Schur complement of the same stiffness: on a 4 x 6 x 1 pad
+    every case's force and pressure field equal the full-mesh solve to round-off, pressures
+    are >= 0 without penetration, and the sphere R20 sweep rises with δ, its 0.6 mm entry
+    being the case's own solve."""
+    res = compare_condensed_vs_full([4, 6, 1], 0.499, [0.1e-3, 0.3e-3, 0.6e-3])
+    cases = comparison_cases(res.pad.geometry.thickness)
+    assert len(cases) == 10
+    assert [r["case"] for r in res.rows] == list(cases) == list(res.cases)
+    assert res.pad.geometry.thickness == 0.004 and res.pad.material.nu == 0.499
+    for r in res.rows:
+        assert r["force_N"] > 0 and r["active_nodes"] > 0, r["case"]
+        assert r["force_rel_err"] < 1e-10 and r["pressure_rel_l2"] < 1e-10, r["case"]
+        assert r["min_pressure"] >= 0 and r["max_penetration_m"] <= 1e-12, r["case"]
+    assert res.monotone and all(np.diff(res.sweep_forces) > 0)
+    assert res.sweep_forces[-1] == res.rows[0]["force_N"]
+    assert res.precompute_s > 0

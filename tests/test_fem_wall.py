@@ -238,3 +238,34 @@ def test_wall_stiffness_is_the_isotropic_form_written_out():
     K_ref = asm(isotropic_elasticity_form(), basis, mu=PET.mu, lam=PET.lam)
     assert K.shape == K_ref.shape == (basis.N, basis.N) and K.nnz > 0
     assert abs(K - K_ref).max() <= 1e-12 * abs(K_ref).max()
+
+
+@pytest.mark.jit_only(
+    "five ring solves: over a minute as pure Python; their kernels run as Python in "
+    "test_ring_pinch_converges_to_roark and test_squeeze_ring_load_line"
+)
+def test_ring_validation_against_roark_both_ways():
+    """workbench.fem.wall.ring_validation: the perpendicular diameter (ring_pinch's) and the
+    jaws' load-line closing, (π/4 − 2/π) P'R³/D, both within 0.5 % at 64 elements and closer
+    than at 32; one plane-strain slab of 2n × 3 × 3 triquadratic nodes, 3 dofs each; the probe
+    load far below a gripper's is not warned about."""
+    import warnings
+
+    from workbench.fem.wall import ring_validation
+    from workbench.plausible import ImplausibleWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleWarning)
+        rows = ring_validation(PET, T, [32, 64], radius=R)
+    assert [r["n_theta"] for r in rows] == [32, 64]
+    assert [r["dofs"] for r in rows] == [54 * 32, 54 * 64]
+    coarse, fine = rows
+    assert fine["perpendicular_rel_err"] == ring_pinch(R, T, PET, n_theta=64)["rel_err"]
+    assert abs(fine["perpendicular_rel_err"]) < 0.005 and abs(fine["load_line_rel_err"]) < 0.005
+    assert abs(coarse["load_line_rel_err"]) > abs(fine["load_line_rel_err"])
+    assert abs(coarse["perpendicular_rel_err"]) > abs(fine["perpendicular_rel_err"])
+    # the load line by hand: Roark's closing against the squeeze's on the same slab
+    D = PET.E * T**3 / (12 * (1 - PET.nu**2))
+    exact = (np.pi / 4 - 2 / np.pi) * (1e-3 / T) * R**3 / D
+    delta = squeeze(_ring(64), np.array([0, 0, T / 2]), np.array([1.0, 0, 0]), force=1e-3).delta
+    assert fine["load_line_rel_err"] == pytest.approx(delta / exact - 1, rel=1e-9)

@@ -1,15 +1,25 @@
 """The lever scene of thesis §4.1.3 (workbench.grasp.lever_scene): the seeded grasps are the
 lever draw followed by the sensor forces and the noise, the profiles are both jaws at a unit reading,
 and a model's plain prediction follows Coulomb friction — two hard points at 20 N, μ 0.3 carry
-a weight of up to 2 μ f = 12 N along the jaws but no torsion about the grasp axis."""
+a weight of up to 2 μ f = 12 N along the jaws but no torsion about the grasp axis, whether the
+grasps share unit-force profiles (predict_resisted) or one grasp has its own at its reading
+(predict_grasp)."""
 
 import numpy as np
 import pytest
 
-from workbench.grasp.lever_scene import predict_resisted, scene_inputs, scene_profiles, scene_sets
+from workbench.grasp.lever_scene import (
+    predict_grasp,
+    predict_resisted,
+    scene_inputs,
+    scene_profiles,
+    scene_sets,
+)
+from workbench.grasp.models import ModelParameters
 from workbench.grasp.resistance import CutStore
 from workbench.grasp.tasks import lever_disturbances
 from workbench.limit_surface import LimitSurfaceCache
+from workbench.sources.scenes import elliptic_cylinder_grasp
 
 CONFIG = {
     "seed": 3,
@@ -75,3 +85,20 @@ def test_two_hard_points_carry_a_weight_up_to_two_mu_f_and_no_torsion():
     W, forces, _, _ = scene_inputs(CONFIG)
     assert (np.abs(W[:, 3]) > 0).all()
     assert not predict_resisted(sets, W, forces, 0.3, CutStore())[0].any()
+
+
+def test_one_grasp_with_its_own_profiles_at_its_reading_is_the_same_coulomb_limit():
+    """The profiles made at the 20 N reading, not rescaled: the two hard points hold 5 N along
+    the jaws (< 2 μ f = 12 N), not 20 N, nor torsion; the same verdicts as predict_resisted's
+    unit profiles scaled by 20 N, and the build and decision timed."""
+    profiles = elliptic_cylinder_grasp(0.03, 0.02, 0.6, 0.03, 2.4, 20.0, n_elements=60)
+    params, cache = ModelParameters(M=50), LimitSurfaceCache()
+    W = [[0.0, -5.0, 0, 0, 0, 0], [0.0, -20.0, 0, 0, 0, 0], [0.0, 0, 0, 0.01, 0, 0]]
+    got = [predict_grasp(profiles, "point", np.array(w), 0.3, params, cache) for w in W]
+    assert [held for held, _ in got] == [True, False, False]
+    assert all(isinstance(held, bool) and ms > 0 for held, ms in got)
+    unit = scene_sets(scene_profiles(CONFIG, 2.4, 0.03), "point", LimitSurfaceCache(), CONFIG)
+    pred, _ = predict_resisted(unit, np.array(W), np.full(3, 20.0), 0.3, CutStore())
+    assert pred.tolist() == [held for held, _ in got]
+    # a limit-surface model too: the 6DLS of the curved patch holds the 5 N weight
+    assert predict_grasp(profiles, "6dls", np.array(W[0]), 0.3, params, cache)[0] is True

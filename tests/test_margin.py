@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from workbench.grasp import point_contact, resists
-from workbench.grasp.margin import MARGIN_SPAN, margin_vs_truth, resistance_margin
+from workbench.grasp.margin import MARGIN_SPAN, margin_rel_err, margin_vs_truth, resistance_margin
 
 
 def _antipodal(F: float) -> list:
@@ -79,3 +79,16 @@ def test_margin_vs_truth_by_hand():
     assert np.isnan(margin_vs_truth(np.zeros(2), np.ones(2))["median_abs_log_ratio"])
     with pytest.raises(ValueError, match="one shape"):
         margin_vs_truth(np.ones(3), np.ones(2))
+
+
+def test_margin_rel_err_is_the_median_relative_error_over_pairs_both_positive():
+    # pairs: (2, 1) -> 1, (1, 2) -> 0.5, (0, 1) left out, (3, 0) left out, (span, span) -> 0
+    s = np.array([2.0, 1.0, 0.0, 3.0, MARGIN_SPAN])
+    t = np.array([1.0, 2.0, 1.0, 0.0, MARGIN_SPAN])
+    assert margin_rel_err(s, t) == pytest.approx(0.5, rel=1e-15)
+    # margin_vs_truth leaves out the pair at the span as well: (2, 1) and (1, 2) remain
+    assert margin_vs_truth(s, t)["n"] == 2
+    assert margin_rel_err(s[:2], t[:2]) == pytest.approx(0.75, rel=1e-15)  # median of 1 and 0.5
+    assert margin_rel_err(np.zeros(3), np.ones(3)) is None
+    with pytest.raises(ValueError, match="one shape"):
+        margin_rel_err(np.ones(3), np.ones(4))

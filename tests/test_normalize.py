@@ -8,7 +8,13 @@ import pytest
 
 from workbench import ContactProfile, frictional_wrenches, sample_twists_thesis
 from workbench.limit_surface import LimitSurfaceCache, ModelSpec, SamplerSpec
-from workbench.limit_surface.normalize import explained_variance_ratio, pca_subspace
+from workbench.limit_surface.normalize import (
+    explained_variance_ratio,
+    n_components_above,
+    n_components_retaining,
+    pca_subspace,
+    wrench_pca,
+)
 from workbench.pressure import power_law
 
 
@@ -81,3 +87,58 @@ def test_planar_contacts_reduce_to_3d(shape, k):
         np.testing.assert_allclose(m.w_max[2:5], 0.0, atol=1e-9 * mu * prof.F)
         # held-out fitting error (Eq. 3.18) within the thesis's 6D bounds
         assert m.fitting_error(held_out) <= (0.02 if spec.model == "quartic" else 0.04)
+
+
+#: a variance spectrum whose cumulative sums hit 0.8, 0.95 and 0.99 exactly (but for round-off)
+SPECTRUM = np.array([0.5, 0.3, 0.1, 0.05, 0.04, 0.01])
+
+
+def _known_spectrum(w_max: np.ndarray) -> np.ndarray:
+    """Raw wrenches (16, 6) whose normalised ones ``W / w_max`` have variance fractions
+    SPECTRUM along 6 rotated directions: orthogonal zero-mean ±1 columns (Hadamard's, the
+    constant one left out) scaled by sqrt(SPECTRUM), turned by a random rotation."""
+    h = np.array([[1.0]])
+    for _ in range(4):
+        h = np.block([[h, h], [h, -h]])
+    q, _ = np.linalg.qr(np.random.default_rng(0).standard_normal((6, 6)))
+    return (h[:, 1:7] * np.sqrt(SPECTRUM)) @ q.T * w_max
+
+
+def test_wrench_pca_recovers_a_known_variance_spectrum():
+    w_max = np.array([2.0, 0.5, 3.0, 0.01, 0.02, 0.005])
+    res = wrench_pca(_known_spectrum(w_max), w_max, retained_variance=0.99, significant_fraction=0.045)
+    np.testing.assert_allclose(res.explained_variance_ratio, SPECTRUM, rtol=1e-12)
+    # 0.5 + 0.3 + 0.1 + 0.05 + 0.04 reaches 0.99 at k = 5 (round-off short of it still counts)
+    assert res.n_retained == 5
+    assert res.n_above_fraction == 4  # 0.5, 0.3, 0.1, 0.05 >= 0.045 > 0.04
+    res95 = wrench_pca(_known_spectrum(w_max), w_max, retained_variance=0.95, significant_fraction=0.0)
+    assert (res95.n_retained, res95.n_above_fraction) == (4, 6)
+    # without the normalisation by w_max the spectrum would be another
+    assert not np.allclose(explained_variance_ratio(_known_spectrum(w_max)), SPECTRUM, rtol=1e-3)
+
+
+def test_the_component_counts_by_hand():
+    ratio = np.array([0.6, 0.25, 0.1, 0.04, 0.01, 0.0])
+    assert n_components_retaining(ratio, 0.6) == 1
+    assert n_components_retaining(ratio, 0.61) == 2
+    assert n_components_retaining(ratio, 0.95) == 3
+    assert n_components_retaining(ratio, 0.95 + 1e-9) == 4
+    assert n_components_retaining(ratio, 1.0) == 5  # the last component explains nothing
+    # 0.7 + 0.1 is 0.7999999999999999 in floating point: short of 0.8 by round-off only
+    short = np.array([0.7, 0.1, 0.1, 0.05, 0.05, 0.0])
+    assert np.cumsum(short)[1] < 0.8
+    assert n_components_retaining(short, 0.8) == 2
+    assert n_components_retaining(short, 0.8 + 1e-9) == 3  # more than round-off: one more
+    assert n_components_above(ratio, 0.1) == 3 and n_components_above(ratio, 0.0) == 6
+
+
+def test_wrench_pca_guards_degenerate_components_and_refuses_percentages():
+    # a planar contact's f_z, tau_x, tau_y: w_max 0 there, wrenches 0 there — no division by 0
+    w_max = np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.5])
+    W = _known_spectrum(np.ones(6)) * np.array([1.0, 1.0, 0.0, 0.0, 0.0, 0.5])
+    res = wrench_pca(W, w_max, retained_variance=0.99, significant_fraction=0.01)
+    assert np.isfinite(res.explained_variance_ratio).all() and res.n_above_fraction <= 3
+    with pytest.raises(ValueError, match="retained_variance"):
+        wrench_pca(W, w_max, retained_variance=99, significant_fraction=0.01)
+    with pytest.raises(ValueError, match="significant_fraction"):
+        wrench_pca(W, w_max, retained_variance=0.99, significant_fraction=-0.1)

@@ -10,6 +10,7 @@ from workbench.limit_surface.protocols import (
     fit_score,
     fit_scores,
     thesis_code_sample_of,
+    thesis_code_training_draws,
     thesis_text_wrenches,
 )
 from workbench.limit_surface.thesis_code import thesis_code_sample
@@ -107,3 +108,27 @@ def test_exact_contact_refuses_what_it_cannot_use():
         ExactContact.of_surface(THESIS_SURFACES["S3"], 1.0, 50, source="fem")
     with pytest.raises(ValueError, match="quad_rtol must be a relative tolerance"):
         ExactContact.of_surface(THESIS_SURFACES["S3"], 1.0, 50, quad_rtol=0.0)
+
+
+def test_thesis_code_training_draws_are_distinct_seeded_and_drawn_in_order():
+    sizes = [5, 20, 50]
+    draws = thesis_code_training_draws(60, sizes, 7)
+    assert [len(d) for d in draws] == sizes
+    for d in draws:  # without replacement, inside the pool
+        assert len(np.unique(d)) == len(d) and d.min() >= 0 and d.max() < 60
+    # one generator, the sizes in order: the draws of rng.choice one after the other
+    rng = np.random.default_rng(7)
+    for d, K in zip(draws, sizes, strict=True):
+        np.testing.assert_array_equal(d, rng.choice(60, K, replace=False))
+    # the same seed, the same sets; a generator is taken as it is
+    again = thesis_code_training_draws(60, sizes, np.random.default_rng(7))
+    assert all(np.array_equal(a, b) for a, b in zip(draws, again, strict=True))
+    assert not np.array_equal(thesis_code_training_draws(60, sizes, 8)[0], draws[0])
+    # the whole pool: a permutation of it
+    assert sorted(thesis_code_training_draws(60, [60], 0)[0].tolist()) == list(range(60))
+
+
+@pytest.mark.parametrize("sizes", [[61], [0], [10, 2.5], [True]])
+def test_thesis_code_training_draws_refuse_sizes_outside_the_pool(sizes):
+    with pytest.raises(ValueError, match="sizes must be training set sizes"):
+        thesis_code_training_draws(60, sizes, 0)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from workbench.grasp.quality_table import quality_table
+from workbench.grasp.quality_table import quality_table, training_split
 from workbench.grasp.threshold import balanced_accuracy, balanced_accuracy_interval
 
 
@@ -65,3 +65,25 @@ def test_quality_table_by_hand():
     assert set(out["interval_95"]) == {"q", "c"}
     with pytest.raises(ValueError, match="at least one quality"):
         quality_table(truth, train, groups, ["a"])
+
+
+@pytest.mark.parametrize(("n", "fraction", "seed"), [(0, 0.5, 1), (7, 0.5, 1), (120, 0.3, 42), (33, 0.9, 5)])
+def test_the_training_split_is_one_uniform_draw_per_grasp(n, fraction, seed):
+    split = training_split(n, fraction, seed)
+    assert split.dtype == bool and split.shape == (n,)
+    # the minimal-work experiments' split: grasp i trains iff its uniform draw is below the fraction
+    np.testing.assert_array_equal(split, np.random.default_rng(seed).random(n) < fraction)
+    np.testing.assert_array_equal(split, training_split(n, fraction, np.random.default_rng(seed)))
+
+
+def test_the_training_share_is_the_fraction_on_average():
+    n, f = 100_000, 0.3
+    share = training_split(n, f, 0).mean()
+    assert abs(share - f) < 4 * np.sqrt(f * (1 - f) / n)  # binomial: within 4 standard errors
+    assert not np.array_equal(training_split(50, 0.5, 0), training_split(50, 0.5, 1))
+
+
+@pytest.mark.parametrize("fraction", [0.0, 1.0, 50, True])
+def test_the_training_split_refuses_a_fraction_outside_0_1(fraction):
+    with pytest.raises(ValueError, match="train_fraction must be in"):
+        training_split(10, fraction, 0)

@@ -1,12 +1,17 @@
 """workbench.sources.scenes: the elliptic-cylinder grasp of thesis §4.1.3 — the pressure of
 Eq. 4.3 at every element, the grasp-axis force equal to the reading, the elements on the
-cylinder, the second jaw the first turned by π about z (the grasp in equilibrium), and bad
-parameters."""
+cylinder, the second jaw the first turned by π about z (the grasp in equilibrium), the patch's
+extent (its chord 2 b sin(half_angle) by hand, the patch's own y span) and bad parameters."""
 
 import numpy as np
 import pytest
 
-from workbench.sources.scenes import elliptic_cylinder_contact, elliptic_cylinder_grasp
+from workbench.sources.scenes import (
+    elliptic_cylinder_contact,
+    elliptic_cylinder_grasp,
+    elliptic_cylinder_patch_extent,
+    elliptic_cylinder_solid,
+)
 
 A, B, HALF, LENGTH, K, FORCE = 0.03, 0.02, 0.6, 0.03, 2.4, 25.0
 
@@ -81,3 +86,22 @@ def test_bad_parameters_are_refused(kw, match):
         elliptic_cylinder_contact(**args, n_elements=50)
     with pytest.raises(ValueError, match="k must be > 0"):
         elliptic_cylinder_contact(A, B, HALF, LENGTH, 0.0, FORCE, n_elements=50)
+
+
+def test_patch_extent_is_the_chord_between_the_patch_edges_and_the_contact_length(jaws):
+    width, length = elliptic_cylinder_patch_extent(A, B, HALF, LENGTH)
+    # by hand: the edges u = ±0.6 sit at y = ±b sin 0.6 = ±0.02 × 0.5646425 m
+    assert width == pytest.approx(2 * 0.02 * 0.5646424733950354, rel=1e-15)
+    assert length == LENGTH
+    # the chord of the two edge points [a cos u, ±b sin u], and the patch's own span across y
+    edge = np.array([A * np.cos(HALF), B * np.sin(HALF)])
+    assert width == pytest.approx(np.linalg.norm(edge - edge * [1, -1]), rel=1e-15)
+    V = jaws[0].vertices
+    assert V[:, 1].max() - V[:, 1].min() == pytest.approx(width, rel=1e-12)
+    # the cut solid a pad of this size touches: its y and z spans are the patch's
+    span = np.ptp(elliptic_cylinder_solid(A, B, HALF, LENGTH).vertices, axis=0)
+    assert span[1:] == pytest.approx([width, length], rel=1e-12)
+    # a wider wrap: as half_angle -> π/2 the chord tends to the full minor axis 2 b (sin 1.5 = 0.9975)
+    assert elliptic_cylinder_patch_extent(A, B, 1.5, LENGTH)[0] == pytest.approx(2 * B, rel=3e-3)
+    with pytest.raises(ValueError, match="probably in degrees"):
+        elliptic_cylinder_patch_extent(A, B, 34.0, LENGTH)

@@ -5,6 +5,11 @@ direction tangent to every element — iff the friction of both jaws reaches it,
 (the pressure centre makes the frictional torque of a pure translation vanish, and the jaws'
 torques about the origin cancel by symmetry), so the smallest force scale is f / (2 μ F) with
 F = Σ p a of a jaw — more than the scene's 10 N reading, which is the grasp-axis component.
+
+The sensitivity studies' truth (``truth_deciders``) on the same reference — a lift far below /
+above 2 μ s Σ p a is resisted / not, at each grasp's own μ and force scale, whatever reading the
+profiles were made at — and on the lever scene against ExactContacts / resists_exact called
+directly, as the studies wrote it inline.
 """
 
 from __future__ import annotations
@@ -12,8 +17,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from workbench.grasp.exact import ExactContacts
-from workbench.grasp.simulated_truth import TruthModel, required_force_scale, simulated_success
+from workbench.grasp.exact import ExactContacts, resists_exact
+from workbench.grasp.lever_scene import scene_inputs, scene_profiles
+from workbench.grasp.simulated_truth import (
+    TruthModel,
+    required_force_scale,
+    simulated_success,
+    truth_deciders,
+)
 from workbench.sources.scenes import elliptic_cylinder_grasp
 
 F0, MU = 10.0, 0.5
@@ -86,3 +97,66 @@ def test_simulated_success_force_and_closing(exact, profiles):
     assert f_req == pytest.approx(18.0 * F0 / (2 * MU * _sum_pa(profiles)), rel=2e-3) and ok
     with pytest.raises(ValueError, match="reading"):
         simulated_success(exact, _lift(1.0)[None], MU, 0.0, stiffness=1.0, model=gripper(1.0), rng=rng)
+
+
+def test_truth_deciders_hold_a_lift_below_the_friction_limit_of_each_grasp(profiles):
+    """Three grasps of the same 10 N profiles, each its own μ and force scale: a lift along the
+    cylinder axis is held iff f <= 2 μ s Σ p a; 0.9 and 1.1 of the limit are far from it next to
+    the column generation's 1e-5 tolerance."""
+    mu, scale = [0.5, 0.3, 0.5], [1.0, 1.0, 2.5]
+    deciders = truth_deciders(profiles, mu, scale, n_start=100)
+    assert len(deciders) == 3
+    for d, m, s in zip(deciders, mu, scale, strict=True):
+        limit = 2 * m * s * _sum_pa(profiles)  # 5.54 N, 3.33 N, 13.9 N
+        assert d(_lift(0.9 * limit)) is True
+        assert d(_lift(1.1 * limit)) is False
+        assert d(_lift(1e-3)) is True and d(_lift(1e3)) is False  # far inside / far outside
+    # grasp 0 holds what grasp 1 (less friction) drops
+    between = 0.5 * (2 * 0.5 + 2 * 0.3) * _sum_pa(profiles)
+    assert deciders[0](_lift(between)) and not deciders[1](_lift(between))
+
+
+def test_truth_at_the_true_force_does_not_depend_on_the_profiles_reading():
+    """Profiles at a unit reading scaled by the true force, or at the sensor's reading scaled by
+    true / read (the bottles' form): the same limit, so the same verdicts either side of it."""
+    f_read, f_true, mu = 20.0, 23.0, 0.3
+    unit = elliptic_cylinder_grasp(force=1.0, n_elements=60)
+    read = elliptic_cylinder_grasp(force=f_read, n_elements=60)
+    limit = 2 * mu * f_true * _sum_pa(unit)
+    assert limit == pytest.approx(2 * mu * (f_true / f_read) * _sum_pa(read), rel=1e-12)
+    for k in (0.95, 1.05):
+        (a,) = truth_deciders(unit, [mu], [f_true], n_start=100)
+        (b,) = truth_deciders(read, [mu], [f_true / f_read], n_start=100)
+        assert a(_lift(k * limit)) == b(_lift(k * limit)) == (k < 1)
+
+
+def test_truth_deciders_are_the_inline_exact_truth_on_the_lever_scene():
+    """The studies' old inline truth, written here from the library's primitives: ExactContacts
+    of the true profiles (starting columns seeded 1), resists_exact at each grasp's noisy μ and
+    force — the same verdict per grasp, at the disturbance and at the scales a margin bisects."""
+    config = {
+        "seed": 2, "n_disturbances": 8, "weight_range": [2.0, 14.0], "lever_x": 0.04, "lever_z": 0.025,
+        "force_range": [20.0, 35.0], "mu": 0.3, "noise_mu": 0.05, "noise_force": 0.03,
+        "a": 0.03, "b": 0.02, "half_angle": 0.6, "n_elements": 60,
+    }  # fmt: skip
+    W, forces, mu_true, f_true = scene_inputs(config)
+    true_prof = scene_profiles(config, 2.4, 0.03)
+    exact = ExactContacts(true_prof, n_start=50, seed=1)
+    deciders = truth_deciders(true_prof, mu_true, f_true, n_start=50)
+    got, want = [], []
+    for d, w, m, f in zip(deciders, W, mu_true, f_true, strict=True):
+        for s in (0.25, 0.5, 1.0, 2.0, 4.0):
+            got.append(d(s * w))
+            want.append(resists_exact(exact, s * w, m, forces=exact.F * f)[0])
+    assert got == want
+    assert 0 < sum(got) < len(got)  # both verdicts occur: the comparison is not vacuous
+    # the nominal truth (sensor force, nominal μ) likewise
+    nominal = truth_deciders(true_prof, [0.3] * len(W), forces, n_start=50)
+    assert [d(w) for d, w in zip(nominal, W, strict=True)] == [
+        resists_exact(exact, w, 0.3, forces=exact.F * f)[0] for w, f in zip(W, forces, strict=True)
+    ]
+
+
+def test_truth_deciders_refuse_a_mu_per_grasp_without_its_force(profiles):
+    with pytest.raises(ValueError, match="one value per grasp"):
+        truth_deciders(profiles, [0.3, 0.3], [1.0], n_start=50)

@@ -17,7 +17,7 @@ from workbench import (
 )
 from workbench.config import TOL
 from workbench.sources.surface_catalog import PLANAR_NORMAL, S1, S3, THESIS_SURFACES, example_3_2_5
-from workbench.sources.surfaces import ParametricSurface, mesh_profile
+from workbench.sources.surfaces import ParametricSurface, mesh_profile, wrench_error_rate
 
 
 def test_example_3_2_5_matches_closed_form_and_thesis():
@@ -390,3 +390,20 @@ def test_cell_slot_kernel_matches_a_dict(rng):
         k = _kernels._cell_slots(table, ids, len(ref) - len(want_rows), slots, rows)
         np.testing.assert_array_equal(slots, want)
         np.testing.assert_array_equal(rows[:k], want_rows)
+
+
+def test_the_wrench_error_rate_is_the_mean_relative_deviation_over_six_components():
+    true = np.array([1.0, 2.0, 4.0, 0.5, 0.25, 1.0])
+    # deviations 10 %, 0, 25 %, 0, 20 %, 30 % (signs do not cancel): mean 85 % / 6
+    approx = np.array([1.1, 2.0, 3.0, 0.5, 0.3, 0.7])
+    assert wrench_error_rate(approx, true) == pytest.approx(0.85 / 6, rel=1e-14)
+    assert wrench_error_rate(true, true) == 0.0
+    # relative: both scaled together (another mu or force), the same rate
+    assert wrench_error_rate(3 * approx, 3 * true) == pytest.approx(0.85 / 6, rel=1e-14)
+
+
+def test_the_wrench_error_rate_refuses_a_truth_without_all_six_components():
+    with pytest.raises(ValueError, match="w_max_true must be > 0"):
+        wrench_error_rate(np.ones(6), np.array([1.0, 1.0, 0.0, 0.0, 0.0, 1.0]))  # a planar contact
+    with pytest.raises(ValueError, match=r"\(6,\) maxima"):
+        wrench_error_rate(np.ones(3), np.ones(3))

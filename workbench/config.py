@@ -734,10 +734,15 @@ def _split(values: dict[str, Any]) -> dict[str, dict[str, Any]]:
     owner = {f.name: key for key, cls in _OWNERS for f in fields(cls)}
     unknown = sorted(set(values) - set(owner))
     if unknown:
+        from difflib import get_close_matches
+
+        close = {k: get_close_matches(k, owner, n=1) for k in unknown}
+        hints = "; ".join(f"did you mean {c[0]!r} for {k!r}?" for k, c in close.items() if c)
         raise ValueError(
-            f"unknown tolerance/default/run-setting names {unknown}; the fields of "
-            "config.Tolerances, config.Defaults and config.RunSettings are the names to use "
-            "(e.g. resist_rtol, quadrature_rtol, work_eps, cluster_min_rows)"
+            f"unknown tolerance/default/run-setting names {unknown}"
+            + (f" ({hints})" if hints else "")
+            + "; the fields of config.Tolerances, config.Defaults and config.RunSettings are the "
+            "names to use (e.g. resist_rtol, quadrature_rtol, work_eps, cluster_min_rows)"
         )
     out: dict[str, dict[str, Any]] = {key: {} for key, _ in _OWNERS}
     for k, v in values.items():

@@ -69,6 +69,7 @@ __all__ = [
     "Indentation",
     "IndentProtocol",
     "indent_pad",
+    "indenter_pad_mesh",
     "pad_tets",
 ]
 
@@ -246,6 +247,18 @@ class Indentation:
             "engine_warnings": dict(self.engine_warnings),
             "settings": self.settings,
         }
+
+
+def indenter_pad_mesh(radius: float | None) -> PadGeometry:
+    """The engine's pad nodes under an indenter of ``radius`` [m] (None: the flat), on the trials'
+    20 × 40 × 5 mm pad (``PadGeometry()``'s size, as :func:`indent_pad`'s reference): under a
+    sphere a graded mesh, 1 mm within 4 mm of the face's centre and within 4 mm below the face
+    (the contact radius √(Rδ) is 1.6 mm at R = 10 mm, δ = 0.25 mm), growing by 1.5 outside
+    (1,710 nodes); under the flat a uniform 10 × 20 × 5 hex mesh (2 × 2 × 1 mm).  Pass it as
+    :func:`indent_pad`'s ``mesh``."""
+    from ..fem.pad import PadGeometry
+
+    return PadGeometry(nx=10, ny=20, nz=5) if radius is None else PadGeometry(grading=(0.004, 0.001, 1.5))
 
 
 def pad_tets(geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -25,7 +25,7 @@ from workbench import (
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import THESIS_SURFACES
-from workbench.sources.surfaces import check_rtol, mesh_profile
+from workbench.sources.surfaces import check_rtol, mesh_profile, wrench_error_rate
 from workbench.timing import median_runtime
 from workbench.wrench import check_mu
 
@@ -68,11 +68,6 @@ def check_config(config: dict) -> None:
             raise ValueError(f"{key} must be >= 1 (a count); got {config[key]!r}")
 
 
-def error_rate(w_mesh: np.ndarray, w_true: np.ndarray) -> float:
-    """Mean relative deviation over the six components of w_max (§3.5.1.2)."""
-    return float(np.mean(np.abs(w_mesh - w_true) / w_true))
-
-
 def _median_time(fn, repeats: int) -> float:
     return median_runtime(fn, repeats)[0]
 
@@ -91,7 +86,7 @@ def run(config: dict) -> dict:
         rates[name], actual[name] = {}, {}
         for n in config["n_elements"]:
             prof = mesh_profile(surface, n).normalized()
-            rate = error_rate(w_max(prof, mu), truth)
+            rate = wrench_error_rate(w_max(prof, mu), truth)
             rates[name][str(n)] = rate
             actual[name][str(n)] = len(prof)
             rows.append([name, n, len(prof), rate])

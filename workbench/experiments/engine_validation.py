@@ -18,17 +18,14 @@ import time
 from dataclasses import asdict
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from workbench.code_key import code_digest
+from workbench.engine_trials.indentation import indenter_pad_mesh
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_checkpointed
 from workbench.runner.results import write_summary
-
-if TYPE_CHECKING:
-    from workbench.fem.pad import PadGeometry
 
 NAME = "engine-validation"
 
@@ -69,14 +66,6 @@ _RADIUS = {"flat": None, "sphere10": 0.01, "sphere25": 0.025}
 _NON_EMPTY = ("mus", "pull_angles_deg", "creep_fractions", "indenters", "depths_mm")
 
 
-def _pad_mesh(radius: float | None) -> PadGeometry:
-    """(a)'s engine pad under an indenter of ``radius`` [m] (None: the flat): a graded mesh
-    under a sphere (indentation's tests), a uniform one under the flat."""
-    from workbench.fem.pad import PadGeometry
-
-    return PadGeometry(nx=10, ny=20, nz=5) if radius is None else PadGeometry(grading=(0.004, 0.001, 1.5))
-
-
 def check_config(config: dict) -> None:
     """Every key by :data:`KEYS`; no empty probe list (``reach_grasps``: [] = all 25); creep
     fractions in (0, 1); indentations shallower than (a)'s pad; grasp indices of the 25."""
@@ -86,7 +75,7 @@ def check_config(config: dict) -> None:
         if not config[key]:
             example = shlex.quote(f"{key}={json.dumps(DEFAULT_CONFIG[key])}")
             raise ValueError(f"{key} is empty ({KEYS[key].doc}): give at least one, e.g. --set {example}")
-    h_mm = min(_pad_mesh(_RADIUS[i]).thickness for i in config["indenters"]) * 1e3
+    h_mm = min(indenter_pad_mesh(_RADIUS[i]).thickness for i in config["indenters"]) * 1e3
     deep = [d for d in config["depths_mm"] if d >= h_mm]
     if deep:  # in mm as asked, only deeper than the pad (the FEM's own refusal blames the unit)
         example = shlex.quote(f"depths_mm={json.dumps(DEFAULT_CONFIG['depths_mm'])}")
@@ -129,7 +118,7 @@ def _row(task: tuple, config: dict) -> dict:
 
         name, engine = task[1], task[2]
         radius = _RADIUS[name]
-        mesh = _pad_mesh(radius)
+        mesh = indenter_pad_mesh(radius)
         depths = tuple(d * 1e-3 for d in config["depths_mm"])
         r = indent_pad(
             "flat" if radius is None else "sphere",

@@ -8,7 +8,10 @@ cylinder P' = (4/3)(M/h) a δ with a = sqrt(2Rδ); (c) the condensed face solve
 against the full-mesh Signorini solve on diverse cases (pressure field, force,
 speed); (d) p >= 0, no penetration, monotone F(δ); (e) linear vs neo-Hookean at
 δ/h = 2/20/40/60% (force, peak pressure, area, pressure field, runtime);
-(b') the nearly incompressible thin-film limit (see :func:`thin_film`).
+(b') the nearly incompressible thin-film limit.  The checks themselves are
+workbench.fem.validation (a, c, d), workbench.fem.hertz_check (a'),
+workbench.fem.thin_layer (b, b') and workbench.fem.linear_vs_nonlinear (e); this driver
+writes their CSVs, the figure, the renders and the summary.
 """
 
 from __future__ import annotations
@@ -21,12 +24,13 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from workbench.fem.contact import solve_contact, solve_contact_full
-from workbench.fem.extract import face_grid, nodal_pressures
+from workbench.fem import linear_vs_nonlinear
+from workbench.fem.contact import solve_contact
+from workbench.fem.hertz_check import hertz_block_case
+from workbench.fem.linear_vs_nonlinear import FIDELITY_CASES, transferred_correction
 from workbench.fem.material import Material
-from workbench.fem.obstacles import Cylinder, Plane, Sphere
-from workbench.fem.pad import PadGeometry, condense_pad
-from workbench.fem.validation import condensed_vs_full, lame_cylinder_fe, lame_inner_displacement
+from workbench.fem.thin_layer import thin_film, winkler_cases
+from workbench.fem.validation import CondensedVsFull, compare_condensed_vs_full, locking_rows
 from workbench.plausible import ImplausibleWarning
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
@@ -112,308 +116,46 @@ QUICK_CONFIG = {
 }
 
 
-def hertz(
-    fine_size: float, growth: float, R: float = 0.02, a_target: float = 0.0015, nu: float = 0.3
-) -> dict:
-    """Rigid sphere into a 40 x 40 x 20 mm block (~13 a): a and p0 vs Hertz for the FE force.
-
-    a from a least-squares fit of p² = p0² (1 - r²/a²) over nodes with r < 0.8 a
-    (robust to the ±h/2 bias of counting active nodes, also reported); p0 as the
-    center nodal pressure (and from the fit).
-    """
-    mat = Material(1.0e6, nu)
-    e_star = mat.E / (1 - nu**2)
-    geom = PadGeometry(0.04, 0.04, 0.02, grading=(1.6 * a_target, fine_size, growth))
-    t0 = time.perf_counter()
-    pad = condense_pad(geom, mat, patch_radius=1.5 * a_target, cache_dir=False)  # timed: no disk cache
-    t_cond = time.perf_counter() - t0
-    sol = solve_contact(pad, Sphere((0, 0, geom.thickness + R), R), a_target**2 / R)
-    _, area = face_grid(pad.face_xy)
-    p = nodal_pressures(pad, sol.lam)
-    r = np.hypot(*pad.face_xy.T)
-    F = sol.force
-    a_h = (3 * F * R / (4 * e_star)) ** (1 / 3)
-    p0_h = 3 * F / (2 * np.pi * a_h**2)
-    sel = (sol.lam > 0) & (r < 0.8 * a_h)
-    slope, icpt = np.polyfit(r[sel] ** 2, p[sel] ** 2, 1)
-    a_fit = float(np.sqrt(-icpt / slope))
-    x, y, z = geom.axes()
-    return {
-        "fine_size_mm": fine_size * 1e3,
-        "a_over_h": a_target / fine_size,
-        "dofs": 3 * x.size * y.size * z.size,
-        "F_N": F,
-        "a_hertz_mm": a_h * 1e3,
-        "a_fit_mm": a_fit * 1e3,
-        "a_rel_err": a_fit / a_h - 1,
-        "a_area_rel_err": float(np.sqrt(area[sol.lam > 0].sum() / np.pi) / a_h - 1),
-        "p0_hertz_Pa": p0_h,
-        "p0_rel_err": float(p[np.argmin(r)] / p0_h - 1),
-        "p0_fit_rel_err": float(np.sqrt(icpt) / p0_h - 1),
-        "patch_edge_force_N": float(sol.lam[r > 1.4 * a_target].sum()),
-        "condense_s": t_cond,
-    }
-
-
-def thin_film(config: dict) -> list[dict]:
-    """Nearly incompressible bonded layer, frictionless top: the thin-film (lubrication) limit.
-
-    Layer 0 < z < h bonded at z = 0: the shear-driven squeeze flow
-    ``u_r = (p'/G)(z²/2 − h z)`` has flux ``q = −h³ p'/(3G)``, and incompressibility
-    ``div q = δ − r²/(2R)`` with ``p = p' = 0`` at the contact edge give
-    cylinder (plane strain): ``a = √(6Rδ)``, ``p = G (a² − x²)² / (8 R h³)``,
-    ``P' = 2 G a⁵ / (15 R h³)``; sphere: ``a = 2√(Rδ)``, ``p = 3G (a² − r²)²/(32 R h³)``,
-    ``P = π G a⁶ / (32 R h³)`` (derivation as in the issue's references).
-
-    Regime of validity, all three checked: a ≫ h (corrections ~ (h/a)², +40% at
-    a/h = 5); ``3 (a/h)² G/K ≪ 1`` (column compressibility; hence nu = 0.49999);
-    and ``a²/(3 h R) ≪ 1`` — the surface slides outward by up to ``a³/(6√3 h R)``
-    along the curved obstacle, a gap change the lubrication theory drops but the
-    linearised contact ``d + n·u`` keeps (it cost −34% at a/h = 20 with R = 0.5 m),
-    so R = 50 m and δ = a²/(6R) or a²/(4R) (the problem is linear: δ's size is moot).
-    Cylinder: exact plane strain (one-element slab, ``u_y = 0``); sphere: a full 3D
-    layer, (2a + 10h)² face.  Both on the full-mesh linear solver (SRI).
-    """
-    h, R = 1.0e-3, 50.0
-    mat = Material(1.0e6, config["thin_film_nu"])
-    G = mat.mu
-    rows = []
-    for a_h in tqdm(config["thin_film_cylinder_a_h"], desc="thin film, cylinder", unit="case"):
-        a = a_h * h
-        half = a + 5 * h
-        slab = 0.2e-3
-        geom = PadGeometry(2 * half, slab, h, int(round(2 * half / 0.5e-3)), 1, 4)
-        t0 = time.perf_counter()
-        sol = solve_contact_full(
-            geom,
-            mat,
-            Cylinder((0, 0, h + R), (0, 1, 0), R, allow_scale=True),
-            a**2 / (6 * R),
-            plane_strain=True,
-        )
-        rows.append(
-            {
-                "shape": "cylinder (plane strain)",
-                "a_over_h": a_h,
-                "hex_mm": "0.5x0.2x0.25",
-                "F_fe": sol.force / slab,
-                "F_limit": 2 * G * a**5 / (15 * R * h**3),
-                "seconds": time.perf_counter() - t0,
-            }
-        )
-    for a_h in tqdm(config["thin_film_sphere_a_h"], desc="thin film, sphere", unit="case"):
-        a = a_h * h
-        n = int(round(2 * (a + 5 * h) / 1.0e-3))
-        geom = PadGeometry(n * 1.0e-3, n * 1.0e-3, h, n, n, 4)
-        t0 = time.perf_counter()
-        sol = solve_contact_full(geom, mat, Sphere((0, 0, h + R), R, allow_scale=True), a**2 / (4 * R))
-        rows.append(
-            {
-                "shape": "sphere",
-                "a_over_h": a_h,
-                "hex_mm": "1x1x0.25",
-                "F_fe": sol.force,
-                "F_limit": np.pi * G * a**6 / (32 * R * h**3),
-                "seconds": time.perf_counter() - t0,
-            }
-        )
-    for r in rows:
-        r["rel_err"] = r["F_fe"] / r["F_limit"] - 1
-        r["compressibility_3a2G_over_h2K"] = 3 * r["a_over_h"] ** 2 * G / mat.bulk
-    return rows
-
-
-FIDELITY_CASES = ("cylinder R15", "sphere R15")
-
-
-def _fidelity_setup(config: dict):
-    nx, ny, nz = config["fidelity_pad"]
-    geom = PadGeometry(0.016, 0.02, 0.005, nx, ny, nz)
-    mat = Material(1.0e6, config["fidelity_nu"])
-    h = geom.thickness
-    cases = {
-        "cylinder R15": Cylinder((0, 0, h + 0.015), (0, 1, 0), 0.015),
-        "sphere R15": Sphere((0, 0, h + 0.015), 0.015),
-    }
-    return geom, mat, cases
-
-
 def fidelity_case(name: str, config: dict) -> list[dict]:
-    """(e) one indenter of :data:`FIDELITY_CASES`: condensed linear (SRI, the profiles'
-    fidelity; and full integration, the reference's discretization) and full-mesh linear
-    against the neo-Hookean reference at δ/h = 2% (small-strain check) and 20/40/60%.
-    A task of its own (the cylinder's load stepping takes minutes): the driver runs the
-    other checks meanwhile.
-
-    Pressures: linear λ / A₀ (reference tributary areas); nonlinear the Cauchy
-    pressure λ / a (deformed areas); fields compared node by node on the face grid.
-    """
-    from workbench.fem.nonlinear import NonlinearPad
-
-    geom, mat, cases = _fidelity_setup(config)
-    obs = cases[name]
-    h = geom.thickness
-    deltas = [f * h for f in config["fidelity_deltas"]]
-    nl = NonlinearPad(geom, mat)
-    pads = {
-        "condensed SRI": condense_pad(geom, mat),
-        "condensed full": condense_pad(geom, mat, scheme="full"),
-    }
-    _, area0 = face_grid(pads["condensed SRI"].face_xy)
-    rows = []
-    t0 = time.perf_counter()
-    ref = nl.solve(obs, deltas)
-    t_nl = (time.perf_counter() - t0) / len(deltas)
-    for d in deltas:
-        r = ref[d]
-        a_def = nl.deformed_areas(r)
-        p_nl = np.divide(r.lam, a_def, out=np.zeros_like(r.lam), where=a_def > 0)
-        base = {
-            "case": name,
-            "delta_over_h": d / h,
-            "nl_force_N": r.force,
-            "nl_peak_kPa": p_nl.max() / 1e3,
-            "nl_area_mm2": float(a_def[r.lam > 0].sum() * 1e6),
-        }
-        rows.append(
-            {
-                **base,
-                "level": "nonlinear (neo-Hookean)",
-                "seconds": t_nl,
-                "force_rel_err": 0.0,
-                "peak_rel_err": 0.0,
-                "area_rel_err": 0.0,
-                "pressure_rel_l2": 0.0,
-            }
-        )
-        levels = {k: partial(solve_contact, pad, obs, d) for k, pad in pads.items()}
-        if config["fidelity_full_mesh"]:
-            levels["linear full mesh"] = partial(solve_contact_full, geom, mat, obs, d)
-        for level, fn in levels.items():
-            fn()
-            t0 = time.perf_counter()
-            c = fn()
-            dt = time.perf_counter() - t0
-            p_l = nodal_pressures(pads["condensed SRI"], c.lam)  # same face nodes on every level
-            rows.append(
-                {
-                    **base,
-                    "level": level,
-                    "seconds": dt,
-                    "force_rel_err": c.force / r.force - 1,
-                    "peak_rel_err": p_l.max() / p_nl.max() - 1,
-                    "area_rel_err": area0[c.lam > 0].sum() * 1e6 / base["nl_area_mm2"] - 1,
-                    "pressure_rel_l2": float(np.linalg.norm(p_l - p_nl) / np.linalg.norm(p_nl)),
-                }
-            )
-    return rows
+    """(e) one indenter of :data:`FIDELITY_CASES` with this config's pad, Poisson ratio, δ/h and
+    levels (:func:`workbench.fem.linear_vs_nonlinear.fidelity_case`): a task of its own (the
+    cylinder's load stepping takes minutes), the driver runs the other checks meanwhile."""
+    return linear_vs_nonlinear.fidelity_case(
+        name,
+        config["fidelity_pad"],
+        config["fidelity_nu"],
+        config["fidelity_deltas"],
+        full_mesh=config["fidelity_full_mesh"],
+    )
 
 
 def _locking(config: dict, out: Path) -> list[dict]:
     # (a) locking
-    locking = []
-    for nu in config["nus"]:
-        mat = Material(1.0e6, nu)
-        nr, nt = config["cylinder_mesh"]
-        exact = lame_inner_displacement(mat)
-        sri = lame_cylinder_fe(mat, "sri", nr=nr, nt=nt)
-        full = lame_cylinder_fe(mat, "full", nr=nr, nt=nt)
-        locking.append({"nu": nu, "sri_over_exact": sri / exact, "full_over_exact": full / exact})
+    locking = locking_rows(config["nus"], *config["cylinder_mesh"])
     write_csv(
         out / "locking.csv", ["nu", "sri_over_exact", "full_over_exact"], [list(r.values()) for r in locking]
     )
-
     return locking
 
 
 def _winkler(config: dict, out: Path) -> list[dict]:
     # (b) compressible thin-layer (Winkler) limits, nu = 0 (M = E)
-    h, n = config["winkler_h"], config["winkler_cells"]
-    wpad = condense_pad(PadGeometry(0.012, 0.012, h, n, n, 2), Material(1.0e6, 0.0))
-    M = wpad.material.p_wave
-    winkler = []
-    for R, delta in ((0.05, 0.1e-3), (0.1, 0.08e-3)):
-        sol = solve_contact(wpad, Sphere((0, 0, h + R), R), delta)
-        a = np.sqrt(2 * R * delta)
-        winkler.append(
-            {
-                "shape": "sphere",
-                "R": R,
-                "delta": delta,
-                "a_over_h": a / h,
-                "F_fe": sol.force,
-                "F_limit": np.pi * R * M * delta**2 / h,
-            }
-        )
-    R, delta = 0.05, 0.08e-3
-    sol = solve_contact(wpad, Cylinder((0, 0, h + R), (0, 1, 0), R), delta)
-    y = wpad.face_xy[:, 1]
-    strip = np.abs(y) < 0.002  # central 4 mm: force per unit length away from the pad's ends
-    a = np.sqrt(2 * R * delta)
-    winkler.append(
-        {
-            "shape": "cylinder",
-            "R": R,
-            "delta": delta,
-            "a_over_h": a / h,
-            # per unit length: the strip's rows of faces (centroids equal to 1 nm, which merges the
-            # last-bit differences of one row) times the face length 12 mm / n
-            "F_fe": float(sol.lam[strip].sum() / (np.unique(np.round(y[strip], 9)).size * 0.012 / n)),
-            "F_limit": 4.0 / 3.0 * (M / h) * a * delta,
-        }
-    )
-    for w in winkler:
-        w["rel_err"] = w["F_fe"] / w["F_limit"] - 1
+    winkler = winkler_cases(config["winkler_h"], config["winkler_cells"])
     write_csv(out / "thin_layer.csv", list(winkler[0]), [list(w.values()) for w in winkler])
     return winkler
 
 
-def _compare_cases(config: dict, out: Path) -> dict:
+def _compare_cases(config: dict, out: Path) -> CondensedVsFull:
     # (c) condensed vs full-mesh linear, (d) sanity
-    nx, ny, nz = config["compare_pad"]
-    geom = PadGeometry(0.016, 0.02, 0.004, nx, ny, nz)
-    mat = Material(1.0e6, config["compare_nu"])
-    t0 = time.perf_counter()
-    pad = condense_pad(geom, mat, cache_dir=False)  # timed: no disk cache
-    precompute_s = time.perf_counter() - t0
-    hh = geom.thickness
-    cases = {
-        "sphere R20": (Sphere((0, 0, hh + 0.02), 0.02), 0.6e-3),
-        "sphere R10 off-center": (Sphere((0.003, -0.002, hh + 0.01), 0.01), 0.5e-3),
-        "sphere R40": (Sphere((0, 0, hh + 0.04), 0.04), 0.8e-3),
-        "cylinder R10 along y": (Cylinder((0, 0, hh + 0.01), (0, 1, 0), 0.01), 0.5e-3),
-        "cylinder R15 along x": (Cylinder((0, 0, hh + 0.015), (1, 0, 0), 0.015), 0.6e-3),
-        "cylinder tilted 20 deg": (
-            Cylinder((0.001, 0, hh + 0.012), (np.sin(0.35), np.cos(0.35), 0), 0.012),
-            0.5e-3,
-        ),
-        "cylinder off-center": (Cylinder((0.004, 0, hh + 0.01), (0, 1, 0), 0.01), 0.4e-3),
-        "plane tilted": (Plane((0, 0, hh - 0.3e-3), (0.06, 0.03, -1)), 0.0),
-        "sphere R5 small contact": (Sphere((0, 0, hh + 0.005), 0.005), 0.3e-3),
-        "cylinder tilted about x": (Cylinder((0, 0, hh + 0.012), (0, 1, 0.15), 0.012), 0.5e-3),
-    }
-    rows = [
-        condensed_vs_full(pad, obs, delta, name)
-        for name, (obs, delta) in tqdm(cases.items(), desc="condensed vs full", unit="case")
-    ]
-    write_csv(out / "condensed_vs_full.csv", list(rows[0]), [list(r.values()) for r in rows])
-    sweep = [solve_contact(pad, cases["sphere R20"][0], d).force for d in config["delta_sweep"]]
-    monotone = bool(np.all(np.diff(sweep) > 0))
-
-    return {
-        "pad": pad,
-        "geom": geom,
-        "mat": mat,
-        "cases": cases,
-        "rows": rows,
-        "precompute_s": precompute_s,
-        "sweep": sweep,
-        "monotone": monotone,
-    }
+    cmp = compare_condensed_vs_full(
+        config["compare_pad"], config["compare_nu"], config["delta_sweep"], progress=True
+    )
+    write_csv(out / "condensed_vs_full.csv", list(cmp.rows[0]), [list(r.values()) for r in cmp.rows])
+    return cmp
 
 
-def _figure(config: dict, out: Path, locking: list[dict], film: list[dict], cmp: dict) -> Path:
-    geom, mat, sweep = cmp["geom"], cmp["mat"], cmp["sweep"]
+def _figure(config: dict, out: Path, locking: list[dict], film: list[dict], cmp: CondensedVsFull) -> Path:
+    geom, mat, sweep = cmp.pad.geometry, cmp.pad.material, cmp.sweep_forces
     import matplotlib
 
     matplotlib.use("Agg")
@@ -476,28 +218,33 @@ def _checks(config: dict, out: Path) -> dict:
     figure and the profile renders — the driver's share while the fidelity cases run."""
     locking = _locking(config, out)
     winkler = _winkler(config, out)
-    film = thin_film(config)
+    film = thin_film(
+        config["thin_film_nu"],
+        config["thin_film_cylinder_a_h"],
+        config["thin_film_sphere_a_h"],
+        progress=True,
+    )
     write_csv(out / "thin_film.csv", list(film[0]), [list(w.values()) for w in film])
 
     # (a') Hertz mesh convergence
     hz = [
-        hertz(size, config["hertz_growth"])
+        hertz_block_case(size, config["hertz_growth"])
         for size in tqdm(config["hertz_fine_sizes"], desc="Hertz", unit="mesh")
     ]
     write_csv(out / "hertz_convergence.csv", list(hz[0]), [list(r.values()) for r in hz])
 
     cmp = _compare_cases(config, out)
     fig_path = _figure(config, out, locking, film, cmp)
-    renders = _renders(cmp["pad"], cmp["cases"], out)
+    renders = _renders(cmp.pad, cmp.cases, out)
     return {
         "locking": locking,
         "winkler": winkler,
         "film": film,
         "hz": hz,
-        "rows": cmp["rows"],
-        "precompute_s": cmp["precompute_s"],
-        "sweep": cmp["sweep"],
-        "monotone": cmp["monotone"],
+        "rows": cmp.rows,
+        "precompute_s": cmp.precompute_s,
+        "sweep": cmp.sweep_forces,
+        "monotone": cmp.monotone,
         "fig_path": fig_path,
         "renders": renders,
     }
@@ -531,24 +278,7 @@ def run(config: dict) -> dict:
         if r["level"] == "condensed SRI"
     }
 
-    # a correction of the condensed level calibrated on the neo-Hookean reference: the
-    # force ratio F_nl / F_lin at each δ/h, calibrated on one indenter shape
-    # and applied to the other — how well a single δ/h-dependent factor transfers
-    correction = {}
-    sri = {(r["case"], round(r["delta_over_h"], 2)): r for r in fid if r["level"] == "condensed SRI"}
-    shapes = sorted({c for c, _ in sri})
-    for cal in shapes:
-        for app in shapes:
-            if cal == app:
-                continue
-            for d in sorted({d for _, d in sri if d >= 0.2}):  # the large-deformation levels only
-                if (cal, d) in sri and (app, d) in sri:
-                    for q in ("force", "peak"):
-                        e_cal, e_app = sri[(cal, d)][f"{q}_rel_err"], sri[(app, d)][f"{q}_rel_err"]
-                        correction[f"{q}: {cal} -> {app} {round(100 * d)}%"] = {
-                            "uncorrected": e_app,
-                            "corrected": (1 + e_app) / (1 + e_cal) - 1,
-                        }
+    correction = transferred_correction(fid)
     summary_ms = float(np.median([r["condensed_ms"] for r in rows]))
     summary_ratio = float(np.median([r["speed_ratio"] for r in rows]))
     worst_l2 = max(r["pressure_rel_l2"] for r in rows)

@@ -41,6 +41,7 @@ from workbench.limit_surface.protocols import (
     ExactContact,
     fit_score,
     thesis_code_sample_of,
+    thesis_code_training_draws,
     thesis_text_wrenches,
 )
 from workbench.limit_surface.thesis_code import ThesisCodeSample, check_protocol_config
@@ -160,14 +161,13 @@ def _support(fs: FitScore) -> dict:
 def _thesis_code_rows(contact: ExactContact, config: dict, seed: int) -> dict:
     """The thesis-code protocol on one surface: the author's twist grid, its wrenches
     (:func:`~workbench.limit_surface.protocols.thesis_code_sample_of`); Fig 3.9 trains on K
-    of them (drawn without replacement with ``seed``), the code's own fit on the
-    grid-downsampled ones (:func:`_downsampled`); Eq. 3.18 over all of them."""
+    of them (:func:`~workbench.limit_surface.protocols.thesis_code_training_draws` with
+    ``seed``), the code's own fit on the grid-downsampled ones (:func:`_downsampled`); Eq. 3.18
+    over all of them."""
     code = thesis_code_sample_of(contact, config["fine_level"], config["downsample_steps"])
     W, xi = code.wrenches, code.twists
-    rng = np.random.default_rng(seed)
     out = {"n_pool": len(W), "error": {k: {} for k in KINDS}, "fit_s": {k: {} for k in KINDS}}
-    for K in config["K"]:
-        idx = rng.choice(len(W), K, replace=False)
+    for K, idx in zip(config["K"], thesis_code_training_draws(len(W), config["K"], seed), strict=True):
         for kind in KINDS:
             if K < min_wrenches(kind):
                 continue

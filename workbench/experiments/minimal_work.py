@@ -67,6 +67,7 @@ from workbench.fem.grasp_walls import (
     series_compliance,
     wall_stiffness,
 )
+from workbench.grasp.quality_table import training_split
 from workbench.grasp.work_table import (
     METRICS,
     TASKS,
@@ -428,7 +429,7 @@ def run(config: dict) -> dict:
     keep = [i for i, r in enumerate(rows) if "skipped" not in r]
     grasps_all, rows = [grasps_all[i] for i in keep], [rows[i] for i in keep]
     # the training half of Table 4.6 (W_max, f_max), shared by the nonlinear-work comparison
-    split = np.random.default_rng(config["seed"] + 1).random(len(rows)) < config["train_fraction"]
+    split = training_split(len(rows), config["train_fraction"], config["seed"] + 1)
     t_nl = time.perf_counter()
     nonlinear = _nonlinear_work_of(ckpt, grasps_all, rows, split, config)
     t_nl = time.perf_counter() - t_nl

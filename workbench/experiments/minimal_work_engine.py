@@ -29,7 +29,6 @@ engine (how far the old judge is from this one).
 
 from __future__ import annotations
 
-import csv
 import time
 from functools import partial
 from pathlib import Path
@@ -40,7 +39,9 @@ from workbench.code_key import normalized_function
 from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiments import minimal_work as _mw
 from workbench.fem.grasp_walls import load_mesh, object_files
+from workbench.grasp.candidates import read_candidates_csv, sample_candidates
 from workbench.grasp.judged import moved_within
+from workbench.grasp.quality_table import training_split
 from workbench.grasp.work_table import METRICS, TASKS, nan_if_none
 from workbench.runner.experiment_keys import Key, check_key, verdict_keys
 from workbench.runner.parallel import check_workers, run_checkpointed
@@ -149,45 +150,6 @@ def _mw_config(config: dict) -> dict:
     }
 
 
-def _read_grasps(path: Path) -> list[dict]:
-    """minimal-work's ``grasps.csv``: each candidate's pose, old truth and metrics per task."""
-    rows = []
-    with path.open() as f:
-        for r in csv.DictReader(f):
-            row = {"object": r["object"], "grasp": int(r["grasp"])}
-            for v in ("p1", "p2", "axis"):
-                row[v] = [float(r[f"{v}_{c}"]) for c in "xyz"]
-            for t in TASKS:
-                row[t] = {
-                    "truth": r[f"{t}_truth"] == "True",
-                    "q_robust": float(r[f"{t}_q_robust"]),
-                    # "inf" / "nan" (unresisted) read as inf: always predicted to fail
-                    "f_sum": _cost(r[f"{t}_f_sum"]),
-                    "W": _cost(r[f"{t}_W"]),
-                }
-            rows.append(row)
-    return rows
-
-
-def _cost(text: str) -> float:
-    x = float(text) if text not in ("", "None") else float("nan")
-    return float("inf") if np.isnan(x) else x
-
-
-def _sample(grasps: list[dict], config: dict) -> list[dict]:
-    """``n_grasps`` of each object's candidates (seeded, without replacement; all when fewer),
-    in candidate order."""
-    out = []
-    for name in config["objects"]:
-        mine = [g for g in grasps if g["object"] == name]
-        # a prefix of one permutation: a smaller sample is part of a larger one (its trials resume)
-        pick = np.sort(
-            np.random.default_rng([config["seed"], len(mine)]).permutation(len(mine))[: config["n_grasps"]]
-        )
-        out += [mine[i] for i in pick]
-    return out
-
-
 def _trial(job: tuple, config: dict) -> dict:
     """One engine trial (driver or Dask worker): ``(object, grasp, task, p1, p2, axis)``."""
     from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, simulate_grasp
@@ -238,12 +200,9 @@ def _trial_code() -> str:
 
 def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
     """(n,) how deep [m] each grasp's deeper contact point lies inside the object as the engine
-    collides it (:func:`workbench.engine_trials.collision.collision_pieces`: 0 where the engine's
-    surface is the mesh's)."""
-    import trimesh
-
+    collides it (:func:`workbench.engine_trials.collision_gap.surface_gap`)."""
     from workbench.engine_trials import EngineSettings
-    from workbench.engine_trials.collision import collision_pieces
+    from workbench.engine_trials.collision_gap import surface_gap
 
     gap = np.zeros(len(grasps))
     for name in config["objects"]:
@@ -251,10 +210,8 @@ def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
         if not idx:
             continue
         mesh = load_mesh(str(object_files(config["data_dir"], name)[0]))
-        pts = np.array([p for i in idx for p in (grasps[i]["p1"], grasps[i]["p2"])])
-        pieces = collision_pieces(mesh, (0.0, 0.0, -1.0), EngineSettings().object_slab)
-        depth = np.max([trimesh.proximity.signed_distance(p, pts) for p in pieces], axis=0)  # > 0 inside
-        gap[idx] = np.maximum(depth, 0.0).reshape(-1, 2).max(axis=1)
+        pts = np.array([[grasps[i]["p1"], grasps[i]["p2"]] for i in idx])  # (k, 2, 3)
+        gap[idx] = surface_gap(mesh, pts, (0.0, 0.0, -1.0), EngineSettings().object_slab).max(axis=1)
     return gap
 
 
@@ -439,12 +396,13 @@ def run(config: dict) -> dict:
     t_mw = time.perf_counter()
     mw_summary = _mw.run(mw_config)
     t_mw = time.perf_counter() - t_mw
-    grasps = _sample(_read_grasps(Path(mw_config["out"]) / "grasps.csv"), config)
+    candidates = read_candidates_csv(Path(mw_config["out"]) / "grasps.csv")
+    grasps = sample_candidates(candidates, config["objects"], config["n_grasps"], config["seed"])
     # 2. the engine trials
     trial, n_resumed, ran_on = _engine_trials(grasps, out, config)
     # 3. Table 4.6 against the engine, on the training split's normalisers
     objs = np.array([g["object"] for g in grasps])
-    split = np.random.default_rng(config["seed"] + 1).random(len(grasps)) < config["train_fraction"]
+    split = training_split(len(grasps), config["train_fraction"], config["seed"] + 1)
     gap = _surface_gap(grasps, config)
     table, old, balance = _tables(grasps, trial, split, objs, config)
     limits = _verdict_limits(grasps, trial, split, objs, config)

@@ -16,7 +16,7 @@ from tqdm import tqdm
 
 from workbench import config as settings  # `config` is the run's dict here
 from workbench import project_to_plane, sample_twists_thesis, surface_moments, surface_w_max, surface_wrenches
-from workbench.limit_surface.normalize import explained_variance_ratio
+from workbench.limit_surface.normalize import wrench_pca
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.results import save_figure, write_csv, write_summary
 from workbench.sources.surface_catalog import PLANAR_NORMAL, THESIS_SURFACES, example_3_2_5
@@ -97,20 +97,23 @@ def table_rows(surface, config: dict) -> dict:
 
 
 def pca(surface, w_max_exact: np.ndarray, config: dict, seed: int) -> dict:
-    """PCA of normalised wrenches ŵ = w ⊘ w_max (Eq. 3.10) of thesis-sampled twists."""
+    """PCA of normalised wrenches ŵ = w ⊘ w_max (Eq. 3.10) of thesis-sampled twists
+    (:func:`workbench.limit_surface.normalize.wrench_pca`)."""
     s = surface.normalized()
     xi = sample_twists_thesis(config["n_pca"], s.length_scale, seed)
     t0 = time.perf_counter()
     w = surface_wrenches(s, xi, config["mu"], rtol=config["pca_rtol"])
     dt = time.perf_counter() - t0
-    w_hat = w / w_max_exact
-    ratio = explained_variance_ratio(w_hat)
-    # a cumulative ratio at the retention level but for round-off (~1e-16) counts as reaching it
-    n_retained = int(np.searchsorted(np.cumsum(ratio), settings.TOL.pca_retained_variance * (1 - 1e-12)) + 1)
+    res = wrench_pca(
+        w,
+        w_max_exact,
+        retained_variance=settings.TOL.pca_retained_variance,
+        significant_fraction=settings.TOL.pca_significant_fraction,
+    )
     return {
-        "explained_variance_ratio": ratio,
-        "n_significant": n_retained,
-        "n_above_fraction": int((ratio >= settings.TOL.pca_significant_fraction).sum()),
+        "explained_variance_ratio": res.explained_variance_ratio,
+        "n_significant": res.n_retained,
+        "n_above_fraction": res.n_above_fraction,
         "w_max_sampled": np.abs(w).max(axis=0),
         "n_twists": len(xi),
         "seconds_per_wrench": dt / len(xi),

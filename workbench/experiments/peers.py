@@ -45,9 +45,16 @@ from tqdm import tqdm
 from workbench.fem.contact import solve_contact, solve_contact_full
 from workbench.fem.extract import extract_profile, face_grid
 from workbench.fem.pad import condense_pad
-from workbench.grasp.margin import MARGIN_SPAN, check_steps
+from workbench.grasp.margin import MARGIN_SPAN, check_steps, margin_rel_err, margin_vs_truth
 from workbench.peers import metrics
-from workbench.peers.comparison import compare, fem_row, grasp_margins, reference_measures
+from workbench.peers.comparison import (
+    compare,
+    equal_force_margins,
+    fem_row,
+    hertz_row,
+    profile_row,
+    reference_measures,
+)
 from workbench.peers.hertz_block import hertz_half_space
 from workbench.peers.mujoco_cone import PATCH_TORSIONS, patch_coefficients
 from workbench.peers.pad_cases import CASES, drake_pad, reference_case, setup_case
@@ -383,33 +390,18 @@ def _peer_rows(case: str, delta: float, config: dict, ctx: dict) -> dict:
 
         R = config["radius_mm"] * 1e-3
         t, prof = median_runtime(partial(hertz_profile, R, delta, E, nu, center=ctx["center"]), rep)
-        rows["hertz"] = {
-            "profile": prof,
-            "area": float(np.pi * R * delta),
-            "field": ("elements",),
-            "seconds": t,
-        }
+        rows["hertz"] = {**hertz_row(prof, R, delta), "seconds": t}
     from workbench.peers.elastic_foundation import PadGrid, foundation_profile
 
     n = config["foundation_cells"][-1]
     winkler = PadGrid(w, ln, n, n, edge="warn" if case == "sphere" else "cut")
     fp = partial(foundation_profile, obs, delta, E, h, grid=winkler)
     t, prof = median_runtime(fp, rep)
-    rows["foundation"] = {
-        "profile": prof,
-        "area": float(prof.areas[prof.pressures > 0].sum()),
-        "field": ("elements",),
-        "seconds": t,
-    }
+    rows["foundation"] = {**profile_row(prof), "seconds": t}
     drake = ctx.get("drake")
     if drake is not None:
         t, prof = median_runtime(partial(drake.profile, delta), rep)
-        rows["drake"] = {
-            "profile": prof,
-            "area": float(prof.areas[prof.pressures > 0].sum()),
-            "field": ("elements",),
-            "seconds": t,
-        }
+        rows["drake"] = {**profile_row(prof), "seconds": t}
     for kind in PATCH_TORSIONS:
         coef = patch_coefficients(config["mu"], rho, delta, kind)
         t, _ = median_runtime(partial(metrics.cone_supports, coef), rep)
@@ -487,7 +479,7 @@ def _run_case(case: str, config: dict, ref_case: dict, grid: np.ndarray, res: di
         if d == config["sweep_delta_mm"] * 1e-3:
             res["sweep"] += _sweep(case, d, config, ref, grid, ctx["obstacle"], geom, ctx["material"])
         if d == config["margin_delta_mm"] * 1e-3:
-            res["margins"][case] = _case_margins(rows, r["profile"], ref, ctx["center"], config, case)
+            res["margins"][case] = _case_margins(rows, r["profile"], ctx["center"], config)
             res["ls"][case] = _case_ls(rows, r["profile"], config)
 
 
@@ -574,43 +566,22 @@ def _setting(peer: str, config: dict) -> str:
     }.get(peer, "")
 
 
-def _case_margins(rows: dict, ref_profile, ref: dict, center, config: dict, case: str) -> dict:
-    from workbench.grasp.margin import margin_vs_truth
-
-    f_ref = ref["force_N"]
-    jaws = {"neo-Hookean": {"kind": "profile", "profile": ref_profile}}
-    for peer, row in rows.items():
-        if row.get("profile") is not None:  # the same jaw force for every peer (the sensor reads it)
-            p = row["profile"]
-            jaws[peer] = {
-                "kind": "profile",
-                "profile": p.with_pressures(p.pressures * f_ref / metrics.jaw_force(p)),
-            }
-        else:
-            jaws[peer] = {
-                "kind": "cone",
-                "coefficients": row["coefficients"],
-                "force": f_ref,
-                "point": ref_profile.pressure_center,
-            }
-    m = grasp_margins(
-        jaws,
+def _case_margins(rows: dict, ref_profile, center: np.ndarray, config: dict) -> dict:
+    """``{peer: margin errors}`` of every peer's two-jaw grasp against the neo-Hookean truth at its
+    jaw force (:func:`workbench.peers.comparison.equal_force_margins`), and ``"truth_margins"``."""
+    truth, m = equal_force_margins(
+        rows,
+        ref_profile,
         center,
         config["mu"],
         seed=config["seed"],
         n_disturbances=config["n_disturbances"],
         steps=config["margin_steps"],
-        scale=f_ref / 25.0,
     )
-    truth = m.pop("neo-Hookean")
-    out = {}
-    for peer, s in m.items():
-        ok = (truth > 0) & (s > 0)
-        rel = np.abs(s[ok] / truth[ok] - 1)
-        out[peer] = {
-            "median_abs_rel_err": float(np.median(rel)) if ok.any() else None,
-            **margin_vs_truth(s, truth),
-        }
+    out: dict = {
+        peer: {"median_abs_rel_err": margin_rel_err(s, truth), **margin_vs_truth(s, truth)}
+        for peer, s in m.items()
+    }
     out["truth_margins"] = truth.tolist()
     return out
 
@@ -658,13 +629,7 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
         winkler = PadGrid(geom.width, geom.length, n, n, edge="warn" if case == "sphere" else "cut")
         fp = partial(foundation_profile, obs, d, config["E"], geom.thickness, grid=winkler)
         t, prof = median_runtime(fp, rep)
-        add(
-            "foundation",
-            f"{n}^2",
-            t,
-            prof,
-            {"profile": prof, "area": float(prof.areas.sum()), "field": ("elements",)},
-        )
+        add("foundation", f"{n}^2", t, prof, profile_row(prof))
     # Drake's knob: the rigid tessellation hint (sphere, cylinder) or the facets of the mesh
     res = config["drake_resolution_over_R"]
     if case == "bottle":
@@ -683,13 +648,7 @@ def _sweep(case, d, config, ref, grid, obs, geom, mat) -> list[dict]:
         if drake is None:
             break
         t, prof = median_runtime(partial(drake.profile, d), rep)
-        add(
-            "drake",
-            label,
-            t,
-            prof,
-            {"profile": prof, "area": float(prof.areas.sum()), "field": ("elements",)},
-        )
+        add("drake", label, t, prof, profile_row(prof))
     return pts
 
 

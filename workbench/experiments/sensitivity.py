@@ -10,7 +10,7 @@ at lever arms (``(f_y, τ_x, τ_z)`` plus small off-plane parts).
 outcome is wrench resistance computed with the 6DFW of the true profile
 (k = 2.4, true contact length) and no limit-surface approximation — exactly, by
 column generation over maximum-dissipation support wrenches
-(:mod:`workbench.grasp.exact`; a fixed sample of 6DFWs is an inner
+(:func:`workbench.grasp.simulated_truth.truth_deciders`; a fixed sample of 6DFWs is an inner
 approximation that converges to it from below: 82/83/85 % vs 87 % resisted at
 400/1,600/6,400 samples) — with per-grasp perturbations standing in for
 physical noise (friction ±5 %, true grasp force ±3 % around the sensor reading).
@@ -44,13 +44,13 @@ from tqdm import tqdm
 
 from workbench.code_key import code_digest
 from workbench.config import SAMPLER_KINDS
-from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.lever_scene import scene_inputs, scene_profiles
 from workbench.grasp.margin import check_steps, margin_vs_truth
 from workbench.grasp.models import MODELS
 from workbench.grasp.precision import check_levels, matched_precision, recall_at_least
 from workbench.grasp.sensitivity_rows import as_twin, row_inputs, row_key, row_tasks, scored, sensitivity_row
 from workbench.grasp.sensitivity_summary import headline, series_tables, training_distribution
+from workbench.grasp.simulated_truth import truth_deciders
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import Checkpoint, save_figure, write_csv, write_summary
@@ -306,13 +306,13 @@ def _rows_and_truth(ckpt: Checkpoint, config: dict) -> tuple[np.ndarray, float, 
 
     def ground_truth() -> None:
         true_prof = scene_profiles(config, config["k_true"], config["length"])
-        exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
+        deciders = truth_deciders(true_prof, mu_true, f_true, config["truth_start_wrenches"])
         t0 = time.perf_counter()
         got["truth"] = np.array(
             [
-                resists_exact(exact, w, m, forces=exact.F * f)[0]
-                for w, f, m in tqdm(
-                    zip(W, f_true, mu_true, strict=True), total=n, desc="ground truth", unit="grasp"
+                decide(w)
+                for decide, w in tqdm(
+                    zip(deciders, W, strict=True), total=n, desc="ground truth", unit="grasp"
                 )
             ]
         )

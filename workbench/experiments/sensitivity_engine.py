@@ -37,17 +37,21 @@ from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiments import sensitivity as _scene
 from workbench.grasp import CutStore
 from workbench.grasp.crossval import seed_summary
-from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
 from workbench.grasp.lever_scene import predict_resisted, scene_inputs, scene_profiles, scene_sets
 from workbench.grasp.models import MODELS
 from workbench.grasp.precision import scores
+from workbench.grasp.simulated_truth import truth_deciders
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.runner.experiment_keys import Key, check_key, verdict_keys
 from workbench.runner.parallel import check_workers, run_checkpointed
 from workbench.runner.results import write_csv, write_summary
 from workbench.runner.trial_figures import judged_figure
-from workbench.sources.scenes import check_elliptic_cylinder, elliptic_cylinder_solid
+from workbench.sources.scenes import (
+    check_elliptic_cylinder,
+    elliptic_cylinder_patch_extent,
+    elliptic_cylinder_solid,
+)
 from workbench.units import check_turn_limit
 
 NAME = "sensitivity-engine"
@@ -153,9 +157,9 @@ def _row(task: tuple, config: dict) -> dict:
             W[i],
             force=float(f_true[i]),
             obj=EngineObject(mass=config["object_mass"], mu=float(mu_true[i]), com=[0.0, 0.0, 0.0]),
-            # each pad exactly the patch: 2 b sin(half_angle) across, the contact length along z
+            # each pad exactly the patch: its chord across, the contact length along z
             pad=EnginePad(
-                size=(2 * b * np.sin(h), length, config["pad_thickness"]),
+                size=(*elliptic_cylinder_patch_extent(a, b, h, length), config["pad_thickness"]),
                 E=config["pad_E"],
                 nu=config["pad_nu"],
                 up=(0.0, 0.0, 1.0),
@@ -166,12 +170,9 @@ def _row(task: tuple, config: dict) -> dict:
         return outcome.row()
     profiles = scene_profiles(config, config["k_true"], config["length"])
     if kind == "exact":  # the sensitivity experiment's ground truth, for the same grasps
-        exact = ExactContacts(profiles, n_start=config["truth_start_wrenches"], seed=1)
+        deciders = truth_deciders(profiles, mu_true, f_true, config["truth_start_wrenches"])
         t0 = time.perf_counter()
-        held = [
-            bool(resists_exact(exact, w, m, forces=exact.F * f)[0])
-            for w, f, m in zip(W, f_true, mu_true, strict=True)
-        ]
+        held = [decide(w) for decide, w in zip(deciders, W, strict=True)]
         return {"pred": held, "ms_per_grasp": (time.perf_counter() - t0) / len(W) * 1e3}
     model = task[2]
     sets = scene_sets(profiles, model, _process_cache(), config)

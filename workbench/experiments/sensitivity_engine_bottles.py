@@ -10,8 +10,9 @@ frame), a force-sensor reading and the noisy true μ and force of :mod:`.sensiti
 - **The models** see each grasp's FEM pad profiles (:func:`workbench.sources.fem_jaw.fem_jaw_profiles`:
   our pad pressed on the rigid bottle mesh to the sensor's force) and predict "resisted" at the
   nominal μ — each contact model built from those profiles (:func:`workbench.grasp.models.contact_sets`).
-- **The old truth** is the exact 6DFW set of the same profiles (:func:`workbench.grasp.exact.resists_exact`)
-  at the noisy true μ and force — the truth :mod:`.sensitivity` uses.
+- **The old truth** is the exact 6DFW set of the same profiles
+  (:func:`workbench.grasp.simulated_truth.truth_deciders`) at the noisy true μ and force — the
+  truth :mod:`.sensitivity` uses.
 - **The engine** (:func:`workbench.engine_trials.disturbance.simulate_disturbance`) presses two flat
   MuJoCo pads of the same size and modulus on the same mesh with the true force, applies and holds
   the disturbance at the true μ, and says whether the bottle moved.
@@ -34,13 +35,12 @@ from workbench.code_key import code_digest, normalized_function
 from workbench.engine_trials.trial import VERDICT_LIMITS
 from workbench.experiments import sensitivity as _scene
 from workbench.experiments import sensitivity_engine as _judged
-from workbench.grasp import CutStore, resists
 from workbench.grasp.crossval import seed_summary
-from workbench.grasp.exact import ExactContacts, resists_exact
 from workbench.grasp.judged import judged_headline, model_tables, recall_gain_claims, verdict_limit_tables
-from workbench.grasp.lever_scene import scene_inputs
-from workbench.grasp.models import MODELS, ModelParameters, contact_sets
+from workbench.grasp.lever_scene import predict_grasp, scene_inputs
+from workbench.grasp.models import MODELS, ModelParameters
 from workbench.grasp.precision import scores
+from workbench.grasp.simulated_truth import truth_deciders
 from workbench.limit_surface import LimitSurfaceCache
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import run_checkpointed
@@ -165,16 +165,14 @@ def _inputs(config: dict, seed: int):
     """The seed's draw: pool indices (n,), disturbances in the object frame (n, 6), sensor
     forces, noisy true μ and forces (n,).  The disturbances, forces and noise are the
     sensitivity experiment's draw for that seed (:func:`~workbench.grasp.lever_scene.scene_inputs`),
-    in each grasp's frame; the grasps come from a second stream of the same seed."""
-    from workbench.sources.bottle_scene import grasp_frame, wrenches_to_object
+    in each grasp's frame; the grasps come from a second stream of the same seed
+    (:func:`~workbench.sources.bottle_scene.draw_pool_grasps`)."""
+    from workbench.sources.bottle_scene import draw_pool_grasps
 
     n, pool = config["n_grasps"], pool_of(config)
     _check_pool_size(n, pool)
     W, forces, mu_true, f_true = scene_inputs({**config, "seed": seed, "n_disturbances": n})
-    idx = np.random.default_rng([seed, 1]).choice(len(pool), n, replace=False)
-    W_obj = np.vstack(
-        [wrenches_to_object(W[i], grasp_frame(pool[k]["axis"]), pool[k]["center"]) for i, k in enumerate(idx)]
-    )
+    idx, W_obj = draw_pool_grasps(pool, W, seed)
     return idx, W_obj, forces, mu_true, f_true
 
 
@@ -229,16 +227,15 @@ def _row(task: tuple, config: dict) -> dict:
         mesh, grasp, float(forces[i]), pad=_fem_pad(config["pad_E"], config["pad_nu"])
     )
     fem_s = time.perf_counter() - t0
-    exact = ExactContacts(profiles, n_start=config["truth_start_wrenches"], seed=1)
     # the truth at the true force: the sensor's profiles scaled by the true / read force
-    held = bool(resists_exact(exact, W[i], float(mu_true[i]), forces=exact.F * (f_true[i] / forces[i]))[0])
+    (truth,) = truth_deciders(
+        profiles, [float(mu_true[i])], [f_true[i] / forces[i]], config["truth_start_wrenches"]
+    )
+    held = truth(W[i])
     pred, ms = {}, {}
     params = ModelParameters(M=config["M"])
     for m in config["models"]:
-        t0 = time.perf_counter()
-        sets = [c for p in profiles for c in contact_sets(p, m, params, cache=_process_cache())]
-        pred[m] = bool(resists(sets, W[i], config["mu"], cuts=CutStore()))
-        ms[m] = (time.perf_counter() - t0) * 1e3
+        pred[m], ms[m] = predict_grasp(profiles, m, W[i], config["mu"], params, _process_cache())
     return {
         "pred": pred,
         "ms": ms,
@@ -261,8 +258,11 @@ def _tasks(config: dict, kind: str) -> list[tuple]:
 def _engine_code() -> str:
     """What an engine row depends on besides its config: the engine trials' package, the bottle
     scene and family, the grasp sampler, the disturbance draw, this module's row, pool and input
-    functions, MuJoCo's version — rows keyed by it survive edits elsewhere in the package."""
+    functions and the grasp draw they call (:func:`~workbench.sources.bottle_scene.draw_pool_grasps`),
+    MuJoCo's version — rows keyed by it survive edits elsewhere in the package."""
     from importlib.metadata import version
+
+    from workbench.sources.bottle_scene import draw_pool_grasps
 
     return content_hash(
         [
@@ -274,7 +274,10 @@ def _engine_code() -> str:
                 "workbench.grasp.sampling",
                 "workbench.grasp.tasks",
             ),  # fmt: skip
-            *(normalized_function(f) for f in (_row, _inputs, _pool, pool_of, _mesh, scene_inputs)),
+            *(
+                normalized_function(f)
+                for f in (_row, _inputs, _pool, pool_of, _mesh, scene_inputs, draw_pool_grasps)
+            ),
             version("mujoco"),
         ]
     )

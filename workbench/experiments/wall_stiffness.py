@@ -29,7 +29,6 @@ grasp order with ``rigid`` and ``failed`` flags; when the JSON also holds a
 from __future__ import annotations
 
 import time
-import warnings
 from functools import partial
 from pathlib import Path
 
@@ -38,16 +37,15 @@ from tqdm import tqdm
 
 from workbench.code_key import code_digest
 from workbench.fem.bottle import Bottle, bottle_family
+from workbench.fem.calibration import uncalibrated_scores
 from workbench.fem.material import Material
 from workbench.fem.object_wall import TOPS, wall_geometry
-from workbench.fem.wall import ring_pinch, ring_wall, squeeze
-from workbench.fem.wall_family import bottle_wall, grasp_axis, mesh_convergence
+from workbench.fem.wall import ring_validation, squeeze
+from workbench.fem.wall_family import bottle_wall, grasp_axis, mesh_convergence, mesh_error, stiffness_map
 from workbench.fem.wall_grasps import grasp_pairs, read_locations, stiffness_at
-from workbench.plausible import ImplausibleWarning
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import CHECKOUT, Checkpoint, save_figure, write_csv, write_summary
-from workbench.stats import rank_correlation
 
 NAME = "wall-stiffness"
 
@@ -98,6 +96,10 @@ KEYS = {
 }
 #: settings that do not enter the checkpoint key: where rows run changes no number
 WHERE_KEYS = ("out", "workers", "scheduler")
+#: the measured discretisation error of wall meshes at body and shoulder grasps
+#: (benchmarks/bench_shoulder_convergence.py; ``make bench-shoulder``), beside the experiments;
+#: read by :func:`workbench.fem.wall_family.mesh_error`
+CONVERGENCE_FILE = CHECKOUT / "results" / "benchmarks" / "shoulder_convergence.json"
 QUICK_CONFIG = {
     "bottles": [0],
     "mesh": [24, 12],
@@ -109,29 +111,9 @@ QUICK_CONFIG = {
 
 
 def ring_rows(config: dict) -> list[dict]:
-    """Thin ring (R = 35 mm mid-surface) under diametral line loads, two ways."""
-    mat = Material(config["E"], config["nu"])
-    t = config["thickness"]
-    R = 0.035
-    D = mat.E * t**3 / (12 * (1 - mat.nu**2))
-    rows = []
-    for n in config["ring_meshes"]:
-        perp = ring_pinch(R, t, mat, n_theta=n)
-        wall = ring_wall(R, t, mat, n)
-        P = 1e-3  # N on a slab of length t: P' = 2 N/m, linear anyway
-        with warnings.catch_warnings():  # a probe load of Roark's ring, not a gripper's: no warning
-            warnings.simplefilter("ignore", ImplausibleWarning)
-            sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
-        exact = (np.pi / 4 - 2 / np.pi) * (P / t) * R**3 / D
-        rows.append(
-            {
-                "n_theta": n,
-                "perpendicular_rel_err": perp["rel_err"],
-                "load_line_rel_err": sq.delta / exact - 1,
-                "dofs": int(perp["dofs"]),
-            }
-        )
-    return rows
+    """Thin ring (R = 35 mm mid-surface) under diametral line loads, two ways, at the run's
+    material and thickness on each of ``ring_meshes`` (:func:`workbench.fem.wall.ring_validation`)."""
+    return ring_validation(Material(config["E"], config["nu"]), config["thickness"], config["ring_meshes"])
 
 
 def _map_task(job: tuple, config: dict) -> list[tuple[str, dict]]:
@@ -194,35 +176,6 @@ def _jobs(config: dict, angles: np.ndarray, ckpt: Checkpoint) -> tuple[list, int
     return jobs, n_todo
 
 
-def _map(rows: list[dict], i: int, angles: np.ndarray, config: dict, asymmetric: bool) -> dict:
-    """Bottle ``i``'s stiffness map over heights × angles from the sorted ``rows``."""
-    grid = np.array(
-        [
-            [
-                next(
-                    r
-                    for r in rows
-                    # the row's angle is this linspace value (exact through the JSON checkpoint);
-                    # 1e-9 rad only absorbs last-bit differences of a recomputed one
-                    if r["bottle"] == i and r["height_fraction"] == hf and abs(r["angle"] - a) < 1e-9
-                )["stiffness_N_per_m"]
-                for a in angles
-            ]
-            for hf in config["height_fractions"]
-        ],
-        dtype=float,  # None (an implausible closing) -> NaN
-    )
-    return {
-        "asymmetric": asymmetric,
-        "height_fractions": config["height_fractions"],
-        "angles_rad": angles.tolist(),
-        "stiffness_N_per_m": [[None if np.isnan(v) else v for v in row] for row in grid.tolist()],
-        "n_implausible": int(np.isnan(grid).sum()),
-        "min": None if np.isnan(grid).all() else float(np.nanmin(grid)),
-        "max": None if np.isnan(grid).all() else float(np.nanmax(grid)),
-    }
-
-
 def _headline(
     ring: list[dict], maps: dict, rows: list[dict], ms: np.ndarray, angles: np.ndarray, config: dict
 ) -> list[str]:
@@ -240,7 +193,7 @@ def _headline(
             for k, m in maps.items()
         ),
         f"{len(rows)} grasps, median {np.median(ms):.0f} ms per grasp after a one-off wall factorisation",
-        f"discretisation: {mesh_error(config['mesh'])['note']}",
+        f"discretisation: {mesh_error(config['mesh'], CONVERGENCE_FILE)['note']}",
     ]
 
 
@@ -288,7 +241,12 @@ def run(config: dict) -> dict:
     cols = ["bottle", "height_fraction", "angle", "stiffness_N_per_m", "closing_mm", "contact_nodes", "ms"]
     write_csv(out / "stiffness_map.csv", cols, [[r[c] for c in cols] for r in rows])
 
-    maps = {str(i): _map(rows, i, angles, config, bool(family[i].asymmetric)) for i in config["bottles"]}
+    maps = {
+        str(i): stiffness_map(
+            rows, i, config["height_fractions"], angles, asymmetric=bool(family[i].asymmetric)
+        )
+        for i in config["bottles"]
+    }
     figures = _figures(out, family, maps, config)
     ms = np.array([r["ms"] for r in rows])
     summary = {
@@ -301,7 +259,7 @@ def run(config: dict) -> dict:
         "rows_ran_on": ran_on,
         "wall_build_s": build_s,
         "ms_per_grasp": {"median": float(np.median(ms)), "max": float(ms.max())},
-        "mesh_error": mesh_error(config["mesh"]),
+        "mesh_error": mesh_error(config["mesh"], CONVERGENCE_FILE),
         "model": (
             f"linear elastic wall E = {mat.E:.3g} Pa, nu = {mat.nu}, t = {config['thickness'] * 1e3} mm, "
             "clamped base, open top, rigid frictionless jaws, secant stiffness at the target force"
@@ -310,54 +268,6 @@ def run(config: dict) -> dict:
         "headline": _headline(ring, maps, rows, ms, angles, config),
     }
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
-
-
-#: the measured discretisation error of wall meshes at body and shoulder grasps
-#: (benchmarks/bench_shoulder_convergence.py; ``make bench-shoulder``), beside the experiments
-CONVERGENCE_FILE = CHECKOUT / "results" / "benchmarks" / "shoulder_convergence.json"
-
-
-def mesh_error(mesh: list, path: Path = CONVERGENCE_FILE) -> dict:
-    """What is known of the stiffness error of wall ``mesh`` [around, along]: per region (body,
-    below a shoulder, on a shoulder) the range and median of its stiffness relative to the finest
-    mesh measured at the same grasps, from the convergence benchmark's file; or a note that this
-    mesh was not measured (or that the file is absent, e.g. in an installed wheel)."""
-    import json
-
-    try:
-        data = json.loads(Path(path).read_text())
-    except (OSError, ValueError):
-        return {
-            "measured": False,
-            "note": f"no convergence measurement at {path} (make bench-shoulder writes it)",
-        }
-    key = "x".join(str(int(v)) for v in mesh)
-    by_region: dict[str, list[float]] = {}
-    for loc in data.get("locations", []):
-        rel = loc.get("rel_to_finest", {}).get(key)
-        if rel is not None:
-            by_region.setdefault(loc["region"], []).append(float(rel))
-    measured = sorted({k for loc in data.get("locations", []) for k in loc.get("rel_to_finest", {})})
-    if not by_region:
-        return {"measured": False, "note": f"mesh {list(mesh)} not measured (measured: {measured}; {path})"}
-    finest = data["locations"][0]["finest"]
-    regions = {
-        name: {"n": len(v), "min": min(v), "median": float(np.median(v)), "max": max(v)}
-        for name, v in by_region.items()
-    }
-    text = "; ".join(
-        f"{name.replace('_', ' ')} {r['min']:+.0%}..{r['max']:+.0%} "
-        f"(median {r['median']:+.0%}, {r['n']} grasps)"
-        for name, r in regions.items()
-    )
-    return {
-        "measured": True,
-        "reference_mesh": finest,
-        "rel_to_reference": regions,
-        "note": f"stiffness of mesh {list(mesh)} vs {finest} on the benchmark's bottles: {text}; a jaw "
-        "edge on a shoulder is not converged even on the finest meshes "
-        "(results/benchmarks/shoulder_convergence.json)",
-    }
 
 
 def _file_hash(path: str) -> str:
@@ -482,28 +392,6 @@ def _squeeze_object(config: dict, geo, L: np.ndarray, ckpt: Checkpoint) -> float
     return build_s
 
 
-def _vs_measured(s: np.ndarray, summary: dict, measured: np.ndarray) -> dict:
-    """The model's stiffness ``s`` (n,) against the measured map (uncalibrated), over the grasps
-    that neither calls rigid (nor failed)."""
-    from workbench.config import TOL
-
-    rigid = measured >= TOL.rigid_stiffness_threshold  # the measured maps mark rigid with 8e10
-    ok = ~np.array(summary["rigid"]) & ~np.array(summary["failed"]) & ~rigid
-    if ok.sum() < 3:
-        return {
-            "n": int(ok.sum()),
-            "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
-            "(or failed): no comparison",
-        }
-    ratio = np.log(s[ok] / measured[ok])
-    return {
-        "n": int(ok.sum()),
-        "spearman": rank_correlation(s[ok], measured[ok]),
-        "median_log_ratio": float(np.median(ratio)),
-        "median_abs_log_ratio": float(np.median(np.abs(ratio))),
-    }
-
-
 def _object_headline(config: dict, summary: dict, s: np.ndarray, n: int) -> list[str]:
     soft = s[~np.array(summary["rigid"]) & ~np.array(summary["failed"])]
     return [
@@ -574,7 +462,7 @@ def run_object(config: dict) -> dict:
         "wall_build_s": build_s,
         "s_per_grasp": {"median": float(np.median(secs)), "max": float(secs.max())} if secs.size else None,
         "n_resumed": n_resumed,
-        "mesh_error": mesh_error(config["mesh"]),
+        "mesh_error": mesh_error(config["mesh"], CONVERGENCE_FILE),
         "model": (
             f"linear elastic wall E = {config['E']:.3g} Pa, nu = {config['nu']}, "
             f"t = {config['thickness'] * 1e3} mm, "
@@ -585,7 +473,9 @@ def run_object(config: dict) -> dict:
         ),
     }
     if measured is not None:
-        summary["vs_measured_uncalibrated"] = _vs_measured(s, summary, measured)
+        summary["vs_measured_uncalibrated"] = uncalibrated_scores(
+            s, measured, rigid=summary["rigid"], failed=summary["failed"]
+        )
     summary["headline"] = _object_headline(config, summary, s, n)
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 

@@ -283,4 +283,49 @@ def one_factor_validation(
     return scores, train, test
 
 
-__all__ = ["calibrate", "held_out", "missing_physics", "one_factor_validation", "split_scores"]
+def uncalibrated_scores(
+    model: np.ndarray, measured: np.ndarray, *, rigid: np.ndarray, failed: np.ndarray
+) -> dict:
+    """The model's stiffness against the measured map as it comes (no factor), over the grasps
+    that neither calls rigid nor the model failed at.
+
+    model, measured : (n,) stiffness per grasp [N/m]; a measured value
+        ``>= config.TOL.rigid_stiffness_threshold`` is rigid (the maps mark rigid with 8e10);
+    rigid, failed : (n,) bool, the model's flags (:func:`workbench.fem.wall_grasps.stiffness_at`).
+
+    Returns ``{"n", "spearman", "median_log_ratio", "median_abs_log_ratio"}`` (the log ratio
+    ``log(model / measured)``), or ``{"n", "note"}`` below 3 such grasps.
+    """
+    from workbench.config import TOL
+
+    model, measured = np.asarray(model, float), np.asarray(measured, float)
+    rigid_model, failed = np.asarray(rigid, bool), np.asarray(failed, bool)
+    if not (model.ndim == 1 and model.shape == measured.shape == rigid_model.shape == failed.shape):
+        raise ValueError(
+            "model, measured, rigid and failed must be (n,) arrays of one length, one entry per grasp; "
+            f"got {model.shape}, {measured.shape}, {rigid_model.shape}, {failed.shape}"
+        )
+    ok = ~rigid_model & ~failed & ~(measured >= TOL.rigid_stiffness_threshold)
+    if ok.sum() < 3:
+        return {
+            "n": int(ok.sum()),
+            "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
+            "(or failed): no comparison",
+        }
+    ratio = np.log(model[ok] / measured[ok])
+    return {
+        "n": int(ok.sum()),
+        "spearman": rank_correlation(model[ok], measured[ok]),
+        "median_log_ratio": float(np.median(ratio)),
+        "median_abs_log_ratio": float(np.median(np.abs(ratio))),
+    }
+
+
+__all__ = [
+    "calibrate",
+    "held_out",
+    "missing_physics",
+    "one_factor_validation",
+    "split_scores",
+    "uncalibrated_scores",
+]

@@ -17,7 +17,8 @@ by a secant iteration.  ``s`` is the secant stiffness ``f / Δ`` there.
 
 Validated against the thin ring under diametral line loads (Roark):
 the perpendicular diameter grows by ``(4 − π)/(2π) · P' R³ / D``,
-``D = E t³ / (12 (1 − ν²))`` (:func:`ring_pinch`).
+``D = E t³ / (12 (1 − ν²))`` (:func:`ring_pinch`), and two jaws closing on it by
+``(π/4 − 2/π) · P' R³ / D`` (:func:`ring_validation`, both with mesh refinement).
 
 Assumptions stated, not hidden: small strains (no buckling or snap-through of a
 squeezed bottle), rigid jaws (the pad's own compliance is in series and not
@@ -28,7 +29,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -356,6 +357,45 @@ def ring_pinch(
     D = material.E * thickness**3 / (12 * (1 - material.nu**2))
     exact = (4 - np.pi) / (2 * np.pi) * P * radius**3 / D
     return {"fe": grow, "exact": exact, "rel_err": grow / exact - 1, "dofs": b.N}
+
+
+def ring_validation(
+    material: Material, thickness: float, meshes: Sequence[int], radius: float = 0.035
+) -> list[dict]:
+    """The thin ring (mid-surface ``radius`` [m], wall ``thickness`` [m]) under diametral line
+    loads against Roark, two ways, on a plane-strain slab of each ``n_theta`` of ``meshes``:
+
+    * ``perpendicular_rel_err``: the growth of the perpendicular diameter (:func:`ring_pinch`);
+    * ``load_line_rel_err``: the closing of two rigid jaws (:func:`squeeze`, the contact solve
+      itself) at ``P = 1e-3`` N on the slab (``P' = P / t``), against
+      ``(π/4 − 2/π) P' R³ / D`` with ``D = E t³ / 12 (1 − ν²)``.
+
+    Returns one row per mesh: ``{"n_theta", "perpendicular_rel_err", "load_line_rel_err", "dofs"}``.
+    """
+    import warnings
+
+    from workbench.plausible import ImplausibleWarning
+
+    t, R = thickness, radius
+    D = material.E * t**3 / (12 * (1 - material.nu**2))
+    rows = []
+    for n in meshes:
+        perp = ring_pinch(R, t, material, n_theta=n)
+        wall = ring_wall(R, t, material, n)
+        P = 1e-3  # N on a slab of length t: P' = 2 N/m, linear anyway
+        with warnings.catch_warnings():  # a probe load of Roark's ring, not a gripper's: no warning
+            warnings.simplefilter("ignore", ImplausibleWarning)
+            sq = squeeze(wall, np.array([0.0, 0.0, t / 2]), np.array([1.0, 0.0, 0.0]), force=P)
+        exact = (np.pi / 4 - 2 / np.pi) * (P / t) * R**3 / D
+        rows.append(
+            {
+                "n_theta": n,
+                "perpendicular_rel_err": perp["rel_err"],
+                "load_line_rel_err": sq.delta / exact - 1,
+                "dofs": int(perp["dofs"]),
+            }
+        )
+    return rows
 
 
 def check_wall(wall: Any, usage: str = "squeeze(wall, centre, axis)") -> Wall:

@@ -7,9 +7,9 @@ resistance/ — one meaning of "resisted" (Eq. 2.100) and the minimal grasp forc
 surface; work.py — minimal work and q_work / q_force (Eqs. 4.5–4.6); threshold.py —
 balanced accuracy and the fitted normaliser W_max / f⊥max (§4.3); margin.py — the
 resistance margin by bisection; precision.py — precision, recall, matched precision;
-simulated_truth.py — the minimal-work study's simulated outcome (exact 6DFW sets, noise,
-wall closing); evaluate.py — one call from a grasp and its jaws' profiles (any source,
-workbench.sources) to the verdict; inputs.py — its grouped inputs (Task, Jaws, ModelOptions),
+simulated_truth.py — the sensitivity and minimal-work studies' simulated outcomes (exact
+6DFW sets; noise, wall closing); evaluate.py — one call from a grasp and its jaws' profiles
+(any source, workbench.sources) to the verdict; inputs.py — its grouped inputs (Task, Jaws, ModelOptions),
 the Task shared with gripper_eval.py's evaluation of a gripper at a pose (GripperOptions).
 Profiles are made in workbench.sources, not here.
 """

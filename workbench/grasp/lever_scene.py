@@ -6,7 +6,9 @@ an elliptic-cylinder patch with the power-law pressure of Eq. 4.3 (:mod:`workben
 disturbances from weights hung at lever arms (:func:`~.tasks.lever_disturbances`), a force-sensor
 reading per grasp, and per-grasp noise standing in for physical noise (friction and the true
 grasp force around the reading).  The sensitivity experiment and both engine-judged ones draw
-their grasps here, so one seed gives them the same grasps.
+their grasps here, so one seed gives them the same grasps.  A model's prediction of all the
+grasps of one set of profiles: :func:`predict_resisted`; of one grasp with its own profiles (a
+scene of many objects): :func:`predict_grasp`.
 
 ``config`` is a mapping with the sensitivity experiment's keys (its ``check_config`` judges
 them): ``seed``, ``n_disturbances``, ``weight_range`` [N], ``lever_x`` and ``lever_z`` [m],
@@ -29,7 +31,7 @@ from .models import ModelParameters, contact_sets
 from .resistance import CutStore, resists
 from .tasks import lever_disturbances
 
-__all__ = ["predict_resisted", "scene_inputs", "scene_profiles", "scene_sets"]
+__all__ = ["predict_grasp", "predict_resisted", "scene_inputs", "scene_profiles", "scene_sets"]
 
 
 def scene_inputs(config: Mapping) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -81,3 +83,24 @@ def predict_resisted(
         out.append(bool(resists([c.with_force(c.force * f) for c in sets], w, mu, cuts=cuts)))
         times.append(time.perf_counter() - t0)
     return np.array(out), float(np.median(times) * 1e3)
+
+
+def predict_grasp(
+    profiles: Sequence[ContactProfile],
+    model: str,
+    w: np.ndarray,
+    mu: float,
+    params: ModelParameters,
+    cache: LimitSurfaceCache,
+) -> tuple[bool, float]:
+    """One grasp's plain prediction by ``model`` when each grasp has its own profiles (a
+    scene of many objects, e.g. the bottle family's FEM pad profiles): the model's contact sets
+    of ``profiles`` — already at the sensor's force, so not rescaled — built with ``params``
+    (limit surfaces from ``cache``), resisting the disturbance ``w`` (6,) [N, N m] at friction
+    ``mu`` (Eq. 2.100), with a fresh cut store.  Returns (resisted, milliseconds to build the
+    sets and decide) — the build counts, unlike :func:`predict_resisted`'s, since it is per grasp.
+    """
+    t0 = time.perf_counter()
+    sets = [c for p in profiles for c in contact_sets(p, model, params, cache=cache)]
+    held = bool(resists(sets, w, mu, cuts=CutStore()))
+    return held, (time.perf_counter() - t0) * 1e3

@@ -10,7 +10,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["MARGIN_SPAN", "check_span", "check_steps", "margin_vs_truth", "resistance_margin"]
+__all__ = [
+    "MARGIN_SPAN",
+    "check_span",
+    "check_steps",
+    "margin_rel_err",
+    "margin_vs_truth",
+    "resistance_margin",
+]
 
 #: margins are bisected in [1/MARGIN_SPAN, MARGIN_SPAN] (0 below, MARGIN_SPAN above)
 MARGIN_SPAN = 64.0
@@ -96,3 +103,20 @@ def margin_vs_truth(s_m: np.ndarray, true_margin: np.ndarray, span: float = MARG
         "median_log_ratio": float(np.median(lr)) if ok.any() else float("nan"),
         "optimistic_fraction": float((lr > 0).mean()) if ok.any() else float("nan"),
     }
+
+
+def margin_rel_err(s_m: np.ndarray, true_margin: np.ndarray) -> float | None:
+    """Median ``|s / s_true − 1|`` of a model's margins (n,) against the truth's (n,) over the
+    pairs where both are > 0 (None if there is none).
+
+    Unlike :func:`margin_vs_truth` it keeps margins at the bracket's upper end ``span`` (where
+    the bisection stops: the grasp resists at least that much), so a pair with both there counts
+    as agreeing."""
+    s_m, true_margin = np.asarray(s_m, float), np.asarray(true_margin, float)
+    if s_m.shape != true_margin.shape:
+        raise ValueError(
+            f"margins and true margins must have one shape; got {s_m.shape}, {true_margin.shape}"
+        )
+    ok = (true_margin > 0) & (s_m > 0)
+    rel = np.abs(s_m[ok] / true_margin[ok] - 1)
+    return float(np.median(rel)) if ok.any() else None

@@ -4,16 +4,38 @@ accuracy on held-out grasps against whichever truth is given (simulated, engine,
 A quality given as a cost ``x`` (the minimal force f⊥ or work W; ``inf`` when the task wrench
 is not resisted) becomes ``q = 1 − x / X_max`` with ``X_max`` fitted on the training grasps
 (:func:`~workbench.grasp.threshold.fit_normaliser`); a quality already in [0, 1] (q_robust,
-Eq. 2.101) is thresholded as it is.
+Eq. 2.101) is thresholded as it is.  :func:`training_split` draws which grasps train.
 """
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
+from ..seeds import check_seed
 from .threshold import balanced_accuracy_interval, fit_normaliser, held_out_accuracy
 
-__all__ = ["quality_table"]
+__all__ = ["quality_table", "training_split"]
+
+
+def training_split(n: int, train_fraction: float, seed: int | np.random.Generator) -> np.ndarray:
+    """(n,) bool, True: a training grasp — each of ``n`` grasps independently with probability
+    ``train_fraction`` in (0, 1) (one uniform draw per grasp from a generator seeded with
+    ``seed``, in grasp order), so the training share is ``train_fraction`` on average, not
+    exactly."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, numbers.Integral) or n < 0:
+        raise ValueError(f"n must be a number of grasps, an integer >= 0; got {n!r}")
+    if (
+        isinstance(train_fraction, (bool, np.bool_))
+        or not isinstance(train_fraction, numbers.Real)
+        or not 0 < train_fraction < 1
+    ):
+        raise ValueError(
+            f"train_fraction must be in (0, 1) (the share of grasps the normalisers are fitted on); got "
+            f"{train_fraction!r} — a percentage? 50 % is 0.5"
+        )
+    return np.random.default_rng(check_seed(seed)).random(n) < train_fraction
 
 
 def quality_table(  # noqa: PLR0913 — labelled grasps, metrics, threshold, bootstrap: no natural group

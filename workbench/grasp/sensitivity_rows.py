@@ -8,8 +8,8 @@ Tasks (``config`` as in :mod:`.lever_scene`, plus the experiment's series keys):
   (:func:`~.margin.resistance_margin`), its limit surfaces trained by sampler kind ``sampler``
   (None: the configured default); key ``margin/<model>`` or ``margin/<model>@<sampler>``;
 - ``("truth", "truth" | "truth-nominal")`` — the margins of the exact 6DFW set
-  (:mod:`.exact`) at each grasp's noisy true μ and force, or noise-free at the sensor force and
-  nominal μ; key ``margin/truth`` / ``margin/truth-nominal``;
+  (:func:`~.simulated_truth.truth_deciders`) at each grasp's noisy true μ and force, or
+  noise-free at the sensor force and nominal μ; key ``margin/truth`` / ``margin/truth-nominal``;
 - ``("setting", series, x, model)`` — a model's plain predictions with *its assumed* parameter
   (series ``k``, ``mu_offset`` or ``length_offset`` at value x); key ``<series>/<x>/<model>``;
 - ``("robust", n_r, sigma_r)`` — the 6DLS's q_robust >= 0.5 under pose noise (6DFC Fig 3);
@@ -30,12 +30,12 @@ import numpy as np
 from ..limit_surface import LimitSurfaceCache, SamplerSpec
 from ..profile import ContactProfile
 from .contacts import ContactSet
-from .exact import ExactContacts, resists_exact
 from .lever_scene import predict_resisted, scene_inputs, scene_profiles, scene_sets
 from .margin import resistance_margin
 from .precision import scores
 from .resistance import CutStore, resists
 from .robust import Perturbation, q_robust
+from .simulated_truth import truth_deciders
 
 __all__ = [
     "as_twin",
@@ -182,16 +182,11 @@ def _truth_margin_row(which: str, true_prof: list[ContactProfile], inputs: tuple
     """The exact 6DFW set's margins: ``which`` "truth" at the noisy true μ and force (the
     noise of the truth), "truth-nominal" at the sensor force and nominal μ."""
     W, forces, mu_true, f_true = inputs
-    exact = ExactContacts(true_prof, n_start=config["truth_start_wrenches"], seed=1)
     if which == "truth":  # the simulated truth's own margin (the noise of the truth)
-        deciders = [
-            lambda v, f=f, m=m: resists_exact(exact, v, m, forces=exact.F * f)[0]
-            for f, m in zip(f_true, mu_true, strict=True)
-        ]
+        mu, scale = mu_true, f_true
     else:  # no noise: the sensor force and nominal μ, exactly
-        deciders = [
-            lambda v, f=f: resists_exact(exact, v, config["mu"], forces=exact.F * f)[0] for f in forces
-        ]
+        mu, scale = [config["mu"]] * len(forces), forces
+    deciders = truth_deciders(true_prof, mu, scale, config["truth_start_wrenches"])
     return margin_row(which, deciders, W, config["margin_steps"])
 
 

@@ -1,8 +1,12 @@
-"""Simulated grasp outcome for the minimal-work study (thesis §4.3; no robot data here).
+"""Simulated grasp outcomes from the *exact* 6DFW sets of the profiles (no robot data here).
 
-The gripper closes to ``safety ×`` the jaw force the *exact* 6DFW sets of the profiles
-need (:func:`required_force_scale`, capped at the gripper's force), with friction and force
-noise; the grasp succeeds iff the exact sets resist every pose's wrench in most noise samples
+The sensitivity studies' ground truth (thesis Fig 4.4, Table 4.1's scenes): a grasp resists its
+disturbance iff the exact sets (:mod:`.exact`, no limit-surface model) resist it at the grasp's
+own true μ and force (:func:`truth_deciders`).
+
+The minimal-work study (thesis §4.3): the gripper closes to ``safety ×`` the jaw force the
+exact sets need (:func:`required_force_scale`, capped at the gripper's force), with friction
+and force noise; the grasp succeeds iff the exact sets resist every pose's wrench in most noise samples
 and the jaw closing at that force, from a wall stiffness, stays within a limit
 (:func:`simulated_success`).  Shares no limit surface, map interpolation or linearisation with
 the quality metrics it judges.
@@ -10,13 +14,20 @@ the quality metrics it judges.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
+from ..profile import ContactProfile
 from .exact import ExactContacts, resists_exact
 
-__all__ = ["TruthModel", "required_force_scale", "simulated_success"]
+__all__ = ["TRUTH_COLUMNS_SEED", "TruthModel", "required_force_scale", "simulated_success", "truth_deciders"]
+
+#: seed of the exact sets' starting columns in the sensitivity studies' truth: one fixed draw,
+#: so the truth of a grasp does not depend on the study's seed (which draws the grasps)
+TRUTH_COLUMNS_SEED = 1
 
 #: noisy friction and force factors ``1 + N(0, σ)`` are floored here: a draw of ~10 σ below
 #: the mean would otherwise give zero or negative friction / force (non-physical, and refused
@@ -26,6 +37,35 @@ NOISE_FACTOR_FLOOR = 0.05
 
 def _resists(exact: ExactContacts, w: np.ndarray, mu: float, scale: float) -> bool:
     return bool(resists_exact(exact, w, mu, forces=exact.F * scale)[0])
+
+
+def truth_deciders(
+    profiles: Sequence[ContactProfile], mu: Sequence[float], force_scale: Sequence[float], n_start: int
+) -> list[Callable[[np.ndarray], bool]]:
+    """The sensitivity studies' simulated ground truth, one decider per grasp: decider ``i``
+    says whether the exact 6DFW sets of ``profiles`` (:class:`~.exact.ExactContacts`, starting
+    columns ``n_start`` sampled with :data:`TRUTH_COLUMNS_SEED`, built once for every grasp)
+    pressed with forces ``F × force_scale[i]`` resist a disturbance ``w`` (6,) [N, N m] in the
+    profiles' frame at friction ``mu[i]`` (:func:`~.exact.resists_exact`, Eq. 2.100's meaning
+    of "resisted").
+
+    profiles : the jaws' contact profiles of the grasps (one set, shared by all of them), each
+        with its own force F [N].
+    mu : (n,) each grasp's true friction coefficient (the noisy μ of the truth, or the nominal).
+    force_scale : (n,) each grasp's true force over the profiles' F: the true force itself for
+        unit-force profiles, true / read force for profiles at the sensor's reading.
+    n_start : starting columns of the column generation (``n_start // 2`` sampled twists).
+
+    A margin bisection calls a decider at many scales of its disturbance; the exact sets are
+    stateless between calls, so the answers do not depend on the order of the calls.
+    """
+    if len(mu) != len(force_scale):
+        raise ValueError(
+            f"mu and force_scale must give one value per grasp, the same count; got {len(mu)} and "
+            f"{len(force_scale)} — pass the true mu and force scale of every grasp"
+        )
+    exact = ExactContacts(list(profiles), n_start=n_start, seed=TRUTH_COLUMNS_SEED)
+    return [partial(_resists, exact, mu=m, scale=s) for m, s in zip(mu, force_scale, strict=True)]
 
 
 def required_force_scale(

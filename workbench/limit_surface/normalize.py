@@ -1,5 +1,5 @@
-"""Normalisation of frictional wrenches (Eq. 3.10) and the PCA subspace of
-§3.3.4.2 / 6DFC §IV-C.2.
+"""Normalisation of frictional wrenches (Eq. 3.10), the PCA subspace of
+§3.3.4.2 / 6DFC §IV-C.2 and Table 3.2's PCA of a contact's wrenches (:func:`wrench_pca`).
 
 Degenerate components (``w_max,i <= config.TOL.degenerate_wmax_rtol * max w_max``,
 e.g. ``f_z`` of a planar contact in the xy-plane) are scaled by ``max w_max``
@@ -160,6 +160,56 @@ def explained_variance_ratio(w_hat: np.ndarray, *, center: bool = True) -> np.nd
     x = w_hat - w_hat.mean(axis=0) if center else w_hat
     var = np.linalg.svd(x, compute_uv=False) ** 2 / (len(x) - 1)
     return var / var.sum()
+
+
+def n_components_retaining(ratio: np.ndarray, retained_variance: float) -> int:
+    """The smallest ``k`` whose first ``k`` components of ``ratio`` (6,) (explained variance
+    fractions, largest first, summing to 1) retain ``retained_variance`` of the variance; a
+    cumulative fraction short of it by round-off only (a relative 1e-12) counts as reaching it."""
+    return int(np.searchsorted(np.cumsum(ratio), retained_variance * (1 - 1e-12)) + 1)
+
+
+def n_components_above(ratio: np.ndarray, fraction: float) -> int:
+    """How many components of ``ratio`` (6,) each explain at least ``fraction`` of the variance."""
+    return int((ratio >= fraction).sum())
+
+
+@dataclass(frozen=True)
+class WrenchPCA:
+    """PCA of one contact's normalised wrenches (Table 3.2, §3.5.1.1)."""
+
+    explained_variance_ratio: np.ndarray  # (6,) variance fractions, largest first
+    n_retained: int  # the smallest k retaining the asked fraction of the variance
+    n_above_fraction: int  # the components each explaining at least the asked fraction
+
+
+def wrench_pca(
+    wrenches: Any, w_max: Any, *, retained_variance: float, significant_fraction: float
+) -> WrenchPCA:
+    """PCA of the wrenches (K, 6) of a contact normalised by its exact ``w_max`` (6,)
+    (Eq. 3.10, degenerate components guarded by :func:`wrench_scale`): the explained variance
+    ratio about the mean (:func:`explained_variance_ratio`), the component count retaining
+    ``retained_variance`` in (0, 1] of the variance (:func:`n_components_retaining`) and the
+    count of components each explaining at least ``significant_fraction`` in [0, 1]
+    (:func:`n_components_above`); e.g. ``config.TOL.pca_retained_variance`` and
+    ``config.TOL.pca_significant_fraction``."""
+    for name, v, lo_open in (
+        ("retained_variance", retained_variance, True),
+        ("significant_fraction", significant_fraction, False),
+    ):
+        ok = not isinstance(v, bool) and isinstance(v, int | float | np.floating | np.integer)
+        if not (ok and (0 < v <= 1 if lo_open else 0 <= v <= 1)):
+            raise ValueError(
+                f"{name} must be a fraction of the variance in {'(0' if lo_open else '[0'}, 1]; got {v!r} "
+                "— a percentage? 99 % is 0.99"
+            )
+    W = check_wrenches(wrenches)
+    ratio = explained_variance_ratio(W / wrench_scale(w_max))
+    return WrenchPCA(
+        ratio,
+        n_components_retaining(ratio, retained_variance),
+        n_components_above(ratio, significant_fraction),
+    )
 
 
 def prepare(

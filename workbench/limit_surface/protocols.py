@@ -20,13 +20,14 @@ wrenches and, given ``support_seed``, the sampler-independent support error
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from functools import partial
 from typing import Any
 
 import numpy as np
 
 from ..profile import ContactProfile
+from ..seeds import check_seed
 from ..sources.surfaces import ParametricSurface, check_rtol, mesh_profile, surface_w_max, surface_wrenches
 from ..twists import sample_twists_thesis
 from ..twists_author import box_sides, sample_twists_author
@@ -170,6 +171,26 @@ def thesis_code_sample_of(
     return ThesisCodeSample(xi, W, contact.w_max, thesis_code_split(W, contact.w_max, steps))
 
 
+def thesis_code_training_draws(
+    n_pool: int, sizes: Sequence[int], seed: int | np.random.Generator
+) -> list[np.ndarray]:
+    """Fig 3.9's training sets under the thesis-code protocol: for each ``K`` of ``sizes``, in
+    order, ``K`` distinct indices (K,) into the ``n_pool`` wrenches of the author's grid
+    (:func:`thesis_code_sample_of`), drawn without replacement from one generator seeded with
+    ``seed`` — so a set depends on the sizes drawn before it, and one ``seed`` and ``sizes`` give
+    the same sets."""
+    n = _count(n_pool, "n_pool", "wrenches of the author's grid drawn from")
+    sizes = list(sizes)
+    bad = [K for K in sizes if isinstance(K, bool) or not isinstance(K, int | np.integer) or not 0 < K <= n]
+    if bad:
+        raise ValueError(
+            f"sizes must be training set sizes K in [1, n_pool = {n}] (drawn without replacement from "
+            f"the author's grid); got {bad!r} among {sizes!r} — lower K or use a finer grid (fine_level)"
+        )
+    rng = np.random.default_rng(check_seed(seed))
+    return [rng.choice(n, K, replace=False) for K in sizes]
+
+
 def fit_score(
     contact: ExactContact,
     model: str,
@@ -216,5 +237,6 @@ __all__ = [
     "fit_score",
     "fit_scores",
     "thesis_code_sample_of",
+    "thesis_code_training_draws",
     "thesis_text_wrenches",
 ]

@@ -5,18 +5,35 @@ grasp each peer's contact makes, built from the measures of :mod:`workbench.peer
 A peer's *row* is ``{"profile", "area" [m²], "field"}`` (a contact profile; ``field`` is
 ``("nodes", face_xy (n, 2), p_node (n,))`` for a FEM pad's nodal pressures or ``("elements",)``
 for the profile's own) or ``{"profile": None, "coefficients" (5,)}`` for MuJoCo's point contact
-(:func:`workbench.peers.mujoco_cone.patch_coefficients`).  The reference's measures are
-:func:`reference_measures`.
+(:func:`workbench.peers.mujoco_cone.patch_coefficients`): :func:`fem_row`, :func:`hertz_row`,
+:func:`profile_row`.  The reference's measures are :func:`reference_measures`; the margins of
+every peer at the reference's jaw force, :func:`equal_force_margins`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .. import peers as _checks
 from ..profile import ContactProfile
 from . import metrics
 
-__all__ = ["compare", "fem_row", "grasp_margins", "reference_measures"]
+__all__ = [
+    "DISTURBANCE_FORCE_N",
+    "compare",
+    "contact_area",
+    "equal_force_jaws",
+    "equal_force_margins",
+    "fem_row",
+    "grasp_margins",
+    "hertz_row",
+    "profile_row",
+    "reference_measures",
+]
+
+#: :func:`equal_force_margins` scales the lever disturbances by jaw force / this [N]: at 25 N of
+#: jaw force they are §4.1.3.1's weights as drawn
+DISTURBANCE_FORCE_N = 25.0
 
 
 def fem_row(pad, area0: np.ndarray, sol, prof: ContactProfile) -> dict:
@@ -29,6 +46,26 @@ def fem_row(pad, area0: np.ndarray, sol, prof: ContactProfile) -> dict:
         "area": float(area0[sol.lam > 0].sum()),
         "field": ("nodes", pad.face_xy, nodal_pressures(pad, sol.lam)),
     }
+
+
+def contact_area(profile: ContactProfile) -> float:
+    """The loaded area [m²] of a contact profile: the areas of its elements with pressure > 0 (a
+    profile may carry unloaded elements, e.g. Drake's rim, whose round-off pressure is clipped to 0)."""
+    return float(profile.areas[profile.pressures > 0].sum())
+
+
+def profile_row(profile: ContactProfile) -> dict:
+    """A peer's row from its contact profile alone (the Winkler foundation, Drake): the profile,
+    its :func:`contact_area` [m²] and its own element pressures as the field."""
+    return {"profile": profile, "area": contact_area(profile), "field": ("elements",)}
+
+
+def hertz_row(profile: ContactProfile, R: float, delta: float) -> dict:
+    """The Hertz peer's row (a rigid sphere of radius ``R`` [m] pressed ``delta`` [m] into the
+    half-space): its profile, the contact area ``π a² = π R δ`` [m²] (``a = √(R δ)``,
+    :func:`workbench.peers.hertz.hertz_contact_radius`) and the profile's element pressures."""
+    r, d = _checks.sphere(R, delta, "delta (approach)")
+    return {"profile": profile, "area": float(np.pi * r * d), "field": ("elements",)}
 
 
 def reference_measures(row: dict, face_xy: np.ndarray, grid: np.ndarray, mu: float) -> dict:
@@ -141,3 +178,63 @@ def grasp_margins(
         fn = _resists(spec, center, mu, seed)
         out[peer] = np.array([resistance_margin(fn, w, steps) for w in W])
     return out
+
+
+def equal_force_jaws(rows: dict, ref_profile: ContactProfile, force: float) -> dict:
+    """Each peer's jaw for :func:`grasp_margins` at the jaw force ``force`` [N] (the sensor reads
+    it, so every peer is compared at one): a peer with a contact profile has its pressures scaled
+    by ``force / jaw_force(profile)`` (:func:`workbench.peers.metrics.jaw_force`); MuJoCo's cone
+    (a row of ``coefficients``) carries ``force`` at the reference profile's pressure centre.
+
+    rows : ``{peer: row}`` as in the module docstring; returns ``{peer: jaw spec}`` in that order.
+    """
+    jaws = {}
+    for peer, row in rows.items():
+        if row.get("profile") is not None:
+            p = row["profile"]
+            jaws[peer] = {
+                "kind": "profile",
+                "profile": p.with_pressures(p.pressures * force / metrics.jaw_force(p)),
+            }
+        else:
+            jaws[peer] = {
+                "kind": "cone",
+                "coefficients": row["coefficients"],
+                "force": force,
+                "point": ref_profile.pressure_center,
+            }
+    return jaws
+
+
+def equal_force_margins(
+    rows: dict,
+    ref_profile: ContactProfile,
+    center: np.ndarray,
+    mu: float,
+    *,
+    seed: int,
+    n_disturbances: int,
+    steps: int,
+) -> tuple[np.ndarray, dict]:
+    """The resistance margins of the reference's grasp (the truth, exact 6DFW sets of
+    ``ref_profile``) and of each peer's at the reference's jaw force ``f_ref``
+    (:func:`equal_force_jaws`), against the same ``n_disturbances`` lever disturbances scaled by
+    ``f_ref /`` :data:`DISTURBANCE_FORCE_N` (:func:`grasp_margins`, ``steps`` bisection steps,
+    drawn with ``seed``; ``center`` (3,) [m] the object's centre).
+
+    Returns ``(truth (n_disturbances,), {peer: (n_disturbances,) margins})``.
+    """
+    f_ref = metrics.jaw_force(ref_profile)
+    # the truth first under a key no peer's name (a str) can take
+    jaws = {None: {"kind": "profile", "profile": ref_profile}, **equal_force_jaws(rows, ref_profile, f_ref)}
+    m = grasp_margins(
+        jaws,
+        center,
+        mu,
+        seed=seed,
+        n_disturbances=n_disturbances,
+        steps=steps,
+        scale=f_ref / DISTURBANCE_FORCE_N,
+    )
+    truth = m.pop(None)
+    return truth, m

@@ -366,7 +366,11 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         if args.verbose:
             raise
         parser.exit(2, f"workbench run {args.experiment}: error: {exc}\n(-v shows the traceback)\n")
-    print(f"{args.experiment}: wrote {config['out']}/summary.json in {time.perf_counter() - t0:.1f} s")
+    resumed = summary.get("n_resumed")
+    # rows finished by an earlier run (same config and code) were read back, not recomputed:
+    # their timings in the headline are that run's
+    note = f" ({resumed} rows resumed from its checkpoint)" if isinstance(resumed, int) and resumed else ""
+    print(f"{args.experiment}: wrote {config['out']}/summary.json in {time.perf_counter() - t0:.1f} s{note}")
     for line in summary.get("headline", []):
         print(f"  {line}")
     return 0

@@ -283,6 +283,8 @@ class Checkpoint:
         self.path = Path(path)
         self.config_hash = Checkpoint._config_hash(config, code)
         self.rows: dict[str, dict] = Checkpoint.peek(self.path, config, code=code)
+        if self.rows:
+            log.info("%s: %d rows resumed (same config and code)", self.path, len(self.rows))
         # rewrite only the whole rows (all of them, or the valid ones), so a torn line never
         # precedes new ones
         kept = Checkpoint.history(self.path) if keep_other else list(self.rows.values())

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -25,7 +26,7 @@ from workbench.fem.bottle import Bottle, BottleParams, bottle_family
 
 log = logging.getLogger(__name__)
 
-__all__ = ["bottle_grasp_pool", "bottle_mesh", "grasp_frame", "wrenches_to_object"]
+__all__ = ["bottle_grasp_pool", "bottle_mesh", "draw_pool_grasps", "grasp_frame", "wrenches_to_object"]
 
 #: the triangle mesh of a bottle wall: (points around, rings up); ~1.5 mm edges on a 35 mm
 #: bottle, finer than the pad's 1 mm-deep contact needs for the FEM pad and the engine alike
@@ -95,6 +96,37 @@ def bottle_grasp_pool(
         )
     log.info("bottle grasp pool: %d grasps on %d bottles; dropped %s", len(pool), n_bottles, dict(dropped))
     return pool
+
+
+def draw_pool_grasps(
+    pool: Sequence[Mapping], W_grasp: np.ndarray, seed: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Draw ``n = len(W_grasp)`` grasps from ``pool`` (:func:`bottle_grasp_pool`'s dicts) without
+    repeats, with the generator of stream ``[seed, 1]`` (the second stream of the seed that drew
+    the disturbances, :func:`workbench.grasp.lever_scene.scene_inputs`), and move disturbance
+    ``W_grasp[i]`` (grasp frame: force [N], torque about the grasp centre [N m]) into grasp
+    ``idx[i]``'s object frame (:func:`grasp_frame` of its ``axis``, :func:`wrenches_to_object`
+    about its ``center``).  Returns (idx (n,) int pool indices, W_object (n, 6)).  The same seed,
+    n and pool size give the same grasps; the draw does not depend on the wrenches' values."""
+    from workbench.seeds import check_seed
+
+    seed = check_seed(seed, "seed", generator=False)
+    W = np.asarray(W_grasp, float)
+    if W.ndim != 2 or W.shape[1] != 6 or len(W) == 0:
+        raise ValueError(
+            f"W_grasp must be the disturbances (n, 6), n >= 1, in the grasp frame; got shape {W.shape}"
+        )
+    n = len(W)
+    if n > len(pool):
+        raise ValueError(
+            f"{n} grasps cannot be drawn without repeats from a pool of {len(pool)}: draw fewer or "
+            "pool more grasps (bottles, heights or angles of bottle_grasp_pool)"
+        )
+    idx = np.random.default_rng([seed, 1]).choice(len(pool), n, replace=False)
+    W_obj = np.vstack(
+        [wrenches_to_object(W[i], grasp_frame(pool[k]["axis"]), pool[k]["center"]) for i, k in enumerate(idx)]
+    )
+    return idx, W_obj
 
 
 def grasp_frame(axis, up=(0.0, 0.0, 1.0)) -> np.ndarray:

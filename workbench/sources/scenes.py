@@ -134,3 +134,16 @@ def elliptic_cylinder_solid(
     ring = np.r_[arc, -arc]
     pts = np.concatenate([np.c_[ring, np.full(len(ring), z)] for z in (-length / 2, length / 2)])
     return trimesh.convex.convex_hull(pts)
+
+
+def elliptic_cylinder_patch_extent(
+    a: float, b: float, half_angle: float, length: float
+) -> tuple[float, float]:
+    """(width, length) [m] of one jaw's contact patch seen along the grasp axis: ``width`` the
+    chord between its edges ``u = ±half_angle`` (``[a cos u, ±b sin u]``), ``2 b sin(half_angle)``
+    — twice the pressure's ``r_max`` of Eq. 4.3 in :func:`elliptic_cylinder_contact` — and the
+    contact ``length`` along the cylinder axis z.  A flat jaw pad of this size, moulded to the
+    patch, touches exactly the patch of :func:`elliptic_cylinder_solid`.  Arguments checked by
+    :func:`check_elliptic_cylinder` (lengths in metres, ``half_angle`` in radians)."""
+    a, b, half_angle, length = check_elliptic_cylinder(a, b, half_angle, length)
+    return float(2 * b * np.sin(half_angle)), length

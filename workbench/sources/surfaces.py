@@ -574,6 +574,31 @@ def surface_w_max(surface: ParametricSurface, mu: float = 1.0, *, rtol: float | 
     return -np.diag(w) + 0.0
 
 
+def wrench_error_rate(w_max_approx: Any, w_max_true: Any) -> float:
+    """The wrench error rate of §3.5.1.2 (Fig 3.8): the mean over the six components of
+    ``|w_max,approx − w_max,true| / w_max,true``, e.g. a meshed surface's ``w_max``
+    (:func:`workbench.wrench.w_max`) against the continuous one's (:func:`surface_w_max`);
+    both (6,), the truth's every component > 0 (a planar contact's degenerate components have
+    no relative error)."""
+    approx = np.asarray(w_max_approx, dtype=np.float64)
+    true = np.asarray(w_max_true, dtype=np.float64)
+    if (
+        approx.shape != (6,)
+        or true.shape != (6,)
+        or not (np.isfinite(approx).all() and np.isfinite(true).all())
+    ):
+        raise ValueError(
+            f"w_max_approx and w_max_true must be finite (6,) maxima; got shapes {approx.shape} and "
+            f"{true.shape} — pass w_max(profile, mu) and surface_w_max(surface, mu)"
+        )
+    if not (true > 0).all():
+        raise ValueError(
+            f"w_max_true must be > 0 in every component (the rate divides by it); got {true.tolist()} — "
+            "friction mu > 0, and a non-planar surface (a planar one's f_z, tau_x, tau_y are 0)"
+        )
+    return float(np.mean(np.abs(approx - true) / true))
+
+
 # ---------------------------------------------------------------- geometry
 def _grid(surface: ParametricSurface, nu: int, nv: int) -> tuple[Array, Array, Array]:
     u = np.linspace(*surface.u_range, nu + 1)

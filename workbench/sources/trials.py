@@ -10,7 +10,7 @@ What was checked on the data: ``attempt`` is the grasp index and ``trial`` the r
 publishing code reads trial ``5 · grasp``; the five trials of one attempt share one gripper pose
 in the object frame, to 0.0); the world's z is up (every ``down`` lies along a cube axis).  Every
 ``pose`` rotation of the cube file has one entry 0.01 where a rotation has 0 (``max |RᵀR − I|``
-= 0.010): such rotations, off by at most ``repair_atol``, are made orthonormal with a warning,
+= 0.010): such rotations, off by at most ``repair_atol``, are made orthonormal with a logged warning,
 keeping their world-z row (the object's up, which sets its resting face and ``down``) and
 orthogonalising the y and x rows — for the cube this sets the stray 0.01 to 0 — which moves the
 tooltips in the object frame by < 0.3 mm against the inverse of the sheared pose.
