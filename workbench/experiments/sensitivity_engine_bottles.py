@@ -258,11 +258,9 @@ def _tasks(config: dict, kind: str) -> list[tuple]:
 def _engine_code() -> str:
     """What an engine row depends on besides its config: the engine trials' package, the bottle
     scene and family, the grasp sampler, the disturbance draw, this module's row, pool and input
-    functions and the grasp draw they call (:func:`~workbench.sources.bottle_scene.draw_pool_grasps`),
-    MuJoCo's version — rows keyed by it survive edits elsewhere in the package."""
+    functions (the grasp draw they call is in the bottle scene's module, hashed whole), MuJoCo's
+    version — rows keyed by it survive edits elsewhere in the package."""
     from importlib.metadata import version
-
-    from workbench.sources.bottle_scene import draw_pool_grasps
 
     return content_hash(
         [
@@ -274,10 +272,7 @@ def _engine_code() -> str:
                 "workbench.grasp.sampling",
                 "workbench.grasp.tasks",
             ),  # fmt: skip
-            *(
-                normalized_function(f)
-                for f in (_row, _inputs, _pool, pool_of, _mesh, scene_inputs, draw_pool_grasps)
-            ),
+            *(normalized_function(f) for f in (_row, _inputs, _pool, pool_of, _mesh, scene_inputs)),
             version("mujoco"),
         ]
     )
