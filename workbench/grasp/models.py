@@ -209,10 +209,15 @@ class ModelParameters:
 
 def _checked_params(params: Any) -> ModelParameters:
     """``params`` if it is a :class:`ModelParameters`, its defaults for None, else a ValueError
-    naming what to pass (:func:`.inputs.checked_input`, the grouped inputs' one check)."""
-    from .inputs import checked_input  # inputs imports this module
-
-    return checked_input(params, ModelParameters, "params")
+    naming what to pass (a dict of the old keyword arguments is not taken for it)."""
+    if params is None:
+        return ModelParameters()
+    if not isinstance(params, ModelParameters):
+        raise ValueError(
+            f"params must be a workbench.grasp.models.ModelParameters; got {type(params).__name__}"
+            + (" — pass ModelParameters(**params)" if isinstance(params, dict) else "")
+        )
+    return params
 
 
 def contact_sets(
