@@ -102,7 +102,11 @@ def test_careless_disturbance_input_is_refused():
         simulate_disturbance(BOX, GRASP, [0.0, 1.0, 0.0], force=F, obj=OBJ)
     with pytest.raises(ValueError, match="wrench must be 6 finite"):
         simulate_disturbance(BOX, GRASP, [0.0, np.nan, 0, 0, 0, 0], force=F, obj=OBJ)
-    with pytest.raises(ValueError, match="phases must be a DisturbancePhases"):
+    with pytest.raises(
+        ValueError,
+        match=r"phases must be a workbench\.engine_trials\.DisturbancePhases"
+        r" .*got dict — pass DisturbancePhases\(\*\*",
+    ):
         simulate_disturbance(BOX, GRASP, [0.0] * 6, force=F, obj=OBJ, phases={"ramp": 1})
     with pytest.raises(ValueError, match="ramp must be a duration"):
         DisturbancePhases(ramp=0.0)

@@ -152,7 +152,11 @@ def test_careless_pads_phases_and_timesteps_are_refused():
             EnginePad(**extra)
     with pytest.raises(ValueError, match="far outside the object's bounding box"):
         simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5, com=(0, 0, 30)))
-    with pytest.raises(ValueError, match="pad must be an EnginePad"):
+    with pytest.raises(
+        ValueError,
+        match=r"pad must be a workbench\.engine_trials\.EnginePad"
+        r" .*got tuple — pass EnginePad\(size=\(width, ",
+    ):
         simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5), pad=(0.02, 0.04, 0.005))
     with pytest.raises(ValueError, match=r"max_drift .*probably in millimetres — pass 0.005"):
         TrialPhases(max_drift=5)

@@ -181,5 +181,9 @@ def test_nonlinear_controls_refuse_what_the_solver_cannot_use(bad, message):
 
 def test_solve_takes_its_controls_as_one_object_only():
     nl = NonlinearPad(GEOM, MAT)
-    with pytest.raises(ValueError, match="controls must be a NonlinearControls"):
+    with pytest.raises(
+        ValueError,
+        match=r"controls must be a workbench\.fem\.nonlinear\.NonlinearControls"
+        r" .*got dict — pass Nonl",
+    ):
         nl.solve(Sphere((0, 0, GEOM.thickness + 0.01), 0.01), [1e-4], controls={"penalty": 5.0})

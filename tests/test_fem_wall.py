@@ -189,7 +189,11 @@ def test_squeeze_controls_refuse_a_bad_setting():
     with pytest.raises(ValueError, match="max_rounds must be an integer >= 1; got 0"):
         SqueezeControls(max_rounds=0)
     wall = build_wall(circle_surface(0.03), n_theta=16, n_z=4, z_range=(0.0, 0.04))
-    with pytest.raises(ValueError, match="controls must be a SqueezeControls"):
+    with pytest.raises(
+        ValueError,
+        match=r"controls must be a workbench\.fem\.wall\.SqueezeControls"
+        r" \(or None: its defaults\); got dict",
+    ):
         squeeze(wall, np.array([0.0, 0.0, 0.03]), np.array([1.0, 0.0, 0.0]), controls={"margin": 1.0})
 
 

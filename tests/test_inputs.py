@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from workbench.grasp import GripperOptions, Jaws, ModelOptions, Perturbation, Task
-from workbench.grasp.inputs import check_down_direction, checked_input
+from workbench.grasp.inputs import check_down_direction
 from workbench.grasp.pose_robust import PoseNoise
 
 
@@ -74,7 +74,12 @@ def test_jaws_hold_the_force_pad_and_up_checked():
 def test_model_options_are_checked_when_made():
     o = ModelOptions("soft_point", 0.3, seed=np.int64(4))
     assert (o.model, o.mu, o.representation, o.min_force, o.robust, o.seed) == (
-        "soft_point", 0.3, "model", True, None, 4
+        "soft_point",
+        0.3,
+        "model",
+        True,
+        None,
+        4,
     )
     assert type(o.seed) is int
     assert ModelOptions(robust=Perturbation(n_samples=3)).robust.n_samples == 3
@@ -101,13 +106,3 @@ def test_gripper_options_are_checked_when_made():
         GripperOptions(robust=Perturbation())
     with pytest.raises(ValueError, match=r"settle must be True or False; got 'no'"):
         GripperOptions(settle="no")
-
-
-def test_a_group_is_given_as_its_value_not_as_a_dict():
-    t = Task(mass=0.3, com=[0, 0, 0])
-    assert checked_input(t, Task, "task") is t
-    assert checked_input(None, Jaws, "jaws") == Jaws()
-    with pytest.raises(ValueError, match=r"task must be a workbench\.grasp\.Task; got dict — pass Task\("):
-        checked_input({"mass": 0.3, "com": [0, 0, 0]}, Task, "task")
-    with pytest.raises(ValueError, match=r"options must be a workbench\.grasp\.ModelOptions; got GripperOpt"):
-        checked_input(GripperOptions(), ModelOptions, "options")

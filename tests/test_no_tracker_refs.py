@@ -1,6 +1,6 @@
-"""No references to the team's own issue tracker in code, tests, benchmarks or docs: a tracker
-number after the word "issue" means nothing to a reader of the code, so the text says what the
-issue stood for instead.  Upstream projects' issues are fine (the line names the project or a
+"""No references to the team's own issue tracker in code, tests, benchmarks, docs or the build
+files: a tracker number after the word "issue" means nothing to a reader of the code, so the text
+says what the issue stood for instead.  Upstream projects' issues are fine (the line names the project or a
 GitHub URL)."""
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ UPSTREAM = re.compile(r"HiGHS|MuJoCo|Drake|scikit-fem|skfem|numba|dask|cvxpy|git
 
 def _files(root: Path) -> list[Path]:
     files = [p for folder in FOLDERS for p in sorted((root / folder).rglob("*.py"))]
-    return files + [p for p in [root / "README.md", *sorted((root / "docs").glob("*.md"))] if p.is_file()]
+    top = [root / name for name in ("README.md", "pyproject.toml", "Makefile")]
+    return files + [p for p in [*top, *sorted((root / "docs").glob("*.md"))] if p.is_file()]
 
 
 def tracker_refs(root: Path = ROOT) -> list[str]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..groups import checked_group
 from .settings import EngineSettings
 from .trial import (
     _DRIFT_EXAMPLES,
@@ -110,9 +111,7 @@ def simulate_disturbance(
 
     Returns a :class:`~.trial.TrialOutcome` whose ``held`` is the engine's verdict: no contact
     model of this package is used; its reason names the limit crossed first."""
-    phases = DisturbancePhases() if phases is None else phases
-    if not isinstance(phases, DisturbancePhases):
-        raise ValueError(f"phases must be a DisturbancePhases; got {type(phases).__name__}")
+    phases = checked_group(phases, DisturbancePhases, "phases")
     mesh, obj = _check_trial(mesh, "simulate_disturbance", "vertical_lifting", obj)
     _, settings = _check_run(None, settings)
     w = _check_wrench(wrench)

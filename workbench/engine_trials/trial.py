@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .. import config
+from ..groups import checked_group
 from ..units import check_turn_limit
 from .pad import add_tips, compile_spec, conform_pad, flexcomp_xml, pad_bodies, pad_spec
 from .settings import EngineSettings, import_mujoco
@@ -483,13 +484,9 @@ def _check_force(force, pad) -> EnginePad:
     from ..plausible import check
 
     check("jaw_force", force, "force")
-    pad = EnginePad() if pad is None else pad
-    if not isinstance(pad, EnginePad):
-        raise ValueError(
-            f"pad must be an EnginePad (size, E, nu, up, conform); got {type(pad).__name__} — "
-            "EnginePad(size=(width, length, thickness)) for a size [m]"
-        )
-    return pad
+    return checked_group(
+        pad, EnginePad, "pad", hint="pass EnginePad(size=(width, length, thickness)) for a size [m]"
+    )
 
 
 def _check_up_down(up, down: np.ndarray) -> None:

@@ -37,6 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementHex1
 
+from ..groups import checked_group
 from ._kernels import _neo_hookean_element_loop
 from .contact import ContactSolution, face_gaps
 from .elasticity import GAUSS_1, GAUSS_2, basis
@@ -249,12 +250,9 @@ class NonlinearPad:
         controls : the augmented Lagrangian's and Newton's settings (:class:`NonlinearControls`;
         default its defaults).
         """
-        c = NonlinearControls() if controls is None else controls
-        if not isinstance(c, NonlinearControls):
-            raise ValueError(
-                f"controls must be a NonlinearControls (workbench.fem.nonlinear); got {type(c).__name__} "
-                "— pass NonlinearControls(penalty=..., gap_tol=...) or leave it out for the defaults"
-            )
+        c = checked_group(
+            controls, NonlinearControls, "controls", hint="pass NonlinearControls(penalty=..., gap_tol=...)"
+        )
         g, h = self.geometry, self.geometry.thickness
         deltas = sorted(float(d) for d in deltas)
         step = h / 10 if step is None else step

@@ -39,6 +39,7 @@ from skfem import Basis, ElementHex2, ElementVector, MeshHex
 
 from workbench import config as _config
 
+from ..groups import checked_group
 from .contact import solve_lcp
 from .material import Material
 from .sparse_factor import factor_spd
@@ -540,12 +541,9 @@ def squeeze(
     from workbench.sources.jaws import check_pad
 
     check_pad(jaw)  # (width, length) [m]: (20, 40) for 0.02 m is refused
-    controls = SqueezeControls() if controls is None else controls
-    if not isinstance(controls, SqueezeControls):
-        raise ValueError(
-            f"controls must be a SqueezeControls (workbench.fem.wall); got {type(controls).__name__} — "
-            "pass SqueezeControls(margin=..., max_iter=...) or leave it out for the defaults"
-        )
+    controls = checked_group(
+        controls, SqueezeControls, "controls", hint="pass SqueezeControls(margin=..., max_iter=...)"
+    )
     axis = _grasp_axis(axis)
     fp = _footprint(wall, centre, axis, jaw)
     if (fp.stop <= 0).any() or not ((fp.owner == 0).any() and (fp.owner == 1).any()):

@@ -35,13 +35,14 @@ from typing import Any
 
 import numpy as np
 
+from ..groups import checked_group
 from ..limit_surface import LimitSurfaceCache
 from ..plausible import ImplausibleWarning
 from ..profile import ContactProfile
 from ..sources.jaws import check_grasp, checked_jaw_profile
 from ..sources.reach import jaw_profiles
 from .contacts import ContactSet
-from .inputs import Jaws, ModelOptions, Task, checked_input
+from .inputs import Jaws, ModelOptions, Task
 from .models import contact_sets
 from .resistance import CutStore, MinimalForce, Resistance, min_grasp_force, resists
 from .robust import check_com, check_object_mass, gravity_wrench, q_robust
@@ -132,9 +133,9 @@ def evaluate_grasp(
     cache, cuts : reuse limit surfaces / cutting planes across calls (pass the same
         objects when evaluating many grasps).
     """
-    task = checked_input(task, Task, "task")
-    jaws = checked_input(jaws, Jaws, "jaws")
-    opts = checked_input(options, ModelOptions, "options")
+    task = checked_group(task, Task, "task")
+    jaws = checked_group(jaws, Jaws, "jaws")
+    opts = checked_group(options, ModelOptions, "options")
     cache, mesh = _checked_setup(cache, mesh)
     w = _task_wrench(task, mesh)
     cuts = CutStore() if cuts is None else cuts
@@ -175,8 +176,6 @@ def _checked_setup(cache, mesh) -> tuple:
 
         mesh = closed_mesh(mesh, "mesh passed to evaluate_grasp", fix=MESH_UNIT_FIX, override=None)
     return cache, mesh
-
-
 
 
 def _timed(timings: dict, stage: str, run: Callable[[], Any]) -> Any:

@@ -23,9 +23,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..groups import checked_group
 from ..limit_surface import LimitSurfaceCache
 from ..plausible import ImplausibleWarning
-from .inputs import GripperOptions, Task, check_down_direction, checked_input
+from .inputs import GripperOptions, Task, check_down_direction
 from .models import MODELS, check_model, contact_sets
 from .pose_robust import check_pose, pose_samples
 from .resistance import CutStore, min_grasp_force, resists
@@ -166,7 +167,7 @@ def _gravity_task(task: Task, *, need_com: bool = False) -> Task:
     """``task`` if it is a gravity :class:`~.inputs.Task` (``mass``, ``com``, ``down``) — the
     gripper holds the object against gravity, so a ``w_ext`` task is refused, and without a mesh
     to take its centre of mass from (``need_com``) so is one without ``com``."""
-    task = checked_input(task, Task, "task")
+    task = checked_group(task, Task, "task")
     if task.w_ext is not None:
         raise ValueError(
             "the gripper evaluation holds the object against gravity: give the task as "
@@ -258,7 +259,7 @@ def evaluate_models(
     # the mesh's unit before the mass check, which reads its volume: a mesh in millimetres
     # would otherwise be reported as a mass in the wrong unit
     mesh = closed_mesh(mesh, "mesh passed to evaluate_models", fix=MESH_UNIT_FIX, override=None)
-    opts = checked_input(options, GripperOptions, "options")
+    opts = checked_group(options, GripperOptions, "options")
     mu, task = _checked_task(mesh, gripper, pose, task, opts)
     judge = {
         "mu": mu,

@@ -26,7 +26,7 @@ from .models import check_model
 from .pose_robust import PoseNoise
 from .robust import Perturbation, check_com, check_mass, check_task_wrench
 
-__all__ = ["GripperOptions", "Jaws", "ModelOptions", "Task", "check_down_direction", "checked_input"]
+__all__ = ["GripperOptions", "Jaws", "ModelOptions", "Task", "check_down_direction"]
 
 
 def _floats(v: Any) -> tuple[float, ...]:
@@ -177,17 +177,3 @@ class GripperOptions:
         if not isinstance(self.settle, (bool, np.bool_)):
             raise ValueError(f"settle must be True or False; got {self.settle!r}")
         object.__setattr__(self, "seed", check_seed(self.seed, generator=False))
-
-
-def checked_input(value, kind: type, name: str):
-    """``value`` if it is a ``kind`` (one of this module's groups), ``kind()`` (its defaults) for
-    None, else a ValueError naming what to pass — a dict of the old keyword arguments is not
-    taken for it."""
-    if value is None:
-        return kind()
-    if not isinstance(value, kind):
-        raise ValueError(
-            f"{name} must be a workbench.grasp.{kind.__name__}; got {type(value).__name__}"
-            + (f" — pass {kind.__name__}(**{name})" if isinstance(value, dict) else "")
-        )
-    return value

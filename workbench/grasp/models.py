@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from ..groups import checked_group
 from ..limit_surface import LimitSurfaceCache, fit_ellipsoid, fit_quartic
 from ..limit_surface.cache import ModelSpec, SamplerSpec
 from ..limit_surface.contact_wrench import ContactWrenchModel
@@ -207,19 +208,6 @@ class ModelParameters:
         _check_n_wrenches(self.n_wrenches)
 
 
-def _checked_params(params: Any) -> ModelParameters:
-    """``params`` if it is a :class:`ModelParameters`, its defaults for None, else a ValueError
-    naming what to pass (a dict of the old keyword arguments is not taken for it)."""
-    if params is None:
-        return ModelParameters()
-    if not isinstance(params, ModelParameters):
-        raise ValueError(
-            f"params must be a workbench.grasp.models.ModelParameters; got {type(params).__name__}"
-            + (" — pass ModelParameters(**params)" if isinstance(params, dict) else "")
-        )
-    return params
-
-
 def contact_sets(
     profile: ContactProfile,
     name: str,
@@ -239,7 +227,7 @@ def contact_sets(
     cache : limit surfaces of the same normalised profile are reused (and scaled by F).
     seed : the samplers' seed, an integer >= 0.
     """
-    params = _checked_params(params)
+    params = checked_group(params, ModelParameters, "params")
     M, n_edges, n_wrenches = params.M, params.n_edges, params.n_wrenches
     reach_triangles, quartic, sampler = params.reach_triangles, params.quartic, params.sampler
     check_model(name)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from ..groups import checked_group
 from ..seeds import check_seed
 from .contacts import check_object_point
 from .gws import check_contacts, check_mu, check_wrench
@@ -257,9 +258,7 @@ def q_robust(
     if representation not in REPRESENTATIONS:
         raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
     w_ext, mass, com, down = _robust_load(task)
-    p = Perturbation() if perturbation is None else perturbation
-    if not isinstance(p, Perturbation):
-        raise ValueError(f"perturbation must be a Perturbation (or None: defaults); got {type(p).__name__}")
+    p = checked_group(perturbation, Perturbation, "perturbation")
     cuts = CutStore() if cuts is None else cuts
     rng = np.random.default_rng(check_seed(seed))
     K = p.n_samples

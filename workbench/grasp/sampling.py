@@ -333,18 +333,18 @@ def _checked_antipodal(mesh, n, mu, sampling, jaws) -> tuple:
     outward, of a graspable size in metres —, the :class:`GraspSampling`, the jaws or None)."""
     import trimesh
 
+    from ..groups import checked_group
     from ..units import MESH_UNIT_FIX, closed_mesh
     from .gws import check_mu
-    from .inputs import checked_input
 
     if not isinstance(mesh, trimesh.Trimesh) or not mesh.is_watertight:
         raise ValueError("antipodal sampling needs a watertight trimesh.Trimesh")
     mesh = closed_mesh(mesh, "mesh passed to antipodal_grasps", fix=MESH_UNIT_FIX, override=None)
     check_mu(mu)
     _check_count("n", n)
-    sampling = checked_input(sampling, GraspSampling, "sampling")
+    sampling = checked_group(sampling, GraspSampling, "sampling")
     if jaws is not None:
-        jaws = checked_input(jaws, Jaws, "jaws")
+        jaws = checked_group(jaws, Jaws, "jaws")
     _check_table(mesh, sampling.table_z)
     return mesh, sampling, jaws
 

@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..groups import checked_group
 from ..plausible import check
 from ..profile import ContactProfile
 from .gripper import Jaw, as_polygon, points_in_polygon
@@ -53,8 +54,6 @@ def check_press_pad(stiffness, max_edge) -> bool:
     check("winkler_stiffness", stiffness, "stiffness (the pad's Winkler modulus [Pa/m])")
     check("element_size", max_edge, "max_edge (the refinement length [m])")
     return True
-
-
 
 
 @dataclass(frozen=True)
@@ -132,7 +131,7 @@ def reach_profile(
     poly = None if outline is None else as_polygon(outline, "outline (the pad in jaw coordinates e1, e2)")
     if poly is None:
         check_pad(pad)
-    press = _checked_press(press)
+    press = checked_group(press, WinklerPress, "press")
     win = _check_window(press.window, press.depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", allow_scale=allow_scale, fix=MESH_UNIT_FIX)
     if np.linalg.norm(np.cross(a, u)) < 1e-9:
@@ -147,18 +146,6 @@ def reach_profile(
     if isinstance(out, str):
         raise ValueError(out)
     return out
-
-
-def _checked_press(press) -> WinklerPress:
-    """``press`` if it is a :class:`WinklerPress`, its defaults for None, else a ValueError."""
-    if press is None:
-        return WinklerPress()
-    if not isinstance(press, WinklerPress):
-        raise ValueError(
-            f"press must be a workbench.sources.reach.WinklerPress or None; got {type(press).__name__}"
-            + (" — pass WinklerPress(**press)" if isinstance(press, dict) else "")
-        )
-    return press
 
 
 def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = None, max_edge: float = 1e-3):

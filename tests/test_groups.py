@@ -1,0 +1,112 @@
+"""workbench.groups: a settings group is given as itself or None (its defaults), never as a dict —
+the same answer and the same message at every entry point that takes one."""
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+import trimesh
+
+from workbench.fem.wall import SqueezeControls, build_wall, circle_surface, squeeze
+from workbench.grasp import (
+    GraspSampling,
+    Jaws,
+    ModelOptions,
+    Perturbation,
+    Task,
+    antipodal_grasps,
+    evaluate_grasp,
+)
+from workbench.grasp.models import ModelParameters, contact_sets
+from workbench.grasp.robust import q_robust
+from workbench.groups import checked_group, public_name
+from workbench.sources.reach import WinklerPress, reach_profile
+
+
+@dataclass(frozen=True)
+class _Toy:
+    """A group of this test module: not exported by any enclosing package."""
+
+    a: float = 1.0
+
+
+def test_a_group_or_none_passes_and_anything_else_is_refused_with_the_fix():
+    t = _Toy(2.0)
+    assert checked_group(t, _Toy, "toy") is t  # the same object, not a copy
+    assert checked_group(None, _Toy, "toy") == _Toy(1.0)
+    with pytest.raises(ValueError) as e:
+        checked_group({"a": 3.0}, _Toy, "toy")
+    assert str(e.value) == (
+        f"toy must be a {_Toy.__module__}._Toy (or None: its defaults); got dict — pass _Toy(**toy)"
+    )
+    with pytest.raises(
+        ValueError, match=r"got float — pass a _Toy\(\.\.\.\) or leave toy out for the defaults$"
+    ):
+        checked_group(3.0, _Toy, "toy")
+    with pytest.raises(ValueError, match=r"got str — build one with _Toy\(a=\.\.\.\)$"):
+        checked_group("3", _Toy, "toy", hint="build one with _Toy(a=...)")
+    # a dict is refused even with a hint: its fix is always the same call
+    with pytest.raises(ValueError, match=r"got dict — pass _Toy\(\*\*toy\)$"):
+        checked_group({}, _Toy, "toy", hint="unused")
+
+
+def test_the_public_name_is_the_shortest_import_path():
+    assert public_name(Task) == "workbench.grasp.Task"  # defined in workbench.grasp.inputs
+    assert public_name(ModelParameters) == "workbench.grasp.ModelParameters"  # in workbench.grasp.models
+    assert public_name(SqueezeControls) == "workbench.fem.wall.SqueezeControls"  # not in workbench.fem
+    assert public_name(_Toy).endswith("test_groups._Toy")
+
+
+def _box():
+    return trimesh.creation.box(extents=(0.06, 0.06, 0.06))
+
+
+def _profile():
+    return reach_profile(_box(), (0.03, 0.0, 0.0), (-1.0, 0.0, 0.0))
+
+
+def _point_contacts():
+    return contact_sets(_profile(), "point")
+
+
+GRASP = {"center": (0.0, 0.0, 0.0), "axis": (1.0, 0.0, 0.0), "up": (0.0, 0.0, 1.0)}
+
+#: (group, argument name, a call of a public entry point with the group given as a dict)
+ENTRY_POINTS = [
+    (Task, "task", lambda: evaluate_grasp(_box(), GRASP, {"mass": 0.1})),
+    (Jaws, "jaws", lambda: evaluate_grasp(_box(), GRASP, Task(mass=0.1, com=(0, 0, 0)), jaws={"force": 5})),
+    (
+        ModelOptions,
+        "options",
+        lambda: evaluate_grasp(_box(), GRASP, Task(mass=0.1, com=(0, 0, 0)), options={"model": "point"}),
+    ),
+    (
+        ModelParameters,
+        "params",
+        lambda: contact_sets(reach_profile(_box(), (0.03, 0, 0), (-1, 0, 0)), "point", {}),
+    ),
+    (WinklerPress, "press", lambda: reach_profile(_box(), (0.03, 0, 0), (-1, 0, 0), press={"closing": 1e-3})),
+    (Perturbation, "perturbation", lambda: q_robust(_point_contacts(), 0.5, np.zeros(6), {"n_samples": 3})),
+    (GraspSampling, "sampling", lambda: antipodal_grasps(_box(), 4, 0.5, {"table_z": None})),
+    (
+        SqueezeControls,
+        "controls",
+        lambda: squeeze(
+            build_wall(circle_surface(0.03), n_theta=16, n_z=4, z_range=(0.0, 0.04)),
+            np.array([0.0, 0.0, 0.03]),
+            np.array([1.0, 0.0, 0.0]),
+            controls={"margin": 1.0},
+        ),
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("kind", "name", "call"), ENTRY_POINTS, ids=[e[1] + "-" + e[0].__name__ for e in ENTRY_POINTS]
+)
+def test_every_entry_point_refuses_a_dict_for_its_group_with_one_message(kind, name, call):
+    fix = f"pass {kind.__name__}(**{name})"
+    expected = f"{name} must be a {public_name(kind)} (or None: its defaults); got dict — {fix}"
+    with pytest.raises(ValueError, match=re.escape(expected) + "$"):
+        call()
