@@ -323,3 +323,16 @@ def test_uncalibrated_scores_leave_out_rigid_and_failed_grasps():
     assert few["n"] == 1 and "fewer than 3 grasps" in few["note"]
     with pytest.raises(ValueError, match="one length, one entry per grasp"):
         uncalibrated_scores(model[:-1], measured, rigid=rigid, failed=failed)
+
+
+def test_stiffness_scores_by_hand():
+    from workbench.fem.calibration import stiffness_scores
+
+    # |log ratio| = ln 2, 0, ln 1.25, ln(8/7): median of the middle two = (ln 1.25 + ln(8/7)) / 2
+    s = stiffness_scores(np.array([2.0, 3.0, 5.0, 7.0]), np.array([1.0, 3.0, 4.0, 8.0]))
+    assert s["median_abs_log_ratio"] == pytest.approx((np.log(1.25) + np.log(8 / 7)) / 2, rel=1e-14)
+    assert s["spearman"] == pytest.approx(1.0, abs=1e-15)  # same order on both sides
+    # one swap of neighbours among 4: rho = 1 - 6 * 2 / (4 * 15) = 0.8
+    s = stiffness_scores(np.array([1.0, 2.0, 3.0, 4.0]), np.array([1.0, 3.0, 2.0, 4.0]))
+    assert s["spearman"] == pytest.approx(0.8, abs=1e-14)
+    assert s["median_abs_log_ratio"] == pytest.approx(np.log(1.5) / 2, rel=1e-14)  # 0, 0, ln 1.5, ln 1.5

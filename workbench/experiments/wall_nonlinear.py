@@ -31,6 +31,7 @@ import numpy as np
 from tqdm import tqdm
 
 from workbench.code_key import code_digest
+from workbench.fem.calibration import stiffness_scores
 from workbench.fem.material import Material
 from workbench.fem.wall_linearity import (
     calibrate_models,
@@ -43,7 +44,6 @@ from workbench.fem.wall_linearity import (
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
 from workbench.runner.results import CHECKOUT, Checkpoint, save_figure, write_summary
-from workbench.stats import rank_correlation
 
 NAME = "wall-nonlinear"
 log = logging.getLogger(__name__)
@@ -161,13 +161,8 @@ def run(config: dict) -> dict:
     summary = {
         "object": name,
         "E_linear_calibrated_Pa": E_lin,
-        "linear_all_grasps": {
-            "n": int(ok.sum()),
-            "median_abs_log_ratio": float(
-                np.median(np.abs(np.log(lin.stiffness[ok] * lin.scale / measured[ok])))
-            ),
-            "spearman": rank_correlation(lin.stiffness[ok], measured[ok]),
-        },
+        "linear_all_grasps": {"n": int(ok.sum())}
+        | stiffness_scores(lin.stiffness[ok] * lin.scale, measured[ok]),
         "grasps": rows,
         "ratio_nl_lin": {
             "min": float(ratios.min()),

@@ -72,12 +72,20 @@ def held_out(
     return _scores(model * calibrate(model, measured, train, groups), measured, train)
 
 
+def stiffness_scores(pred: np.ndarray, measured: np.ndarray) -> dict:
+    """How well stiffnesses ``pred`` (n,) [N/m] predict the measured ones (n,) [N/m], the two
+    scores of every comparison with a measured map: ``spearman`` (their rank correlation,
+    :func:`workbench.stats.rank_correlation`) and ``median_abs_log_ratio`` (the median of
+    ``|log(pred / measured)|``: 0.1 is a typical error of about 10 %).  Both finite and > 0."""
+    return {
+        "spearman": rank_correlation(pred, measured),
+        "median_abs_log_ratio": float(np.median(np.abs(np.log(pred / measured)))),
+    }
+
+
 def _scores(pred: np.ndarray, measured: np.ndarray, train: np.ndarray) -> dict:
     test = np.setdiff1d(np.arange(measured.size), train)
-    return {
-        "spearman": rank_correlation(pred[test], measured[test]),
-        "median_abs_log_ratio": float(np.median(np.abs(np.log(pred[test] / measured[test])))),
-    }
+    return stiffness_scores(pred[test], measured[test])
 
 
 def split_scores(
@@ -312,12 +320,12 @@ def uncalibrated_scores(
             "note": "fewer than 3 grasps that neither the model nor the measurement calls rigid "
             "(or failed): no comparison",
         }
-    ratio = np.log(model[ok] / measured[ok])
+    scores = stiffness_scores(model[ok], measured[ok])
     return {
         "n": int(ok.sum()),
-        "spearman": rank_correlation(model[ok], measured[ok]),
-        "median_log_ratio": float(np.median(ratio)),
-        "median_abs_log_ratio": float(np.median(np.abs(ratio))),
+        "spearman": scores["spearman"],
+        "median_log_ratio": float(np.median(np.log(model[ok] / measured[ok]))),
+        "median_abs_log_ratio": scores["median_abs_log_ratio"],
     }
 
 
@@ -327,5 +335,6 @@ __all__ = [
     "missing_physics",
     "one_factor_validation",
     "split_scores",
+    "stiffness_scores",
     "uncalibrated_scores",
 ]

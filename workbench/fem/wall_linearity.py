@@ -28,8 +28,6 @@ from typing import Any
 
 import numpy as np
 
-from workbench.stats import rank_correlation
-
 from .material import Material
 
 __all__ = [
@@ -295,7 +293,7 @@ def calibrate_models(
     :func:`nonlinear_scale`); force : the jaw force of the stiffness [N]; force_stop : the
     force the curves run to [N].  Returns a :class:`ModelCalibration`.
     """
-    from .calibration import split_scores, split_scores_of
+    from .calibration import split_scores, split_scores_of, stiffness_scores
 
     meas, s_l = np.asarray(measured, float), np.asarray(s_linear, float)
     if not (meas.ndim == 1 and meas.shape == s_l.shape == (len(curves),) and meas.size):
@@ -310,15 +308,15 @@ def calibrate_models(
         ("linear", s_l * c_l),
         ("nonlinear", nonlinear_stiffness(curves, force, c_nl) if np.isfinite(c_nl) else None),
     ):
-        compare[model] = (
-            None
-            if s is None
-            else {
-                "E_effective_Pa": E_lin * (c_l if model == "linear" else c_nl),
-                "median_abs_log_ratio": float(np.median(np.abs(np.log(s / meas)))),
-                "spearman": rank_correlation(s, meas) if len(meas) > 2 else None,
-            }
-        )
+        if s is None:
+            compare[model] = None
+            continue
+        scores = stiffness_scores(s, meas)
+        compare[model] = {
+            "E_effective_Pa": E_lin * (c_l if model == "linear" else c_nl),
+            "median_abs_log_ratio": scores["median_abs_log_ratio"],
+            "spearman": scores["spearman"] if len(meas) > 2 else None,
+        }
     if len(meas) < 6:  # halves of fewer than three grasps score nothing
         return ModelCalibration(c_l, c_nl, compare, None)
 
