@@ -43,11 +43,11 @@ def _strip_tip_deflection(nx: int, ny: int) -> tuple[float, float]:
           iterations="100"/>
   <worldbody>
     <flexcomp name="strip" type="direct" dim="2" radius="1e-4" mass="0.01"
-              point="{' '.join(f'{v:.12g}' for v in points.ravel())}"
-              element="{' '.join(str(v) for v in np.ravel(tris))}">
+              point="{" ".join(f"{v:.12g}" for v in points.ravel())}"
+              element="{" ".join(str(v) for v in np.ravel(tris))}">
       <elasticity young="{E:g}" poisson="0" thickness="{T:g}" elastic2d="both" damping="1e-3"/>
       <contact contype="0" conaffinity="0"/>
-      <pin id="{' '.join(map(str, pins))}"/>
+      <pin id="{" ".join(map(str, pins))}"/>
     </flexcomp>
   </worldbody>
 </mujoco>"""

@@ -190,4 +190,3 @@ def test_checkpoint_rows_are_keyed_by_the_settings_in_force(tmp_path):
         assert Checkpoint.peek(path, {"a": 1}, code="c") == {}
         Checkpoint(path, {"a": 1}, code="c").add("r", {"x": 2})
         assert Checkpoint.peek(path, {"a": 1}, code="c")["r"]["x"] == 2
-

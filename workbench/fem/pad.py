@@ -45,6 +45,7 @@ from .sparse_factor import schur_compliance
 
 log = logging.getLogger(__name__)
 
+
 @dataclass(frozen=True)
 class PadGeometry:
     """Layer size [m] and hex counts (default: 20 × 40 mm face, 5 mm silicone)."""
