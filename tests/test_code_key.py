@@ -112,3 +112,75 @@ def test_normalized_source_ignores_layout_and_refuses_broken_files(tmp_path):
     two.write_text("def f(:\n")
     with pytest.raises(SyntaxError):
         normalized_source(two)
+
+
+def _fresh_process(monkeypatch, cache):
+    """What a new process sees: the memo in ``cache`` (or none), empty in-memory caches."""
+    import workbench.code_key as ck
+
+    if cache is None:
+        monkeypatch.setenv("WORKBENCH_CACHE_DIR", "off")
+    else:
+        monkeypatch.setenv("WORKBENCH_CACHE_DIR", str(cache))
+    ck._facts.cache_clear()
+    ck._cached_digest.cache_clear()
+    return ck
+
+
+def test_a_file_seen_before_is_read_from_the_memo_not_parsed(tmp_path, monkeypatch):
+    roots = _toy(tmp_path / "src")
+    ck = _fresh_process(monkeypatch, tmp_path / "cache")
+    key = code_digest("ckpkg.a", roots=roots)
+    closure = module_closure("ckpkg.a", roots=roots)
+    # one memo per file of the closure (c, imported only by the package's __init__, is not read)
+    memos = sorted((tmp_path / "cache" / "code_key").rglob("*.json"))
+    assert len(memos) == len(closure) == 6
+
+    # a new process: nothing may be parsed, and the key and the closure come out the same
+    ck = _fresh_process(monkeypatch, tmp_path / "cache")
+
+    def no_parse(*args, **kwargs):
+        raise AssertionError("parsed a file whose memo is on disk")
+
+    monkeypatch.setattr(ck.ast, "parse", no_parse)
+    assert code_digest("ckpkg.a", roots=roots) == key
+    assert module_closure("ckpkg.a", roots=roots) == closure
+    # an edited file is a different file: parsed (here: refused by the patch), never the old memo
+    (roots["ckpkg"] / "b.py").write_text("K = 3\n")
+    with pytest.raises(AssertionError, match="parsed a file"):
+        code_digest("ckpkg.a", roots=roots)
+
+
+def test_a_broken_memo_is_reparsed_and_the_cache_off_gives_the_same_key(tmp_path, monkeypatch, caplog):
+    roots = _toy(tmp_path / "src")
+    _fresh_process(monkeypatch, None)
+    key = code_digest("ckpkg.a", roots=roots)  # the cache off: parsed, nothing written
+    assert not (tmp_path / "cache").exists()
+    _fresh_process(monkeypatch, tmp_path / "cache")
+    assert code_digest("ckpkg.a", roots=roots) == key
+    for memo in (tmp_path / "cache" / "code_key").rglob("*.json"):
+        memo.write_text('{"digest": "abc", "imports": []}')  # a foreign file: a short digest
+    _fresh_process(monkeypatch, tmp_path / "cache")
+    with caplog.at_level("WARNING", logger="workbench.code_key"):
+        assert code_digest("ckpkg.a", roots=roots) == key
+    assert "unreadable (a digest of 3 characters); parsing the file again" in caplog.text
+    # and the memos were written afresh
+    _fresh_process(monkeypatch, tmp_path / "cache")
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="workbench.code_key"):
+        assert code_digest("ckpkg.a", roots=roots) == key
+    assert caplog.text == ""
+
+
+def test_the_digest_of_a_file_is_the_sha256_of_its_normalised_syntax(tmp_path, monkeypatch):
+    import hashlib
+
+    from workbench.code_key import normalized_digest
+
+    _fresh_process(monkeypatch, tmp_path / "cache")
+    f = tmp_path / "m.py"
+    f.write_text('"""Doc."""\nimport os  # a comment\nX = 1\n')
+    want = hashlib.sha256(normalized_source(f)).hexdigest()
+    assert normalized_digest(f) == want
+    _fresh_process(monkeypatch, tmp_path / "cache")
+    assert normalized_digest(f) == want  # from the memo

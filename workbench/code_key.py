@@ -11,20 +11,37 @@ constant or a message changes the key of every module that imports it, directly 
 ``workbench``), so a module that the computation cannot import does not change its key.
 A change of meaning that the code does not show (a data file's format, an external tool's
 behaviour) is the caller's to add to its key.
+
+Parsing every module a run imports costs about a second per process, and each Dask worker
+and each experiment is a process.  So what one file contributes (the digest of its normalised
+syntax and its import statements) is kept in the cache folder (:func:`workbench.cachedir.cache_dir`,
+``code_key/``) under the SHA-256 of the file's bytes, of this module's own bytes and of the Python
+version (whose parser writes the tree): an unchanged file is read, not parsed, and any change
+of the three parses afresh.  With the cache off it is kept in memory only.
 """
 
 from __future__ import annotations
 
 import ast
 import hashlib
+import json
+import logging
+import sys
 from collections.abc import Iterable, Mapping
 from functools import lru_cache
 from pathlib import Path
+from typing import NamedTuple
+
+from .atomic_io import atomic_write_bytes
+from .cachedir import cache_dir
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "code_digest",
     "module_closure",
     "module_imports",
+    "normalized_digest",
     "normalized_function",
     "normalized_source",
     "package_roots",
@@ -53,13 +70,83 @@ def normalized_source(path: str | Path) -> bytes:
     """The file's syntax tree without docstrings (module, class and function), dumped without
     positions: the same for two files that differ only in comments, docstrings or layout.
     Raises ``SyntaxError`` for a file that does not parse."""
-    return _normalized(_stamp(Path(path)))
+    path = Path(path)
+    return _strip_docstrings(ast.parse(path.read_bytes(), filename=str(path)))
 
 
-@lru_cache(maxsize=1024)
-def _normalized(stamp: tuple[str, str]) -> bytes:
+def normalized_digest(path: str | Path) -> str:
+    """The SHA-256 hex digest of :func:`normalized_source` of the file, read from the cache
+    folder when the file's bytes were seen before (the module docstring says how it is keyed).
+    Raises ``SyntaxError`` for a file that does not parse."""
+    return _facts(_stamp(Path(path))).digest
+
+
+class _Facts(NamedTuple):
+    """What one file contributes to a key: the digest of its normalised syntax, and its import
+    statements as written, ``(level, module, names)`` (``names`` ``None`` for ``import module``;
+    a ``__main__`` guard's left out)."""
+
+    digest: str
+    imports: tuple[tuple[int, str, tuple[str, ...] | None], ...]
+
+
+@lru_cache(maxsize=1)
+def _memo_salt() -> str:
+    """What the memo of a file's facts depends on besides the file: this module's code and the
+    Python version (its parser writes the tree that is dumped)."""
+    own = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    return f"{own}:{sys.version_info.major}.{sys.version_info.minor}:{sys.implementation.name}"
+
+
+def _memo_path(file_sha: str) -> Path | None:
+    folder = cache_dir()
+    if folder is None:
+        return None
+    name = hashlib.sha256(f"{file_sha}:{_memo_salt()}".encode()).hexdigest()
+    return folder / "code_key" / name[:2] / f"{name}.json"
+
+
+def _read_memo(path: Path | None) -> _Facts | None:
+    if path is None or not path.is_file():
+        return None
+    try:
+        raw = json.loads(path.read_bytes())
+        imports = tuple(
+            (int(level), str(module), None if names is None else tuple(str(n) for n in names))
+            for level, module, names in raw["imports"]
+        )
+        digest = str(raw["digest"])
+        if len(digest) != 64:
+            raise ValueError(f"a digest of {len(digest)} characters")
+    except Exception as exc:  # noqa: BLE001 - a foreign or truncated memo only costs a parse
+        log.warning("code-key memo %s unreadable (%s); parsing the file again", path, exc)
+        return None
+    return _Facts(digest, imports)
+
+
+@lru_cache(maxsize=4096)
+def _facts(stamp: tuple[str, str]) -> _Facts:
+    """The file's :class:`_Facts`: from the memo in the cache folder, else parsed once (and
+    written there; a folder that cannot be written only costs the parse next time)."""
+    memo = _memo_path(stamp[1])
+    found = _read_memo(memo)
+    if found is not None:
+        return found
     path = stamp[0]
-    return _strip_docstrings(ast.parse(Path(path).read_bytes(), filename=path))
+    tree = ast.parse(Path(path).read_bytes(), filename=path)
+    imports: list[tuple[int, str, tuple[str, ...] | None]] = []
+    for node in _walk(tree):
+        if isinstance(node, ast.Import):
+            imports += [(0, alias.name, None) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            imports.append((node.level, node.module or "", tuple(alias.name for alias in node.names)))
+    facts = _Facts(hashlib.sha256(_strip_docstrings(tree)).hexdigest(), tuple(imports))
+    if memo is not None:
+        try:
+            atomic_write_bytes(memo, json.dumps({"digest": facts.digest, "imports": facts.imports}).encode())
+        except OSError as exc:
+            log.warning("could not write the code-key memo %s (%s); continuing without it", memo, exc)
+    return facts
 
 
 def _file(name: str, roots: Mapping[str, Path]) -> Path | None:
@@ -145,24 +232,20 @@ def module_imports(name: str, roots: Mapping[str, Path] | None = None) -> set[st
     return _imports(name, path, roots)
 
 
-@lru_cache(maxsize=1024)
 def _imported_names(name: str, stamp: tuple[str, str]) -> tuple[tuple[str, tuple[str, ...] | None], ...]:
     """``(module, names)`` of each ``from module import names``, ``(module, None)`` of each
     ``import module``, relative imports resolved."""
     path = Path(stamp[0])
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     found: list[tuple[str, tuple[str, ...] | None]] = []
-    for node in _walk(ast.parse(path.read_bytes(), filename=str(path))):
-        if isinstance(node, ast.Import):
-            found += [(alias.name, None) for alias in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                parts = package.split(".")
-                base = ".".join(parts[: len(parts) - node.level + 1])
-                target = f"{base}.{node.module}" if node.module else base
-            else:
-                target = node.module or ""
-            found.append((target, tuple(alias.name for alias in node.names)))
+    for level, module, names in _facts(stamp).imports:
+        if level:
+            parts = package.split(".")
+            base = ".".join(parts[: len(parts) - level + 1])
+            target = f"{base}.{module}" if module else base
+        else:
+            target = module
+        found.append((target, names))
     return tuple(found)
 
 
@@ -198,7 +281,7 @@ def module_closure(*modules: str, roots: Mapping[str, Path] | None = None) -> li
 def _digest(names: Iterable[str], roots: Mapping[str, Path]) -> str:
     h = hashlib.sha256()
     for name in names:
-        h.update(name.encode() + b"\0" + normalized_source(_file(name, roots)) + b"\0")
+        h.update(name.encode() + b"\0" + normalized_digest(_file(name, roots)).encode() + b"\0")
     return h.hexdigest()
 
 
@@ -209,8 +292,8 @@ def _cached_digest(modules: tuple[str, ...]) -> str:
 
 
 def code_digest(*modules: str, n: int = 16, roots: Mapping[str, Path] | None = None) -> str:
-    """The first ``n`` hex digits of the SHA-256 of the normalised syntax
-    (:func:`normalized_source`) of ``modules`` and everything they import in the package
+    """The first ``n`` hex digits of the SHA-256 of the digests of the normalised syntax
+    (:func:`normalized_digest`) of ``modules`` and everything they import in the package
     (:func:`module_closure`), each with its dotted name.  With the default ``roots`` it is
     computed once per process and set of modules (the running code does not change under it)."""
     if roots is None:

@@ -139,16 +139,16 @@ def _module_files(mod: str) -> list[tuple[str, Path]]:
 
 
 def _files_digest(files: list[tuple[str, Path]]) -> str:
-    """SHA-256 hex digest of each file's name and normalised syntax
-    (:func:`workbench.code_key.normalized_source`: comments, docstrings and layout left out), in
+    """SHA-256 hex digest of each file's name and the digest of its normalised syntax
+    (:func:`workbench.code_key.normalized_digest`: comments, docstrings and layout left out), in
     the given order."""
     import hashlib
 
-    from ..code_key import normalized_source
+    from ..code_key import normalized_digest
 
     h = hashlib.sha256()
     for name, f in files:
-        h.update(name.encode() + b"\0" + normalized_source(f) + b"\0")
+        h.update(name.encode() + b"\0" + normalized_digest(f).encode() + b"\0")
     return h.hexdigest()
 
 
