@@ -44,6 +44,7 @@ from .report_rules import (
     MissingKey,
     Summaries,
     Verdict,
+    anchor,
     below_percent,
     fmt_g,
     not_comparable,
@@ -196,7 +197,7 @@ def _count_rows(rows: Sequence[Row]) -> list[str]:
         mine = [_status(r) for r in rows if r.claim.item == item]
         if mine:
             counts = [mine.count(s) for s in (MATCH, DIFFERS, NOT_COMPARABLE, "missing")]
-            lines.append(f"| [{item}](#{_anchor(item)}) | " + " | ".join(map(str, counts)) + " |")
+            lines.append(f"| [{item}](#{anchor(item)}) | " + " | ".join(map(str, counts)) + " |")
     return lines
 
 
@@ -239,21 +240,24 @@ def _section(item: str, heading: str, mine: Sequence[Row], link_prefix: str) -> 
     ]
 
 
-def render_markdown(rows: Sequence[Row], *, link_prefix: str = "", title: str = "Thesis vs ours") -> str:
-    """The report as Markdown: a count per item and status, then one section per thesis item
-    with a row per claim.  ``link_prefix`` is prepended to figure paths (relative to the
-    results directory) so links work from where the report is written.  Pure: reads nothing."""
-    lines = _preamble(title) + _count_rows(rows)
+def render_markdown(
+    rows: Sequence[Row],
+    *,
+    link_prefix: str = "",
+    title: str = "Thesis vs ours",
+    inventory: Sequence[str] = (),
+) -> str:
+    """The report as Markdown: a count per item and status, the ``inventory`` lines (the table
+    of every thesis table and figure, :func:`workbench.runner.report_inventory.render_inventory`),
+    then one section per thesis item with a row per claim.  ``link_prefix`` is prepended to
+    figure paths (relative to the results directory) so links work from where the report is
+    written.  Pure: reads nothing."""
+    lines = _preamble(title) + _count_rows(rows) + list(inventory)
     for item, heading in ITEMS.items():
         mine = [r for r in rows if r.claim.item == item]
         if mine:
             lines += _section(item, heading, mine, link_prefix)
     return "\n".join(lines) + "\n"
-
-
-def _anchor(item: str) -> str:
-    """GitHub's heading anchor: lower case, spaces to dashes, other punctuation dropped."""
-    return re.sub(r"[^\w\- ]", "", item.lower()).replace(" ", "-")
 
 
 _MAKE_RESULTS = (
@@ -288,14 +292,19 @@ def write_report(
     a ``results_dir`` that does not exist or holds no summary (:func:`check_results_dir`)."""
     results_dir = check_results_dir(results_dir)
     out = Path(out) if out is not None else results_dir / "REPORT.md"
+    from .report_inventory import render_inventory
     from .report_judge import render_judge_sections
     from .report_peers import render_peers_sections
 
     rows = evaluate(results_dir)
     prefix = os.path.relpath(results_dir.resolve(), out.resolve().parent).replace(os.sep, "/")
     link = "" if prefix == "." else prefix + "/"
+    counts: dict[str, dict[str, int]] = {}
+    for r in rows:
+        by_status = counts.setdefault(r.claim.item, {})
+        by_status[_status(r)] = by_status.get(_status(r), 0) + 1
     text = (
-        render_markdown(rows, link_prefix=link)
+        render_markdown(rows, link_prefix=link, inventory=render_inventory(counts, results_dir, link))
         + render_judge_sections(results_dir, link)
         + render_peers_sections(Summaries(results_dir), link)
     )

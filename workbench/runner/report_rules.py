@@ -28,6 +28,12 @@ log = logging.getLogger("workbench.runner.report")
 MATCH, DIFFERS, NOT_COMPARABLE = "match", "differs", "not comparable"
 
 
+def anchor(heading: str) -> str:
+    """GitHub's anchor of a Markdown heading: lower case, spaces to dashes, other punctuation
+    dropped."""
+    return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
+
+
 class MissingKey(LookupError):
     """A file or key a claim reads is absent; ``where`` is ``<file>:<key path>``."""
 
