@@ -64,7 +64,8 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) peers -- $(BIN)/workbench run peers
 	# the REACH dataset's real YuMi trials on a 3 cm cube, packaged under their MIT notice
 	$(TIMED) physical-trials -- $(BIN)/workbench run physical-trials
-	# 6DFC Fig. 3 on them, drawn from the committed sweep tables (`make fig3` runs the sweeps)
+	# 6DFC Fig. 3 on them, drawn from the committed sweep tables with the curves the report judges
+	# beside it (`make fig3` runs the sweeps)
 	$(FIG3)
 	$(BIN)/workbench report
 

@@ -1,5 +1,5 @@
 """The 6DFC paper's claim table (workbench/runner/report_claims_6dfc.py): Table I's rows and its
-mAR claim, judged on a hand-made physical-trials summary and on the committed one."""
+mAR claim, and Fig. 3(a, b)'s trends, judged on hand-made summaries and on the committed ones."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from workbench.runner.report import evaluate
-from workbench.runner.report_claims_6dfc import CLAIMS, TABLE_I
+from workbench.runner.report_claims_6dfc import CLAIMS, FIG_3, FIG_3_CURVES, TABLE_I
 from workbench.runner.report_rules import DIFFERS, MATCH, NOT_COMPARABLE, printed_numbers
 
 RESULTS = Path(__file__).resolve().parents[1] / "results"
@@ -30,19 +30,26 @@ def _scores(recall: dict[str, float]) -> dict:
 
 def test_table_i_rows_then_the_mar_claim():
     assert [c.quantity for c in CLAIMS[:2]] == ["Point (`point`), mAP", "Point (`point`), mAR"]
-    assert len(CLAIMS) == 2 * len(TABLE_I) + 1 and {c.item for c in CLAIMS} == {"6DFC Table I"}
+    table_i = CLAIMS[: 2 * len(TABLE_I) + 1]
+    assert CLAIMS == (*table_i, *FIG_3) and {c.item for c in table_i} == {"6DFC Table I"}
+    assert [c.quantity for c in FIG_3] == [
+        "mAP against N_r",
+        "mAR against N_r",
+        "mAP against σ_r",
+        "mAR against σ_r",
+    ]
     # the printed mean ± std of each row is the table's, in order mAP, mAR
     for i, (model, ap, ar) in enumerate(TABLE_I.values()):
         assert (CLAIMS[2 * i].thesis, CLAIMS[2 * i + 1].thesis) == (ap, ar)
         assert f"(`{model}`), mAP" in CLAIMS[2 * i].quantity
-    assert printed_numbers(CLAIMS[-1].thesis) == [17, 6, 7]
+    assert printed_numbers(table_i[-1].thesis) == [17, 6, 7]
 
 
 def test_table_i_on_hand_made_scores(tmp_path):
     path = tmp_path / "physical-trials" / "summary.json"
     path.parent.mkdir()
     path.write_text(json.dumps({"scores": _scores({"point": 0.5, "reach": 0.6, "6dls": 0.62, "6dfc": 0.7})}))
-    rows = evaluate(tmp_path, CLAIMS)
+    rows = evaluate(tmp_path, CLAIMS[: 2 * len(TABLE_I) + 1])
     point_ap, point_ar = rows[:2]  # the paper's Point: 0.80 ± 0.01 mAP, 0.50 ± 0.01 mAR
     assert (point_ap.verdict.status, point_ap.verdict.ours, point_ap.verdict.deviation) == (
         NOT_COMPARABLE,
@@ -52,7 +59,57 @@ def test_table_i_on_hand_made_scores(tmp_path):
     assert (point_ar.verdict.ours, point_ar.verdict.deviation) == ("0.50 ± 0.01", "+0.00 (mean)")
     assert rows[-1].verdict.status == MATCH and rows[-1].verdict.deviation == "+0.200; +0.100; +0.080"
     path.write_text(json.dumps({"scores": _scores({"point": 0.5, "reach": 0.75, "6dls": 0.62, "6dfc": 0.7})}))
-    assert evaluate(tmp_path, CLAIMS[-1:])[0].verdict.status == DIFFERS  # REACH above 6DFC
+    assert evaluate(tmp_path, CLAIMS[2 * len(TABLE_I) :][:1])[0].verdict.status == DIFFERS  # REACH above 6DFC
+
+
+def _curves(values, ap: dict, ar: dict, std: float = 0.01) -> dict:
+    def one(mean):
+        return {"mean": mean, "std": [std] * len(mean)}
+
+    return {
+        "values": values,
+        "models": {m: {"average_precision": one(ap[m]), "average_recall": one(ar[m])} for m in ap},
+    }
+
+
+def test_fig_3_trends_on_hand_made_curves(tmp_path):
+    path = tmp_path / FIG_3_CURVES
+    path.parent.mkdir()
+    same = [0.80, 0.85, 0.90, 0.905]  # rises to N_r = 10, then within the std (0.01)
+    ap = {"point": [0.5, 0.52, 0.55, 0.54], "reach": same, "6dls": same, "6dfc": same}
+    ar = {m: [0.9, 0.9, 0.8, 0.7] for m in ap}
+    sigma_ap = {m: [0.8, 0.9, 0.89, 0.88] for m in ap}
+    sigma_ar = {m: [1.0, 0.95, 0.9, 0.93] for m in ap}  # rises 0.03 > 0.01 after the turn: differs
+    path.write_text(
+        json.dumps(
+            {
+                "n_robust": _curves([1, 3, 10, 20], ap, ar),
+                "sigma_trans": _curves([0.001, 0.003, 0.005, 0.01], sigma_ap, sigma_ar),
+            }
+        )
+    )
+    rows = evaluate(tmp_path, FIG_3)
+    assert [r.verdict.status for r in rows] == [MATCH, MATCH, MATCH, DIFFERS]
+    # identical curves are one entry; the turn is marked
+    assert rows[0].verdict.ours == (
+        "point 0.500 → 0.520 → 0.550 (at 10) → 0.540; "
+        "reach = 6dls = 6dfc 0.800 → 0.850 → 0.900 (at 10) → 0.905"
+    )
+    assert (
+        rows[1].verdict.deviation
+        == "point = reach = 6dls = 6dfc: -0.1 from 10 to the last"  # four equal curves: one entry
+    )
+    assert (
+        rows[3].verdict.deviation
+        == "point = reach = 6dls = 6dfc: -0.02 from 0.003 to the last; +0.030 to 0.01"
+    )
+    # a model that keeps rising past the turn by more than the std, and one that never rises
+    ap["6dfc"] = [0.8, 0.85, 0.9, 0.95]
+    ap["point"] = [0.5, 0.5, 0.49, 0.49]
+    path.write_text(json.dumps({"n_robust": _curves([1, 3, 10, 20], ap, ar)}))
+    row = evaluate(tmp_path, FIG_3[:1])[0]
+    assert row.verdict.status == DIFFERS
+    assert row.verdict.deviation == "point: no rise; reach = 6dls: as stated; 6dfc: +0.050 at 20"
 
 
 @pytest.mark.skipif(
@@ -61,3 +118,6 @@ def test_table_i_on_hand_made_scores(tmp_path):
 def test_the_committed_results_give_every_row():
     rows = evaluate(RESULTS, CLAIMS)
     assert [r.claim.quantity for r in rows if r.verdict is None] == []
+    # Fig. 3(a): on the cube reach, 6dls and 6dfc are one curve, and its mAP still rises past N_r = 10
+    fig_3a = next(r for r in rows if r.claim.quantity == "mAP against N_r")
+    assert "reach = 6dls = 6dfc" in fig_3a.verdict.ours and fig_3a.verdict.status == DIFFERS

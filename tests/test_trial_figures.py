@@ -2,6 +2,8 @@
 own outline maps back to itself, in mm), the face drawn is the one the jaw faces, and a panel
 draws the pad, the contact and the outcome."""
 
+import json
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -50,6 +52,13 @@ def test_fig_3_draws_each_models_mean_against_the_swept_key(tmp_path):
     table = tmp_path / "table.parquet"
     pd.DataFrame(rows).to_parquet(table)
     assert fig_3({"n_robust": table}, ["point", "6dfc"], tmp_path / "fig3.png").is_file()
+    # the curves it draws, beside it, for the report: the failed point left out, sorted by the key
+    curves = json.loads((tmp_path / "fig3.json").read_text())
+    assert curves["quality"] == "robust_held" and curves["n_robust"]["values"] == [1, 3, 10]
+    np.testing.assert_allclose(
+        curves["n_robust"]["models"]["6dfc"]["average_recall"]["mean"], [0.61, 0.63, 0.70]
+    )
+    assert curves["n_robust"]["models"]["point"]["average_precision"]["std"] == [0.02] * 3
     fig = fig_3_figure({"n_robust": table}, ["point", "6dfc", "reach"])
     ax = fig.axes[0]
     # models with the same curves are drawn once and named together

@@ -72,6 +72,7 @@ ITEMS: dict[str, str] = {
     "Table 4.1 (engine, bottle family)": "Table 4.1's question on the bottle family's side grasps (MuJoCo)",
     "Table 4.6 (engine)": "Table 4.6's candidates judged by MuJoCo trials, slip only (§4.3.4)",
     "6DFC Table I": "mAP and mAR of physical grasps, robust qualities (6DFC §V-B)",
+    "6DFC Fig 3": "the mAP and mAR against the robustness samples N_r and their spread σ_r (Fig. 3(a, b))",
 }
 
 

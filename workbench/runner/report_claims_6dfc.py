@@ -1,5 +1,6 @@
 """The report's claims of the 6DFC paper: Table I (mAP and mAR of physical grasps by robust
-quality, 6DFC §V-B) against the real REACH trials (``physical-trials``), as data.
+quality, 6DFC §V-B) and Fig. 3(a, b) (both against the robustness samples N_r and their spread
+σ_r) against the real REACH trials (``physical-trials`` and its two sweeps), as data.
 
 The physical-trials readers are :mod:`workbench.runner.report_claims_ch4`'s (Table 4.1 reads the
 same summary).  Every literal is the paper's, quoted as printed next to its citation.
@@ -7,8 +8,21 @@ same summary).  Every literal is the paper's, quoted as printed next to its cita
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from .report_claims_ch4 import FIG_PT, RUN_PT, TRUTH_PT, pt_gain, pt_mean_std
-from .report_rules import RULE_NOT_COMPARABLE, Claim, check_gain, mean_std_not_comparable, trend
+from .report_rules import (
+    RULE_NOT_COMPARABLE,
+    Claim,
+    Summaries,
+    check_falls_after,
+    check_gain,
+    check_peak_at,
+    fmt_g,
+    mean_std_not_comparable,
+    trend,
+)
 
 #: 6DFC Table I's rows: our model, mAP and mAR as printed (its "MFE" is the 6D ellipsoid at the
 #: maximal force: our 6dls)
@@ -25,7 +39,79 @@ _WHY_ONE = (
     "recomputed pose samples held, 5 seeds"
 )
 
-#: 6DFC Table I's rows and its mAR claim, in report order
+#: 6DFC Fig. 3(a, b): the curves `make fig3` draws from the two sweeps of physical-trials
+FIG_3_CURVES = "physical-trials/fig_3_6dfc.json"
+FIG_3_MODELS = ("point", "reach", "6dls", "6dfc")
+#: the sweep's key, its panel, its symbol and the turning point the paper names
+_FIG_3_SWEEPS = (("n_robust", "(a)", "N_r", 10.0), ("sigma_trans", "(b)", "σ_r", 0.003))
+#: the paper's words (6DFC Fig. 3's caption), as printed but for σ_r's TeX
+_FIG_3_MAP = (
+    "Adding robustness samples and spreading the samples increases mAP up to 10 samples and σ_r = 0.003 m. "
+    "After this point, … mAP remains constant or decreases (in the case of σ_r)"
+)
+_FIG_3_MAR = "After this point, mAR continues to decline"
+_WHY_FIG_3 = (
+    "the REACH cube trials (125 grasps of one object), not the paper's 1,500 grasps of 12; on a cube "
+    "reach, 6dls and 6dfc give one curve (grouped)"
+)
+
+
+def fig_3_curve(key: str, metric: str) -> Callable[[Summaries], Any]:
+    """``{model(s): {"values", "mean", "std"}}`` of ``metric`` against the swept ``key`` in the
+    Fig. 3 curves; models with identical curves are one entry ("reach = 6dls = 6dfc")."""
+
+    def ours(s: Summaries) -> Any:
+        values = s.get(FIG_3_CURVES, f"{key}.values")
+        groups: dict[str, dict] = {}
+        for m in FIG_3_MODELS:
+            c = s.get(FIG_3_CURVES, f"{key}.models.{m}.{metric}")
+            curve = {"values": values, "mean": c["mean"], "std": c["std"]}
+            same = next((g for g, v in groups.items() if v == curve), None)
+            if same is None:
+                groups[m] = curve
+            else:
+                groups[f"{same} = {m}"] = groups.pop(same)
+        return groups
+
+    return ours
+
+
+FIG_3: tuple[Claim, ...] = tuple(
+    Claim(
+        "6DFC Fig 3",
+        f"{label} against {symbol}",
+        printed,
+        f"6DFC §V-B, Fig. 3{panel}",
+        fig_3_curve(key, metric),
+        trend(check(turn)),
+        rule,
+        "make fig3",
+        why=_WHY_FIG_3,
+        truth=TRUTH_PT,
+        figures=("physical-trials/fig_3_6dfc.png",),
+    )
+    for key, panel, symbol, turn in _FIG_3_SWEEPS
+    for metric, label, printed, check, rule in (
+        (
+            "average_precision",
+            "mAP",
+            _FIG_3_MAP,
+            check_peak_at,
+            f"match if every model's mAP at {symbol} = {fmt_g(turn)} is above its first value and no later "
+            "mean exceeds it by more than the larger std over seeds",
+        ),
+        (
+            "average_recall",
+            "mAR",
+            _FIG_3_MAR,
+            check_falls_after,
+            f"match if every model's mAR at the last value is below its mAR at {symbol} = {fmt_g(turn)} "
+            "and no step from there rises by more than the larger std over seeds",
+        ),
+    )
+)
+
+#: 6DFC Table I's rows, its mAR claim and Fig. 3(a, b)'s trends, in report order
 CLAIMS: tuple[Claim, ...] = (
     *(
         Claim(
@@ -57,6 +143,7 @@ CLAIMS: tuple[Claim, ...] = (
         truth=TRUTH_PT,
         figures=FIG_PT,
     ),
+    *FIG_3,
 )
 
-__all__ = ["CLAIMS", "TABLE_I"]
+__all__ = ["CLAIMS", "FIG_3", "FIG_3_CURVES", "TABLE_I", "fig_3_curve"]

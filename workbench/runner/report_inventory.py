@@ -30,9 +30,9 @@ class Entry:
     item : its name in the report ("Fig 3.8", "Table 4.2", "6DFC Fig 3", "6DFC Table I");
     what : its caption, shortened; status : one of :data:`STATUSES`;
     sections : for ``judged``, the report sections (``workbench.runner.report.ITEMS`` keys)
-        whose claims judge it; why : one line, required for every other status (and a remark
-        for a judged one); ours : our figures of the item, paths relative to the results
-        directory (linked when present)."""
+        whose claims judge it (for ``not yet reproduced``, those judging a part of it);
+    why : one line, required for every other status (and a remark for a judged one);
+    ours : our figures of the item, paths relative to the results directory (linked when present)."""
 
     item: str
     what: str
@@ -44,8 +44,13 @@ class Entry:
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
             raise ValueError(f"{self.item}: status must be one of {STATUSES}; got {self.status!r}")
-        if (self.status == JUDGED) != bool(self.sections):
-            raise ValueError(f"{self.item}: a judged item names its sections, and only a judged one")
+        if (self.status == JUDGED and not self.sections) or (
+            self.status not in (JUDGED, NOT_YET) and self.sections
+        ):
+            raise ValueError(
+                f"{self.item}: a judged item names its sections; one not yet reproduced may name those "
+                "that judge a part; no other does"
+            )
         if self.status != JUDGED and not self.why:
             raise ValueError(f"{self.item}: a {self.status!r} item says why in one line")
 
@@ -237,8 +242,9 @@ INVENTORY: tuple[Entry, ...] = (
         "6DFC Fig 3",
         "mAP and mAR against N_r and σ_r; sampler and per-grasp runtimes",
         NOT_YET,
-        "(a)–(b) are drawn from the REACH cube trials but not yet judged; (c) the sampler's 30 % and "
-        "(d) the 85× against REACH on the same triangles are not measured yet",
+        "(a)–(b) are judged on the REACH cube trials; (c) the sampler's 30 % and (d) the 85× against "
+        "REACH on the same triangles are not measured yet",
+        sections=("6DFC Fig 3",),
         ours=("physical-trials/fig_3_6dfc.png",),
     ),
     Entry(
@@ -283,7 +289,7 @@ def render_inventory(
         "|---|---|---|---|---|",
     ]
     for e in inventory:
-        where = _judged(e, counts) if e.status == JUDGED else ""
+        where = _judged(e, counts) if e.sections else ""
         reason = "; ".join(x for x in (where, e.why) if x)
         figures = [
             f"[{Path(f).name}]({link_prefix}{f})" if (root / f).is_file() else f"`{f}` (not found)"

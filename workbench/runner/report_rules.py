@@ -278,6 +278,65 @@ def check_gain(better: str) -> Callable[[Any], tuple[bool, str, str]]:
     return check_above(lambda m, b, o: f"{better} {b:.3f} vs {m} {o:.3f}")
 
 
+def _series(name: str, values: Sequence[float], mean: Sequence[float], turn: float) -> str:
+    marks = [
+        f"{m:.3f}" + (f" (at {fmt_g(v)})" if v == turn else "") for v, m in zip(values, mean, strict=True)
+    ]
+    return f"{name} " + " → ".join(marks)
+
+
+def check_peak_at(turn: float) -> Callable[[Any], tuple[bool, str, str]]:
+    """Trend check of ``{name: {"values", "mean", "std"}}`` (a score against a swept setting):
+    holds when, for every name, the mean at ``turn`` is above the mean at the first value, and
+    no later mean exceeds it by more than the larger of the two standard deviations (over seeds):
+    "rises up to ``turn``, then constant or lower"."""
+
+    def check(v: Any) -> tuple[bool, str, str]:
+        shown, devs, ok = [], [], True
+        for name, c in v.items():
+            i = list(c["values"]).index(turn)
+            mean, std = c["mean"], c["std"]
+            rises = mean[i] > mean[0]
+            above = [
+                f"{mean[j] - mean[i]:+.3f} at {fmt_g(c['values'][j])}"
+                for j in range(i + 1, len(mean))
+                if mean[j] > mean[i] + max(std[i], std[j])
+            ]
+            ok &= rises and not above
+            shown.append(_series(name, c["values"], mean, turn))
+            devs.append(f"{name}: " + ("; ".join(([] if rises else ["no rise"]) + above) or "as stated"))
+        return ok, "; ".join(shown), "; ".join(devs)
+
+    return check
+
+
+def check_falls_after(turn: float) -> Callable[[Any], tuple[bool, str, str]]:
+    """Trend check of ``{name: {"values", "mean", "std"}}``: holds when, for every name, the mean
+    at the last value is below the mean at ``turn`` and no step from ``turn`` on rises by more than
+    the larger of the two standard deviations: "declines after ``turn``"."""
+
+    def check(v: Any) -> tuple[bool, str, str]:
+        shown, devs, ok = [], [], True
+        for name, c in v.items():
+            i = list(c["values"]).index(turn)
+            mean, std = c["mean"], c["std"]
+            falls = mean[-1] < mean[i]
+            rises = [
+                f"{mean[j + 1] - mean[j]:+.3f} to {fmt_g(c['values'][j + 1])}"
+                for j in range(i, len(mean) - 1)
+                if mean[j + 1] > mean[j] + max(std[j], std[j + 1])
+            ]
+            ok &= falls and not rises
+            shown.append(_series(name, c["values"], mean, turn))
+            devs.append(
+                f"{name}: {mean[-1] - mean[i]:+.2g} from {fmt_g(turn)} to the last"
+                + "".join(f"; {r}" for r in rises)
+            )
+        return ok, "; ".join(shown), "; ".join(devs)
+
+    return check
+
+
 __all__ = [
     "DIFFERS",
     "MATCH",
@@ -290,8 +349,11 @@ __all__ = [
     "Summaries",
     "Verdict",
     "below_percent",
+    "anchor",
     "check_above",
+    "check_falls_after",
     "check_gain",
+    "check_peak_at",
     "fmt_g",
     "fmt_pct",
     "fmt_vec",
