@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from workbench.pressure import power_law
+from workbench.pressure import fit_power_law, power_law
 
 
 def test_hertz_linear_and_uniform_closed_forms():
@@ -58,3 +58,36 @@ def test_uniform_pressure_is_zero_from_the_rim_on():
 def test_bad_parameters_are_refused(r_max, k, match):
     with pytest.raises(ValueError, match=match):
         power_law(np.array([0.0, 0.001]), r_max, k)
+
+
+def test_the_fit_recovers_the_exponent_and_scale_of_exact_power_laws():
+    """Pressures made by Eq. 4.3 itself (k = 2.4, the thesis's Fig 4.2(d) value, and 5.5, its
+    range's end) give back k and p0; r_max defaults to the largest r, where p is 0."""
+    r = np.linspace(0.0, 0.012, 41)
+    for k, p0 in ((2.4, 3.0e4), (5.5, 1.7)):
+        fit = fit_power_law(r, power_law(r, 0.012, k, p0))
+        assert fit.k == pytest.approx(k, rel=1e-5) and fit.p0 == pytest.approx(p0, rel=1e-6)
+        assert fit.r_max == 0.012 and fit.rms_rel < 1e-6 and not fit.at_bound
+    # Hertz with 5 % multiplicative noise (seeded): k within 10 %, the residual about the noise
+    rng = np.random.default_rng(7)
+    p = power_law(r, 0.012, 2.0, 1.0) * (1 + 0.05 * rng.standard_normal(r.size))
+    fit = fit_power_law(r, np.clip(p, 0, None))
+    assert fit.k == pytest.approx(2.0, rel=0.1) and 0.02 < fit.rms_rel < 0.06
+
+
+def test_the_fit_flags_data_outside_its_k_range_and_refuses_bad_input():
+    r = np.linspace(0.0, 0.01, 20)
+    flat = fit_power_law(r[:-1], np.ones(19), r_max=0.01)  # uniform inside: k wants infinity
+    assert flat.at_bound and flat.k == pytest.approx(1000.0, rel=1e-3)
+    with pytest.raises(ValueError, match="n >= 3"):
+        fit_power_law(r[:2], r[:2])
+    with pytest.raises(ValueError, match="one length"):
+        fit_power_law(r, r[:-1])
+    with pytest.raises(ValueError, match="finite and >= 0"):
+        fit_power_law(-r, np.ones(20))
+    with pytest.raises(ValueError, match="no positive pressure"):
+        fit_power_law(r, np.zeros(20))
+    with pytest.raises(ValueError, match=r"r_max must be > 0 and >= max\(r\)"):
+        fit_power_law(r, np.ones(20), r_max=0.005)
+    with pytest.raises(ValueError, match="k_range"):
+        fit_power_law(r, np.ones(20), k_range=(2.0, 1.0))
