@@ -34,6 +34,8 @@ reproduce: $(PEERS_STAMP)
 	$(TIMED) ls-fitting -- $(BIN)/workbench run ls-fitting
 	$(TIMED) fem-validation -- $(BIN)/workbench run fem-validation
 	$(TIMED) fem-fitting -- $(BIN)/workbench run fem-fitting
+	# Fig 4.2(d): the power law of Eq. 4.3 fitted to the FEM pad pressed on five elliptic cylinders
+	$(TIMED) power-law -- $(BIN)/workbench run power-law
 	$(TIMED) wall-stiffness -- $(BIN)/workbench run wall-stiffness
 	$(TIMED) sensitivity -- $(BIN)/workbench run sensitivity
 	$(TIMED) sensitivity-wrapped -- $(BIN)/workbench run sensitivity --set half_angle=1.0 \
@@ -109,6 +111,7 @@ bench: $(PEERS_STAMP)
 	$(BIN)/python benchmarks/bench_sweep.py
 	$(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/python benchmarks/bench_physical_trials.py
+	$(BIN)/python benchmarks/bench_6dfc_fig3.py
 	$(BIN)/python benchmarks/bench_engine_trials.py
 	$(BIN)/python benchmarks/bench_memory.py
 

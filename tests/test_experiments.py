@@ -248,6 +248,30 @@ def test_fem_validation_quick(tmp_path):
 
 
 @EXPERIMENT_RUN
+def test_power_law_quick(tmp_path):
+    """Fig 4.2(d) in quick mode: two cylinders × three displacements, each fit in the CSV and the
+    summary alike, the force growing with the displacement, k inside the search interval."""
+    assert main(["run", "power-law", "--quick", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    cases = s["cases"]
+    assert [(c["b_m"], c["delta_mm"]) for c in cases] == [
+        (b, d) for b in (0.02, 0.04) for d in (1.0, 2.0, 3.0)
+    ]
+    with open(tmp_path / "power_law.csv") as fh:
+        table = list(csv.DictReader(fh))
+    assert [float(r["k"]) for r in table] == pytest.approx([c["k"] for c in cases], rel=1e-12)
+    for b in (0.02, 0.04):
+        forces = [c["force_N"] for c in cases if c["b_m"] == b]
+        assert np.all(np.diff(forces) > 0)  # pressed further, pushed harder
+        widths = [c["r_max_m"] for c in cases if c["b_m"] == b]
+        assert np.all(np.diff(widths) > 0)  # and a wider contact
+    ks = [c["k"] for c in cases]
+    assert s["n_k_at_bound"] == 0 and s["k_range"] == [min(ks), max(ks)]
+    assert all(0.5 < k < 1000 for k in ks) and 0 < s["max_rms_rel"] < 1
+    assert (tmp_path / "fig_4_2d_power_law.png").is_file()
+
+
+@EXPERIMENT_RUN
 def test_fem_fitting_quick(tmp_path):
     """Table 3.3 pipeline in quick mode: bottle contacts -> profiles -> both fits."""
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0

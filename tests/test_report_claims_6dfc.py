@@ -9,7 +9,14 @@ from pathlib import Path
 import pytest
 
 from workbench.runner.report import evaluate
-from workbench.runner.report_claims_6dfc import CLAIMS, FIG_3, FIG_3_CURVES, TABLE_I
+from workbench.runner.report_claims_6dfc import (
+    CLAIMS,
+    FIG_3,
+    FIG_3_BENCH,
+    FIG_3_CURVES,
+    FIG_3_RUNTIME,
+    TABLE_I,
+)
 from workbench.runner.report_rules import DIFFERS, MATCH, NOT_COMPARABLE, printed_numbers
 
 RESULTS = Path(__file__).resolve().parents[1] / "results"
@@ -31,7 +38,7 @@ def _scores(recall: dict[str, float]) -> dict:
 def test_table_i_rows_then_the_mar_claim():
     assert [c.quantity for c in CLAIMS[:2]] == ["Point (`point`), mAP", "Point (`point`), mAR"]
     table_i = CLAIMS[: 2 * len(TABLE_I) + 1]
-    assert CLAIMS == (*table_i, *FIG_3) and {c.item for c in table_i} == {"6DFC Table I"}
+    assert CLAIMS == (*table_i, *FIG_3, *FIG_3_RUNTIME) and {c.item for c in table_i} == {"6DFC Table I"}
     assert [c.quantity for c in FIG_3] == [
         "mAP against N_r",
         "mAR against N_r",
@@ -121,3 +128,25 @@ def test_the_committed_results_give_every_row():
     # Fig. 3(a): on the cube reach, 6dls and 6dfc are one curve, and its mAP still rises past N_r = 10
     fig_3a = next(r for r in rows if r.claim.quantity == "mAP against N_r")
     assert "reach = 6dls = 6dfc" in fig_3a.verdict.ours and fig_3a.verdict.status == DIFFERS
+
+
+def test_fig_3_runtimes_on_a_hand_made_benchmark(tmp_path):
+    path = tmp_path / FIG_3_BENCH
+    path.parent.mkdir()
+    bench = {
+        "fig_3c": {"max_gain_6dfc": 0.302},
+        "fig_3d": {
+            "n_triangles": [16, 64, 256],
+            "ratio_reach_over_6dfc": [2.0, 9.5, 40.0],
+            "max_ratio": 40.0,
+        },
+    }
+    path.write_text(json.dumps(bench))
+    gain, ratio, scaling = evaluate(tmp_path, FIG_3_RUNTIME)
+    # 30.2 % rounds to the printed 30; 40× is not 85×; the ratio rises with the triangles
+    assert (gain.verdict.status, gain.verdict.ours) == (MATCH, "30.2")
+    assert ratio.verdict.status == DIFFERS and ratio.verdict.deviation.startswith("-45")
+    assert scaling.verdict.status == MATCH and scaling.verdict.ours == "16: 2.0×; 64: 9.5×; 256: 40.0×"
+    bench["fig_3d"]["ratio_reach_over_6dfc"] = [2.0, 1.5, 40.0]
+    path.write_text(json.dumps(bench))
+    assert evaluate(tmp_path, FIG_3_RUNTIME[2:])[0].verdict.status == DIFFERS

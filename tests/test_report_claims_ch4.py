@@ -12,6 +12,7 @@ import pytest
 from workbench.runner.report import evaluate
 from workbench.runner.report_claims_ch4 import (
     CLAIMS,
+    FIG_4_2,
     FIG_4_4,
     PRINTED_4_6,
     TABLE_4_1_PHYSICAL,
@@ -34,12 +35,13 @@ def _write(path: Path, obj: dict) -> None:
 
 def test_the_tables_are_chapter_4s_items_in_order():
     assert [c.item for c in CLAIMS] == [
+        *["Fig 4.2"] * 2,
         *["Fig 4.4"] * 6,
         *["Tables 4.2/4.3"] * 5,
         *["Table 4.6"] * 9,
         *["Table 4.1"] * 6,
     ]
-    assert CLAIMS == (*FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
+    assert CLAIMS == (*FIG_4_2, *FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
 
 
 def test_recall_that_falls_once_is_a_differing_trend(tmp_path):
@@ -87,3 +89,20 @@ def test_the_typed_thesis_numbers_agree_with_the_experiments_copies():
 def test_the_committed_results_give_every_chapter_4_row():
     rows = evaluate(RESULTS, CLAIMS)
     assert [r.claim.quantity for r in rows if r.verdict is None] == []
+
+
+def test_fig_4_2_judges_the_resolved_ks_against_the_printed_range(tmp_path):
+    cases = [
+        {"k": 2.38, "k_at_bound": False},  # within the printed rounding of 2.4
+        {"k": 5.2, "k_at_bound": False},
+        {"k": 1000.0, "k_at_bound": True},  # the fit cannot tell: left out
+    ]
+    _write(tmp_path / "power-law" / "summary.json", {"cases": cases, "n_k_at_bound": 1, "max_rms_rel": 0.08})
+    k_range, residual = evaluate(tmp_path, FIG_4_2)
+    assert k_range.verdict.status == MATCH and k_range.verdict.ours == "2.38–5.2 (2 values)"
+    assert "1 fit(s) at the k bound left out" in k_range.why
+    assert residual.verdict.status == NOT_COMPARABLE and residual.verdict.ours == "0.080"
+    cases[0]["k"] = 1.6
+    _write(tmp_path / "power-law" / "summary.json", {"cases": cases, "n_k_at_bound": 1, "max_rms_rel": 0.08})
+    (row,) = evaluate(tmp_path, FIG_4_2[:1])
+    assert row.verdict.status == DIFFERS and row.verdict.deviation == "low end -0.8, high end -0.3"

@@ -197,8 +197,9 @@ class EllipticCylinder:
         # y1 = 0 (on the major axis): the closest point is the vertex, or off-axis when y0 is
         # inside the evolute's cusp
         z0 = y0[on_axis]
-        inner = z0 < (e0 * e0 - e1 * e1) / e0
-        x0 = np.where(inner, e0 * e0 * z0 / (e0 * e0 - e1 * e1), e0)
+        spread = e0 * e0 - e1 * e1  # 0 for a circle: no cusp, every on-axis point goes to the vertex
+        inner = z0 < spread / e0
+        x0 = np.where(inner, e0 * e0 * z0 / spread, e0) if spread > 0 else np.full_like(z0, e0)
         c0[on_axis] = x0
         c1[on_axis] = np.where(inner, e1 * np.sqrt(np.clip(1.0 - (x0 / e0) ** 2, 0.0, None)), 0.0)
         inside = (y0 / e0) ** 2 + (y1 / e1) ** 2 < 1.0

@@ -21,6 +21,7 @@ EXPERIMENTS = {
     "ls-fitting": "workbench.experiments.ls_fitting",
     "fem-validation": "workbench.experiments.fem_validation",
     "fem-fitting": "workbench.experiments.fem_fitting",
+    "power-law": "workbench.experiments.power_law",
     "wall-stiffness": "workbench.experiments.wall_stiffness",
     "sensitivity": "workbench.experiments.sensitivity",
     "sensitivity-engine": "workbench.experiments.sensitivity_engine",

@@ -64,6 +64,7 @@ ITEMS: dict[str, str] = {
     "Fig 3.8": "surface discretization: wrench error rate and runtime (§3.5.1.2)",
     "Fig 3.9": "6DLS fitting error on S1–S6 (§3.5.1.3, §3.6)",
     "Table 3.3": "6DLS fitting error on FEM contact profiles (§3.5.2)",
+    "Fig 4.2": "the power-law pressure of Eq. 4.3 fitted to FEM contacts on elliptic cylinders (§4.1.3.2)",
     "Fig 4.4": "sensitivity of grasp-success prediction (§4.1.3.5)",
     "Tables 4.2/4.3": "grasp-analysis runtime per grasp (§4.1.4.5, §4.1.4.6)",
     "Table 4.6": "balanced accuracy of q_robust, q_force, q_work (§4.3.4)",

@@ -1,5 +1,6 @@
 """The report's thesis claims of Chapter 4 (grasp analysis) judged by our own simulated or
-recorded truth: Fig 4.4, Tables 4.2/4.3, Table 4.6 and Table 4.1 (the real REACH trials), as data.
+recorded truth: Fig 4.2(d), Fig 4.4, Tables 4.2/4.3, Table 4.6 and Table 4.1 (the real REACH
+trials), as data.
 
 Each table below is a tuple of :class:`~workbench.runner.report_rules.Claim` built with the
 rules of :mod:`workbench.runner.report_rules`; :data:`CLAIMS` joins them in report order.  The
@@ -21,6 +22,7 @@ from .report_rules import (
     Verdict,
     check_above,
     check_gain,
+    check_within_printed_range,
     not_comparable,
     printed_numbers,
     trend,
@@ -192,6 +194,49 @@ def pt_gain(metric: str, better: str, others: Sequence[str], quality: str) -> Ca
 
     return ours
 
+
+# ---------------------------------------------------------------- Fig 4.2(d) (§4.1.3.2)
+
+PL = "power-law/summary.json"
+RUN_PL = "workbench run power-law"
+_WHY_PL = (
+    "the thesis's fin-ray jaw in ANSYS on cylinders whose radii it does not print; ours the 5 mm "
+    "bonded silicone pad of fem-fitting (E only scales) pressed 1–3 mm on five cylinders "
+    "(power-law/power_law.csv); {{power-law/summary.json|n_k_at_bound}} fit(s) at the k bound left out"
+)
+
+
+def _pl_ks(s: Summaries) -> list[float]:
+    """The k of every pressing whose fit resolves it (not at an end of the search interval)."""
+    return [c["k"] for c in s.get(PL, "cases") if not c["k_at_bound"]]
+
+
+FIG_4_2: tuple[Claim, ...] = (
+    Claim(
+        "Fig 4.2",
+        "k of Eq. 4.3 fitted to the FEM pressures, over cylinders and loads",
+        "the exact k value varies from 2.4 to 5.5 for the elliptic cylinders under different loads",
+        "§4.1.3.2, Fig 4.2(d)",
+        _pl_ks,
+        trend(check_within_printed_range("from 2.4 to 5.5")),
+        "match if every k our fits resolve lies within 2.4–5.5 (± the printed rounding, 0.05)",
+        RUN_PL,
+        why=_WHY_PL,
+        figures=("power-law/fig_4_2d_power_law.png",),
+    ),
+    Claim(
+        "Fig 4.2",
+        "relative RMS residual of the fits, worst pressing",
+        "The pressure values, depicted as circles in Figure 4.2(d), are close to the curve",
+        "§4.1.3.2, Fig 4.2(d)",
+        lambda s: s.num(PL, "max_rms_rel"),
+        not_comparable("close to the curve", show=lambda v: f"{v:.3f}"),
+        RULE_NOT_COMPARABLE,
+        RUN_PL,
+        why="the thesis prints no residual to compare with; ours: RMS of (p − fit) over RMS of p",
+        figures=("power-law/fig_4_2d_power_law.png",),
+    ),
+)
 
 # ---------------------------------------------------------------- Fig 4.4 (§4.1.3.5)
 # trends against the simulated truth
@@ -411,10 +456,11 @@ TABLE_4_1_PHYSICAL: tuple[Claim, ...] = (
 )
 
 #: Chapter 4's claims judged by our own truth, in report order
-CLAIMS: tuple[Claim, ...] = (*FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
+CLAIMS: tuple[Claim, ...] = (*FIG_4_2, *FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
 
 __all__ = [
     "CLAIMS",
+    "FIG_4_2",
     "FIG_4_4",
     "PRINTED_4_6",
     "TABLES_4_2_4_3",

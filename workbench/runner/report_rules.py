@@ -278,6 +278,23 @@ def check_gain(better: str) -> Callable[[Any], tuple[bool, str, str]]:
     return check_above(lambda m, b, o: f"{better} {b:.3f} vs {m} {o:.3f}")
 
 
+def check_within_printed_range(printed: str) -> Callable[[Any], tuple[bool, str, str]]:
+    """Trend check of a list of our values against the first two numbers printed in ``printed``
+    (a range "from lo to hi"): holds when every value lies in [lo, hi] widened by the printed
+    rounding (:func:`printed_half_unit`); shows our range and how far it reaches past each end."""
+    lo, hi = printed_numbers(printed)[:2]
+    tol = printed_half_unit(printed)
+
+    def check(v: Any) -> tuple[bool, str, str]:
+        vals = [float(x) for x in v]
+        low, high = min(vals), max(vals)
+        shown = f"{fmt_g(low)}–{fmt_g(high)} ({len(vals)} values)"
+        dev = f"low end {low - lo:+.3g}, high end {high - hi:+.3g}"
+        return lo - tol <= low and high <= hi + tol, shown, dev
+
+    return check
+
+
 def _series(name: str, values: Sequence[float], mean: Sequence[float], turn: float) -> str:
     marks = [
         f"{m:.3f}" + (f" (at {fmt_g(v)})" if v == turn else "") for v, m in zip(values, mean, strict=True)
@@ -354,6 +371,7 @@ __all__ = [
     "check_falls_after",
     "check_gain",
     "check_peak_at",
+    "check_within_printed_range",
     "fmt_g",
     "fmt_pct",
     "fmt_vec",
