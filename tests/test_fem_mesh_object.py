@@ -91,3 +91,33 @@ def test_the_thesis_meshes_read_as_objects_eight_asymmetric():
     for o in objs:
         printed = float(o.name.split("_")[-1].split("x")[0]) * 1e-3
         assert o.params.height == pytest.approx(printed, rel=0.02), o.name
+
+
+def test_a_thin_shell_is_pressed_on_its_near_side_only():
+    """A 0.5 mm shell (the thesis's meshes are such shells) pressed 3 mm: the one-sided view
+    grasp_pose gives a mesh keeps every contact normal facing the jaw; against the whole mesh the
+    nodes pressed past the wall are nearer its inner side and drop out of the contact."""
+    import warnings
+
+    from workbench.fem.contact import solve_contact
+    from workbench.fem.extract import extract_profile
+    from workbench.fem.material import Material
+    from workbench.fem.pad import PadGeometry, condense_pad
+    from workbench.plausible import ImplausibleWarning
+
+    shell = trimesh.creation.annulus(r_min=0.0295, r_max=0.03, height=0.1, sections=256)
+    shell.apply_translation([0.0, 0.0, 0.05])
+    obj = MeshObject(shell, name="shell")
+    pad = condense_pad(PadGeometry(nx=10, ny=20, nz=3), Material(1e6, 0.45), cache_dir=False)
+    pose = grasp_pose(obj, 0.05, 0.0, pad.face_xy, pad.geometry.thickness)
+    assert pose.obstacle is obj.one_sided(pose.R[:, 2] * -1) and pose.obstacle.facing is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleWarning)  # a flipped normal would raise here
+        prof = extract_profile(pad, solve_contact(pad, pose, 3e-3), pose)
+    n_mean = (prof.normals * (prof.pressures * prof.areas)[:, None]).sum(0)
+    assert (prof.normals @ n_mean > 0).all()
+    # two-sided, the nodes pressed past the wall find its inner side nearer and read as outside:
+    # the contact falls away where it should be deepest
+    two_sided = type(pose)(obj.obstacle, pose.R, pose.t)
+    one, two = solve_contact(pad, pose, 3e-3), solve_contact(pad, two_sided, 3e-3)
+    assert two.force < 0.5 * one.force

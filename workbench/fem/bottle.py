@@ -240,19 +240,21 @@ def grasp_pose(
     centre, A, B, phi = bottle.section(height)
     ang = phi + approach
     out = np.array([np.cos(ang), np.sin(ang), 0.0])  # from the centre towards the jaw
+    # a mesh offers the side the jaw can touch: a thin shell's far wall is not pressed
+    target = bottle.one_sided(out) if hasattr(bottle, "one_sided") else bottle
     ez, ey = -out, np.array([0.0, 0.0, 1.0])
     R = np.column_stack([np.cross(ey, ez), ey, ez])
     X = np.column_stack([face_xy, np.full(face_xy.shape[0], pad_thickness)])
     offset = 1.5 * max(A, B) + pad_thickness  # start outside, then close the gap
     origin = np.r_[centre, height] + out * offset
     for _ in range(50):
-        d, _ = Posed(bottle, R, origin).signed_distance(X)
+        d, _ = Posed(target, R, origin).signed_distance(X)
         gap = float(d.min())
         origin = origin - out * gap
         # the ray already touches the surface to round-off (metres: 1e-12 m)
         if abs(gap) < 1e-12:
             break
-    return Posed(bottle, R, origin)
+    return Posed(target, R, origin)
 
 
 def bottle_family(n: int = 24, n_asymmetric: int = 8, seed: int = 0) -> list[BottleParams]:

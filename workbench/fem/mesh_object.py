@@ -94,6 +94,7 @@ class MeshObject:
             name = Path(mesh).stem if isinstance(mesh, (str, Path)) else "mesh"
         self.name = str(name)
         self.obstacle = MeshObstacle(mesh, units=units)
+        self._sides: dict[tuple, MeshObstacle] = {}  # one-sided views, per direction
         m = self.obstacle.mesh
         #: SHA-256 of the mesh in metres (vertices and faces): what a cache of its results is keyed by
         self.digest = array_digest(
@@ -136,6 +137,18 @@ class MeshObject:
         """(N,) signed distances [m] and (N, 3) outward normals of points ``x`` (N, 3) [m]
         (:meth:`MeshObstacle.signed_distance`)."""
         return self.obstacle.signed_distance(x)
+
+    def one_sided(self, direction) -> MeshObstacle:
+        """The obstacle of the faces whose outward normal has a positive component along
+        ``direction`` (3,) — what a jaw coming from that side can touch.  A thin shell (the
+        thesis's meshes are ~0.5 mm walls) pressed deeper than half its wall is otherwise nearer
+        its inner surface, and the contact's normals flip.  Kept per direction (to 1e-6)."""
+        d = np.asarray(direction, dtype=float)
+        d = d / np.linalg.norm(d)
+        key = tuple(np.round(d, 6).tolist())
+        if key not in self._sides:
+            self._sides[key] = MeshObstacle(self.obstacle.mesh, facing=key)
+        return self._sides[key]
 
     def to_trimesh(self):
         """The mesh [m] (for renders)."""
