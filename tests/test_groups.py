@@ -110,3 +110,32 @@ def test_every_entry_point_refuses_a_dict_for_its_group_with_one_message(kind, n
     expected = f"{name} must be a {public_name(kind)} (or None: its defaults); got dict — {fix}"
     with pytest.raises(ValueError, match=re.escape(expected) + "$"):
         call()
+
+
+def test_a_group_checks_its_own_fields_when_made():
+    """Found by a new-user trial: fields accepted when made and misread later (a string taken as
+    True, a foreign sampler crashing in asdict, 500 % penetration allowed)."""
+    from workbench.fem.nonlinear import NonlinearControls
+    from workbench.grasp.inputs import ModelOptions
+    from workbench.grasp.models import ModelParameters
+
+    for kwargs, match in (
+        ({"M": -5}, r"M must be an integer >= 1 \(linearisation directions\); got -5"),
+        ({"n_edges": 2.5}, r"n_edges must be an integer >= 3"),
+        ({"reach_triangles": -1}, r"reach_triangles must be an integer >= 1"),
+        ({"quartic": "no"}, r"quartic must be True or False; got 'no'"),
+        ({"sampler": 5}, r"sampler must be a SamplerSpec or None .*got int — pass SamplerSpec"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            ModelParameters(**kwargs)
+    with pytest.raises(ValueError, match="min_force must be True or False; got 'no'"):
+        ModelOptions(model="6dls", min_force="no")
+    with pytest.raises(ValueError, match="representation must be 'model', 'outer' or 'inner'; got 'outr'"):
+        ModelOptions(model="6dls", representation="outr")
+    with pytest.raises(ValueError, match=r"gap_tol must be < 1 \(a fraction of the jaw displacement\)"):
+        NonlinearControls(gap_tol=5.0)
+    with pytest.raises(ValueError, match="newton_rtol must be < 1"):
+        NonlinearControls(newton_rtol=1.0)
+    # the defaults and ordinary values stay accepted
+    assert ModelParameters(M=50, n_edges=4, reach_triangles=8, quartic=True).M == 50
+    assert NonlinearControls(gap_tol=0.01).gap_tol == 0.01

@@ -72,6 +72,12 @@ class NonlinearControls:
             number = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
             if not (number and np.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
+        for name, what in (
+            ("gap_tol", "a fraction of the jaw displacement"),
+            ("newton_rtol", "a relative tolerance"),
+        ):
+            if getattr(self, name) >= 1:
+                raise ValueError(f"{name} must be < 1 ({what}); got {getattr(self, name)!r}")
         for name, least in (("max_newton", 1), ("max_uzawa", 1), ("max_bisections", 0)):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < least:

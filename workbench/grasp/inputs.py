@@ -131,6 +131,12 @@ class ModelOptions:
     def __post_init__(self) -> None:
         check_model(self.model)
         check_mu(self.mu)
+        if self.representation not in ("model", "outer", "inner"):
+            raise ValueError(
+                f"representation must be 'model', 'outer' or 'inner'; got {self.representation!r}"
+            )
+        if not isinstance(self.min_force, (bool, np.bool_)):
+            raise ValueError(f"min_force must be True or False; got {self.min_force!r}")
         if self.robust is not None and not isinstance(self.robust, Perturbation):
             raise ValueError(
                 "robust must be a Perturbation (q_robust: the contacts perturbed as computed) or None; "

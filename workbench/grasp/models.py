@@ -206,6 +206,21 @@ class ModelParameters:
 
     def __post_init__(self) -> None:
         _check_n_wrenches(self.n_wrenches)
+        for name, least, what in (
+            ("M", 1, "linearisation directions"),
+            ("n_edges", 3, "friction-cone polygon edges"),
+            ("reach_triangles", 1, "REACH element clusters"),
+        ):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+                raise ValueError(f"{name} must be an integer >= {least} ({what}); got {value!r}")
+        if not isinstance(self.quartic, (bool, np.bool_)):
+            raise ValueError(f"quartic must be True or False; got {self.quartic!r}")
+        if self.sampler is not None and not isinstance(self.sampler, SamplerSpec):
+            raise ValueError(
+                f"sampler must be a SamplerSpec or None (its defaults); got {type(self.sampler).__name__} "
+                "— pass SamplerSpec(kind=...)"
+            )
 
 
 def contact_sets(
