@@ -107,9 +107,23 @@ ENTRY_POINTS = [
 )
 def test_every_entry_point_refuses_a_dict_for_its_group_with_one_message(kind, name, call):
     fix = f"pass {kind.__name__}(**{name})"
-    expected = f"{name} must be a {public_name(kind)} (or None: its defaults); got dict — {fix}"
+    what = "required" if kind is Task else "or None: its defaults"  # a task has no default load
+    expected = f"{name} must be a {public_name(kind)} ({what}); got dict — {fix}"
     with pytest.raises(ValueError, match=re.escape(expected) + "$"):
         call()
+
+
+def test_a_required_group_refuses_none_and_says_how_to_build_one():
+    with pytest.raises(
+        ValueError,
+        match=re.escape(
+            "task must be a workbench.grasp.Task (required); got NoneType — "
+            "pass Task(w_ext=...) or Task(mass=..., com=...)"
+        ),
+    ):
+        evaluate_grasp(_box(), GRASP, None)
+    with pytest.raises(ValueError, match=r"\(required\); got int — pass Task\(w_ext=\.\.\.\)"):
+        evaluate_grasp(_box(), GRASP, 3)
 
 
 def test_a_group_checks_its_own_fields_when_made():

@@ -29,13 +29,15 @@ def public_name(kind: type) -> str:
     return f"{kind.__module__}.{kind.__qualname__}"
 
 
-def checked_group(value: Any, kind: type[G], name: str, *, hint: str = "") -> G:
+def checked_group(value: Any, kind: type[G], name: str, *, hint: str = "", required: bool = False) -> G:
     """``value`` if it is a ``kind``, ``kind()`` (its defaults) for None, else a ValueError that
     names the group by its public name, what was given, and the fix: ``Kind(**name)`` for a dict,
     else ``hint`` (how to build one) or leaving ``name`` out.
 
-    value : the argument as given; kind : the group's class; name : the argument's name."""
-    if value is None:
+    value : the argument as given; kind : the group's class; name : the argument's name;
+    required : a group with no defaults to stand in (e.g. the task's load): None is refused too,
+    and the message says it is required (``hint`` then says how to build one)."""
+    if value is None and not required:
         return kind()
     if isinstance(value, kind):
         return value
@@ -43,6 +45,5 @@ def checked_group(value: Any, kind: type[G], name: str, *, hint: str = "") -> G:
         fix = f"pass {kind.__name__}(**{name})"
     else:
         fix = hint or f"pass a {kind.__name__}(...) or leave {name} out for the defaults"
-    raise ValueError(
-        f"{name} must be a {public_name(kind)} (or None: its defaults); got {type(value).__name__} — {fix}"
-    )
+    what = "required" if required else "or None: its defaults"
+    raise ValueError(f"{name} must be a {public_name(kind)} ({what}); got {type(value).__name__} — {fix}")

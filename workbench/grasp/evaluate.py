@@ -133,7 +133,10 @@ def evaluate_grasp(
     cache, cuts : reuse limit surfaces / cutting planes across calls (pass the same
         objects when evaluating many grasps).
     """
-    task = checked_group(task, Task, "task")
+    # no defaults to stand in for None: the load is the caller's
+    task = checked_group(
+        task, Task, "task", hint="pass Task(w_ext=...) or Task(mass=..., com=...)", required=True
+    )
     jaws = checked_group(jaws, Jaws, "jaws")
     opts = checked_group(options, ModelOptions, "options")
     cache, mesh = _checked_setup(cache, mesh)
