@@ -106,7 +106,7 @@ def per_grasp_times(n_elements: list[int], grasps: int, seed: int = 1) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
-    # REACH's linear program grows with the triangles: 1,024 of them take minutes a grasp's batch
+    # REACH's linear program grows with the triangles: the largest meshes are left to this flag
     parser.add_argument(
         "--triangles", default="16,64,256", help="element counts of the patch, comma-separated"
     )
