@@ -1,6 +1,7 @@
 """workbench.groups: a settings group is given as itself or None (its defaults), never as a dict —
 the same answer and the same message at every entry point that takes one."""
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -153,3 +154,27 @@ def test_a_group_checks_its_own_fields_when_made():
     # the defaults and ordinary values stay accepted
     assert ModelParameters(M=50, n_edges=4, reach_triangles=8, quartic=True).M == 50
     assert NonlinearControls(gap_tol=0.01).gap_tol == 0.01
+
+
+def test_a_length_in_a_group_is_judged_as_the_length_it_is():
+    """Found by a new-user trial: a 200 mm contact-set margin and a 20 m search window were
+    accepted, and a negative depth_window failed only at use with a message naming no field."""
+    from workbench.fem.wall import SqueezeControls
+    from workbench.sources.reach import WinklerPress
+
+    with pytest.raises(
+        ValueError, match=r"SqueezeControls\.margin .* got 0\.2: probably in millimetres — pass 0\.0002"
+    ):
+        SqueezeControls(margin=0.2)
+    with pytest.raises(ValueError, match=r"WinklerPress\.window \(0, 20\): \|hi\| .* pass 0\.02 "):
+        WinklerPress(window=(0, 20))
+    with pytest.raises(ValueError, match=r"WinklerPress\.depth_window .* got -1"):
+        WinklerPress(depth_window=-1)
+    with pytest.raises(ValueError, match=r"WinklerPress\.window must be \(lo, hi\)"):
+        WinklerPress(window=(0.02, 0.0))
+    # the defaults and ordinary values stay accepted: margin 0 (first touch only), a window
+    # behind the jaw's centre
+    assert SqueezeControls(margin=0.0).margin == 0.0 and SqueezeControls().margin == 0.2e-3
+    assert SqueezeControls(margin=math.inf).margin == math.inf  # every footprint node
+    assert WinklerPress(window=(-0.01, 0.05)).window == (-0.01, 0.05)
+    assert WinklerPress(depth_window=0.03).depth_window == 0.03

@@ -1,6 +1,9 @@
 """workbench.grasp.robust: q_robust is seeded and bounded; its rotations are Rodrigues'."""
 
+import warnings
+
 import numpy as np
+import pytest
 from grasp_helpers import MU, F, antipodal
 
 from workbench.grasp import Perturbation, Task, q_robust
@@ -28,3 +31,25 @@ def test_q_robust_rotations_are_rodrigues_of_the_sampled_vectors():
     v = np.vstack([np.zeros(3), np.random.default_rng(3).normal(0.0, 0.2, (200, 3)), [[0, 0, np.pi - 1e-9]]])
     R = Rotation.from_rotvec(v).as_matrix()
     assert np.abs(R - rodrigues(v)).max() < 5e-15 and np.array_equal(R[0], np.eye(3))
+
+
+def test_q_robust_judges_the_task_once_not_each_sample():
+    """Found by a new-user trial: an unusual mass warned once per sample (~100 warnings), and
+    a perturbed mass drawn past the hard limit would have raised mid-run for a valid task."""
+    from workbench.config import TOL
+    from workbench.plausible import ImplausibleWarning
+
+    grasp = antipodal(soft=0.004, n=16)
+    p = Perturbation(n_samples=30, sigma_mass=0.2)
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        task = Task(mass=0.0008, com=[0, 0, 0.005])  # below the usual 1 g: the Task warns
+        assert q_robust(grasp, MU, task, p, seed=1) == 1.0  # 8 mN against 2 x 0.5 x 10 N of friction
+    assert [w.category for w in got] == [ImplausibleWarning]
+    # a task at the mass limit: a fifth of the samples lie above it, none is refused
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        heavy = Task(mass=0.999 * TOL.max_plausible_mass_kg, com=[0, 0, 0])
+        assert q_robust(grasp, MU, heavy, p, seed=1) == 0.0
+    with pytest.raises(ValueError, match="mass"):  # the user's own mass past the limit still is
+        q_robust(grasp, MU, Task(mass=2 * TOL.max_plausible_mass_kg, com=[0, 0, 0]), p, seed=1)

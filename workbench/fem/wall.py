@@ -428,7 +428,9 @@ class SqueezeControls:
     The contact set is grown from the footprint nodes within ``margin`` [m] of first touch
     (at most ``max_start`` per jaw, spread over the footprint) by at most ``max_add`` nodes
     per round that pass through a jaw, for at most ``max_rounds`` rounds; each round closes
-    the jaws by at most ``max_iter`` Newton steps on their travels."""
+    the jaws by at most ``max_iter`` Newton steps on their travels.  ``margin`` is a length
+    judged as a closing (``[0, 0.1]`` m: 0.2 is taken for millimetres) or ``math.inf``: every
+    footprint node starts in the set."""
 
     margin: float = 0.2e-3
     max_iter: int = 20
@@ -438,8 +440,23 @@ class SqueezeControls:
 
     def __post_init__(self) -> None:
         number = isinstance(self.margin, int | float | np.integer | np.floating)
-        if isinstance(self.margin, bool) or not (number and np.isfinite(self.margin) and self.margin >= 0):
-            raise ValueError(f"margin must be a distance >= 0 [m] from first touch; got {self.margin!r}")
+        if isinstance(self.margin, bool) or not (number and not np.isnan(self.margin) and self.margin >= 0):
+            raise ValueError(
+                f"margin must be a distance >= 0 [m] from first touch, or math.inf (every footprint "
+                f"node); got {self.margin!r}"
+            )
+        from workbench.plausible import check
+
+        # a finite margin is a closing past first touch: 0.2 (200 mm) is a millimetre slip
+        if not np.isinf(self.margin):
+            check(
+                "closing",
+                self.margin,
+                "SqueezeControls.margin (from first touch [m])",
+                warn=False,
+                examples="0.1-1 mm of a footprint near first touch (the default 0.2 mm)",
+                named="contact-set margin",
+            )
         for name in ("max_iter", "max_start", "max_add", "max_rounds"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:

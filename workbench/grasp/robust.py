@@ -12,12 +12,14 @@ at once from one seeded generator (same seed ⇒ same q_robust).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..groups import checked_group
+from ..plausible import ImplausibleWarning
 from ..seeds import check_seed
 from .contacts import check_object_point
 from .gws import check_contacts, check_mu, check_wrench
@@ -222,8 +224,14 @@ def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
     d = np.asarray(down, float)
     if d.shape != (3,) or not np.isfinite(d).all() or np.linalg.norm(d) == 0:
         raise ValueError(f"down must be a non-zero (3,) direction; got {d.tolist()}")
-    f = mass * G_ACC * d / np.linalg.norm(d)
-    return np.concatenate([f, cross3(c, f)])
+    return _gravity(float(mass), c, d)
+
+
+def _gravity(mass: float, com: np.ndarray, down: np.ndarray) -> np.ndarray:
+    """:func:`gravity_wrench` of inputs already checked (a perturbed sample of a judged task is
+    not judged again: a mass drawn past a limit is the noise's, not the user's)."""
+    f = mass * G_ACC * down / np.linalg.norm(down)
+    return np.concatenate([f, cross3(com, f)])
 
 
 def q_robust(
@@ -272,7 +280,7 @@ def q_robust(
         coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     for i in range(K):
         moved = [c.moved(Rs[i], ts[i]) for c in contacts]
-        w = gravity_wrench(masses[i], coms[i], down=down) if w_ext is None else w_ext
+        w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
         ok += bool(resists(moved, w, mus[i], representation=representation, cuts=cuts))
     return ok / K
 
@@ -285,5 +293,7 @@ def _robust_load(task) -> tuple:
         return check_wrench(task, "task (a Task, or a fixed disturbance (6,))"), None, None, None
     if task.w_ext is not None:
         return check_wrench(task.w_ext, "task.w_ext"), None, None, None
-    gravity_wrench(task.mass, task.com, down=task.down)  # validates mass, com and down
-    return None, task.mass, task.com, task.down
+    with warnings.catch_warnings():  # an unusual mass: the Task warned when it was made
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        gravity_wrench(task.mass, task.com, down=task.down)  # validates mass, com and down
+    return None, task.mass, np.asarray(task.com, float), np.asarray(task.down, float)

@@ -231,17 +231,26 @@ def _fine_surface(mesh, max_edge: float, build: bool = True):
     return _FINE[key]
 
 
-def _check_window(window, depth_window: float) -> tuple[float, float]:
+def _check_window(window, depth_window) -> tuple[float, float]:
+    """The (lo, hi) [m] searched along the approach: ``window``, or ``±depth_window`` when it is
+    None; each judged as a gripper's travel (:mod:`workbench.plausible` ``"opening"``: a 20 m
+    window is a millimetre slip), else ValueError naming the field."""
     if window is None:
-        return -depth_window, depth_window
+        d = check("opening", depth_window, "WinklerPress.depth_window (half-range searched [m])", warn=False)
+        return -d, d
     try:
         lo, hi = (float(w) for w in window)
     except (TypeError, ValueError):
-        raise ValueError(f"window must be (lo, hi) [m] along the approach; got {window!r}") from None
+        raise ValueError(
+            f"WinklerPress.window must be (lo, hi) [m] along the approach; got {window!r}"
+        ) from None
     if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
         raise ValueError(
-            f"window must be (lo, hi) [m], finite with lo < hi, e.g. (0, stroke); got {window!r}"
+            f"WinklerPress.window must be (lo, hi) [m], finite with lo < hi, e.g. (0, stroke); got {window!r}"
         )
+    for name, v in (("lo", lo), ("hi", hi), ("hi - lo", hi - lo)):
+        if v != 0:
+            check("opening", abs(v), f"WinklerPress.window {window!r}: |{name}| [m]", warn=False)
     return lo, hi
 
 
