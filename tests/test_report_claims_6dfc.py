@@ -97,18 +97,23 @@ def test_fig_3_trends_on_hand_made_curves(tmp_path):
     )
     rows = evaluate(tmp_path, FIG_3)
     assert [r.verdict.status for r in rows] == [MATCH, MATCH, MATCH, DIFFERS]
-    # identical curves are one entry; the turn is marked
+    # models whose every curve is identical are one entry, in every panel (the figure's legend):
+    # point's mAR equals the others' but its mAP does not, so it stays apart; the turn is marked
     assert rows[0].verdict.ours == (
         "point 0.500 → 0.520 → 0.550 (at 10) → 0.540; "
         "reach = 6dls = 6dfc 0.800 → 0.850 → 0.900 (at 10) → 0.905"
     )
-    assert (
-        rows[1].verdict.deviation
-        == "point = reach = 6dls = 6dfc: -0.1 from 10 to the last"  # four equal curves: one entry
+    assert rows[1].verdict.deviation == (
+        "point: -0.1 from 10 to the last; reach = 6dls = 6dfc: -0.1 from 10 to the last"
     )
-    assert (
-        rows[3].verdict.deviation
-        == "point = reach = 6dls = 6dfc: -0.02 from 0.003 to the last; +0.030 to 0.01"
+    assert rows[3].verdict.deviation == (
+        "point: -0.02 from 0.003 to the last; +0.030 to 0.01; "
+        "reach = 6dls = 6dfc: -0.02 from 0.003 to the last; +0.030 to 0.01"
+    )
+    # all four equal everywhere: one entry
+    path.write_text(json.dumps({"n_robust": _curves([1, 3, 10, 20], {m: same for m in ap}, ar)}))
+    assert evaluate(tmp_path, FIG_3[1:2])[0].verdict.deviation == (
+        "point = reach = 6dls = 6dfc: -0.1 from 10 to the last"
     )
     # a model that keeps rising past the turn by more than the std, and one that never rises
     ap["6dfc"] = [0.8, 0.85, 0.9, 0.95]
@@ -125,9 +130,10 @@ def test_fig_3_trends_on_hand_made_curves(tmp_path):
 def test_the_committed_results_give_every_row():
     rows = evaluate(RESULTS, CLAIMS)
     assert [r.claim.quantity for r in rows if r.verdict is None] == []
-    # Fig. 3(a): on the cube reach, 6dls and 6dfc are one curve, and its mAP still rises past N_r = 10
+    # Fig. 3(a): on the cube 6dls and 6dfc are one curve (reach's parts from theirs only at the
+    # widest σ_r), and its mAP still rises past N_r = 10
     fig_3a = next(r for r in rows if r.claim.quantity == "mAP against N_r")
-    assert "reach = 6dls = 6dfc" in fig_3a.verdict.ours and fig_3a.verdict.status == DIFFERS
+    assert "; 6dls = 6dfc 0.827" in fig_3a.verdict.ours and fig_3a.verdict.status == DIFFERS
 
 
 def test_fig_3_runtimes_on_a_hand_made_benchmark(tmp_path):

@@ -16,6 +16,7 @@ from .report_claims_ch4 import FIG_PT, RUN_PT, TRUTH_PT, pt_gain, pt_mean_std
 from .report_rules import (
     RULE_NOT_COMPARABLE,
     Claim,
+    MissingKey,
     Summaries,
     check_falls_after,
     check_gain,
@@ -25,6 +26,7 @@ from .report_rules import (
     trend,
     within_printed,
 )
+from .trial_figures import fig_3_groups
 
 #: 6DFC Table I's rows: our model, mAP and mAR as printed (its "MFE" is the 6D ellipsoid at the
 #: maximal force: our 6dls)
@@ -43,7 +45,6 @@ _WHY_ONE = (
 
 #: 6DFC Fig. 3(a, b): the curves `make fig3` draws from the two sweeps of physical-trials
 FIG_3_CURVES = "physical-trials/fig_3_6dfc.json"
-FIG_3_MODELS = ("point", "reach", "6dls", "6dfc")
 #: the sweep's key, its panel, its symbol and the turning point the paper names
 _FIG_3_SWEEPS = (("n_robust", "(a)", "N_r", 10.0), ("sigma_trans", "(b)", "σ_r", 0.003))
 #: the paper's words (6DFC Fig. 3's caption), as printed but for σ_r's TeX
@@ -54,26 +55,28 @@ _FIG_3_MAP = (
 _FIG_3_MAR = "After this point, mAR continues to decline"
 _WHY_FIG_3 = (
     "the REACH cube trials (125 grasps of one object), not the paper's 1,500 grasps of 12; on a cube "
-    "reach, 6dls and 6dfc give one curve (grouped)"
+    "6dls and 6dfc give one curve (grouped), and reach the same but at the widest σ_r"
 )
 
 
 def fig_3_curve(key: str, metric: str) -> Callable[[Summaries], Any]:
     """``{model(s): {"values", "mean", "std"}}`` of ``metric`` against the swept ``key`` in the
-    Fig. 3 curves; models with identical curves are one entry ("reach = 6dls = 6dfc")."""
+    Fig. 3 curves; models whose every curve is identical are one entry, named as the figure's
+    legend names them ("reach = 6dls = 6dfc", :func:`~.trial_figures.fig_3_groups`)."""
 
     def ours(s: Summaries) -> Any:
         values = s.get(FIG_3_CURVES, f"{key}.values")
-        groups: dict[str, dict] = {}
-        for m in FIG_3_MODELS:
-            c = s.get(FIG_3_CURVES, f"{key}.models.{m}.{metric}")
-            curve = {"values": values, "mean": c["mean"], "std": c["std"]}
-            same = next((g for g, v in groups.items() if v == curve), None)
-            if same is None:
-                groups[m] = curve
-            else:
-                groups[f"{same} = {m}"] = groups.pop(same)
-        return groups
+        curves = {key: {"models": s.get(FIG_3_CURVES, f"{key}.models")}}
+        for other, *_ in _FIG_3_SWEEPS:  # the other sweep groups too, when it ran
+            try:
+                curves[other] = {"models": s.get(FIG_3_CURVES, f"{other}.models")}
+            except MissingKey:
+                pass
+        out = {}
+        for g in fig_3_groups(curves):
+            c = curves[key]["models"][g[0]][metric]
+            out[" = ".join(g)] = {"values": values, "mean": c["mean"], "std": c["std"]}
+        return out
 
     return ours
 

@@ -12,6 +12,7 @@ __all__ = [
     "fig_3",
     "fig_3_curves",
     "fig_3_figure",
+    "fig_3_groups",
     "grasp_panel",
     "jaw_coordinates",
     "judged_figure",
@@ -129,6 +130,24 @@ def fig_3_curves(tables: dict[str, str], models, quality: str = "robust_held") -
     return out
 
 
+def fig_3_groups(curves: dict) -> list[list[str]]:
+    """The models of :func:`fig_3_curves`'s ``curves`` grouped by identical curves: models whose
+    every curve (each swept key, mAP and mAR, mean and std) equals the first's of a group, in the
+    order of the first key's models — drawn as one line and named together ("reach = 6dls = 6dfc")
+    by the figure and by the report."""
+    keys = [k for k in curves if k != "quality"]
+    models = list(curves[keys[0]]["models"]) if keys else []
+
+    def every_curve(m: str) -> list:
+        return [curves[k]["models"][m] for k in keys]
+
+    groups: list[list[str]] = []
+    for m in models:
+        same = next((g for g in groups if every_curve(g[0]) == every_curve(m)), None)
+        groups.append([m]) if same is None else same.append(m)
+    return groups
+
+
 def fig_3_figure(tables: dict[str, str], models, quality: str = "robust_held"):
     """6DFC Fig. 3(a, b) on physical trials: mAP and mAR (mean ± std over the robustness seeds)
     of each model against the swept key of each sweep table — ``tables`` maps the key
@@ -144,22 +163,7 @@ def fig_3_figure(tables: dict[str, str], models, quality: str = "robust_held"):
     label = {"n_robust": "N_r (pose samples)", "sigma_trans": "σ_r [m] (pose translation)"}
     metrics = _FIG_3_METRICS
     frames = _fig_3_frames(tables)
-
-    def curves(m):
-        return np.concatenate(
-            [
-                frames[k][f"scores.{m}.{quality}.{metric}.{s}"].to_numpy(float)
-                for k in frames
-                for metric, _ in metrics
-                for s in ("mean", "std")
-            ]
-        )
-
-    # models whose every curve is the same drawn once, named together (e.g. "reach = 6dls = 6dfc")
-    groups: list[list[str]] = []
-    for m in models:
-        same = next((g for g in groups if np.array_equal(curves(g[0]), curves(m))), None)
-        groups.append([m]) if same is None else same.append(m)
+    groups = fig_3_groups(fig_3_curves(tables, models, quality))
     fig, axes = plt.subplots(2, len(tables), figsize=(5.0 * len(tables), 6.4), squeeze=False)
     for col, (key, df) in enumerate(frames.items()):
         for row, (metric, name) in enumerate(metrics):
