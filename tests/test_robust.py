@@ -53,3 +53,20 @@ def test_q_robust_judges_the_task_once_not_each_sample():
         assert q_robust(grasp, MU, heavy, p, seed=1) == 0.0
     with pytest.raises(ValueError, match="mass"):  # the user's own mass past the limit still is
         q_robust(grasp, MU, Task(mass=2 * TOL.max_plausible_mass_kg, com=[0, 0, 0]), p, seed=1)
+
+
+def test_q_robust_takes_a_friction_drawn_past_the_plausible_range():
+    """Found by a new-user trial: μ = 1.2 with σ_μ = 0.3 (both ordinary) raised 'mu must be a
+    friction coefficient in [0, 2]; got 2.02' from a perturbed sample; μ = 0.02 warned once per
+    sample.  The samples are the noise's, judged once as the user's μ."""
+    from workbench.plausible import ImplausibleWarning
+
+    grasp = antipodal(soft=0.004, n=16)
+    wide = Perturbation(n_samples=60, sigma_mu=0.3, sigma_trans=0, sigma_rot=0, sigma_mass=0, sigma_com=0)
+    # 2 x μ x 10 N of friction against 0.5 kg holds unless a draw drops μ below 0.245, i.e.
+    # 1 + N(0, 0.3) below 0.204 (z < -2.65, p = 0.004): more than 3 of 60 has p < 1e-4
+    assert 0.95 <= q_robust(grasp, 1.2, Task(mass=0.5, com=[0, 0, 0]), wide, seed=0) <= 1.0
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        q_robust(grasp, 0.02, Task(mass=0.005, com=[0, 0, 0]), wide, seed=0)
+    assert [w.category for w in got] == [ImplausibleWarning] and "mu = 0.02" in str(got[0].message)

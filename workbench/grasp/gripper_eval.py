@@ -276,13 +276,23 @@ def evaluate_models(
         poses = pose_samples(pose, opts.robust, opts.seed)
         samples = [gripper_contact(mesh, gripper, T, settle=opts.settle) for T in poses]
         t_samples = (time.perf_counter() - t0) * 1e3
+    with warnings.catch_warnings():  # μ and the task warned once above; not once per judgement
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        return _judge_models(
+            models, contact, samples if opts.robust is not None else None, task, judge, t_contact, t_samples
+        )
+
+
+def _judge_models(models, contact, samples, task, judge: dict, t_contact: float, t_samples: float) -> dict:
+    """:func:`evaluate_models`' verdicts: each model on the contact and on the pose ``samples``
+    (None: no gripper-pose robustness)."""
     out = {}
     for m in models:
         t = {"contact": t_contact}
         t0 = time.perf_counter()
         v = judge_contact(contact, m, task, **judge)
         t["judge"] = (time.perf_counter() - t0) * 1e3
-        if opts.robust is None:
+        if samples is None:
             out[m] = GripperEvaluation(v, contact, timings_ms=t)
             continue
         t0 = time.perf_counter()

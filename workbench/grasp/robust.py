@@ -22,8 +22,9 @@ from ..groups import checked_group
 from ..plausible import ImplausibleWarning
 from ..seeds import check_seed
 from .contacts import check_object_point
-from .gws import check_contacts, check_mu, check_wrench
-from .resistance import REPRESENTATIONS, CutStore, resists
+from .gws import check_contacts, check_mu, check_resist_tol, check_wrench, squeeze_check
+from .resistance import REPRESENTATIONS, CutStore
+from .resistance.api import _resists
 
 G_ACC = 9.81  # m/s²
 
@@ -262,6 +263,7 @@ def q_robust(
     :class:`~.pose_robust.PoseNoise` (6DFC §V-B.1).
     """
     contacts = check_contacts(contacts)
+    squeeze_check(contacts)
     check_mu(mu)
     if representation not in REPRESENTATIONS:
         raise ValueError(f"representation must be one of {REPRESENTATIONS}; got {representation!r}")
@@ -278,10 +280,13 @@ def q_robust(
         # a perturbed mass stays positive (a draw below -100 % is clipped, not a negative mass)
         masses = mass * np.clip(1 + rng.normal(0.0, p.sigma_mass, K), 1e-6, None)
         coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
+    tol = check_resist_tol(None)
+    # the samples are perturbations of the inputs checked above, not a user's inputs: none is
+    # judged again (a friction drawn past 2 or a mass past the limit is the noise's)
     for i in range(K):
         moved = [c.moved(Rs[i], ts[i]) for c in contacts]
         w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
-        ok += bool(resists(moved, w, mus[i], representation=representation, cuts=cuts))
+        ok += bool(_resists(moved, w, float(mus[i]), representation, cuts, None, tol))
     return ok / K
 
 

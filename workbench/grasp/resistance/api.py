@@ -80,7 +80,13 @@ def resists(
     tol = check_resist_tol(tol)
     if solver is not None:  # a misspelt name would fail as a solver and fall back: refuse it by name
         config.check_value("qp_solver", solver, "solver (the dense QP solver of polyhedral programs)")
-    cuts = CutStore() if cuts is None else cuts
+    return _resists(contacts, w, mu, representation, CutStore() if cuts is None else cuts, solver, tol)
+
+
+def _resists(contacts, w, mu: float, representation: str, cuts: CutStore, solver, tol) -> Resistance:
+    """:func:`resists` of inputs it checked: a caller that perturbs checked inputs (the samples of
+    :func:`~workbench.grasp.robust.q_robust`, a friction drawn past the plausible range) asks the
+    same question without judging each draw as a user's input."""
     q = _Question(contacts, w, mu, representation, cuts, solver, tol, [])
     prog = assemble(contacts, w, mu, representation, cuts)
     if prog.soc:
