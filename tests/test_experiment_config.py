@@ -29,6 +29,8 @@ from workbench.runner.experiment_config import (
         ("mu=fast", "'fast' is not a number"),
         ("figure_surfaces=S1", "figure_surfaces expects list of str"),
         ('figure_surfaces=["S1", 2]', "element 1: 2 is not a string"),
+        # JSON that does not parse says so (a new-user trial got only "is not a list")
+        ('figure_surfaces=["S1"', "'[\"S1\"' is not a JSON list (Expecting ',' delimiter"),
     ],
 )
 def test_bad_values_are_rejected_before_any_work(item, expect):

@@ -283,6 +283,10 @@ CARELESS = [
         {"reach_closing_mm": 1000},
         ["pad compression", "probably in micrometres — pass 1 [mm]"],
     ),
+    # files and presets, named by key (a new-user trial got trimesh's "string is not a file")
+    ("physical-trials", {"mesh": "/nonexistent.obj"}, ["mesh must be a mesh file in metres", "no file"]),
+    ("physical-trials", {"gripper": "robotiq"}, ["gripper must be 'yumi' (the only packaged preset)"]),
+    ("physical-trials", {"scheduler": "tcp://localhost:99999"}, ["port '99999' is not a TCP port"]),
     # words
     (
         "wall-stiffness",

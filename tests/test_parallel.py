@@ -165,6 +165,13 @@ def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
     for bad in (-1, 1.5, True):
         with pytest.raises(ValueError, match="workers must be 0"):
             check_workers(bad, "")
+    # an experiment's scheduler is judged as the sweep's is (a new-user trial found it ignored)
+    with pytest.raises(ValueError, match=r"scheduler 'tcp://h:99999': port '99999' is not a TCP port"):
+        check_workers(0, "tcp://h:99999")
+    with pytest.raises(ValueError, match="workers=1 with scheduler='h:8786': the rows run on that cluster"):
+        check_workers(1, "h:8786")
+    check_workers(0, "tcp://h:8786")  # an address alone, or a protocol Dask judges itself
+    check_workers(0, "inproc://x")
 
 
 @pytest.mark.jit_only("over 15 s as pure Python")

@@ -100,6 +100,14 @@ def check_config(config: dict) -> None:
             f"{config['n_robust']!r}, {config['robust_seeds']!r}"
         )
     PoseNoise(config["n_robust"], config["sigma_trans"], config["sigma_rot"]).resolved()
+    for key, what in (("trials", "a REACH trial JSON file"), ("mesh", "a mesh file in metres")):
+        if config[key] and not Path(config[key]).is_file():
+            raise ValueError(f"{key} must be {what} or '' (the packaged cube); no file {config[key]!r}")
+    if config["gripper"] != "yumi" and not Path(config["gripper"]).is_file():
+        raise ValueError(
+            f"gripper must be 'yumi' (the only packaged preset) or a gripper YAML file; got "
+            f"{config['gripper']!r}, which is neither"
+        )
     if config["grasps"]:  # indices of the trial file's grasps: checked against the file itself
         known = set(_inputs(config)[0].grasp_index.tolist())
         unknown = sorted(set(config["grasps"]) - known)

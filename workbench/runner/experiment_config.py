@@ -150,6 +150,12 @@ def _check(value: Any, schema: Any, where: str) -> Any:
     if schema is None or isinstance(schema, str):
         return _check_scalar(value, schema, where)
     kind, inner = schema
+    if isinstance(value, str) and value.lstrip()[:1] in ("[", "{"):  # JSON that did not parse
+        try:
+            json.loads(value)
+        except json.JSONDecodeError as exc:
+            what = "list" if kind == "list" else "object"
+            raise _Mismatch(f"{where}{value!r} is not a JSON {what} ({exc})") from None
     if kind == "list":
         if not isinstance(value, (list, tuple)):
             raise _Mismatch(f"{where}{value!r} is not a list")

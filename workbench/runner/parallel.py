@@ -111,7 +111,9 @@ def in_dask_worker() -> bool:
 
 
 def check_workers(workers: Any, scheduler: Any) -> None:
-    """``ValueError`` unless ``workers`` is an int >= 0 and ``scheduler`` a string."""
+    """``ValueError`` unless ``workers`` is an int >= 0 and ``scheduler`` a string — '' or an
+    address whose TCP port, if it has one, is in 1-65535 (:func:`scheduler_host_port`) — and
+    not both an address and a ``workers`` other than 0 (the address would override them)."""
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise ValueError(
             f"workers must be 0 (a local cluster when there are many rows), 1 (serial) or the "
@@ -121,6 +123,33 @@ def check_workers(workers: Any, scheduler: Any) -> None:
         raise ValueError(
             f"scheduler must be a Dask scheduler address like tcp://host:8786 or ''; got {scheduler!r}"
         )
+    if scheduler.strip():
+        scheduler_host_port(scheduler, "scheduler")
+        if workers != 0:
+            raise ValueError(
+                f"workers={workers} with scheduler={scheduler!r}: the rows run on that cluster and "
+                "workers would be ignored; give one of them (workers=0 with a scheduler)"
+            )
+
+
+def scheduler_host_port(address: str, what: str = "scheduler") -> tuple[str, int] | None:
+    """(host, port) of a TCP scheduler address (``tcp://host:port``, ``tls://...``, a bare
+    ``host:port``; an IPv6 host in brackets), or None for another protocol or no port (Dask
+    judges those).  ``ValueError`` naming ``what`` for a port that is not a number in 1-65535."""
+    proto, sep, rest = address.strip().partition("://")
+    if not sep:
+        proto, rest = "tcp", address.strip()
+    if proto not in ("tcp", "tls"):
+        return None
+    host, colon, port_text = rest.rstrip("/").rpartition(":")
+    if not colon or host.count(":") and not host.startswith("["):  # no port, or a bare IPv6 host
+        return None
+    if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
+        raise ValueError(
+            f"{what} {address!r}: port {port_text!r} is not a TCP port (1-65535); give the address "
+            "`dask scheduler` printed, e.g. tcp://host:8786"
+        )
+    return host.strip("[]") or "127.0.0.1", int(port_text)
 
 
 @contextmanager

@@ -572,23 +572,13 @@ def read_table(path: Path) -> Any:
 
 
 def scheduler_host_port(address: str) -> tuple[str, int] | None:
-    """(host, port) of a TCP scheduler address (``tcp://host:port``, ``tls://...``, a bare
-    ``host:port``; an IPv6 host in brackets), or None for another protocol or no port (Dask
-    judges those).  ``SweepError`` for a port that is not a number in 1-65535."""
-    proto, sep, rest = address.strip().partition("://")
-    if not sep:
-        proto, rest = "tcp", address.strip()
-    if proto not in ("tcp", "tls"):
-        return None
-    host, colon, port_text = rest.rstrip("/").rpartition(":")
-    if not colon or host.count(":") and not host.startswith("["):  # no port, or a bare IPv6 host
-        return None
-    if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
-        raise SweepError(
-            f"--scheduler {address!r}: port {port_text!r} is not a TCP port (1-65535); give the address "
-            "`dask scheduler` printed, e.g. tcp://host:8786"
-        )
-    return host.strip("[]") or "127.0.0.1", int(port_text)
+    """:func:`~.parallel.scheduler_host_port` of ``--scheduler``, its error a ``SweepError``."""
+    from .parallel import scheduler_host_port as parallel_host_port
+
+    try:
+        return parallel_host_port(address, "--scheduler")
+    except ValueError as exc:
+        raise SweepError(str(exc)) from None
 
 
 def _probe_scheduler(address: str, timeout: float) -> None:
