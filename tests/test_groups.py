@@ -151,8 +151,9 @@ def test_a_group_checks_its_own_fields_when_made():
         NonlinearControls(gap_tol=5.0)
     with pytest.raises(ValueError, match="newton_rtol must be < 1"):
         NonlinearControls(newton_rtol=1.0)
-    # the defaults and ordinary values stay accepted
+    # the defaults and ordinary values stay accepted; μ read from a file as "0.5" is kept as 0.5
     assert ModelParameters(M=50, n_edges=4, reach_triangles=8, quartic=True).M == 50
+    assert ModelOptions(model="6dls", mu="0.5").mu == 0.5 and isinstance(ModelOptions(mu="0.5").mu, float)
     assert NonlinearControls(gap_tol=0.01).gap_tol == 0.01
 
 

@@ -103,6 +103,12 @@ def test_unusual_values_warn_and_say_why():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert check("mu", 0) == 0.0  # frictionless: an idealisation, not a slip
+    # a real but large noise names no unit: 0.03 m was suggested as "millimetres — pass 3e-05"
+    # (a new-user trial); the same noise typed in millimetres is refused naming them
+    with pytest.warns(ImplausibleWarning, match=r"above the usual 0.01 m .*results may not describe"):
+        check("pose_noise_trans", 0.03)
+    with pytest.raises(ValueError, match=r"got 3.0: probably in millimetres — pass 0.003 \[m\]"):
+        check("pose_noise_trans", 3.0)
 
 
 def test_a_config_tolerance_sets_the_mass_limit_at_call_time():

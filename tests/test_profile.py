@@ -58,6 +58,7 @@ def test_contact_frame_moves_pressure_center_to_origin(rng):
         ("pressures", [1.0, 1.0, 1.0, 1.0], "pressures has 4 elements"),
         ("centers", [[0, 0], [0, 0], [0, 0]], r"centers must have shape \(n, 3\)"),
         ("pressures", "abc", "pressures must be a numeric array"),
+        ("pressures", [True, True, True], r"pressures must be a numeric array; got booleans \(a mask\?\)"),
     ],
 )
 def test_bad_inputs_raise_value_error_naming_the_field(field, value, match):

@@ -83,6 +83,8 @@ def test_every_candidate_near_the_table():
         ({"table_z": 1.0}, "is above the object's top"),  # a table over the object
         ({"table_z": -50.0}, "farther below its bottom than its height"),  # mm
         ({"table_z": -0.025, "clearance": 10}, "probably in millimetres — pass 0.01"),
+        # named as what it is, not a lever arm (a new-user trial); 0 is on the table, accepted
+        ({"table_z": -0.025, "clearance": -1}, "must be a height above the table in [0, 0.1] m; got -1"),
         ({"max_width": 100}, "probably in millimetres — pass 0.1"),  # 100 mm meant
         ({"min_width": 0.05, "max_width": 0.02}, "min_width must be < max_width"),
         ({"max_width": -0.1}, "must be a gripper opening"),

@@ -344,18 +344,23 @@ _SI_NAMES = {"m": "metres", "kg": "kilograms", "N": "newtons", "Pa": "pascals"}
 _SLIP_MIN_RATIO = 2.0
 
 
-def _likely(r: Range, v: float, scale: float, unit: str) -> str:
+def _likely(r: Range, v: float, scale: float, unit: str, plausible: bool = False) -> str:
     """The slip that makes ``v`` (given in ``unit``, ``scale`` SI each) a usual value, as the
-    fix to name in ``unit`` ("" if none does)."""
+    fix to name in ``unit`` ("" if none does).  ``plausible``: ``v`` is a real value (the warning
+    band), so a smaller unit is named only for a number typed like one (>= 1: 30 for 30 mm, not
+    0.03 for 0.03 mm)."""
     lo, hi = r.usual
     if not (v * scale > 0 and (v * scale < lo / _SLIP_MIN_RATIO or v * scale > hi * _SLIP_MIN_RATIO)):
         return ""  # near the usual range: unusual, but no sign of another unit
     # SI given to a key in mm
     si_unit = () if scale == 1.0 or not r.unit else ((_SI_NAMES.get(r.unit, r.unit), 1.0),)
+    # a usual range from 0 (noise: none is usual): a slip must land within two decades of its
+    # top, not merely above 0 — 0.03 m of noise is large, not 0.03 mm
+    floor = r.usual[0] if r.usual[0] > 0 else r.usual[1] * 1e-2
     for slip, si in (*si_unit, *r.slips):
-        if si == scale:  # the declared unit itself is no slip
+        if si == scale or (plausible and si < scale and abs(v) < 1):  # no slip, or none likely
             continue
-        if r.usual[0] * r.slip_margin <= v * si <= r.usual[1] / r.slip_margin:
+        if floor * r.slip_margin <= v * si <= r.usual[1] / r.slip_margin:
             return f": probably in {slip} — pass {v * si / scale:.6g}" + (f" [{unit}]" if unit else "")
     return ""
 
@@ -419,7 +424,7 @@ def check(
         )
     # the closed lower limit itself is a deliberate idealisation (mu = 0: frictionless), not a slip
     if warn and not r.usual[0] <= x <= r.usual[1] and not (x == lo and not r.lo_open):
-        hint = _likely(r, given, scale, unit)
+        hint = _likely(r, given, scale, unit, plausible=True)
         side = "below" if x < r.usual[0] else "above"
         bound = (r.usual[0] if x < r.usual[0] else r.usual[1]) / scale
         warnings.warn(

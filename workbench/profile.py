@@ -174,6 +174,8 @@ class ProfileSource:
 
 
 def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.ndarray:
+    if np.asarray(value).dtype == np.bool_:  # True is not 1 Pa or 1 m: a mask passed by mistake
+        raise ValueError(f"{name} must be a numeric array; got booleans (a mask?) — pass the values")
     try:
         arr = np.array(value, dtype=np.float64)  # copy: profiles own their data
     except (TypeError, ValueError) as exc:

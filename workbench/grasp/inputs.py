@@ -130,7 +130,7 @@ class ModelOptions:
 
     def __post_init__(self) -> None:
         check_model(self.model)
-        check_mu(self.mu)
+        object.__setattr__(self, "mu", check_mu(self.mu))  # "0.5" from a file is kept as 0.5
         if self.representation not in ("model", "outer", "inner"):
             raise ValueError(
                 f"representation must be 'model', 'outer' or 'inner'; got {self.representation!r}"

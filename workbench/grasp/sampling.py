@@ -139,8 +139,14 @@ def _check_sampler_args(min_width, max_width, clearance=0.0) -> None:
     hi = check("opening", max_width, "max_width (the gripper's opening [m])")
     if not lo < hi:
         raise ValueError(f"min_width must be < max_width; got {min_width!r} >= {max_width!r}")
-    if clearance:
-        check("lever", clearance, "clearance (the contacts' height above the table [m])")
+    check(
+        "closing",
+        clearance,
+        "clearance (the contacts' height above the table [m])",
+        warn=False,
+        examples="a contact 5-20 mm above the table (Dex-Net's table_offset: 5 mm); 0: on it",
+        named="height above the table",
+    )
 
 
 def _check_table(mesh, table_z) -> None:
