@@ -189,3 +189,24 @@ def test_an_unusual_mass_is_warned_once_per_call():
     unusual = [w for w in seen if issubclass(w.category, ImplausibleWarning)]
     assert len(unusual) == 1, [str(w.message)[:60] for w in unusual]
     assert "15 kg is above the usual" in str(unusual[0].message)
+
+
+def test_an_unusual_jaw_force_warns_once_per_call():
+    """Found by a new-user trial: Jaws(force=0.5) warned when made and again inside
+    evaluate_grasp; the group's warning is the one (the value is the same)."""
+    import warnings
+
+    import trimesh
+
+    from workbench.plausible import ImplausibleWarning
+
+    box = trimesh.creation.box([0.06, 0.04, 0.1])
+    grasp = {"p1": np.array([0, -0.02, 0.0]), "p2": np.array([0, 0.02, 0.0]), "axis": np.array([0, 1.0, 0])}
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        jaws = Jaws(force=0.5)
+        ev = evaluate_grasp(
+            box, grasp, Task(mass=0.01, com=[0, 0, 0]), jaws=jaws, options=ModelOptions("6dls", 0.5)
+        )
+    assert [w.category for w in got] == [ImplausibleWarning] and "0.5 N is below" in str(got[0].message)
+    assert ev.resisted  # 0.1 N of weight against 2 x 0.5 x 0.5 N of friction

@@ -143,20 +143,21 @@ def evaluate_grasp(
     w = _task_wrench(task, mesh)
     cuts = CutStore() if cuts is None else cuts
     t: dict = {}
-    jaw_profs = _timed(t, "profiles", lambda: _stage_profiles(mesh, grasp, profiles, jaws))
-    contacts = _timed(
-        t,
-        "contact_model",
-        lambda: [c for p in jaw_profs for c in contact_sets(p, opts.model, cache=cache, seed=opts.seed)],
-    )
     solve_kw = {"representation": opts.representation, "cuts": cuts}
-    verdict = _timed(t, "resists", lambda: resists(contacts, w, opts.mu, **solve_kw))
-    mf = None
-    if opts.min_force:
-        mf = _timed(t, "min_grasp_force", lambda: min_grasp_force(contacts, w, opts.mu, **solve_kw))
-    q = None
-    if opts.robust is not None:
-        q = _timed(t, "q_robust", lambda: _q_robust(contacts, task, w, opts, solve_kw))
+    mf = q = None
+    with warnings.catch_warnings():  # the jaws' force and μ warned when their groups were made
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        jaw_profs = _timed(t, "profiles", lambda: _stage_profiles(mesh, grasp, profiles, jaws))
+        contacts = _timed(
+            t,
+            "contact_model",
+            lambda: [c for p in jaw_profs for c in contact_sets(p, opts.model, cache=cache, seed=opts.seed)],
+        )
+        verdict = _timed(t, "resists", lambda: resists(contacts, w, opts.mu, **solve_kw))
+        if opts.min_force:
+            mf = _timed(t, "min_grasp_force", lambda: min_grasp_force(contacts, w, opts.mu, **solve_kw))
+        if opts.robust is not None:
+            q = _timed(t, "q_robust", lambda: _q_robust(contacts, task, w, opts, solve_kw))
     return GraspEvaluation(opts.model, w, verdict, mf, q, jaw_profs, contacts, t)
 
 
