@@ -432,3 +432,15 @@ def test_g14_a_stiffness_map_is_evaluated_at_the_contacts():
     # work() has no contacts to evaluate a map at: refused naming the fix
     with pytest.raises(ValueError, match=r"stiffness must be \(n,\) = \(2,\) numbers, one value per contact"):
         work([5.0, 5.0], sm)
+
+
+def test_a_force_cap_in_millinewtons_is_refused_naming_them():
+    """A new-user trial: ``min_grasp_force(..., objective="sum", f_max=1e4)`` was taken as a
+    10 kN cap; a contact's cap is a jaw's force (the one rule of every jaw force)."""
+    from workbench.grasp import gravity_wrench, min_grasp_force
+
+    w = gravity_wrench(0.3, [0, 0, 0])
+    with pytest.raises(
+        ValueError, match=r"f_max \(each contact's force cap .* probably in millinewtons — pass 10"
+    ):
+        min_grasp_force(_points(), w, MU, objective="sum", f_max=1e4)

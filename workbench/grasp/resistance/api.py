@@ -298,6 +298,10 @@ def _check_objective(objective: str, f_max: float | None) -> None:
         raise ValueError(f"objective must be one of {OBJECTIVES}; got {objective!r}")
     if f_max is not None and not (np.isfinite(f_max) and f_max > 0):
         raise ValueError(f"f_max must be a positive force [N] or None; got {f_max}")
+    if f_max is not None:  # a contact's cap is a jaw's force: 1e4 is millinewtons (None: no cap)
+        from ...plausible import check
+
+        check("jaw_force", f_max, "f_max (each contact's force cap [N]; None: no cap)", warn=False)
     if f_max is not None and objective == "scale":
         raise ValueError(
             f"f_max caps each contact's force under objective='sum' only (every force a free variable "
