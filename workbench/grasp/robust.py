@@ -214,7 +214,8 @@ def check_task_wrench(w_ext, name: str = "w_ext") -> np.ndarray:
 
 
 def gravity_wrench(mass: float, com, down=(0.0, 0.0, -1.0)) -> np.ndarray:
-    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``.
+    """(6,) gravity wrench about the object origin: ``[m g d; com × m g d]``, g = 9.81 m/s²
+    (:data:`G_ACC`).
 
     mass : kg, > 0 and at most ``config.TOL.max_plausible_mass_kg`` (a larger value is
     taken for grams); com : (3,) centre of mass [m], within ``TOL.max_object_extent_m`` of

@@ -281,6 +281,11 @@ def antipodal_grasps(
         surface at a pad edge more than ``sampling.edge_depth`` [m] before the contact point are
         dropped (reason ``"pad_edge"``; see :func:`edge_touch`); default ``Jaws()`` (a
         20 × 40 mm pad, length along +z); ``jaws=None`` keeps every antipodal pair.
+    A hollow mesh (a thin-walled bottle or bowl, such as the thesis's objects) is grasped across:
+    the far contact is the axis's last exit from the mesh.  Axes that cross only a wall (a rim,
+    a bowl's side from inside) are narrower than ``min_width`` and dropped as "too_narrow", often
+    the most common reason on such meshes.
+
     progress : True shows a progress bar of the candidates on stderr, False never, None
         (default) when stderr is a terminal and the call runs longer than a few seconds.
     seed : an int >= 0 or a ``numpy.random.Generator`` (:func:`workbench.seeds.check_seed`).
