@@ -150,8 +150,12 @@ def test_careless_pads_phases_and_timesteps_are_refused():
     for extra, match in cases:
         with pytest.raises(ValueError, match=match):
             EnginePad(**extra)
-    with pytest.raises(ValueError, match="far outside the object's bounding box"):
+    with pytest.raises(ValueError, match=r"com must be in metres.* in millimetres\? pass \[0.0, 0.0, 0.03\]"):
         simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5, com=(0, 0, 30)))
+    with pytest.raises(
+        ValueError, match="far outside the object's bounding box"
+    ):  # within reach, off the box
+        simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5, com=(0, 0, 0.9)))
     with pytest.raises(
         ValueError,
         match=r"pad must be a workbench\.engine_trials\.EnginePad"

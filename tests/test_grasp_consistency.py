@@ -305,8 +305,10 @@ def test_careless_inputs_name_the_fix():
     task, opts = Task(mass=0.3, com=[0, 0, 0]), ModelOptions(mu=MU)
     with pytest.raises(ValueError, match="'axis'"):
         evaluate_grasp(box, {"p1": g["p1"], "p2": g["p2"]}, task, options=opts)
-    with pytest.raises(ValueError, match="another unit"):
+    with pytest.raises(ValueError, match=r"in millimetres\? pass \[0.0, 0.01, 0.0\]"):  # refused when made
         evaluate_grasp(box, g, Task(mass=0.3, com=[0, 10.0, 0]), options=opts)  # COM in mm on a metre mesh
+    with pytest.raises(ValueError, match="another unit"):  # within any object's reach, off this one
+        evaluate_grasp(box, g, Task(mass=0.3, com=[0, 0.9, 0]), options=opts)
     with pytest.raises(ValueError, match="p1 and p2 swapped"):
         evaluate_grasp(box, {**g, "axis": -g["axis"]}, task, options=opts)
     for force in (True, "10", np.nan, 0.0):  # a bool is a slip, not 1 N (as fem_jaw_profile says)

@@ -70,3 +70,16 @@ def test_q_robust_takes_a_friction_drawn_past_the_plausible_range():
         warnings.simplefilter("always")
         q_robust(grasp, 0.02, Task(mass=0.005, com=[0, 0, 0]), wide, seed=0)
     assert [w.category for w in got] == [ImplausibleWarning] and "mu = 0.02" in str(got[0].message)
+
+
+def test_a_centre_of_mass_without_a_mesh_is_judged_by_its_lever():
+    """Found by a new-user trial: Task(com=(0, 0, 30)) was refused only when used with a mesh, and
+    q_robust ran a 1.5 m lever without a word.  With no mesh the com's distance from the object
+    origin is the weight's lever, judged as a task wrench's lever is."""
+    with pytest.raises(ValueError, match=r"in millimetres\? pass \[0.0, 0.0, 0.03\]"):
+        Task(mass=0.3, com=(0, 0, 30))
+    with pytest.raises(
+        ValueError, match=r"com's distance from the object origin \[m\] must be .* in \(0, 1\] m"
+    ):
+        Task(mass=0.3, com=(0, 1.5, 0))
+    assert Task(mass=0.3, com=(0, 0, 0.05)).com == (0.0, 0.0, 0.05)

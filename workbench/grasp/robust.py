@@ -145,6 +145,7 @@ def check_com(com, mesh=None) -> np.ndarray:
     measured to the hull's facet planes (the largest signed offset: exact off a facet, a lower
     bound off an edge or corner, so the rule errs towards accepting)."""
     from workbench import config
+    from workbench.plausible import check
 
     try:
         c = np.asarray(com, dtype=float)
@@ -152,7 +153,15 @@ def check_com(com, mesh=None) -> np.ndarray:
         raise ValueError(f"com must be the centre of mass, (3,) numbers [m]; got {com!r}") from None
     if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"com must be the centre of mass, (3,) finite numbers [m]; got {com!r}")
-    if mesh is None:
+    if mesh is None:  # no object to judge it by: its lever about the origin, as a task wrench's
+        c = check_object_point(c, "com", "the centre of mass [m]")
+        if np.linalg.norm(c) > 0:
+            check(
+                "lever",
+                float(np.linalg.norm(c)),
+                "com's distance from the object origin [m]",
+                named="lever of the weight about the object origin",
+            )
         return c
     lo, hi = np.asarray(mesh.bounds, float)
     ext = float((hi - lo).max())
