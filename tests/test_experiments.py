@@ -11,6 +11,9 @@ import pytest
 from workbench.runner.cli import main
 from workbench.runner.experiment_config import build_config
 
+#: the thesis's 24 meshes (CC BY-NC 4.0: read by path beside the repository, never copied into it)
+THESIS_OBJECTS = Path(__file__).resolve().parents[2] / "shared" / "data" / "thesis_objects"
+
 SURFACES = [f"S{i}" for i in range(1, 7)]
 # Left out of `make test-nojit`: as pure Python one quick run takes minutes (docs/decisions.md).
 EXPERIMENT_RUN = pytest.mark.jit_only(
@@ -271,15 +274,57 @@ def test_power_law_quick(tmp_path):
     assert (tmp_path / "fig_4_2d_power_law.png").is_file()
 
 
+def _check_set_tables(ran: dict, rows_of: list[dict]) -> None:
+    """fem-fitting quick: each object set's Table 3.3 against its own rows."""
+    # the quartic below the ellipsoid on average (Table 3.3) under both protocols, on each set,
+    # wherever it was fitted: under the thesis code's training grid only on a profile with at
+    # least its 126 unknowns of training wrenches (none on mesh 0006: 96-118)
+    for name, v in ran.items():
+        tab = v["table_3_3_vs_thesis"]
+        n_train = [r["code_n_train"] for r in rows_of if r["object_set"] == name]
+        fitted = sum(n >= 126 for n in n_train)
+        assert tab["thesis-code"]["quartic_values"]["n_profiles"] == fitted, name
+        assert v["thesis_protocol_error"]["quartic_underdetermined"] == len(n_train) - fitted, name
+        assert (tab["thesis-code"]["quartic_values"]["mean"] is None) == (fitted == 0), name
+        for proto in ("thesis-text", "thesis-code"):
+            q, e = tab[proto]["quartic_values"]["mean"], tab[proto]["ellipsoid_sdp"]["mean"]
+            assert q is None or q < e, (name, proto)
+        for m in ("ellipsoid_sdp", "quartic_values"):
+            if tab["thesis-code"][m]["mean"] is None:
+                continue
+            assert tab["thesis-code"][m]["mean"] > 2 * tab["thesis-text"][m]["mean"], (name, m)
+            # trained on the author's wrench set, the surface is closer to the exact one wherever
+            # it is measured (uniform normals), not only on that set
+            sup = v["support_error"]
+            assert sup["thesis-code"][m]["mean"] < sup["thesis-text"][m]["mean"], (name, m)
+        # the author reports 122-294 training wrenches on their contacts; ours in the object
+        # frame are of that order (quick run: about 95-160; full run in the README)
+        assert 90 <= min(n_train) and max(n_train) <= 294, name
+
+
 @EXPERIMENT_RUN
 def test_fem_fitting_quick(tmp_path):
-    """Table 3.3 pipeline in quick mode: bottle contacts -> profiles -> both fits."""
+    """Table 3.3 pipeline in quick mode: the thesis's mesh 0006 (when the data is beside the
+    repository) and two family bottles -> profiles -> both fits, each set's table side by side."""
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
+    sets = s["object_sets"]
+    ran = {k: v for k, v in sets.items() if "skipped" not in v}
+    meshes = THESIS_OBJECTS.is_dir()
+    assert list(sets) == ["thesis_meshes", "bottle_family"]
+    assert s["headline_object_set"] == ("thesis_meshes" if meshes else "bottle_family")
+    if meshes:  # one mesh x one height x two approaches x three displacements
+        assert sets["thesis_meshes"]["n_objects"] == 1 and sets["thesis_meshes"]["n_profiles"] == 6
+    else:
+        assert "skipped" in sets["thesis_meshes"]
+    assert sets["bottle_family"]["n_objects"] == 2 and sets["bottle_family"]["n_profiles"] == 12
+    # the headline set's table is the top level's
+    assert s["table_3_3_vs_thesis"] == ran[s["headline_object_set"]]["table_3_3_vs_thesis"]
     # every task (a profile each, plus the full-mesh reference cases) is in the task stats
+    n_profiles = sum(v["n_profiles"] + v["n_empty"] for v in ran.values())
     stream = s["tasks_stream"]
     n_tasks = sum(w["tasks"] for w in stream["workers"].values())
-    assert n_tasks == s["n_profiles"] + s["n_empty"] + len(s["condensed_vs_reference"]["cases"])
+    assert n_tasks == n_profiles + len(s["condensed_vs_reference"]["cases"])
     assert 0 < stream["busy_s"] and 0 < stream["utilisation"] <= 1 + 1e-9
     for key in (
         "n_profiles",
@@ -291,40 +336,74 @@ def test_fem_fitting_quick(tmp_path):
         "seconds_per_profile",
     ):
         assert key in s
-    assert s["n_profiles"] >= 10 and s["n_empty"] == 0
-    # the quartic below the ellipsoid on average (Table 3.3), under both protocols; the
-    # thesis-code protocol (the author's wrench set) scores both models higher
-    tab = s["table_3_3_vs_thesis"]
-    for proto in ("thesis-text", "thesis-code"):
-        assert tab[proto]["quartic_values"]["mean"] < tab[proto]["ellipsoid_sdp"]["mean"], proto
-    for m in ("ellipsoid_sdp", "quartic_values"):
-        assert tab["thesis-code"][m]["mean"] > 2 * tab["thesis-text"][m]["mean"], m
-        # trained on the author's wrench set, the surface is closer to the exact one wherever
-        # it is measured (uniform normals), not only on that set
-        sup = s["support_error"]
-        assert sup["thesis-code"][m]["mean"] < sup["thesis-text"][m]["mean"], m
-    # the author reports 122-294 training wrenches on their contacts; ours in the object
-    # frame are of that order (quick run: 101-160; full run in the README)
-    n_train = s["thesis_protocol_error"]["n_train"]
-    assert 100 <= n_train["min"] and n_train["max"] <= 294
-    # the protocol ablation ran on the first profile, every variant and both models
+    assert all(v["n_empty"] == 0 for v in ran.values())
+    rows_of = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]
+    _check_set_tables(ran, rows_of)
+    # the protocol ablation ran on the first profile of the headline set, every variant, and
+    # each ratio is that variant's error over the protocol's own on the same profile
     abl = s["protocol_ablation"]
+    first = next(r for r in rows_of if r["object_set"] == s["headline_object_set"])
     assert abl["n_profiles"] == 1
-    for variant in ("jaw_frame", "coarse_elements", "author_objective"):
-        assert 0.5 < abl[variant]["ellipsoid_sdp"]["ratio"] < 2.0, variant
+    for variant in ("jaw_frame", "origin_in_box", "coarse_elements", "author_objective"):
+        cell = abl[variant]["ellipsoid_sdp"]
+        assert cell["protocol_mean"] == first["ellipsoid_sdp_code_error"], variant
+        assert cell["mean"] == first[f"abl_{variant}_ellipsoid_sdp"], variant
+        assert np.isclose(cell["ratio"], cell["mean"] / cell["protocol_mean"], rtol=1e-12), variant
     assert s["condensed_vs_reference"]["pressure_rel_l2"] <= 0.02
     assert s["condensed_vs_reference"]["force_rel_err"] <= 0.01
     # reference_cases bottles and the elliptic cylinder, run as tasks beside the rows
     cases = [c["case"] for c in s["condensed_vs_reference"]["cases"]]
     assert len(cases) == 2 and cases[1].startswith("elliptic cylinder")
     rows = (tmp_path / "rows.jsonl").read_text().splitlines()
-    assert len(rows) == s["n_profiles"]
+    assert len(rows) == n_profiles
     # a second run resumes from the checkpoint: no new rows, same table
     assert main(["run", "fem-fitting", "--quick", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "rows.jsonl").read_text().splitlines() == rows
     again = json.loads((tmp_path / "summary.json").read_text())
     assert again["quartic_values_error_mean"] == s["quartic_values_error_mean"]
-    assert s["n_resumed"] == 0 and again["n_resumed"] == s["n_profiles"]
+    assert s["n_resumed"] == 0 and again["n_resumed"] == n_profiles
+
+
+@EXPERIMENT_RUN
+@pytest.mark.skipif(not THESIS_OBJECTS.is_dir(), reason="thesis objects not available")
+def test_fem_fitting_records_a_press_the_pad_cannot_take_and_goes_on(tmp_path):
+    """Mesh 0008 is 50 mm tall: at a quarter of its height the 40 mm pad reaches below its base,
+    and a 2 mm press puts the object deeper into the pad than its 5 mm layer.  Those presses are
+    rows that say why, left out of the table; the 1 mm ones are fitted."""
+    sets = {"objects_glob": "0008*.obj", "heights": [0.25], "object_sets": ["thesis_meshes"]}
+    argv = ["run", "fem-fitting", "--quick", "--out", str(tmp_path)]
+    argv += [a for k, v in sets.items() for a in ("--set", f"{k}={json.dumps(v)}")]
+    assert main(argv) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    rows = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]
+    unsolved = [r for r in rows if "unsolved" in r]
+    assert sorted((r["approach"], r["delta_mm"]) for r in unsolved) == [
+        ("major", 2.0),
+        ("major", 3.0),
+        ("minor", 2.0),
+        ("minor", 3.0),
+    ]
+    assert all("deeper than the layer (h = 0.005 m)" in r["unsolved"] for r in unsolved)
+    assert s["n_unsolved"] == 4 and s["n_profiles"] == 2 and len(s["unsolved"]) == 2
+    assert any(line.startswith("4 presses unsolved") for line in s["headline"])
+
+
+def test_fem_fitting_without_the_meshes_runs_the_family_at_the_thesis_heights(tmp_path):
+    """The meshes' folder absent: that set is skipped (named, not an error) and the family takes
+    ``heights``, the thesis's scale; an unknown set is refused before any work."""
+    from workbench.experiments import fem_fitting
+
+    cfg = build_config("fem-fitting", False, str(tmp_path), None, {"objects_dir": str(tmp_path / "none")})
+    assert fem_fitting.OBJECT_SETS == ("thesis_meshes", "bottle_family")
+    with pytest.raises(SystemExit, match="object_sets must be distinct names"):
+        build_config("fem-fitting", True, None, None, {"object_sets": ["thesis_meshes", "bowls"]})
+    # the plan of a run without meshes: 24 bottles at the 21 thesis heights, 2 approaches
+    from workbench.experiments.fem_fitting import run_plan
+
+    plan = run_plan(cfg)
+    assert plan["skipped"] == {"thesis_meshes": f"no *.obj in {tmp_path / 'none'}"}
+    assert plan["n_objects"] == {"bottle_family": 24}
+    assert plan["n_profiles"] == 24 * 21 * 2 * 3 == 3024
 
 
 @EXPERIMENT_RUN
@@ -551,7 +630,7 @@ def test_sensitivity_rows_with_the_same_inputs_are_computed_once(tmp_path):
     "sets, match",
     [
         ({"mu": 0.0}, "mu = 0 has no friction wrench"),
-        ({"heights": [5.0]}, "heights are fractions of the bottle height"),
+        ({"heights": [5.0]}, "heights are fractions of the object.s height in \\(0, 1\\)"),
         ({"nu": 0.5}, r"--set nu=0.5: nu must be a Poisson ratio in \(-1, 0.5\)"),
         (
             {"pad": {"width": 20.0}},

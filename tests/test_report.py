@@ -109,7 +109,11 @@ def test_a_partial_results_dir_gives_a_report_with_missing_rows(tmp_path, caplog
     table = {"mean": 0.0149, "std": 0.0046}
     _write(
         tmp_path / "fem-fitting" / "summary.json",
-        {"table_3_3_vs_thesis": {"thesis-code": {"quartic_values": table}}},
+        {
+            "object_sets": {
+                "thesis_meshes": {"table_3_3_vs_thesis": {"thesis-code": {"quartic_values": table}}}
+            }
+        },
     )
     with caplog.at_level(logging.WARNING, logger="workbench.runner.report"):
         path = write_report(tmp_path)
@@ -118,7 +122,7 @@ def test_a_partial_results_dir_gives_a_report_with_missing_rows(tmp_path, caplog
     row = next(x for x in text.splitlines() if "(`quartic_values`)" in x and "thesis-code" in x)
     assert "| 0.011 ± 0.006 |" in row and "| 0.0149 ± 0.0046 |" in row and "**match**" in row
     assert "missing: parametric-surfaces/summary.json:example_3_2_5.pressure_center" in text
-    assert "missing: benchmarks/grasp.json:ms_per_grasp.soft_point" in text
+    assert "missing: benchmarks/grasp.json:build_plus_solve_ms.soft_point.median_ms" in text
     assert "rows missing their summary keys" in caplog.text
 
 

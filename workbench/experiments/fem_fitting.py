@@ -1,8 +1,11 @@
-"""Table 3.3: ellipsoid and quartic 6DLS fitted to FEM contact profiles of a bottle family.
+"""Table 3.3: ellipsoid and quartic 6DLS fitted to FEM contact profiles of the thesis's objects.
 
 Thesis §3.5.2.  A parallel-jaw pad (5 mm silicone on a rigid 20 × 40 mm jaw,
-long side vertical) squeezes the 24 bottles of :func:`workbench.fem.bottle.bottle_family`
-(8 asymmetric) at ``len(heights)`` grasp heights, from two approach directions
+long side vertical) squeezes each object of ``object_sets`` — the thesis's own 24 meshes
+(``thesis_meshes``: Fig 3.11(b), read from ``objects_dir``, :class:`workbench.fem.mesh_object.MeshObject`)
+and our parametric family of 24 bottles (``bottle_family``: :func:`workbench.fem.bottle.bottle_family`,
+8 asymmetric) — at its set's grasp heights (``heights``; the family's ``family_heights``, or
+``heights`` when the meshes are absent and the family stands in for them), from two approach directions
 (along the cross-section's major and minor axis), with three jaw displacements
 after first touch.  Each contact is solved by the condensed linear pad
 (``fidelity="condensed"``; frictionless, rigid object), the contact profile is
@@ -35,7 +38,9 @@ the author's fitting objective (L1 values, twist directions, ``‖A‖``;
 :mod:`workbench.limit_surface.author_objective`).
 
 The sweep checkpoints every profile (``rows.jsonl``), so a killed run resumes
-where it stopped and a finished one re-solves nothing.
+where it stopped and a finished one re-solves nothing.  The summary's top-level Table 3.3 is
+the first set of ``object_sets`` that ran (``headline_object_set``); ``object_sets`` holds each
+set's own, side by side.
 """
 
 from __future__ import annotations
@@ -55,6 +60,7 @@ from workbench.fem.bottle import Bottle, BottleParams, bottle_family, grasp_pose
 from workbench.fem.contact import solve_contact
 from workbench.fem.extract import extract_profile
 from workbench.fem.material import Material
+from workbench.fem.mesh_object import MeshObject
 from workbench.fem.pad import PadGeometry, condense_pad
 from workbench.fem.validation import condensed_vs_full
 from workbench.limit_surface.profile_fits import (
@@ -69,7 +75,7 @@ from workbench.limit_surface.profile_fits import (
 from workbench.limit_surface.thesis_code import check_protocol_config
 from workbench.runner.experiment_keys import Key, check_key
 from workbench.runner.parallel import check_workers, run_rows
-from workbench.runner.results import Checkpoint, save_figure, write_csv, write_summary
+from workbench.runner.results import CHECKOUT, Checkpoint, save_figure, write_csv, write_summary
 from workbench.twists_author import AUTHOR_LEVELS
 from workbench.wrench import check_mu
 
@@ -80,14 +86,24 @@ log = logging.getLogger(__name__)
 # each) and the protocol ablation's variants: workbench.limit_surface.profile_fits
 THESIS_TABLE_3_3 = {"quartic": (0.011, 0.006), "ellipsoid": (0.019, 0.005), "n_profiles": 2932}
 
+#: the object sets fem-fitting can press, in the order a run lists them
+OBJECT_SETS = ("thesis_meshes", "bottle_family")
+
 DEFAULT_CONFIG = {
     "seed": 0,
+    # the thesis's 24 meshes (when objects_dir holds them), then our parametric family beside them
+    "object_sets": ["thesis_meshes", "bottle_family"],
+    "objects_dir": str(CHECKOUT.parent / "shared" / "data" / "thesis_objects"),
+    "objects_glob": "*.obj",  # which meshes of objects_dir
     "n_objects": 24,
     "n_asymmetric": 8,
-    # grasp heights as fractions of the bottle height: the thesis's 2,932 contacts are 24 objects
+    # grasp heights as fractions of the object's height: the thesis's 2,932 contacts are 24 objects
     # x 2 approaches x 3 displacements x ~20 heights "spread vertically" (§3.5.2); 21 heights
     # from 0.25 to 0.75 give 3,024
     "heights": [round(0.25 + 0.025 * i, 3) for i in range(21)],
+    # the family's heights beside the meshes (7: 1,008 profiles, for make reproduce's budget);
+    # it takes `heights` when it runs alone or the meshes are absent
+    "family_heights": [0.25, 0.333, 0.417, 0.5, 0.583, 0.667, 0.75],
     "approaches": {"major": 0.0, "minor": float(np.pi / 2)},  # angle from the section's major axis
     "deltas_mm": [1.0, 2.0, 3.0],  # jaw displacement after first touch (§3.5.2: 1-3 mm)
     "pad": {"width": 0.02, "length": 0.04, "thickness": 0.005, "nx": 20, "ny": 40, "nz": 5},
@@ -116,6 +132,10 @@ DEFAULT_CONFIG = {
 _PAD_M = {"width": ("pad_size", 1.0), "length": ("pad_size", 1.0), "thickness": ("pad_thickness", 1.0)}
 #: what each key means, its unit and plausible range (``workbench run fem-fitting --help``)
 KEYS = {
+    "object_sets": Key("object sets to press, in order (the first that runs heads the summary)"),
+    "objects_dir": Key("folder of the thesis's meshes (OBJ, metres); absent: that set is skipped"),
+    "objects_glob": Key("which meshes of objects_dir (a glob, e.g. '000[1-8]*.obj')"),
+    "family_heights": Key("the family's grasp heights beside the meshes, fractions in (0, 1)"),
     "n_objects": Key("bottles of the family (thesis: 24)"),
     "n_asymmetric": Key("asymmetric bottles among them (thesis: 8)"),
     "heights": Key("grasp heights as fractions of the bottle height, in (0, 1)"),
@@ -155,8 +175,12 @@ def check_config(config: dict) -> None:
         check_key(key, spec, config[key])
     check_mu(config["mu"], what="limit surface")  # and not 0 (the Key's range takes it)
     geom = PadGeometry(**config["pad"])
-    if not all(0 < h < 1 for h in config["heights"]):
-        raise ValueError(f"heights are fractions of the bottle height in (0, 1); got {config['heights']}")
+    for key in ("heights", "family_heights"):
+        if not config[key] or not all(0 < h < 1 for h in config[key]):
+            raise ValueError(f"{key} are fractions of the object's height in (0, 1); got {config[key]}")
+    sets = config["object_sets"]
+    if not sets or len(set(sets)) != len(sets) or not set(sets) <= set(OBJECT_SETS):
+        raise ValueError(f"object_sets must be distinct names of {list(OBJECT_SETS)}; got {sets!r}")
     if not all(0 < d < geom.thickness * 1e3 for d in config["deltas_mm"]):
         raise ValueError(
             f"deltas_mm are jaw displacements after first touch in (0, {geom.thickness * 1e3:g}) mm "
@@ -170,16 +194,18 @@ def check_config(config: dict) -> None:
 
 
 QUICK_CONFIG = {
+    "objects_glob": "0006*.obj",
     "n_objects": 2,
     "n_asymmetric": 1,
     "heights": [0.5],
+    "family_heights": [0.5],
     "reference_cases": 1,
     "render_examples": 2,
 }
 
 
-def _profile_key(i: int, h: float, approach: str, delta_mm: float) -> str:
-    return f"bottle{i:02d}/h{h:.3f}/{approach}/d{delta_mm:.2f}"
+def _profile_key(label: str, h: float, approach: str, delta_mm: float) -> str:
+    return f"{label}/h{h:.3f}/{approach}/d{delta_mm:.2f}"
 
 
 @lru_cache(maxsize=2)
@@ -187,6 +213,72 @@ def _family(n_objects: int, n_asymmetric: int, seed: int) -> tuple[list[BottlePa
     """The bottle family, built once per process (driver and each worker)."""
     params = bottle_family(n_objects, n_asymmetric, seed)
     return params, [Bottle(p) for p in params]
+
+
+@lru_cache(maxsize=2)
+def _mesh_objects(objects_dir: str, glob: str) -> tuple[MeshObject, ...]:
+    """The meshes of ``objects_dir`` matching ``glob``, sorted by name, read once per process
+    (none when the folder is absent)."""
+    folder = Path(objects_dir)
+    return tuple(MeshObject(f) for f in sorted(folder.glob(glob))) if folder.is_dir() else ()
+
+
+def _objects(config: dict) -> list[tuple[str, str, object]]:
+    """``(set, label, object)`` of every object the run presses, set by set in ``object_sets``
+    order (a set with no object, e.g. meshes absent, contributes none: :func:`_skipped`)."""
+    out: list[tuple[str, str, object]] = []
+    for name in config["object_sets"]:
+        if name == "bottle_family":
+            _, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+            out += [(name, f"bottle{i:02d}", b) for i, b in enumerate(bottles)]
+        else:
+            out += [
+                (name, f"mesh-{m.name}", m)
+                for m in _mesh_objects(config["objects_dir"], config["objects_glob"])
+            ]
+    return out
+
+
+def _skipped(config: dict) -> dict[str, str]:
+    """The sets of ``object_sets`` that have no object here, and why."""
+    if "thesis_meshes" in config["object_sets"] and not _mesh_objects(
+        config["objects_dir"], config["objects_glob"]
+    ):
+        return {"thesis_meshes": f"no {config['objects_glob']} in {config['objects_dir']}"}
+    return {}
+
+
+def _heights(set_name: str, config: dict) -> list[float]:
+    """A set's grasp heights: ``family_heights`` for the family beside the meshes, else ``heights``."""
+    beside = "thesis_meshes" in config["object_sets"] and not _skipped(config)
+    return config["family_heights"] if set_name == "bottle_family" and beside else config["heights"]
+
+
+def run_plan(config: dict) -> dict:
+    """What a run of ``config`` would press, without pressing: the sets skipped (and why), the
+    objects and heights of each set that runs, and the profiles per set and in all (grasps ×
+    jaw displacements; empty contacts, if any, are counted here)."""
+    skipped = _skipped(config)
+    objects = _objects(config)
+    sets = [n for n in config["object_sets"] if n not in skipped]
+    n_obj = {n: sum(o[0] == n for o in objects) for n in sets}
+    per = {
+        n: n_obj[n] * len(_heights(n, config)) * len(config["approaches"]) * len(config["deltas_mm"])
+        for n in sets
+    }
+    return {
+        "skipped": skipped,
+        "n_objects": n_obj,
+        "heights": {n: _heights(n, config) for n in sets},
+        "n_profiles_per_set": per,
+        "n_profiles": sum(per.values()),
+    }
+
+
+def _at(obj, hf: float) -> float:
+    """The absolute height [m] of fraction ``hf`` of an object's height (a mesh's base may not
+    be at z = 0)."""
+    return getattr(obj, "z0", 0.0) + hf * obj.params.height
 
 
 @lru_cache(maxsize=2)
@@ -214,15 +306,30 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
     each), so a row is the same whether its task holds one profile or the grasp's all, and
     whether the run was resumed.  Runs in the driver or in a Dask worker; returns (key, row)."""
     j, i, hf, name, ang, todo = job
-    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+    set_name, label, b = _objects(config)[i]
     pad = _pad_of(config)
-    b = bottles[i]
-    pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
+    pose = grasp_pose(b, _at(b, hf), ang, pad.face_xy, pad.geometry.thickness)
     out, prev = [], None
     for k in range(max(todo) + 1):
         dmm = config["deltas_mm"][k]
         t0 = time.perf_counter()
-        sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev)
+        try:
+            sol = solve_contact(pad, pose, dmm * 1e-3, warm=prev)
+        except ValueError as exc:
+            # the object reaches deeper into the pad than its layer: the jaw would hit it (e.g.
+            # the pad reaching below a short object's base); this and the deeper presses of the
+            # grasp are recorded as unsolved, with why, and left out of the table
+            log.warning("%s h=%.3f %s: %s", label, hf, name, exc)
+            base = {"object_set": set_name, "object": label, "height_frac": hf, "approach": name}
+            out += [
+                (
+                    _profile_key(label, hf, name, config["deltas_mm"][m]),
+                    {**base, "delta_mm": config["deltas_mm"][m], "empty": False, "unsolved": str(exc)},
+                )
+                for m in todo
+                if m >= k
+            ]
+            break
         t1 = time.perf_counter()
         prev = sol
         if k not in todo:
@@ -230,8 +337,9 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
         prof = extract_profile(pad, sol, pose)
         t2 = time.perf_counter()
         row = {
-            "object": i,
-            "asymmetric": params[i].asymmetric,
+            "object_set": set_name,
+            "object": label,
+            "asymmetric": b.params.asymmetric,
             "height_frac": hf,
             "approach": name,
             "delta_mm": dmm,
@@ -256,7 +364,7 @@ def _job_rows(job: tuple, config: dict) -> list[tuple[str, dict]]:
                     ablate=_ablated(j, k, config),
                 ),
             )
-        out.append((_profile_key(i, hf, name, dmm), row))
+        out.append((_profile_key(label, hf, name, dmm), row))
     return out
 
 
@@ -293,28 +401,30 @@ def run_task(task: tuple, config: dict):
     return _job_rows(task[1], config)
 
 
-def _examples(
-    jobs: list[tuple], params: list[BottleParams], bottles: list[Bottle], pad, config: dict
-) -> dict:
-    """The profiles rendered as examples: the first grasp, then asymmetric bottles' grasps, at the
-    third jaw displacement (solved again here: cheap, and present after a resume too)."""
+def _examples(jobs: list[tuple], objects: list[tuple], pad, config: dict) -> dict:
+    """The profiles rendered as examples: the first grasp, then asymmetric objects' grasps, at the
+    third jaw displacement (solved again here: cheap, and present after a resume too);
+    ``objects`` as :func:`_objects`."""
     chosen: dict = {}
     if len(config["deltas_mm"]) < 3:
         return chosen
     for _j, i, hf, name, ang in jobs:
         if len(chosen) >= config["render_examples"]:
             break
-        if (i, name) in chosen or not (params[i].asymmetric or not chosen):
+        b = objects[i][2]
+        if (i, name) in chosen or not (b.params.asymmetric or not chosen):
             continue
-        b = bottles[i]
-        pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, pad.geometry.thickness)
+        pose = grasp_pose(b, _at(b, hf), ang, pad.face_xy, pad.geometry.thickness)
         prev = None
-        for d in config["deltas_mm"][:3]:
-            prev = solve_contact(pad, pose, d * 1e-3, warm=prev)
+        try:
+            for d in config["deltas_mm"][:3]:
+                prev = solve_contact(pad, pose, d * 1e-3, warm=prev)
+        except ValueError:  # an unsolved press (the rows record why): not an example
+            continue
         prof = extract_profile(pad, prev, pose)
         if prof is not None:
             dmm = config["deltas_mm"][2]
-            chosen[(i, name)] = (prof, f"bottle {i} {name}, jaw displacement {dmm:g} mm")
+            chosen[(i, name)] = (prof, f"{objects[i][1]} {name}, jaw displacement {dmm:g} mm")
     return chosen
 
 
@@ -356,69 +466,88 @@ def _stats(values: list) -> dict:
     return {"mean": float(v.mean()), "min": float(v.min()), "max": float(v.max())}
 
 
-def _renders(examples: dict, bottles: list[Bottle], markers: dict, out: Path) -> list[str]:
-    """The example profiles with their friction arrows and the family with its grasp points
-    (offscreen pyvista); [] with a warning when rendering fails (a convenience: the tables
-    are the result)."""
+def _renders(examples: dict, objects: list[tuple], markers: dict, out: Path) -> list[str]:
+    """The example profiles with their friction arrows and each object set with its grasp points
+    (offscreen pyvista; ``objects`` as :func:`_objects`); [] with a warning when rendering fails
+    (a convenience: the tables are the result)."""
     figures = []
     try:
         from workbench.runner.viz import render_friction_arrows
 
         twists = {"torsion about the grasp axis": np.array([0, 0, 0, 0, 0, 1.0])}
         for (i, name), (prof, title) in examples.items():
-            path = out / f"profile_bottle{i:02d}_{name}.png"
+            path = out / f"profile_{objects[i][1]}_{name}.png"
             figures.append(str(render_friction_arrows(prof, twists, path, title=title)))
-        figures.append(
-            str(_render_family(bottles, {k: np.array(v) for k, v in markers.items()}, out / "family.png"))
-        )
+        for set_name, file in (("thesis_meshes", "thesis_objects.png"), ("bottle_family", "family.png")):
+            mine = [(i, o) for i, (s, _, o) in enumerate(objects) if s == set_name]
+            if mine:
+                marks = {k: np.array(markers[i]) for k, (i, _) in enumerate(mine) if i in markers}
+                figures.append(str(_render_family([o for _, o in mine], marks, out / file, set_name)))
     except Exception as exc:
         log.warning("offscreen rendering failed: %s", exc)
     return figures
 
 
-def _render_family(bottles: list[Bottle], markers: dict, path: Path) -> Path:
-    """Fig 3.11(b): the family in a grid, with the grasp points of each object."""
+def _render_family(bottles: list, markers: dict, path: Path, what: str = "bottle family") -> Path:
+    """Fig 3.11(b): a set of objects in a grid, with the grasp points of each object."""
     from workbench.runner.viz import _pyvista, save_screenshot
 
     pv = _pyvista()
     cols = 8
+    meshes = [b.to_trimesh(64, 60) if isinstance(b, Bottle) else b.to_trimesh() for b in bottles]
+    # a grid cell a fifth larger than the largest object, so every set fits its own grid
+    dx, dz = (
+        1.2 * max(float(np.ptp(m.vertices[:, 0])) for m in meshes),
+        1.2 * max(float(np.ptp(m.vertices[:, 2])) for m in meshes),
+    )
     plotter = pv.Plotter(off_screen=True, window_size=(1400, 720))
-    for k, b in enumerate(bottles):
-        shift = np.array([(k % cols) * 0.12, 0.0, -(k // cols) * 0.3])
-        m = b.to_trimesh(64, 60)
+    for k, (b, m) in enumerate(zip(bottles, meshes, strict=True)):
+        shift = np.array([(k % cols) * dx, 0.0, -(k // cols) * dz])
         color = "salmon" if b.params.asymmetric else "lightsteelblue"
         plotter.add_mesh(pv.wrap(m).translate(shift, inplace=False), color=color, smooth_shading=True)
         if k in markers:
             plotter.add_points(markers[k] + shift, color="black", point_size=6, render_points_as_spheres=True)
     plotter.view_xz()
-    plotter.camera.zoom(1.7)
-    plotter.add_text("bottle family (red: asymmetric) with grasp points", font_size=10)
+    plotter.reset_camera()
+    plotter.add_text(f"{what} (red: asymmetric) with grasp points", font_size=10)
     return save_screenshot(plotter, path)
 
 
 def _checkpoint(out: Path, config: dict) -> Checkpoint:
     """The row checkpoint of this configuration: the settings that change no row (where the
-    rows run, the output folder, the rendering) are left out of its key."""
-    skip = ("out", "quick", "render_examples", "workers", "scheduler")
-    return Checkpoint(
-        out / "rows.jsonl", {k: v for k, v in config.items() if k not in skip}, code=code_digest(__name__)
-    )
+    rows run, the output folder, the rendering) are left out of its key, and the meshes' folder
+    is keyed by the content of the meshes it gave (moved data reuses the rows, changed data
+    does not)."""
+    import hashlib
+
+    skip = ("out", "quick", "render_examples", "workers", "scheduler", "objects_dir")
+    key = {k: v for k, v in config.items() if k not in skip}
+    digest = hashlib.sha256()
+    for m in _mesh_objects(config["objects_dir"], config["objects_glob"]):
+        digest.update(m.name.encode() + b"\0" + m.digest.encode())
+    key["objects_digest"] = digest.hexdigest()[:16]
+    return Checkpoint(out / "rows.jsonl", key, code=code_digest(__name__))
 
 
-def _plan(bottles: list[Bottle], pad, config: dict, ckpt: Checkpoint) -> tuple[list, list, dict]:
-    """The grasps ``(j, i, height fraction, approach, angle)``, those with jaw displacements
-    not in the checkpoint (their indices appended to the tuple), and the grasp points of
-    each bottle (object frame, for the family figure)."""
+def _plan(objects: list[tuple], pad, config: dict, ckpt: Checkpoint) -> tuple[list, list, dict]:
+    """The grasps ``(j, i, height fraction, approach, angle)`` (``i`` indexes ``objects``, as
+    :func:`_objects`; each at its set's heights), those with jaw displacements not in the
+    checkpoint (their indices appended to the tuple), and the grasp points of each object
+    (object frame, for the set's figure)."""
     h = pad.geometry.thickness
-    grasps = product(range(len(bottles)), config["heights"], config["approaches"].items())
+    grasps = [
+        (i, hf, approach)
+        for i, (set_name, _, _) in enumerate(objects)
+        for hf, approach in product(_heights(set_name, config), config["approaches"].items())
+    ]
     jobs = [(j, i, hf, name, ang) for j, (i, hf, (name, ang)) in enumerate(grasps)]
     markers: dict = {}
     todo_jobs = []
     for j, i, hf, name, ang in jobs:
-        b = bottles[i]
-        pose = grasp_pose(b, hf * b.params.height, ang, pad.face_xy, h)
+        label, b = objects[i][1], objects[i][2]
+        pose = grasp_pose(b, _at(b, hf), ang, pad.face_xy, h)
         markers.setdefault(i, []).append(pose.to_object(np.array([[0.0, 0.0, h]]))[0])
-        todo = [k for k, d in enumerate(config["deltas_mm"]) if _profile_key(i, hf, name, d) not in ckpt]
+        todo = [k for k, d in enumerate(config["deltas_mm"]) if _profile_key(label, hf, name, d) not in ckpt]
         if todo:
             todo_jobs.append((j, i, hf, name, ang, todo))
     return jobs, todo_jobs, markers
@@ -511,10 +640,12 @@ def _histogram(errors: dict, n_rows: int, out: Path) -> str:
     prof_ms = errors["profile_ms"]
     fig, ax = plt.subplots(1, 2, figsize=(11, 3.8))
     tables = _protocol_tables(errors)
-    top = max(t[m].max() for _, t in tables for m in TABLE_MODELS)
+    top = max(t[m].max() for _, t in tables for m in TABLE_MODELS if len(t[m]))
     bins = np.linspace(0, top * 1.05, 50)
     for j, (proto, t) in enumerate(tables):
         for m, color in zip(TABLE_MODELS, ("C0", "C1"), strict=True):
+            if not len(t[m]):  # never fitted under this protocol (the summary says why)
+                continue
             ax[0].hist(
                 t[m],
                 bins,
@@ -536,17 +667,39 @@ def _histogram(errors: dict, n_rows: int, out: Path) -> str:
 
 
 def _mean_std(v: np.ndarray) -> dict:
+    """Mean and std of ``v``; None for both when no profile has the value (a set where a
+    model was never fitted: the quartic's thesis-code training set below its 126 unknowns)."""
+    if len(v) == 0:
+        return {"mean": None, "std": None}
     return {"mean": float(v.mean()), "std": float(v.std())}
+
+
+def _cell_vs_thesis(model: str, v: np.ndarray) -> dict:
+    """A Table 3.3 cell: the mean and std of ``model``'s Eq. 3.18 errors ``v`` (n,), on how many
+    profiles it was fitted, the thesis's value and the ratio of the means (None when unfitted)."""
+    thesis = THESIS_TABLE_3_3[FAMILY[model]]
+    ratio = float(v.mean() / thesis[0]) if len(v) else None
+    return {**_mean_std(v), "n_profiles": len(v), "thesis": thesis, "ratio_of_means": ratio}
+
+
+def _unsolved(rows: list[dict]) -> dict:
+    """The presses the pad could not take (the object deeper in it than its layer), left out of
+    the table: their count and their grasps."""
+    bad = [r for r in rows if "unsolved" in r]
+    grasps = {f"{r['object']} h={r['height_frac']:.3f} {r['approach']}" for r in bad}
+    return {"n_unsolved": len(bad), "unsolved": sorted(grasps)}
 
 
 def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dict], config: dict, run: dict):
     """summary.json's content but the headline: Table 3.3 of the non-empty ``rows``, the
     reference cases ``ref``, and ``run``'s bookkeeping (n_bottles, n_resumed, tasks_ran_on,
-    tasks_wall_s, the pad's pad_precompute_s, pad_precompute_cached, pad_load_s, figures)."""
+    tasks_wall_s, the pad's pad_precompute_s, pad_precompute_cached, pad_load_s, figures; the set's
+    n_objects, objects (their kind, for the count) and n_heights)."""
     err, code_err, prof_ms = errors["test"], errors["code"], errors["profile_ms"]
     return {
         "n_profiles": len(rows),
         "n_empty": sum(r["empty"] for r in all_rows),
+        **_unsolved(all_rows),
         # rows taken from the checkpoint of an earlier (killed or finished) run; wall_time_s
         # then covers only the rest, row_compute_s is the sweep's own time over all rows
         "n_resumed": run["n_resumed"],
@@ -562,10 +715,11 @@ def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dic
                 r["profile_ms"] / 1e3
                 + sum(r.get(f"{m}_fit_s", 0.0) + r.get(f"{m}_code_fit_s", 0.0) for m in MODELS)
                 for r in all_rows
+                if "unsolved" not in r
             )
         ),
         "count": (
-            f"{run['n_bottles']} bottles x {len(config['heights'])} heights x {len(config['approaches'])} "
+            f"{run['n_objects']} {run['objects']} x {run['n_heights']} heights x {len(config['approaches'])} "
             f"approach directions x {len(config['deltas_mm'])} displacements "
             f"(thesis: {THESIS_TABLE_3_3['n_profiles']})"
         ),
@@ -594,14 +748,7 @@ def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dic
             else None
         ),
         "table_3_3_vs_thesis": {
-            proto: {
-                m: {
-                    **_mean_std(t[m]),
-                    "thesis": THESIS_TABLE_3_3[FAMILY[m]],
-                    "ratio_of_means": float(t[m].mean() / THESIS_TABLE_3_3[FAMILY[m]][0]),
-                }
-                for m in TABLE_MODELS
-            }
+            proto: {m: _cell_vs_thesis(m, t[m]) for m in TABLE_MODELS}
             for proto, t in _protocol_tables(errors)
         },
         "support_error": {
@@ -636,21 +783,41 @@ def _summary(rows: list[dict], all_rows: list[dict], errors: dict, ref: list[dic
     }
 
 
+def _table_cell(model: str, cell: dict, n_profiles: int) -> str:
+    """A model's Table 3.3 cell of the headline: mean ± std beside the thesis's, and on how many
+    of the ``n_profiles`` it was fitted (the quartic needs >= 126 training wrenches)."""
+    thesis = THESIS_TABLE_3_3[FAMILY[model]]
+    if cell["mean"] is None:
+        return f"{model} not fitted on any profile (under 126 training wrenches on each)"
+    fitted = "" if cell["n_profiles"] == n_profiles else f", fitted on {cell['n_profiles']}"
+    return (
+        f"{model} {cell['mean']:.4f} ± {cell['std']:.4f} (thesis's {FAMILY[model]} {thesis[0]} ± "
+        f"{thesis[1]}, ratio {cell['ratio_of_means']:.2f}{fitted})"
+    )
+
+
 def _headline(summary: dict, errors: dict, pad_load_s: float, from_cache: bool) -> list[str]:
     prof_ms = errors["profile_ms"]
     abl = summary["protocol_ablation"]
     return [
         *(
-            f"Table 3.3 on {summary['n_profiles']} profiles, {proto}: quartic_values "
-            f"{v['quartic_values']['mean']:.4f} ± {v['quartic_values']['std']:.4f} (thesis's quartic "
-            f"0.011 ± 0.006, ratio {v['quartic_values']['ratio_of_means']:.2f}), ellipsoid_sdp "
-            f"{v['ellipsoid_sdp']['mean']:.4f} ± {v['ellipsoid_sdp']['std']:.4f} (thesis's ellipsoid "
-            f"0.019 ± 0.005, ratio {v['ellipsoid_sdp']['ratio_of_means']:.2f})"
+            f"Table 3.3 on {summary['n_profiles']} profiles, {proto}: "
+            + ", ".join(
+                _table_cell(m, v[m], summary["n_profiles"]) for m in ("quartic_values", "ellipsoid_sdp")
+            )
             for proto, v in summary["table_3_3_vs_thesis"].items()
+        ),
+        *(
+            [
+                f"{summary['n_unsolved']} presses unsolved and left out (the object reaches deeper into "
+                f"the pad than its layer): {'; '.join(summary['unsolved'])}"
+            ]
+            if summary["n_unsolved"]
+            else []
         ),
         "sampler-independent radial error (mean): "
         + "; ".join(
-            f"{proto} " + ", ".join(f"{m} {v['mean']:.4f}" for m, v in t.items())
+            f"{proto} " + ", ".join(f"{m} {v['mean']:.4f}" for m, v in t.items() if v["mean"] is not None)
             for proto, t in summary["support_error"].items()
         ),
         *(
@@ -673,11 +840,85 @@ def _headline(summary: dict, errors: dict, pad_load_s: float, from_cache: bool) 
     ]
 
 
+#: what a set's block of ``object_sets`` in the summary keeps of :func:`_summary`
+_SET_KEYS = (
+    "n_profiles",
+    "n_empty",
+    "n_unsolved",
+    "unsolved",
+    "count",
+    "table_3_3_vs_thesis",
+    "thesis_protocol_error",
+    "protocol_ablation",
+    "support_error",
+    "quartic_values_below_ellipsoid_sdp_fraction",
+    "dims",
+)
+
+
+def _set_line(name: str, block: dict) -> str:
+    """A headline line of an object set beside the headline one."""
+    if "skipped" in block:
+        return f"{name} skipped: {block['skipped']}"
+    t = block["table_3_3_vs_thesis"]["thesis-text"]
+    return (
+        f"{name}: quartic_values {t['quartic_values']['mean']:.4f}, ellipsoid_sdp "
+        f"{t['ellipsoid_sdp']['mean']:.4f} (thesis-text, {block['n_profiles']} profiles)"
+    )
+
+
+def _set_summaries(
+    rows: list[dict],
+    ordered: list[dict],
+    objects: list[tuple],
+    ref: list[dict],
+    config: dict,
+    info: dict,
+    skipped: dict,
+) -> tuple[dict, dict]:
+    """The summary of the first set that ran (the headline set: :func:`_summary` of its rows),
+    with ``object_sets``: each set's own Table 3.3 (:data:`_SET_KEYS`), its object counts and
+    heights, and the skipped sets with why.  Returns it and the headline set's errors."""
+    sets = [n for n in config["object_sets"] if n not in skipped]
+    per_set = {}
+    for name in sets:
+        mine = [r for r in rows if r["object_set"] == name]
+        errors = _errors(mine, config)
+        own = {
+            **info,
+            "n_objects": sum(o[0] == name for o in objects),
+            "objects": "meshes" if name == "thesis_meshes" else "bottles",
+            "n_heights": len(_heights(name, config)),
+        }
+        everyone = [r for r in ordered if r["object_set"] == name]
+        per_set[name] = (errors, _summary(mine, everyone, errors, ref, config, own))
+    errors, summary = per_set[sets[0]]
+    summary["headline_object_set"] = sets[0]
+    summary["object_sets"] = {
+        **{
+            name: {
+                **{k: v for k, v in block.items() if k in _SET_KEYS},
+                "n_objects": sum(o[0] == name for o in objects),
+                "n_asymmetric": sum(o[0] == name and o[2].params.asymmetric for o in objects),
+                "heights": _heights(name, config),
+            }
+            for name, (_, block) in per_set.items()
+        },
+        **{name: {"skipped": why} for name, why in skipped.items()},
+    }
+    return summary, errors
+
+
 def run(config: dict) -> dict:
     t_start = time.perf_counter()
     out = Path(config["out"])
     out.mkdir(parents=True, exist_ok=True)
-    params, bottles = _family(config["n_objects"], config["n_asymmetric"], config["seed"])
+    skipped = _skipped(config)
+    for name, why in skipped.items():
+        log.warning("fem-fitting: object set %s skipped (%s)", name, why)
+    objects = _objects(config)
+    if not objects:
+        raise ValueError(f"fem-fitting: no object to press — {skipped}; run the bottle_family set")
     t0 = time.perf_counter()
     pad = _pad_of(config)  # built here once (or loaded from its disk cache) before any worker needs it
     pad_load_s = time.perf_counter() - t0
@@ -685,31 +926,29 @@ def run(config: dict) -> dict:
     # the grasps not yet in the checkpoint, and the full-mesh reference cases, run as tasks
     ckpt = _checkpoint(out, config)
     n_resumed = len(ckpt.rows)
-    jobs, todo_jobs, markers = _plan(bottles, pad, config, ckpt)
+    jobs, todo_jobs, markers = _plan(objects, pad, config, ckpt)
     ref_cases = reference_cases(config)
 
     def meanwhile() -> list[str]:  # the driver's share: the example profiles, rendered
-        return _renders(_examples(jobs, params, bottles, pad, config), bottles, markers, out)
+        return _renders(_examples(jobs, objects, pad, config), objects, markers, out)
 
     renders, tasks_ran_on, (tasks_s, stream), ref = _sweep(
         jobs, todo_jobs, ref_cases, ckpt, config, meanwhile
     )
 
-    # Table 3.3 over every profile, the reference cases, the figures
+    # Table 3.3 over every profile of each set, the reference cases, the figures
     # in grasp order, not the checkpoint's (the order the tasks finished in): the same table and
     # the same sums to the last bit whatever the workers
     ordered = [
-        ckpt.rows[_profile_key(i, hf, name, d)] for _, i, hf, name, _ in jobs for d in config["deltas_mm"]
+        ckpt.rows[_profile_key(objects[i][1], hf, name, d)]
+        for _, i, hf, name, _ in jobs
+        for d in config["deltas_mm"]
     ]
-    rows = [r for r in ordered if not r["empty"]]
+    rows = [r for r in ordered if not (r["empty"] or "unsolved" in r)]
     if not rows:
         raise RuntimeError("no contact profile was produced; check the pad placement")
     _write_tables(out, rows, ref)
-    errors = _errors(rows, config)
-    figures = [_histogram(errors, len(rows), out), *renders]
-
-    run_info = {
-        "n_bottles": len(bottles),
+    info = {
         "n_resumed": n_resumed,
         "tasks_ran_on": tasks_ran_on,
         "tasks_wall_s": tasks_s,
@@ -717,10 +956,19 @@ def run(config: dict) -> dict:
         "pad_precompute_s": pad.seconds,  # the build time, also when loaded from the disk cache
         "pad_precompute_cached": pad.from_cache,
         "pad_load_s": pad_load_s,
-        "figures": figures,
+        "figures": [],
     }
-    summary = _summary(rows, ordered, errors, ref, config, run_info)
-    summary["headline"] = _headline(summary, errors, pad_load_s, pad.from_cache)
+    summary, errors = _set_summaries(rows, ordered, objects, ref, config, info, skipped)
+    summary["figures"] = [_histogram(errors, summary["n_profiles"], out), *renders]
+    summary["headline"] = [
+        f"object set {summary['headline_object_set']} (of {', '.join(summary['object_sets'])})",
+        *_headline(summary, errors, pad_load_s, pad.from_cache),
+        *(
+            _set_line(name, v)
+            for name, v in summary["object_sets"].items()
+            if name != summary["headline_object_set"]
+        ),
+    ]
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
 

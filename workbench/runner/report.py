@@ -63,6 +63,7 @@ ITEMS: dict[str, str] = {
     "Table 3.2": "maximal frictional wrench w_max of S1, three contact models (§3.5.1.1)",
     "Fig 3.8": "surface discretization: wrench error rate and runtime (§3.5.1.2)",
     "Fig 3.9": "6DLS fitting error on S1–S6 (§3.5.1.3, §3.6)",
+    "Fig 3.11": "the FEM study's 24 objects (§3.5.2, Fig. 3.11(b))",
     "Table 3.3": "6DLS fitting error on FEM contact profiles (§3.5.2)",
     "Fig 4.2": "the power-law pressure of Eq. 4.3 fitted to FEM contacts on elliptic cylinders (§4.1.3.2)",
     "Fig 4.4": "sensitivity of grasp-success prediction (§4.1.3.5)",

@@ -126,23 +126,40 @@ def _show_recall_gain(v: Any) -> str:
     )
 
 
-def _runtime(model: str) -> Callable[[Summaries], float]:
-    return lambda s: s.num(GRASP, f"ms_per_grasp.{model}")
+#: where benchmarks/grasp.json keeps each runtime: solve only from cached contact sets, or the
+#: thesis's measure, the models built from the contact profiles (an empty cache) plus a solve
+_SOLVE_ONLY, _BUILD_SOLVE = "ms_per_grasp.{m}", "build_plus_solve_ms.{m}.median_ms"
+
+
+def _runtime(model: str, key: str = _SOLVE_ONLY) -> Callable[[Summaries], float]:
+    return lambda s: s.num(GRASP, key.format(m=model))
 
 
 def _runtime_vs(t42: str, t43: str) -> Callable[[Any], Verdict]:
     a, b = printed_numbers(t42)[0], printed_numbers(t43)[0]
 
+    def times(r: float) -> str:
+        n = max(r, 1 / r)
+        return (f"{n:.0f}×" if n >= 10 else f"{n:.1f}×") + (" faster" if r >= 1 else " slower")
+
     def judge(ms: Any) -> Verdict:
         return Verdict(
-            NOT_COMPARABLE, f"{ms:.3g} ms", f"{a / ms:.0f}× / {b / ms:.0f}× faster than Tables 4.2 / 4.3"
+            NOT_COMPARABLE,
+            f"{ms:.3g} ms",
+            f"Table 4.2: {times(a / ms)}; Table 4.3: {times(b / ms)}",
         )
 
     return judge
 
 
-def _runtime_order(s: Summaries) -> list[tuple[str, float]]:
-    return [(name, s.num(GRASP, f"ms_per_grasp.{m}")) for name, m in RUNTIME_MODELS.items()]
+def _runtime_order(key: str) -> Callable[[Summaries], list[tuple[str, float]]]:
+    return lambda s: [(name, s.num(GRASP, key.format(m=m))) for name, m in RUNTIME_MODELS.items()]
+
+
+def _order_not_comparable(v: Any) -> Verdict:
+    """The solve-only order, shown but not judged: the thesis's times include the build."""
+    _, shown, how = _check_order(v)
+    return Verdict(NOT_COMPARABLE, shown, how)
 
 
 def _check_order(v: Any) -> tuple[bool, str, str]:
@@ -322,31 +339,61 @@ _RUNTIMES = {
     "6DFC": ("245.4 ± 2.3", "251.6 ± 14.2"),
 }
 
+_WHY_RUNTIME = "other machine and code (thesis: 12-core 3.7 GHz i7-8700k, §4.1.4.4)"
+_ORDER_PRINTED = "14.2 < 41.3 < 235.9 < 245.4 (Table 4.2); 13.0 < 43.9 < 247.9 < 251.6 (Table 4.3)"
+_RULE_ORDER = "match if ours rank Point < Planar < 6DLS < 6DFC, as both tables"
+
 TABLES_4_2_4_3: tuple[Claim, ...] = (
     *(
         Claim(
             "Tables 4.2/4.3",
-            f"{name} (`{RUNTIME_MODELS[name]}`), ms per grasp",
+            f"{name} (`{RUNTIME_MODELS[name]}`), ms per grasp, {what}",
             f"{t42} (Table 4.2); {t43} (Table 4.3)",
             f"Tables 4.2 and 4.3, Runtime (ms/grasp), row {name}",
-            _runtime(RUNTIME_MODELS[name]),
+            _runtime(RUNTIME_MODELS[name], key),
             _runtime_vs(t42, t43),
             RULE_NOT_COMPARABLE,
             RUN_GRASP,
-            why="other machine and code (thesis: 12-core 3.7 GHz i7-8700k, §4.1.4.4) and scene: ours is "
-            "one resistance solve from cached contact sets of the elliptic-cylinder grasp",
+            why=f"{_WHY_RUNTIME}; scene: {scene}",
+        )
+        for key, what, scene in (
+            (
+                _BUILD_SOLVE,
+                "build + solve",
+                "the elliptic-cylinder grasp's models built from its two contact profiles with an "
+                "empty limit-surface cache, plus one resistance solve (median of 7)",
+            ),
+            (
+                _SOLVE_ONLY,
+                "solve only",
+                "one resistance solve from cached contact sets of the elliptic-cylinder grasp",
+            ),
         )
         for name, (t42, t43) in _RUNTIMES.items()
     ),
     Claim(
         "Tables 4.2/4.3",
-        "runtime order of the four models",
-        "14.2 < 41.3 < 235.9 < 245.4 (Table 4.2); 13.0 < 43.9 < 247.9 < 251.6 (Table 4.3)",
+        "runtime order of the four models, build + solve",
+        _ORDER_PRINTED,
         "Tables 4.2 and 4.3, Runtime (ms/grasp)",
-        _runtime_order,
+        _runtime_order(_BUILD_SOLVE),
         trend(_check_order),
-        "match if ours rank Point < Planar < 6DLS < 6DFC, as both tables",
+        _RULE_ORDER,
         RUN_GRASP,
+        why="the thesis's measure: 6DFC fits the same ellipsoid as 6DLS (Eqs. 3.29, 3.30 on the 6DLS of "
+        "Eq. 3.27) and adds its cone on top",
+    ),
+    Claim(
+        "Tables 4.2/4.3",
+        "runtime order of the four models, solve only",
+        _ORDER_PRINTED,
+        "Tables 4.2 and 4.3, Runtime (ms/grasp)",
+        _runtime_order(_SOLVE_ONLY),
+        _order_not_comparable,
+        RULE_NOT_COMPARABLE,
+        RUN_GRASP,
+        why="the thesis's times include building the models (the row above); from cached contact sets "
+        "6DLS and 6DFC solve programs of the same size (14 variables)",
     ),
 )
 
