@@ -12,6 +12,7 @@ from workbench.grasp.top_grasps import (
     top_grasp_pose,
     top_grasps,
 )
+from workbench.plausible import ImplausibleWarning
 from workbench.sources.gripper import yumi
 
 GRIPPER = yumi()
@@ -115,3 +116,25 @@ def test_the_spec_refuses_careless_values():
             TopGraspSpec(**kwargs)
     with pytest.raises(ValueError, match="n must be an integer >= 1"):
         sample_top_grasps(trimesh.creation.box([0.03] * 3), 0, 0.5, GRIPPER)
+    # found by a new-user trial: raw AttributeErrors, an object below or above the table, degrees
+    # typed in radians
+    box = trimesh.creation.box([0.03] * 3)  # centred: half of it under the table
+    with pytest.raises(
+        ValueError, match=r"must rest on the table z = 0 .*mesh.apply_translation\(\(0, 0, 0.015\)\)"
+    ):
+        sample_top_grasps(box, 5, 0.5, GRIPPER)
+    box.apply_translation([0, 0, 0.015])
+    with pytest.raises(ValueError, match="gripper must be a workbench.sources.gripper.Gripper"):
+        sample_top_grasps(box, 5, 0.5, None)
+    with pytest.raises(ValueError, match=r"spec must be .*TopGraspSpec \(or None: its defaults\); got dict"):
+        sample_top_grasps(box, 5, 0.5, GRIPPER, {"axis_at": "centre"})
+    with pytest.raises(ValueError, match="seed must be an integer >= 0"):
+        sample_top_grasps(box, 5, 0.5, GRIPPER, seed=-1)
+    with pytest.raises(ValueError, match=r"surface must be .* \(n, 3\)"):
+        top_grasps([], GRIPPER, surface=np.zeros((5, 2)))
+    with pytest.raises(ValueError, match="table_z must be the table's height"):
+        top_grasps([], GRIPPER, table_z=float("nan"))
+    with pytest.warns(ImplausibleWarning, match=r"is it in radians \(0.17 rad = 9.74 deg\)"):
+        TopGraspSpec(max_tilt_deg=0.17)
+    with pytest.raises(ValueError, match="must be an approach distance in"):
+        TopGraspSpec(approach_dist=100)

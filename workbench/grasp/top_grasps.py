@@ -17,12 +17,15 @@ here the approach is straight down as far as the axis allows (world −z made �
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..plausible import check
-from ..sources.gripper import Gripper
+from ..groups import checked_group
+from ..plausible import ImplausibleWarning, check
+from ..seeds import check_seed
+from ..sources.gripper import Gripper, check_gripper
 from .sampling import GraspSampling, antipodal_grasps
 
 log = logging.getLogger(__name__)
@@ -55,6 +58,11 @@ TOP_DROP_REASONS = {
 }
 
 
+_CLEARANCE = "Dex-Net's table_offset 5 mm; 0: the jaws may touch the table"
+_APPROACH = "Dex-Net's approach_dist 0.1 m: the gripper comes down from 10 cm above its grasp"
+_FINGER = "parallel-jaw fingers 5-20 mm thick and 20-100 mm long"
+
+
 @dataclass(frozen=True)
 class TopGraspSpec:
     """Which top grasps are kept (lengths in metres).
@@ -84,12 +92,23 @@ class TopGraspSpec:
             raise ValueError(
                 f"max_tilt_deg must be an angle in [0, 90] degrees between the axis and the table; got {t!r}"
             )
-        check("closing", self.table_clearance, "TopGraspSpec.table_clearance [m]", warn=False)
-        check("opening", self.approach_dist, "TopGraspSpec.approach_dist [m]", warn=False)
+        if 0 < t < 1:  # 10 degrees typed in radians is 0.17: every grasp but a level one dropped
+            warnings.warn(
+                f"TopGraspSpec.max_tilt_deg = {t:g} degrees keeps only nearly level axes: is it in radians "
+                f"({t:g} rad = {np.degrees(t):.3g} deg)? Dex-Net's limit is 10 degrees",
+                ImplausibleWarning,
+                stacklevel=3,
+            )
+        for key, value, what, named, examples in (
+            ("closing", self.table_clearance, "table_clearance", "clearance above the table", _CLEARANCE),
+            ("opening", self.approach_dist, "approach_dist", "approach distance", _APPROACH),
+        ):
+            check(key, value, f"TopGraspSpec.{what} [m]", warn=False, named=named, examples=examples)
         if not (isinstance(self.finger, tuple) and len(self.finger) == 2):
             raise ValueError(f"finger must be (thickness, length) [m]; got {self.finger!r}")
-        check("wall_thickness", self.finger[0], "TopGraspSpec.finger thickness [m]", warn=False)
-        check("pad_size", self.finger[1], "TopGraspSpec.finger length [m]", warn=False)
+        for value, what in zip(self.finger, ("thickness", "length"), strict=True):
+            named = f"finger {what}"
+            check("pad_size", value, f"TopGraspSpec.{named} [m]", warn=False, named=named, examples=_FINGER)
 
 
 def _pad_reference(gripper: Gripper, axis_at: str) -> np.ndarray:
@@ -180,6 +199,10 @@ def _in_boxes(points: np.ndarray, gripper: Gripper, pose: np.ndarray, spec: TopG
     return False
 
 
+#: how far [m] a mesh's lowest point may lie from the table z = 0 to be resting on it
+_REST_TOL = 1e-3
+
+
 class TopGrasps(list):
     """Top grasps: a list of ``(grasp dict, pose (4, 4))`` pairs, with ``dropped`` (every reason
     of :data:`~.sampling.DROP_REASONS` and :data:`TOP_DROP_REASONS`, zeros included) and
@@ -197,8 +220,15 @@ def top_grasps(
     ``spec.max_tilt_deg`` ("tilted"); a pad point below ``table_z + spec.table_clearance``
     ("table"); a point of ``surface`` (n, 3) [m] — the object's surface, sampled finer than a
     finger; None: no finger check — inside a finger box (:func:`finger_boxes`; "finger")."""
-    spec = TopGraspSpec() if spec is None else spec
-    pts = None if surface is None else np.asarray(surface, float).reshape(-1, 3)
+    gripper = check_gripper(gripper)
+    spec = checked_group(spec, TopGraspSpec, "spec")
+    if isinstance(table_z, bool) or not isinstance(table_z, int | float) or not np.isfinite(table_z):
+        raise ValueError(f"table_z must be the table's height [m], a finite number; got {table_z!r}")
+    pts = None if surface is None else np.asarray(surface, float)
+    if pts is not None and (pts.ndim != 2 or pts.shape[1] != 3 or not np.isfinite(pts).all()):
+        raise ValueError(
+            f"surface must be the object's surface points, (n, 3) finite [m]; got shape {np.shape(surface)}"
+        )
     kept = TopGrasps()
     kept.dropped = {**getattr(grasps, "dropped", {}), **dict.fromkeys(TOP_DROP_REASONS, 0)}
     kept.n_candidates = getattr(grasps, "n_candidates", len(grasps))
@@ -238,6 +268,18 @@ def sample_top_grasps(
     The first ``k`` grasps of a larger ``n`` are those of ``n = k`` (a run can grow)."""
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n must be an integer >= 1 (top grasps wanted); got {n!r}")
+    for name, v in (("block", block), ("max_blocks", max_blocks)):
+        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 1:
+            raise ValueError(f"{name} must be an integer >= 1; got {v!r}")
+    gripper = check_gripper(gripper)
+    spec = checked_group(spec, TopGraspSpec, "spec")
+    seed = check_seed(seed, generator=False)
+    bottom = float(np.asarray(mesh.vertices)[:, 2].min())
+    if abs(bottom) > _REST_TOL:
+        raise ValueError(
+            f"the mesh must rest on the table z = 0 of its frame; its lowest point is at z = {bottom:.4g} m "
+            f"— move it first: mesh.apply_translation((0, 0, {-bottom:.4g}))"
+        )
     surface = np.vstack([mesh.vertices, mesh.triangles_center])
     sampling = GraspSampling(max_width=gripper.opening, max_samples=block)
     out = TopGrasps()
