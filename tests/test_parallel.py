@@ -169,9 +169,15 @@ def test_row_client_is_serial_for_few_rows_one_worker_or_nothing_to_do():
     with pytest.raises(ValueError, match=r"scheduler 'tcp://h:99999': port '99999' is not a TCP port"):
         check_workers(0, "tcp://h:99999")
     with pytest.raises(ValueError, match="workers=1 with scheduler='h:8786': the rows run on that cluster"):
-        check_workers(1, "h:8786")
-    check_workers(0, "tcp://h:8786")  # an address alone, or a protocol Dask judges itself
-    check_workers(0, "inproc://x")
+        check_workers(1, "h:8786")  # refused before the address is tried
+    check_workers(0, "inproc://x")  # a protocol Dask judges itself
+    # an address where something listens passes; one where nothing does fails before any work
+    import socket
+
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        check_workers(0, f"tcp://127.0.0.1:{server.getsockname()[1]}")
+    with pytest.raises(ValueError, match=r"no Dask scheduler at 'tcp://127.0.0.1:1': 127.0.0.1:1 refused"):
+        check_workers(0, "tcp://127.0.0.1:1")
 
 
 @pytest.mark.jit_only("over 15 s as pure Python")

@@ -112,8 +112,9 @@ def in_dask_worker() -> bool:
 
 def check_workers(workers: Any, scheduler: Any) -> None:
     """``ValueError`` unless ``workers`` is an int >= 0 and ``scheduler`` a string — '' or an
-    address whose TCP port, if it has one, is in 1-65535 (:func:`scheduler_host_port`) — and
-    not both an address and a ``workers`` other than 0 (the address would override them)."""
+    address whose TCP port, if it has one, is in 1-65535 (:func:`scheduler_host_port`) and where
+    something listens (:func:`probe_scheduler`) — and not both an address and a ``workers``
+    other than 0 (the address would override them)."""
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise ValueError(
             f"workers must be 0 (a local cluster when there are many rows), 1 (serial) or the "
@@ -130,6 +131,8 @@ def check_workers(workers: Any, scheduler: Any) -> None:
                 f"workers={workers} with scheduler={scheduler!r}: the rows run on that cluster and "
                 "workers would be ignored; give one of them (workers=0 with a scheduler)"
             )
+        # before any work: nothing listening there fails now, not after the run has started
+        probe_scheduler(scheduler, config.RUN.scheduler_probe_s)
 
 
 def scheduler_host_port(address: str, what: str = "scheduler") -> tuple[str, int] | None:
@@ -150,6 +153,35 @@ def scheduler_host_port(address: str, what: str = "scheduler") -> tuple[str, int
             "`dask scheduler` printed, e.g. tcp://host:8786"
         )
     return host.strip("[]") or "127.0.0.1", int(port_text)
+
+
+def probe_scheduler(address: str, timeout: float, what: str = "scheduler") -> None:
+    """``ValueError`` (naming ``what``) at once when nothing listens at ``address``'s host and
+    port (connection refused, host unknown or unreachable), instead of the Dask client's full
+    wait; a probe that times out returns (the client's own wait then decides)."""
+    import socket
+
+    host_port = scheduler_host_port(address, what)
+    if host_port is None:
+        return
+    host, port = host_port
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            return
+    except TimeoutError:
+        log.info("no answer from %s:%d within %g s; waiting for the Dask client", host, port, timeout)
+        return
+    except socket.gaierror as exc:
+        raise ValueError(
+            f"{what} {address!r}: host {host!r} is unknown ({exc.strerror or exc}); give the "
+            "scheduler's host name or IP address, e.g. tcp://10.0.0.5:8786"
+        ) from None
+    except OSError as exc:  # refused, unreachable
+        raise ValueError(
+            f"no Dask scheduler at {address!r}: {host}:{port} refused the connection "
+            f"({exc.strerror or exc}); start one with `dask scheduler --port {port}` there, or give "
+            "the address a running scheduler printed"
+        ) from None
 
 
 @contextmanager

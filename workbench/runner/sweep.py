@@ -582,32 +582,13 @@ def scheduler_host_port(address: str) -> tuple[str, int] | None:
 
 
 def _probe_scheduler(address: str, timeout: float) -> None:
-    """``SweepError`` at once when nothing listens at ``address``'s host and port (connection
-    refused, host unknown or unreachable), instead of the Dask client's full wait; a probe
-    that times out returns (the client's own wait then decides)."""
-    import socket
+    """:func:`~.parallel.probe_scheduler` of ``--scheduler``, its error a ``SweepError``."""
+    from .parallel import probe_scheduler
 
-    host_port = scheduler_host_port(address)
-    if host_port is None:
-        return
-    host, port = host_port
     try:
-        with socket.create_connection((host, port), timeout=timeout):
-            return
-    except TimeoutError:
-        log.info("no answer from %s:%d within %g s; waiting for the Dask client", host, port, timeout)
-        return
-    except socket.gaierror as exc:
-        raise SweepError(
-            f"--scheduler {address!r}: host {host!r} is unknown ({exc.strerror or exc}); give the "
-            "scheduler's host name or IP address, e.g. tcp://10.0.0.5:8786"
-        ) from None
-    except OSError as exc:  # refused, unreachable
-        raise SweepError(
-            f"no Dask scheduler at {address!r}: {host}:{port} refused the connection "
-            f"({exc.strerror or exc}); start one with `dask scheduler --port {port}` there, or give "
-            "the address a running scheduler printed"
-        ) from None
+        probe_scheduler(address, timeout, "--scheduler")
+    except ValueError as exc:
+        raise SweepError(str(exc)) from None
 
 
 def _client(
