@@ -83,3 +83,29 @@ def test_a_centre_of_mass_without_a_mesh_is_judged_by_its_lever():
     ):
         Task(mass=0.3, com=(0, 1.5, 0))
     assert Task(mass=0.3, com=(0, 0, 0.05)).com == (0.0, 0.0, 0.05)
+
+
+def test_q_robust_logs_the_samples_solver_fallbacks_once(monkeypatch, caplog):
+    """Found by a second new-user trial: a QP fallback (the residual LP deciding) was logged once
+    per sample, 10 lines in one call.  The call logs one line with the count."""
+    import dataclasses
+    import logging
+
+    from workbench.grasp import robust
+    from workbench.grasp.resistance import api
+
+    real = robust._resists
+
+    def noisy(*args):  # every sample falls back, as resists records and logs a fallback
+        text = "QP solver 'x' left a residual; the LP decides"
+        api.log.warning("grasp resistance: %s", text)
+        return dataclasses.replace(real(*args), fallbacks=(text,))
+
+    monkeypatch.setattr(robust, "_resists", noisy)
+    p = Perturbation(n_samples=7, sigma_trans=0, sigma_rot=0, sigma_mu=0, sigma_mass=0, sigma_com=0)
+    with caplog.at_level(logging.WARNING):
+        assert q_robust(antipodal(soft=0.004, n=16), MU, Task(mass=0.1, com=[0, 0, 0]), p) == 1.0
+    lines = [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING]
+    assert lines == [
+        "q_robust: 7 solver fallbacks in 7 samples, e.g. QP solver 'x' left a residual; the LP decides"
+    ]

@@ -12,6 +12,7 @@ at once from one seeded generator (same seed ⇒ same q_robust).
 
 from __future__ import annotations
 
+import logging
 import warnings
 from dataclasses import dataclass
 
@@ -24,7 +25,10 @@ from ..seeds import check_seed
 from .contacts import check_object_point
 from .gws import check_contacts, check_mu, check_resist_tol, check_wrench, squeeze_check
 from .resistance import REPRESENTATIONS, CutStore
+from .resistance import api as resistance_api
 from .resistance.api import _resists
+
+log = logging.getLogger(__name__)
 
 G_ACC = 9.81  # m/s²
 
@@ -292,11 +296,23 @@ def q_robust(
         coms = np.asarray(com, float) + rng.normal(0.0, p.sigma_com, (K, 3))
     tol = check_resist_tol(None)
     # the samples are perturbations of the inputs checked above, not a user's inputs: none is
-    # judged again (a friction drawn past 2 or a mass past the limit is the noise's)
-    for i in range(K):
-        moved = [c.moved(Rs[i], ts[i]) for c in contacts]
-        w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
-        ok += bool(_resists(moved, w, float(mus[i]), representation, cuts, None, tol))
+    # judged again (a friction drawn past 2 or a mass past the limit is the noise's); their
+    # solver fallbacks are logged once for the call, with a count, not once per sample
+    fallbacks: list[str] = []
+    api_log = resistance_api.log  # where resists logs a fallback as it happens
+    level = api_log.level
+    api_log.setLevel(logging.ERROR)
+    try:
+        for i in range(K):
+            moved = [c.moved(Rs[i], ts[i]) for c in contacts]
+            w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
+            answer = _resists(moved, w, float(mus[i]), representation, cuts, None, tol)
+            ok += bool(answer)
+            fallbacks += answer.fallbacks
+    finally:
+        api_log.setLevel(level)
+    if fallbacks:
+        log.warning("q_robust: %d solver fallbacks in %d samples, e.g. %s", len(fallbacks), K, fallbacks[0])
     return ok / K
 
 
