@@ -210,3 +210,19 @@ def test_an_unusual_jaw_force_warns_once_per_call():
         )
     assert [w.category for w in got] == [ImplausibleWarning] and "0.5 N is below" in str(got[0].message)
     assert ev.resisted  # 0.1 N of weight against 2 x 0.5 x 0.5 N of friction
+
+
+def test_a_large_pad_warns_once_and_a_numpy_mass_is_stored_as_a_float():
+    """Second new-user trial: Jaws(pad=(0.15, 0.15)) warned once per side; Task kept a float32 mass."""
+    import warnings
+
+    from workbench.plausible import ImplausibleWarning
+
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        Jaws(pad=(0.15, 0.15))
+    assert [w.category for w in got] == [ImplausibleWarning] and "0.15 m is above the usual 0.1 m" in str(
+        got[0].message
+    )
+    task = Task(mass=np.float32(0.3), com=(0, 0, 0))
+    assert type(task.mass) is float and task.mass == pytest.approx(0.3, rel=1e-7)

@@ -75,7 +75,7 @@ class Task:
         if self.w_ext is not None:
             object.__setattr__(self, "w_ext", _floats(check_task_wrench(self.w_ext)))
         else:
-            check_mass(self.mass)
+            object.__setattr__(self, "mass", float(check_mass(self.mass)))
         if self.com is not None:
             object.__setattr__(self, "com", _floats(check_com(self.com)))
         check_down_direction(self.down)

@@ -59,9 +59,13 @@ def check_pad(pad) -> None:
         raise ValueError(
             f"pad must be the jaw face (width, length) [m], two numbers > 0, e.g. (0.02, 0.04); got {pad!r}"
         )
-    from ..plausible import check_each
+    from ..plausible import RANGES, check, check_each
 
-    check_each("pad_size", size, "pad (width, length) [m]")
+    check_each("pad_size", size, "pad (width, length) [m]", warn=False)
+    lo, hi = RANGES["pad_size"].usual
+    unusual = [v for v in size if not lo <= v <= hi]
+    if unusual:  # one warning for the pad, not one per side
+        check("pad_size", float(unusual[0]), "pad (width, length) [m]")
 
 
 def check_grasp(grasp) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
