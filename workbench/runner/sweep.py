@@ -1186,7 +1186,7 @@ def _run_points(
     lost = WorkerLoss(client)
     try:
         while futures:
-            done = _collect(ac.next_batch(block=False), futures, watch, points)
+            done = _collect(ac.next_batch(block=False), futures, watch, points, ac)
             done += _cancel_killed(client, futures, watch, points)
             for key, res in done:
                 watch.finished(key)
@@ -1227,16 +1227,25 @@ def _submit(client: Any, points: _Points, todo: list[str]) -> dict[Any, str]:
 
 
 def _collect(
-    batch: list, futures: dict[Any, str], watch: _WorkerWatch, points: _Points
+    batch: list, futures: dict[Any, str], watch: _WorkerWatch, points: _Points, ac: Any
 ) -> list[tuple[str, dict]]:
-    """(key, result) of each finished future of ``batch``, taken out of ``futures`` and released."""
+    """(key, result) of each finished future of ``batch``, taken out of ``futures`` and released.
+    A future whose result went with its worker before it was fetched (the cluster scaled down
+    or the worker died: the task is pending again) goes back to ``futures`` and ``ac`` (the
+    ``as_completed``), for the caller's no-worker watch to judge, rather than being waited on."""
+    from .. import config
+
     done: list[tuple[str, dict]] = []
     for fut in batch:
         key = futures.pop(fut, None)
         if key is None:  # cancelled here after a memory restart: recorded already
             continue
         try:
-            res = fut.result()
+            res = fut.result(timeout=config.RUN.cluster_no_worker_s)
+        except TimeoutError:
+            futures[fut] = key
+            ac.add(fut)
+            continue
         except Exception as exc:  # the task could not run at all (e.g. its workers kept dying)
             res = _lost_point(key, exc, watch, points)
         fut.release()  # a result kept referenced is computed again if its worker dies
