@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 
 from ..groups import checked_group
 from ..plausible import ImplausibleWarning
+from ..quiet_log import quieted
 from ..seeds import check_seed
 from .contacts import check_object_point
 from .gws import check_contacts, check_mu, check_resist_tol, check_wrench, squeeze_check
@@ -299,18 +300,13 @@ def q_robust(
     # judged again (a friction drawn past 2 or a mass past the limit is the noise's); their
     # solver fallbacks are logged once for the call, with a count, not once per sample
     fallbacks: list[str] = []
-    api_log = resistance_api.log  # where resists logs a fallback as it happens
-    level = api_log.level
-    api_log.setLevel(logging.ERROR)
-    try:
+    with quieted(resistance_api.log):  # where resists logs a fallback as it happens
         for i in range(K):
             moved = [c.moved(Rs[i], ts[i]) for c in contacts]
             w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
             answer = _resists(moved, w, float(mus[i]), representation, cuts, None, tol)
             ok += bool(answer)
             fallbacks += answer.fallbacks
-    finally:
-        api_log.setLevel(level)
     if fallbacks:
         log.warning("q_robust: %d solver fallbacks in %d samples, e.g. %s", len(fallbacks), K, fallbacks[0])
     return ok / K

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..groups import checked_group
 from ..plausible import ImplausibleWarning, check
+from ..quiet_log import quieted
 from ..seeds import check_seed
 from ..sources.gripper import Gripper, check_gripper
 from .sampling import GraspSampling, antipodal_grasps
@@ -289,12 +290,8 @@ def sample_top_grasps(
         rng = np.random.default_rng([seed, b])
         # a block keeps fewer than it draws by design (its counts go into dropped): the
         # sampler's shortfall warning is for a caller who asked for n, not for a block
-        level = sampler_log.level
-        sampler_log.setLevel(logging.ERROR)
-        try:
+        with quieted(sampler_log):
             drawn = antipodal_grasps(mesh, block, mu, sampling, jaws=None, seed=rng, progress=False)
-        finally:
-            sampler_log.setLevel(level)
         kept = top_grasps(drawn, gripper, spec, surface=surface)
         out.extend(kept[: n - len(out)])
         for k, v in kept.dropped.items():

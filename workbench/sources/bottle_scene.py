@@ -23,6 +23,7 @@ from functools import lru_cache
 import numpy as np
 
 from workbench.fem.bottle import Bottle, BottleParams, bottle_family
+from workbench.quiet_log import quieted
 
 log = logging.getLogger(__name__)
 
@@ -76,9 +77,7 @@ def bottle_grasp_pool(
     family = bottle_family(n_bottles, n_asymmetric, family_seed)
     pool, dropped = [], Counter()
     sampler_log = logging.getLogger(horizontal_grasps.__module__)
-    level = sampler_log.level
-    sampler_log.setLevel(logging.ERROR)  # one line below for the pool, not one per empty height
-    try:
+    with quieted(sampler_log):  # one line below for the pool, not one per empty height
         for j, params in enumerate(family):
             bottle, mesh = Bottle(params), bottle_mesh(params)
             for f in fr:
@@ -87,8 +86,6 @@ def bottle_grasp_pool(
                 kept = horizontal_grasps(mesh, [z], n_angles, mu, centre=centre, pad=pad, progress=False)
                 dropped.update(kept.dropped)
                 pool += [{"bottle": j, "height_fraction": float(f), **g} for g in kept]
-    finally:
-        sampler_log.setLevel(level)
     if not pool:
         raise ValueError(
             f"no side grasp of the {n_bottles} bottles has both walls inside the friction cone "
