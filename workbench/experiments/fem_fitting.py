@@ -894,17 +894,18 @@ def _set_summaries(
         per_set[name] = (errors, _summary(mine, everyone, errors, ref, config, own))
     errors, summary = per_set[sets[0]]
     summary["headline_object_set"] = sets[0]
+    ran = {
+        name: {
+            **{k: v for k, v in block.items() if k in _SET_KEYS},
+            "n_objects": sum(o[0] == name for o in objects),
+            "n_asymmetric": sum(o[0] == name and o[2].params.asymmetric for o in objects),
+            "heights": _heights(name, config),
+        }
+        for name, (_, block) in per_set.items()
+    }
+    # in object_sets' order, a skipped set where it would have run
     summary["object_sets"] = {
-        **{
-            name: {
-                **{k: v for k, v in block.items() if k in _SET_KEYS},
-                "n_objects": sum(o[0] == name for o in objects),
-                "n_asymmetric": sum(o[0] == name and o[2].params.asymmetric for o in objects),
-                "heights": _heights(name, config),
-            }
-            for name, (_, block) in per_set.items()
-        },
-        **{name: {"skipped": why} for name, why in skipped.items()},
+        name: ran[name] if name in ran else {"skipped": skipped[name]} for name in config["object_sets"]
     }
     return summary, errors
 
