@@ -110,6 +110,10 @@ def pytest_addoption(parser):
 
 
 def pytest_collection_modifyitems(config, items):
+    # the slow tests first (a stable sort): pytest-xdist hands each worker a contiguous share and
+    # work stealing takes from the ends of the queues, so a long test left at the end runs alone
+    # while the other worker idles; begun first, the run ends on short tests
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
     for item in items:
         for mark in item.iter_markers("jit_only"):
             reason = mark.args[0] if mark.args else mark.kwargs.get("reason")

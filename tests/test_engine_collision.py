@@ -86,6 +86,7 @@ def _deepest_pad_contact(mesh, settings: EngineSettings) -> float:
     return -min(dist, default=0.0)
 
 
+@pytest.mark.slow
 def test_the_pads_meet_the_neck_of_the_slabs_and_start_inside_the_hull():
     """The open pads 0.5 mm before a dumbbell's 10 mm neck: the slabs leave them clear; as its hull
     (a 30 mm cylinder) the object has no neck and the pads start 20 mm inside it."""

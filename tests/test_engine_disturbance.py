@@ -26,6 +26,7 @@ def _trial(wrench):
     return simulate_disturbance(BOX, GRASP, wrench, force=F, obj=OBJ, pad=EnginePad(size=PAD))
 
 
+@pytest.mark.slow
 def test_a_pull_across_the_grasp_axis_is_resisted_below_two_mu_f_only():
     # 2 μ F = 10 N along z (the pads' length): held 10 % below, slipped away 10 % above
     below = _trial([0.0, 0.0, -0.9 * 2 * MU * F, 0.0, 0.0, 0.0])
@@ -34,6 +35,7 @@ def test_a_pull_across_the_grasp_axis_is_resisted_below_two_mu_f_only():
     assert not above.held and above.drift > 10 * DisturbancePhases().max_drift
 
 
+@pytest.mark.slow
 def test_a_torsion_about_the_grasp_axis_is_resisted_below_the_pads_friction_torque_only():
     # uniform pressure on a 20 x 40 mm pad: τ_max = 2 μ F mean|r| (= 0.119 N m); the spun-pad
     # probe measured the engine's own contact at 0.971 of it, so ±20 % brackets it

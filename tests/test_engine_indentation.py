@@ -128,6 +128,7 @@ def _svk_press_force(geometry, depth: float) -> float:
     return float(SVKPad(geometry, Material()).solve(plane, [depth])[depth].force_vector[2])
 
 
+@pytest.mark.slow
 @pytest.mark.jit_only(SLOW_FEM)
 def test_mujoco_flat_at_one_millimetre_is_softer_than_our_pad_by_its_material_law():
     # Item (a) fails in MuJoCo on the flat: its 3D flex is St Venant–Kirchhoff, softer than our

@@ -61,6 +61,7 @@ def _peak_lift_acceleration(phases: TrialPhases) -> float:
     return 6.0 * phases.lift_height / phases.lift**2  # smoothstep's peak
 
 
+@pytest.mark.slow
 def test_a_box_held_at_ten_times_its_weight_holds_and_a_slippery_heavy_one_drops():
     light = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5))  # 2 μ F = 10 m g
     assert light.held and light.drift < 2e-4 and light.turn_deg < 0.5
@@ -70,6 +71,7 @@ def test_a_box_held_at_ten_times_its_weight_holds_and_a_slippery_heavy_one_drops
     assert not heavy.held and heavy.drift == pytest.approx(lift, rel=0.05)
 
 
+@pytest.mark.slow
 def test_the_box_drops_where_coulomb_says():
     # friction 2 μ F against m (g + a_max), a_max the lift's peak acceleration: held with a 10 %
     # margin, dropped 5 % short of it
@@ -79,6 +81,7 @@ def test_the_box_drops_where_coulomb_says():
         assert simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=mass, mu=0.5)).held is held
 
 
+@pytest.mark.slow
 def test_lift_and_rotate_turns_the_gripper_and_a_held_box_with_it():
     r = simulate_grasp(BOX, GRASP, force=10.0, obj=EngineObject(mass=0.1, mu=0.5), task="lift_and_rotate")
     assert r.held and r.turn_deg < 0.5
@@ -288,6 +291,7 @@ def test_open_pads_that_start_inside_the_object_are_a_miss_not_a_hold():
     )
 
 
+@pytest.mark.slow
 def test_a_trial_says_why_it_failed():
     import warnings
 
@@ -302,6 +306,7 @@ def test_a_trial_says_why_it_failed():
     assert not [w for w in caught if issubclass(w.category, EngineWarning)]
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::workbench.plausible.ImplausibleWarning")  # the 50 mm pad, on purpose
 def test_mujocos_warnings_are_recorded_and_raised_as_an_engine_warning():
     """Trial 11 C14: a 50 mm pad made MuJoCo warn (mjWARN_INERTIA) 1921 times and the library
@@ -315,6 +320,7 @@ def test_mujocos_warnings_are_recorded_and_raised_as_an_engine_warning():
     assert r.row()["engine_warnings"] == r.engine_warnings
 
 
+@pytest.mark.slow
 def test_a_yumi_trial_at_its_recorded_pose_and_a_gripper_that_misses():
     # the first REACH cube grasp (held in 5 of 5 real repeats) at its recorded pose: the cube on
     # the table, the jaws closing by the YuMi's 20 N, lifting; and the same pose 10 cm to the side

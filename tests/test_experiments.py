@@ -16,10 +16,15 @@ THESIS_OBJECTS = Path(__file__).resolve().parents[2] / "shared" / "data" / "thes
 
 SURFACES = [f"S{i}" for i in range(1, 7)]
 # Left out of `make test-nojit`: as pure Python one quick run takes minutes (docs/decisions.md).
-EXPERIMENT_RUN = pytest.mark.jit_only(
+_JIT_ONLY = pytest.mark.jit_only(
     "a whole experiment in quick mode: minutes as pure Python; every kernel it calls also runs "
     "without JIT in the unit tests (make test-nojit checks with --check-kernels)"
 )
+
+
+def EXPERIMENT_RUN(test):  # noqa: N802 - used as a marker
+    """A whole experiment in quick mode: slow (collected first) and left out of make test-nojit."""
+    return pytest.mark.slow(_JIT_ONLY(test))
 
 
 @pytest.fixture(scope="module")
@@ -1027,3 +1032,50 @@ def test_engine_validation_refuses_depths_deeper_than_its_pad_without_blaming_th
         assert f"depths_mm {depths[-1:]} reach (a)'s pad thickness of 5 mm" in msg, msg
         assert "metres" not in msg and "below 5 mm" in msg
     assert build_config("engine-validation", True, None, None, {"depths_mm": [4.9]})["depths_mm"] == [4.9]
+
+
+@EXPERIMENT_RUN
+def test_grasp_dataset_quick(tmp_path):
+    """§4.2.2 on two meshes of the test's own: every candidate a row of the Parquet table, scored by
+    every model; Fig 4.8 on the flat box, where the pads' centroid lies 20 mm above the jaw bottom
+    — above the 20 mm box, so the centre axis keeps no grasp and the jaw-bottom axis keeps the
+    side grasps at least 5 mm up; a second run resumes every row."""
+    import pandas as pd
+    import trimesh
+
+    box = trimesh.creation.box([0.08, 0.05, 0.02])
+    box.apply_translation([0, 0, 0.01])
+    box.export(tmp_path / "flat_box.obj")
+    cyl = trimesh.creation.cylinder(radius=0.025, height=0.06, sections=48)
+    cyl.apply_translation([0, 0, 0.03])
+    cyl.export(tmp_path / "can.obj")
+    out = tmp_path / "out"
+    argv = ["run", "grasp-dataset", "--quick", "--out", str(out), "--set", "workers=1"]
+    argv += ["--set", f"meshes={tmp_path}/*.obj"]
+    assert main(argv) == 0
+    s = json.loads((out / "summary.json").read_text())
+    t = pd.read_parquet(out / "table.parquet")
+    models = ["soft_point", "planar", "6dls", "6dfc"]
+    assert s["report_object"]["name"] == "flat_box_lying"
+    assert s["report_object"]["flatness"] == pytest.approx(0.02 / 0.08)
+    assert t.groupby("object").size().to_dict() == {"can": 3, "flat_box": 3, "flat_box_lying": 12}
+    assert s["fig_4_8"]["centre"]["kept"] == 0 < s["fig_4_8"]["jaw_bottom"]["kept"]
+    rep = t[t.object == "flat_box_lying"]
+    for m in models:
+        q = t[f"q_{m}"].to_numpy()
+        assert np.allclose(q * 5, np.round(q * 5), atol=1e-12) and ((q >= 0) & (q <= 1)).all()
+        assert s["fig_4_9"][m]["max_q"] == pytest.approx(rep[f"q_{m}"].max())
+    # the report object's grasps sit at least the clearance above the table, nearly horizontal
+    p1, p2 = np.stack(rep.p1.to_numpy()), np.stack(rep.p2.to_numpy())
+    assert (np.minimum(p1[:, 2], p2[:, 2]) >= 0.005 - 1e-9).all()
+    axis = p2 - p1
+    assert (np.abs(axis[:, 2]) / np.linalg.norm(axis, axis=1) <= np.sin(np.radians(10)) + 1e-9).all()
+    th = s["throughput"]
+    assert th["all_models_ms"] == pytest.approx(th["contact_ms_median"] + sum(th["model_ms_median"].values()))
+    assert s["cost_500k"]["core_hours"] == pytest.approx(th["all_models_ms"] * 5e5 / 3.6e6)
+    assert (out / "fig_4_9_quality_map.png").stat().st_size > 10_000
+    assert main(argv) == 0
+    again = pd.read_parquet(out / "table.parquet")
+    assert json.loads((out / "summary.json").read_text())["n_resumed"] == len(t)
+    keep = [c for c in t.columns if not c.startswith("t_")]
+    pd.testing.assert_frame_equal(t[keep], again[keep])

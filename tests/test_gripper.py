@@ -213,3 +213,23 @@ def test_careless_tooltips():
         dataclasses.replace(g, tooltips=g.tooltips[:1])
     with pytest.raises(ValueError, match="millimetres"):
         dataclasses.replace(g, opening=50.0)
+
+
+def test_parallel_jaw_puts_the_open_jaws_on_the_gripper_x_axis_closing_towards_each_other():
+    from workbench.sources.gripper import PadShape, parallel_jaw
+
+    g = parallel_jaw(PadShape.rectangle(0.02, 0.04, thickness=0.005), 20.0, opening=0.1, mu=0.3)
+    assert (g.opening, g.force, g.mu) == (0.1, 20.0, 0.3)
+    T = np.eye(4)
+    T[:3, 3] = [0.01, 0.02, 0.03]
+    j0, j1 = g.jaws(T)
+    np.testing.assert_allclose(j0.origin, [-0.04, 0.02, 0.03], atol=1e-15)
+    np.testing.assert_allclose(j1.origin, [0.06, 0.02, 0.03], atol=1e-15)
+    np.testing.assert_allclose(j0.closing, [1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(j1.closing, [-1, 0, 0], atol=1e-15)
+    # the pad's length (tooltip x) along the approach, gripper z: 40 mm tall, 20 mm wide
+    for j in (j0, j1):
+        pts = j.outline_points
+        assert np.ptp(pts[:, 2]) == pytest.approx(0.04) and np.ptp(pts[:, 1]) == pytest.approx(0.02)
+    with pytest.raises(ValueError, match="opening"):
+        parallel_jaw(PadShape.rectangle(0.02, 0.04), 20.0, opening=100.0)

@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(shutil.which("make") is None, reason="no make on this machine")
 
 
-TARGETS = ["reproduce", "bench", "test", "test-nojit", "lint", "bench-shoulder", "fig3"]
+TARGETS = ["reproduce", "bench", "test", "test-nojit", "lint", "bench-shoulder", "fig3", "grasp-dataset"]
 
 
 @pytest.mark.parametrize("target", TARGETS)

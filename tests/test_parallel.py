@@ -245,6 +245,7 @@ def test_fem_fitting_tasks_are_the_same_serially_and_on_two_worker_processes(tmp
         assert json.dumps(numbers(row), sort_keys=True) == json.dumps(numbers(serial[key]), sort_keys=True)
 
 
+@pytest.mark.slow
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(tmp_path):
     """ls-fitting's surface rows (quadrature or mesh wrenches, every fit and error) on two
@@ -273,6 +274,7 @@ def test_ls_fitting_surfaces_are_the_same_serially_and_on_two_worker_processes(t
     assert runs[1]["support_error"] == runs[2]["support_error"]
 
 
+@pytest.mark.slow
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_sensitivity_rows_are_the_same_in_any_order_and_on_two_worker_processes(tmp_path):
     """Each sensitivity row has its own cut store and exact contacts (the limit surfaces are

@@ -14,6 +14,7 @@ from workbench.runner.report_claims_ch4 import (
     CLAIMS,
     FIG_4_2,
     FIG_4_4,
+    FIG_4_8_4_9,
     PRINTED_4_6,
     TABLE_4_1_PHYSICAL,
     TABLE_4_6,
@@ -38,10 +39,11 @@ def test_the_tables_are_chapter_4s_items_in_order():
         *["Fig 4.2"] * 2,
         *["Fig 4.4"] * 6,
         *["Tables 4.2/4.3"] * 10,
+        *["Figs 4.8/4.9"] * 5,
         *["Table 4.6"] * 9,
         *["Table 4.1"] * 6,
     ]
-    assert CLAIMS == (*FIG_4_2, *FIG_4_4, *TABLES_4_2_4_3, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
+    assert CLAIMS == (*FIG_4_2, *FIG_4_4, *TABLES_4_2_4_3, *FIG_4_8_4_9, *TABLE_4_6, *TABLE_4_1_PHYSICAL)
 
 
 def test_recall_that_falls_once_is_a_differing_trend(tmp_path):
@@ -121,3 +123,41 @@ def test_fig_4_2_judges_the_resolved_ks_against_the_printed_range(tmp_path):
     _write(tmp_path / "power-law" / "summary.json", {"cases": cases, "n_k_at_bound": 1, "max_rms_rel": 0.08})
     (row,) = evaluate(tmp_path, FIG_4_2[:1])
     assert row.verdict.status == DIFFERS and row.verdict.deviation == "low end -0.8, high end -0.3"
+
+
+def test_figs_4_8_4_9_on_a_hand_made_dataset_summary(tmp_path):
+    def summary(soft_max, rho, dq, frac):
+        return {
+            "report_object": {"name": "flat_lying", "flatness": 0.2},
+            "n_rows": 40,
+            "n_objects": 2,
+            "fig_4_8": {"jaw_bottom": {"kept": 120}, "centre": {"kept": 30}},
+            "fig_4_9": {
+                "soft_point": {"max_q": soft_max, "frac_q_ge_half": frac["soft_point"]},
+                "planar": {"max_q": 0.9, "frac_q_ge_half": frac["planar"]},
+                "6dls": {"max_q": 1.0, "frac_q_ge_half": frac["6dls"]},
+                "spearman_6dls_6dfc": rho,
+                "median_abs_dq_6dls_6dfc": dq,
+            },
+            "throughput": {"all_models_ms": 400.0},
+            "cost_500k": {"core_hours": 55.6},
+        }
+
+    _write(
+        tmp_path / "grasp-dataset" / "summary.json",
+        summary(0.2, 0.85, 0.1, {"soft_point": 0.1, "planar": 0.3, "6dls": 0.5}),
+    )
+    rows = evaluate(tmp_path, FIG_4_8_4_9)
+    assert [r.verdict.status for r in rows] == [MATCH, MATCH, MATCH, MATCH, NOT_COMPARABLE]
+    assert rows[0].verdict.ours == "jaw bottom 120 vs centre 30"
+    assert rows[2].verdict.ours == "Spearman 0.85, median |Δq| 0.100"
+    assert rows[4].verdict.ours == "55.6 core-h for 500K"
+    # 0.3 is above the printed "less than or equal to 0.2"; a rank correlation the similarity rule
+    # cannot compute (a constant q) is not similar; planar holding more than 6DLS breaks (a, b)
+    _write(
+        tmp_path / "grasp-dataset" / "summary.json",
+        summary(0.3, None, 0.0, {"soft_point": 0.1, "planar": 0.6, "6dls": 0.5}),
+    )
+    rows = evaluate(tmp_path, FIG_4_8_4_9)
+    assert [r.verdict.status for r in rows[1:4]] == [DIFFERS, DIFFERS, DIFFERS]
+    assert rows[1].verdict.deviation == "+0.10"

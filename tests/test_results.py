@@ -190,3 +190,25 @@ def test_checkpoint_rows_are_keyed_by_the_settings_in_force(tmp_path):
         assert Checkpoint.peek(path, {"a": 1}, code="c") == {}
         Checkpoint(path, {"a": 1}, code="c").add("r", {"x": 2})
         assert Checkpoint.peek(path, {"a": 1}, code="c")["r"]["x"] == 2
+
+
+def test_write_parquet_keeps_each_columns_kind_and_nulls(tmp_path):
+    import pandas as pd
+
+    rows = [
+        {"name": "a", "n": 1, "x": 1, "held": True, "p": [0.1, 0.2]},
+        {"name": "b", "n": 2, "x": 2.5, "held": False, "p": [0.3, 0.4], "late": "z"},
+        {"name": "c", "n": 3, "x": None, "held": True, "p": [0.5, 0.6], "mixed": 1},
+    ]
+    rows[0]["mixed"] = "one"
+    path = results.write_parquet(tmp_path / "t.parquet", rows)
+    t = pd.read_parquet(path)
+    assert t["name"].tolist() == ["a", "b", "c"] and t["n"].tolist() == [1, 2, 3]
+    assert str(t["n"].dtype) == "int64" and str(t["x"].dtype) == "float64"  # ints beside floats: float
+    assert t["x"].tolist()[:2] == [1.0, 2.5] and np.isnan(t["x"].iloc[2])
+    assert t["held"].tolist() == [True, False, True]
+    assert [list(v) for v in t["p"]] == [[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]]
+    assert t["late"].isna().tolist() == [True, False, True] and t["late"][1] == "z"  # missing: null
+    assert t["mixed"].isna().tolist() == [False, True, False]
+    assert (t["mixed"][0], t["mixed"][2]) == ('"one"', "1")  # mixed kinds: JSON text
+    assert [p.name for p in tmp_path.iterdir()] == ["t.parquet"]  # no temporary left

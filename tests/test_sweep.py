@@ -374,6 +374,7 @@ def _rows(path: Path) -> list[str]:
     return [json.loads(line)["key"] for line in path.read_text().splitlines() if line.strip()]
 
 
+@pytest.mark.slow
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_killed_driver_resumes_with_every_point_exactly_once(tmp_path):
     out = tmp_path / "sw"
@@ -448,6 +449,7 @@ def test_a_worker_killed_mid_task_is_retried_and_the_sweep_completes(tmp_path):
     assert len(pd.read_parquet(tmp_path / "sw" / "table.parquet")) == 3
 
 
+@pytest.mark.slow
 @pytest.mark.jit_only("over 15 s as pure Python")
 def test_sweep_on_a_separate_process_scheduler_and_two_workers(tmp_path):
     sched_file = tmp_path / "scheduler.json"

@@ -147,6 +147,15 @@ def judge_contact(
     cache = LimitSurfaceCache.check(cache)
     cuts = CutStore() if cuts is None else cuts
     sets = [c for p in contact.profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
+    return _judge_sets(sets, model, w, mu=mu, cuts=cuts)
+
+
+def _judge_sets(sets, model: str, w: np.ndarray, *, mu: float, cuts: CutStore | None = None) -> Verdict:
+    """The :class:`Verdict` of ``model``'s contact ``sets`` (both jaws', at the gripper's force)
+    against the gravity wrench ``w`` (6,) [N, N·m]: resisted (Eq. 2.100) and the margin ``1 −
+    f_min / f`` (Eq. 4.4): :func:`judge_contact` once the sets are built (unchecked: its
+    callers built them)."""
+    cuts = CutStore() if cuts is None else cuts
     held = resists(sets, w, mu, cuts=cuts)
     mf = min_grasp_force(sets, w, mu, cuts=cuts)
     scale = float(mf.scale) if mf.feasible and np.isfinite(mf.scale) else np.inf

@@ -32,6 +32,7 @@ EXPERIMENTS = {
     "wall-nonlinear": "workbench.experiments.wall_nonlinear",
     "peers": "workbench.experiments.peers",
     "physical-trials": "workbench.experiments.physical_trials",
+    "grasp-dataset": "workbench.experiments.grasp_dataset",
 }
 
 

@@ -68,6 +68,7 @@ ITEMS: dict[str, str] = {
     "Fig 4.2": "the power-law pressure of Eq. 4.3 fitted to FEM contacts on elliptic cylinders (§4.1.3.2)",
     "Fig 4.4": "sensitivity of grasp-success prediction (§4.1.3.5)",
     "Tables 4.2/4.3": "grasp-analysis runtime per grasp (§4.1.4.5, §4.1.4.6)",
+    "Figs 4.8/4.9": "a dataset of top grasps: the grasp axis and four models' quality maps (§4.2.2)",
     "Table 4.6": "balanced accuracy of q_robust, q_force, q_work (§4.3.4)",
     "Table 4.1": "prediction of physical grasps by each contact model (§4.1.3.4)",
     "Table 4.1 (engine)": "Table 4.1's scene judged by MuJoCo instead of our exact 6DFW (§4.1.3.4)",

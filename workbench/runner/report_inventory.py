@@ -179,14 +179,18 @@ INVENTORY: tuple[Entry, ...] = (
     Entry(
         "Fig 4.8",
         "grasp axis between the jaws' centres or their bottoms",
-        NOT_YET,
-        "the grasp-dataset experiment (§4.2.2) is not written yet",
+        JUDGED,
+        "on the flattest of our meshes lying down (the EGAD object is not at hand)",
+        sections=("Figs 4.8/4.9",),
+        ours=("grasp-dataset/fig_4_9_quality_map.png",),
     ),
     Entry(
         "Fig 4.9",
         "grasp maps and the best grasp of four contact models",
-        NOT_YET,
-        "the grasp-dataset experiment (§4.2.2) is not written yet",
+        JUDGED,
+        "on the flattest of our meshes lying down (the EGAD object is not at hand)",
+        sections=("Figs 4.8/4.9",),
+        ours=("grasp-dataset/fig_4_9_quality_map.png",),
     ),
     Entry("Fig 4.10", "32 objects of the planning trials", OUT_OF_SCOPE, "photographs of objects"),
     Entry(

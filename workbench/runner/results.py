@@ -71,6 +71,34 @@ def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) 
     return atomic_write_bytes(path, buf.getvalue().encode())
 
 
+def write_parquet(path: Path, rows: Sequence[dict]) -> Path:
+    """``rows`` (dicts; a key missing from a row is null there) as one Parquet table at ``path``,
+    written atomically: a column of ints and floats is float, a column of mixed kinds JSON
+    text, a column null in every row NaN (plottable)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    columns: dict[str, list] = {}
+    for i, row in enumerate(rows):
+        for k in row:
+            columns.setdefault(k, [None] * i)
+        for k, col in columns.items():
+            col.append(row.get(k))
+    arrays = {}
+    for k, col in columns.items():
+        kinds = {type(v) for v in col if v is not None}
+        if not kinds:
+            col = [float("nan")] * len(col)
+        elif kinds <= {int, float} and float in kinds:
+            col = [None if v is None else float(v) for v in col]
+        elif len(kinds) > 1:
+            col = [None if v is None else json.dumps(v) for v in col]
+        arrays[k] = pa.array(col)
+    sink = pa.BufferOutputStream()
+    pq.write_table(pa.table(arrays), sink)
+    return atomic_write_bytes(Path(path), sink.getvalue().to_pybytes())
+
+
 def save_figure(fig: Any, path: Path, dpi: int = 130) -> Path:
     """Save a matplotlib figure atomically as PNG and close it."""
     import matplotlib.pyplot as plt

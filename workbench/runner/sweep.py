@@ -76,7 +76,7 @@ from typing import Any
 
 from ..atomic_io import atomic_write_bytes
 from ..code_key import code_digest
-from .results import Checkpoint, _jsonable, code_revision, content_hash, versions
+from .results import Checkpoint, _jsonable, code_revision, content_hash, versions, write_parquet
 
 log = logging.getLogger(__name__)
 
@@ -539,29 +539,7 @@ def _table_rows(rows: list[dict], varied: list[str]) -> list[dict]:
 
 def write_table(path: Path, rows: list[dict], varied: list[str]) -> Path:
     """Write the sweep's rows as one Parquet table, atomically (module docstring)."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    table_rows = _table_rows(rows, varied)
-    columns: dict[str, list] = {}
-    for i, row in enumerate(table_rows):
-        for k in row:
-            columns.setdefault(k, [None] * i)
-        for k, col in columns.items():
-            col.append(row.get(k))
-    arrays = {}
-    for k, col in columns.items():
-        kinds = {type(v) for v in col if v is not None}
-        if not kinds:  # null in every row (an undefined number): a NaN column, plottable
-            col = [float("nan")] * len(col)
-        elif kinds <= {int, float} and float in kinds:
-            col = [None if v is None else float(v) for v in col]  # ints and floats: one float column
-        elif len(kinds) > 1:
-            col = [None if v is None else json.dumps(v) for v in col]  # mixed kinds: JSON text
-        arrays[k] = pa.array(col)
-    sink = pa.BufferOutputStream()
-    pq.write_table(pa.table(arrays), sink)
-    return atomic_write_bytes(Path(path), sink.getvalue().to_pybytes())
+    return write_parquet(Path(path), _table_rows(rows, varied))
 
 
 def read_table(path: Path) -> Any:

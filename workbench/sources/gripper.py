@@ -42,6 +42,7 @@ __all__ = [
     "as_polygon",
     "check_gripper",
     "gripper_from_yaml",
+    "parallel_jaw",
     "points_in_polygon",
     "polygon_area",
     "polygon_centroid",
@@ -626,6 +627,20 @@ def yumi(pad: str = "polygon") -> Gripper:
             f"pad must be 'polygon' (REACH's area-contact polygon) or 'mesh' (round_pad.obj); got {pad!r}"
         )
     return g
+
+
+def parallel_jaw(
+    pad: PadShape, force: float, *, opening: float, mu: float | None = None, name: str = "parallel_jaw"
+) -> Gripper:
+    """A parallel-jaw gripper whose open tooltips sit at ``∓opening / 2`` [m] on the gripper's x
+    (the jaw axis), each closing towards the other, the approach (tooltip x) along gripper z: the
+    gripper of a grasp planner that knows only its pad, its force [N per jaw] and its opening
+    (e.g. thesis §4.1.4.2's SCHUNK jaws: 5 mm rubber, 20 N)."""
+    o = check("opening", opening, "opening") / 2
+    # tooltip axes (x, y, z) as gripper-frame columns: x the approach, z the closing, y = z × x
+    tip0 = np.array([[0.0, 0.0, 1.0, -o], [0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    tip1 = np.array([[0.0, 0.0, -1.0, o], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    return Gripper(name, np.array([tip0, tip1]), pad, force, mu, 2 * o)
 
 
 #: the gripper presets, by the name a user might pass instead of calling one
