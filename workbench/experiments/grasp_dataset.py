@@ -49,6 +49,9 @@ DEFAULT_CONFIG = {
     "n_per_object": 1000,  # top grasps scored per object (the first k of a larger n are the same)
     # the flat object of Figs 4.8-4.9: the flattest mesh lying on its broad side, n candidates
     "n_report_object": 1000,
+    # antipodal candidates drawn per object at most, in blocks of 2,000: a flat object keeps ~2 %
+    # of them as top grasps; an object that keeps fewer than n is logged and counted as it is
+    "max_candidates": 200_000,
     "models": ["soft_point", "planar", "6dls", "6dfc"],
     "mu": 0.3,  # the pads' friction (§4.1.3, the REACH gripper's)
     "sampling_mu": 0.5,  # the sampler's wider cone: "a larger friction coefficient ... preserves more grasps"
@@ -73,6 +76,7 @@ KEYS = {
     "objects_dir": Key("folder of the five measured objects' meshes (CC BY-NC 4.0)"),
     "n_per_object": Key("top grasps scored per object, >= 1"),
     "n_report_object": Key("top grasps scored on the flat report object, >= 2"),
+    "max_candidates": Key("antipodal candidates drawn per object at most, >= 2000"),
     "models": Key("contact models scoring each grasp", choices=lambda: MODELS),
     "mu": Key("pad friction coefficient", "", "mu"),
     "sampling_mu": Key("the sampler's friction cone", "", "mu"),
@@ -88,7 +92,8 @@ KEYS = {
 }
 QUICK_CONFIG = {"n_per_object": 3, "n_report_object": 12, "robust_samples": 5}
 #: keys that choose which rows a run holds, not what a row is: a run that grows resumes its rows
-_SET_KEYS = ("meshes", "thesis_dir", "objects_dir", "n_per_object", "n_report_object")
+_SET_KEYS = ("meshes", "thesis_dir", "objects_dir", "n_per_object", "n_report_object", "max_candidates")
+_BLOCK = 2000  # antipodal candidates per sampler block
 _REPORT = "_lying"  # suffix of the report object's name: the flattest mesh on its broad side
 _FIG_4_8_BLOCK = 2000  # antipodal candidates whose top grasps Fig 4.8 counts under both axes
 
@@ -97,7 +102,12 @@ def check_config(config: dict) -> None:
     """The settings, before any work: each key's rule, the counts, the gripper, the meshes."""
     for key, spec in KEYS.items():
         check_key(key, spec, config[key])
-    for key, least in (("n_per_object", 1), ("n_report_object", 2), ("robust_samples", 1)):
+    for key, least in (
+        ("n_per_object", 1),
+        ("n_report_object", 2),
+        ("robust_samples", 1),
+        ("max_candidates", _BLOCK),
+    ):
         v = config[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < least:
             raise ValueError(f"{key} must be an integer >= {least}; got {v!r}")
@@ -223,7 +233,16 @@ def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, st
     for name, path, lying, n in plan:
         mesh, _ = _rested(path, lying)
         com = mesh.convex_hull.center_mass  # the filled object's centre
-        top = sample_top_grasps(mesh, n, config["sampling_mu"], gripper, spec, seed=config["seed"])
+        top = sample_top_grasps(
+            mesh,
+            n,
+            config["sampling_mu"],
+            gripper,
+            spec,
+            seed=config["seed"],
+            block=_BLOCK,
+            max_blocks=-(-config["max_candidates"] // _BLOCK),
+        )
         counts[name] = {
             "candidates": top.n_candidates,
             "kept": len(top),
@@ -375,7 +394,7 @@ def _headline(fig48: dict, fig49: dict, models, all_ms: float, n_rows: int) -> l
 
 def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Path]:
     """Fig 4.9(a-d) on the report object: its outline from above and each grasp's axis coloured by
-    its q, one panel per model."""
+    its q (the higher drawn on top), the best grasp thick, one panel per model."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -386,17 +405,28 @@ def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Pat
 
     mesh, _ = _rested(mesh_files(config)[report.removesuffix(_REPORT)], True)
     models = config["models"]
-    fig, axes = plt.subplots(1, len(models), figsize=(3.2 * len(models), 3.2), squeeze=False)
+    ncol = min(2, len(models))
+    nrow = -(-len(models) // ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(5.0 * ncol, 2.6 * nrow + 0.6), squeeze=False)
     seg = np.array([[r["p1"][:2], r["p2"][:2]] for r in rows]) * 1e3
-    for ax, m in zip(axes[0], models, strict=True):
-        ax.plot(mesh.vertices[:, 0] * 1e3, mesh.vertices[:, 1] * 1e3, ",", color="0.7")
-        lc = LineCollection(seg, cmap="RdYlGn", norm=plt.Normalize(0, 1), linewidths=1.2)
-        lc.set_array(np.array([r[f"q_{m}"] for r in rows]))
+    norm = plt.Normalize(0, 1)
+    for ax, m in zip(axes.ravel(), models, strict=False):
+        q = np.array([r[f"q_{m}"] for r in rows])
+        order = np.argsort(q, kind="stable")
+        ax.plot(mesh.vertices[:, 0] * 1e3, mesh.vertices[:, 1] * 1e3, ",", color="0.75")
+        lc = LineCollection(seg[order], cmap="RdYlGn", norm=norm, linewidths=1.0)
+        lc.set_array(q[order])
         ax.add_collection(lc)
+        best = order[-1]
+        ax.plot(*seg[best].T, color=plt.cm.RdYlGn(norm(q[best])), lw=3.5, solid_capstyle="round")
         ax.set_aspect("equal")
-        ax.set_title(f"{m}: max q {max(r[f'q_{m}'] for r in rows):.2f}", fontsize=8)
-        ax.set_xlabel("x [mm]")
-    axes[0, 0].set_ylabel("y [mm]")
-    fig.colorbar(lc, ax=axes[0].tolist(), shrink=0.8, label="q (Eq. 2.101)")
-    fig.suptitle(f"Fig 4.9 on {report}: top grasps from above, coloured by q", fontsize=9)
+        ax.set_title(f"{m}: max q {q.max():.2f}, q ≥ 0.5 on {np.mean(q >= 0.5):.0%}", fontsize=8)
+        ax.set_xlabel("x [mm]", fontsize=7)
+        ax.set_ylabel("y [mm]", fontsize=7)
+        ax.tick_params(labelsize=7)
+    for ax in axes.ravel()[len(models) :]:
+        ax.axis("off")
+    fig.colorbar(lc, ax=axes.ravel().tolist(), shrink=0.8, label="q (Eq. 2.101)")
+    title = f"Fig 4.9 on {report}: {len(rows)} top grasps from above, coloured by q; thick: the best"
+    fig.suptitle(title, fontsize=9)
     return [save_figure(fig, out / "fig_4_9_quality_map.png")]
