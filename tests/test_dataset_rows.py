@@ -14,6 +14,8 @@ from workbench.grasp.dataset_rows import (
     dataset_cost,
     model_columns,
     nonplanarity,
+    quality_agreement,
+    quality_summary,
     score_candidate,
 )
 from workbench.grasp.gripper_eval import gripper_contact
@@ -130,3 +132,16 @@ def test_dataset_cost_is_the_arithmetic():
         dataset_cost(0.0, 10)
     with pytest.raises(ValueError, match="n_grasps"):
         dataset_cost(1.0, 2.5)
+
+
+def test_quality_summary_and_agreement_by_hand():
+    s = quality_summary([0.1, 0.9, 0.5, 0.9, 0.0], [10, 11, 12, 13, 14])
+    assert s == {"max_q": 0.9, "median_q": 0.5, "frac_q_ge_half": 0.6, "best_candidate": 11}
+    # ranks 1..4 against 1, 2, 4, 3: rho = 1 - 6 * (0 + 0 + 1 + 1) / (4 * 15) = 0.8
+    rho, dq = quality_agreement([0.1, 0.2, 0.3, 0.4], [0.1, 0.2, 0.5, 0.4])
+    assert rho == pytest.approx(0.8) and dq == pytest.approx(0.0)
+    assert quality_agreement([0.0, 0.0, 0.0], [0.1, 0.5, 0.2]) == (None, pytest.approx(0.2))
+    with pytest.raises(ValueError, match=r"qualities in \[0, 1\]"):
+        quality_summary([0.2, 1.5], [0, 1])
+    with pytest.raises(ValueError, match="same n >= 2"):
+        quality_agreement([0.1, 0.2], [0.1, 0.2, 0.3])

@@ -25,9 +25,16 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.grasp.dataset_rows import DatasetOptions, dataset_cost, score_candidate
+from workbench.grasp.dataset_rows import (
+    DatasetOptions,
+    dataset_cost,
+    quality_agreement,
+    quality_summary,
+    score_candidate,
+)
 from workbench.grasp.inputs import Task
 from workbench.grasp.models import MODELS
+from workbench.grasp.rest_pose import flatness, rest_on_table
 from workbench.grasp.robust import Perturbation
 from workbench.grasp.top_grasps import TopGraspSpec, sample_top_grasps
 from workbench.runner.experiment_keys import Key, check_key
@@ -169,32 +176,11 @@ def _spec(config: dict, axis_at: str = "jaw_bottom") -> TopGraspSpec:
 
 @lru_cache(maxsize=4)
 def _rested(path: str, lying: bool):
-    """The mesh at ``path`` resting on z = 0: upright as given, or (``lying``) turned so its
-    oriented bounding box's shortest side is vertical; and the turn (4, 4)."""
+    """The mesh at ``path`` resting on the table (:func:`~workbench.grasp.rest_pose.rest_on_table`),
+    read once per process (driver and each worker) for the last few meshes."""
     import trimesh
 
-    mesh = trimesh.load(path, force="mesh")
-    T = np.eye(4)
-    if lying:
-        obb = mesh.bounding_box_oriented
-        to_box = np.linalg.inv(obb.primitive.transform)
-        order = np.argsort(obb.primitive.extents)[::-1]  # longest along x, shortest along z
-        P = np.eye(4)
-        P[:3, :3] = np.eye(3)[order]
-        if np.linalg.det(P[:3, :3]) < 0:
-            P[1] *= -1
-        T = P @ to_box
-    mesh.apply_transform(T)
-    lift = np.eye(4)
-    lift[2, 3] = -mesh.bounds[0, 2]
-    mesh.apply_transform(lift)
-    return mesh, lift @ T
-
-
-def _flatness(mesh) -> float:
-    """Height over the largest horizontal extent."""
-    ext = mesh.extents
-    return float(ext[2] / max(ext[0], ext[1]))
+    return rest_on_table(trimesh.load(path, force="mesh"), lying)
 
 
 def _row_task(job: tuple, config: dict) -> dict:
@@ -225,7 +211,7 @@ def _key(job: tuple) -> str:
 def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, str]:
     """The candidates (jobs), per-object counts and the report object's name."""
     gripper, spec = _gripper(config), _spec(config)
-    flat = {name: _flatness(_rested(p, True)[0]) for name, p in files.items()}
+    flat = {name: flatness(_rested(p, True)[0]) for name, p in files.items()}
     report = min(flat, key=flat.get)
     plan = [(n, p, False, config["n_per_object"]) for n, p in files.items()]
     plan.append((report + _REPORT, files[report], True, config["n_report_object"]))
@@ -247,7 +233,7 @@ def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, st
             "candidates": top.n_candidates,
             "kept": len(top),
             "dropped": top.dropped,
-            "flatness": _flatness(mesh),
+            "flatness": flatness(mesh),
         }
         for k, (g, pose) in enumerate(top):
             jobs.append(
@@ -350,7 +336,9 @@ def _row_code() -> str:
 
     return content_hash(
         [
-            code_digest("workbench.grasp.dataset_rows", "workbench.grasp.top_grasps"),
+            code_digest(
+                "workbench.grasp.dataset_rows", "workbench.grasp.top_grasps", "workbench.grasp.rest_pose"
+            ),
             normalized_function(_row_task),
             normalized_function(_rested),
         ]
@@ -358,25 +346,13 @@ def _row_code() -> str:
 
 
 def _fig_4_9(rows: list[dict], models) -> dict:
-    """Per model on the report object: the largest and median q, the share with q >= 0.5, the best
-    grasp; 6DLS against 6DFC (Spearman's rank correlation, median |Δq|)."""
-    from scipy.stats import spearmanr
-
-    out = {}
-    for m in models:
-        q = np.array([r[f"q_{m}"] for r in rows])
-        best = int(np.argmax(q))
-        out[m] = {
-            "max_q": float(q.max()),
-            "median_q": float(np.median(q)),
-            "frac_q_ge_half": float(np.mean(q >= 0.5)),
-            "best_candidate": rows[best]["candidate"],
-        }
+    """Per model on the report object :func:`~workbench.grasp.dataset_rows.quality_summary`; 6DLS
+    against 6DFC :func:`~workbench.grasp.dataset_rows.quality_agreement`."""
+    q = {m: [r[f"q_{m}"] for r in rows] for m in models}
+    out = {m: quality_summary(q[m], [r["candidate"] for r in rows]) for m in models}
     if {"6dls", "6dfc"} <= set(models):
-        a, b = (np.array([r[f"q_{m}"] for r in rows]) for m in ("6dls", "6dfc"))
-        rho = spearmanr(a, b).statistic if np.ptp(a) > 0 and np.ptp(b) > 0 else None
-        out["spearman_6dls_6dfc"] = None if rho is None else float(rho)
-        out["median_abs_dq_6dls_6dfc"] = float(np.median(np.abs(a - b)))
+        rho, dq = quality_agreement(q["6dls"], q["6dfc"])
+        out |= {"spearman_6dls_6dfc": rho, "median_abs_dq_6dls_6dfc": dq}
     return out
 
 

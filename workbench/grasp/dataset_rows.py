@@ -33,6 +33,8 @@ __all__ = [
     "contact_summary",
     "dataset_cost",
     "model_columns",
+    "quality_agreement",
+    "quality_summary",
     "nonplanarity",
     "score_candidate",
 ]
@@ -177,3 +179,36 @@ def dataset_cost(
         "core_hours": core_h,
         "hours_on": {int(n): core_h / (int(n) * utilisation) for n in workers},
     }
+
+
+def quality_summary(q, candidates) -> dict:
+    """One model's qualities ``q`` (n,) in [0, 1] over the candidates numbered ``candidates`` (n,):
+    ``max_q``, ``median_q``, ``frac_q_ge_half`` (the share a 0.5 threshold calls held) and
+    ``best_candidate`` (the first with the largest q)."""
+    q = np.asarray(q, float)
+    if q.ndim != 1 or q.size == 0 or len(candidates) != q.size:
+        raise ValueError(
+            f"q must be (n,) with n >= 1 and one candidate each; got {q.shape}, {len(candidates)}"
+        )
+    if not (np.isfinite(q).all() and (q >= 0).all() and (q <= 1).all()):
+        raise ValueError("q must be qualities in [0, 1]")
+    return {
+        "max_q": float(q.max()),
+        "median_q": float(np.median(q)),
+        "frac_q_ge_half": float(np.mean(q >= 0.5)),
+        "best_candidate": int(candidates[int(np.argmax(q))]),
+    }
+
+
+def quality_agreement(a, b) -> tuple[float | None, float]:
+    """How alike two models' qualities (n,) of the same candidates are: Spearman's rank
+    correlation (None when either is constant: no ranking to compare) and the median |a − b|."""
+    from scipy.stats import spearmanr
+
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if a.shape != b.shape or a.ndim != 1 or a.size < 2:
+        raise ValueError(
+            f"a and b must be (n,) qualities of the same n >= 2 candidates; got {a.shape}, {b.shape}"
+        )
+    rho = float(spearmanr(a, b).statistic) if np.ptp(a) > 0 and np.ptp(b) > 0 else None
+    return rho, float(np.median(np.abs(a - b)))
