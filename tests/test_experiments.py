@@ -1074,6 +1074,7 @@ def test_grasp_dataset_quick(tmp_path):
     assert th["all_models_ms"] == pytest.approx(th["contact_ms_median"] + sum(th["model_ms_median"].values()))
     assert s["cost_500k"]["core_hours"] == pytest.approx(th["all_models_ms"] * 5e5 / 3.6e6)
     assert (out / "fig_4_9_quality_map.png").stat().st_size > 10_000
+    assert (out / "fig_4_9_best_grasps.png").stat().st_size > 10_000
     assert main(argv) == 0
     again = pd.read_parquet(out / "table.parquet")
     assert json.loads((out / "summary.json").read_text())["n_resumed"] == len(t)

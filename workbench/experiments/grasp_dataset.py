@@ -405,4 +405,20 @@ def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Pat
     fig.colorbar(lc, ax=axes.ravel().tolist(), shrink=0.8, label="q (Eq. 2.101)")
     title = f"Fig 4.9 on {report}: {len(rows)} top grasps from above, coloured by q; thick: the best"
     fig.suptitle(title, fontsize=9)
-    return [save_figure(fig, out / "fig_4_9_quality_map.png")]
+    return [save_figure(fig, out / "fig_4_9_quality_map.png"), _best_figure(config, mesh, rows, report, out)]
+
+
+def _best_figure(config: dict, mesh, rows: list[dict], report: str, out: Path) -> Path:
+    """Fig 4.9(e-h): each model's best grasp on the report object, its contact recomputed from the
+    row's grasp points as the row computed it."""
+    from workbench.grasp.gripper_eval import gripper_contact
+    from workbench.grasp.top_grasps import top_grasp_pose
+    from workbench.runner.grasp_figures import best_grasps_figure
+
+    gripper, best = _gripper(config), {}
+    for m in config["models"]:
+        r = max(rows, key=lambda r, m=m: r[f"q_{m}"])
+        pose = top_grasp_pose(np.asarray(r["p1"]), np.asarray(r["p2"]), gripper, _spec(config).axis_at)
+        best[m] = (gripper_contact(mesh, gripper, pose, settle=config["settle"]), r[f"q_{m}"])
+    title = f"Fig 4.9(e-h) on {report}: each model's best grasp"
+    return best_grasps_figure(mesh, best, out / "fig_4_9_best_grasps.png", title=title)
