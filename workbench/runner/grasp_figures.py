@@ -47,7 +47,8 @@ def best_grasps_figure(mesh, best: Mapping[str, tuple], path: Path, *, title: st
                 scalars="pressure [kPa]",
                 clim=(0.0, top / 1e3),
                 cmap="viridis",
-                point_size=4,
+                point_size=7,
+                scalar_bar_args={"fmt": "%.0f", "n_labels": 3},
                 render_points_as_spheres=True,
                 show_scalar_bar=i == n - 1,
             )

@@ -507,7 +507,7 @@ TABLE_4_1_PHYSICAL: tuple[Claim, ...] = (
 
 GD = "grasp-dataset/summary.json"
 RUN_GD = "make grasp-dataset"
-_FIG_GD = ("grasp-dataset/fig_4_9_quality_map.png",)
+_FIG_GD = ("grasp-dataset/fig_4_9_quality_map.png", "grasp-dataset/fig_4_9_best_grasps.png")
 _WHY_GD = (
     "the EGAD flat object is not at hand: ours is {{grasp-dataset/summary.json|report_object.name}} "
     "(height over length {{grasp-dataset/summary.json|report_object.flatness|.2f}}); the thesis states no "

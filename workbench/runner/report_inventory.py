@@ -190,7 +190,7 @@ INVENTORY: tuple[Entry, ...] = (
         JUDGED,
         "on the flattest of our meshes lying down (the EGAD object is not at hand)",
         sections=("Figs 4.8/4.9",),
-        ours=("grasp-dataset/fig_4_9_quality_map.png",),
+        ours=("grasp-dataset/fig_4_9_quality_map.png", "grasp-dataset/fig_4_9_best_grasps.png"),
     ),
     Entry("Fig 4.10", "32 objects of the planning trials", OUT_OF_SCOPE, "photographs of objects"),
     Entry(
