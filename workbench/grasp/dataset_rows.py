@@ -46,15 +46,16 @@ class DatasetOptions:
 
     mu : the pads' friction coefficient, in (0, 2].
     robust : the perturbations of Eq. 2.101 (``n_samples`` is N_r; the thesis's example has 10).
-    settle : False (default): each pad pressed alone at the planned pose, the object held by the
-        table while the jaws close (REACH's contacts); True: the object free to turn between the
-        pads until their normal forces balance (:mod:`~.settle`; ten or more presses a grasp).
+    settle : True (default): the object free to turn between the pads until their normal forces
+        balance, each pad then carrying its force (:mod:`~.settle`; ten or more presses a grasp);
+        False: each pad pressed once at the planned pose to the compression the force gives over
+        the whole pad — a grasp a few degrees off square then touches with an edge only.
     seed : the perturbations' and the models' samplers' seed.
     """
 
     mu: float = 0.3
     robust: Perturbation = field(default_factory=lambda: Perturbation(n_samples=10))
-    settle: bool = False
+    settle: bool = True
     seed: int = 0
 
     def __post_init__(self) -> None:
