@@ -96,6 +96,9 @@ def test_quick_overrides_fit_the_default_types(name, tmp_path):
                 (tmp_path / sub).mkdir(exist_ok=True)
                 (tmp_path / sub / f"{obj}.{ext}").touch()
         sets["data_dir"] = str(tmp_path)
+    if "thesis_dir" in module.DEFAULT_CONFIG:  # grasp-dataset's meshes may be absent too
+        (tmp_path / "box.obj").touch()
+        sets["meshes"] = str(tmp_path / "*.obj")
     cfg = build_config(name, False, None, None, sets)
     assert {k: cfg[k] for k in module.QUICK_CONFIG} == module.QUICK_CONFIG
 
