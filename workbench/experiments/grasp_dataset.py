@@ -410,7 +410,9 @@ def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Pat
     models = config["models"]
     ncol = min(2, len(models))
     nrow = -(-len(models) // ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(5.0 * ncol, 2.6 * nrow + 0.6), squeeze=False)
+    fig, axes = plt.subplots(
+        nrow, ncol, figsize=(5.0 * ncol, 2.8 * nrow + 0.8), squeeze=False, constrained_layout=True
+    )
     seg = np.array([[r["p1"][:2], r["p2"][:2]] for r in rows]) * 1e3
     norm = plt.Normalize(0, 1)
     for ax, m in zip(axes.ravel(), models, strict=False):
@@ -421,7 +423,8 @@ def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Pat
         lc.set_array(q[order])
         ax.add_collection(lc)
         best = order[-1]
-        ax.plot(*seg[best].T, color=plt.cm.RdYlGn(norm(q[best])), lw=3.5, solid_capstyle="round")
+        if q[best] > 0:  # a best grasp only where some grasp holds
+            ax.plot(*seg[best].T, color=plt.cm.RdYlGn(norm(q[best])), lw=3.5, solid_capstyle="round")
         ax.set_aspect("equal")
         ax.set_title(f"{m}: max q {q.max():.2f}, q ≥ 0.5 on {np.mean(q >= 0.5):.0%}", fontsize=8)
         ax.set_xlabel("x [mm]", fontsize=7)
