@@ -1111,6 +1111,20 @@ def test_grasp_dataset_refuses_careless_settings_before_any_row(tmp_path, capsys
         with pytest.raises(SystemExit):
             main([*base, *sets])
         assert re.search(match, capsys.readouterr().err), match
+    # a mesh in millimetres, an open mesh and a folder are refused naming the file
+    mm = trimesh.creation.box([80.0, 50.0, 20.0])
+    mm.export(tmp_path / "mm_box.obj")
+    open_box = trimesh.creation.box([0.08, 0.05, 0.02])
+    open_box.update_faces(np.arange(len(open_box.faces)) > 0)
+    open_box.export(tmp_path / "open_box.obj")
+    for sets, match in (
+        (["--set", f"meshes={tmp_path}/mm_box.obj"], rf"mm_box \({tmp_path}/mm_box.obj\): .*millimetres"),
+        (["--set", f"meshes={tmp_path}/open_box.obj"], r"open_box \(.*open_box.obj\): .*watertight"),
+        (["--set", f"meshes={tmp_path}"], "is not a file"),
+    ):
+        with pytest.raises(SystemExit):
+            main([*base, *sets])
+        assert re.search(match, capsys.readouterr().err), match
     assert not (tmp_path / "o" / "rows.jsonl").exists()
     from workbench.experiments.grasp_dataset import DEFAULT_CONFIG, mesh_files
 

@@ -119,6 +119,9 @@ def check_config(config: dict) -> None:
         v = config[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < least:
             raise ValueError(f"{key} must be an integer >= {least}; got {v!r}")
+    pad = config["pad"]
+    if not (isinstance(pad, list | tuple) and len(pad) == 2):
+        raise ValueError(f"pad must be [width, length] in metres, e.g. [0.02, 0.04]; got {pad!r}")
     if not isinstance(config["settle"], bool):
         raise ValueError(f"settle must be true or false; got {config['settle']!r}")
     if not config["models"] or len(set(config["models"])) != len(config["models"]):
@@ -216,6 +219,21 @@ def _key(job: tuple) -> str:
     return f"{job[0]}/{job[3]:06d}/{content_hash([job[4], job[5]], 10)}"
 
 
+def _mesh_of(name: str, path: str):
+    """The object lying on the table, or a refusal that names its file (a mesh in millimetres, an
+    open or empty mesh, a folder)."""
+    from workbench.units import closed_mesh
+
+    if not Path(path).is_file():
+        raise ValueError(f"meshes: {path} is not a file; give .obj files (a glob such as DIR/*.obj)")
+    try:
+        mesh = _rested(path, True)[0]
+        closed_mesh(mesh, f"{name} ({path})")
+    except (ValueError, IndexError, AttributeError) as e:
+        raise ValueError(f"{name} ({path}): {e}") from None
+    return mesh
+
+
 def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, str]:
     """The candidates (jobs), per-object counts and the report object's name."""
     from workbench.grasp.robust import check_object_mass
@@ -223,7 +241,7 @@ def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, st
     gripper, spec = _gripper(config), _spec(config)
     flat = {}
     for name, p in files.items():
-        mesh = _rested(p, True)[0]
+        mesh = _mesh_of(name, p)
         try:  # the one mass against each object's volume: a density no object has is refused
             check_object_mass(config["mass_kg"], mesh)
         except ValueError as e:
