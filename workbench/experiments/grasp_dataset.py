@@ -103,7 +103,6 @@ QUICK_CONFIG = {"n_per_object": 3, "n_report_object": 12, "robust_samples": 5}
 _SET_KEYS = ("meshes", "thesis_dir", "objects_dir", "n_per_object", "n_report_object", "max_candidates")
 _BLOCK = 2000  # antipodal candidates per sampler block
 _REPORT = "_lying"  # suffix of the report object's name: the flattest mesh on its broad side
-_FIG_4_8_BLOCK = 2000  # antipodal candidates whose top grasps Fig 4.8 counts under both axes
 
 
 def check_config(config: dict) -> None:
@@ -285,8 +284,9 @@ def _objects(config: dict, files: dict[str, str]) -> tuple[list[tuple], dict, st
 
 
 def _fig_4_8(config: dict, path: str) -> dict:
-    """The report object's kept grasps under both axis definitions, from the same block of
-    candidates (the counts are the result: a block keeps fewer than it draws, by design)."""
+    """The report object's kept grasps under both axis definitions, from the first block of
+    candidates, the block its rows start from (the counts are the result: a block keeps fewer
+    than it draws, by design)."""
     import logging
 
     from workbench.grasp import top_grasps as _top
@@ -298,12 +298,12 @@ def _fig_4_8(config: dict, path: str) -> dict:
         with quieted(logging.getLogger(_top.__name__)):
             top = sample_top_grasps(
                 mesh,
-                _FIG_4_8_BLOCK,
+                _BLOCK,
                 config["sampling_mu"],
                 _gripper(config),
                 _spec(config, axis_at),
                 seed=config["seed"],
-                block=_FIG_4_8_BLOCK,
+                block=_BLOCK,
                 max_blocks=1,
             )
         out[axis_at] = {"candidates": top.n_candidates, "kept": len(top), **top.dropped}
@@ -344,7 +344,9 @@ def run(config: dict) -> dict:
     ms = {m: float(np.median([r[f"t_{m}_build_ms"] + r[f"t_{m}_q_ms"] for r in scored])) for m in models}
     total = np.array([_row_ms(r, models) for r in scored])
     all_ms = float(np.median(total))
-    figures = [str(p) for p in _figures(config, rep, report, out)]
+    cost = dataset_cost(float(total.mean()), 500_000)
+    report_mesh, _ = _rested(files[report.removesuffix(_REPORT)], True)
+    figures = [str(p) for p in _figures(config, rep, report, report_mesh, out)]
     summary = {
         "n_objects": len(files),
         "report_object": {"name": report, "flatness": counts[report]["flatness"]},
@@ -362,11 +364,11 @@ def run(config: dict) -> dict:
             "rows_ran_on": ran_on,
         },
         # a dataset's total scales with the mean time a row takes, not the median
-        "cost_500k": dataset_cost(float(total.mean()), 500_000),
+        "cost_500k": cost,
         "n_resumed": n_resumed,
         "table": str(table),
         "figures": figures,
-        "headline": _headline(fig48, fig49, models, float(total.mean()), len(rows)),
+        "headline": _headline(fig48, fig49, models, float(total.mean()), len(rows), cost["core_hours"]),
     }
     return write_summary(out, NAME, config, summary, time.perf_counter() - t_start)
 
@@ -401,21 +403,20 @@ def _fig_4_9(rows: list[dict], models) -> dict:
     return out
 
 
-def _headline(fig48: dict, fig49: dict, models, all_ms: float, n_rows: int) -> list[str]:
-    k = fig48
-    lines = [
-        f"Fig 4.8: {k['jaw_bottom']['kept']} top grasps kept with the jaw-bottom axis, {k['centre']['kept']} "
-        f"with the centre axis, of {k['jaw_bottom']['candidates']} candidates",
+def _headline(fig48: dict, fig49: dict, models, mean_ms: float, n_rows: int, core_hours: float) -> list[str]:
+    return [
+        f"Fig 4.8: {fig48['jaw_bottom']['kept']} top grasps kept with the jaw-bottom axis, "
+        f"{fig48['centre']['kept']} with the centre axis, of {fig48['jaw_bottom']['candidates']} candidates",
         "Fig 4.9: max q " + ", ".join(f"{m} {fig49[m]['max_q']:.2f}" for m in models),
-        f"{n_rows} grasps, {all_ms:.0f} ms a grasp (mean) for every model on one core "
-        f"(500K grasps: {dataset_cost(all_ms, 500_000)['core_hours']:.0f} core-hours)",
+        f"{n_rows} grasps, {mean_ms:.0f} ms a grasp (mean) for every model on one core "
+        f"(500K grasps: {core_hours:.0f} core-hours)",
     ]
-    return lines
 
 
-def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Path]:
+def _figures(config: dict, rows: list[dict], report: str, mesh, out: Path) -> list[Path]:
     """Fig 4.9(a-d) on the report object: its outline from above and each grasp's axis coloured by
-    its q (the higher drawn on top), the best grasp thick, one panel per model."""
+    its q (the higher drawn on top), the best grasp thick, one panel per model; ``mesh``: the
+    report object as it lies."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -424,7 +425,6 @@ def _figures(config: dict, rows: list[dict], report: str, out: Path) -> list[Pat
 
     from workbench.runner.results import save_figure
 
-    mesh, _ = _rested(mesh_files(config)[report.removesuffix(_REPORT)], True)
     models = config["models"]
     ncol = min(2, len(models))
     nrow = -(-len(models) // ncol)

@@ -21,9 +21,9 @@ import numpy as np
 from ..groups import checked_group
 from ..limit_surface import LimitSurfaceCache
 from ..seeds import check_seed
-from .gripper_eval import _judge_sets, gripper_contact
+from .gripper_eval import _checked_models, _judge_sets, gripper_contact
 from .inputs import Task
-from .models import check_model, contact_sets
+from .models import contact_sets
 from .resistance import CutStore
 from .robust import Perturbation, gravity_wrench, q_robust
 from .settle import SettledContact
@@ -131,11 +131,7 @@ def score_candidate(mesh, gripper, pose, task: Task, models, options: DatasetOpt
     task = checked_group(task, Task, "task")
     if task.mass is None or task.com is None:
         raise ValueError("task must be gravity on a mass at a com: Task(mass=..., com=..., down=...)")
-    models = (models,) if isinstance(models, str) else tuple(models)
-    if not models:
-        raise ValueError("models must name at least one contact model")
-    for m in models:
-        check_model(m)
+    models = _checked_models(models)
     t0 = time.perf_counter()
     contact = gripper_contact(mesh, gripper, pose, settle=opts.settle)
     row: dict = {

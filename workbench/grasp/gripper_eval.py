@@ -145,7 +145,6 @@ def judge_contact(
     d = contact.rotation @ np.asarray(task.down, float)  # the object turned as it settled
     w = gravity_wrench(task.mass, task.com, down=d)
     cache = LimitSurfaceCache.check(cache)
-    cuts = CutStore() if cuts is None else cuts
     sets = [c for p in contact.profiles for c in contact_sets(p, model, cache=cache, seed=seed)]
     return _judge_sets(sets, model, w, mu=mu, cuts=cuts)
 
