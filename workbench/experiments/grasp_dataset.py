@@ -73,7 +73,7 @@ DEFAULT_CONFIG = {
     # True: the object free to turn between the pads until their normal forces balance, each pad
     # then carrying its force; False: each pad pressed at the planned pose to the compression its
     # force gives over the whole pad, which off-square grasps meet with an edge only (a few mm²:
-    # almost no grasp holds) - ten times faster, for timing runs
+    # almost no grasp holds) - one press a pad instead of a search (docs/decisions.md has the cost)
     "settle": True,
     "workers": 0,
     "scheduler": "",
