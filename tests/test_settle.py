@@ -59,16 +59,39 @@ def test_a_tilted_grasp_settles_flush(cube):
 
 
 def test_pressed_jaw_by_jaw_touches_only_a_strip(cube):
-    # 2 N: a compression of 0.06 mm, less than the 0.9 mm the 5° tilt opens across the pad
-    c = gripper_contact(cube, _gripper(force=2.0), _pose(5.0), settle=False)
+    force, tilt = 2.0, np.radians(5.0)
+    c = gripper_contact(cube, _gripper(force=force), _pose(5.0), settle=False)
     assert c.touches and c.tilt == 0.0
-    # each tilted pad meets the face along an edge strip: far less than the pad
-    assert all(p.areas.sum() < 0.35 * PAD**2 for p in c.profiles)
-    # and the two strips' centres are apart sideways: a couple no free object holds still under
+    # each tilted pad, pressed until its force along the closing axis is 2 N, meets the face in a
+    # wedge along its edge: F = k L w² tan(t) / 2 (Winkler, pressure k × depth along the axis)
+    k = _gripper().pad.stiffness
+    w = np.sqrt(2 * force / (k * PAD * np.tan(tilt)))  # 3.7 mm of the 10 mm pad
+    for p, jaw in zip(c.profiles, c.jaws, strict=True):
+        assert abs(p.areas.sum() - w * PAD) / (w * PAD) < 0.05  # 1 mm elements across 3.7 mm
+        np.testing.assert_allclose(abs(p.normal_wrench[:3] @ jaw.closing), force, rtol=1e-9)
+    # the two strips' centres are apart sideways: a couple no free object holds still under
     d = c.profiles[0].pressure_center - c.profiles[1].pressure_center
     axis = c.jaws[0].closing
     assert np.linalg.norm(d - (d @ axis) * axis) > 2e-3
     assert c.torque > 0.05
+
+
+def test_a_pad_pressed_to_its_force_on_a_cylinder_matches_the_line_contact():
+    # a rigid flat Winkler pad pressed on a cylinder's side (radius R, the pad's length L along
+    # the axis): h(x) = x²/2R behind first touch, so F = k L ∫ (d − x²/2R) dx over |x| < a = √(2Rd)
+    # = (2/3) k L a³ / R: a band 2a = 2 (3 F R / 2 k L)^(1/3) wide, pressed d = a²/2R
+    R, force = 0.02, 5.0
+    cyl = trimesh.creation.cylinder(radius=R, height=0.1, sections=720)
+    g = _gripper(force=force)
+    L = PAD
+    # the closing axis along the object's x, the pads' length along the cylinder's axis (z)
+    c = gripper_contact(cyl, g, np.eye(4), settle=False, max_edge=2.5e-4)
+    k = g.pad.stiffness
+    a = (3 * force * R / (2 * k * L)) ** (1 / 3)  # 3.6 mm: the band lies inside the 10 mm pad
+    band, d = 2 * a, a**2 / (2 * R)
+    for p, depth in zip(c.profiles, c.depths, strict=True):
+        assert abs(p.areas.sum() - band * L) / (band * L) < 0.03
+        assert abs(depth - d) / d < 0.05
 
 
 def test_a_square_grasp_needs_no_turn(cube):
@@ -107,9 +130,8 @@ def test_normal_torque_of_two_opposed_offset_patches():
     np.testing.assert_allclose(normal_torque([a, b], np.zeros(3)), [0, 0, -2 * h], atol=1e-15)
 
 
-def test_settle_refuses_bad_force_and_closing(cube):
+def test_settle_refuses_a_bad_force(cube):
     jaws = _gripper().jaws(_pose())
-    with pytest.raises(ValueError, match="force"):
-        settle_contact(jaws, lambda j, d: None, -1.0, closing=1e-4)
-    with pytest.raises(ValueError, match="closing"):
-        settle_contact(jaws, lambda j, d: None, 20.0, closing=0.0)
+    for bad in (-1.0, 0.0, np.nan):
+        with pytest.raises(ValueError, match="force"):
+            settle_contact(jaws, lambda j: None, bad)

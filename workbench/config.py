@@ -544,6 +544,10 @@ class Defaults:
     # it) get no Winkler pressure — their area under the pad vanishes; without it
     # a box's side walls carried up to 9 % of the jaw force sideways.
     reach_min_facing: float = _field(0.1, _FRACTION)  # a cosine against the approach
+    # A pad's press reads the fine surface through a grid (sources/surface_index.py) whose
+    # cells are this many sub-triangle edges wide: smaller cells hug the pad's box closer but
+    # cost more cells to test.  Speed only: the profile does not depend on it.
+    surface_index_cells: float = _field(3.0, _POS)  # times max_edge
 
     # The largest turn [rad] of a free object between the jaws (workbench.grasp.settle)
     # before the fingers, not the pads, would stop it.  The YuMi trials' jaws sit up to
@@ -555,6 +559,18 @@ class Defaults:
     # and a first solve, before the pad's own compression: started at the pad's own ~0.1 mm,
     # the solver can stall on a thin patch whose torque jumps as elements enter and leave it.
     settle_start_closing: float = _field(5e-4, _POS)  # metres
+    # The settle's solver steps (workbench.grasp.settle; one press of both pads each) before it
+    # stops where it stands (its torque then judged against settle_torque_rtol like any other):
+    # a smooth contact settles in 2-5, one whose contact set keeps changing may stall.
+    settle_max_steps: int = _field(12, _count(1))
+    # A direction of turn along which the settle's torque stiffness is below this fraction of
+    # the stiffest one is neutral (a round object turning about its own axis: the contact
+    # rolls round it); the settle takes no step along it rather than chase the facets' torque
+    # noise there (the torque it leaves is reported, and judged against settle_torque_rtol).
+    settle_neutral_stiffness: float = _field(0.05, _FRACTION)
+    # ... unless the torque along it is above this (relative to force x pad size, as
+    # settle_torque_rtol): a faceted round object's noise stays below it, a real torque does not.
+    settle_neutral_torque: float = _field(0.01, _POS)
 
     # Pose robustness (workbench.grasp.pose_robust, 6DFC §V-B.1): the gripper pose is
     # perturbed in its own frame by a translation ~ N(0, sigma_trans²) per axis [m] and a

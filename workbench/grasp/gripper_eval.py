@@ -95,25 +95,23 @@ def check_task(mesh, mass: float, mu: float, down, *, checked: bool = False) -> 
 
 def gripper_contact(mesh, gripper, pose, *, settle: bool = True, max_edge: float = 1e-3) -> SettledContact:
     """Both pads of ``gripper`` at ``pose`` (4, 4; the gripper in the object frame [m]) pressed
-    on ``mesh`` at the gripper's force, the object settled between them (``settle=False``:
-    each pad pressed alone at the pose as given).  A pad that touches nothing within its
-    stroke is a miss (``contact.touches`` False, ``contact.reason`` says which), not an error.
+    on ``mesh``, each until its normal force along its closing axis is the gripper's force, the
+    object settled between them (``settle=False``: each pad pressed alone at the pose as given).
+    A pad that touches nothing within its stroke is a miss (``contact.touches`` False,
+    ``contact.reason`` says which), not an error.
     """
     from ..sources.gripper import check_gripper
-    from ..sources.reach import pad_profile
+    from ..sources.reach import pad_patch
 
     gripper = check_gripper(gripper)
     T = check_pose(pose, "gripper pose")
     jaws = gripper.jaws(T)
     k = gripper.pad.stiffness  # Winkler modulus [Pa/m]
-    # the pressure's shape is the Winkler pad's at the compression the force gives over the
-    # whole pad: a partial patch is pressed deeper, but the profile is scaled to the force
-    closing = gripper.force / (k * gripper.pad.area)
 
-    def press(jaw, depth):
-        return pad_profile(mesh, jaw, closing=depth, stiffness=k, max_edge=max_edge)
+    def press(jaw):
+        return pad_patch(mesh, jaw, stiffness=k, max_edge=max_edge)
 
-    contact = settle_contact(jaws, press, gripper.force, closing=closing, settle=settle)
+    contact = settle_contact(jaws, press, gripper.force, settle=settle)
     if not contact.touches and "touches nothing" in contact.reason:
         lo, hi = np.asarray(mesh.bounds, float)
         mid = 0.5 * (jaws[0].origin + jaws[1].origin)

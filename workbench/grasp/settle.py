@@ -17,8 +17,9 @@ Turning about the closing axis and sliding are left to friction: they are the
 resistance question itself.  :func:`settle_contact` finds the turn at which the normal
 forces' torque about the axes normal to the closing axis vanishes (relative to force × pad
 size, ``config.TOL.settle_torque_rtol``), starting from the turn that makes the pads flush
-with a deeper-pressed patch (``config.DEFAULTS.settle_start_closing``) and ending at the pad's
-own compression.
+with a deeper-pressed patch (``config.DEFAULTS.settle_start_closing``) and ending with each
+pad pressed until its normal force along the closing axis is the jaw's force
+(:meth:`~workbench.sources.pad_patch.PadPatch.depth_for_force`).
 """
 
 from __future__ import annotations
@@ -32,14 +33,15 @@ from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
 from ..profile import ContactProfile
-from ..sources.jaws import with_axis_force
+from ..sources.pad_patch import PadPatch
 
 log = logging.getLogger(__name__)
 
 __all__ = ["SettledContact", "normal_torque", "settle_contact", "turned_jaw"]
 
-#: a pad press: (jaw, closing [m]) -> the jaw's contact profile, or None when it touches nothing
-Press = Callable[[object, float], "ContactProfile | None"]
+#: a pad press: jaw -> the surface its pad reaches at that pose, or None when it touches nothing
+#: (:func:`~workbench.sources.reach.pad_patch`)
+Press = Callable[[object], "PadPatch | None"]
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,8 @@ class SettledContact:
         object frame turns by ``rotation`` too).
     tilt : the turn's angle [rad]; torque : the remaining normal-force torque normal to the
         closing axis relative to force × pad size; converged : ``torque <= tol``.
+    depths : each pad's compression [m] at the force (NaN for a miss): a pad pressed about as
+        deep as its layer is thick has bottomed out, past what a Winkler pad describes.
     """
 
     profiles: tuple[ContactProfile, ContactProfile] | None
@@ -65,6 +69,7 @@ class SettledContact:
     converged: bool
     reason: str = ""
     n_evaluations: int = 0
+    depths: tuple[float, float] = (np.nan, np.nan)
 
     @property
     def touches(self) -> bool:
@@ -88,6 +93,48 @@ def normal_torque(profiles, point: np.ndarray) -> np.ndarray:
     return tau
 
 
+def torque_jacobian(pats, depths, axes, pivot: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The normal forces' torque about ``pivot`` (3,) [m] along the rows of ``b`` (2, 3) [N·m], and
+    its derivative (2, 2) [N·m/rad] in a turn of the gripper about ``pivot`` along ``b``'s rows,
+    each pad kept at its force.
+
+    pats : the pads' :class:`~workbench.sources.pad_patch.PadPatch`; depths : each pad's depth
+    [m]; axes : each pad's closing axis (3,).  A turn ω moves element i of a pad (closing axis
+    a, stiffness k) ``ω·(a × r_i)`` along a (``r_i = c_i − pivot``); the pad then moves by the
+    mean of that over its contact weighted by each element's area along a (``w_i = a_i (−n_i·a)``,
+    its force unchanged), so element i's compression changes by ``ω·g_i``,
+    ``g_i = a × (r̄ − r_i)``, and the torque by ``−k Σ a_i (r_i × n_i)(g_i·ω)``.  Elements that
+    enter or leave the contact do so at zero pressure: the derivative is the contact's own.
+    """
+    tau, jac = np.zeros(2), np.zeros((2, 2))
+    for p, d, a in zip(pats, depths, axes, strict=True):
+        pen = p.z0 + d - p.z
+        sel = pen > 0
+        r, n, area = p.centers[sel] - pivot, p.normals[sel], p.areas[sel]
+        arm = np.cross(r, n) @ b.T  # (m, 2): b · (r × n)
+        tau -= (p.stiffness * pen[sel] * area) @ arm
+        w = area * -(n @ a)
+        g = np.cross(a, w @ r / w.sum() - r) @ b.T  # (m, 2): g · b
+        jac -= p.stiffness * (area[:, None] * arm).T @ g
+    return tau, jac
+
+
+def _stiff(r: np.ndarray, jac: np.ndarray, max_tilt: float) -> tuple[np.ndarray, np.ndarray]:
+    """The residual ``r`` (2,) and Jacobian ``jac`` (2, 2) along the directions of turn the settle
+    works on, leaving out the neutral ones: a torque along them below
+    ``config.DEFAULTS.settle_neutral_torque`` with a stiffness below
+    ``config.DEFAULTS.settle_neutral_stiffness`` of the stiffest direction's, or too low to
+    cancel it within ``max_tilt`` [rad] — a round object turning about its own axis, or a ball
+    about any, where the contact rolls and what torque is left is the facets' noise."""
+    from .. import config
+
+    u, sv, vt = np.linalg.svd(jac)
+    along = np.abs(u.T @ r)
+    soft = (sv < config.DEFAULTS.settle_neutral_stiffness * sv[0]) | (along > max_tilt * sv)
+    keep = ~(soft & (along <= config.DEFAULTS.settle_neutral_torque))
+    return u[:, keep] @ (u[:, keep].T @ r), (u[:, keep] * sv[keep]) @ vt[keep]
+
+
 class _Settled(Exception):
     """Raised inside the residual to stop the solver at a turn whose torque is well inside the
     tolerance (least_squares has no such stopping rule)."""
@@ -97,11 +144,11 @@ class _Settled(Exception):
         self.theta = np.array(theta, dtype=float)
 
 
-def _flush_turn(profiles, axis: np.ndarray, b1: np.ndarray, b2: np.ndarray) -> np.ndarray:
+def _flush_turn(net: tuple, axis: np.ndarray, b1: np.ndarray, b2: np.ndarray) -> np.ndarray:
     """The turn (2,) about ``b1``, ``b2`` that brings the closing ``axis`` onto the mean of the
-    two patches' net normals (jaw 1's against it, jaw 2's along it): the pads flush with flat
-    faces — the settle's first guess."""
-    n1, n2 = (-p.normal_wrench[:3] / np.linalg.norm(p.normal_wrench[:3]) for p in profiles)
+    two patches' net normal forces ``net`` (3,) each (jaw 1's against it, jaw 2's along it): the
+    pads flush with flat faces — the settle's first guess."""
+    n1, n2 = (-f / np.linalg.norm(f) for f in net)
     target = n2 - n1
     target /= np.linalg.norm(target)
     rv = np.cross(axis, target)
@@ -125,7 +172,6 @@ def settle_contact(
     press: Press,
     force: float,
     *,
-    closing: float,
     settle: bool = True,
     max_tilt: float | None = None,
     tol: float | None = None,
@@ -133,11 +179,10 @@ def settle_contact(
     """Both jaws' contact with the object free to turn between them (module docstring).
 
     jaws : the two jaws (:class:`~workbench.sources.gripper.Jaw`, object frame) as the gripper
-        pose puts them; press : ``press(jaw, closing)`` the jaw's profile pressed ``closing``
-        [m] past first touch, or None when its pad touches nothing
-        (:func:`~workbench.sources.reach.pad_profile`); force : each jaw's force [N] along
-        its closing axis; closing : the pad's compression at ``force`` [m] (the pressure's
-        shape; the last stage of the search).
+        pose puts them; press : ``press(jaw)`` the surface the jaw's pad reaches
+        (:class:`~workbench.sources.pad_patch.PadPatch`), or None when it touches nothing
+        (:func:`~workbench.sources.reach.pad_patch`); force : each jaw's force [N] along its
+        closing axis, to which each pad is pressed.
     settle : False gives each jaw's own patch at the pose as given (no turn): the
         contact of the jaws pressed one by one.
     max_tilt, tol : ``config.DEFAULTS.settle_max_tilt`` [rad] and
@@ -149,17 +194,18 @@ def settle_contact(
     tol = config.TOL.settle_torque_rtol if tol is None else float(tol)
     if not (np.isfinite(force) and force > 0):
         raise ValueError(f"force must be each jaw's force in newtons, finite and > 0; got {force!r}")
-    if not (np.isfinite(closing) and closing > 0):
-        raise ValueError(f"closing must be the pad's compression [m], > 0; got {closing!r}")
-    st = _Settle(jaws, press, force, closing, max_tilt, tol)
+    st = _Settle(jaws, press, force, max_tilt, tol)
     theta = np.zeros(2)
     if settle and max_tilt > 0:
         theta = st.search(config.DEFAULTS.settle_start_closing)
-    R, turned, profs, reason = st.pressed(theta, closing)
-    if profs is None:
+    R, turned, pats, reason = st.patches(theta)
+    depths = None if pats is None else st.depths(pats, None)
+    reason = reason or st.too_wide(turned, pats, depths)
+    if reason:
         log.debug("settle: %s", reason)
         tilt = float(np.linalg.norm(theta))
         return SettledContact(None, turned, R, st.pivot, tilt, np.nan, False, reason, st.n_eval)
+    profs = tuple(p.profile(d) for p, d in zip(pats, depths, strict=True))
     tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
     rel = float(np.hypot(tau @ st.b1, tau @ st.b2) / (force * st.size))
     ok = rel <= tol
@@ -170,7 +216,7 @@ def settle_contact(
         )
         log.info("settle: %s", reason)
     return SettledContact(
-        profs, turned, R, st.pivot, float(np.linalg.norm(theta)), rel, ok, reason, st.n_eval
+        profs, turned, R, st.pivot, float(np.linalg.norm(theta)), rel, ok, reason, st.n_eval, depths
     )
 
 
@@ -178,9 +224,9 @@ class _Settle:
     """The search of :func:`settle_contact`: the jaws turned by ``theta`` (2,) [rad] about the
     two axes ``b1``, ``b2`` normal to the closing axis, through ``pivot``, and pressed."""
 
-    def __init__(self, jaws, press: Press, force: float, closing: float, max_tilt: float, tol: float) -> None:
+    def __init__(self, jaws, press: Press, force: float, max_tilt: float, tol: float) -> None:
         self.j1, self.j2 = jaws
-        self.press, self.force, self.closing = press, force, closing
+        self.press, self.force = press, force
         self.max_tilt, self.tol = max_tilt, tol
         j1, j2 = self.j1, self.j2
         self.axis = np.asarray(j1.closing, float)
@@ -188,70 +234,133 @@ class _Settle:
         self.b1, self.b2 = _basis(self.axis)
         self.size = float(np.ptp(np.asarray(j1.outline, float), axis=0).max())
         self.n_eval = 0
+        self.last = None  # (the turn's bytes, what patches() gave for it)
         self.opening = float((np.asarray(j2.origin, float) - np.asarray(j1.origin, float)) @ self.axis)
 
-    def pressed(self, theta: np.ndarray, depth: float, scale: bool = True):
-        """(R (3, 3), the turned jaws, their profiles pressed ``depth`` [m] — scaled to the
-        force unless ``scale`` is False — or None, and the reason when None)."""
+    def patches(self, theta: np.ndarray):
+        """(R (3, 3), the turned jaws, the surfaces their pads reach — or None, and the reason
+        when None)."""
+        key = np.asarray(theta, float).tobytes()
+        if self.last is not None and self.last[0] == key:  # the solver's last turn, asked again
+            return self.last[1]
         R = Rotation.from_rotvec(theta[0] * self.b1 + theta[1] * self.b2).as_matrix()
         turned = tuple(turned_jaw(j, R, self.pivot) for j in (self.j1, self.j2))
         self.n_eval += 1
-        profs = []
+        pats = []
+        out = None
         for k, jaw in enumerate(turned):
-            prof = self.press(jaw, depth)
-            if prof is None:
-                return R, turned, None, f"the pad of tooltip {k} touches nothing"
-            profs.append(with_axis_force(prof, jaw.closing, self.force) if scale else prof)
-        # the object slides along the closing axis, but it must fit between the open jaws
-        width = float((profs[1].pressure_center - profs[0].pressure_center) @ turned[0].closing)
+            pat = self.press(jaw)
+            if pat is None:
+                out = (R, turned, None, f"the pad of tooltip {k} touches nothing")
+                break
+            pats.append(pat)
+        out = out or (R, turned, tuple(pats), "")
+        self.last = (key, out)
+        return out
+
+    def depths(self, pats, depth: float | None) -> tuple[float, float]:
+        """Each pad's depth [m]: ``depth`` for both, or (None) the depth that gives it the force."""
+        if depth is None:
+            return tuple(p.depth_for_force(self.force) for p in pats)
+        return (depth, depth)
+
+    def too_wide(self, turned, pats, depths) -> str:
+        """Why the object does not fit between the open jaws ("" when it does): it slides along
+        the closing axis, but its pressure centres must lie within the opening."""
+        if pats is None:
+            return ""
+        centre = []
+        for p, d in zip(pats, depths, strict=True):
+            w = p.pressures(d) * p.areas
+            centre.append(w @ p.centers / w.sum())
+        width = float((centre[1] - centre[0]) @ turned[0].closing)
         if width > self.opening:
             return (
-                R,
-                turned,
-                None,
-                (
-                    f"the object is {width * 1e3:.1f} mm wide between the pads, wider than the gripper's "
-                    f"opening {self.opening * 1e3:.1f} mm"
-                ),
+                f"the object is {width * 1e3:.1f} mm wide between the pads, wider than the gripper's "
+                f"opening {self.opening * 1e3:.1f} mm"
             )
-        return R, turned, tuple(profs), ""
+        return ""
 
-    def residual(self, theta: np.ndarray, depth: float) -> np.ndarray:
+    def residual(self, theta: np.ndarray, depth: float | None) -> np.ndarray:
         """(2,) the normal forces' torque about ``b1``, ``b2`` relative to force × pad size at the
-        turn ``theta`` pressed ``depth`` [m]; raises :class:`_Settled` well inside the tolerance."""
+        turn ``theta``, each pad pressed to the force (``depth`` None) or pressed ``depth`` [m]
+        and its pressures scaled to the force; raises :class:`_Settled` well inside the tolerance."""
         force, tol = self.force, self.tol
-        _, turned, profs, _ = self.pressed(theta, depth, scale=False)
-        if profs is None:  # lost contact: push back towards the start
+        _, turned, pats, _ = self.patches(theta)
+        depths = None if pats is None else self.depths(pats, depth)
+        if pats is None or self.too_wide(turned, pats, depths):  # lost contact: push back towards the start
             return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(self.max_tilt, 1e-12))
-        # each jaw's torque at the force (the profiles' own pressures scaled, as with_axis_force does)
         point = 0.5 * (turned[0].origin + turned[1].origin)
         tau = sum(
-            normal_torque([p], point) * force / abs(p.normal_wrench[:3] @ j.closing)
-            for p, j in zip(profs, turned, strict=True)
+            p.torque(d, point) * (1.0 if depth is None else force / p.axis_force(d))
+            for p, d in zip(pats, depths, strict=True)
         )
         r = np.array([tau @ self.b1, tau @ self.b2]) / (force * self.size)
-        # settled well inside the tolerance at the pad's compression (loosely at a deeper one,
-        # which only gives the next stage its start): no more iterations
-        if np.linalg.norm(r) <= (tol / 10 if depth == self.closing else tol):
+        # settled well inside the tolerance at the force (loosely at a fixed depth, which only
+        # gives the next stage its start): no more iterations
+        if np.linalg.norm(r) <= (tol / 10 if depth is None else tol):
             raise _Settled(theta)
         return r
 
+    def at_force(self, theta: np.ndarray):
+        """The residual (2,) of :meth:`residual` at the force and its Jacobian (2, 2) in the turn
+        (:func:`torque_jacobian`), or (None, None) when a pad loses contact or the object no longer
+        fits."""
+        _, turned, pats, _ = self.patches(theta)
+        depths = None if pats is None else self.depths(pats, None)
+        if pats is None or self.too_wide(turned, pats, depths):
+            return None, None
+        scale = 1.0 / (self.force * self.size)
+        axes = np.array([self.b1, self.b2])
+        tau, jac = torque_jacobian(pats, depths, [j.closing for j in turned], self.pivot, axes)
+        return tau * scale, jac * scale
+
+    def newton(self, theta: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The turn (2,) [rad] in ``[lo, hi]`` at which the torque at the force vanishes: a trust-region
+        least-squares solve with the Jacobian of :func:`torque_jacobian` (one press of both pads
+        per step; the torque is only piecewise smooth, as a pad's contact set changes with the
+        turn), stopped well inside the tolerance."""
+        from .. import config
+
+        memo: dict = {}
+
+        def at(x):
+            key = x.tobytes()
+            if key not in memo:
+                memo.clear()
+                r, jac = self.at_force(x)
+                if r is None:  # lost contact: push back towards the start
+                    r = np.ones(2) * (1.0 + np.linalg.norm(x) / max(self.max_tilt, 1e-12))
+                    jac = np.zeros((2, 2))
+                else:
+                    r_stiff, jac = _stiff(r, jac, self.max_tilt)  # no step along a neutral direction
+                    if np.linalg.norm(r_stiff) <= self.tol / 10:
+                        raise _Settled(x)
+                memo[key] = (r, jac)
+            return memo[key]
+
+        try:
+            return least_squares(
+                lambda x: at(x)[0],
+                theta,
+                jac=lambda x: at(x)[1],
+                bounds=(lo, hi),
+                xtol=1e-9,
+                ftol=1e-9,
+                max_nfev=config.DEFAULTS.settle_max_steps,
+            ).x
+        except _Settled as done:
+            return np.array(done.theta, dtype=float)
+
     def search(self, start: float) -> np.ndarray:
-        """The turn (2,) [rad] at which the torque vanishes: from the flush turn of a patch
-        pressed ``start`` [m] (when deeper than the pad's compression), stage by stage to the
-        pad's compression; no turn when a pad misses at the pose as given."""
+        """The turn (2,) [rad] at which the torque vanishes: Newton's method (:meth:`newton`) from
+        the flush turn of the patches pressed ``start`` [m] (wider than at the force, their net
+        normals steadier); no turn when a pad misses at the pose as given."""
         theta = np.zeros(2)
-        stages = ([start] if start > self.closing else []) + [self.closing]
-        _, _, deep, _ = self.pressed(theta, stages[0], scale=False)
-        if deep is None:  # a pad that misses at the pose as given is a miss (no search)
+        _, _, pats, _ = self.patches(theta)
+        if pats is None:  # a pad that misses at the pose as given is a miss (no search)
             return theta
+        first = self.depths(pats, max(start, *self.depths(pats, None)))
+        net = tuple(-(p.pressures(d) * p.areas) @ p.normals for p, d in zip(pats, first, strict=True))
         lo, hi = np.full(2, -self.max_tilt), np.full(2, self.max_tilt)
-        theta = np.clip(_flush_turn(deep, self.axis, self.b1, self.b2), lo, hi)
-        for depth in stages:
-            try:
-                theta = least_squares(
-                    self.residual, theta, args=(depth,), bounds=(lo, hi), diff_step=1e-3, xtol=1e-9, ftol=1e-9
-                ).x
-            except _Settled as done:
-                theta = np.array(done.theta, dtype=float)
-        return theta
+        return self.newton(np.clip(_flush_turn(net, self.axis, self.b1, self.b2), lo, hi), lo, hi)

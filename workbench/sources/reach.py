@@ -29,6 +29,8 @@ from ..profile import ContactProfile
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
+from .pad_patch import PadPatch
+from .surface_index import SurfaceIndex
 
 __all__ = ["WinklerPress", "fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
 
@@ -148,45 +150,78 @@ def reach_profile(
     return out
 
 
-def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = None, max_edge: float = 1e-3):
+def pad_profile(
+    mesh,
+    jaw: Jaw,
+    *,
+    closing: float | None = None,
+    force: float | None = None,
+    stiffness: float | None = None,
+    max_edge: float = 1e-3,
+):
     """The REACH profile (:func:`reach_profile`) of a gripper's jaw (:meth:`~.gripper.Gripper.jaws`)
     closing on ``mesh`` [m] from its open tooltip: the pad polygon ``jaw.outline`` at ``jaw.origin``
-    moves along ``jaw.closing`` to the first surface within its ``jaw.stroke``, then on by ``closing``
-    [m]; pressure ``stiffness`` [Pa/m] (default ``jaw.stiffness``) times the compression.
+    moves along ``jaw.closing`` to the first surface within its ``jaw.stroke``, then on by
+    ``closing`` [m], or until its normal force along ``jaw.closing`` is ``force`` [N] (give one of
+    the two); pressure ``stiffness`` [Pa/m] (default ``jaw.stiffness``) times the compression.
 
     Returns a :class:`ContactProfile`, or None when the pad touches nothing within its stroke (a
     physical miss, logged at DEBUG).  Raises ValueError for bad input (a mesh that is not
-    watertight or not in metres, closing, stiffness or max_edge not > 0).
+    watertight or not in metres, closing, stiffness or max_edge not > 0, a force no jaw has,
+    both or neither of closing and force).
     """
+    if (closing is None) == (force is None):
+        raise ValueError(
+            f"give one of closing (the press past first touch [m]) and force (the jaw's force [N]); "
+            f"got closing={closing!r}, force={force!r}"
+        )
+    if closing is not None:
+        check_press_closing(closing)
+    else:
+        force = check_jaw_force(force)
+    patch = pad_patch(mesh, jaw, stiffness=stiffness, max_edge=max_edge)
+    if patch is None:
+        return None
+    return patch.profile(closing if force is None else patch.depth_for_force(force))
+
+
+def pad_patch(mesh, jaw: Jaw, *, stiffness: float | None = None, max_edge: float = 1e-3) -> PadPatch | None:
+    """The surface ``jaw``'s pad can reach on ``mesh`` [m] (:class:`~.pad_patch.PadPatch`; the
+    geometry of :func:`pad_profile`, pressed by the caller to a depth or a force), or None when it
+    touches nothing within its stroke (logged at DEBUG).  ``stiffness`` [Pa/m] defaults to
+    ``jaw.stiffness``; ``mesh`` is subdivided to ``max_edge`` [m] once and cached."""
     if not isinstance(jaw, Jaw):
         raise ValueError(f"jaw must be a Jaw (Gripper.jaws(pose)); got {type(jaw).__name__}")
     k = jaw.stiffness if stiffness is None else stiffness
-    if not (check_press_closing(closing) > 0 and check_press_pad(k, max_edge)):
-        raise ValueError(f"closing, stiffness and max_edge must be > 0; got {closing!r}, {k!r}, {max_edge!r}")
-    cen, normal, area = fine_surface(mesh, float(max_edge))
+    if not (check_press_pad(k, max_edge) and k > 0 and max_edge > 0):
+        raise ValueError(f"stiffness and max_edge must be > 0; got {k!r}, {max_edge!r}")
+    fine = _fine_surface(mesh, float(max_edge))
     # the object slides along the closing axis ahead of a jaw whose open tooltip already reaches
     # past its surface (the other jaw closes too): the search starts a stroke behind the tooltip
     # (approach collisions are not modelled)
     lo, hi = -jaw.stroke, jaw.stroke
+    frame = (jaw.closing, jaw.e1, jaw.e2)
+    (u_lo, v_lo), (u_hi, v_hi) = jaw.outline.min(axis=0), jaw.outline.max(axis=0)
+    box = (u_lo - max_edge, u_hi + max_edge, v_lo - max_edge, v_hi + max_edge, lo, hi)
+    cand = fine[4].within(jaw.origin, frame, box)
+    cen, normal, area = fine[0][cand], fine[1][cand], fine[2][cand]
     rel = cen - jaw.origin
     u, v, z = rel @ jaw.e1, rel @ jaw.e2, rel @ jaw.closing
-    (u_lo, v_lo), (u_hi, v_hi) = jaw.outline.min(axis=0), jaw.outline.max(axis=0)
     near = (u >= u_lo - max_edge) & (u <= u_hi + max_edge) & (v >= v_lo - max_edge) & (v <= v_hi + max_edge)
     near &= (z >= lo) & (z <= hi)
     if not near.any():
-        log.debug("pad_profile: a miss: the pad outline covers no part of the object within its stroke")
+        log.debug("pad_patch: a miss: the pad outline covers no part of the object within its stroke")
         return None
-    frame = (jaw.closing, jaw.e1, jaw.e2)
-    out = _press(
+    out = _patch(
         cen[near],
         normal[near],
         area[near],
         jaw.origin,
         frame,
-        _Press(None, jaw.outline, (lo, hi), True, closing, k, max_edge),
+        _Press(None, jaw.outline, (lo, hi), True, 0.0, k, max_edge),
     )
     if isinstance(out, str):
-        log.debug("pad_profile: a miss: %s", out)
+        log.debug("pad_patch: a miss: %s", out)
         return None
     return out
 
@@ -194,7 +229,7 @@ def pad_profile(mesh, jaw: Jaw, *, closing: float, stiffness: float | None = Non
 #: the fine surfaces of the last meshes pressed by pad_profile, or made by fine_surface for many
 #: reach_profile presses, by content hash (a pose-robustness run or an antipodal sampler presses
 #: one mesh hundreds of times; the subdivision does not depend on the pose)
-_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
+_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, SurfaceIndex]] = {}
 _FINE_KEEP = 4
 
 
@@ -209,10 +244,13 @@ def fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _fine_surface(mesh, max_edge: float, build: bool = True):
-    """:func:`fine_surface` and the index (m,) of each sub-triangle's face in ``mesh.faces``;
-    None when it is not cached and ``build`` is False."""
+    """:func:`fine_surface`, the index (m,) of each sub-triangle's face in ``mesh.faces`` and a
+    :class:`~.surface_index.SurfaceIndex` of the centres (cells of
+    ``config.DEFAULTS.surface_index_cells`` × ``max_edge``); None when it is not cached and
+    ``build`` is False."""
     import hashlib
 
+    from .. import config
     from ..units import closed_mesh
 
     v = np.ascontiguousarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=float)
@@ -225,6 +263,7 @@ def _fine_surface(mesh, max_edge: float, build: bool = True):
         arrays = _fine_faces(np.asarray(mesh.vertices, float), np.asarray(mesh.faces), max_edge)
         for arr in arrays:
             arr.flags.writeable = False
+        arrays = (*arrays, SurfaceIndex.build(arrays[0], config.DEFAULTS.surface_index_cells * max_edge))
         while len(_FINE) >= _FINE_KEEP:
             _FINE.pop(next(iter(_FINE)))
         _FINE[key] = arrays
@@ -453,8 +492,19 @@ def _strip_cut(A, B, C, n, q):
 
 def _press(cen, normal, area, c, frame, press: _Press):
     """The Winkler pad ``press`` pressed on the fine faces (``cen``, ``normal``, ``area``) from
-    ``c`` (3,) along ``frame[0]``: the rest of :func:`_reach`."""
-    pad, poly, window, filter_window, closing, stiffness, max_edge = press
+    ``c`` (3,) along ``frame[0]`` to ``press.closing`` past first touch: the rest of
+    :func:`_reach`; or why it touches nothing (str)."""
+    patch = _patch(cen, normal, area, c, frame, press)
+    if isinstance(patch, str):
+        return patch
+    return patch.profile(press.closing)
+
+
+def _patch(cen, normal, area, c, frame, press: _Press) -> PadPatch | str:
+    """The :class:`~.pad_patch.PadPatch` the pad ``press`` reaches on the fine faces (``cen``,
+    ``normal``, ``area``) from ``c`` (3,) along ``frame[0]`` — the front-most surface facing it
+    inside its footprint — or why there is none (str)."""
+    pad, poly, window, filter_window, _, stiffness, max_edge = press
     a, e1, e2 = frame
     if poly is None:
         (u_lo, v_lo), v_hi = (-pad[0] / 2, -pad[1] / 2), pad[1] / 2
@@ -493,9 +543,7 @@ def _press(cen, normal, area, c, frame, press: _Press):
     visible = np.zeros(len(cen), dtype=bool)
     visible[idx[order]] = z[idx][order] <= front_z + 2 * max_edge
     z0 = z[visible].min()  # first touch
-    depth = np.where(visible, z0 + closing - z, 0.0)
-    sel = depth > 0
-    return ContactProfile(cen[sel], normal[sel], area[sel], stiffness * depth[sel])
+    return PadPatch(cen[visible], normal[visible], area[visible], z[visible], float(z0), a, stiffness)
 
 
 def jaw_profiles(
