@@ -109,3 +109,28 @@ def test_q_robust_logs_the_samples_solver_fallbacks_once(monkeypatch, caplog):
     assert lines == [
         "q_robust: 7 solver fallbacks in 7 samples, e.g. QP solver 'x' left a residual; the LP decides"
     ]
+
+
+def test_q_robust_does_not_depend_on_where_the_object_sits_in_its_file():
+    # the same grasp and load, the object's frame moved 0.3 m (a mesh whose origin is at its
+    # base, or a scene's corner): the pose noise turns the gripper about the grasp, so every
+    # sample is the same grasp and q is the same; turned about the file's origin a 0.05 rad
+    # draw would shift the contacts 15 mm
+    grasp = antipodal(soft=0.004, n=16)
+    p = Perturbation(n_samples=40)
+    m = 1.0 * 2 * MU * F / 9.81
+    offset = np.array([0.05, -0.1, -0.3])
+    moved = [c.moved(np.eye(3), offset) for c in grasp]
+    q = q_robust(grasp, MU, Task(mass=m, com=[0, 0, 0.005]), p, seed=7)
+    q_far = q_robust(moved, MU, Task(mass=m, com=offset + [0, 0, 0.005]), p, seed=7)
+    assert 0.0 < q < 1.0 and q == q_far
+
+
+def test_the_grasp_centre_is_the_force_weighted_mean_of_the_contacts():
+    from workbench.grasp.robust import grasp_centre
+
+    grasp = antipodal(soft=0.004, n=16)
+    by_hand = sum(c.force * c.t for c in grasp) / sum(c.force for c in grasp)
+    np.testing.assert_allclose(grasp_centre(grasp), by_hand, atol=1e-15)
+    unloaded = [c.with_force(0.0) for c in grasp]
+    np.testing.assert_allclose(grasp_centre(unloaded), np.mean([c.t for c in grasp], axis=0))

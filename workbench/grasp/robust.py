@@ -272,6 +272,9 @@ def q_robust(
         apply to a fixed wrench).
     cuts : a cut store shared by the samples (a fresh one if None).
 
+    The pose noise turns the gripper about the grasp's centre — the contacts' origins weighted
+    by their normal forces (for two jaws at one force, the midpoint of their pressure centres) —
+    and then shifts it, so q does not depend on where the object sits in its mesh file's frame.
     The contacts ride along rigidly: no contact is recomputed at the perturbed pose (a pad
     that would slide off the object still holds).  Robustness that moves the gripper and
     recomputes the contact: :func:`~.gripper_eval.evaluate_gripper` with a
@@ -291,6 +294,7 @@ def q_robust(
     ts = rng.normal(0.0, p.sigma_trans, (K, 3))
     mus = mu * np.clip(1 + rng.normal(0.0, p.sigma_mu, K), 0.0, None)
     ok = 0
+    pivot = grasp_centre(contacts)
     if w_ext is None:
         # a perturbed mass stays positive (a draw below -100 % is clipped, not a negative mass)
         masses = mass * np.clip(1 + rng.normal(0.0, p.sigma_mass, K), 1e-6, None)
@@ -302,7 +306,7 @@ def q_robust(
     fallbacks: list[str] = []
     with quieted(resistance_api.log):  # where resists logs a fallback as it happens
         for i in range(K):
-            moved = [c.moved(Rs[i], ts[i]) for c in contacts]
+            moved = [c.moved(Rs[i], pivot - Rs[i] @ pivot + ts[i]) for c in contacts]
             w = _gravity(masses[i], coms[i], down) if w_ext is None else w_ext
             answer = _resists(moved, w, float(mus[i]), representation, cuts, None, tol)
             ok += bool(answer)
@@ -310,6 +314,15 @@ def q_robust(
     if fallbacks:
         log.warning("q_robust: %d solver fallbacks in %d samples, e.g. %s", len(fallbacks), K, fallbacks[0])
     return ok / K
+
+
+def grasp_centre(contacts) -> np.ndarray:
+    """(3,) [m] the centre a gripper-pose perturbation turns the ``contacts`` about: their frames'
+    origins weighted by their normal forces (bounds, for cone contacts), or their plain mean when
+    every force is 0."""
+    t = np.array([c.t for c in contacts], dtype=float)
+    f = np.array([c.force for c in contacts], dtype=float)
+    return f @ t / f.sum() if f.sum() > 0 else t.mean(axis=0)
 
 
 def _robust_load(task) -> tuple:
