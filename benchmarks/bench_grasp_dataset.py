@@ -81,7 +81,8 @@ def run(quick: bool) -> dict:
     ms_all = float(np.median(together))
     print(f"all four   {ms_all:7.1f} ms a grasp (contact {np.median(contact):.1f} ms)", flush=True)
     return {
-        "what": "ms per grasp, one process: top-grasp pose -> both pads pressed (no settle) -> model "
+        "what": "ms per grasp, one process: top-grasp pose -> both pads pressed to the force, the object "
+        "settled between them -> model "
         "built -> nominal verdict and Eq. 2.101's q over N_r = 10 samples; each model alone with a fresh "
         "cache, and the four together (6DFC reusing 6DLS's fit)",
         "mesh": name,

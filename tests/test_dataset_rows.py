@@ -67,6 +67,14 @@ def test_a_flat_face_contact_carries_the_jaw_force_with_no_nonplanarity():
         # 240 mm², within a 1 mm band of elements along the patch's 64 mm perimeter
         assert abs(c[f"jaw{j}_area_mm2"] - 240.0) < 64.0
     assert c["settle_tilt_deg"] < 1.0 and c["settle_converged"]
+    # a flat pad on a flat face at 20 N: compressed F / (k A), A the 240 mm² in contact
+    k = GRIPPER.pad.stiffness
+    for j in (1, 2):
+        expected = FORCE / (k * c[f"jaw{j}_area_mm2"] * 1e-6) * 1e3
+        assert c[f"jaw{j}_compression_mm"] == pytest.approx(expected, rel=1e-6)
+    # pressed where the gripper stands, nothing was searched: no convergence to report
+    pressed = gripper_contact(_box(), GRIPPER, _pose(), settle=False)
+    assert contact_summary(pressed)["settle_converged"] is None
 
 
 def test_a_weight_beyond_twice_mu_f_fails_every_model_and_a_feather_holds_in_every_sample():

@@ -138,3 +138,16 @@ def test_the_spec_refuses_careless_values():
         TopGraspSpec(max_tilt_deg=0.17)
     with pytest.raises(ValueError, match="must be an approach distance in"):
         TopGraspSpec(approach_dist=100)
+
+
+def test_a_grasp_whose_pads_find_no_surface_is_dropped_not_kept_as_a_miss():
+    # a 40 mm wide, 20 mm tall box: with the jaw-bottom axis each pad reaches up from the axis,
+    # so at 10 mm it presses the side face, at 0.05 mm below the top edge it meets only a strip
+    # no sub-triangle centre lies in (1 mm subdivision: centres at least ~0.1 mm inside an edge)
+    box = trimesh.creation.box([0.08, 0.04, 0.02])
+    box.apply_translation([0.0, 0.0, 0.01])
+    grasps = _side_grasps([0.010, 0.02 - 5e-5])
+    without = top_grasps(grasps, GRIPPER)
+    kept = top_grasps(grasps, GRIPPER, mesh=box)
+    assert len(without) == 2 and without.dropped["pad"] == 0
+    assert len(kept) == 1 and kept[0][0] is grasps[0] and kept.dropped["pad"] == 1

@@ -65,15 +65,16 @@ DEFAULT_CONFIG = {
     "jaw_force": 20.0,  # N per jaw (§4.1.4.2)
     "pad": [0.02, 0.04],  # m, (width, length along the approach)
     "pad_thickness": 0.005,  # m, the 5 mm rubber of §4.1.4.2
+    "pad_modulus": 1.0e6,  # Pa, the rubber's (the thesis states none): Winkler k = modulus / thickness
     "opening": 0.1,  # m, the open gripper's jaw distance
     "max_tilt_deg": 10.0,  # Dex-Net's max_approach_table_angle
     "table_clearance": 0.005,  # m, Dex-Net's table_offset
     "mass_kg": 0.2,  # every object's mass, its centre the filled object's (the thesis states none)
     "robust_samples": 10,  # N_r of Eq. 2.101 (the thesis's example: 10)
     # True: the object free to turn between the pads until their normal forces balance, each pad
-    # then carrying its force; False: each pad pressed at the planned pose to the compression its
-    # force gives over the whole pad, which off-square grasps meet with an edge only (a few mm²:
-    # almost no grasp holds) - one press a pad instead of a search (docs/decisions.md has the cost)
+    # pressed until it carries its force; False: each pad pressed so at the planned pose, where an
+    # off-square grasp meets it along an edge (a strip pressed deep, with a couple no free object
+    # holds still under) - one press a pad instead of a search (docs/decisions.md has the cost)
     "settle": True,
     "workers": 0,
     "scheduler": "",
@@ -91,6 +92,7 @@ KEYS = {
     "jaw_force": Key("closing force per jaw", "N", "jaw_force"),
     "pad": Key("pad (width, length along the approach)", "m", "pad_size"),
     "pad_thickness": Key("pad rubber thickness", "m", "pad_thickness"),
+    "pad_modulus": Key("pad rubber modulus", "Pa", "pad_modulus"),
     "opening": Key("the open gripper's jaw distance", "m", "opening"),
     "max_tilt_deg": Key("largest grasp-axis tilt from the table, in [0, 90]", "deg"),
     "table_clearance": Key("how far above the table the jaws stay", "m"),
@@ -172,7 +174,7 @@ def mesh_files(config: dict) -> dict[str, str]:
 
 def _gripper(config: dict):
     w, length = config["pad"]
-    pad = PadShape.rectangle(w, length, thickness=config["pad_thickness"])
+    pad = PadShape.rectangle(w, length, thickness=config["pad_thickness"], modulus=config["pad_modulus"])
     return parallel_jaw(
         pad, config["jaw_force"], opening=config["opening"], mu=config["mu"], name="top_grasp_jaws"
     )

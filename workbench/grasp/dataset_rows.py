@@ -95,26 +95,30 @@ def nonplanarity(centers, areas) -> float:
 
 
 def contact_summary(contact: SettledContact) -> dict:
-    """Per jaw ``jaw{1,2}_F_N`` (normal force [N]), ``_area_mm2``, ``_n_elements`` and
+    """Per jaw ``jaw{1,2}_F_N`` (normal force [N]), ``_area_mm2``, ``_n_elements``,
     ``_nonplanarity_mm`` (area-weighted RMS distance of the element centres to their best plane:
-    0 on a flat face), and the settle's ``settle_tilt_deg`` and ``settle_converged`` (False: the
-    normal forces still turn the object at the settle's turn limit, ``reason`` says how much);
-    NaN / 0 / False for a miss."""
+    0 on a flat face) and ``_compression_mm`` (how deep the pad is pressed to carry its force:
+    near the layer's thickness it has bottomed out), and the settle's ``settle_tilt_deg`` and
+    ``settle_converged`` (False: the normal forces still turn the object where the settle
+    stopped, ``reason`` says how much; None when the settle was off, as it then searched
+    nothing); NaN / 0 / False for a miss."""
     out: dict = {
         "settle_tilt_deg": math.degrees(contact.tilt) if contact.touches else math.nan,
-        "settle_converged": bool(contact.touches and contact.converged),
+        "settle_converged": bool(contact.touches and contact.converged) if contact.searched else None,
     }
     for j in (1, 2):
         p = contact.profiles[j - 1] if contact.touches else None
         if p is None:
             out |= {f"jaw{j}_F_N": math.nan, f"jaw{j}_area_mm2": math.nan}
             out |= {f"jaw{j}_n_elements": 0, f"jaw{j}_nonplanarity_mm": math.nan}
+            out[f"jaw{j}_compression_mm"] = math.nan
             continue
         a = np.asarray(p.areas, float)
         out[f"jaw{j}_F_N"] = float(np.sum(np.asarray(p.pressures, float) * a))
         out[f"jaw{j}_area_mm2"] = float(a.sum() * 1e6)
         out[f"jaw{j}_n_elements"] = int(a.size)
         out[f"jaw{j}_nonplanarity_mm"] = nonplanarity(p.centers, a) * 1e3
+        out[f"jaw{j}_compression_mm"] = float(contact.depths[j - 1]) * 1e3
     return out
 
 

@@ -58,6 +58,8 @@ class SettledContact:
         closing axis relative to force × pad size; converged : ``torque <= tol``.
     depths : each pad's compression [m] at the force (NaN for a miss): a pad pressed about as
         deep as its layer is thick has bottomed out, past what a Winkler pad describes.
+    searched : whether the turn was searched (``settle=True``); without it ``converged`` only
+        says whether the pads pressed at the pose as given happen to balance.
     """
 
     profiles: tuple[ContactProfile, ContactProfile] | None
@@ -70,6 +72,7 @@ class SettledContact:
     reason: str = ""
     n_evaluations: int = 0
     depths: tuple[float, float] = (np.nan, np.nan)
+    searched: bool = True
 
     @property
     def touches(self) -> bool:
@@ -204,7 +207,9 @@ def settle_contact(
     if reason:
         log.debug("settle: %s", reason)
         tilt = float(np.linalg.norm(theta))
-        return SettledContact(None, turned, R, st.pivot, tilt, np.nan, False, reason, st.n_eval)
+        return SettledContact(
+            None, turned, R, st.pivot, tilt, np.nan, False, reason, st.n_eval, searched=settle
+        )
     profs = tuple(p.profile(d) for p, d in zip(pats, depths, strict=True))
     tau = normal_torque(profs, 0.5 * (turned[0].origin + turned[1].origin))
     rel = float(np.hypot(tau @ st.b1, tau @ st.b2) / (force * st.size))
@@ -216,7 +221,7 @@ def settle_contact(
         )
         log.info("settle: %s", reason)
     return SettledContact(
-        profs, turned, R, st.pivot, float(np.linalg.norm(theta)), rel, ok, reason, st.n_eval, depths
+        profs, turned, R, st.pivot, float(np.linalg.norm(theta)), rel, ok, reason, st.n_eval, depths, settle
     )
 
 

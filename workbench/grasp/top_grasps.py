@@ -56,6 +56,11 @@ TOP_DROP_REASONS = {
         "a finger meets the object while the gripper comes down or at the open grasp",
         "a thinner or shorter finger, if the gripper's is",
     ),
+    "pad": (
+        "a pad finds no surface facing it inside its outline (the grasp point at the pad's edge, "
+        "e.g. just below a rim: the pad would close past the object)",
+        'axis_at="centre", or a longer pad',
+    ),
 }
 
 
@@ -214,13 +219,23 @@ class TopGrasps(list):
 
 
 def top_grasps(
-    grasps, gripper: Gripper, spec: TopGraspSpec | None = None, *, surface=None, table_z: float = 0.0
+    grasps,
+    gripper: Gripper,
+    spec: TopGraspSpec | None = None,
+    *,
+    surface=None,
+    table_z: float = 0.0,
+    mesh=None,
 ) -> TopGrasps:
     """The antipodal ``grasps`` (dicts with ``p1``, ``p2``) a gripper can take from the top, each
     with its pose (:func:`top_grasp_pose`), tested in order: the axis tilted more than
     ``spec.max_tilt_deg`` ("tilted"); a pad point below ``table_z + spec.table_clearance``
     ("table"); a point of ``surface`` (n, 3) [m] — the object's surface, sampled finer than a
-    finger; None: no finger check — inside a finger box (:func:`finger_boxes`; "finger")."""
+    finger; None: no finger check — inside a finger box (:func:`finger_boxes`; "finger"); a pad
+    that finds no surface of ``mesh`` facing it inside its outline
+    (:func:`~workbench.sources.reach.pad_patch`; None: no check; "pad")."""
+    from ..sources.reach import pad_patch
+
     gripper = check_gripper(gripper)
     spec = checked_group(spec, TopGraspSpec, "spec")
     if isinstance(table_z, bool) or not isinstance(table_z, int | float) or not np.isfinite(table_z):
@@ -247,6 +262,9 @@ def top_grasps(
         if pts is not None and _in_boxes(pts, gripper, pose, spec):
             kept.dropped["finger"] += 1
             continue
+        if mesh is not None and any(pad_patch(mesh, j) is None for j in gripper.jaws(pose)):
+            kept.dropped["pad"] += 1
+            continue
         kept.append((g, pose))
     return kept
 
@@ -265,8 +283,9 @@ def sample_top_grasps(
     """Up to ``n`` top grasps of ``mesh`` (watertight, metres, resting on the table z = 0 of its
     frame): blocks of ``block`` antipodal candidates (friction cone ``mu``, widths up to the
     gripper's opening; block ``b`` seeded ``[seed, b]``) filtered by :func:`top_grasps` against
-    the surface's vertices and face centres, until ``n`` are kept or ``max_blocks`` are drawn.
-    The first ``k`` grasps of a larger ``n`` are those of ``n = k`` (a run can grow)."""
+    the surface's vertices and face centres and the pads' reach on ``mesh``, until ``n`` are kept
+    or ``max_blocks`` are drawn.  The first ``k`` grasps of a larger ``n`` are those of ``n = k``
+    (a run can grow)."""
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"n must be an integer >= 1 (top grasps wanted); got {n!r}")
     for name, v in (("block", block), ("max_blocks", max_blocks)):
@@ -292,7 +311,7 @@ def sample_top_grasps(
         # sampler's shortfall warning is for a caller who asked for n, not for a block
         with quieted(sampler_log):
             drawn = antipodal_grasps(mesh, block, mu, sampling, jaws=None, seed=rng, progress=False)
-        kept = top_grasps(drawn, gripper, spec, surface=surface)
+        kept = top_grasps(drawn, gripper, spec, surface=surface, mesh=mesh)
         out.extend(kept[: n - len(out)])
         for k, v in kept.dropped.items():
             out.dropped[k] = out.dropped.get(k, 0) + v
