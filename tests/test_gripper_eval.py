@@ -169,6 +169,8 @@ def test_several_models_share_one_set_of_contacts(cube):
     one = evaluate_gripper(cube, yumi(), pose, Task(mass=MASS), model="soft_point", options=noise)
     assert one.q_pose == both["soft_point"].q_pose and one.verdict.scale == both["soft_point"].verdict.scale
     assert one.q_pose > 0.9 and both["point"].q_pose == 0.0  # hard points hold no torque about their line
+    with pytest.raises(ValueError, match=r"each contact model once; \['soft_point'\] named more than once"):
+        evaluate_models(cube, yumi(), pose, Task(mass=MASS), models=("soft_point", "point", "soft_point"))
 
 
 def test_gravity_against_the_approach_is_warned(cube):

@@ -106,3 +106,11 @@ def test_gripper_options_are_checked_when_made():
         GripperOptions(robust=Perturbation())
     with pytest.raises(ValueError, match=r"settle must be True or False; got 'no'"):
         GripperOptions(settle="no")
+
+
+def test_a_zero_task_wrench_is_refused_as_nothing_to_resist():
+    from workbench.grasp.inputs import Task
+
+    with pytest.raises(ValueError, match="zero wrench: there is nothing to resist"):
+        Task(w_ext=[0, 0, 0, 0, 0, 0])
+    assert Task(w_ext=[0, 0, -1.0, 0, 0, 0]).w_ext == (0.0, 0.0, -1.0, 0.0, 0.0, 0.0)

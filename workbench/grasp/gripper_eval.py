@@ -319,6 +319,11 @@ def _checked_models(models) -> tuple[str, ...]:
         raise ValueError(f"models must name at least one contact model of {MODELS}; got none")
     for m in models:
         check_model(m)
+    twice = sorted({m for m in models if models.count(m) > 1})
+    if twice:  # the answers are keyed by model: a second judgement of one model would overwrite the first
+        raise ValueError(
+            f"models must name each contact model once; {twice} named more than once in {models}"
+        )
     return models
 
 

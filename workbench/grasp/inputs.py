@@ -56,7 +56,8 @@ class Task:
     ``com`` may be left None for a gripper (:func:`~.gripper_eval.evaluate_models` takes the mesh's
     centre of mass); :func:`~.evaluate.evaluate_grasp` needs it given.  ``down`` is kept as given
     (not normalised); it does not apply to a given ``w_ext``.  Checked when made:
-    ``w_ext`` by :func:`~.robust.check_task_wrench` (a load a gripper could hold), ``mass`` by
+    ``w_ext`` by :func:`~.robust.check_task_wrench` (a load a gripper could hold; not the zero
+    wrench, which leaves nothing to resist), ``mass`` by
     :func:`~.robust.check_mass`, ``com`` as three finite numbers (:func:`~.robust.check_com`; inside
     the object where the mesh is known), ``down`` by :func:`check_down_direction`.  Vectors are
     stored as tuples of floats.
@@ -73,7 +74,13 @@ class Task:
         if self.w_ext is not None and (self.mass is not None or self.com is not None):
             raise ValueError("give the task either as w_ext or as mass and com, not both")
         if self.w_ext is not None:
-            object.__setattr__(self, "w_ext", _floats(check_task_wrench(self.w_ext)))
+            w = check_task_wrench(self.w_ext)
+            if not np.any(w):  # every grasp "resists" nothing: a task left at its placeholder
+                raise ValueError(
+                    "w_ext is the zero wrench: there is nothing to resist — give the load, e.g. "
+                    "Task(mass=0.2, com=..., down=(0, 0, -1)) for gravity, or w_ext=(0, 0, -1.96, 0, 0, 0)"
+                )
+            object.__setattr__(self, "w_ext", _floats(w))
         else:
             object.__setattr__(self, "mass", float(check_mass(self.mass)))
         if self.com is not None:
