@@ -136,3 +136,14 @@ def test_the_settle_jacobian_matches_central_differences_on_a_smooth_contact():
     h = 2e-3
     fd = np.column_stack([(at(theta + h * e)[0] - at(theta - h * e)[0]) / (2 * h) for e in np.eye(2)])
     assert np.abs(jac - fd).max() <= 0.03 * np.abs(fd).max()
+
+
+def test_concat_runs_is_the_concatenated_aranges():
+    from workbench.sources.surface_index import concat_runs
+
+    rng = np.random.default_rng(4)
+    lo = rng.integers(0, 100, 40)
+    hi = lo + rng.integers(0, 6, 40)  # empty runs included
+    slow = np.concatenate([np.arange(a, b) for a, b in zip(lo, hi, strict=True)])
+    np.testing.assert_array_equal(concat_runs(lo, hi), slow)
+    assert concat_runs(np.array([], int), np.array([], int)).shape == (0,)

@@ -30,7 +30,7 @@ from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
 from .pad_patch import PadPatch
-from .surface_index import SurfaceIndex
+from .surface_index import SurfaceIndex, concat_runs
 
 __all__ = ["WinklerPress", "fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
 
@@ -229,7 +229,7 @@ def pad_patch(mesh, jaw: Jaw, *, stiffness: float | None = None, max_edge: float
 #: the fine surfaces of the last meshes pressed by pad_profile, or made by fine_surface for many
 #: reach_profile presses, by content hash (a pose-robustness run or an antipodal sampler presses
 #: one mesh hundreds of times; the subdivision does not depend on the pose)
-_FINE: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, SurfaceIndex]] = {}
+_FINE: dict[str, tuple] = {}
 _FINE_KEEP = 4
 
 
@@ -244,10 +244,10 @@ def fine_surface(mesh, max_edge: float) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _fine_surface(mesh, max_edge: float, build: bool = True):
-    """:func:`fine_surface`, the index (m,) of each sub-triangle's face in ``mesh.faces`` and a
+    """:func:`fine_surface`, the index (m,) of each sub-triangle's face in ``mesh.faces``, a
     :class:`~.surface_index.SurfaceIndex` of the centres (cells of
-    ``config.DEFAULTS.surface_index_cells`` × ``max_edge``); None when it is not cached and
-    ``build`` is False."""
+    ``config.DEFAULTS.surface_index_cells`` × ``max_edge``) and each face's first sub-triangle
+    (F + 1,); None when it is not cached and ``build`` is False."""
     import hashlib
 
     from .. import config
@@ -263,7 +263,11 @@ def _fine_surface(mesh, max_edge: float, build: bool = True):
         arrays = _fine_faces(np.asarray(mesh.vertices, float), np.asarray(mesh.faces), max_edge)
         for arr in arrays:
             arr.flags.writeable = False
-        arrays = (*arrays, SurfaceIndex.build(arrays[0], config.DEFAULTS.surface_index_cells * max_edge))
+        # each face's run of sub-triangles (they are in face order): a face's are starts[f]:starts[f + 1]
+        starts = np.searchsorted(arrays[3], np.arange(len(mesh.faces) + 1)).astype(np.int64)
+        starts.flags.writeable = False
+        index = SurfaceIndex.build(arrays[0], config.DEFAULTS.surface_index_cells * max_edge)
+        arrays = (*arrays, index, starts)
         while len(_FINE) >= _FINE_KEEP:
             _FINE.pop(next(iter(_FINE)))
         _FINE[key] = arrays
@@ -350,7 +354,7 @@ def _reach(mesh, center, approach, up, press: _Press):
         # the near faces' sub-triangles from the cached whole-mesh subdivision: the same triangles
         # in the same order as refining the near faces alone (_fine_faces cuts each face on its
         # own, in face order), so the profile is the same
-        sel = near[fine[3]]
+        sel = concat_runs(fine[5][:-1][near], fine[5][1:][near])
         cen, normal, area = fine[0][sel], fine[1][sel], fine[2][sel]
     return _press(cen, normal, area, c, (a, e1, e2), press)
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["SurfaceIndex"]
+__all__ = ["SurfaceIndex", "concat_runs"]
 
 
 @dataclass(frozen=True)
@@ -71,8 +71,15 @@ class SurfaceIndex:
         cells = np.flatnonzero(near)
         if len(cells) == 0:
             return np.empty(0, dtype=np.int64)
-        lo, hi = self.starts[cells], self.starts[cells + 1]
-        n = hi - lo
-        # the runs lo[k]:hi[k] of `order`, concatenated: each position's offset into its run
-        shift = np.repeat(lo - np.r_[0, np.cumsum(n)[:-1]], n)
-        return np.sort(self.order[shift + np.arange(n.sum())])
+        return np.sort(self.order[concat_runs(self.starts[cells], self.starts[cells + 1])])
+
+
+def concat_runs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The integer ranges ``lo[k]:hi[k]`` (each (r,), ``hi >= lo``) concatenated in order, as one
+    (Σ (hi − lo),) int64 array — ``np.concatenate([np.arange(a, b) for a, b in zip(lo, hi)])``
+    without the Python loop."""
+    lo, hi = np.asarray(lo, np.int64), np.asarray(hi, np.int64)
+    n = hi - lo
+    # each position's offset into its run, added to its position in the output
+    shift = np.repeat(lo - np.r_[0, np.cumsum(n)[:-1]], n)
+    return shift + np.arange(n.sum(), dtype=np.int64)
