@@ -202,8 +202,7 @@ class Grasp:
     def q_robust(self) -> dict:
         p = Perturbation(n_samples=ROBUST_SAMPLES)
         return {
-            t: min(q_robust(self.contacts, MU, w, p, seed=0) for w in ws)
-            for t, ws in self.tasks().items()
+            t: min(q_robust(self.contacts, MU, w, p, seed=0) for w in ws) for t, ws in self.tasks().items()
         }
 
     # totals

@@ -554,10 +554,9 @@ class Defaults:
     # 9.4 deg off the faces; 20 deg leaves room for a pose perturbation on top.
     # accepts: radians; 0: no turn (each jaw pressed alone)
     settle_max_tilt: float = _field(0.35, _real(0.0, hi=1.5708))
-    # The settle's first stage [m]: the patch pressed this deep (wider, its torque smoother)
-    # gives the first guess (the turn that makes the pads flush with the patches' net normals)
-    # and a first solve, before the pad's own compression: started at the pad's own ~0.1 mm,
-    # the solver can stall on a thin patch whose torque jumps as elements enter and leave it.
+    # The settle's first guess [m]: the patches pressed this deep (wider than at the force,
+    # their net normals steadier) give the turn that makes the pads flush with them; the solve
+    # then starts there.  A thin patch's net normal can swing as elements enter and leave it.
     settle_start_closing: float = _field(5e-4, _POS)  # metres
     # The settle's solver steps (workbench.grasp.settle; one press of both pads each) before it
     # stops where it stands (its torque then judged against settle_torque_rtol like any other):

@@ -139,7 +139,7 @@ def _stiff(r: np.ndarray, jac: np.ndarray, max_tilt: float) -> tuple[np.ndarray,
 
 
 class _Settled(Exception):
-    """Raised inside the residual to stop the solver at a turn whose torque is well inside the
+    """Raised inside the solver's residual to stop it at a turn whose torque is well inside the
     tolerance (least_squares has no such stopping rule)."""
 
     def __init__(self, theta: np.ndarray) -> None:
@@ -286,30 +286,10 @@ class _Settle:
             )
         return ""
 
-    def residual(self, theta: np.ndarray, depth: float | None) -> np.ndarray:
-        """(2,) the normal forces' torque about ``b1``, ``b2`` relative to force × pad size at the
-        turn ``theta``, each pad pressed to the force (``depth`` None) or pressed ``depth`` [m]
-        and its pressures scaled to the force; raises :class:`_Settled` well inside the tolerance."""
-        force, tol = self.force, self.tol
-        _, turned, pats, _ = self.patches(theta)
-        depths = None if pats is None else self.depths(pats, depth)
-        if pats is None or self.too_wide(turned, pats, depths):  # lost contact: push back towards the start
-            return np.array([1.0, 1.0]) * (1.0 + np.linalg.norm(theta) / max(self.max_tilt, 1e-12))
-        point = 0.5 * (turned[0].origin + turned[1].origin)
-        tau = sum(
-            p.torque(d, point) * (1.0 if depth is None else force / p.axis_force(d))
-            for p, d in zip(pats, depths, strict=True)
-        )
-        r = np.array([tau @ self.b1, tau @ self.b2]) / (force * self.size)
-        # settled well inside the tolerance at the force (loosely at a fixed depth, which only
-        # gives the next stage its start): no more iterations
-        if np.linalg.norm(r) <= (tol / 10 if depth is None else tol):
-            raise _Settled(theta)
-        return r
-
     def at_force(self, theta: np.ndarray):
-        """The residual (2,) of :meth:`residual` at the force and its Jacobian (2, 2) in the turn
-        (:func:`torque_jacobian`), or (None, None) when a pad loses contact or the object no longer
+        """The normal forces' torque about ``b1``, ``b2`` (2,) relative to force × pad size at the
+        turn ``theta`` [rad], each pad pressed to the force, and its Jacobian (2, 2) in the turn
+        (:func:`torque_jacobian`); (None, None) when a pad loses contact or the object no longer
         fits."""
         _, turned, pats, _ = self.patches(theta)
         depths = None if pats is None else self.depths(pats, None)
@@ -320,11 +300,11 @@ class _Settle:
         tau, jac = torque_jacobian(pats, depths, [j.closing for j in turned], self.pivot, axes)
         return tau * scale, jac * scale
 
-    def newton(self, theta: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """The turn (2,) [rad] in ``[lo, hi]`` at which the torque at the force vanishes: a trust-region
-        least-squares solve with the Jacobian of :func:`torque_jacobian` (one press of both pads
-        per step; the torque is only piecewise smooth, as a pad's contact set changes with the
-        turn), stopped well inside the tolerance."""
+    def solve(self, theta: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The turn (2,) [rad] in ``[lo, hi]`` at which the torque at the force vanishes: a
+        trust-region least-squares solve from ``theta`` with the Jacobian of
+        :func:`torque_jacobian` (one press of both pads a step; the torque is only piecewise
+        smooth, as a pad's contact set changes with the turn), stopped well inside the tolerance."""
         from .. import config
 
         memo: dict = {}
@@ -358,7 +338,7 @@ class _Settle:
             return np.array(done.theta, dtype=float)
 
     def search(self, start: float) -> np.ndarray:
-        """The turn (2,) [rad] at which the torque vanishes: Newton's method (:meth:`newton`) from
+        """The turn (2,) [rad] at which the torque vanishes: :meth:`solve` from
         the flush turn of the patches pressed ``start`` [m] (wider than at the force, their net
         normals steadier); no turn when a pad misses at the pose as given."""
         theta = np.zeros(2)
@@ -368,4 +348,4 @@ class _Settle:
         first = self.depths(pats, max(start, *self.depths(pats, None)))
         net = tuple(-(p.pressures(d) * p.areas) @ p.normals for p, d in zip(pats, first, strict=True))
         lo, hi = np.full(2, -self.max_tilt), np.full(2, self.max_tilt)
-        return self.newton(np.clip(_flush_turn(net, self.axis, self.b1, self.b2), lo, hi), lo, hi)
+        return self.solve(np.clip(_flush_turn(net, self.axis, self.b1, self.b2), lo, hi), lo, hi)

@@ -1,0 +1,120 @@
+"""Where one grasp's time goes, end to end, per contact model (issue: a grasp in <= 5 ms): a mesh
+and an antipodal grasp -> both jaws' REACH patches -> the model's contact sets (twists, 6DFW,
+fit, linearisation) -> the verdict (Eq. 2.100) -> the minimal force (Eq. 4.4) -> Eq. 2.101's q
+over N_r = 10 perturbed samples (:func:`workbench.grasp.evaluate.evaluate_grasp`'s own stage
+timings).
+
+One process, one model at a time, each grasp with a fresh limit-surface cache (what a user
+evaluating one grasp pays), medians over the grasps after a warm-up grasp.  The build of each
+model is also split by cProfile into the library functions it spends its time in.  The mesh: the
+thesis bottle ``0014_bottle-gen_bottle_100x030x030-03.obj`` when the data folder is beside the
+checkout (the issue's measurement), else an 80 × 50 × 20 mm box; 20 N a jaw, μ 0.3, 0.2 kg at the
+filled object's centre.  Beside: this machine's measured FMA throughput.
+
+Writes results/benchmarks/grasp_path.json.  Run: python benchmarks/bench_grasp_path.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import trimesh
+from bench_wrench import machine_roofline
+
+from workbench.grasp.evaluate import evaluate_grasp
+from workbench.grasp.inputs import Jaws, ModelOptions, Task
+from workbench.grasp.robust import Perturbation
+from workbench.grasp.sampling import GraspSampling, antipodal_grasps
+from workbench.limit_surface import LimitSurfaceCache
+from workbench.plausible import ImplausibleWarning
+from workbench.runner.results import CHECKOUT, code_revision, versions, write_json
+from workbench.sources.reach import fine_surface
+
+OUT = Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "grasp_path.json"
+BOTTLE = CHECKOUT.parent / "shared" / "data" / "thesis_objects" / "0014_bottle-gen_bottle_100x030x030-03.obj"
+MODELS = ("soft_point", "planar", "6dls", "6dfc", "6dls_quartic")
+STAGES = ("profiles", "contact_model", "resists", "min_grasp_force", "q_robust")
+#: issue targets [ms], one core, mesh + grasp -> verdict and minimal force
+TARGET_MS = {"soft_point": 1.0, "planar": 5.0, "6dls": 5.0, "6dfc": 5.0, "6dls_quartic": 20.0}
+
+
+def _mesh() -> tuple[trimesh.Trimesh, str]:
+    if BOTTLE.is_file():
+        return trimesh.load(BOTTLE, force="mesh"), BOTTLE.name
+    return trimesh.creation.box([0.08, 0.05, 0.02]), "box 80 x 50 x 20 mm"
+
+
+def _functions(stats: pstats.Stats, n: int, top: int = 8) -> list[dict]:
+    """The library functions with the most own time [ms a grasp], from a cProfile of ``n`` grasps."""
+    rows = [
+        (tt, f"{Path(fn).name}:{name}")
+        for (fn, _, name), (_, _, tt, _, _) in stats.stats.items()  # type: ignore[attr-defined]
+        if "workbench" in fn or "numpy" not in fn
+    ]
+    rows.sort(reverse=True)
+    return [{"function": where, "ms_per_grasp": 1e3 * tt / n} for tt, where in rows[:top]]
+
+
+def run(quick: bool) -> dict:
+    mesh, name = _mesh()
+    n = 6 if quick else 20
+    grasps = antipodal_grasps(
+        mesh, n + 1, 0.5, GraspSampling(max_width=0.1, max_samples=4000), seed=0, progress=False
+    )
+    fine_surface(mesh, 1e-3)  # the mesh refined once, as the samplers leave it
+    task = Task(mass=0.2, com=tuple(mesh.convex_hull.center_mass))
+    jaws = Jaws(force=20.0)
+    out: dict = {}
+    for m in MODELS:
+        opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10))
+
+        def one(g, opts=opts):
+            return evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ImplausibleWarning)
+            one(grasps[0])  # warm-up: JIT, the model's first fit
+            prof = cProfile.Profile()
+            prof.enable()
+            timings = [one(g).timings_ms for g in grasps[1:]]
+            prof.disable()
+        stage = {s: float(np.median([t.get(s, 0.0) for t in timings])) for s in STAGES}
+        nominal = [sum(t.get(s, 0.0) for s in STAGES[:4]) for t in timings]
+        out[m] = {
+            "stage_ms_median": stage,
+            "end_to_end_ms_median": float(np.median(nominal)),
+            "with_q_robust_ms_median": float(np.median([sum(t.values()) for t in timings])),
+            "target_ms": TARGET_MS[m],
+            "top_functions": _functions(pstats.Stats(prof), len(timings)),
+        }
+        print(f"{m:13s} end to end {np.median(nominal):7.1f} ms  {stage}", flush=True)
+    return {
+        "what": "ms per grasp, one process, one model at a time with a fresh limit-surface cache: "
+        "mesh + antipodal grasp -> REACH patches -> contact sets -> verdict -> minimal force "
+        "(end_to_end), then Eq. 2.101's q over N_r = 10 rigid perturbed samples; medians after a warm-up",
+        "mesh": name,
+        "n_grasps_timed": len(grasps) - 1,
+        "models": out,
+        "machine": machine_roofline(quick=True),
+        "versions": versions(),
+        "code_revision": code_revision(),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="five grasps")
+    args = ap.parse_args(argv)
+    res = run(args.quick)
+    write_json(OUT if not args.quick else OUT.with_name("grasp_path_quick.json"), res)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
