@@ -560,8 +560,9 @@ class Defaults:
     settle_start_closing: float = _field(5e-4, _POS)  # metres
     # The settle's solver steps (workbench.grasp.settle; one press of both pads each) before it
     # stops where it stands (its torque then judged against settle_torque_rtol like any other):
-    # a smooth contact settles in 2-5, one whose contact set keeps changing may stall.
-    settle_max_steps: int = _field(12, _count(1))
+    # a smooth contact settles in 2-5, one whose contact set keeps changing may stall
+    # (docs/decisions.md: converged shares and costs at 12, 20, 30 and 45).
+    settle_max_steps: int = _field(20, _count(1))
     # A direction of turn along which the settle's torque stiffness is below this fraction of
     # the stiffest one is neutral (a round object turning about its own axis: the contact
     # rolls round it); the settle takes no step along it rather than chase the facets' torque
