@@ -1,6 +1,5 @@
-"""The pad's reachable surface (workbench.sources.pad_patch), the grid it is read through
-(workbench.sources.surface_index) and the settle's torque Jacobian (workbench.grasp.settle):
-each against a slow reference (bisection, a brute-force box test, the whole fine surface,
+"""The pad's reachable surface (workbench.sources.pad_patch) and the settle's torque Jacobian
+(workbench.grasp.settle): each against a slow reference (bisection, the whole fine surface,
 central differences) or a closed form."""
 
 import numpy as np
@@ -12,7 +11,6 @@ from workbench.grasp.settle import torque_jacobian
 from workbench.sources import reach
 from workbench.sources.gripper import Gripper, PadShape
 from workbench.sources.pad_patch import PadPatch
-from workbench.sources.surface_index import SurfaceIndex
 
 
 def _random_patch(rng, m=200, k=2e8):
@@ -47,26 +45,6 @@ def test_a_flat_patch_is_pressed_by_force_over_stiffness_and_area():
     assert p.depth_for_force(f) == pytest.approx(f / (k * m * a), rel=1e-12)
     prof = p.profile(p.depth_for_force(f))
     np.testing.assert_allclose(prof.pressures, f / (m * a), rtol=1e-12)
-
-
-def test_the_index_returns_every_centre_inside_a_turned_box():
-    rng = np.random.default_rng(1)
-    pts = rng.uniform(-0.05, 0.05, (20000, 3))
-    idx = SurfaceIndex.build(pts, 3e-3)
-    for _ in range(30):
-        R = Rotation.random(random_state=rng).as_matrix()
-        a, e1, e2 = R
-        origin = rng.uniform(-0.03, 0.03, 3)
-        box = (-0.01, 0.012, -0.02, 0.015, -0.03, 0.02)
-        rel = pts - origin
-        u, v, z = rel @ e1, rel @ e2, rel @ a
-        inside = np.flatnonzero(
-            (u >= box[0]) & (u <= box[1]) & (v >= box[2]) & (v <= box[3]) & (z >= box[4]) & (z <= box[5])
-        )
-        got = idx.within(origin, (a, e1, e2), box)
-        assert np.all(np.diff(got) > 0)  # sorted, no repeats
-        assert np.isin(inside, got).all()
-        assert len(got) < 4 * max(len(inside), 1) + 2000  # a superset near the box, not everything
 
 
 def _gripper(force=10.0):
@@ -136,14 +114,3 @@ def test_the_settle_jacobian_matches_central_differences_on_a_smooth_contact():
     h = 2e-3
     fd = np.column_stack([(at(theta + h * e)[0] - at(theta - h * e)[0]) / (2 * h) for e in np.eye(2)])
     assert np.abs(jac - fd).max() <= 0.03 * np.abs(fd).max()
-
-
-def test_concat_runs_is_the_concatenated_aranges():
-    from workbench.sources.surface_index import concat_runs
-
-    rng = np.random.default_rng(4)
-    lo = rng.integers(0, 100, 40)
-    hi = lo + rng.integers(0, 6, 40)  # empty runs included
-    slow = np.concatenate([np.arange(a, b) for a, b in zip(lo, hi, strict=True)])
-    np.testing.assert_array_equal(concat_runs(lo, hi), slow)
-    assert concat_runs(np.array([], int), np.array([], int)).shape == (0,)
