@@ -153,3 +153,15 @@ def test_quality_summary_and_agreement_by_hand():
         quality_summary([0.2, 1.5], [0, 1])
     with pytest.raises(ValueError, match="same n >= 2"):
         quality_agreement([0.1, 0.2], [0.1, 0.2, 0.3])
+
+
+def test_a_pad_pressed_deeper_than_its_layer_is_marked_bottomed_out():
+    # the rule against the contact's own depths: a layer thinner than the deepest press bottoms out
+    from workbench.grasp.dataset_rows import _bottomed_out
+
+    c = gripper_contact(_box(), GRIPPER, _pose())
+    deepest = max(c.depths)
+    assert not _bottomed_out(c, GRIPPER.pad.thickness) and deepest < GRIPPER.pad.thickness
+    assert _bottomed_out(c, 0.5 * deepest) and not _bottomed_out(c, 2 * deepest)
+    row = score_candidate(_box(), GRIPPER, _pose(), Task(mass=0.01, com=(0, 0, 0.01)), ("soft_point",))
+    assert row["bottomed_out"] is False and "layer" not in row["reason"]

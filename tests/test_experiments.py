@@ -1130,3 +1130,14 @@ def test_grasp_dataset_refuses_careless_settings_before_any_row(tmp_path, capsys
 
     listed = json.dumps([str(tmp_path / "box.obj"), str(tmp_path / "big.obj")])
     assert list(mesh_files({**DEFAULT_CONFIG, "meshes": listed})) == ["big", "box"]
+    # a second trial: a path listed twice, two files of one name, a mesh that is not .obj
+    (tmp_path / "other").mkdir()
+    box.export(tmp_path / "other" / "box.obj")
+    box.export(tmp_path / "box.stl")
+    for paths, match in (
+        ([tmp_path / "box.obj", tmp_path / "box.obj"], "more than once"),
+        ([tmp_path / "box.obj", tmp_path / "other" / "box.obj"], r"share a name .*'box'"),
+        ([tmp_path / "box.stl"], r"must be \.obj files"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            mesh_files({**DEFAULT_CONFIG, "meshes": json.dumps([str(p) for p in paths])})

@@ -166,10 +166,33 @@ def mesh_files(config: dict) -> dict[str, str]:
             raise ValueError(
                 f"meshes must list existing mesh files; missing: {missing or 'all (empty list)'}"
             )
-    names = {Path(p).stem: p for p in paths}
-    if len(names) != len(paths):
-        raise ValueError("meshes: two files share a name; give each object a distinct file name")
-    return dict(sorted(names.items()))
+    return _named(paths)
+
+
+def _named(paths: list[str]) -> dict[str, str]:
+    """``{name: path}`` sorted by name, each object named by its file's stem: refused when a path
+    is not an .obj file, is listed twice, or two files share a stem."""
+    folders = [p for p in paths if Path(p).is_dir()]
+    if folders:
+        raise ValueError(f"meshes: {folders[0]} is not a file; give .obj files (a glob such as DIR/*.obj)")
+    not_obj = [p for p in paths if Path(p).suffix.lower() != ".obj"]
+    if not_obj:
+        raise ValueError(
+            f"meshes must be .obj files (Wavefront); got {not_obj}: convert them, e.g. with trimesh"
+        )
+    twice = sorted({p for p in paths if paths.count(p) > 1})
+    if twice:
+        raise ValueError(f"meshes lists {twice} more than once; list each file once")
+    names: dict[str, list[str]] = {}
+    for p in paths:
+        names.setdefault(Path(p).stem, []).append(p)
+    shared = {n: ps for n, ps in names.items() if len(ps) > 1}
+    if shared:
+        raise ValueError(
+            f"meshes: files share a name (the object's name in the table): {shared}; "
+            "give each object a distinct file name"
+        )
+    return dict(sorted((n, ps[0]) for n, ps in names.items()))
 
 
 def _gripper(config: dict):

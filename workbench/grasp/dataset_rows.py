@@ -122,14 +122,21 @@ def contact_summary(contact: SettledContact) -> dict:
     return out
 
 
+def _bottomed_out(contact: SettledContact, thickness: float) -> bool:
+    """Whether either pad of ``contact`` is pressed deeper than ``thickness`` [m], its layer."""
+    return bool(contact.touches and max(contact.depths) > thickness)
+
+
 def score_candidate(mesh, gripper, pose, task: Task, models, options: DatasetOptions | None = None) -> dict:
     """One dataset row: ``gripper`` at ``pose`` (4, 4; the gripper in the mesh's frame [m]) on
     ``mesh`` (metres), holding the gravity ``task`` (a :class:`~.inputs.Task` with ``mass`` [kg]
     and ``com`` (3,) [m]), scored by each of ``models`` (names of :data:`~.models.MODELS`).
 
     Returns ``status`` ("scored", or "miss" when a pad touches nothing: every model's q 0, not
-    held), ``reason``, ``t_contact_ms``, :func:`contact_summary`'s columns and
-    :func:`model_columns` per model.  ``q_<m>`` is on the grid ``k / N_r``.
+    held), ``reason``, ``t_contact_ms``, :func:`contact_summary`'s columns, ``bottomed_out``
+    (a pad pressed deeper than the gripper's pad layer is thick, said in ``reason`` too; the row
+    is scored all the same) and :func:`model_columns` per model.  ``q_<m>`` is on the grid
+    ``k / N_r``.
     """
     opts = checked_group(options, DatasetOptions, "options")
     task = checked_group(task, Task, "task")
@@ -143,7 +150,15 @@ def score_candidate(mesh, gripper, pose, task: Task, models, options: DatasetOpt
         "reason": contact.reason,
         "t_contact_ms": (time.perf_counter() - t0) * 1e3,
         **contact_summary(contact),
+        "bottomed_out": _bottomed_out(contact, gripper.pad.thickness),
     }
+    if row["bottomed_out"]:
+        deepest = max(contact.depths) * 1e3
+        note = (
+            f"a pad is pressed {deepest:.2f} mm, deeper than its {gripper.pad.thickness * 1e3:g} mm layer: "
+            "the finger behind it would touch, which a Winkler pad does not describe"
+        )
+        row["reason"] = f"{row['reason']}; {note}" if row["reason"] else note
     if not contact.touches:
         for m in models:
             row |= dict(zip(model_columns(m), (0.0, False, 0.0, 0.0, 0.0), strict=True))
