@@ -6,10 +6,12 @@ Writes results/benchmarks/limit_surface.json.  Run: python benchmarks/bench_limi
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from pathlib import Path
 
 import numpy as np
+from bench_wrench import machine_roofline  # the sibling benchmark's FMA roofline
 
 from workbench import (
     fit_ellipsoid,
@@ -69,6 +71,10 @@ def main() -> None:
             "quartic+normals (CLARABEL)": lambda W=W, wm=wm, xi=xi: fit_quartic(
                 W, twists=xi, w_max=wm, fallback_solver=None
             ),
+            "quartic (IPM)": lambda W=W, wm=wm: fit_quartic(W, w_max=wm, solver="IPM", fallback_solver=None),
+            "quartic+normals (IPM)": lambda W=W, wm=wm, xi=xi: fit_quartic(
+                W, twists=xi, w_max=wm, solver="IPM", fallback_solver=None
+            ),
             "quartic (SCS)": lambda W=W, wm=wm: fit_quartic(
                 W, w_max=wm, solver="SCS", fallback_solver=None, warm_start=False
             ),
@@ -92,10 +98,19 @@ def main() -> None:
         gap[label.split(" ")[0]] = {
             str(M_): support_ratio(model, M_, dirs) for M_ in (50, 100, 200, 500, 1000, 2000)
         }
+    med = {k: float(np.median(v)) for k, v in rows.items()}
     result = {
         "benchmark": "6D limit-surface fits at K = 600 and linearisation at M = 1,000",
+        "machine": {
+            **machine_roofline(quick=True),
+            "cpu_count": os.cpu_count(),
+            "loadavg_1_5_15": os.getloadavg(),
+        },
+        # the quartic fit by its own interior point against Clarabel, same process and data
+        "quartic_clarabel_over_ipm": med["quartic (CLARABEL)"] / med["quartic (IPM)"],
+        "quartic_normals_clarabel_over_ipm": med["quartic+normals (CLARABEL)"] / med["quartic+normals (IPM)"],
         "linearization_gap_support_ratio_S6": gap,
-        "median_s": {k: float(np.median(v)) for k, v in rows.items()},
+        "median_s": med,
         "per_surface_s": {k: dict(zip(THESIS_SURFACES, v, strict=True)) for k, v in rows.items()},
         "median_heldout_error": {k: float(np.median(v)) for k, v in errors.items()},
         "targets_s": {"ellipsoid_lsq": 1e-3, "ellipsoid_sdp": 0.05, "quartic": 0.5, "linearize_M1000": 1e-3},

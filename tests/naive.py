@@ -219,3 +219,20 @@ def nearest_of_candidates(tris, x, cand, L, zero, pts, dist, which):
     j = d.reshape(n, k).argmin(axis=1)
     rows = np.arange(n)
     pts[:], dist[:], which[:] = p.reshape(n, k, 3)[rows, j], d.reshape(n, k)[rows, j], cand[rows, j]
+
+
+def svec_kron(Z, Y):
+    """The matrix of ``U ↦ svec(½(Z U Y + Y U Z))`` built column by column from its definition:
+    svec = the upper triangle by columns, off-diagonal entries times √2."""
+    n = len(Z)
+    idx = [(i, j) for j in range(n) for i in range(j + 1)]
+
+    def svec(U):
+        return np.array([U[i, j] * (1.0 if i == j else np.sqrt(2.0)) for i, j in idx])
+
+    cols = []
+    for k, l in idx:
+        U = np.zeros((n, n))
+        U[k, l] = U[l, k] = 1.0 if k == l else 1.0 / np.sqrt(2.0)
+        cols.append(svec(0.5 * (Z @ U @ Y + Y @ U @ Z)))
+    return np.array(cols).T

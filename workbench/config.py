@@ -264,6 +264,16 @@ class Tolerances:
     # it the fit is logged and recorded as underdetermined (info["underdetermined"]).
     quartic_rank_rtol: float = _field(1e-10, _NONNEG)
 
+    # The quartic fit's own interior point (limit_surface/sos_ipm.py) stops when the duality gap
+    # Σ tr(X Z) is below sos_ipm_gap of the objective (at least 1) and the dual residual below
+    # sos_ipm_residual of 1 + max|Rᵀc|: Clarabel's default tolerances (1e-8), so both solvers
+    # return the same fit to their accuracy.
+    sos_ipm_gap: float = _field(1e-8, _POS)
+    sos_ipm_residual: float = _field(1e-8, _POS)
+    sos_ipm_max_iter: int = _field(60, _count(1))  # Mehrotra's method needs ~10-25
+    # fraction of the step to the cone's boundary taken (an interior point stays interior)
+    sos_ipm_step: float = _field(0.99, _real(0.0, lo_open=True, hi=1.0, hi_open=True))
+
     # Semi-axis (normalised units) given to dropped directions so every
     # returned A_e is positive definite: the model is "flat" to this thickness.
     flat_axis: float = _field(1e-6, _POS)  # keeps A_e positive definite

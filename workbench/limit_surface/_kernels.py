@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..config import NUMBA_FLAGS_PARALLEL
+from ..config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
 
 #: points per parallel block: long enough for the inner loops to vectorise, short enough for
 #: the block's rows to stay in L1
@@ -76,3 +76,27 @@ def _quartic_values(yt, coef, out):  # noqa: C901 - Numba kernel: the nested sum
                     s1[t] += yt[j, lo + t] * s2[t]
             for t in range(m):
                 out[lo + t] += yt[i, lo + t] * s1[t]
+
+
+@njit(**NUMBA_FLAGS)
+def _svec_kron(Z, Y, i, j, out):
+    """``out`` (m, m): the svec Kronecker product of symmetric Z, Y (n, n) — the matrix of
+    ``U ↦ svec(½(Z U Y + Y U Z))`` on svec vectors (the upper triangle by columns, off-diagonals
+    times √2; entry p is (i[p], j[p])) — ``½ w_p u_q (Z_ik Y_lj + Z_il Y_kj + Y_ik Z_lj + Y_il Z_kj)``
+    for p = (i, j), q = (k, l), w = 1 | √2 and u = ½ | 1/√2 on | off the diagonal.  Row by row
+    from rows of Z and Y (Y_lj = Y_jl: both symmetric); the inner loop runs down a column of the
+    triangle (k = 0..l: contiguous, it vectorises)."""
+    m, n = i.shape[0], Z.shape[0]
+    r2 = np.sqrt(2.0)
+    h = 1.0 / r2  # u off the diagonal
+    for p in range(m):
+        a, b = i[p], j[p]
+        za, zb, ya, yb = Z[a], Z[b], Y[a], Y[b]
+        s = 0.5 if a == b else 0.5 * r2
+        q = 0
+        for l in range(n):
+            c1, c2, c3, c4 = s * yb[l], s * za[l], s * zb[l], s * ya[l]
+            for k in range(l):
+                out[p, q + k] = (za[k] * c1 + yb[k] * c2 + ya[k] * c3 + zb[k] * c4) * h
+            out[p, q + l] = 0.5 * (za[l] * c1 + yb[l] * c2 + ya[l] * c3 + zb[l] * c4)
+            q += l + 1

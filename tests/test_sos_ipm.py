@@ -1,0 +1,105 @@
+"""workbench.limit_surface.sos_ipm: the quartic fit's own interior point (Eq. 3.17) against its
+definition (the svec Kronecker kernel against a column-by-column reference) and against Clarabel
+on the same program (the same optimum), and fit_quartic(solver="IPM") against Clarabel's fit."""
+
+import naive
+import numpy as np
+import pytest
+
+import workbench.limit_surface.sos_ipm as sos_ipm
+from workbench import fit_quartic
+from workbench.limit_surface import quartic as quart_mod
+from workbench.limit_surface._kernels import _svec_kron
+from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, swap_blocks
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 15])
+def test_svec_kron_is_the_operator_it_names(n, rng):
+    A, B = rng.standard_normal((2, n, n))
+    Z, Y = A @ A.T + np.eye(n), B + B.T
+    lay = sos_ipm._Svec(n)
+    out = np.empty((lay.m, lay.m))
+    _svec_kron(Z, Y, lay.i, lay.j, out)
+    np.testing.assert_allclose(out, naive.svec_kron(Z, Y), rtol=1e-13, atol=1e-13)
+    # and svec / smat are inverse isometries: <U, V> = svec(U)·svec(V)
+    U, V = (lambda M: M + M.T)(rng.standard_normal((n, n))), (lambda M: M + M.T)(rng.standard_normal((n, n)))
+    assert lay.svec(U) @ lay.svec(V) == pytest.approx(np.sum(U * V), rel=1e-12)
+    np.testing.assert_allclose(lay.smat(lay.svec(U)), U, rtol=1e-14)
+
+
+def _program(r, rng, n_points=300):
+    """(Rm, c) of a fit to points near a skewed ellipsoid (the convexity constraint binds)."""
+    z = rng.standard_normal((n_points, r)) * np.linspace(0.5, 1.3, r)
+    z /= np.linalg.norm(z, axis=1, keepdims=True) ** rng.uniform(0.8, 1.2, (n_points, 1))
+    Q, Rm = np.linalg.qr(monomials(z, exponents(r, 4)))
+    return Rm, Q.T @ np.ones(n_points)
+
+
+@pytest.mark.parametrize("r", [1, 2, 3, 4, 6])
+def test_the_interior_point_finds_clarabels_optimum(r, rng):
+    """The same convex program (the reduced Gram form) solved by Clarabel and by the interior
+    point: the same optimal objective (to the stopping rule's 1e-8), the same coefficients, and a Gram
+    matrix that certifies them (PSD, Eq. 3.16)."""
+    Rm, c = _program(r, rng)
+    ok, a_clar, _, _ = quart_mod._solve(r, "CLARABEL", Rm, c, warm_start=False)
+    ok_i, a_ipm, M, status = quart_mod._solve(r, "IPM", Rm, c, warm_start=False)
+    assert ok and ok_i and status == "optimal"
+    obj_c, obj_i = (0.5 * np.sum((Rm @ a - c) ** 2) for a in (a_clar, a_ipm))
+    # at least as good as Clarabel's to the stopping rule's gap (1e-8 of the objective, at least
+    # 1), and not below the optimum Clarabel brackets to its own tolerances (1e-8, on ‖·‖)
+    scale = max(1.0, obj_c)
+    assert obj_c - 1e-6 * scale <= obj_i <= obj_c + 1e-8 * scale
+    np.testing.assert_allclose(a_ipm, a_clar, atol=1e-4 * np.abs(a_clar).max())
+    V1, V2 = sos_convexity_maps(r)
+    assert np.linalg.eigvalsh(M).min() >= -1e-12 * np.abs(M).max()
+    assert np.abs(V1 @ M.ravel(order="F") - V2 @ a_ipm).max() <= 1e-10 * np.abs(a_ipm).max()
+
+
+def test_an_unconstrained_optimum_is_the_least_squares_solution(rng):
+    """Points on a known SOS-convex quartic: the least-squares solution is convex, so the
+    constraint is inactive and the interior point must return it (Rm a = c to ~the gap)."""
+    z = rng.standard_normal((400, 6))
+    f = (z**4).sum(axis=1) + (z**2).sum(axis=1) ** 2
+    z = z * f[:, None] ** -0.25
+    Q, Rm = np.linalg.qr(monomials(z, exponents(6, 4)))
+    c = Q.T @ np.ones(len(z))
+    ok, a, _, _ = quart_mod._solve(6, "IPM", Rm, c, warm_start=False)
+    np.testing.assert_allclose(a, np.linalg.solve(Rm, c), atol=1e-5 * np.abs(a).max())
+
+
+def test_fit_quartic_by_the_interior_point_is_clarabels_fit(rng):
+    """fit_quartic end to end (whitening, QR, certificate): the IPM's model predicts what
+    Clarabel's does on held-out wrenches, to far below the fit's own error."""
+    s = np.array([1.0, 0.8, 0.6, 0.3, 0.1, 0.05])
+    u = rng.standard_normal((900, 6)) * s
+    W = u * (((u / s) ** 2).sum(axis=1) + 0.3 * (u[:, 0] / s[0]) ** 2)[:, None] ** -0.25  # not a quartic
+    train, test = W[:600], W[600:]
+    wm = np.abs(W).max(axis=0)
+    q_c = fit_quartic(train, w_max=wm, fallback_solver=None)
+    q_i = fit_quartic(train, w_max=wm, solver="ipm", fallback_solver=None)
+    assert q_i.info["solver"] == "ipm" and q_i.info["fallback"] is None
+    # an interior point is strictly feasible: the certificate adds round-off only
+    assert 0.0 <= q_i.info["certificate_delta"] <= 1e-12 * np.abs(q_i.A_q).max()
+    np.testing.assert_allclose(q_i.value(test), q_c.value(test), rtol=1e-5)
+    assert q_c.fitting_error(test) > 1e-3  # the agreement is not that of two exact fits
+
+
+def test_no_convergence_is_a_recorded_fallback(rng, monkeypatch):
+    from dataclasses import replace
+
+    from workbench import config
+
+    monkeypatch.setattr(config, "TOL", replace(config.TOL, sos_ipm_max_iter=2))
+    Rm, c = _program(6, rng)
+    ok, *_, status = quart_mod._solve(6, "IPM", Rm, c, warm_start=False)
+    assert not ok and "2 iterations" in status
+    z = rng.standard_normal((300, 6))
+    q = fit_quartic(z / np.linalg.norm(z, axis=1, keepdims=True), solver="IPM", fallback_solver="CLARABEL")
+    assert q.info["solver"] == "CLARABEL" and "IPM: no convergence in 2 iterations" in q.info["fallback"]
+
+
+def test_solver_names():
+    assert quart_mod.check_quartic_solver("ipm") == "ipm"
+    with pytest.raises(ValueError, match="solver='IPM'"):
+        quart_mod.check_quartic_solver("IPOPT")
+    assert len(swap_blocks(6)[0]) == 21  # the blocks the module notes name
