@@ -1102,6 +1102,8 @@ def test_grasp_dataset_refuses_careless_settings_before_any_row(tmp_path, capsys
     one = ["--set", f"meshes={tmp_path}/box.obj"]
     for sets, match in (
         ([*one, "--set", 'models=["6dls","6dls"]'], "each once"),
+        # a third trial: the model's name in capitals got no hint
+        ([*one, "--set", 'models=["6DLS","soft-point"]'], "did you mean '6dls' for '6DLS', 'soft_point' for"),
         ([*one, "--set", "mass_kg=5.0"], r"mass_kg 5.0 on box .*grams"),
         (
             ["--set", f"meshes={tmp_path}/big.obj", "--set", "max_candidates=2000"],
@@ -1111,20 +1113,34 @@ def test_grasp_dataset_refuses_careless_settings_before_any_row(tmp_path, capsys
         with pytest.raises(SystemExit):
             main([*base, *sets])
         assert re.search(match, capsys.readouterr().err), match
-    # a mesh in millimetres, an open mesh and a folder are refused naming the file
+    # a mesh in millimetres, one in centimetres, an open mesh and a folder are refused naming the
+    # file once, with the remedy a command line has (re-export the file; no units= or allow_scale)
     mm = trimesh.creation.box([80.0, 50.0, 20.0])
     mm.export(tmp_path / "mm_box.obj")
+    trimesh.creation.box([8.0, 5.0, 20.0]).export(tmp_path / "cm_box.obj")
     open_box = trimesh.creation.box([0.08, 0.05, 0.02])
     open_box.update_faces(np.arange(len(open_box.faces)) > 0)
     open_box.export(tmp_path / "open_box.obj")
     for sets, match in (
-        (["--set", f"meshes={tmp_path}/mm_box.obj"], rf"mm_box \({tmp_path}/mm_box.obj\): .*millimetres"),
-        (["--set", f"meshes={tmp_path}/open_box.obj"], r"open_box \(.*open_box.obj\): .*watertight"),
+        (
+            ["--set", f"meshes={tmp_path}/mm_box.obj"],
+            rf"error: mm_box \({tmp_path}/mm_box.obj\) spans 80 m .*probably in millimetres \(it would span "
+            r"0.08 m\): re-export the file in metres \(scale it by 0.001.*; or in centimetres \(it would "
+            r"span 0.8 m\)",
+        ),
+        (
+            ["--set", f"meshes={tmp_path}/cm_box.obj"],
+            r"cm_box .* spans 20 m .*probably in centimetres \(it would span 0.2 m\): re-export the file in "
+            r"metres \(scale it by 0.01.*; or in millimetres \(it would span 0.02 m\)",
+        ),
+        (["--set", f"meshes={tmp_path}/open_box.obj"], r"open_box \(.*open_box.obj\):? .*watertight"),
         (["--set", f"meshes={tmp_path}"], "is not a file"),
     ):
         with pytest.raises(SystemExit):
             main([*base, *sets])
-        assert re.search(match, capsys.readouterr().err), match
+        err = capsys.readouterr().err
+        assert re.search(match, err), match
+        assert "units=" not in err and "allow_scale" not in err and err.count("_box (") <= 1
     assert not (tmp_path / "o" / "rows.jsonl").exists()
     from workbench.experiments.grasp_dataset import DEFAULT_CONFIG, mesh_files
 

@@ -40,14 +40,31 @@ def _likely_unit(raw: float, factor: float, larger: bool) -> str | None:
     """The common unit (other than the declared one, of ``factor`` m) in which the
     caller's number ``raw`` is a plausible size; ``larger``: look at units larger
     than the declared one (the object came out too small)."""
+    units = _likely_units(raw, factor, larger)
+    return units[0] if units else None
+
+
+#: the size a graspable object typically has [m]: of two plausible readings, the nearer (in ratio)
+#: is named first
+_TYPICAL_OBJECT_M = 0.1
+
+
+def _likely_units(raw: float, factor: float, larger: bool) -> list[str]:
+    """Every common unit (other than the declared one, of ``factor`` m) in which ``raw`` is a
+    plausible size, the reading nearest a typical object first: a mesh 20 units long is 2 cm in
+    millimetres and 20 cm in centimetres, and only its maker knows which.  Micrometres are named
+    only when neither millimetres nor centimetres fit."""
     tol = _config.TOL
     order = ("m", "cm", "mm") if larger else ("mm", "cm", "um")
-    for u in order:
-        if (_UNITS[u] > factor if larger else _UNITS[u] < factor) and (
-            tol.min_object_extent_m <= raw * _UNITS[u] <= tol.max_object_extent_m
-        ):
-            return u
-    return None
+    fits = [
+        u
+        for u in order
+        if (_UNITS[u] > factor if larger else _UNITS[u] < factor)
+        and tol.min_object_extent_m <= raw * _UNITS[u] <= tol.max_object_extent_m
+    ]
+    if "um" in fits and len(fits) > 1:
+        fits.remove("um")
+    return sorted(fits, key=lambda u: abs(np.log(raw * _UNITS[u] / _TYPICAL_OBJECT_M)))
 
 
 def check_extent(
@@ -91,13 +108,16 @@ def check_extent(
     declared = "metres" if units is None else _UNIT_NAMES.get(str(units), f"units of {factor:g} m")
     raw = extent / factor  # the size in the caller's own numbers
     if extent > hi * (1 + slack):
-        u = _likely_unit(raw, factor, larger=False)
-        if u is None:
+        units = _likely_units(raw, factor, larger=False)
+        if not units:
             likely = "no common unit makes it a graspable size: check how it was made"
         else:
-            k = _UNITS[u] / factor
-            remedy = fix.format(units=u, factor=k, area_factor=k * k)
-            likely = f"it is probably in {_UNIT_NAMES[u]}: {remedy}"
+            readings = []
+            for u in units:
+                k = _UNITS[u] / factor
+                remedy = fix.format(units=u, factor=k, area_factor=k * k)
+                readings.append(f"{_UNIT_NAMES[u]} (it would span {raw * _UNITS[u]:.3g} m): {remedy}")
+            likely = "it is probably in " + "; or in ".join(readings)
         raise ValueError(
             f"{what} spans {extent:.4g} m (read as {declared}), more than "
             f"TOL.max_object_extent_m = {hi:g} m; {likely}{escape}"

@@ -244,18 +244,30 @@ def _key(job: tuple) -> str:
     return f"{job[0]}/{job[3]:06d}/{content_hash([job[4], job[5]], 10)}"
 
 
+#: the remedy of a mesh file in another unit: the driver reads files, it has no units key
+_FILE_UNIT_FIX = (
+    "re-export the file in metres (scale it by {factor:g}, e.g. with trimesh: "
+    "m = trimesh.load(path); m.apply_scale({factor:g}); m.export(path))"
+)
+
+
 def _mesh_of(name: str, path: str):
-    """The object lying on the table, or a refusal that names its file (a mesh in millimetres, an
-    open or empty mesh, a folder)."""
+    """The object lying on the table, or a refusal that names its file (a mesh in millimetres or
+    centimetres, an open or empty mesh, a folder): the file's own mesh is judged, before it is
+    rested, with the remedy a user of the command line has (re-export the file in metres)."""
+    import trimesh
+
     from workbench.units import closed_mesh
 
     if not Path(path).is_file():
         raise ValueError(f"meshes: {path} is not a file; give .obj files (a glob such as DIR/*.obj)")
+    what = f"{name} ({path})"
     try:
+        closed_mesh(trimesh.load(path, force="mesh"), what, fix=_FILE_UNIT_FIX, override=None)
         mesh = _rested(path, True)[0]
-        closed_mesh(mesh, f"{name} ({path})")
     except (ValueError, IndexError, AttributeError) as e:
-        raise ValueError(f"{name} ({path}): {e}") from None
+        msg = str(e)
+        raise ValueError(msg if msg.startswith(what) else f"{what}: {msg}") from None
     return mesh
 
 

@@ -136,7 +136,22 @@ def check_key(name: str, key: Key, value: Any) -> None:
         if bad:
             raise ValueError(
                 f"{name} must be one of {list(allowed)}; got {value!r} ({', '.join(map(repr, bad))} not)"
+                + _did_you_mean(bad, allowed)
             )
+
+
+def _did_you_mean(bad: list, allowed) -> str:
+    """" — did you mean '6dls'?" for the words of ``bad`` that are an allowed word in another case
+    or spelling ("6DLS", "soft-point"), else ""."""
+    import difflib
+
+    hints = []
+    for w in bad:
+        key = str(w).lower().replace("-", "_").replace(" ", "_")
+        close = difflib.get_close_matches(key, [str(a) for a in allowed], n=1, cutoff=0.6)
+        if close:
+            hints.append(f"{close[0]!r} for {w!r}")
+    return f" — did you mean {', '.join(hints)}?" if hints else ""
 
 
 def describe(key: Key) -> str:
