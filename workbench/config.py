@@ -265,12 +265,16 @@ class Tolerances:
     quartic_rank_rtol: float = _field(1e-10, _NONNEG)
 
     # The quartic fit's own interior point (limit_surface/sos_ipm.py) stops when the duality gap
-    # Σ tr(X Z) is below sos_ipm_gap of the objective (at least 1) and the dual residual below
-    # sos_ipm_residual of 1 + max|Rᵀc|: Clarabel's default tolerances (1e-8), so both solvers
-    # return the same fit to their accuracy.
+    # Σ tr(X Z) is below sos_ipm_gap of the objective ½‖R a − c‖² (and of sos_ipm_gap × ½‖c‖²,
+    # for a fit through its data) and the dual residual below sos_ipm_residual of 1 + max|Rᵀc|:
+    # Clarabel's default tolerances (1e-8), so both solvers return the same fit to their accuracy.
     sos_ipm_gap: float = _field(1e-8, _POS)
     sos_ipm_residual: float = _field(1e-8, _POS)
     sos_ipm_max_iter: int = _field(60, _count(1))  # Mehrotra's method needs ~10-25
+    # the interior point's Schur matrix, when round-off near the optimum leaves it unfactorable, is
+    # factored with this fraction of its largest diagonal entry added (then 100x more, up to 1e6x),
+    # and its solves refined against the matrix itself
+    sos_ipm_regularisation: float = _field(1e-14, _POS)
     # fraction of the step to the cone's boundary taken (an interior point stays interior)
     sos_ipm_step: float = _field(0.99, _real(0.0, lo_open=True, hi=1.0, hi_open=True))
 

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import config
+from ..blas_threads import one_blas_thread
 from ..kernel_launch import launch
 from ._kernels import _cubic_gradients, _quartic_values
 from .base import LimitSurfaceModel
@@ -299,12 +300,10 @@ def _reduced_maps(r: int) -> tuple[sp.csc_matrix, sp.csc_matrix]:
     Z = zero.toarray()
     B_S, V2, B_A = Z[:, L + 1 : L + 1 + nS], -Z[:, :L], Z[:, L + 1 + nS :]
     rhs = np.hstack([V2, -B_A])
-    from threadpoolctl import threadpool_limits
-
     # one BLAS thread: a threaded LAPACK sums in another order, and these last bits would make a
     # fit depend on whether this process had computed the maps with more threads (measured:
     # serial and Dask rows apart by 1e-11)
-    with threadpool_limits(limits=1):
+    with one_blas_thread():
         sol = np.linalg.lstsq(B_S, rhs, rcond=None)[0]
     resid = float(np.abs(B_S @ sol - rhs).max())
     if np.linalg.matrix_rank(B_S) != nS or resid > 1e-10:
@@ -389,14 +388,29 @@ IPM = "IPM"
 
 
 def check_quartic_solver(solver: object, what: str = "solver") -> str:
-    """``solver`` if it is "IPM" (any case: :mod:`.sos_ipm`, the quartic fit's own interior point)
-    or a conic solver with semidefinite support (:func:`~.sdp_solver.check_sdp_solver`)."""
+    """``solver`` in upper case if it is "IPM" (any case: :mod:`.sos_ipm`, the quartic fit's own
+    interior point) or a conic solver with semidefinite support
+    (:func:`~.sdp_solver.check_sdp_solver`), else a ValueError listing them."""
     if isinstance(solver, str) and solver.upper() == IPM:
-        return solver
+        return IPM
     try:
-        return check_sdp_solver(solver, what)
-    except ValueError as exc:
-        raise ValueError(f"{exc}; or {what}='IPM', the quartic fit's own interior point") from None
+        return check_sdp_solver(solver, what).upper()
+    except ValueError:
+        from .sdp_solver import sdp_solvers
+
+        raise ValueError(
+            f"{what} must name a conic solver with semidefinite support, one of {list(sdp_solvers())}, "
+            f"or 'IPM' (the quartic fit's own interior point), any case; got {solver!r}"
+        ) from None
+
+
+def _fallback_for(solver: str, fallback_solver: str | None) -> str | None:
+    """The checked fallback: "auto" is Clarabel after the IPM and SCS after any other solver."""
+    if fallback_solver is None:
+        return None
+    if isinstance(fallback_solver, str) and fallback_solver.lower() == "auto":
+        return "CLARABEL" if solver == IPM else "SCS"
+    return check_quartic_solver(fallback_solver, "fallback_solver")
 
 
 @lru_cache(maxsize=16)
@@ -411,12 +425,10 @@ def _ipm_program(r: int):
 def _solve_ipm(r: int, Rm: np.ndarray, c_val: np.ndarray):
     """Eq. 3.17 by :func:`.sos_ipm.solve` on one BLAS thread (a threaded LAPACK sums in another
     order, and on a shared machine waits for its threads); returns (ok, a, M, status)."""
-    from threadpoolctl import threadpool_limits
-
     from . import sos_ipm
 
     T_s, T_a = swap_blocks(r)
-    with threadpool_limits(limits=1):
+    with one_blas_thread():
         res = sos_ipm.solve(Rm, c_val, _ipm_program(r))
     if not res.ok:
         return False, None, None, res.status
@@ -488,7 +500,7 @@ def fit_quartic(
     normal_weight: float | None = None,
     w_max: Any = None,
     solver: str = "CLARABEL",
-    fallback_solver: str | None = "SCS",
+    fallback_solver: str | None = "auto",
     warm_start: bool = False,
 ) -> QuarticLS:
     """Fit an SOS-convex quartic 6DLS to raw frictional wrenches (K, 6), Eq. 3.17.
@@ -510,12 +522,15 @@ def fit_quartic(
         0 fits values only.
     w_max : optional exact (6,) maxima; default the sampled maxima.
     solver : "CLARABEL" (called directly), "IPM" (:mod:`.sos_ipm`: an interior point shaped for
-        this program, the same optimum to 1e-8, ~3x faster than Clarabel here) or another cvxpy
-        conic solver with SDP support ("SCS").
+        this program, the same optimum to Clarabel's tolerances; in 6 dimensions 2.4–2.9× faster
+        a fit on S1–S6 at K = 600, in 3 (a flat contact) about 2× slower: there Python's cost per
+        iteration outweighs the tiny program) or another cvxpy conic solver with SDP support
+        ("SCS"); any case.
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
-        unknowns); recorded in ``info["fallback"]`` and logged as a warning.  ``None``
-        disables it.  Both names are checked (:func:`~.sdp_solver.check_sdp_solver`).
+        unknowns); recorded in ``info["fallback"]`` and logged as a warning.  "auto" (the
+        default): Clarabel after the IPM, SCS after any other solver; ``None`` disables it.
+        Both names are checked (:func:`check_quartic_solver`) and recorded in upper case.
     warm_start : let cvxpy reuse the previous fit of the same problem size in this
         process (SCS starts from it).  Off by default: with it, a fit depends on what the
         process fitted before — measured on a bottle contact (fem-fitting, K = 130),
@@ -527,9 +542,8 @@ def fit_quartic(
     ``RuntimeError`` if every solver fails.
     """
     t0 = time.perf_counter()
-    check_quartic_solver(solver)
-    if fallback_solver is not None:
-        check_quartic_solver(fallback_solver, "fallback_solver")
+    solver = check_quartic_solver(solver)
+    fallback_solver = _fallback_for(solver, fallback_solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     L = exponents(r, 4).shape[0]
@@ -549,13 +563,14 @@ def fit_quartic(
         if rows is not None:
             A_fit, b_fit = np.vstack([A_fit, rows[0]]), np.concatenate([b_fit, rows[1]])
     # R of [A | b] holds R of A and Qᵀb in its last column: Q is never formed (~40 % of the QR's time)
-    Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
-    Rm, c_val = Rb[:L, :L], Rb[:L, L]
-    diag = np.abs(np.diag(Rm))
-    determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
-    a_val, M_val, name, status, fallback = _solve_with_fallback(
-        r, (solver, fallback_solver), Rm, c_val, warm_start
-    )
+    with one_blas_thread():  # small matrices: a threaded BLAS waits for cores others hold
+        Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
+        Rm, c_val = Rb[:L, :L], Rb[:L, L]
+        diag = np.abs(np.diag(Rm))
+        determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
+        a_val, M_val, name, status, fallback = _solve_with_fallback(
+            r, (solver, fallback_solver), Rm, c_val, warm_start
+        )
     if fallback:
         log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
     underdetermined = None
@@ -634,8 +649,8 @@ def _solve_with_fallback(
         failures.append(f"{name}: {status}")
     else:
         raise RuntimeError(
-            "quartic fit failed (" + "; ".join(failures) + "); is the solver installed "
-            "(cvxpy.installed_solvers())? try another solver or fit_ellipsoid"
+            "quartic fit failed (" + "; ".join(failures) + "); try another solver (solver= or "
+            "fallback_solver= 'IPM', 'CLARABEL' or 'SCS'), more distinct wrenches, or fit_ellipsoid"
         )
     fallback = f"{'; '.join(failures)}; solved with {name}" if failures else None
     return a_val, M_val, name, status, fallback

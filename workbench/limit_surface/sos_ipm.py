@@ -165,8 +165,10 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
 
     Rm : (L, L) upper triangular R of the fit's QR, c : (L,) its right-hand side;
     blocks : the program of the subspace dimension (:class:`SosProgram`).
-    Stops when the relative gap and the relative dual residual are below
-    ``TOL.sos_ipm_gap`` and ``TOL.sos_ipm_residual``; at most ``TOL.sos_ipm_max_iter`` iterations.
+    Stops when the duality gap is below ``TOL.sos_ipm_gap`` of the objective (of ``½‖c‖²``, the
+    objective at a = 0, times the same tolerance for a fit through its data) and the dual
+    residual below ``TOL.sos_ipm_residual`` of ``1 + max|Rᵀc|``; at most ``TOL.sos_ipm_max_iter``
+    iterations.
     """
     tol = config.TOL
     L = Rm.shape[1]
@@ -186,6 +188,10 @@ def _iterate(blocks: SosProgram, data: tuple, x: np.ndarray, Zs: list[np.ndarray
     H, g, Rm, c = data
     L = Rm.shape[1]
     scale = 1.0 + float(np.abs(g).max())
+    # the gap is relative to the objective, down to tol × the objective at a = 0 (½‖c‖², the
+    # data's own scale): a fit that nearly interpolates its wrenches (K near the coefficients)
+    # has a small objective, and a gap absolute in it stopped 0.6 % above the optimum
+    floor = tol.sos_ipm_gap * 0.5 * float(c @ c)
     for it in range(tol.sos_ipm_max_iter):
         Xs = blocks.mats(x)
         factors = _inv_factors(Xs + Zs)  # L⁻¹ of X and Z: the inverses and the step lengths
@@ -193,7 +199,7 @@ def _iterate(blocks: SosProgram, data: tuple, x: np.ndarray, Zs: list[np.ndarray
         gap = sum(float(np.sum(X * Z)) for X, Z in zip(Xs, Zs, strict=True))
         r_d = H @ x + g - blocks.adjoint(Zs)
         obj = 0.5 * float(np.sum((Rm @ x[:L] - c) ** 2))
-        if gap <= tol.sos_ipm_gap * max(1.0, obj) and np.abs(r_d).max() <= tol.sos_ipm_residual * scale:
+        if gap <= tol.sos_ipm_gap * max(obj, floor) and np.abs(r_d).max() <= tol.sos_ipm_residual * scale:
             return SosFitResult(True, x[:L], x[L:], Xs, "optimal", it)
         cho = _cholesky(H + blocks.schur(Zs, Xi))
         x, Zs = _step(blocks, (x, Zs, Xs, Xi, factors), cho, r_d, gap, tol.sos_ipm_step)
@@ -232,16 +238,31 @@ def _step(blocks: SosProgram, state: tuple, cho: tuple, r_d: np.ndarray, gap: fl
     return x + t * dx, [Z + t * E for Z, E in zip(Zs, dZ, strict=True)]
 
 
-def _cholesky(M: np.ndarray) -> np.ndarray:
-    """Upper Cholesky factor of ``M ≻ 0`` (LAPACK potrf, no checks: M is formed here)."""
-    U, info = _potrf(M, lower=False, clean=False, overwrite_a=True)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
-    return U
+def _cholesky(M: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(M, U)``: the upper Cholesky factor U of M (LAPACK potrf), or near the optimum, where the
+    Schur matrix's conditioning is lost to round-off, of ``M + δ I`` with ``δ`` the smallest of
+    ``TOL.sos_ipm_regularisation × 100^k × max diag M`` (k = 0..3) that factors (Clarabel's
+    static regularisation); :func:`_cho_solve` then refines against M itself."""
+    U, info = _potrf(M, lower=False, clean=False, overwrite_a=False)
+    if info == 0:
+        return M, U
+    scale = float(np.abs(np.diag(M)).max())
+    for k in range(4):
+        delta = config.TOL.sos_ipm_regularisation * 100.0**k * scale
+        U, info = _potrf(M + delta * np.eye(len(M)), lower=False, clean=False, overwrite_a=True)
+        if info == 0:
+            return M, U
+    raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
 
 
-def _cho_solve(U: np.ndarray, b: np.ndarray) -> np.ndarray:
+def _cho_solve(F: tuple[np.ndarray, np.ndarray], b: np.ndarray, refine: int = 2) -> np.ndarray:
+    """``M⁻¹ b`` from :func:`_cholesky`'s ``(M, U)``, with ``refine`` steps of iterative
+    refinement (they cost a matrix-vector product each; a regularised U needs them)."""
+    M, U = F
     x, info = _potrs(U, b, lower=False)
+    for _ in range(refine):
+        dx, info = _potrs(U, b - M @ x, lower=False)
+        x = x + dx
     if info != 0:
         raise np.linalg.LinAlgError(f"potrs info {info}")
     return x

@@ -19,12 +19,13 @@ import os
 import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
-from functools import lru_cache, partial
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 from .. import config
+from ..blas_threads import one_blas_thread
 
 log = logging.getLogger(__name__)
 
@@ -58,29 +59,10 @@ def _one_blas_thread(fn: Callable[[Any], Any], job: Any, settings: dict | None =
     before = numba.get_num_threads()
     numba.set_num_threads(1)  # prange reductions sum in another order on more threads too
     try:
-        with _blas_controller().limit(limits=1), config.override(**(settings or {})):
+        with one_blas_thread(), config.override(**(settings or {})):
             return fn(job)
     finally:
         numba.set_num_threads(before)
-
-
-def _blas_controller() -> Any:
-    """This process's ``threadpoolctl.ThreadpoolController``, made again only when modules were
-    imported since (an import is how a new BLAS or OpenMP library gets loaded).  Making one scans
-    every loaded shared library, which ``threadpool_limits`` would do on every task — most of a
-    row's scheduling overhead (``benchmarks/bench_sweep.py``; docs/decisions.md); reusing one
-    costs next to nothing."""
-    import sys
-
-    return _controller(len(sys.modules))
-
-
-@lru_cache(maxsize=1)
-def _controller(n_modules: int) -> Any:
-    """The controller made when ``n_modules`` modules were loaded (the key of its cache)."""
-    from threadpoolctl import ThreadpoolController
-
-    return ThreadpoolController()
 
 
 def pin_numba_threads_env() -> None:
