@@ -596,7 +596,27 @@ def fit_quartic(
         "underdetermined": underdetermined,  # None, or why the data do not fix the fit
         "fit_time_s": time.perf_counter() - t0,
     }
-    return QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M_val)
+    model = QuarticLS(wm, scale, sub, info, A_q=coeffs, gram=M_val)
+    _check_training_error(model, W, r, info)
+    info["fit_time_s"] = time.perf_counter() - t0  # the check included
+    return model
+
+
+def _check_training_error(model: QuarticLS, W: np.ndarray, r: int, info: dict) -> None:
+    """Record the fit's Eq. 3.18 error over its own training wrenches W (K, 6) in
+    ``info["train_error"]``, and say so (logged, ``info["warning"]``) when it is above
+    ``TOL.quartic_train_error_warn``: the solver's status is "optimal" either way."""
+    train = model.fitting_error(W)
+    info["train_error"] = train
+    limit = config.TOL.quartic_train_error_warn
+    if train > limit:
+        info["warning"] = (
+            f"the fit misses its own training wrenches (mean Eq. 3.18 error {train:.3g} > "
+            f"TOL.quartic_train_error_warn = {limit:g}): they do not lie on one convex surface in the "
+            f"{r} dimensions kept — is one of them noise (an extent ~1e-6 of the largest)? check the "
+            "wrenches' singular values, or fit fewer dimensions"
+        )
+        log.warning("quartic fit: %s", info["warning"])
 
 
 def _check_fit_size(K: int, r: int, L: int, twists: Any, normal_weight: float | None) -> None:
