@@ -249,7 +249,10 @@ def test_the_name_check_can_fail():
 #: the layers of docs/architecture.md in order, core first, by module (a package stands for its
 #: modules); a module of none of them fails the test below until it is given one
 _LAYERS = {
-    "base": "config units plausible seeds groups kernel_launch blas_threads cachedir atomic_io stats timing quiet_log",
+    "base": (
+        "config units plausible seeds groups kernel_launch blas_threads cachedir atomic_io stats timing "
+        "quiet_log"
+    ),
     "code keys": "code_key",
     "core math": "profile twists twists_author _kernels wrench pressure coarsen",
     "fem": "fem",
