@@ -574,11 +574,12 @@ def fit_quartic(
     if fallback:
         log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
     underdetermined = None
-    if determined < L:  # repeated or dependent wrenches: the fit is not the data's
+    if determined < L:  # repeated, dependent or outlying wrenches: the fit is not the data's
         underdetermined = (
             f"the {len(W)} wrenches determine about {determined} of the {L} coefficients (repeated or "
-            "dependent wrenches); the rest are set by the convexity constraint alone — sample more "
-            "distinct wrenches"
+            "dependent wrenches, or a few far larger than the rest: their quartic monomials swamp the "
+            "others'); the rest are set by the convexity constraint alone — sample more distinct "
+            "wrenches, or check for outliers"
         )
         log.warning("quartic fit: %s", underdetermined)
     g, delta = certify(a_val, M_val, r)  # rigorously convex in z
