@@ -1124,14 +1124,13 @@ def test_grasp_dataset_refuses_careless_settings_before_any_row(tmp_path, capsys
     for sets, match in (
         (
             ["--set", f"meshes={tmp_path}/mm_box.obj"],
-            rf"error: mm_box \({tmp_path}/mm_box.obj\) spans 80 m .*probably in millimetres \(it would span "
-            r"0.08 m\): re-export the file in metres \(scale it by 0.001.*; or in centimetres \(it would "
-            r"span 0.8 m\)",
+            rf"error: mm_box \({tmp_path}/mm_box.obj\) spans 80 m .*probably in millimetres: re-export the "
+            r"file in metres \(scale it by 0.001.*; or in centimetres \(then 0.8 m across\)",
         ),
         (
             ["--set", f"meshes={tmp_path}/cm_box.obj"],
-            r"cm_box .* spans 20 m .*probably in centimetres \(it would span 0.2 m\): re-export the file in "
-            r"metres \(scale it by 0.01.*; or in millimetres \(it would span 0.02 m\)",
+            r"cm_box .* spans 20 m .*probably in millimetres: .*; or in centimetres \(then 0.2 m across\): "
+            r"re-export the file in metres \(scale it by 0.01",
         ),
         (["--set", f"meshes={tmp_path}/open_box.obj"], r"open_box \(.*open_box.obj\):? .*watertight"),
         (["--set", f"meshes={tmp_path}"], "is not a file"),

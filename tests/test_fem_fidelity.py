@@ -69,7 +69,7 @@ def test_millimetre_inputs_raise_instead_of_pressing_nothing(pad_cache):
     with pytest.raises(ValueError, match="metres"):
         press(PadGeometry(), MAT, Sphere((0.0, 0.0, h + 0.02), 0.02), [0.25, 1.0], cache_dir=pad_cache)
     with pytest.raises(
-        ValueError, match=r"radius 20.0\) .*millimetres \(.+ m\): give the radius and the center"
+        ValueError, match=r"radius 20.0\) .*probably in millimetres: give the radius and the center"
     ):
         Sphere((0.0, 0.0, 25.0), 20.0)
     assert Sphere((0.0, 0.0, 50.0), 50.0, allow_scale=True).radius == 50.0  # a deliberate giant

@@ -195,11 +195,11 @@ def test_sphere_in_millimetres_is_named_by_its_radius():
 
     with pytest.raises(
         ValueError,
-        match=r"radius 20\) spans 40 m .*millimetres \(.+ m\): give the radius and the center in metres",
+        match=r"radius 20\) spans 40 m .*probably in millimetres: give the radius and the center in metres",
     ):
         Sphere((0, 0, 25), 20)
     with pytest.raises(
-        ValueError, match=r"radius 20.0\) spans 40 m .*millimetres \(.+ m\): give the radius and the point"
+        ValueError, match=r"radius 20.0\) spans 40 m .*millimetres: give the radius and the point"
     ):
         Cylinder((0, 0, 20), (0, 1, 0), 20.0)
     with pytest.raises(ValueError, match=r"radius must be > 0, a length in metres; got 'a'"):

@@ -44,16 +44,11 @@ def _likely_unit(raw: float, factor: float, larger: bool) -> str | None:
     return units[0] if units else None
 
 
-#: the size a graspable object typically has [m]: of two plausible readings, the nearer (in ratio)
-#: is named first
-_TYPICAL_OBJECT_M = 0.1
-
-
 def _likely_units(raw: float, factor: float, larger: bool) -> list[str]:
     """Every common unit (other than the declared one, of ``factor`` m) in which ``raw`` is a
-    plausible size, the reading nearest a typical object first: a mesh 20 units long is 2 cm in
-    millimetres and 20 cm in centimetres, and only its maker knows which.  Micrometres are named
-    only when neither millimetres nor centimetres fit."""
+    plausible size, in the order of ``_likely_unit``'s search: a mesh 20 units long is 2 cm in
+    millimetres and 20 cm in centimetres, and only its maker knows which, so both are named.
+    Micrometres are named only when neither millimetres nor centimetres fit."""
     tol = _config.TOL
     order = ("m", "cm", "mm") if larger else ("mm", "cm", "um")
     fits = [
@@ -64,7 +59,7 @@ def _likely_units(raw: float, factor: float, larger: bool) -> list[str]:
     ]
     if "um" in fits and len(fits) > 1:
         fits.remove("um")
-    return sorted(fits, key=lambda u: abs(np.log(raw * _UNITS[u] / _TYPICAL_OBJECT_M)))
+    return fits
 
 
 def check_extent(
@@ -113,10 +108,11 @@ def check_extent(
             likely = "no common unit makes it a graspable size: check how it was made"
         else:
             readings = []
-            for u in units:
+            for i, u in enumerate(units):
                 k = _UNITS[u] / factor
                 remedy = fix.format(units=u, factor=k, area_factor=k * k)
-                readings.append(f"{_UNIT_NAMES[u]} (it would span {raw * _UNITS[u]:.3g} m): {remedy}")
+                size = "" if i == 0 else f" (then {raw * _UNITS[u]:.3g} m across)"
+                readings.append(f"{_UNIT_NAMES[u]}{size}: {remedy}")
             likely = "it is probably in " + "; or in ".join(readings)
         raise ValueError(
             f"{what} spans {extent:.4g} m (read as {declared}), more than "
