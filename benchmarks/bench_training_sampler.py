@@ -1,4 +1,4 @@
-"""What the grasp models' training wrenches cost, and what a cheaper set would change (issue 48's
+"""What the grasp models' training wrenches cost, and what a cheaper set would change (the grasp path's
 largest stage): on the jaw contacts of the grasp dataset's top grasps (thesis meshes, upright and
 lying), the 6DLS ellipsoid trained by
 
