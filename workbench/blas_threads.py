@@ -12,11 +12,14 @@ order of the sums, so a fit's last bits do not depend on how many threads the pr
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from contextlib import AbstractContextManager
-from functools import lru_cache
-from typing import Any
+from functools import lru_cache, wraps
+from typing import Any, TypeVar
 
-__all__ = ["one_blas_thread"]
+__all__ = ["on_one_blas_thread", "one_blas_thread"]
+
+F = TypeVar("F", bound=Callable[..., Any])
 
 
 def one_blas_thread() -> AbstractContextManager[Any]:
@@ -33,3 +36,14 @@ def _controller(n_modules: int) -> Any:
     from threadpoolctl import ThreadpoolController
 
     return ThreadpoolController()
+
+
+def on_one_blas_thread(fn: F) -> F:
+    """``fn`` run inside :func:`one_blas_thread` (a decorator for the library's fits)."""
+
+    @wraps(fn)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        with one_blas_thread():
+            return fn(*args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from .. import config
+from ..blas_threads import on_one_blas_thread
 from .base import LimitSurfaceModel
 from .normalize import prepare
 from .sdp_solver import check_sdp_solver
@@ -180,6 +181,7 @@ def _sdp(
     return A, None if prob.status == "optimal" else "SDP solved to reduced accuracy"
 
 
+@on_one_blas_thread  # small matrices: a threaded BLAS waits for the cores others hold
 def fit_ellipsoid(
     wrenches: Any,
     method: str = "lsq",

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import config
-from ..blas_threads import one_blas_thread
+from ..blas_threads import on_one_blas_thread, one_blas_thread
 from ..kernel_launch import launch
 from ._kernels import _cubic_gradients, _quartic_values
 from .base import LimitSurfaceModel
@@ -493,6 +493,7 @@ def _normal_rows(
     return np.vstack(A), np.concatenate(b)
 
 
+@on_one_blas_thread  # small matrices: a threaded BLAS waits for the cores others hold
 def fit_quartic(
     wrenches: Any,
     *,
@@ -563,14 +564,13 @@ def fit_quartic(
         if rows is not None:
             A_fit, b_fit = np.vstack([A_fit, rows[0]]), np.concatenate([b_fit, rows[1]])
     # R of [A | b] holds R of A and Qᵀb in its last column: Q is never formed (~40 % of the QR's time)
-    with one_blas_thread():  # small matrices: a threaded BLAS waits for cores others hold
-        Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
-        Rm, c_val = Rb[:L, :L], Rb[:L, L]
-        diag = np.abs(np.diag(Rm))
-        determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
-        a_val, M_val, name, status, fallback = _solve_with_fallback(
-            r, (solver, fallback_solver), Rm, c_val, warm_start
-        )
+    Rb = np.linalg.qr(np.column_stack([A_fit, b_fit]), mode="r")
+    Rm, c_val = Rb[:L, :L], Rb[:L, L]
+    diag = np.abs(np.diag(Rm))
+    determined = int(np.sum(diag > config.TOL.quartic_rank_rtol * diag.max()))
+    a_val, M_val, name, status, fallback = _solve_with_fallback(
+        r, (solver, fallback_solver), Rm, c_val, warm_start
+    )
     if fallback:
         log.warning("quartic fit (%d wrenches, dim %d): %s", len(W), r, fallback)
     underdetermined = None
