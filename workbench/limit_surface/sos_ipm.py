@@ -3,7 +3,7 @@
 The fit, after :func:`.quartic._reduced_maps`, is a small conic least-squares problem of fixed
 structure::
 
-    min_x  ½‖R a − c‖²   over  x = [a (L), α (n_A)]
+    min_x  ½‖R a − c‖²   over  x = [a (L), α (n_A(n_A+1)/2)]
     s.t.   X_S = smat(P a + Q α) ⪰ 0   (n_S × n_S, the swap-symmetric Gram block)
            X_A = smat(α) ⪰ 0           (n_A × n_A, the antisymmetric block)
 
@@ -13,7 +13,7 @@ feasible point is known in closed form (the quartic ``(zᵀz)²``, whose Hessian
 Gram ``4 I + 8 vec(I) vec(I)ᵀ``): the iterates stay primal feasible and only the dual residual
 and the gap are driven to zero.  Each iteration solves the Schur system of the HKM direction
 (Helmberg, Rendl, Vanderbei and Wolkowicz 1996; Kojima, Shindoh and Hara 1997; Monteiro 1997),
-``(H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b) Δx = rhs``, one dense Cholesky of the (L + n_A)-square
+``(H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b) Δx = rhs``, one dense Cholesky of the (246-square at r = 6)
 matrix, with Mehrotra's predictor-corrector.  A general solver spends its time on the sparse
 KKT system of the same problem (247 variables, 478 cone rows); here the structure is used as it
 is: the Schur matrix is formed with one sparse-dense product per block.
