@@ -50,12 +50,12 @@ from .quartic import (
     _gram,
     _solver_options,
     _sos_convexity,
-    _svec_index,
     _unsvec,
     certify,
 )
 from .sdp_solver import check_sdp_solver
 from .sos import exponents, monomials, swap_blocks
+from .sos import svec_index as _svec_index
 
 MODELS = ("ellipsoid", "quartic")
 log = logging.getLogger(__name__)

@@ -32,6 +32,7 @@ from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
 from .sdp_solver import check_sdp_solver
 from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
+from .sos import svec_index as _svec_index
 
 log = logging.getLogger(__name__)
 
@@ -313,15 +314,6 @@ def _reduced_maps(r: int) -> tuple[sp.csc_matrix, sp.csc_matrix]:
         )
     sol[np.abs(sol) < 1e-12] = 0.0
     return sp.csc_matrix(sol[:, :L]), sp.csc_matrix(sol[:, L:])
-
-
-@lru_cache(maxsize=16)
-def _svec_index(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """(row, column) of each entry of Clarabel's svec of an (n, n) symmetric matrix: the
-    upper triangle (row <= column) column by column."""
-    i, j = np.triu_indices(n)
-    order = np.lexsort((i, j))  # by column, then row
-    return i[order], j[order]
 
 
 def _unsvec(v: np.ndarray, n: int) -> np.ndarray:

@@ -106,6 +106,15 @@ def swap_blocks(n: int) -> tuple[np.ndarray, np.ndarray]:
     return T_s, T_a
 
 
+@lru_cache(maxsize=16)
+def svec_index(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(row, column) of each entry of Clarabel's svec of an (n, n) symmetric matrix: the
+    upper triangle (row <= column) column by column (shared by the quartic's solvers)."""
+    i, j = np.triu_indices(n)
+    order = np.lexsort((i, j))  # by column, then row
+    return i[order], j[order]
+
+
 def _powers(x: np.ndarray, degree: int) -> np.ndarray:
     """(n, degree + 1, N) powers x_j^k by repeated products; rows are contiguous
     so the gathers below copy whole rows."""

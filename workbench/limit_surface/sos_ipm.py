@@ -33,14 +33,13 @@ from scipy.linalg.lapack import dpotrs as _potrs
 
 from .. import config
 from ._kernels import _svec_kron
+from .sos import svec_index as _svec_index
 
 
 def svec_to_vec(n: int) -> sp.csr_matrix:
     """(n², n(n+1)/2) sparse map from Clarabel's svec of a symmetric (n, n) matrix (upper
     triangle by columns, off-diagonals times √2) to its row-major ``ravel()``."""
-    i, j = np.triu_indices(n)
-    order = np.lexsort((i, j))  # by column, then row
-    i, j = i[order], j[order]
+    i, j = _svec_index(n)
     k = np.arange(len(i))
     off = i != j
     vals = np.where(off, 1.0 / np.sqrt(2.0), 1.0)
@@ -89,9 +88,7 @@ class _Svec:
     (w_p = 1 or √2, u_q = ½ or 1/√2 on and off the diagonal)."""
 
     def __init__(self, n: int) -> None:
-        i, j = np.triu_indices(n)
-        order = np.lexsort((i, j))
-        i, j = i[order], j[order]
+        i, j = _svec_index(n)
         self.n, self.m = n, len(i)
         self.i, self.j = i, j
         self.to_vec = svec_to_vec(n)
