@@ -236,3 +236,76 @@ def svec_kron(Z, Y):
         U[k, l] = U[l, k] = 1.0 if k == l else 1.0 / np.sqrt(2.0)
         cols.append(svec(0.5 * (Z @ U @ Y + Y @ U @ Z)))
     return np.array(cols).T
+
+
+def _svec_maps(n):
+    """(to_vec (n², m), from_vec (m, n²)) dense: svec (upper triangle by columns, off-diagonals
+    times √2) to row-major ravel and back (for symmetric matrices)."""
+    idx = [(i, j) for j in range(n) for i in range(j + 1)]
+    to_vec = np.zeros((n * n, len(idx)))
+    for p, (i, j) in enumerate(idx):
+        w = 1.0 if i == j else 1.0 / np.sqrt(2.0)
+        to_vec[i * n + j, p] = to_vec[j * n + i, p] = w
+    return to_vec, to_vec.T
+
+
+def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-8, 60, 0.99)):
+    """The quartic fit's HKM interior point (sos_ipm.py) in dense NumPy, step by step:
+    ``min ½‖Rm x[:L] − c‖²`` s.t. ``smat(G x) ⪰ 0`` (n_S) and ``smat(x[L:]) ⪰ 0`` (n_A), from the
+    strictly feasible x0 with Z = X⁻¹, Mehrotra's predictor-corrector, the Schur matrix
+    ``H + Σ Gᵀ (Z ⊛ X⁻¹) G`` built column by column (:func:`svec_kron`) and solved by
+    ``np.linalg.solve``; ``tol`` = (gap, residual, iterations, step fraction) as config's
+    ``sos_ipm_*``.  Returns (x, [X_S, X_A], iterations) or None without convergence."""
+    gap_tol, res_tol, max_iter, frac = tol
+    L, n_x = Rm.shape[1], len(x0)
+    tS, fS = _svec_maps(n_S)
+    tA, fA = _svec_maps(n_A)
+    GA = np.hstack([np.zeros((n_A * (n_A + 1) // 2, L)), np.eye(n_A * (n_A + 1) // 2)])
+    blocks = [(np.asarray(G, float), tS, fS, n_S)] + ([(GA, tA, fA, n_A)] if n_A else [])
+    H = np.zeros((n_x, n_x))
+    H[:L, :L] = Rm.T @ Rm
+    g = np.zeros(n_x)
+    g[:L] = -Rm.T @ c
+
+    def mats(v):
+        return [(t @ (Gb @ v)).reshape(n, n) for Gb, t, _, n in blocks]
+
+    def adjoint(Us):
+        pairs = zip(blocks, Us, strict=True)
+        return sum(Gb.T @ (f @ (0.5 * (U + U.T)).ravel()) for (Gb, _, f, _), U in pairs)
+
+    def max_step(Ps, Ds):
+        Fs = [np.linalg.inv(np.linalg.cholesky(P)) for P in Ps]
+        lam = min(np.linalg.eigvalsh(F @ D @ F.T)[0] for F, D in zip(Fs, Ds, strict=True))
+        return np.inf if lam >= 0 else -1.0 / lam
+
+    x = np.array(x0, float)
+    Zs = [np.linalg.inv(X) for X in mats(x)]
+    scale, floor = 1.0 + np.abs(g).max(), gap_tol * 0.5 * (c @ c)
+    degree = float(n_S + n_A)
+    for it in range(max_iter):
+        Xs = mats(x)
+        Xi = [np.linalg.inv(X) for X in Xs]
+        gap = sum(np.sum(X * Z) for X, Z in zip(Xs, Zs, strict=True))
+        r_d = H @ x + g - adjoint(Zs)
+        obj = 0.5 * np.sum((Rm @ x[:L] - c) ** 2)
+        if gap <= gap_tol * max(obj, floor) and np.abs(r_d).max() <= res_tol * scale:
+            return x, Xs, it
+        M = H + sum(Gb.T @ svec_kron(Z, Y) @ Gb for (Gb, *_), Z, Y in zip(blocks, Zs, Xi, strict=True))
+
+        def direction(sigma_mu, corr, Xi=Xi, M=M, r_d=r_d, Zs=Zs):
+            base = [sigma_mu * Y - Z - k for Y, Z, k in zip(Xi, Zs, corr, strict=True)]
+            dx = np.linalg.solve(M, -r_d + adjoint(base))
+            dX = mats(dx)
+            dZ = [b - 0.5 * (Y @ D @ Z + (Y @ D @ Z).T) for b, Y, D, Z in zip(base, Xi, dX, Zs, strict=True)]
+            return dx, dX, dZ
+
+        dx, dX, dZ = direction(0.0, [0.0 * Z for Z in Zs])
+        t_aff = min(1.0, max_step(Xs + Zs, dX + dZ))
+        quads = zip(Xs, dX, Zs, dZ, strict=True)
+        gap_aff = sum(np.sum((X + t_aff * D) * (Z + t_aff * E)) for X, D, Z, E in quads)
+        corr = [0.5 * (Y @ D @ E + (Y @ D @ E).T) for Y, D, E in zip(Xi, dX, dZ, strict=True)]
+        dx, dX, dZ = direction((gap_aff / gap) ** 3 * gap / degree, corr)
+        t = min(1.0, frac * max_step(Xs + Zs, dX + dZ))
+        x, Zs = x + t * dx, [Z + t * E for Z, E in zip(Zs, dZ, strict=True)]
+    return None

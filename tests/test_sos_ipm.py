@@ -9,22 +9,28 @@ import pytest
 import workbench.limit_surface.sos_ipm as sos_ipm
 from workbench import fit_quartic
 from workbench.limit_surface import quartic as quart_mod
-from workbench.limit_surface._kernels import _svec_kron
-from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, swap_blocks
+from workbench.limit_surface._kernels import _add_svec, _smat, _svec_kron
+from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, svec_index, swap_blocks
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 15])
 def test_svec_kron_is_the_operator_it_names(n, rng):
     A, B = rng.standard_normal((2, n, n))
     Z, Y = A @ A.T + np.eye(n), B + B.T
-    lay = sos_ipm._Svec(n)
-    out = np.empty((lay.m, lay.m))
-    _svec_kron(Z, Y, lay.i, lay.j, out)
+    i, j = svec_index(n)
+    out = np.empty((len(i), len(i)))
+    _svec_kron(Z, Y, i, j, out)
     np.testing.assert_allclose(out, naive.svec_kron(Z, Y), rtol=1e-13, atol=1e-13)
-    # and svec / smat are inverse isometries: <U, V> = svec(U)·svec(V)
+    # the kernels' smat / svec adjoint are the dense maps' (svec: upper triangle by columns,
+    # off-diagonals times √2), and isometries: <U, V> = svec(U)·svec(V)
+    to_vec, from_vec = naive._svec_maps(n)
     U, V = (lambda M: M + M.T)(rng.standard_normal((n, n))), (lambda M: M + M.T)(rng.standard_normal((n, n)))
-    assert lay.svec(U) @ lay.svec(V) == pytest.approx(np.sum(U * V), rel=1e-12)
-    np.testing.assert_allclose(lay.smat(lay.svec(U)), U, rtol=1e-14)
+    u = np.zeros(len(i))
+    _add_svec(U, i, j, u, 0)
+    np.testing.assert_allclose(u, from_vec @ U.ravel(), rtol=1e-14)
+    assert u @ (from_vec @ V.ravel()) == pytest.approx(np.sum(U * V), rel=1e-12)
+    np.testing.assert_allclose(_smat(u, i, j, n), U, rtol=1e-14)
+    np.testing.assert_allclose(_smat(u, i, j, n).ravel(), to_vec @ u, rtol=1e-14)
 
 
 def _program(r, rng, n_points=300):
@@ -53,6 +59,19 @@ def test_the_interior_point_finds_clarabels_optimum(r, rng):
     V1, V2 = sos_convexity_maps(r)
     assert np.linalg.eigvalsh(M).min() >= -1e-12 * np.abs(M).max()
     assert np.abs(V1 @ M.ravel(order="F") - V2 @ a_ipm).max() <= 1e-10 * np.abs(a_ipm).max()
+
+
+@pytest.mark.parametrize("r", [2, 4, 6])
+def test_the_compiled_iteration_is_the_dense_reference_step_by_step(r, rng):
+    """The kernels' iteration against naive.hkm_reference, the same method in dense NumPy (Schur
+    matrix column by column, np.linalg.solve): the same iteration count and the same optimum."""
+    Rm, c = _program(r, rng)
+    prog = quart_mod._ipm_program(r)
+    res = sos_ipm.solve(Rm, c, prog)
+    x, grams, its = naive.hkm_reference(Rm, c, prog.G.toarray(), prog.n_S, prog.n_A, prog.start[0])
+    assert res.ok and res.iterations == its
+    np.testing.assert_allclose(res.a, x[: prog.L], rtol=0, atol=1e-7 * np.abs(x).max())
+    np.testing.assert_allclose(res.grams[0], grams[0], rtol=0, atol=1e-7 * np.abs(grams[0]).max())
 
 
 def test_an_unconstrained_optimum_is_the_least_squares_solution(rng):

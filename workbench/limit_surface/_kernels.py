@@ -100,3 +100,239 @@ def _svec_kron(Z, Y, i, j, out):
                 out[p, q + k] = (za[k] * c1 + yb[k] * c2 + ya[k] * c3 + zb[k] * c4) * h
             out[p, q + l] = 0.5 * (za[l] * c1 + yb[l] * c2 + ya[l] * c3 + zb[l] * c4)
             q += l + 1
+
+
+# --- the quartic fit's interior point (sos_ipm.py): one iteration's dense algebra -------------
+
+
+@njit(**NUMBA_FLAGS)
+def _smat(v, i, j, n):
+    """The symmetric (n, n) matrix of the svec vector v (entry p at (i[p], j[p]), off-diagonals
+    times √2)."""
+    X = np.empty((n, n))
+    h = 1.0 / np.sqrt(2.0)
+    for p in range(i.shape[0]):
+        a, b = i[p], j[p]
+        if a == b:
+            X[a, a] = v[p]
+        else:
+            X[a, b] = v[p] * h
+            X[b, a] = v[p] * h
+    return X
+
+
+@njit(**NUMBA_FLAGS)
+def _add_svec(U, i, j, out, off):
+    """``out[off + p] += svec(½(U + Uᵀ))[p]``: the adjoint of :func:`_smat`."""
+    h = 1.0 / np.sqrt(2.0)
+    for p in range(i.shape[0]):
+        a, b = i[p], j[p]
+        if a == b:
+            out[off + p] += U[a, a]
+        else:
+            out[off + p] += (U[a, b] + U[b, a]) * h
+
+
+@njit(**NUMBA_FLAGS)
+def _csr_matvec(ptr, idx, val, x):
+    """``G x`` for G in CSR arrays (rows = len(ptr) - 1)."""
+    m = ptr.shape[0] - 1
+    y = np.zeros(m)
+    for q in range(m):
+        s = 0.0
+        for t in range(ptr[q], ptr[q + 1]):
+            s += val[t] * x[idx[t]]
+        y[q] = s
+    return y
+
+
+@njit(**NUMBA_FLAGS)
+def _gram_mats(x, lay, nS, nA, L):
+    """The Gram blocks of x: ``X_S = smat(G x)`` (nS, nS) and ``X_A = smat(x[L:])`` (nA, nA);
+    ``lay`` = (G's CSR ptr, idx, val, its CSC ptr, idx, val, i_S, j_S, i_A, j_A): the program's
+    layout (``sos_ipm.SosProgram.layout``)."""
+    XS = _smat(_csr_matvec(lay[0], lay[1], lay[2], x), lay[6], lay[7], nS)
+    XA = _smat(x[L:], lay[8], lay[9], nA)
+    return XS, XA
+
+
+@njit(**NUMBA_FLAGS)
+def _adjoint(US, UA, lay, n_x, L):
+    """``Gᵀ svec(U_S) + [0; svec(U_A)]`` (n_x,): the x-gradient of ``tr(U_S X_S) + tr(U_A X_A)``."""
+    ptr, idx, val = lay[0], lay[1], lay[2]
+    vS = np.zeros(ptr.shape[0] - 1)
+    _add_svec(US, lay[6], lay[7], vS, 0)
+    out = np.zeros(n_x)
+    for q in range(vS.shape[0]):
+        for t in range(ptr[q], ptr[q + 1]):
+            out[idx[t]] += val[t] * vS[q]
+    _add_svec(UA, lay[8], lay[9], out, L)
+    return out
+
+
+@njit(**NUMBA_FLAGS)
+def _tril_inverse(C):
+    """The inverse of a lower-triangular (n, n) C by forward substitution, column by column."""
+    n = C.shape[0]
+    F = np.zeros((n, n))
+    for j in range(n):
+        F[j, j] = 1.0 / C[j, j]
+        for i in range(j + 1, n):
+            s = 0.0
+            for k in range(j, i):
+                s += C[i, k] * F[k, j]
+            F[i, j] = -s / C[i, i]
+    return F
+
+
+@njit(**NUMBA_FLAGS)
+def _inv_factor(A):
+    """``L⁻¹`` (n, n) of ``A = L Lᵀ ≻ 0`` (LinAlgError when A is not positive definite); (0, 0)
+    for an empty block."""
+    if A.shape[0] == 0:
+        return np.zeros((0, 0))
+    return _tril_inverse(np.ascontiguousarray(np.linalg.cholesky(A)))
+
+
+@njit(**NUMBA_FLAGS)
+def _sym_triple(A, B, C):
+    """``½(A B C + (A B C)ᵀ)`` for square A, B, C."""
+    if A.shape[0] == 0:
+        return np.zeros((0, 0))
+    T = A @ B @ C
+    return 0.5 * (T + T.T)
+
+
+@njit(**NUMBA_FLAGS)
+def _hkm_state(x, Zs, data, lay):
+    """One iteration's state of the HKM interior point (sos_ipm.py) at (x, Z = (Z_S, Z_A)) for
+    ``data`` = (H, g, Rm, c) and the layout ``lay`` (:func:`_gram_mats`): the Gram blocks
+    (X_S, X_A), the inverse Cholesky factors ``L⁻¹`` of (X_S, X_A, Z_S, Z_A), ``X⁻¹ = Fᵀ F`` of
+    both blocks, the gap ``Σ tr(X Z)``, the dual residual ``H x + g − Σ G_bᵀ svec Z_b`` (n_x,),
+    the objective ``½‖Rm x[:L] − c‖²`` and the Schur matrix ``H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b``
+    (n_x, n_x)."""
+    H, g, Rm, c = data
+    ZS, ZA = Zs
+    L, n_x = Rm.shape[1], x.shape[0]
+    nS, nA = ZS.shape[0], ZA.shape[0]
+    iS, jS, iA, jA = lay[6], lay[7], lay[8], lay[9]
+    XS, XA = _gram_mats(x, lay, nS, nA, L)
+    FXS, FZS = _inv_factor(XS), _inv_factor(ZS)
+    FXA, FZA = _inv_factor(XA), _inv_factor(ZA)
+    XiS = FXS.T @ FXS
+    XiA = FXA.T @ FXA if nA > 0 else np.zeros((0, 0))
+    gap = np.sum(XS * ZS) + np.sum(XA * ZA)
+    r_d = H @ x + g - _adjoint(ZS, ZA, lay, n_x, L)
+    res = Rm @ x[:L] - c
+    obj = 0.5 * (res @ res)
+    # Schur: M = H + Gᵀ K G with K = Z_S ⊛ X_S⁻¹ (symmetric) and G sparse (~2 entries a row and a
+    # column): W = (Gᵀ K)ᵀ = K G by rows of K, then each row a of M adds the rows q of W that
+    # column a of G holds — every inner loop runs along a contiguous row
+    ptr, idx, val, cptr, cidx, cval = lay[0], lay[1], lay[2], lay[3], lay[4], lay[5]
+    mS = ptr.shape[0] - 1
+    K = np.empty((mS, mS))
+    _svec_kron(ZS, XiS, iS, jS, K)
+    Wt = np.zeros((n_x, mS))
+    for q in range(mS):
+        for t in range(ptr[q], ptr[q + 1]):
+            b, v = idx[t], val[t]
+            for p in range(mS):
+                Wt[b, p] += v * K[q, p]
+    W = np.ascontiguousarray(Wt.T)
+    M = H.copy()
+    for a in range(n_x):
+        for t in range(cptr[a], cptr[a + 1]):
+            q, v = cidx[t], cval[t]
+            for b in range(n_x):
+                M[a, b] += v * W[q, b]
+    if nA > 0:
+        mA = iA.shape[0]
+        KA = np.empty((mA, mA))
+        _svec_kron(ZA, XiA, iA, jA, KA)
+        M[L:, L:] += KA
+    return (XS, XA), (FXS, FXA, FZS, FZA), (XiS, XiA), gap, r_d, obj, M
+
+
+@njit(**NUMBA_FLAGS)
+def _cho_solve_upper(U, b):
+    """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read)."""
+    n = b.shape[0]
+    y = b.copy()
+    for i in range(n):  # Uᵀ y = b
+        s = y[i]
+        for k in range(i):
+            s -= U[k, i] * y[k]
+        y[i] = s / U[i, i]
+    for i in range(n - 1, -1, -1):  # U x = y
+        y[i] /= U[i, i]
+        for k in range(i):
+            y[k] -= U[k, i] * y[i]
+    return y
+
+
+@njit(**NUMBA_FLAGS)
+def _refined_solve(M, U, b, refine):
+    """``M⁻¹ b`` from the Cholesky factor U of M (or of M + δI) with ``refine`` steps of
+    iterative refinement against M."""
+    x = _cho_solve_upper(U, b)
+    for _ in range(refine):
+        x += _cho_solve_upper(U, b - M @ x)
+    return x
+
+
+@njit(**NUMBA_FLAGS)
+def _lambda_min(F, D):
+    """The smallest eigenvalue of ``F D Fᵀ`` (+inf for an empty block)."""
+    if F.shape[0] == 0:
+        return np.inf
+    return np.linalg.eigvalsh(F @ D @ F.T)[0]
+
+
+@njit(**NUMBA_FLAGS)
+def _max_step(F, dXS, dXA, dZS, dZA):
+    """Largest t with ``X + t ΔX ⪰ 0`` and ``Z + t ΔZ ⪰ 0`` for both blocks (inf when every
+    direction is PSD); F = the inverse factors (X_S, X_A, Z_S, Z_A) of :func:`_hkm_state`."""
+    lam = min(
+        min(_lambda_min(F[0], dXS), _lambda_min(F[1], dXA)),
+        min(_lambda_min(F[2], dZS), _lambda_min(F[3], dZA)),
+    )
+    return np.inf if lam >= 0.0 else -1.0 / lam
+
+
+@njit(**NUMBA_FLAGS)
+def _hkm_direction(sigma_mu, corr, Zs, Xi, MU, r_d, lay, L):
+    """The HKM direction ``ΔZ = σμX⁻¹ − Z − corr − sym(X⁻¹ ΔX Z)`` with Δx from the Schur system
+    (MU = (M, the Cholesky factor U of M)): returns (Δx, ΔX_S, ΔX_A, ΔZ_S, ΔZ_A)."""
+    ZS, ZA = Zs
+    XiS, XiA = Xi
+    n_x = r_d.shape[0]
+    baseS = sigma_mu * XiS - ZS - corr[0]
+    baseA = sigma_mu * XiA - ZA - corr[1]
+    rhs = -r_d + _adjoint(baseS, baseA, lay, n_x, L)
+    dx = _refined_solve(MU[0], MU[1], rhs, 2)
+    dXS, dXA = _gram_mats(dx, lay, ZS.shape[0], ZA.shape[0], L)
+    dZS = baseS - _sym_triple(XiS, dXS, ZS)
+    dZA = baseA - _sym_triple(XiA, dXA, ZA)
+    return dx, dXS, dXA, dZS, dZA
+
+
+@njit(**NUMBA_FLAGS)
+def _hkm_step(x, Zs, state, MU, lay, consts):
+    """Mehrotra's predictor-corrector step of the HKM direction from (x, Z = (Z_S, Z_A)), the
+    ``state`` = (X, F, X⁻¹, r_d, gap) of :func:`_hkm_state` and MU = (M, its Cholesky factor);
+    ``consts`` = (the barrier parameter, the fraction of the step to the boundary both parts
+    take).  Returns the new (x, Z_S, Z_A)."""
+    ZS, ZA = Zs
+    (XS, XA), F, Xi, r_d, gap = state
+    degree, frac = consts
+    L = x.shape[0] - lay[8].shape[0]
+    zero = (np.zeros_like(ZS), np.zeros_like(ZA))
+    dx, dXS, dXA, dZS, dZA = _hkm_direction(0.0, zero, Zs, Xi, MU, r_d, lay, L)
+    t_aff = min(1.0, _max_step(F, dXS, dXA, dZS, dZA))
+    gap_aff = np.sum((XS + t_aff * dXS) * (ZS + t_aff * dZS))
+    gap_aff += np.sum((XA + t_aff * dXA) * (ZA + t_aff * dZA))
+    sigma = (gap_aff / gap) ** 3
+    corr = (_sym_triple(Xi[0], dXS, dZS), _sym_triple(Xi[1], dXA, dZA))
+    dx, dXS, dXA, dZS, dZA = _hkm_direction(sigma * gap / degree, corr, Zs, Xi, MU, r_d, lay, L)
+    t = min(1.0, frac * _max_step(F, dXS, dXA, dZS, dZA))
+    return x + t * dx, (ZS + t * dZS, ZA + t * dZA)
