@@ -96,8 +96,8 @@ def test_an_unknown_solver_is_refused_and_a_failing_one_falls_back_or_raises(s4_
     # a solver that fails: the fallback answers (recorded), or RuntimeError without one
     monkeypatch.setattr(quart_mod, "_solve_clarabel", lambda r, Rm, c: (False, None, None, "NumericalError"))
     with pytest.raises(RuntimeError, match="CLARABEL: NumericalError"):
-        fit_quartic(train, fallback_solver=None)
-    q = fit_quartic(train)  # documented fallback to SCS
+        fit_quartic(train, solver="CLARABEL", fallback_solver=None)
+    q = fit_quartic(train, solver="clarabel")  # documented fallback to SCS
     assert q.info["solver"] == "SCS" and q.info["fallback"] == "CLARABEL: NumericalError; solved with SCS"
 
 

@@ -146,7 +146,7 @@ def test_a_solver_failure_falls_back_and_is_logged(case, monkeypatch, caplog):
     _, W, _, _, wm = case
     monkeypatch.setattr(quartic, "_solve_clarabel", lambda r, Rm, c: (False, None, None, "NumericalError"))
     with caplog.at_level("WARNING", logger="workbench.limit_surface.quartic"):
-        fs = fit_and_score("quartic_values", W, w_max=wm)
+        fs = fit_and_score("quartic_values", W, w_max=wm, solver="CLARABEL")
     assert fs.fallback == "CLARABEL: NumericalError; solved with SCS" and fs.model.info["solver"] == "SCS"
     assert [r.levelname for r in caplog.records] == ["WARNING"]
     assert "CLARABEL: NumericalError; solved with SCS" in caplog.records[0].getMessage()

@@ -142,7 +142,7 @@ def test_a_fit_near_the_coefficient_count_reaches_clarabels_optimum():
 
     quart_mod._solve = spy
     try:
-        fit_quartic(W, w_max=w_max(prof), fallback_solver=None)
+        fit_quartic(W, w_max=w_max(prof), solver="CLARABEL", fallback_solver=None)
     finally:
         quart_mod._solve = solve
     Rm, c = seen["CLARABEL"]

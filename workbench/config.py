@@ -548,6 +548,10 @@ class Defaults:
     # of small samples and fades as K grows.  0.5 was chosen on validation
     # samples (seeds 777,000+) of S1-S6, never on the reported held-out sets.
     quartic_normal_weight: float = _field(0.5, _NONNEG)
+    # The quartic fit's (Eq. 3.17) solver where none is named: "IPM" (limit_surface/sos_ipm.py:
+    # Clarabel's optimum to its tolerances, 2-3x faster a fit; Clarabel is its checked fallback)
+    # or a conic solver with semidefinite support ("CLARABEL", "SCS").
+    quartic_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
     # (λ, ω_w, ω_t) of the author's fitting objective (limit_surface/author_objective.py):
     # regulariser ‖A‖, L1 value residuals, twist-direction residuals — the values
     # of the author's exampleFEM.m, exampleParametricSurface.m and

@@ -317,7 +317,7 @@ def _fits_at(res: dict, name: str, contact: ExactContact, sample: tuple, config:
         res["radial"][kind][str(K)] = fs.test_radial
         res["train_err"][kind][str(K)] = fs.train_error
         res["rt"][kind][str(K)] = fs.fit_s
-        solver = "CLARABEL" if kind != "ellipsoid_lsq" else "lstsq"
+        solver = fs.model.info["solver"] if kind != "ellipsoid_lsq" else "lstsq"
         res["rows"].append([name, K, kind, solver, fs.test_error, fs.fit_s, fs.fallback])
         if with_support:
             res["support"][kind] = _support(fs)

@@ -32,7 +32,7 @@ from ..timing import median_runtime
 from .base import LimitSurfaceModel
 from .ellipsoid import fit_ellipsoid
 from .normalize import check_twists, check_wrenches
-from .quartic import fit_quartic
+from .quartic import check_quartic_solver, fit_quartic
 from .sdp_solver import check_sdp_solver
 from .sos import exponents
 from .support_error import SupportError, support_error
@@ -70,7 +70,7 @@ def fit_model(
     *,
     w_max: np.ndarray | None,
     twists: np.ndarray | None = None,
-    solver: str = "CLARABEL",
+    solver: str | None = None,
     alpha: float | None = None,
 ) -> LimitSurfaceModel:
     """The fit named ``model`` (:data:`MODELS`) of raw wrenches (K, 6) normalised by
@@ -79,12 +79,14 @@ def fit_model(
     twists : (K, 6) twists the wrenches were computed from; ``"quartic_normals"`` needs
         them, the other models do not use them.
     solver : conic solver of the "sdp" ellipsoid and the quartics ("CLARABEL", "SCS"; any of
-        :func:`~.sdp_solver.sdp_solvers`, checked for every model: ValueError otherwise).
+        :func:`~.sdp_solver.sdp_solvers`, or for the quartics "IPM", their own interior point;
+        checked for every model: ValueError otherwise).  None: each model's default (Clarabel
+        for the ellipsoid, ``config.DEFAULTS.quartic_solver`` for the quartics).
     alpha : Eq. 3.12's log-det weight, ``"ellipsoid_sdp"`` only.
     cvxpy's warm start stays off: a fit does not depend on what the process fitted before.
     """
     check_model(model)
-    check_sdp_solver(solver)
+    _check_solver(model, solver)
     if alpha is not None and model != "ellipsoid_sdp":
         raise ValueError(f"alpha (Eq. 3.12's log-det weight) belongs to 'ellipsoid_sdp'; got model {model!r}")
     if model == "quartic_normals" and twists is None:
@@ -92,9 +94,21 @@ def fit_model(
     if model == "ellipsoid_lsq":
         return fit_ellipsoid(wrenches, "lsq", w_max=w_max)
     if model == "ellipsoid_sdp":
-        return fit_ellipsoid(wrenches, "sdp", w_max=w_max, solver=solver, alpha=alpha, warm_start=False)
+        sdp = "CLARABEL" if solver is None else solver
+        return fit_ellipsoid(wrenches, "sdp", w_max=w_max, solver=sdp, alpha=alpha, warm_start=False)
     normals = twists if model == "quartic_normals" else None
     return fit_quartic(wrenches, twists=normals, w_max=w_max, solver=solver, warm_start=False)
+
+
+def _check_solver(model: str, solver: str | None) -> None:
+    """ValueError unless ``solver`` is None or a solver ``model`` can use (the quartics also take
+    "IPM"); the first check of a cvxpy name imports cvxpy, so it runs before any timed fit."""
+    if solver is None:
+        return
+    if model.startswith("quartic"):
+        check_quartic_solver(solver)
+    else:
+        check_sdp_solver(solver)
 
 
 @dataclass(frozen=True)
@@ -151,7 +165,7 @@ def fit_and_score(
     w_max: Any,
     twists: Any = None,
     scoring: Scoring | None = None,
-    solver: str = "CLARABEL",
+    solver: str | None = None,
     alpha: float | None = None,
     repeats: int = 1,
 ) -> FitScore:
@@ -168,7 +182,7 @@ def fit_and_score(
         contention) — the model is the same each time.
     """
     check_model(model)
-    check_sdp_solver(solver)  # before the timed fit: another name's first check imports cvxpy
+    _check_solver(model, solver)  # before the timed fit
     W = check_wrenches(wrenches)
     if twists is not None:
         twists = check_twists(W, twists)

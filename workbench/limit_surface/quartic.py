@@ -492,7 +492,7 @@ def fit_quartic(
     twists: Any = None,
     normal_weight: float | None = None,
     w_max: Any = None,
-    solver: str = "CLARABEL",
+    solver: str | None = None,
     fallback_solver: str | None = "auto",
     warm_start: bool = False,
 ) -> QuarticLS:
@@ -514,11 +514,11 @@ def fit_quartic(
         sqrt(L / K)`` (a fixed total weight that fades against the K value rows).
         0 fits values only.
     w_max : optional exact (6,) maxima; default the sampled maxima.
-    solver : "CLARABEL" (called directly), "IPM" (:mod:`.sos_ipm`: an interior point shaped for
-        this program, the same optimum to Clarabel's tolerances; in 6 dimensions 2.4–2.9× faster
-        a fit on S1–S6 at K = 600, in 3 (a flat contact) about 2× slower: there Python's cost per
-        iteration outweighs the tiny program) or another cvxpy conic solver with SDP support
-        ("SCS"); any case.
+    solver : "IPM" (:mod:`.sos_ipm`: an interior point shaped for this program, the same
+        optimum to Clarabel's tolerances, several times faster a fit: results/benchmarks/
+        limit_surface.json), "CLARABEL" (called directly) or another cvxpy conic solver with SDP
+        support ("SCS"); any case.  None (the default): ``config.DEFAULTS.quartic_solver``, read
+        at the call.
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
         unknowns); recorded in ``info["fallback"]`` and logged as a warning.  "auto" (the
@@ -535,7 +535,7 @@ def fit_quartic(
     ``RuntimeError`` if every solver fails.
     """
     t0 = time.perf_counter()
-    solver = check_quartic_solver(solver)
+    solver = check_quartic_solver(config.DEFAULTS.quartic_solver if solver is None else solver)
     fallback_solver = _fallback_for(solver, fallback_solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
