@@ -141,7 +141,7 @@ def check_key(name: str, key: Key, value: Any) -> None:
 
 
 def _did_you_mean(bad: list, allowed) -> str:
-    """" — did you mean '6dls'?" for the words of ``bad`` that are an allowed word in another case
+    """The hint " — did you mean '6dls'?" for the words of ``bad`` that are an allowed word in another case
     or spelling ("6DLS", "soft-point"), else ""."""
     import difflib
 
