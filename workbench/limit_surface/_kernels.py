@@ -302,14 +302,15 @@ def _max_step(F, dXS, dXA, dZS, dZA):
 @njit(**NUMBA_FLAGS)
 def _hkm_direction(sigma_mu, corr, Zs, Xi, MU, r_d, lay, L):
     """The HKM direction ``ΔZ = σμX⁻¹ − Z − corr − sym(X⁻¹ ΔX Z)`` with Δx from the Schur system
-    (MU = (M, the Cholesky factor U of M)): returns (Δx, ΔX_S, ΔX_A, ΔZ_S, ΔZ_A)."""
+    (MU = (M, the Cholesky factor U of M or of M + δI, the refinement steps against M)):
+    returns (Δx, ΔX_S, ΔX_A, ΔZ_S, ΔZ_A)."""
     ZS, ZA = Zs
     XiS, XiA = Xi
     n_x = r_d.shape[0]
     baseS = sigma_mu * XiS - ZS - corr[0]
     baseA = sigma_mu * XiA - ZA - corr[1]
     rhs = -r_d + _adjoint(baseS, baseA, lay, n_x, L)
-    dx = _refined_solve(MU[0], MU[1], rhs, 2)
+    dx = _refined_solve(MU[0], MU[1], rhs, MU[2])
     dXS, dXA = _gram_mats(dx, lay, ZS.shape[0], ZA.shape[0], L)
     dZS = baseS - _sym_triple(XiS, dXS, ZS)
     dZA = baseA - _sym_triple(XiA, dXA, ZA)
@@ -319,7 +320,7 @@ def _hkm_direction(sigma_mu, corr, Zs, Xi, MU, r_d, lay, L):
 @njit(**NUMBA_FLAGS)
 def _hkm_step(x, Zs, state, MU, lay, consts):
     """Mehrotra's predictor-corrector step of the HKM direction from (x, Z = (Z_S, Z_A)), the
-    ``state`` = (X, F, X⁻¹, r_d, gap) of :func:`_hkm_state` and MU = (M, its Cholesky factor);
+    ``state`` = (X, F, X⁻¹, r_d, gap) of :func:`_hkm_state` and MU of :func:`_hkm_direction`;
     ``consts`` = (the barrier parameter, the fraction of the step to the boundary both parts
     take).  Returns the new (x, Z_S, Z_A)."""
     ZS, ZA = Zs

@@ -136,7 +136,7 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
             if gap <= tol.sos_ipm_gap * max(obj, floor) and np.abs(r_d).max() <= tol.sos_ipm_residual * scale:
                 grams = list(Xs[: 1 + (blocks.n_A > 0)])
                 return SosFitResult(True, x[:L].copy(), x[L:].copy(), grams, "optimal", it)
-            x, Zs = _hkm_step(x, Zs, (Xs, F, Xi, r_d, gap), (M, _cholesky(M)), blocks.layout, consts)
+            x, Zs = _hkm_step(x, Zs, (Xs, F, Xi, r_d, gap), (M, *_cholesky(M)), blocks.layout, consts)
     except np.linalg.LinAlgError as exc:  # an iterate lost definiteness to round-off
         return SosFitResult(False, None, None, None, f"numerical failure ({exc})", -1)
     return SosFitResult(
@@ -144,20 +144,21 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
     )
 
 
-def _cholesky(M: np.ndarray) -> np.ndarray:
-    """The upper Cholesky factor U of M (LAPACK potrf), or near the optimum, where the
-    Schur matrix's conditioning is lost to round-off, of ``M + δ I`` with ``δ`` the smallest of
-    ``TOL.sos_ipm_regularisation × 100^k × max diag M`` (k = 0..3) that factors (Clarabel's
-    static regularisation); the step's solves then refine against M itself."""
+def _cholesky(M: np.ndarray, refine: int = 2) -> tuple[np.ndarray, int]:
+    """``(U, steps)``: the upper Cholesky factor U of M (LAPACK potrf) and no refinement, or near
+    the optimum, where the Schur matrix's conditioning is lost to round-off, the factor of
+    ``M + δ I`` with ``δ`` the smallest of ``TOL.sos_ipm_regularisation × 100^k × max diag M``
+    (k = 0..3) that factors (Clarabel's static regularisation) and ``refine`` steps of iterative
+    refinement against M itself for the step's solves."""
     U, info = _potrf(M, lower=False, clean=False, overwrite_a=False)
     if info == 0:
-        return U
+        return U, 0
     scale = float(np.abs(np.diag(M)).max())
     for k in range(4):
         delta = config.TOL.sos_ipm_regularisation * 100.0**k * scale
         U, info = _potrf(M + delta * np.eye(len(M)), lower=False, clean=False, overwrite_a=True)
         if info == 0:
-            return U
+            return U, refine
     raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
 
 
