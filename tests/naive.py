@@ -249,14 +249,16 @@ def _svec_maps(n):
     return to_vec, to_vec.T
 
 
-def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-8, 60, 0.99)):
+def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-20, 1e-8, 60, 0.99)):
     """The quartic fit's HKM interior point (sos_ipm.py) in dense NumPy, step by step:
     ``min ½‖Rm x[:L] − c‖²`` s.t. ``smat(G x) ⪰ 0`` (n_S) and ``smat(x[L:]) ⪰ 0`` (n_A), from the
     strictly feasible x0 with Z = X⁻¹, Mehrotra's predictor-corrector, the Schur matrix
     ``H + Σ Gᵀ (Z ⊛ X⁻¹) G`` built column by column (:func:`svec_kron`) and solved by
-    ``np.linalg.solve``; ``tol`` = (gap, residual, iterations, step fraction) as config's
-    ``sos_ipm_*``.  Returns (x, [X_S, X_A], iterations) or None without convergence."""
-    gap_tol, res_tol, max_iter, frac = tol
+    ``np.linalg.solve``; ``tol`` = (gap, gap floor, residual, iterations, step fraction) as
+    config's ``sos_ipm_*``: it stops when the gap is below ``gap`` of the objective or ``floor`` of
+    ½‖c‖² and the dual residual below ``residual`` of 1 + max|Rᵀc|.  Returns (x, [X_S, X_A],
+    iterations) or None without convergence."""
+    gap_tol, floor_tol, res_tol, max_iter, frac = tol
     L, n_x = Rm.shape[1], len(x0)
     tS, fS = _svec_maps(n_S)
     tA, fA = _svec_maps(n_A)
@@ -281,7 +283,7 @@ def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-8, 60, 0.99)):
 
     x = np.array(x0, float)
     Zs = [np.linalg.inv(X) for X in mats(x)]
-    scale, floor = 1.0 + np.abs(g).max(), gap_tol * 0.5 * (c @ c)
+    scale, floor = 1.0 + np.abs(g).max(), floor_tol * 0.5 * (c @ c)
     degree = float(n_S + n_A)
     for it in range(max_iter):
         Xs = mats(x)
@@ -289,7 +291,7 @@ def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-8, 60, 0.99)):
         gap = sum(np.sum(X * Z) for X, Z in zip(Xs, Zs, strict=True))
         r_d = H @ x + g - adjoint(Zs)
         obj = 0.5 * np.sum((Rm @ x[:L] - c) ** 2)
-        if gap <= gap_tol * max(obj, floor) and np.abs(r_d).max() <= res_tol * scale:
+        if gap <= max(gap_tol * obj, floor) and np.abs(r_d).max() <= res_tol * scale:
             return x, Xs, it
         M = H + sum(Gb.T @ svec_kron(Z, Y) @ Gb for (Gb, *_), Z, Y in zip(blocks, Zs, Xi, strict=True))
 

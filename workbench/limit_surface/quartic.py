@@ -427,7 +427,7 @@ def _solve_ipm(r: int, Rm: np.ndarray, c_val: np.ndarray):
     M = T_s.T @ res.grams[0] @ T_s
     if len(T_a):
         M += T_a.T @ res.grams[1] @ T_a
-    return True, res.a, M, "optimal"
+    return True, res.a, M, res.status
 
 
 def _solve(r: int, solver: str, Rm: np.ndarray, c_val: np.ndarray, warm_start: bool = True):
