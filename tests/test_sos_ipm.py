@@ -166,7 +166,9 @@ def test_solver_names():
     assert len(swap_blocks(6)[0]) == 21  # the blocks the module notes name
 
 
-@pytest.mark.jit_only("~30 iterations of the Schur kernels as Python take ~10 s; the reference test runs them")
+@pytest.mark.jit_only(
+    "~30 iterations of the Schur kernels as Python take ~10 s; the reference test runs them"
+)
 @pytest.mark.parametrize("K", [130, 600])
 def test_exact_data_of_a_badly_scaled_quartic_is_fitted_as_well_as_by_clarabel(K):
     """Wrenches exactly on f(w) = Σ(w_i/s_i)⁴ + (Σ(w_i/s_i)²)², s spanning 1,500×, drawn as raw
@@ -193,7 +195,9 @@ def test_exact_data_of_a_badly_scaled_quartic_is_fitted_as_well_as_by_clarabel(K
     assert fits["IPM"].value(0.5 * s[3] * np.eye(6)[3]) == pytest.approx(0.125, rel=1e-4)
 
 
-@pytest.mark.jit_only("~30 iterations of the Schur kernels as Python take ~10 s; the reference test runs them")
+@pytest.mark.jit_only(
+    "~30 iterations of the Schur kernels as Python take ~10 s; the reference test runs them"
+)
 def test_a_gap_stalled_in_round_off_returns_clarabels_accuracy_marked_inaccurate(monkeypatch):
     """Exact wrenches of a badly scaled quartic (a fit through its data, objective ~0) with a
     floor no double reaches: the gap stops halving, and the iterate within Clarabel's own
