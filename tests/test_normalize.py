@@ -142,3 +142,20 @@ def test_wrench_pca_guards_degenerate_components_and_refuses_percentages():
         wrench_pca(W, w_max, retained_variance=99, significant_fraction=0.01)
     with pytest.raises(ValueError, match="significant_fraction"):
         wrench_pca(W, w_max, retained_variance=0.99, significant_fraction=-0.1)
+
+
+def test_a_planar_triple_is_refused_with_the_6d_layout_that_fits_it():
+    """(K, 3) wrenches (f_x, f_y, τ_z) of a planar contact: the error shows the 6D layout, and
+    that layout fits in the 3 dimensions it spans (a new-user trial)."""
+    from workbench import fit_ellipsoid
+    from workbench.limit_surface.normalize import check_wrenches
+
+    z = np.random.default_rng(3).standard_normal((200, 3))
+    z /= np.linalg.norm(z, axis=1, keepdims=True)
+    with pytest.raises(ValueError, match=r"got \(200, 3\) — a planar contact's .*\[f_x, f_y, 0, 0, 0, τ_z\]"):
+        check_wrenches(z)
+    with pytest.raises(ValueError, match=r"got \(6,\) — one row \[f_x, f_y, f_z, τ_x, τ_y, τ_z\]"):
+        check_wrenches(np.ones(6))
+    W = np.zeros((200, 6))
+    W[:, [0, 1, 5]] = z
+    assert fit_ellipsoid(W, "lsq").info["dim"] == 3

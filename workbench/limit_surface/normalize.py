@@ -25,7 +25,13 @@ def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a numeric (K, 6) array; got {type(wrenches).__name__}") from None
     if W.ndim != 2 or W.shape[1] != 6:
-        raise ValueError(f"{name} must have shape (K, 6); got {W.shape}")
+        hint = (
+            " — a planar contact's (f_x, f_y, τ_z)? give them as 6D wrenches [f_x, f_y, 0, 0, 0, τ_z] "
+            "(the fit keeps the 3 dimensions they span)"
+            if W.ndim == 2 and W.shape[1] == 3
+            else " — one row [f_x, f_y, f_z, τ_x, τ_y, τ_z] per wrench"
+        )
+        raise ValueError(f"{name} must have shape (K, 6); got {W.shape}{hint}")
     bad = ~np.isfinite(W)
     if bad.any():
         raise ValueError(f"{name} must be finite; row {int(np.argwhere(bad)[0][0])} has NaN/inf")
