@@ -9,7 +9,7 @@ import pytest
 import workbench.limit_surface.sos_ipm as sos_ipm
 from workbench import fit_quartic
 from workbench.limit_surface import quartic as quart_mod
-from workbench.limit_surface._kernels import _add_svec, _smat, _svec_kron
+from workbench.limit_surface._kernels import _add_svec, _smallest_eigenvalue, _smat, _svec_kron
 from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, svec_index, swap_blocks
 
 
@@ -31,6 +31,23 @@ def test_svec_kron_is_the_operator_it_names(n, rng):
     assert u @ (from_vec @ V.ravel()) == pytest.approx(np.sum(U * V), rel=1e-12)
     np.testing.assert_allclose(_smat(u, i, j, n), U, rtol=1e-14)
     np.testing.assert_allclose(_smat(u, i, j, n).ravel(), to_vec @ u, rtol=1e-14)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 15, 21])
+def test_the_smallest_eigenvalue_by_sturm_bisection_is_lapacks(n, rng):
+    """The step length's eigenvalue (Householder tridiagonal + Sturm bisection) against LAPACK's
+    (np.linalg.eigvalsh) on indefinite, diagonal, rank-2 and nearly scalar matrices."""
+    for trial in range(40):
+        B = rng.standard_normal((n, n))
+        C = [
+            B + B.T,
+            np.diag(rng.standard_normal(n)),
+            B[:, :2] @ B[:, :2].T,
+            1e-9 * (B + B.T) + 5 * np.eye(n),
+        ][trial % 4]
+        lam = np.linalg.eigvalsh(C)
+        scale = max(np.abs(lam).max(), 1e-300)
+        assert abs(_smallest_eigenvalue(C) - lam[0]) <= 1e-13 * scale
 
 
 def _program(r, rng, n_points=300):
