@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from workbench import config as wb_config
 from workbench.limit_surface.fit_score import FitScore, convexity, min_wrenches
 from workbench.limit_surface.protocols import (
     ExactContact,
@@ -416,8 +417,17 @@ def _fig_3_9(t: dict, config: dict, out: Path) -> str:
     axes[-1].set_xlabel("number of wrenches K")
     axes[-1].set_ylabel("fit time [s]")
     axes[-1].set_yscale("log")
-    axes[-1].set_title("Fig 3.9(b): runtime (Clarabel)")
+    axes[-1].set_title(f"Fig 3.9(b): runtime (SDP: Clarabel, quartic: {_quartic_solver()})")
     return str(save_figure(fig, out / "fig_3_9_error_runtime.png"))
+
+
+def _quartic_solver() -> str:
+    return wb_config.DEFAULTS.quartic_solver
+
+
+def _solver_label(kind: str) -> str:
+    """The solver a default fit of ``kind`` uses (the figures' legends)."""
+    return {"ellipsoid_lsq": "lstsq", "ellipsoid_sdp": "Clarabel"}.get(kind, _quartic_solver())
 
 
 def _runtime_vs_error(t: dict, config: dict, out: Path) -> str:
@@ -436,7 +446,7 @@ def _runtime_vs_error(t: dict, config: dict, out: Path) -> str:
                 [t["rt"][kind][s][Kc] for s in config["surfaces"]],
                 [t["err"][kind][s][Kc] for s in config["surfaces"]],
                 marker=marker[kind],
-                label=f"{kind} ({'lstsq' if kind == 'ellipsoid_lsq' else 'Clarabel'})",
+                label=f"{kind} ({_solver_label(kind)})",
             )
     for kind in SUPPORT_KINDS:
         pts = [(r[5], r[4]) for r in t["solver_rows"] if r[2] == kind]
