@@ -587,7 +587,10 @@ FIG_4_8_4_9: tuple[Claim, ...] = (
         trend(check_above(lambda m, a, b: f"6dls {a:.2f} vs {m} {b:.2f}")),
         "match if 6DLS holds a larger share of the grasps than soft point and planar each",
         RUN_GD,
-        why=_WHY_GD + "; the planar sentence of §4.2.2 is cut short in our copy of the thesis",
+        why=_WHY_GD + "; the planar sentence of §4.2.2 is cut short in our copy of the thesis; our planar "
+        "and 6DLS sets hold each jaw's normal force at the jaw force, the soft point and 6DFC let it vary "
+        "(README: grasp dataset), so on a tilted grasp only the latter can balance the weight along the "
+        "grasp axis",
         truth=TRUTH_GD,
         figures=_FIG_GD,
     ),
