@@ -67,9 +67,11 @@ def main() -> None:
             "ellipsoid_sdp (SCS)": lambda W=W, wm=wm: fit_ellipsoid(
                 W, "sdp", w_max=wm, solver="SCS", warm_start=False
             ),
-            "quartic (CLARABEL)": lambda W=W, wm=wm: fit_quartic(W, w_max=wm, fallback_solver=None),
+            "quartic (CLARABEL)": lambda W=W, wm=wm: fit_quartic(
+                W, w_max=wm, solver="CLARABEL", fallback_solver=None
+            ),
             "quartic+normals (CLARABEL)": lambda W=W, wm=wm, xi=xi: fit_quartic(
-                W, twists=xi, w_max=wm, fallback_solver=None
+                W, twists=xi, w_max=wm, solver="CLARABEL", fallback_solver=None
             ),
             "quartic (IPM)": lambda W=W, wm=wm: fit_quartic(W, w_max=wm, solver="IPM", fallback_solver=None),
             "quartic+normals (IPM)": lambda W=W, wm=wm, xi=xi: fit_quartic(
