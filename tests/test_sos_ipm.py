@@ -231,3 +231,31 @@ def test_a_gap_stalled_in_round_off_returns_clarabels_accuracy_marked_inaccurate
     assert q.info["solver"] == "IPM" and q.info["status"] == "optimal_inaccurate"
     assert q.info["train_error"] < 1e-6
     assert q.value(0.5 * s[3] * np.eye(6)[3]) == pytest.approx(0.125, rel=1e-4)
+
+
+@pytest.mark.slow
+def test_a_fit_is_the_same_whether_its_kernels_were_compiled_or_loaded_from_the_cache(tmp_path):
+    """Two fresh processes sharing an empty Numba cache: the first compiles the kernels, the
+    second loads them.  A fit through its data (K = 130, objective ~0) amplifies round-off, and
+    with fastmath the two processes' coefficients differed by 2e-8 (a fresh-clone test caught
+    it: a row's numbers depended on which process ran it); they must be equal bit for bit."""
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import hashlib, logging; logging.disable(logging.WARNING)\n"
+        "from workbench import fit_quartic, frictional_wrenches, mesh_profile, sample_twists_thesis, w_max\n"
+        "from workbench.sources.surface_catalog import THESIS_SURFACES\n"
+        "prof = mesh_profile(THESIS_SURFACES['S4'], 1000).normalized()\n"
+        "W = frictional_wrenches(prof, sample_twists_thesis(65, prof, seed=1), 0.5)\n"
+        "print(hashlib.sha256(fit_quartic(W, w_max=w_max(prof)).A_q.tobytes()).hexdigest())\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "NUMBA_DISABLE_JIT": "0"}
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True
+        ).stdout
+        for _ in range(2)
+    ]
+    assert runs[0] == runs[1] and len(runs[0].strip()) == 64

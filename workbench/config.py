@@ -48,9 +48,12 @@ PARALLEL: bool = _env_flag("WORKBENCH_NUMBA_PARALLEL", True)
 NUMBA_FLAGS: dict = {"fastmath": set(FASTMATH), "cache": CACHE, "nogil": True}
 NUMBA_FLAGS_PARALLEL: dict = {**NUMBA_FLAGS, "parallel": PARALLEL}
 # Kernels that redo a NumPy routine's arithmetic bit for bit (fem's point-triangle distance:
-# trimesh's closest_point, pair by pair): no fastmath, as NumPy rounds each product and sum on
-# its own ('contract' would fuse them into FMAs, 'reassoc' reorder the sums), and NumPy's
-# error model (x / 0 is ±inf or NaN as NumPy gives it, where Numba's default raises).
+# trimesh's closest_point, pair by pair), and the quartic fit's interior point (a process that
+# compiled its fastmath kernels got other round-off than one that loaded them from Numba's
+# cache, and a fit through its data amplified it to 2e-8, so a row depended on where it ran):
+# no fastmath, as NumPy rounds each product and sum on its own ('contract' would fuse them into
+# FMAs, 'reassoc' reorder the sums), and NumPy's error model (x / 0 is ±inf or NaN as NumPy gives
+# it, where Numba's default raises).
 NUMBA_FLAGS_IEEE: dict = {**NUMBA_FLAGS, "fastmath": False, "error_model": "numpy"}
 
 

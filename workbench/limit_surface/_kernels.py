@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
+from ..config import NUMBA_FLAGS_IEEE, NUMBA_FLAGS_PARALLEL
 
 #: points per parallel block: long enough for the inner loops to vectorise, short enough for
 #: the block's rows to stay in L1
@@ -78,7 +78,7 @@ def _quartic_values(yt, coef, out):  # noqa: C901 - Numba kernel: the nested sum
                 out[lo + t] += yt[i, lo + t] * s1[t]
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _svec_kron(Z, Y, i, j, out):
     """``out`` (m, m): the svec Kronecker product of symmetric Z, Y (n, n) — the matrix of
     ``U ↦ svec(½(Z U Y + Y U Z))`` on svec vectors (the upper triangle by columns, off-diagonals
@@ -103,9 +103,11 @@ def _svec_kron(Z, Y, i, j, out):
 
 
 # --- the quartic fit's interior point (sos_ipm.py): one iteration's dense algebra -------------
+# IEEE flags: with fastmath, a process that compiled these kernels and one that loaded them from
+# the cache rounded differently (config.NUMBA_FLAGS_IEEE), and the fit amplifies round-off
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _smat(v, i, j, n):
     """The symmetric (n, n) matrix of the svec vector v (entry p at (i[p], j[p]), off-diagonals
     times √2)."""
@@ -121,7 +123,7 @@ def _smat(v, i, j, n):
     return X
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _add_svec(U, i, j, out, off):
     """``out[off + p] += svec(½(U + Uᵀ))[p]``: the adjoint of :func:`_smat`."""
     h = 1.0 / np.sqrt(2.0)
@@ -133,7 +135,7 @@ def _add_svec(U, i, j, out, off):
             out[off + p] += (U[a, b] + U[b, a]) * h
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _csr_matvec(ptr, idx, val, x):
     """``G x`` for G in CSR arrays (rows = len(ptr) - 1)."""
     m = ptr.shape[0] - 1
@@ -146,7 +148,7 @@ def _csr_matvec(ptr, idx, val, x):
     return y
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _gram_mats(x, lay, nS, nA, L):
     """The Gram blocks of x: ``X_S = smat(G x)`` (nS, nS) and ``X_A = smat(x[L:])`` (nA, nA);
     ``lay`` = (G's CSR ptr, idx, val, its CSC ptr, idx, val, i_S, j_S, i_A, j_A): the program's
@@ -156,7 +158,7 @@ def _gram_mats(x, lay, nS, nA, L):
     return XS, XA
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _adjoint(US, UA, lay, n_x, L):
     """``Gᵀ svec(U_S) + [0; svec(U_A)]`` (n_x,): the x-gradient of ``tr(U_S X_S) + tr(U_A X_A)``."""
     ptr, idx, val = lay[0], lay[1], lay[2]
@@ -170,7 +172,7 @@ def _adjoint(US, UA, lay, n_x, L):
     return out
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _tril_inverse(C):
     """The inverse of a lower-triangular (n, n) C by forward substitution, column by column."""
     n = C.shape[0]
@@ -185,7 +187,7 @@ def _tril_inverse(C):
     return F
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _inv_factor(A):
     """``L⁻¹`` (n, n) of ``A = L Lᵀ ≻ 0`` (LinAlgError when A is not positive definite); (0, 0)
     for an empty block."""
@@ -194,7 +196,7 @@ def _inv_factor(A):
     return _tril_inverse(np.ascontiguousarray(np.linalg.cholesky(A)))
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _sym_triple(A, B, C):
     """``½(A B C + (A B C)ᵀ)`` for square A, B, C."""
     if A.shape[0] == 0:
@@ -203,7 +205,7 @@ def _sym_triple(A, B, C):
     return 0.5 * (T + T.T)
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _hkm_state(x, Zs, data, lay):
     """One iteration's state of the HKM interior point (sos_ipm.py) at (x, Z = (Z_S, Z_A)) for
     ``data`` = (H, g, Rm, c) and the layout ``lay`` (:func:`_gram_mats`): the Gram blocks
@@ -253,7 +255,7 @@ def _hkm_state(x, Zs, data, lay):
     return (XS, XA), (FXS, FXA, FZS, FZA), (XiS, XiA), gap, r_d, obj, M
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _cho_solve_upper(U, b):
     """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read)."""
     n = b.shape[0]
@@ -270,7 +272,7 @@ def _cho_solve_upper(U, b):
     return y
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _refined_solve(M, U, b, refine):
     """``M⁻¹ b`` from the Cholesky factor U of M (or of M + δI) with ``refine`` steps of
     iterative refinement against M."""
@@ -280,7 +282,7 @@ def _refined_solve(M, U, b, refine):
     return x
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _tridiagonal(C):  # noqa: C901 - Numba kernel: one Householder step per column, its loops inline
     """Householder reduction of a symmetric (n, n) C to the tridiagonal ``QᵀCQ`` (Golub and Van
     Loan, Alg. 8.3.1): its diagonal d (n,) and off-diagonal e (n − 1,); the same eigenvalues."""
@@ -328,7 +330,7 @@ def _tridiagonal(C):  # noqa: C901 - Numba kernel: one Householder step per colu
     return d, e
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _count_below(d, e, sigma):
     """How many eigenvalues of the tridiagonal (d, e) are below sigma (Sturm's sequence: the
     negative pivots of its LDLᵀ minus sigma)."""
@@ -345,7 +347,7 @@ def _count_below(d, e, sigma):
     return count
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _smallest_eigenvalue(C):
     """The smallest eigenvalue of a symmetric (n, n) C, to ~1e-15 of its spectral width: a
     Householder tridiagonalisation and bisection by Sturm counts within Gershgorin's bounds —
@@ -371,7 +373,7 @@ def _smallest_eigenvalue(C):
     return 0.5 * (lo + hi)
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _lambda_min(F, D):
     """The smallest eigenvalue of ``F D Fᵀ`` (+inf for an empty block)."""
     if F.shape[0] == 0:
@@ -379,7 +381,7 @@ def _lambda_min(F, D):
     return _smallest_eigenvalue(F @ D @ F.T)
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _max_step(F, dXS, dXA, dZS, dZA):
     """Largest t with ``X + t ΔX ⪰ 0`` and ``Z + t ΔZ ⪰ 0`` for both blocks (inf when every
     direction is PSD); F = the inverse factors (X_S, X_A, Z_S, Z_A) of :func:`_hkm_state`."""
@@ -390,7 +392,7 @@ def _max_step(F, dXS, dXA, dZS, dZA):
     return np.inf if lam >= 0.0 else -1.0 / lam
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _hkm_direction(sigma_mu, corr, Zs, Xi, MU, r_d, lay, L):
     """The HKM direction ``ΔZ = σμX⁻¹ − Z − corr − sym(X⁻¹ ΔX Z)`` with Δx from the Schur system
     (MU = (M, the Cholesky factor U of M or of M + δI, the refinement steps against M)):
@@ -408,7 +410,7 @@ def _hkm_direction(sigma_mu, corr, Zs, Xi, MU, r_d, lay, L):
     return dx, dXS, dXA, dZS, dZA
 
 
-@njit(**NUMBA_FLAGS)
+@njit(**NUMBA_FLAGS_IEEE)
 def _hkm_step(x, Zs, state, MU, lay, consts):
     """Mehrotra's predictor-corrector step of the HKM direction from (x, Z = (Z_S, Z_A)), the
     ``state`` = (X, F, X⁻¹, r_d, gap) of :func:`_hkm_state` and MU of :func:`_hkm_direction`;
