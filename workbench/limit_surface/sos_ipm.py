@@ -35,19 +35,6 @@ from ._kernels import _gram_mats, _hkm_state, _hkm_step
 from .sos import svec_index as _svec_index
 
 
-def svec_to_vec(n: int) -> sp.csr_matrix:
-    """(n², n(n+1)/2) sparse map from Clarabel's svec of a symmetric (n, n) matrix (upper
-    triangle by columns, off-diagonals times √2) to its row-major ``ravel()``."""
-    i, j = _svec_index(n)
-    k = np.arange(len(i))
-    off = i != j
-    vals = np.where(off, 1.0 / np.sqrt(2.0), 1.0)
-    return sp.csr_matrix(
-        (np.r_[vals, vals[off]], (np.r_[i * n + j, (j * n + i)[off]], np.r_[k, k[off]])),
-        shape=(n * n, len(i)),
-    )
-
-
 @dataclass(frozen=True)
 class SosFitResult:
     """What :func:`solve` found: ``a`` (L,), ``alpha`` (svec of the antisymmetric block), ``grams``
@@ -64,32 +51,33 @@ class SosFitResult:
 
 class SosProgram:
     """The fixed part of the fit, built once per subspace dimension: the PSD blocks as linear maps
-    of x, ``svec X_S = G x`` with ``G = [P Q]`` (a few entries per row; its CSR and CSC arrays
-    ``G_csr``, ``G_csc``) and
-    ``svec X_A = α`` (the last n_A(n_A+1)/2 entries of x), each block's svec layout (``index``:
-    the row and column of each entry) and the start (:func:`_start`).  Read-only."""
+    of x, ``svec X_S = G x`` with ``G = [P Q]`` (a few entries per row) and ``svec X_A = α`` (the
+    last n_A(n_A+1)/2 entries of x), laid out for the kernels (``layout``: G's CSR and CSC arrays,
+    then each block's svec rows and columns, :func:`._kernels._gram_mats`), and the start
+    (:func:`_start`).  Read-only."""
 
     def __init__(self, P: sp.spmatrix, Q: sp.spmatrix, n_S: int, n_A: int, a0: np.ndarray) -> None:
         """P, Q : :func:`.quartic._reduced_maps`; n_S, n_A : the blocks' sizes; a0 (L,) : the
         coefficients of ``(zᵀz)²`` (the strictly feasible start, :func:`_start`)."""
         self.L = P.shape[1]
         self.G = (sp.hstack([P, Q]) if n_A else sp.csr_matrix(P)).tocsr()
-        self.G_csr = (self.G.indptr.astype(np.int64), self.G.indices.astype(np.int64), self.G.data.copy())
         Gc = self.G.tocsc()
-        self.G_csc = (Gc.indptr.astype(np.int64), Gc.indices.astype(np.int64), Gc.data.copy())
         self.n_S, self.n_A = n_S, n_A
-        self.index = (*_svec_index(n_S), *_svec_index(n_A))  # (i_S, j_S, i_A, j_A)
-        self.layout = (*self.G_csr, *self.G_csc, *self.index)  # the kernels' (_kernels._gram_mats)
+        self.layout = (
+            self.G.indptr.astype(np.int64),
+            self.G.indices.astype(np.int64),
+            self.G.data.copy(),
+            Gc.indptr.astype(np.int64),
+            Gc.indices.astype(np.int64),
+            Gc.data.copy(),
+            *_svec_index(n_S),
+            *_svec_index(n_A),
+        )
         self.n_x = self.G.shape[1]
         self.degree = float(n_S + n_A)  # the barrier parameter: Σ block sizes
         self.start = _start(self, a0)
-        for arr in [*self.G_csr, *self.G_csc, *self.index, self.start[0], *self.start[1]]:
+        for arr in [*self.layout, self.start[0], *self.start[1]]:
             arr.flags.writeable = False
-
-    def mats(self, x: np.ndarray) -> list[np.ndarray]:
-        """The Gram blocks ``[X_S, X_A]`` of x (n_x,) (``[X_S]`` without an antisymmetric block)."""
-        XS, XA = _gram_mats(np.ascontiguousarray(x, float), self.layout, self.n_S, self.n_A, self.L)
-        return [XS, XA] if self.n_A else [XS]
 
 
 def _start(blocks: SosProgram, a0: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
@@ -97,7 +85,7 @@ def _start(blocks: SosProgram, a0: np.ndarray) -> tuple[np.ndarray, tuple[np.nda
     (``(Z_S, Z_A)``, Z_A (0, 0) without an antisymmetric block)."""
     x = np.zeros(blocks.n_x)
     x[: len(a0)] = a0
-    iA, jA = blocks.index[2:]
+    iA, jA = blocks.layout[8:]
     x[len(a0) :] = np.where(iA == jA, 4.0, 0.0)  # svec(4 I)
     XS, XA = _gram_mats(x, blocks.layout, blocks.n_S, blocks.n_A, blocks.L)
     return x, (np.linalg.inv(XS), np.linalg.inv(XA) if blocks.n_A else np.zeros((0, 0)))
@@ -174,4 +162,4 @@ def _cholesky(M: np.ndarray, refine: int = 2) -> tuple[np.ndarray, int]:
     raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
 
 
-__all__ = ["SosFitResult", "SosProgram", "solve", "svec_to_vec"]
+__all__ = ["SosFitResult", "SosProgram", "solve"]
