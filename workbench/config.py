@@ -557,7 +557,8 @@ class Defaults:
     # samples (seeds 777,000+) of S1-S6, never on the reported held-out sets.
     quartic_normal_weight: float = _field(0.5, _NONNEG)
     # The quartic fit's (Eq. 3.17) solver where none is named: "IPM" (limit_surface/sos_ipm.py:
-    # Clarabel's optimum to its tolerances, 2-3x faster a fit; Clarabel is its checked fallback)
+    # Clarabel's optimum to its tolerances, faster: results/benchmarks/limit_surface.json; Clarabel
+    # is its checked fallback)
     # or a conic solver with semidefinite support ("CLARABEL", "SCS").
     quartic_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
     # (λ, ω_w, ω_t) of the author's fitting objective (limit_surface/author_objective.py):
