@@ -56,10 +56,10 @@ DEFAULT_CONFIG = {
     "n_per_object": 1000,  # top grasps scored per object (the first k of a larger n are the same)
     # the flat object of Figs 4.8-4.9: the flattest mesh lying on its broad side, n candidates
     "n_report_object": 1000,
-    # antipodal candidates drawn per object at most, in blocks of 2,000: the flattest thesis object
-    # lying keeps ~0.2 % of them as top grasps (444 of 200,000), so 1,000 need ~450,000; an object
-    # that keeps fewer than n is logged and counted as it is
-    "max_candidates": 500_000,
+    # antipodal candidates drawn per object at most, in blocks of 2,000: an object wider than the
+    # opening keeps only grasps on its narrow parts (0016: 1,000 top grasps, all on its neck, after
+    # 1,018,000 candidates); an object that keeps fewer than n is logged and counted as it is
+    "max_candidates": 2_000_000,
     "models": ["soft_point", "planar", "6dls", "6dfc"],
     "mu": 0.3,  # the pads' friction (§4.1.3, the REACH gripper's)
     "sampling_mu": 0.5,  # the sampler's wider cone: "a larger friction coefficient ... preserves more grasps"
