@@ -3,6 +3,8 @@ grasp: Coulomb friction of a pulled block and a tilted plane, the creep of a hel
 torsion of a flat flex pad (μ Σ N_i |r_i| of its own contact forces), and a box held squarely
 by two flex pads, which must hold above the Coulomb load 2 μ F = m (g + a) and drop below it."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import trimesh
@@ -10,7 +12,14 @@ import trimesh
 mujoco = pytest.importorskip("mujoco")
 
 from workbench import config  # noqa: E402
-from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, probes, simulate_grasp  # noqa: E402
+from workbench.engine_trials import (  # noqa: E402
+    EngineObject,
+    EnginePad,
+    TrialPhases,
+    probes,
+    simulate_grasp,
+    simulate_grasp_tasks,
+)
 
 G_ACC = 9.81
 
@@ -89,6 +98,54 @@ def test_lift_and_rotate_turns_the_gripper_and_a_held_box_with_it():
     assert r.times[-1] == pytest.approx(
         p.gravity_ramp + p.close + p.settle + p.lift + p.rotate + p.hold, abs=2e-3
     )
+
+
+@pytest.mark.slow
+def test_a_grasps_tasks_stepped_together_are_each_the_trial_stepped_alone_bit_for_bit():
+    # a slipping grasp (2 mu F = 3.6 N against m g = 2.9 N plus the lift): its record moves
+    phases = TrialPhases(close=0.2, settle=0.1, lift=0.4, rotate=0.4, hold=0.3)
+    obj = EngineObject(mass=0.3, mu=0.18)
+    both = simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, phases=phases)
+    assert list(both) == ["vertical_lifting", "lift_and_rotate"]
+    n_fork = round((phases.gravity_ramp + phases.close + phases.settle + phases.lift) / 1e-3) - 1
+    for k, (task, together) in enumerate(both.items()):
+        alone = simulate_grasp(BOX, GRASP, force=10.0, obj=obj, task=task, phases=phases)
+        assert alone.shared_steps == 0 and together.shared_steps == (n_fork if k else 0)
+        assert together.steps == alone.steps and together.held == alone.held
+        for a, b in ((alone.times, together.times), (alone.rel_pos, together.rel_pos)):
+            assert np.array_equal(a, b)
+        assert np.array_equal(alone.rel_turn_deg, together.rel_turn_deg)
+        assert together.drift == alone.drift > 1e-5  # it moved: the record is not trivially equal
+    with pytest.raises(ValueError, match="tasks must be distinct names"):
+        simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks=("vertical_lifting", "vertical_lifting"))
+    with pytest.raises(ValueError, match="'lift' is not a task"):
+        simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks=("lift",))
+    with pytest.raises(ValueError, match="a sequence of task names"):
+        simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks="vertical_lifting")
+
+
+@pytest.mark.slow
+def test_a_trial_stopped_once_lost_has_every_verdict_of_the_whole_trial_and_its_record_is_a_prefix():
+    from workbench.engine_trials.trial import VERDICT_LIMITS
+
+    phases = TrialPhases(close=0.2, settle=0.1, lift=0.4, hold=0.3)
+    obj = EngineObject(mass=2.0, mu=0.05)  # 2 mu F = g m / 20: it stays on the table
+    whole = simulate_grasp(BOX, GRASP, force=10.0, obj=obj, phases=phases)
+    stopped = simulate_grasp(BOX, GRASP, force=10.0, obj=obj, phases=replace(phases, stop_when_lost=True))
+    assert whole.stopped_at is None and stopped.stopped_at is not None
+    k = stopped.times.size
+    assert stopped.steps < whole.steps and k < whole.times.size
+    assert np.array_equal(stopped.times, whole.times[:k])
+    assert np.array_equal(stopped.rel_pos, whole.rel_pos[:k])
+    assert stopped.stopped_at == stopped.times[-1]
+    assert stopped.drift > 9e-3 and np.isnan(stopped.slip_speed)  # past the largest drift limit
+    assert stopped.held is whole.held is False
+    assert stopped.reason.split(" slid")[0] == whole.reason.split(" slid")[0] == "the object"
+    for d_mm, t_deg in VERDICT_LIMITS:  # every re-read limit gives the same verdict
+        for r in (whole, stopped):
+            assert not (r.drift * 1e3 <= d_mm and r.turn_deg <= t_deg)
+    with pytest.raises(ValueError, match="stop_when_lost must be True or False"):
+        TrialPhases(stop_when_lost="yes")
 
 
 def test_careless_trial_input_is_refused():

@@ -734,11 +734,12 @@ def test_minimal_work_engine_quick(tmp_path):
         p, y = q[~split] >= 0.5, truth[~split]
         ba = np.mean([np.mean(p[y == c] == c) for c in (True, False) if (y == c).any()])
         assert s["table_4_6_engine"][t]["q_robust"]["All"] == pytest.approx(ba)
-    assert 0 < s["engine_seconds_per_trial"]["median"] <= s["engine_seconds_per_trial"]["worst"] < 60
+    assert 0 < s["engine_seconds_per_grasp"]["median"] <= s["engine_seconds_per_grasp"]["worst"] < 120
     assert "rigid" in s["cannot_judge"] and "REACH profiles" in s["does_not_share"]
     # a larger sample or a new split resumes every trial already run
     assert main([*argv, "--set", "n_bootstrap=300"]) == 0
-    assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(trials)
+    # (a checkpoint row holds both tasks' trials of one grasp)
+    assert json.loads((tmp_path / "summary.json").read_text())["n_resumed"] == len(trials) // 2
 
 
 @pytest.mark.parametrize(

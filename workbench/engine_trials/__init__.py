@@ -33,6 +33,7 @@ from .trial import (
     build_scene,
     check_record_every,
     simulate_grasp,
+    simulate_grasp_tasks,
     simulate_gripper,
     step_trial,
 )
@@ -52,6 +53,7 @@ __all__ = [
     "probes",
     "simulate_disturbance",
     "simulate_grasp",
+    "simulate_grasp_tasks",
     "simulate_gripper",
     "step_trial",
 ]

@@ -29,6 +29,7 @@ from .trial import (
     _miss,
     _starts_inside,
     build_scene,
+    check_flag,
     check_record_count,
     check_record_every,
     check_turn_limit,
@@ -55,11 +56,14 @@ class DisturbancePhases:
     max_turn_deg: float = 5.0  # [deg]
     # engine steps between the recorded poses the verdict reads (:func:`~.trial.check_record_every`)
     record_every: int = 10
+    # stop once the object is past every verdict limit (as TrialPhases.stop_when_lost)
+    stop_when_lost: bool = False
 
     def __post_init__(self) -> None:
         from ..plausible import check
 
         check_record_count(self.record_every)
+        check_flag("stop_when_lost", self.stop_when_lost, "stop a trial once the object is past every limit")
         for name in ("close", "settle", "ramp", "hold"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):

@@ -99,12 +99,17 @@ class TrialPhases:
     record_every: int = 10
     # a plane under the object, touching it only (False: the object floats free)
     table: bool = True
+    # stop once the object is past every verdict limit (these phases' and VERDICT_LIMITS'): each
+    # verdict is settled then, but the recorded drift and turn stop growing, so a ranking of
+    # failed trials by how far the object went (engine_trials.reality's AUC) needs False
+    stop_when_lost: bool = False
 
     def __post_init__(self) -> None:
         from ..plausible import check
 
         check_record_count(self.record_every)
         check_flag("table", self.table, "a table under the object, or none")
+        check_flag("stop_when_lost", self.stop_when_lost, "stop a trial once the object is past every limit")
         for name in ("close", "settle", "gravity_ramp", "lift", "rotate", "hold"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0 < v <= 60):
@@ -212,7 +217,14 @@ class TrialOutcome:
     slip_speed : the object's speed relative to the gripper over the final hold [m/s].
     times : (T,) [s]; rel_pos : (T, 3) the object's origin in the gripper frame [m];
     rel_turn_deg : (T,) its rotation from the settled pose [deg].
-    seconds : wall time of the simulation; steps : engine steps.
+    seconds : wall time of the simulation; steps : engine steps taken (the trial's own and
+        any shared).
+    stopped_at : the time [s] the trial stopped, the object past every verdict limit
+        (``phases.stop_when_lost``; ``drift`` and ``turn_deg`` are then those reached by that
+        time, ``slip_speed`` NaN); None when it ran to its end.
+    shared_steps : the first steps, taken once for several tasks of one scene (their control
+        the same) and counted in the first task's ``seconds`` (:func:`simulate_grasp_tasks`); 0
+        for a trial stepped alone.
     reason : why it was not held ("" when held): a jaw that touched nothing after closing, or
         the drift or turn beyond the limits.
     engine_warnings : MuJoCo's warnings during the trial {name: count} (empty when none).
@@ -229,6 +241,8 @@ class TrialOutcome:
     steps: int = 0
     reason: str = ""
     engine_warnings: dict = field(default_factory=dict)
+    shared_steps: int = 0
+    stopped_at: float | None = None
 
     def row(self) -> dict:
         """The verdict and its measures as a checkpoint row (drift in mm)."""
@@ -238,6 +252,8 @@ class TrialOutcome:
             "turn_deg": self.turn_deg,
             "seconds": self.seconds,
             "steps": self.steps,
+            "shared_steps": self.shared_steps,
+            "stopped_at": self.stopped_at,
             "reason": self.reason,
             "engine_warnings": self.engine_warnings,
         }
@@ -432,6 +448,11 @@ def _rotvec_deg(R: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
+def _check_task(task) -> None:
+    if not (isinstance(task, str) and task in TASKS):
+        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
+
+
 def _check_trial(mesh, caller: str, task, obj: EngineObject):
     """The inputs the simulators share, checked: ``(mesh, obj)`` (the mesh watertight, outward,
     in metres; ``obj`` an :class:`EngineObject` with μ given, its mass by the density rule, its
@@ -445,8 +466,7 @@ def _check_trial(mesh, caller: str, task, obj: EngineObject):
 
     if not isinstance(obj, EngineObject):
         raise ValueError(f"obj must be an EngineObject (mass, mu, com, down); got {type(obj).__name__}")
-    if task not in TASKS:
-        raise ValueError(f"task must be one of {tuple(TASKS)}; got {task!r}")
+    _check_task(task)
     # the trials take metres only (no units= argument): the remedy is to scale the mesh
     mesh = closed_mesh(
         mesh,
@@ -538,20 +558,60 @@ def simulate_grasp(
     ``engine_warnings`` and raised as an :class:`EngineWarning`.
     """
 
-    mesh, obj = _check_trial(mesh, "simulate_grasp", task, obj)
+    _check_task(task)
+    return simulate_grasp_tasks(
+        mesh, grasp, force=force, obj=obj, pad=pad, tasks=(task,), settings=settings, phases=phases
+    )[task]
+
+
+def _check_tasks(tasks) -> tuple[str, ...]:
+    """``tasks`` as a tuple of distinct task names (:data:`TASKS`), at least one."""
+    if isinstance(tasks, str) or not hasattr(tasks, "__iter__"):
+        raise ValueError(f"tasks must be a sequence of task names from {tuple(TASKS)}; got {tasks!r}")
+    out = tuple(tasks)
+    bad = [t for t in out if not (isinstance(t, str) and t in TASKS)]
+    if not out or bad or len(set(out)) != len(out):
+        raise ValueError(
+            f"tasks must be distinct names from {tuple(TASKS)}, at least one; got {tasks!r}"
+            + (f" ({bad[0]!r} is not a task)" if bad else "")
+        )
+    return out
+
+
+def simulate_grasp_tasks(
+    mesh,
+    grasp: dict,
+    *,
+    force: float,
+    obj: EngineObject,
+    pad: EnginePad | None = None,
+    tasks=tuple(TASKS),
+    settings: EngineSettings | None = None,
+    phases: TrialPhases | None = None,
+) -> dict[str, TrialOutcome]:
+    """{task: TrialOutcome}: the trials of one grasp for each of ``tasks`` (default both of
+    :data:`TASKS`), each as :func:`simulate_grasp` would simulate it alone — bit for bit —
+    on one scene: the tasks' control is the same until the turn starts at the end of the lift,
+    so those steps are taken once (each outcome's ``shared_steps``; their wall time is in the
+    first task's ``seconds``) and each task goes on from a copy of the engine's state.  The
+    arguments are those of :func:`simulate_grasp`."""
+    tasks = _check_tasks(tasks)
+    for task in tasks:
+        mesh, obj = _check_trial(mesh, "simulate_grasp", task, obj)
     phases, settings = _check_run(phases, settings)
     pad = _check_force(force, pad)
     _check_up_down(pad.up, np.asarray(obj.down))
-    check_record_every(phases.record_every, _judged(phases, task), settings.timestep)
+    for task in tasks:
+        check_record_every(phases.record_every, _judged(phases, task), settings.timestep)
     p1, p2, axis = _check_grasp(grasp, mesh)
     faces = (p1 - phases.gap * axis, p2 + phases.gap * axis)  # each pad's face gap before its point
     inside = "" if pad.conform else _starts_inside(mesh, faces, axis, pad.up, pad.size)
     if inside:
-        return _miss(inside)
+        return dict.fromkeys(tasks, _miss(inside))
     model, info = build_scene(
         mesh, faces, axis, force=force, obj=obj, pad=pad, settings=settings, phases=phases
     )
-    return _run(model, info, force, obj.down, task, phases)
+    return _run_tasks(model, info, force, obj.down, tasks, phases)
 
 
 def _judged(phases: TrialPhases, task: str) -> dict:
@@ -562,16 +622,14 @@ def _judged(phases: TrialPhases, task: str) -> dict:
     return judged
 
 
-def _run(model, info: dict, force: float, down, task: str, phases: TrialPhases) -> TrialOutcome:
-    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold), recording
-    every ``phases.record_every`` steps."""
+def _lift_control(force: float, down, task: str, phases: TrialPhases):
+    """``control(t, model, data)`` of a lifting trial of ``task``: gravity on, the jaws' force
+    ramped, a smooth rise, then (lift_and_rotate) a smooth turn about the grasp axis."""
     g_dir = np.asarray(down, float) / np.linalg.norm(down)
     t_grav = phases.gravity_ramp
-    t_close = t_grav + phases.close
-    t_settle = t_close + phases.settle
+    t_settle = t_grav + phases.close + phases.settle
     t_lift = t_settle + phases.lift
     turn = np.radians(TASKS[task])
-    t_turn = t_lift + (phases.rotate if turn else 0.0)
 
     def control(t: float, model, data) -> None:
         model.opt.gravity[:] = G * min(1.0, t / t_grav) * g_dir
@@ -583,8 +641,51 @@ def _run(model, info: dict, force: float, down, task: str, phases: TrialPhases) 
             v = np.clip((t - t_lift) / phases.rotate, 0.0, 1.0)
             data.ctrl[3] = turn * (3 * v**2 - 2 * v**3)
 
-    t_end, judged = t_turn + phases.hold, _judged(phases, task)
-    return step_trial(model, info, control, t_settle, t_end, phases, phases.record_every, judged)
+    return control
+
+
+def _lift_end(task: str, phases: TrialPhases) -> float:
+    """The end [s] of a lifting trial of ``task``."""
+    t_lift = phases.gravity_ramp + phases.close + phases.settle + phases.lift
+    return t_lift + (phases.rotate if TASKS[task] else 0.0) + phases.hold
+
+
+def _run_tasks(model, info: dict, force: float, down, tasks: tuple, phases: TrialPhases) -> dict:
+    """{task: TrialOutcome}: the trials of ``tasks`` on one scene.  Every task's control is the
+    same until the turn starts (at the end of the lift), so the steps before it are stepped once
+    and each task goes on from a copy of that state: the outcomes are those of separate trials,
+    bit for bit (MuJoCo's step is a function of its model and data); the shared steps' wall time
+    is counted in the first task's ``seconds``."""
+    t_settle = phases.gravity_ramp + phases.close + phases.settle
+    dt = model.opt.timestep
+    # steps whose time is half a step or more before the lift's end: the turn's smoothstep is
+    # exactly 0 there (its argument clipped), so every task's control is the same
+    t_fork = t_settle + phases.lift - 0.5 * dt
+    n_fork = max(0, int(np.floor(t_fork / dt)))
+    first = _lift_control(force, down, tasks[0], phases)
+    shared = _Track.start(model, info)
+    lost = _lost_limits(phases)
+    shared.advance(model, first, t_settle, 0, n_fork, None, phases.record_every, lost)
+    n_shared = shared.steps
+    out = {}
+    for k, task in enumerate(tasks):
+        track = shared if k == len(tasks) - 1 else shared.copy()
+        if k:
+            track.seconds = 0.0  # the shared steps are the first task's
+        t_end = _lift_end(task, phases)
+        n = int(round(t_end / dt))
+        control = _lift_control(force, down, task, phases)
+        track.advance(model, control, t_settle, n_fork, n, n, phases.record_every, lost)
+        out[task] = _judge(track, t_end, phases, shared_steps=n_shared if k else 0)
+    return out
+
+
+def _run(model, info: dict, force: float, down, task: str, phases: TrialPhases) -> TrialOutcome:
+    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold), recording
+    every ``phases.record_every`` steps."""
+    judged = _judged(phases, task)
+    check_record_every(phases.record_every, judged, model.opt.timestep)
+    return _run_tasks(model, info, force, down, (task,), phases)[task]
 
 
 def step_trial(
@@ -612,20 +713,122 @@ def step_trial(
     judged = {"the recorded window": t_end - t_ref, "phases.hold": phases.hold} if judged is None else judged
     check_record_every(record_every, judged, model.opt.timestep)
     n = int(round(t_end / model.opt.timestep))
-    data, times, rel_p, rel_turn, touching, seconds = _record(model, info, control, t_ref, n, record_every)
+    track = _Track.start(model, info)
+    track.advance(model, control, t_ref, 0, n, n, record_every, _lost_limits(phases))
+    return _judge(track, t_end, phases)
+
+
+class _Track:
+    """A trial's engine state and its record so far: the object's pose relative to the ``hand``
+    body every ``record_every`` steps from ``t_ref`` on (and at the trial's last step), whether
+    each jaw's tips touched something at the first record, and the stepping's wall time."""
+
+    def __init__(self, data, info: dict, tips: list) -> None:
+        self.data, self.info, self.tips = data, info, tips
+        self.times: list = []
+        self.rel_p: list = []
+        self.rel_turn: list = []
+        self.ref: tuple | None = None
+        self.touching: list | None = None
+        self.seconds = 0.0
+        self.steps = 0
+        self.stopped_at: float | None = None
+
+    @classmethod
+    def start(cls, model, info: dict) -> _Track:
+        """A new trial's track: fresh engine data, nothing recorded."""
+        mujoco = import_mujoco()
+        # each pad's tip geoms: after closing, a jaw whose tips touch nothing holds nothing
+        tips = [
+            {g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.startswith(f"pad{k}_")}
+            for k in (1, 2)
+        ]
+        return cls(mujoco.MjData(model), info, tips)
+
+    def copy(self) -> _Track:
+        """An independent copy: the engine data (``copy.copy`` of MjData is MuJoCo's
+        mj_copyData) and the record."""
+        import copy
+
+        out = _Track(copy.copy(self.data), self.info, self.tips)
+        out.times, out.rel_p, out.rel_turn = list(self.times), list(self.rel_p), list(self.rel_turn)
+        out.ref, out.touching, out.seconds = self.ref, self.touching, self.seconds
+        out.steps, out.stopped_at = self.steps, self.stopped_at
+        return out
+
+    def advance(
+        self,
+        model,
+        control,
+        t_ref: float,
+        i0: int,
+        i1: int,
+        n: int | None,
+        record_every: int,
+        lost: tuple[float, float] | None = None,
+    ) -> None:
+        """Steps ``i0 .. i1 - 1`` of a trial of ``n`` steps (None: not its end), each at time
+        ``(i + 1) dt`` after ``control(t, model, data)``; with ``lost`` (drift [m], turn [deg])
+        it stops at the first record beyond either (``stopped_at``), and a stopped track takes
+        no more steps."""
+        mujoco = import_mujoco()
+        data, dt = self.data, model.opt.timestep
+        obj, hand = self.info["object"], self.info["hand"]
+        last = -1 if n is None else n - 1
+        t0 = time.perf_counter()
+        for i in range(i0, i1 if self.stopped_at is None else i0):
+            t = (i + 1) * dt
+            control(t, model, data)
+            mujoco.mj_step(model, data)
+            self.steps += 1
+            if t >= t_ref and (i % record_every == 0 or i == last):
+                Rh = data.xmat[hand].reshape(3, 3)
+                ph = data.xpos[hand]
+                Ro = data.xmat[obj].reshape(3, 3)
+                po = Rh.T @ (data.xpos[obj] - ph)
+                Rrel = Rh.T @ Ro
+                if self.ref is None:
+                    self.ref = (po.copy(), Rrel.copy())
+                    geoms = {int(g) for c in data.contact[: data.ncon] for g in c.geom}
+                    self.touching = [bool(t_k & geoms) for t_k in self.tips]
+                turn = _rotvec_deg(self.ref[1].T @ Rrel)
+                self.times.append(t)
+                self.rel_p.append(po)
+                self.rel_turn.append(turn)
+                if lost is not None and (np.linalg.norm(po - self.ref[0]) > lost[0] or turn > lost[1]):
+                    self.stopped_at = t
+                    break
+        self.seconds += time.perf_counter() - t0
+
+
+def _lost_limits(phases) -> tuple[float, float] | None:
+    """(drift [m], turn [deg]) past which every verdict a trial's record is read at is settled —
+    ``phases``' own limits and :data:`VERDICT_LIMITS` — when ``phases.stop_when_lost``, else None."""
+    if not getattr(phases, "stop_when_lost", False):
+        return None
+    drift = max(phases.max_drift, max(d for d, _ in VERDICT_LIMITS) * 1e-3)
+    return drift, max(phases.max_turn_deg, max(t for _, t in VERDICT_LIMITS))
+
+
+def _judge(track: _Track, t_end: float, phases, shared_steps: int = 0) -> TrialOutcome:
+    """The :class:`TrialOutcome` of a track finished at ``t_end`` [s] or stopped before it."""
+    times, rel_p, rel_turn = np.array(track.times), np.array(track.rel_p), np.array(track.rel_turn)
     drift = np.linalg.norm(rel_p - rel_p[0], axis=1)
     last = times >= t_end - phases.hold
-    span = times[last][-1] - times[last][0]
-    slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
-    held, reason = _verdict(times, drift, rel_turn, touching, phases)
-    engine_warnings = _engine_warnings(data, held)
+    if track.stopped_at is not None:
+        slip = float("nan")  # the hold was not reached
+    else:
+        span = times[last][-1] - times[last][0]
+        slip = float(np.linalg.norm(rel_p[last][-1] - rel_p[last][0]) / span) if span > 0 else 0.0
+    held, reason = _verdict(times, drift, rel_turn, track.touching, phases)
+    engine_warnings = _engine_warnings(track.data, held)
     log.info(
         "engine trial: %s, drift %.2f mm, turn %.2f deg, %d steps in %.1f s",
         "held" if held else "slipped",
         drift.max() * 1e3,
         rel_turn.max(),
-        n,
-        seconds,
+        track.steps,
+        track.seconds,
     )
     return TrialOutcome(
         held,
@@ -635,51 +838,13 @@ def step_trial(
         times,
         rel_p,
         rel_turn,
-        seconds,
-        n,
+        track.seconds,
+        track.steps,
         reason,
         engine_warnings,
+        shared_steps,
+        track.stopped_at,
     )
-
-
-def _record(model, info: dict, control, t_ref: float, n: int, record_every: int) -> tuple:
-    """Step a scene ``n`` steps, calling ``control(t, model, data)`` before each, and record the
-    object's pose relative to the ``hand`` body every ``record_every`` steps from ``t_ref`` [s]
-    on (and at the last step): ``(data, times (T,), rel_p (T, 3), rel_turn (T,) [deg],
-    touching, seconds)``, ``touching`` whether each jaw's tips touch something at the first
-    record (None when nothing was recorded), ``seconds`` the wall time of the stepping."""
-    mujoco = import_mujoco()
-    data = mujoco.MjData(model)
-    dt = model.opt.timestep
-    obj, hand = info["object"], info["hand"]
-    times, rel_p, rel_turn = [], [], []
-    ref = None
-    # each pad's tip geoms: after closing, a jaw whose tips touch nothing holds nothing
-    tips = [
-        {g for g in range(model.ngeom) if model.body(model.geom_bodyid[g]).name.startswith(f"pad{k}_")}
-        for k in (1, 2)
-    ]
-    touching = None
-    t0 = time.perf_counter()
-    for i in range(n):
-        t = (i + 1) * dt
-        control(t, model, data)
-        mujoco.mj_step(model, data)
-        if t >= t_ref and (i % record_every == 0 or i == n - 1):
-            Rh = data.xmat[hand].reshape(3, 3)
-            ph = data.xpos[hand]
-            Ro = data.xmat[obj].reshape(3, 3)
-            po = Rh.T @ (data.xpos[obj] - ph)
-            Rrel = Rh.T @ Ro
-            if ref is None:
-                ref = (po.copy(), Rrel.copy())
-                geoms = {int(g) for c in data.contact[: data.ncon] for g in c.geom}
-                touching = [bool(t_k & geoms) for t_k in tips]
-            times.append(t)
-            rel_p.append(po)
-            rel_turn.append(_rotvec_deg(ref[1].T @ Rrel))
-    seconds = time.perf_counter() - t0
-    return data, np.array(times), np.array(rel_p), np.array(rel_turn), touching, seconds
 
 
 def _verdict(

@@ -151,12 +151,14 @@ def _mw_config(config: dict) -> dict:
 
 
 def _trial(job: tuple, config: dict) -> dict:
-    """One engine trial (driver or Dask worker): ``(object, grasp, task, p1, p2, axis)``."""
-    from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, simulate_grasp
+    """Both tasks' engine trials of one grasp (driver or Dask worker): ``(object, grasp, p1, p2,
+    axis)`` → {task: trial row}, stepped together up to the turn
+    (:func:`~workbench.engine_trials.simulate_grasp_tasks`: each as it would be alone)."""
+    from workbench.engine_trials import EngineObject, EnginePad, TrialPhases, simulate_grasp_tasks
 
-    name, _, task, p1, p2, axis = job
+    name, _, p1, p2, axis = job
     mesh = load_mesh(str(object_files(config["data_dir"], name)[0]))
-    outcome = simulate_grasp(
+    outcomes = simulate_grasp_tasks(
         mesh,
         {"p1": p1, "p2": p2, "axis": axis},
         force=config["engine_force"],
@@ -165,21 +167,25 @@ def _trial(job: tuple, config: dict) -> dict:
             mu=config["mu"],
             com=mesh.convex_hull.center_mass,  # the filled object's centre, as minimal-work's
         ),
-        task=task,
+        tasks=TASKS,
         pad=EnginePad(
             size=(config["jaw"][0], config["jaw"][1], config["pad_thickness"]),
             E=config["pad_E"],
             nu=config["pad_nu"],
         ),
-        phases=TrialPhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
+        # the verdicts are read at the run's limits and VERDICT_LIMITS only: a trial stops once
+        # its object is past them all
+        phases=TrialPhases(
+            max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"], stop_when_lost=True
+        ),
     )
-    return outcome.row()
+    return {t: outcomes[t].row() for t in TASKS}
 
 
 def _key(job: tuple) -> str:
-    """``object/grasp/task/pose``: the pose's digest, so a candidate index that names another
-    pose (a changed candidate sampler) is never read as this trial."""
-    return f"{job[0]}/{job[1]}/{job[2]}/{content_hash([job[3], job[4], job[5]], 10)}"
+    """``object/grasp/pose``: the pose's digest, so a candidate index that names another pose
+    (a changed candidate sampler) is never read as this grasp's trials."""
+    return f"{job[0]}/{job[1]}/{content_hash([job[2], job[3], job[4]], 10)}"
 
 
 def _trial_code() -> str:
@@ -218,7 +224,7 @@ def _surface_gap(grasps: list[dict], config: dict) -> np.ndarray:
 def _engine_trials(grasps: list[dict], out: Path, config: dict) -> tuple[dict, int, str]:
     """Step 2: both tasks' engine trials of every judged grasp (Dask tasks, checkpointed):
     ({(object, grasp, task): trial row}, rows resumed, where they ran)."""
-    jobs = [(g["object"], g["grasp"], t, g["p1"], g["p2"], g["axis"]) for g in grasps for t in TASKS]
+    jobs = [(g["object"], g["grasp"], g["p1"], g["p2"], g["axis"]) for g in grasps]
     # the rows' key: what changes a trial's outcome or a candidate's index, so another sample, split or
     # number of resamples resumes every trial already run
     engine_config = {k: config[k] for k in (*TRIAL_KEYS, "workers", "scheduler")}
@@ -229,10 +235,10 @@ def _engine_trials(grasps: list[dict], out: Path, config: dict) -> tuple[dict, i
         out,
         engine_config,
         desc=NAME,
-        unit="trial",
+        unit="grasp",
         code=_trial_code(),
     )
-    return {(j[0], j[1], j[2]): ckpt.rows[_key(j)] for j in jobs}, n_resumed, ran_on
+    return {(j[0], j[1], t): ckpt.rows[_key(j)][t] for j in jobs for t in TASKS}, n_resumed, ran_on
 
 
 def _score(
@@ -370,8 +376,13 @@ def _judge_notes(config: dict) -> dict:
 
 
 def _engine_stats(trial: dict, gap: np.ndarray) -> dict:
-    """The engine's surface against the mesh at each grasp's contact points, and its trials' time."""
-    secs = np.array([r["seconds"] for r in trial.values() if r["steps"]])
+    """The engine's surface against the mesh at each grasp's contact points, and its trials' time
+    (a grasp's tasks share their steps up to the turn: the time is per grasp, both tasks)."""
+    per_grasp: dict = {}
+    for (name, grasp, _), r in trial.items():
+        if r["steps"]:
+            per_grasp[name, grasp] = per_grasp.get((name, grasp), 0.0) + r["seconds"]
+    secs = np.array(list(per_grasp.values()))
     return {
         # the engine's surface (convex slabs) against the mesh at each grasp's contact points
         "collision_surface": {
@@ -380,7 +391,7 @@ def _engine_stats(trial: dict, gap: np.ndarray) -> dict:
             "grasps_beyond_mm": SURFACE_GAP * 1e3,
             "n_grasps_beyond": int((gap > SURFACE_GAP).sum()),
         },
-        "engine_seconds_per_trial": (
+        "engine_seconds_per_grasp": (
             {"median": float(np.median(secs)), "worst": float(secs.max())} if secs.size else None
         ),
         "engine_trials_warned": sum(bool(r["engine_warnings"]) for r in trial.values()),

@@ -165,7 +165,11 @@ def _row(task: tuple, config: dict) -> dict:
                 up=(0.0, 0.0, 1.0),
                 conform=True,
             ),
-            phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
+            # the verdicts are read at the run's limits and VERDICT_LIMITS only: a trial stops once
+            # its object is past them all
+            phases=DisturbancePhases(
+                max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"], stop_when_lost=True
+            ),
         )
         return outcome.row()
     profiles = scene_profiles(config, config["k_true"], config["length"])

@@ -217,7 +217,11 @@ def _row(task: tuple, config: dict) -> dict:
             force=float(f_true[i]),
             obj=EngineObject(mass=config["object_mass"], mu=float(mu_true[i]), com=mesh.center_mass),
             pad=EnginePad(size=PAD, E=config["pad_E"], nu=config["pad_nu"], up=(0.0, 0.0, 1.0)),
-            phases=DisturbancePhases(max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"]),
+            # the verdicts are read at the run's limits and VERDICT_LIMITS only: a trial stops once
+            # its object is past them all
+            phases=DisturbancePhases(
+                max_drift=config["max_drift"], max_turn_deg=config["max_turn_deg"], stop_when_lost=True
+            ),
         )
         return {**outcome.row(), "pool_index": k}
     from workbench.sources.fem_jaw import fem_jaw_profiles
