@@ -55,3 +55,33 @@ def test_check_sdp_solver_takes_any_case_and_names_the_valid_ones():
         ValueError, match=r"^fallback_solver must name .*got 'ECOS_X'. Use e.g. fallback_solver='CLARABEL'"
     ):
         check_sdp_solver("ECOS_X", what="fallback_solver")
+
+
+def test_a_quartic_fallback_is_another_solver():
+    from workbench.limit_surface.quartic import _fallback_for
+
+    # "auto": Clarabel after the IPM or SCS, SCS after Clarabel — never the solver itself
+    assert [_fallback_for(s, "auto") for s in ("IPM", "SCS", "CLARABEL")] == ["CLARABEL", "CLARABEL", "SCS"]
+    assert _fallback_for("IPM", None) is None and _fallback_for("IPM", "scs") == "SCS"
+    for solver, fallback in (("IPM", "ipm"), ("CLARABEL", "Clarabel"), ("SCS", "SCS")):
+        with pytest.raises(ValueError, match=r"fallback_solver is the solver itself .* would fail again"):
+            _fallback_for(solver, fallback)
+
+
+def test_every_listed_solver_fits_the_quartic_to_the_ipms_optimum():
+    # a solver offered by sdp_solvers() must solve the quartic's SOS program, not only a 2 x 2 SDP
+    # (CVXOPT failed every fit with its default KKT solver)
+    from workbench.limit_surface import fit_quartic
+
+    rng = np.random.default_rng(3)
+    # points of a convex surface: an ellipsoid's, pushed out along two axes by a quartic term
+    x = rng.normal(size=(500, 6))
+    size = np.sqrt((x**2).sum(axis=1) + (x[:, 0] ** 4 + x[:, 3] ** 4) / (x**2).sum(axis=1))
+    W = x / size[:, None] * [1.0, 1.0, 1.0, 0.1, 0.1, 0.2]
+    W, probe = W[:300], W[300:]
+    ipm = fit_quartic(W, solver="IPM", fallback_solver=None)
+    for name in sdp_solvers():
+        q = fit_quartic(W, solver=name, fallback_solver=None)
+        assert q.info["solver"] == name
+        assert q.fitting_error(W) == pytest.approx(ipm.fitting_error(W), rel=1e-3)
+        assert np.abs(q.value(probe) - ipm.value(probe)).max() < 2e-3 * np.abs(ipm.value(probe)).max()

@@ -236,9 +236,13 @@ def is_sos_convex(coeffs: Any, n: int, solver: str = "CLARABEL") -> bool:
 
 def _solver_options(solver: str) -> dict:
     """cvxpy solve() options of the SOS programs: Clarabel's KKT factorisation, its threads
-    and its iterative refinement (``config.DEFAULTS.quartic_kkt_*``, read at call time)."""
+    and its iterative refinement (``config.DEFAULTS.quartic_kkt_*``, read at call time);
+    CVXOPT's robust (LDL) KKT solver, without which it fails every quartic fit (its default
+    Cholesky needs full-rank equality constraints, which the SOS program's are not)."""
     from .. import config
 
+    if solver.upper() == "CVXOPT":
+        return {"kktsolver": "robust"}
     if solver.upper() != "CLARABEL":
         return {}
     d = config.DEFAULTS
@@ -397,12 +401,21 @@ def check_quartic_solver(solver: object, what: str = "solver") -> str:
 
 
 def _fallback_for(solver: str, fallback_solver: str | None) -> str | None:
-    """The checked fallback: "auto" is Clarabel after the IPM and SCS after any other solver."""
+    """The checked fallback: "auto" is Clarabel after the IPM or SCS and SCS after any other
+    solver; a fallback that is the solver itself is refused (it would only fail again)."""
     if fallback_solver is None:
         return None
     if isinstance(fallback_solver, str) and fallback_solver.lower() == "auto":
-        return "CLARABEL" if solver == IPM else "SCS"
-    return check_quartic_solver(fallback_solver, "fallback_solver")
+        return "CLARABEL" if solver in (IPM, "SCS") else "SCS"
+    out = check_quartic_solver(fallback_solver, "fallback_solver")
+    if out == solver:
+        other = "CLARABEL" if solver != "CLARABEL" else "SCS"
+        raise ValueError(
+            f"fallback_solver is the solver itself ({out!r}): it is tried only after that solver "
+            f"failed, and would fail again; pass another (e.g. fallback_solver={other!r}), 'auto' "
+            "or None (no fallback)"
+        )
+    return out
 
 
 @lru_cache(maxsize=16)
@@ -522,8 +535,9 @@ def fit_quartic(
     fallback_solver : tried when ``solver`` fails (Clarabel's interior point
         occasionally stops with a numerical error when K is close to the 126
         unknowns); recorded in ``info["fallback"]`` and logged as a warning.  "auto" (the
-        default): Clarabel after the IPM, SCS after any other solver; ``None`` disables it.
-        Both names are checked (:func:`check_quartic_solver`) and recorded in upper case.
+        default): Clarabel after the IPM or SCS, SCS after any other solver; ``None`` disables
+        it; the solver itself is refused.  Both names are checked (:func:`check_quartic_solver`)
+        and recorded in upper case.
     warm_start : let cvxpy reuse the previous fit of the same problem size in this
         process (SCS starts from it).  Off by default: with it, a fit depends on what the
         process fitted before — measured on a bottle contact (fem-fitting, K = 130),
@@ -655,7 +669,7 @@ def _solve_with_fallback(
     solver that solved it, its status, the failures before it or None); RuntimeError if all fail."""
     solver, fallback_solver = solvers
     failures = []
-    for name in [solver] + ([fallback_solver] if fallback_solver and fallback_solver != solver else []):
+    for name in [solver] + ([fallback_solver] if fallback_solver else []):
         ok, a_val, M_val, status = _solve(r, name, Rm, c_val, warm_start)
         if ok:
             break
