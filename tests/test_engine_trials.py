@@ -116,12 +116,14 @@ def test_a_grasps_tasks_stepped_together_are_each_the_trial_stepped_alone_bit_fo
             assert np.array_equal(a, b)
         assert np.array_equal(alone.rel_turn_deg, together.rel_turn_deg)
         assert together.drift == alone.drift > 1e-5  # it moved: the record is not trivially equal
-    with pytest.raises(ValueError, match="tasks must be distinct names"):
+    with pytest.raises(ValueError, match="tasks must be distinct names.* e.g. tasks="):
         simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks=("vertical_lifting", "vertical_lifting"))
     with pytest.raises(ValueError, match="'lift' is not a task"):
         simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks=("lift",))
-    with pytest.raises(ValueError, match="a sequence of task names"):
+    with pytest.raises(ValueError, match=r"not one name.* pass tasks=\('vertical_lifting',\)"):
         simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks="vertical_lifting")
+    with pytest.raises(ValueError, match="a list or tuple of task names .*an ordered sequence"):
+        simulate_grasp_tasks(BOX, GRASP, force=10.0, obj=obj, tasks={"vertical_lifting"})
 
 
 @pytest.mark.slow

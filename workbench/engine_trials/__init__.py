@@ -25,6 +25,7 @@ from .disturbance import DisturbancePhases, simulate_disturbance
 from .settings import EngineSettings
 from .trial import (
     TASKS,
+    VERDICT_LIMITS,
     EngineObject,
     EnginePad,
     EngineWarning,
@@ -40,6 +41,7 @@ from .trial import (
 
 __all__ = [
     "TASKS",
+    "VERDICT_LIMITS",
     "DisturbancePhases",
     "EngineObject",
     "EnginePad",

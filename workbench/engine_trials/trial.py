@@ -222,9 +222,9 @@ class TrialOutcome:
     stopped_at : the time [s] the trial stopped, the object past every verdict limit
         (``phases.stop_when_lost``; ``drift`` and ``turn_deg`` are then those reached by that
         time, ``slip_speed`` NaN); None when it ran to its end.
-    shared_steps : the first steps, taken once for several tasks of one scene (their control
-        the same) and counted in the first task's ``seconds`` (:func:`simulate_grasp_tasks`); 0
-        for a trial stepped alone.
+    shared_steps : the steps this outcome took from another task's run of the same scene
+        (:func:`simulate_grasp_tasks`: their control the same; those steps' wall time is in the
+        first task's ``seconds``); 0 for a trial stepped alone and for the first task.
     reason : why it was not held ("" when held): a jaw that touched nothing after closing, or
         the drift or turn beyond the limits.
     engine_warnings : MuJoCo's warnings during the trial {name: count} (empty when none).
@@ -493,7 +493,8 @@ def _check_run(phases, settings) -> tuple[TrialPhases, EngineSettings]:
     if not isinstance(phases, TrialPhases) or not isinstance(settings, EngineSettings):
         raise ValueError(
             f"phases must be a TrialPhases and settings an EngineSettings; got "
-            f"{type(phases).__name__}, {type(settings).__name__}"
+            f"{type(phases).__name__}, {type(settings).__name__} — pass e.g. TrialPhases(hold=0.3) "
+            "and EngineSettings(...), or leave them out for the defaults"
         )
     return phases, settings
 
@@ -565,16 +566,25 @@ def simulate_grasp(
 
 
 def _check_tasks(tasks) -> tuple[str, ...]:
-    """``tasks`` as a tuple of distinct task names (:data:`TASKS`), at least one."""
-    if isinstance(tasks, str) or not hasattr(tasks, "__iter__"):
-        raise ValueError(f"tasks must be a sequence of task names from {tuple(TASKS)}; got {tasks!r}")
+    """``tasks`` as a tuple of distinct task names (:data:`TASKS`), at least one, in the given
+    order (a list or tuple: the first task's outcome carries the shared steps' time)."""
+    hint = f"e.g. tasks={tuple(TASKS)!r}, or tasks=('vertical_lifting',) for one"
+    if isinstance(tasks, str):
+        raise ValueError(
+            f"tasks must be a list or tuple of task names, not one name; got {tasks!r} — pass "
+            f"tasks=({tasks!r},), or simulate_grasp(..., task={tasks!r}) for one trial"
+        )
+    if not isinstance(tasks, (list, tuple)):
+        raise ValueError(
+            f"tasks must be a list or tuple of task names from {tuple(TASKS)} (an ordered sequence: "
+            f"the first carries the shared steps' time); got {tasks!r} — {hint}"
+        )
     out = tuple(tasks)
     bad = [t for t in out if not (isinstance(t, str) and t in TASKS)]
-    if not out or bad or len(set(out)) != len(out):
-        raise ValueError(
-            f"tasks must be distinct names from {tuple(TASKS)}, at least one; got {tasks!r}"
-            + (f" ({bad[0]!r} is not a task)" if bad else "")
-        )
+    if bad:
+        raise ValueError(f"tasks must be names from {tuple(TASKS)}; {bad[0]!r} is not a task — {hint}")
+    if not out or len(set(out)) != len(out):
+        raise ValueError(f"tasks must be distinct names, at least one; got {tasks!r} — {hint}")
     return out
 
 
@@ -658,8 +668,9 @@ def _run_tasks(model, info: dict, force: float, down, tasks: tuple, phases: Tria
     is counted in the first task's ``seconds``."""
     t_settle = phases.gravity_ramp + phases.close + phases.settle
     dt = model.opt.timestep
-    # steps whose time is half a step or more before the lift's end: the turn's smoothstep is
-    # exactly 0 there (its argument clipped), so every task's control is the same
+    # steps whose time is half a step or more before the lift's end (the lift's last step is
+    # each task's own): the turn's smoothstep is exactly 0 there (its argument clipped), so
+    # every task's control is the same
     t_fork = t_settle + phases.lift - 0.5 * dt
     n_fork = max(0, int(np.floor(t_fork / dt)))
     first = _lift_control(force, down, tasks[0], phases)
