@@ -121,6 +121,7 @@ bench: $(PEERS_STAMP)
 	$(BIN)/python benchmarks/bench_grasp_path.py
 	$(BIN)/python benchmarks/bench_grasp_dataset.py
 	$(BIN)/python benchmarks/bench_training_sampler.py
+	$(BIN)/python benchmarks/bench_training_sampler_margins.py
 	$(BIN)/python benchmarks/bench_engine_trials.py
 	$(BIN)/python benchmarks/bench_memory.py
 
