@@ -46,8 +46,9 @@ MU = 0.3  # the dataset's pads
 CELLS_MM = (0.5, 1.0, 2.0)
 
 
-def _profiles(n_meshes: int, n_grasps: int):
-    """The jaw contacts of ``n_grasps`` top grasps of every 6th thesis mesh, upright and lying."""
+def top_grasp_contacts(n_meshes: int, n_grasps: int):
+    """(object, lying, gripper contact) of ``n_grasps`` top grasps of every 6th thesis mesh,
+    upright and lying: the grasp dataset's gripper, sampler and settled contact."""
     cfg = dict(DEFAULT_CONFIG)
     gripper = _gripper(cfg)
     for path in sorted(OBJECTS.glob("*.obj"))[::6][:n_meshes]:
@@ -59,7 +60,13 @@ def _profiles(n_meshes: int, n_grasps: int):
             for _, pose in top:
                 contact = gripper_contact(mesh, gripper, pose)
                 if contact.touches:
-                    yield from ((path.stem, lying, p) for p in contact.profiles)
+                    yield path.stem, lying, contact
+
+
+def _profiles(n_meshes: int, n_grasps: int):
+    """The jaw contacts of ``n_grasps`` top grasps of every 6th thesis mesh, upright and lying."""
+    for stem, lying, contact in top_grasp_contacts(n_meshes, n_grasps):
+        yield from ((stem, lying, p) for p in contact.profiles)
 
 
 def _timed(fn):

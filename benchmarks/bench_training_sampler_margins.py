@@ -22,16 +22,13 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
-from bench_training_sampler import MU, OBJECTS
+from bench_training_sampler import MU, OBJECTS, top_grasp_contacts
 from bench_wrench import machine_roofline
 
-from workbench.experiments.grasp_dataset import DEFAULT_CONFIG, _gripper, _rested, _spec
-from workbench.grasp.gripper_eval import gripper_contact
 from workbench.grasp.margin import margin_vs_truth, resistance_margin
 from workbench.grasp.models import ModelParameters, contact_sets
 from workbench.grasp.resistance import CutStore, resists
 from workbench.grasp.simulated_truth import truth_deciders
-from workbench.grasp.top_grasps import sample_top_grasps
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.runner.results import code_revision, versions, write_json
 
@@ -44,19 +41,11 @@ LEVER = 0.02  # m: a disturbance's torque is its force times a lever of about a 
 
 
 def _grasps(n_meshes: int, n_grasps: int):
-    """(object, lying, jaw profiles) of ``n_grasps`` top grasps of every 6th thesis mesh."""
-    cfg = dict(DEFAULT_CONFIG)
-    gripper = _gripper(cfg)
-    for path in sorted(OBJECTS.glob("*.obj"))[::6][:n_meshes]:
-        for lying in (False, True):
-            mesh, _ = _rested(str(path), lying)
-            top = sample_top_grasps(
-                mesh, n_grasps, cfg["sampling_mu"], gripper, _spec(cfg), seed=0, block=2000, max_blocks=3
-            )
-            for _, pose in top:
-                contact = gripper_contact(mesh, gripper, pose)
-                if contact.touches and len(contact.profiles) == 2:
-                    yield path.stem, lying, list(contact.profiles)
+    """(object, lying, jaw profiles) of the two-jaw contacts of ``n_grasps`` top grasps of every
+    6th thesis mesh, upright and lying."""
+    for stem, lying, contact in top_grasp_contacts(n_meshes, n_grasps):
+        if len(contact.profiles) == 2:
+            yield stem, lying, list(contact.profiles)
 
 
 def _disturbances(n: int, seed: int) -> np.ndarray:
