@@ -78,6 +78,8 @@ class LimitSurfaceModel:
         point at radius ``ρ`` times the surface's, Eq. 3.18 gives
         ``|ρ^d - 1| ≈ d |ρ - 1|``: it charges a quartic twice what it charges
         an ellipsoid for the same geometric miss; the radial error does not.
+        A zero wrench (a twist that slides nothing, as the author's grid holds) scores 1 in
+        both: no limit surface passes through the origin; drop such rows to leave them out.
         """
         arr, _ = self._as_rows(wrenches)
         if len(arr) == 0:
