@@ -159,3 +159,26 @@ def test_a_planar_triple_is_refused_with_the_6d_layout_that_fits_it():
     W = np.zeros((200, 6))
     W[:, [0, 1, 5]] = z
     assert fit_ellipsoid(W, "lsq").info["dim"] == 3
+
+
+def test_a_total_contact_wrench_is_logged_as_not_centred_and_a_frictional_set_is_not(caplog):
+    from workbench import normal_wrench
+    from workbench.limit_surface import fit_ellipsoid
+    from workbench.limit_surface.normalize import wrench_scale
+
+    c, a, r, rmax = _disc()
+    prof = ContactProfile(c, np.tile([0, 0, 1.0], (len(c), 1)), a, 1e5 * power_law(r, rmax, 2.0))
+    mu = 0.3
+    W = frictional_wrenches(prof, sample_twists_thesis(300, prof, seed=4), mu)
+    total = W + normal_wrench(prof)  # the normal force's wrench on top: a total contact wrench
+    with caplog.at_level("WARNING", logger="workbench.limit_surface.normalize"):
+        fit_ellipsoid(W, "lsq")
+        assert not caplog.records
+        fit_ellipsoid(total, "lsq")
+    (rec,) = [r for r in caplog.records if "not centred" in r.getMessage()]
+    # the offset by hand: the mean's norm over the RMS norm of the Eq. 3.10-normalised wrenches
+    # (wrench_scale: each component over its sampled maximum, the degenerate ones over the largest)
+    x = total / wrench_scale(np.abs(total).max(axis=0))
+    ratio = np.linalg.norm(x.mean(axis=0)) / np.sqrt((x**2).sum(axis=1).mean())
+    assert ratio > 0.5 and f"mean is {ratio:.2g} of their RMS" in rec.getMessage()
+    assert "normal_wrench(profile)" in rec.getMessage()

@@ -272,6 +272,12 @@ class Tolerances:
     # gave 0.09-1.0 with status optimal (a new-user trial): points off the kept subspace by
     # about TOL.flat_axis are charged the dropped directions' ‖Cᵀx̂‖⁴ / flat⁴
     quartic_train_error_warn: float = _field(0.05, _POS)
+    # Fitted wrenches whose mean is farther from 0 than this fraction of their RMS size (both
+    # after Eq. 3.10's normalisation) are logged as not centred: a frictional set is symmetric
+    # about 0.  On 16 gripper contacts the training sets gave 0.004-0.22 (thesis-code's
+    # downsampled grid the most), the same sets plus the contact's normal force (a total contact
+    # wrench) 0.85-0.97; 21 symmetric samples exceed 0.42 once in a thousand
+    wrench_offset_warn: float = _field(0.5, _POS)
 
     # The quartic fit's own interior point (limit_surface/sos_ipm.py) stops when the duality gap
     # Σ tr(X Z) is below sos_ipm_gap of the objective ½‖R a − c‖² or below sos_ipm_gap_floor ×

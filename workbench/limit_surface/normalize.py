@@ -10,12 +10,15 @@ one rule of ``w_max``, sets it to 0 (``config.TOL.wrench_roundoff_rtol``) and re
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .. import config
+
+log = logging.getLogger(__name__)
 
 
 def check_wrenches(wrenches: Any, name: str = "wrenches") -> np.ndarray:
@@ -218,6 +221,23 @@ def wrench_pca(
     )
 
 
+def _check_centred(x: np.ndarray) -> None:
+    """Log a warning when normalised wrenches x (K, 6) are not centred on 0: the mean's norm
+    over their RMS norm above ``config.TOL.wrench_offset_warn`` (a frictional wrench set is
+    symmetric about 0; a total contact wrench also holds the normal force)."""
+    rms = float(np.sqrt(np.mean(np.einsum("ij,ij->i", x, x))))
+    offset = float(np.linalg.norm(x.mean(axis=0))) / rms if rms > 0 else 0.0
+    if offset > config.TOL.wrench_offset_warn:
+        log.warning(
+            "the wrenches are not centred on 0: their mean is %.2g of their RMS size (> "
+            "TOL.wrench_offset_warn = %g), but a limit surface is symmetric about 0 — are they total "
+            "contact wrenches? fit the frictional part only: subtract workbench.normal_wrench(profile), "
+            "or sample workbench.frictional_wrenches(profile, twists, mu)",
+            offset,
+            config.TOL.wrench_offset_warn,
+        )
+
+
 def prepare(
     wrenches: Any, w_max: Any = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Subspace]:
@@ -249,6 +269,7 @@ def prepare(
         # samples hold there is round-off (bounded by the check above) that the PCA would keep
         W = np.where(wm <= config.TOL.degenerate_wmax_rtol * wm.max(), 0.0, W)
     x = W / scale
+    _check_centred(x)
     sub = pca_subspace(x)
     if sub.dim >= len(W):
         raise ValueError(
