@@ -606,8 +606,7 @@ def simulate_grasp_tasks(
     first task's ``seconds``) and each task goes on from a copy of the engine's state.  The
     arguments are those of :func:`simulate_grasp`."""
     tasks = _check_tasks(tasks)
-    for task in tasks:
-        mesh, obj = _check_trial(mesh, "simulate_grasp", task, obj)
+    mesh, obj = _check_trial(mesh, "simulate_grasp", tasks[0], obj)  # every task already checked
     phases, settings = _check_run(phases, settings)
     pad = _check_force(force, pad)
     _check_up_down(pad.up, np.asarray(obj.down))
@@ -632,13 +631,18 @@ def _judged(phases: TrialPhases, task: str) -> dict:
     return judged
 
 
+def _lift_times(phases: TrialPhases) -> tuple[float, float, float]:
+    """(gravity on, settled, lifted) [s]: the ends of a lifting trial's first phases."""
+    t_grav = phases.gravity_ramp
+    t_settle = t_grav + phases.close + phases.settle
+    return t_grav, t_settle, t_settle + phases.lift
+
+
 def _lift_control(force: float, down, task: str, phases: TrialPhases):
     """``control(t, model, data)`` of a lifting trial of ``task``: gravity on, the jaws' force
     ramped, a smooth rise, then (lift_and_rotate) a smooth turn about the grasp axis."""
     g_dir = np.asarray(down, float) / np.linalg.norm(down)
-    t_grav = phases.gravity_ramp
-    t_settle = t_grav + phases.close + phases.settle
-    t_lift = t_settle + phases.lift
+    t_grav, t_settle, t_lift = _lift_times(phases)
     turn = np.radians(TASKS[task])
 
     def control(t: float, model, data) -> None:
@@ -656,8 +660,7 @@ def _lift_control(force: float, down, task: str, phases: TrialPhases):
 
 def _lift_end(task: str, phases: TrialPhases) -> float:
     """The end [s] of a lifting trial of ``task``."""
-    t_lift = phases.gravity_ramp + phases.close + phases.settle + phases.lift
-    return t_lift + (phases.rotate if TASKS[task] else 0.0) + phases.hold
+    return _lift_times(phases)[2] + (phases.rotate if TASKS[task] else 0.0) + phases.hold
 
 
 def _run_tasks(model, info: dict, force: float, down, tasks: tuple, phases: TrialPhases) -> dict:
@@ -666,12 +669,12 @@ def _run_tasks(model, info: dict, force: float, down, tasks: tuple, phases: Tria
     and each task goes on from a copy of that state: the outcomes are those of separate trials,
     bit for bit (MuJoCo's step is a function of its model and data); the shared steps' wall time
     is counted in the first task's ``seconds``."""
-    t_settle = phases.gravity_ramp + phases.close + phases.settle
+    _, t_settle, t_lift = _lift_times(phases)
     dt = model.opt.timestep
     # steps whose time is half a step or more before the lift's end (the lift's last step is
     # each task's own): the turn's smoothstep is exactly 0 there (its argument clipped), so
     # every task's control is the same
-    t_fork = t_settle + phases.lift - 0.5 * dt
+    t_fork = t_lift - 0.5 * dt
     n_fork = max(0, int(np.floor(t_fork / dt)))
     first = _lift_control(force, down, tasks[0], phases)
     shared = _Track.start(model, info)
@@ -689,14 +692,6 @@ def _run_tasks(model, info: dict, force: float, down, tasks: tuple, phases: Tria
         track.advance(model, control, t_settle, n_fork, n, n, phases.record_every, lost)
         out[task] = _judge(track, t_end, phases, shared_steps=n_shared if k else 0)
     return out
-
-
-def _run(model, info: dict, force: float, down, task: str, phases: TrialPhases) -> TrialOutcome:
-    """Step a trial scene through ``phases`` (close, settle, gravity, lift, turn, hold), recording
-    every ``phases.record_every`` steps."""
-    judged = _judged(phases, task)
-    check_record_every(phases.record_every, judged, model.opt.timestep)
-    return _run_tasks(model, info, force, down, (task,), phases)[task]
 
 
 def step_trial(
@@ -782,12 +777,14 @@ class _Track:
         ``(i + 1) dt`` after ``control(t, model, data)``; with ``lost`` (drift [m], turn [deg])
         it stops at the first record beyond either (``stopped_at``), and a stopped track takes
         no more steps."""
+        if self.stopped_at is not None:
+            return
         mujoco = import_mujoco()
         data, dt = self.data, model.opt.timestep
         obj, hand = self.info["object"], self.info["hand"]
         last = -1 if n is None else n - 1
         t0 = time.perf_counter()
-        for i in range(i0, i1 if self.stopped_at is None else i0):
+        for i in range(i0, i1):
             t = (i + 1) * dt
             control(t, model, data)
             mujoco.mj_step(model, data)
@@ -956,4 +953,4 @@ def simulate_gripper(
     model, info = build_scene(
         mesh, faces, jaws[0].closing, force=gripper.force, obj=obj, pad=pad, settings=settings, phases=phases
     )
-    return _run(model, info, gripper.force, obj.down, task, phases)
+    return _run_tasks(model, info, gripper.force, obj.down, (task,), phases)[task]
