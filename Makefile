@@ -118,6 +118,7 @@ bench: $(PEERS_STAMP)
 	$(BIN)/python benchmarks/bench_pareto.py
 	$(BIN)/python benchmarks/bench_physical_trials.py
 	$(BIN)/python benchmarks/bench_6dfc_fig3.py
+	$(BIN)/python benchmarks/bench_contact_patch.py
 	$(BIN)/python benchmarks/bench_grasp_path.py
 	$(BIN)/python benchmarks/bench_grasp_dataset.py
 	$(BIN)/python benchmarks/bench_training_sampler.py

@@ -311,3 +311,86 @@ def hkm_reference(Rm, c, G, n_S, n_A, x0, tol=(1e-8, 1e-20, 1e-8, 60, 0.99)):
         t = min(1.0, frac * max_step(Xs + Zs, dX + dZ))
         x, Zs = x + t * dx, [Z + t * E for Z, E in zip(Zs, dZ, strict=True)]
     return None
+
+
+def frame_coordinates(points, c, frame):
+    """(n, 3) coordinates (u, v, z) of ``points`` (n, 3) from ``c`` along ``frame`` rows (a, e1,
+    e2): each a sum of three products, left to right (the compiled pre-selection's arithmetic)."""
+    r = np.asarray(points, float) - c
+    a, e1, e2 = frame
+    return np.column_stack([r[:, 0] * e[0] + r[:, 1] * e[1] + r[:, 2] * e[2] for e in (e1, e2, a)])
+
+
+def faces_may_overlap(V, F, c, frame, box, tol):
+    """Faces whose (u, v, z) bounding box meets ``box`` widened by ``tol``: one face at a time."""
+    uvz = frame_coordinates(V, c, frame)
+    out = []
+    for f, tri in enumerate(F):
+        p = uvz[tri]
+        if all(p[:, k].min() <= box[2 * k + 1] + tol and p[:, k].max() >= box[2 * k] - tol for k in range(3)):
+            out.append(f)
+    return np.array(out, dtype=np.int64)
+
+
+def elements_may_touch(cen, nrm, area, rows, c, frame, box, facing_max, tol):  # noqa: PLR0913 - the kernel's arguments
+    """The rows whose element has area, a normal with n·a below facing_max + tol and a centre in
+    ``box`` widened by ``tol``."""
+    a = frame[0]
+    uvz = frame_coordinates(cen[rows], c, frame)
+    facing = nrm[rows, 0] * a[0] + nrm[rows, 1] * a[1] + nrm[rows, 2] * a[2] < facing_max + tol
+    ok = (area[rows] > 0) & facing
+    for k in range(3):
+        ok &= (uvz[:, k] >= box[2 * k] - tol) & (uvz[:, k] <= box[2 * k + 1] + tol)
+    return rows[ok]
+
+
+def front_most(u, v, z, idx, u_lo, v_lo, cell, n_v, reach):  # noqa: PLR0913 - the kernel's arguments
+    """The elements ``idx`` within ``reach`` of their footprint bin's least z, by a dict of bins."""
+    front = {}
+    bins = {}
+    for i in idx:
+        b = int(np.floor((u[i] - u_lo) / cell)) * n_v + int(np.floor((v[i] - v_lo) / cell))
+        bins[i] = b
+        front[b] = min(front.get(b, np.inf), z[i])
+    visible = np.zeros(len(u), dtype=bool)
+    for i in idx:
+        visible[i] = z[i] <= front[bins[i]] + reach
+    return visible
+
+
+def front_surface(cen, normal, area, c, frame, pad, poly, window, filter_window, max_edge, min_facing):  # noqa: PLR0913 - a press's settings, flat
+    """A REACH pad's reachable surface by NumPy alone, every element tested (the press's algorithm
+    before its compiled passes): ``(visible (n,) bool, z (n,))``, or ``(None, None)`` when no
+    element faces the jaw inside the footprint.  ``pad`` (w, l) is a centred rectangle, or
+    ``poly`` (k, 2) the footprint (even-odd rule); coordinates by the frame's matrix products."""
+    a, e1, e2 = frame
+    if poly is None:
+        (u_lo, v_lo), v_hi = (-pad[0] / 2, -pad[1] / 2), pad[1] / 2
+    else:
+        (u_lo, v_lo), v_hi = poly.min(axis=0), poly.max(axis=0)[1]
+    lo, hi = window
+    rel = cen - c
+    u, v, z = rel @ e1, rel @ e2, rel @ a
+    facing = normal @ a < -min_facing
+    if poly is None:
+        inside = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2)
+    else:
+        inside = np.zeros(len(u), bool)
+        for (x0, y0), (x1, y1) in zip(poly, np.roll(poly, -1, axis=0), strict=True):
+            if y0 != y1:
+                inside ^= ((y0 > v) != (y1 > v)) & (u < x0 + (v - y0) * ((x1 - x0) / (y1 - y0)))
+    keep = inside & facing & (area > 0)
+    if filter_window:
+        keep &= (z >= lo) & (z <= hi)
+    if not keep.any():
+        return None, None
+    idx = np.flatnonzero(keep)
+    iu = np.floor((u[idx] - u_lo) / max_edge).astype(int)
+    iv = np.floor((v[idx] - v_lo) / max_edge).astype(int)
+    bins = iu * (int((v_hi - v_lo) / max_edge) + 2) + iv
+    order = np.lexsort((z[idx], bins))
+    first = np.r_[True, bins[order][1:] != bins[order][:-1]]
+    front_z = np.repeat(z[idx][order][first], np.diff(np.r_[np.flatnonzero(first), len(order)]))
+    visible = np.zeros(len(cen), dtype=bool)
+    visible[idx[order]] = z[idx][order] <= front_z + 2 * max_edge
+    return visible, z

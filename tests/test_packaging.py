@@ -166,6 +166,10 @@ _TESTED_ELSEWHERE = {
         None,
         "as workbench._kernels (the quartic's: tests/test_quartic.py)",
     ),
+    "workbench.sources._kernels": (
+        "test_reach_kernels.py",
+        "the REACH press's passes, each against tests/naive.py and the press against its NumPy algorithm",
+    ),
     "workbench.grasp.resistance": (
         "test_resistance.py",
         "one concept (the resistance QP) split by stage, tested through its entry point and per stage",

@@ -5,6 +5,7 @@ central differences) or a closed form."""
 import numpy as np
 import pytest
 import trimesh
+from naive import front_surface
 from scipy.spatial.transform import Rotation
 
 from workbench.grasp.settle import torque_jacobian
@@ -57,15 +58,24 @@ def _gripper(force=10.0):
 
 
 def _slow_pad_profile(mesh, jaw, closing, k, max_edge=1e-3):
-    """pad_profile's geometry on the whole fine surface (no index): every sub-triangle tested."""
+    """pad_profile's geometry on the whole fine surface (no index): every sub-triangle tested by
+    NumPy (tests/naive.py)."""
     cen, normal, area = reach.fine_surface(mesh, max_edge)
     rel = cen - jaw.origin
     u, v, z = rel @ jaw.e1, rel @ jaw.e2, rel @ jaw.closing
     (u_lo, v_lo), (u_hi, v_hi) = jaw.outline.min(axis=0), jaw.outline.max(axis=0)
     near = (u >= u_lo - max_edge) & (u <= u_hi + max_edge) & (v >= v_lo - max_edge) & (v <= v_hi + max_edge)
     near &= (z >= -jaw.stroke) & (z <= jaw.stroke)
-    press = reach._Press(None, jaw.outline, (-jaw.stroke, jaw.stroke), True, closing, k, max_edge)
-    return reach._press(cen[near], normal[near], area[near], jaw.origin, (jaw.closing, jaw.e1, jaw.e2), press)
+    cen, normal, area = cen[near], normal[near], area[near]
+    frame = (jaw.closing, jaw.e1, jaw.e2)
+    window = (-jaw.stroke, jaw.stroke)
+    visible, z = front_surface(
+        cen, normal, area, jaw.origin, frame, None, jaw.outline, window, True, max_edge, 0.1
+    )
+    patch = PadPatch(
+        cen[visible], normal[visible], area[visible], z[visible], z[visible].min(), jaw.closing, k
+    )
+    return patch.profile(closing)
 
 
 def test_pad_profile_through_the_index_equals_the_whole_surface_bit_for_bit():

@@ -520,6 +520,10 @@ class Tolerances:
     # factor from the one it was made at, either way, is warned about: at 1.1^3 its torsional
     # capacity per newton is already ~10 % off.
     profile_force_ratio_warn: float = _field(1.331, _real(1.0))  # 1: warn at any scaling
+    # A pad's press first keeps, in one compiled pass, the faces and sub-triangles that may pass
+    # its tests with every bound widened by this [m], then tests those exactly: far above the
+    # round-off of a coordinate (~1e-17 m on a 10 cm object), so the kept ones are the same.
+    prefilter_margin_m: float = _field(1e-9, _POS)
 
 
 TOL = Tolerances()

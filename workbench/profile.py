@@ -64,11 +64,21 @@ def pca_box_longest_side(points: np.ndarray) -> float:
     tolerance: the axes turn by ~1e-16/g rad there, so ``l_s`` moves by up to
     ~1e-8 relative for g ~ 1e-8 (and < 1e-12 once g > 1e-4).
     """
+    return _longest_side(*_pca_box(points))
+
+
+def _pca_box(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The points (m, 3) less their mean, their singular values (k,), principal axes (k, 3) and
+    the sides (k,) of their box along those axes."""
     pts = np.asarray(points, dtype=np.float64)
     centered = pts - pts.mean(axis=0)
     _, s, axes = np.linalg.svd(centered, full_matrices=False)
     extent = centered @ axes.T
-    sides = extent.max(axis=0) - extent.min(axis=0)
+    return centered, s, axes, extent.max(axis=0) - extent.min(axis=0)
+
+
+def _longest_side(centered: np.ndarray, s: np.ndarray, axes: np.ndarray, sides: np.ndarray) -> float:
+    """:func:`pca_box_longest_side` from the points' :func:`_pca_box`."""
     lam = s**2
     if lam.size < 2 or lam[0] == 0:
         return float(sides.max())
@@ -264,6 +274,10 @@ def _unit_normals(normals: np.ndarray, normalize_normals: bool) -> np.ndarray:
     return normals / lengths[:, None]
 
 
+#: what a profile's geometry is: its arrays and what is derived from them alone
+_GEOMETRY = ("centers", "normals", "areas", "vertices", "faces", "allow_scale", "length_scale")
+
+
 class ContactProfile:
     """Contact surface elements with pressures (thesis §3.2.4).
 
@@ -342,6 +356,9 @@ class ContactProfile:
             arr.flags.writeable = False  # cached properties depend on them
         self.allow_scale = bool(allow_scale)
         self.source = source
+        box = _pca_box(centers)  # l_s and the area check share it
+        if self.vertices is None:
+            self.__dict__["length_scale"] = self._length_scale(box)
         check_extent(
             self.length_scale,
             "ContactProfile (l_s, the longest side of its PCA box)",
@@ -350,10 +367,10 @@ class ContactProfile:
             fix="build it with ContactProfile.from_mesh(..., units={units!r}), or scale centers and "
             "vertices by {factor:g} and areas by {area_factor:g}",
         )
-        self._check_area_fits_extent()
+        self._check_area_fits_extent(box[3])
         self._warn_flipped_normals()
 
-    def _check_area_fits_extent(self) -> None:
+    def _check_area_fits_extent(self, pca_sides: np.ndarray) -> None:
         """Refuse a total area far beyond what the centres' extent allows (areas in mm² beside
         centres in m): ``Σ a_i`` above ``config.TOL.profile_area_box_ratio`` times the surface
         area of the box the centres span.
@@ -365,11 +382,10 @@ class ContactProfile:
         surface is part of the boundary of its convex hull, which lies in the box: its area is at
         most the box's surface (a flat patch about half of it).  One element, centres at one point
         and centres in one row (less than a spacing across: how wide its elements reach across
-        the row the centres do not say) have no extent to judge by."""
+        the row the centres do not say) have no extent to judge by.  ``pca_sides`` (k,): the
+        sides of the centres' PCA box (:func:`_pca_box`)."""
         n = len(self)
-        c = self.centers - self.centers.mean(axis=0)
-        _, _, axes = np.linalg.svd(c, full_matrices=False)
-        sides = np.sort(np.ptp(c @ axes.T, axis=0))[::-1]
+        sides = np.sort(pca_sides)[::-1]
         sides = np.r_[sides, np.zeros(3 - sides.size)]
         if n < 2 or not sides[0] > 0:
             return
@@ -483,8 +499,11 @@ class ContactProfile:
         The box is aligned with the principal axes of the vertices (centers
         if no mesh), so ``l_s`` is invariant under rigid motions.
         """
-        pts = self.vertices if self.vertices is not None else self.centers
-        side = pca_box_longest_side(pts) if pts.shape[0] >= 2 else 0.0
+        return self._length_scale(_pca_box(self.vertices if self.vertices is not None else self.centers))
+
+    def _length_scale(self, box: tuple) -> float:
+        """:attr:`length_scale` from the PCA box (:func:`_pca_box`) of the vertices, or centres."""
+        side = _longest_side(*box) if box[0].shape[0] >= 2 else 0.0
         return side if side > 0 else float(np.sqrt(self.areas.sum()))
 
     @cached_property
@@ -501,16 +520,20 @@ class ContactProfile:
         """Same geometry with new per-element pressures (n,): a new distribution, so the
         ``source`` of this one does not carry over (pass the new one's, or use :meth:`scaled`
         for the same distribution at another force)."""
-        return ContactProfile(
-            self.centers,
-            self.normals,
-            self.areas,
-            pressures,
-            vertices=self.vertices,
-            faces=self.faces,
-            allow_scale=self.allow_scale,
-            source=source,
-        )
+        if source is not None and not isinstance(source, ProfileSource):
+            raise ValueError(f"source must be a ProfileSource or None; got {type(source).__name__}")
+        pressures = _as_float_array("pressures", pressures, ())
+        _check_lengths(self.centers, self.normals, self.areas, pressures)
+        _check_pressures(pressures)
+        # the geometry's checks (__init__) passed on these very arrays, read-only since, and
+        # none of them reads the pressures: only those are checked anew
+        new = object.__new__(type(self))
+        new.__dict__.update({k: self.__dict__[k] for k in _GEOMETRY if k in self.__dict__})
+        pressures.flags.writeable = False
+        new.pressures = pressures
+        new.source = source
+        new._warn_flipped_normals()
+        return new
 
     def scaled(self, factor: float) -> ContactProfile:
         """The same distribution at ``factor`` (> 0) times the force: every pressure times

@@ -161,6 +161,12 @@ MESH_UNIT_FIX = (
 )
 
 
+def vertex_extents(vertices: Any) -> np.ndarray:
+    """(3,) the sides of the axis-aligned box of ``vertices`` (n, 3): ``np.ptp(vertices, axis=0)``,
+    reduced along contiguous rows (a reduction across 3 columns is an order of magnitude slower)."""
+    return np.ptp(np.ascontiguousarray(np.asarray(vertices, dtype=np.float64).T), axis=1)
+
+
 def closed_mesh(
     mesh: Any,
     what: str,
@@ -177,7 +183,7 @@ def closed_mesh(
     pass ``units``).  ``units`` is applied to a copy."""
     check_closed(mesh, what)
     factor = 1.0 if units is None else length_factor(units)
-    extents = np.ptp(np.asarray(mesh.vertices, dtype=np.float64), axis=0)
+    extents = vertex_extents(mesh.vertices)
     opts = {} if fix is None else {"fix": fix}
     check_extent(
         float(extents.max()) * factor, what, units=units, allow_scale=allow_scale, override=override, **opts
@@ -208,8 +214,8 @@ def check_closed(mesh: Any, what: str) -> None:
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} must be a closed triangle mesh; got one without faces")
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
-    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
-    if bad.size:
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1)) if not np.isfinite(vertices).all() else []
+    if len(bad):
         raise ValueError(
             f"{what} must have finite vertex coordinates; got {bad.size} of {len(vertices)} vertices with "
             f"NaN/inf (first: vertex {bad[0]}, {vertices[bad[0]].tolist()}) — fix the export or the "
@@ -219,7 +225,7 @@ def check_closed(mesh: Any, what: str) -> None:
 
     # flatness first: a solid squashed onto a plane (one axis scaled by 0) also fails the
     # watertight test through its degenerate faces, which would hide the cause
-    ext = np.ptp(vertices, axis=0)
+    ext = vertex_extents(vertices)
     if ext.max() > 0 and ext.min() < config.TOL.min_mesh_aspect * ext.max():
         raise ValueError(
             f"{what} is flat: its bounding box is {ext.tolist()} (its units), the thinnest side "

@@ -23,9 +23,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import config
 from ..groups import checked_group
 from ..plausible import check
 from ..profile import ContactProfile
+from ._kernels import _elements_may_touch, _faces_may_overlap, _front_most
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
@@ -204,24 +206,22 @@ def pad_patch(mesh, jaw: Jaw, *, stiffness: float | None = None, max_edge: float
     (u_lo, v_lo), (u_hi, v_hi) = jaw.outline.min(axis=0), jaw.outline.max(axis=0)
     box = (u_lo - max_edge, u_hi + max_edge, v_lo - max_edge, v_hi + max_edge, lo, hi)
     cand = fine[4].within(jaw.origin, frame, box)
-    cen, normal, area = fine[0][cand], fine[1][cand], fine[2][cand]
-    rel = cen - jaw.origin
-    u, v, z = rel @ jaw.e1, rel @ jaw.e2, rel @ jaw.closing
-    near = (u >= u_lo - max_edge) & (u <= u_hi + max_edge) & (v >= v_lo - max_edge) & (v <= v_hi + max_edge)
-    near &= (z >= lo) & (z <= hi)
-    if not near.any():
-        log.debug("pad_patch: a miss: the pad outline covers no part of the object within its stroke")
-        return None
+    # every element _patch keeps lies inside the outline (so inside box) and within the stroke
     out = _patch(
-        cen[near],
-        normal[near],
-        area[near],
+        fine[0],
+        fine[1],
+        fine[2],
         jaw.origin,
         frame,
         _Press(None, jaw.outline, (lo, hi), True, 0.0, k, max_edge),
+        cand,
     )
     if isinstance(out, str):
-        log.debug("pad_patch: a miss: %s", out)
+        rel = fine[0][cand] - jaw.origin
+        u, v, z = rel @ jaw.e1, rel @ jaw.e2, rel @ jaw.closing
+        near = (u >= box[0]) & (u <= box[1]) & (v >= box[2]) & (v <= box[3]) & (z >= lo) & (z <= hi)
+        why = "the pad outline covers no part of the object within its stroke" if not near.any() else out
+        log.debug("pad_patch: a miss: %s", why)
         return None
     return out
 
@@ -248,14 +248,16 @@ def _fine_surface(mesh, max_edge: float, build: bool = True):
     :class:`~.surface_index.SurfaceIndex` of the centres (cells of
     ``config.DEFAULTS.surface_index_cells`` × ``max_edge``) and each face's first sub-triangle
     (F + 1,); None when it is not cached and ``build`` is False."""
-    import hashlib
+    import xxhash
 
-    from .. import config
     from ..units import closed_mesh
 
     v = np.ascontiguousarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=float)
     f = np.ascontiguousarray(getattr(mesh, "faces", np.empty((0, 3))), dtype=np.int64)
-    key = hashlib.sha1(v.tobytes() + f.tobytes() + np.float64(max_edge).tobytes()).hexdigest()
+    h = xxhash.xxh3_128()
+    for part in (v, f, np.float64(max_edge)):
+        h.update(part.tobytes())
+    key = h.hexdigest()
     if key not in _FINE:
         if not build:
             return None
@@ -327,18 +329,22 @@ def _reach(mesh, center, approach, up, press: _Press):
     else:
         (u_lo, v_lo), (u_hi, v_hi) = poly.min(axis=0), poly.max(axis=0)
     lo, hi = window
-    rel = mesh.vertices - c
-    u, v, z = rel @ e1, rel @ e2, rel @ a
+    V, F = np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64)
     # faces whose bounding box (in the jaw frame) overlaps the footprint's and the depth
     # window: a large face can cover the pad with no vertex inside it (a box's side, a
-    # coarse cylinder), so vertices alone would miss it
-    fu, fv, fz = u[mesh.faces], v[mesh.faces], z[mesh.faces]  # (m, 3) each
+    # coarse cylinder), so vertices alone would miss it.  The compiled pass keeps a superset;
+    # the exact test below decides on it alone
+    m2 = 2 * max_edge
+    box = np.array([u_lo - m2, u_hi + m2, v_lo - m2, v_hi + m2, lo, hi])
+    cand = _faces_may_overlap(V, F, c, np.array([a, e1, e2]), box, config.TOL.prefilter_margin_m)
+    rel = V[F[cand].ravel()] - c
+    fu, fv, fz = ((rel @ e).reshape(-1, 3) for e in (e1, e2, a))  # (k, 3) each
     near = (fu.min(1) <= u_hi + 2 * max_edge) & (fu.max(1) >= u_lo - 2 * max_edge)
     near &= (fv.min(1) <= v_hi + 2 * max_edge) & (fv.max(1) >= v_lo - 2 * max_edge)
     near &= (fz.min(1) <= hi) & (fz.max(1) >= lo)
-    faces = mesh.faces[near]
+    near_faces = cand[near]
     what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
-    if len(faces) == 0:
+    if len(near_faces) == 0:
         from ..units import far_from_object
 
         far = far_from_object(c, mesh.bounds)
@@ -349,14 +355,15 @@ def _reach(mesh, center, approach, up, press: _Press):
         )
     fine = _fine_surface(mesh, max_edge, build=False)
     if fine is None:
-        cen, normal, area, _ = _fine_faces(mesh.vertices, faces, max_edge)
+        cen, normal, area, _ = _fine_faces(V, F[near_faces], max_edge)
+        rows = None
     else:
         # the near faces' sub-triangles from the cached whole-mesh subdivision: the same triangles
         # in the same order as refining the near faces alone (_fine_faces cuts each face on its
         # own, in face order), so the profile is the same
-        sel = concat_runs(fine[5][:-1][near], fine[5][1:][near])
-        cen, normal, area = fine[0][sel], fine[1][sel], fine[2][sel]
-    return _press(cen, normal, area, c, (a, e1, e2), press)
+        cen, normal, area = fine[0], fine[1], fine[2]
+        rows = concat_runs(fine[5][near_faces], fine[5][near_faces + 1])
+    return _press(cen, normal, area, c, (a, e1, e2), press, rows)
 
 
 def _fine_faces(vertices: np.ndarray, faces: np.ndarray, max_edge: float):
@@ -494,35 +501,43 @@ def _strip_cut(A, B, C, n, q):
     return sub[keep], np.repeat(f, 2)[keep], share[keep]
 
 
-def _press(cen, normal, area, c, frame, press: _Press):
-    """The Winkler pad ``press`` pressed on the fine faces (``cen``, ``normal``, ``area``) from
-    ``c`` (3,) along ``frame[0]`` to ``press.closing`` past first touch: the rest of
-    :func:`_reach`; or why it touches nothing (str)."""
-    patch = _patch(cen, normal, area, c, frame, press)
+def _press(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None = None):
+    """The Winkler pad ``press`` pressed on the fine faces (``cen``, ``normal``, ``area``; their
+    ``rows`` only, :func:`_patch`) from ``c`` (3,) along ``frame[0]`` to ``press.closing`` past
+    first touch: the rest of :func:`_reach`; or why it touches nothing (str)."""
+    patch = _patch(cen, normal, area, c, frame, press, rows)
     if isinstance(patch, str):
         return patch
     return patch.profile(press.closing)
 
 
-def _patch(cen, normal, area, c, frame, press: _Press) -> PadPatch | str:
+def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None = None) -> PadPatch | str:
     """The :class:`~.pad_patch.PadPatch` the pad ``press`` reaches on the fine faces (``cen``,
-    ``normal``, ``area``) from ``c`` (3,) along ``frame[0]`` — the front-most surface facing it
-    inside its footprint — or why there is none (str)."""
+    ``normal``, ``area``; of those the ascending indices ``rows`` (m,) only, None: all) from
+    ``c`` (3,) along ``frame[0]`` — the front-most surface facing it inside its footprint — or
+    why there is none (str)."""
     pad, poly, window, filter_window, _, stiffness, max_edge = press
     a, e1, e2 = frame
     if poly is None:
-        (u_lo, v_lo), v_hi = (-pad[0] / 2, -pad[1] / 2), pad[1] / 2
+        (u_lo, v_lo), (u_hi, v_hi) = (-pad[0] / 2, -pad[1] / 2), (pad[0] / 2, pad[1] / 2)
     else:
-        (u_lo, v_lo), v_hi = poly.min(axis=0), poly.max(axis=0)[1]
+        (u_lo, v_lo), (u_hi, v_hi) = poly.min(axis=0), poly.max(axis=0)
     lo, hi = window
     what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
-    rel = cen - c
-    u, v, z = rel @ e1, rel @ e2, rel @ a
     # faces (nearly) parallel to the approach have no area under the pad: a Winkler
     # foundation along the approach puts no pressure on them (a box's side walls)
-    from .. import config
-
-    facing = normal @ a < -config.DEFAULTS.reach_min_facing
+    min_facing = config.DEFAULTS.reach_min_facing
+    # the compiled pass keeps a superset of the elements the exact tests below keep, which then
+    # run on it alone
+    box = np.array([u_lo, u_hi, v_lo, v_hi, *((lo, hi) if filter_window else (-np.inf, np.inf))])
+    rows = np.arange(len(cen), dtype=np.int64) if rows is None else np.asarray(rows, np.int64)
+    pre = _elements_may_touch(
+        cen, normal, area, rows, c, np.array([a, e1, e2]), box, -min_facing, config.TOL.prefilter_margin_m
+    )
+    cen, normal, area = cen[pre], normal[pre], area[pre]
+    rel = cen - c
+    u, v, z = rel @ e1, rel @ e2, rel @ a
+    facing = normal @ a < -min_facing
     if poly is None:
         inside = (np.abs(u) <= pad[0] / 2) & (np.abs(v) <= pad[1] / 2)
     else:
@@ -538,14 +553,7 @@ def _patch(cen, normal, area, c, frame, press: _Press) -> PadPatch | str:
     idx = np.flatnonzero(keep)
     # front-most surface per footprint bin (the pad cannot reach behind the first surface);
     # the bins tile the footprint's bounding box
-    iu = np.floor((u[idx] - u_lo) / max_edge).astype(int)
-    iv = np.floor((v[idx] - v_lo) / max_edge).astype(int)
-    bins = iu * (int((v_hi - v_lo) / max_edge) + 2) + iv
-    order = np.lexsort((z[idx], bins))
-    first = np.r_[True, bins[order][1:] != bins[order][:-1]]
-    front_z = np.repeat(z[idx][order][first], np.diff(np.r_[np.flatnonzero(first), len(order)]))
-    visible = np.zeros(len(cen), dtype=bool)
-    visible[idx[order]] = z[idx][order] <= front_z + 2 * max_edge
+    visible = _front_most(u, v, z, idx, u_lo, v_lo, max_edge, int((v_hi - v_lo) / max_edge) + 2, 2 * max_edge)
     z0 = z[visible].min()  # first touch
     return PadPatch(cen[visible], normal[visible], area[visible], z[visible], float(z0), a, stiffness)
 
