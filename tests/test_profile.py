@@ -160,3 +160,28 @@ def test_from_trimesh_and_meshio_roundtrip(tmp_path):
     np.testing.assert_allclose(b.centers, a.centers, rtol=1e-12)
     with pytest.raises(ValueError, match="cell data 'p' not in mesh"):
         ContactProfile.from_meshio(meshio.read(path), pressure="p")
+
+
+def test_with_pressures_is_a_profile_made_afresh_bit_for_bit():
+    # it checks only the new pressures, yet gives the numbers __init__ would: the normals divided
+    # by their lengths once more, the same l_s, the same pressure checks and warnings
+    rng = np.random.default_rng(7)
+    c, n, a, _ = naive.random_profile(rng, 400)
+    prof = ContactProfile(c, n * (1 + 1e-13), a, np.full(400, 1e4))
+    p = rng.uniform(1e3, 1e5, 400)
+    fast = prof.with_pressures(p)
+    fresh = ContactProfile(prof.centers, prof.normals, prof.areas, p)
+    for name in ("centers", "normals", "areas", "pressures", "pressure_center", "normal_wrench"):
+        np.testing.assert_array_equal(getattr(fast, name), getattr(fresh, name))
+    assert fast.length_scale == fresh.length_scale and fast.source is None
+    assert not fast.normals.flags.writeable and not fast.pressures.flags.writeable
+    with pytest.raises(ValueError, match="pressures"):
+        prof.with_pressures(-p)
+    with pytest.raises(ValueError):
+        prof.with_pressures(p[:-1])
+    # half the faces wound the other way: no warning while they carry almost nothing, one once
+    # the new pressures load them
+    m = np.where(np.arange(400)[:, None] < 200, 1.0, -1.0) * prof.normals
+    light = ContactProfile(prof.centers, m, prof.areas, np.where(np.arange(400) < 200, 1e5, 1.0))
+    with pytest.warns(Warning, match="normal"):
+        light.with_pressures(np.full(400, 1e5))

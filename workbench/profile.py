@@ -529,6 +529,10 @@ class ContactProfile:
         # none of them reads the pressures: only those are checked anew
         new = object.__new__(type(self))
         new.__dict__.update({k: self.__dict__[k] for k in _GEOMETRY if k in self.__dict__})
+        # the normals divided by their lengths once more, as every new profile's are (the last
+        # bits of a third of unit vectors move): the same numbers as a profile made afresh
+        new.normals = _unit_normals(self.normals, False)
+        new.normals.flags.writeable = False
         pressures.flags.writeable = False
         new.pressures = pressures
         new.source = source
