@@ -238,6 +238,24 @@ def svec_kron(Z, Y):
     return np.array(cols).T
 
 
+def cho_solve_upper(U, b):
+    """``(Uᵀ U)⁻¹ b`` by the two substitutions one unknown at a time, each sum in index order (the
+    order the quartic IPM's kernel keeps): forward ``Uᵀ y = b`` with k ascending, then back
+    ``U x = y`` subtracting column by column from the last."""
+    n = len(b)
+    y = np.array(b, dtype=float)
+    for i in range(n):
+        s = y[i]
+        for k in range(i):
+            s -= U[k, i] * y[k]
+        y[i] = s / U[i, i]
+    for i in range(n - 1, -1, -1):
+        y[i] /= U[i, i]
+        for k in range(i):
+            y[k] -= U[k, i] * y[i]
+    return y
+
+
 def _svec_maps(n):
     """(to_vec (n², m), from_vec (m, n²)) dense: svec (upper triangle by columns, off-diagonals
     times √2) to row-major ravel and back (for symmetric matrices)."""

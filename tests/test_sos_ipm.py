@@ -9,7 +9,13 @@ import pytest
 import workbench.limit_surface.sos_ipm as sos_ipm
 from workbench import fit_quartic
 from workbench.limit_surface import quartic as quart_mod
-from workbench.limit_surface._kernels import _add_svec, _smallest_eigenvalue, _smat, _svec_kron
+from workbench.limit_surface._kernels import (
+    _add_svec,
+    _cho_solve_upper,
+    _smallest_eigenvalue,
+    _smat,
+    _svec_kron,
+)
 from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, svec_index, swap_blocks
 
 
@@ -31,6 +37,23 @@ def test_svec_kron_is_the_operator_it_names(n, rng):
     assert u @ (from_vec @ V.ravel()) == pytest.approx(np.sum(U * V), rel=1e-12)
     np.testing.assert_allclose(_smat(u, i, j, n), U, rtol=1e-14)
     np.testing.assert_allclose(_smat(u, i, j, n).ravel(), to_vec @ u, rtol=1e-14)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 7, 8, 9, 246])
+def test_the_cholesky_solve_is_the_substitutions_one_unknown_at_a_time(n, rng):
+    """The Schur system's solve (four unknowns at a time) against the one-at-a-time substitutions
+    bit for bit (the same sums in the same order), for LAPACK's column-major factor and a
+    row-major one, and against np.linalg.solve to round-off."""
+    from scipy.linalg.lapack import dpotrf
+
+    B = rng.standard_normal((n, n))
+    M = B @ B.T + n * np.eye(n)
+    U = dpotrf(M, lower=False, clean=False)[0]
+    b = rng.standard_normal(n)
+    ref = naive.cho_solve_upper(U, b)
+    for factor in (U, np.ascontiguousarray(U)):
+        assert np.array_equal(_cho_solve_upper(factor, b), ref)
+    np.testing.assert_allclose(ref, np.linalg.solve(M, b), rtol=1e-10, atol=1e-12)
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 15, 21])

@@ -257,18 +257,46 @@ def _hkm_state(x, Zs, data, lay):
 
 @njit(**NUMBA_FLAGS_IEEE)
 def _cho_solve_upper(U, b):
-    """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read)."""
+    """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read).  Both substitutions
+    take four unknowns at a time, four independent sums side by side instead of one chain of
+    dependent subtractions; each unknown still subtracts its terms in the order of the
+    one-at-a-time loops, so the result is theirs to the bit (naive.cho_solve_upper)."""
     n = b.shape[0]
     y = b.copy()
-    for i in range(n):  # Uᵀ y = b
-        s = y[i]
+    i = 0
+    while i + 4 <= n:  # Uᵀ y = b: y[i] = (b[i] − Σ_{k<i} U[k, i] y[k]) / U[i, i], k ascending
+        s0, s1, s2, s3 = y[i], y[i + 1], y[i + 2], y[i + 3]
         for k in range(i):
-            s -= U[k, i] * y[k]
-        y[i] = s / U[i, i]
-    for i in range(n - 1, -1, -1):  # U x = y
-        y[i] /= U[i, i]
-        for k in range(i):
-            y[k] -= U[k, i] * y[i]
+            yk = y[k]
+            s0 -= U[k, i] * yk
+            s1 -= U[k, i + 1] * yk
+            s2 -= U[k, i + 2] * yk
+            s3 -= U[k, i + 3] * yk
+        s0 = s0 / U[i, i]
+        s1 = (s1 - U[i, i + 1] * s0) / U[i + 1, i + 1]
+        s2 = ((s2 - U[i, i + 2] * s0) - U[i + 1, i + 2] * s1) / U[i + 2, i + 2]
+        s3 = (((s3 - U[i, i + 3] * s0) - U[i + 1, i + 3] * s1) - U[i + 2, i + 3] * s2) / U[i + 3, i + 3]
+        y[i], y[i + 1], y[i + 2], y[i + 3] = s0, s1, s2, s3
+        i += 4
+    for j in range(i, n):
+        s = y[j]
+        for k in range(j):
+            s -= U[k, j] * y[k]
+        y[j] = s / U[j, j]
+    i = n - 1
+    while i >= 3:  # U x = y: x[k] = (y[k] − Σ_{j>k} U[k, j] x[j]) / U[k, k], j descending
+        t0 = y[i] / U[i, i]
+        t1 = (y[i - 1] - U[i - 1, i] * t0) / U[i - 1, i - 1]
+        t2 = ((y[i - 2] - U[i - 2, i] * t0) - U[i - 2, i - 1] * t1) / U[i - 2, i - 2]
+        t3 = (((y[i - 3] - U[i - 3, i] * t0) - U[i - 3, i - 1] * t1) - U[i - 3, i - 2] * t2) / U[i - 3, i - 3]
+        y[i], y[i - 1], y[i - 2], y[i - 3] = t0, t1, t2, t3
+        for k in range(i - 3):
+            y[k] = (((y[k] - U[k, i] * t0) - U[k, i - 1] * t1) - U[k, i - 2] * t2) - U[k, i - 3] * t3
+        i -= 4
+    for j in range(i, -1, -1):
+        y[j] /= U[j, j]
+        for k in range(j):
+            y[k] -= U[k, j] * y[j]
     return y
 
 
