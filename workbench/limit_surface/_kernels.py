@@ -83,23 +83,31 @@ def _svec_kron(Z, Y, i, j, out):
     """``out`` (m, m): the svec Kronecker product of symmetric Z, Y (n, n) — the matrix of
     ``U ↦ svec(½(Z U Y + Y U Z))`` on svec vectors (the upper triangle by columns, off-diagonals
     times √2; entry p is (i[p], j[p])) — ``½ w_p u_q (Z_ik Y_lj + Z_il Y_kj + Y_ik Z_lj + Y_il Z_kj)``
-    for p = (i, j), q = (k, l), w = 1 | √2 and u = ½ | 1/√2 on | off the diagonal.  Row by row
-    from rows of Z and Y (Y_lj = Y_jl: both symmetric); the inner loop runs down a column of the
-    triangle (k = 0..l: contiguous, it vectorises)."""
+    for p = (i, j), q = (k, l), w = 1 | √2 and u = ½ | 1/√2 on | off the diagonal (Y_lj = Y_jl:
+    both symmetric).  Each row of Z and Y is first spread over the svec entries (``ZI[a, q] =
+    Z[a, i[q]]``, ``ZJ[a, q] = Z[a, j[q]]``, the same for Y), so that a row of ``out`` is one
+    contiguous loop over all q (it vectorises) rather than a short loop per column."""
     m, n = i.shape[0], Z.shape[0]
     r2 = np.sqrt(2.0)
     h = 1.0 / r2  # u off the diagonal
+    ZI, ZJ = np.empty((n, m)), np.empty((n, m))
+    YI, YJ = np.empty((n, m)), np.empty((n, m))
+    u = np.empty(m)
+    for a in range(n):
+        for q in range(m):
+            ZI[a, q], ZJ[a, q] = Z[a, i[q]], Z[a, j[q]]
+            YI[a, q], YJ[a, q] = Y[a, i[q]], Y[a, j[q]]
+    for q in range(m):
+        u[q] = 0.5 if i[q] == j[q] else h
     for p in range(m):
         a, b = i[p], j[p]
-        za, zb, ya, yb = Z[a], Z[b], Y[a], Y[b]
         s = 0.5 if a == b else 0.5 * r2
-        q = 0
-        for l in range(n):
-            c1, c2, c3, c4 = s * yb[l], s * za[l], s * zb[l], s * ya[l]
-            for k in range(l):
-                out[p, q + k] = (za[k] * c1 + yb[k] * c2 + ya[k] * c3 + zb[k] * c4) * h
-            out[p, q + l] = 0.5 * (za[l] * c1 + yb[l] * c2 + ya[l] * c3 + zb[l] * c4)
-            q += l + 1
+        zia, zja, yia, yja = ZI[a], ZJ[a], YI[a], YJ[a]
+        zib, zjb, yib, yjb = ZI[b], ZJ[b], YI[b], YJ[b]
+        row = out[p]
+        for q in range(m):
+            c1, c2, c3, c4 = s * yjb[q], s * zja[q], s * zjb[q], s * yja[q]
+            row[q] = (zia[q] * c1 + yib[q] * c2 + yia[q] * c3 + zib[q] * c4) * u[q]
 
 
 # --- the quartic fit's interior point (sos_ipm.py): one iteration's dense algebra -------------
