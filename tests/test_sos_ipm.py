@@ -12,6 +12,7 @@ from workbench.limit_surface import quartic as quart_mod
 from workbench.limit_surface._kernels import (
     _add_svec,
     _cho_solve_upper,
+    _schur,
     _smallest_eigenvalue,
     _smat,
     _svec_kron,
@@ -54,6 +55,33 @@ def test_the_cholesky_solve_is_the_substitutions_one_unknown_at_a_time(n, rng):
     for factor in (U, np.ascontiguousarray(U)):
         assert np.array_equal(_cho_solve_upper(factor, b), ref)
     np.testing.assert_allclose(ref, np.linalg.solve(M, b), rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("r", [1, 3, 6])
+def test_the_schur_matrix_is_its_definition_and_its_triangle_the_full_ones(r, rng):
+    """The Schur matrix ``H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b`` against the dense one (naive.svec_kron),
+    and the upper triangle the factorisation reads (column-major in ``S.T``) against the full
+    matrix's, bit for bit; at r = 1 there is no antisymmetric block."""
+    prog = quart_mod._ipm_program(r)
+    n_x, L = prog.n_x, prog.L
+
+    def spd(n):
+        B = rng.standard_normal((n, n))
+        return B @ B.T + np.eye(n)
+
+    Zs, Xi = (spd(prog.n_S), spd(prog.n_A)), (spd(prog.n_S), spd(prog.n_A))
+    B = rng.standard_normal((L, L))
+    H = np.zeros((n_x, n_x))
+    H[:L, :L] = B.T @ B
+    M = _schur(Zs, Xi, H, prog.layout, True)
+    GA = np.hstack([np.zeros((n_x - L, L)), np.eye(n_x - L)])
+    G = prog.G.toarray()
+    ref = H + G.T @ naive.svec_kron(Zs[0], Xi[0]) @ G
+    if prog.n_A:
+        ref += GA.T @ naive.svec_kron(Zs[1], Xi[1]) @ GA
+    np.testing.assert_allclose(M, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+    upper = np.triu_indices(n_x)
+    assert np.array_equal(_schur(Zs, Xi, H, prog.layout, False).T[upper], M[upper])
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 15, 21])

@@ -214,18 +214,90 @@ def _sym_triple(A, B, C):
 
 
 @njit(**NUMBA_FLAGS_IEEE)
+def _schur(Zs, Xi, H, lay, full):
+    """The Schur matrix ``M = H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b`` (n_x, n_x) of the HKM direction
+    at the duals ``Zs = (Z_S, Z_A)`` and ``Xi = (X_S⁻¹, X_A⁻¹)``, the layout ``lay``
+    (:func:`_gram_mats`).  ``full``: M itself, row-major; else only its upper triangle, column by
+    column — ``S[b, a] = M[a, b]`` for a <= b, S's strict upper triangle unset — so that ``S.T``
+    is M's upper triangle in LAPACK's column-major order, which potrf factors in place (the
+    entries are M's to the bit: the same sums in the same order)."""
+    ZS, ZA = Zs
+    XiS, XiA = Xi
+    # M = H + Gᵀ K G with K = Z_S ⊛ X_S⁻¹ (symmetric) and G sparse (~2 entries a row and a column):
+    # W = (Gᵀ K)ᵀ = K G by rows of K, then each row a of M adds the rows q of W that column a of G
+    # holds — every inner loop runs along a contiguous row
+    ptr, idx, val = lay[0], lay[1], lay[2]
+    n_x, mS, mA = H.shape[0], ptr.shape[0] - 1, lay[8].shape[0]
+    K = np.empty((mS, mS))
+    _svec_kron(ZS, XiS, lay[6], lay[7], K)
+    Wt = np.zeros((n_x, mS))
+    for q in range(mS):
+        for t in range(ptr[q], ptr[q + 1]):
+            b, v = idx[t], val[t]
+            for p in range(mS):
+                Wt[b, p] += v * K[q, p]
+    W = np.ascontiguousarray(Wt.T)
+    KA = np.empty((mA, mA))
+    if mA > 0:
+        _svec_kron(ZA, XiA, lay[8], lay[9], KA)
+    return _schur_full(H, W, KA, lay) if full else _schur_upper(H, W, KA, lay)
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _schur_full(H, W, KA, lay):
+    """``M = H + Gᵀ W + [0 0; 0 KA]`` row-major (:func:`_schur`; G's CSC arrays in ``lay``)."""
+    cptr, cidx, cval = lay[3], lay[4], lay[5]
+    n_x, mA = H.shape[0], KA.shape[0]
+    M = H.copy()
+    for a in range(n_x):
+        for t in range(cptr[a], cptr[a + 1]):
+            q, v = cidx[t], cval[t]
+            for b in range(n_x):
+                M[a, b] += v * W[q, b]
+    if mA > 0:
+        M[n_x - mA :, n_x - mA :] += KA
+    return M
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _schur_upper(H, W, KA, lay):
+    """The upper triangle of :func:`_schur_full`'s M column by column, ``S[b, a] = M[a, b]`` for
+    a <= b (the same sums in the same order)."""
+    cptr, cidx, cval = lay[3], lay[4], lay[5]
+    n_x, mA = H.shape[0], KA.shape[0]
+    L = n_x - mA
+    S = np.empty((n_x, n_x))
+    row = np.empty(n_x)
+    for a in range(n_x):  # row a of M from the diagonal on, then into column a of S
+        m = n_x - a
+        h = H[a, a:]
+        for k in range(m):  # on views from a: loops from 0 vectorise (no negative-index checks)
+            row[k] = h[k]
+        for t in range(cptr[a], cptr[a + 1]):
+            v, w = cval[t], W[cidx[t], a:]
+            for k in range(m):
+                row[k] += v * w[k]
+        if a >= L:
+            ka = KA[a - L, a - L :]
+            for k in range(m):
+                row[k] += ka[k]
+        for k in range(m):
+            S[a + k, a] = row[k]
+    return S
+
+
+@njit(**NUMBA_FLAGS_IEEE)
 def _hkm_state(x, Zs, data, lay):
     """One iteration's state of the HKM interior point (sos_ipm.py) at (x, Z = (Z_S, Z_A)) for
     ``data`` = (H, g, Rm, c) and the layout ``lay`` (:func:`_gram_mats`): the Gram blocks
     (X_S, X_A), the inverse Cholesky factors ``L⁻¹`` of (X_S, X_A, Z_S, Z_A), ``X⁻¹ = Fᵀ F`` of
     both blocks, the gap ``Σ tr(X Z)``, the dual residual ``H x + g − Σ G_bᵀ svec Z_b`` (n_x,),
-    the objective ``½‖Rm x[:L] − c‖²`` and the Schur matrix ``H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b``
-    (n_x, n_x)."""
+    the objective ``½‖Rm x[:L] − c‖²`` and the Schur matrix's upper triangle, column-major in
+    ``S.T`` (:func:`_schur`)."""
     H, g, Rm, c = data
     ZS, ZA = Zs
     L, n_x = Rm.shape[1], x.shape[0]
     nS, nA = ZS.shape[0], ZA.shape[0]
-    iS, jS, iA, jA = lay[6], lay[7], lay[8], lay[9]
     XS, XA = _gram_mats(x, lay, nS, nA, L)
     FXS, FZS = _inv_factor(XS), _inv_factor(ZS)
     FXA, FZA = _inv_factor(XA), _inv_factor(ZA)
@@ -235,32 +307,8 @@ def _hkm_state(x, Zs, data, lay):
     r_d = H @ x + g - _adjoint(ZS, ZA, lay, n_x, L)
     res = Rm @ x[:L] - c
     obj = 0.5 * (res @ res)
-    # Schur: M = H + Gᵀ K G with K = Z_S ⊛ X_S⁻¹ (symmetric) and G sparse (~2 entries a row and a
-    # column): W = (Gᵀ K)ᵀ = K G by rows of K, then each row a of M adds the rows q of W that
-    # column a of G holds — every inner loop runs along a contiguous row
-    ptr, idx, val, cptr, cidx, cval = lay[0], lay[1], lay[2], lay[3], lay[4], lay[5]
-    mS = ptr.shape[0] - 1
-    K = np.empty((mS, mS))
-    _svec_kron(ZS, XiS, iS, jS, K)
-    Wt = np.zeros((n_x, mS))
-    for q in range(mS):
-        for t in range(ptr[q], ptr[q + 1]):
-            b, v = idx[t], val[t]
-            for p in range(mS):
-                Wt[b, p] += v * K[q, p]
-    W = np.ascontiguousarray(Wt.T)
-    M = H.copy()
-    for a in range(n_x):
-        for t in range(cptr[a], cptr[a + 1]):
-            q, v = cidx[t], cval[t]
-            for b in range(n_x):
-                M[a, b] += v * W[q, b]
-    if nA > 0:
-        mA = iA.shape[0]
-        KA = np.empty((mA, mA))
-        _svec_kron(ZA, XiA, iA, jA, KA)
-        M[L:, L:] += KA
-    return (XS, XA), (FXS, FXA, FZS, FZA), (XiS, XiA), gap, r_d, obj, M
+    S = _schur(Zs, (XiS, XiA), H, lay, False)
+    return (XS, XA), (FXS, FXA, FZS, FZA), (XiS, XiA), gap, r_d, obj, S
 
 
 @njit(**NUMBA_FLAGS_IEEE)

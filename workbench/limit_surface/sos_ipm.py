@@ -31,7 +31,7 @@ import scipy.sparse as sp
 from scipy.linalg.lapack import dpotrf as _potrf
 
 from .. import config
-from ._kernels import _gram_mats, _hkm_state, _hkm_step
+from ._kernels import _gram_mats, _hkm_state, _hkm_step, _schur
 from .sos import svec_index as _svec_index
 
 
@@ -126,7 +126,7 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
     loose, gaps = None, []
     try:
         for it in range(tol.sos_ipm_max_iter):
-            Xs, F, Xi, gap, r_d, obj, M = _hkm_state(x, Zs, data, blocks.layout)
+            Xs, F, Xi, gap, r_d, obj, S = _hkm_state(x, Zs, data, blocks.layout)
             grams = list(Xs[: 1 + (blocks.n_A > 0)])
             if np.abs(r_d).max() <= tol.sos_ipm_residual * scale:
                 if gap <= max(tol.sos_ipm_gap * obj, floor):
@@ -136,7 +136,8 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
                     if len(gaps) >= 3 and gap > 0.5 * gaps[-3]:  # round-off stalls it above the floor
                         return loose
             gaps.append(gap)
-            x, Zs = _hkm_step(x, Zs, (Xs, F, Xi, r_d, gap), (M, *_cholesky(M)), blocks.layout, consts)
+            MU = _cholesky(S, (Zs, Xi, H, blocks.layout))
+            x, Zs = _hkm_step(x, Zs, (Xs, F, Xi, r_d, gap), MU, blocks.layout, consts)
     except np.linalg.LinAlgError as exc:  # an iterate lost definiteness to round-off
         return loose or SosFitResult(False, None, None, None, f"numerical failure ({exc})", -1)
     return loose or SosFitResult(
@@ -144,21 +145,25 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
     )
 
 
-def _cholesky(M: np.ndarray, refine: int = 2) -> tuple[np.ndarray, int]:
-    """``(U, steps)``: the upper Cholesky factor U of M (LAPACK potrf) and no refinement, or near
-    the optimum, where the Schur matrix's conditioning is lost to round-off, the factor of
+def _cholesky(S: np.ndarray, schur_args: tuple, refine: int = 2) -> tuple[np.ndarray, np.ndarray, int]:
+    """``(M, U, steps)`` for the step (:func:`._kernels._hkm_direction`): the upper Cholesky factor
+    U of the Schur matrix M (LAPACK potrf), factored in place in ``S.T`` (its upper triangle,
+    :func:`._kernels._schur`), and no refinement (M, not read then, is S).  Near the optimum,
+    where the Schur matrix's conditioning is lost to round-off, M is formed again in full from
+    ``schur_args`` (``_schur``'s, the factorisation having overwritten S) and U is the factor of
     ``M + δ I`` with ``δ`` the smallest of ``TOL.sos_ipm_regularisation × 100^k × max diag M``
-    (k = 0..3) that factors (Clarabel's static regularisation) and ``refine`` steps of iterative
-    refinement against M itself for the step's solves."""
-    U, info = _potrf(M, lower=False, clean=False, overwrite_a=False)
+    (k = 0..3) that factors (Clarabel's static regularisation), with ``refine`` steps of
+    iterative refinement against M itself for the step's solves."""
+    U, info = _potrf(S.T, lower=False, clean=False, overwrite_a=True)
     if info == 0:
-        return U, 0
+        return S, U, 0
+    M = _schur(*schur_args, True)
     scale = float(np.abs(np.diag(M)).max())
     for k in range(4):
         delta = config.TOL.sos_ipm_regularisation * 100.0**k * scale
         U, info = _potrf(M + delta * np.eye(len(M)), lower=False, clean=False, overwrite_a=True)
         if info == 0:
-            return U, refine
+            return M, U, refine
     raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
 
 
