@@ -42,9 +42,9 @@ def test_svec_kron_is_the_operator_it_names(n, rng):
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 7, 8, 9, 246])
 def test_the_cholesky_solve_is_the_substitutions_one_unknown_at_a_time(n, rng):
-    """The Schur system's solve (four unknowns at a time) against the one-at-a-time substitutions
-    bit for bit (the same sums in the same order), for LAPACK's column-major factor and a
-    row-major one, and against np.linalg.solve to round-off."""
+    """The Schur system's solve (four rows at a time) against the one-at-a-time substitutions
+    bit for bit (the same sums in the same order), for a row-major factor (sos_ipm's) and a
+    column-major one, and against np.linalg.solve to round-off."""
     from scipy.linalg.lapack import dpotrf
 
     B = rng.standard_normal((n, n))
@@ -60,8 +60,8 @@ def test_the_cholesky_solve_is_the_substitutions_one_unknown_at_a_time(n, rng):
 @pytest.mark.parametrize("r", [1, 3, 6])
 def test_the_schur_matrix_is_its_definition_and_its_triangle_the_full_ones(r, rng):
     """The Schur matrix ``H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b`` against the dense one (naive.svec_kron),
-    and the upper triangle the factorisation reads (column-major in ``S.T``) against the full
-    matrix's, bit for bit; at r = 1 there is no antisymmetric block."""
+    and the upper triangle the factorisation reads against the full matrix's, bit for bit; at
+    r = 1 there is no antisymmetric block."""
     prog = quart_mod._ipm_program(r)
     n_x, L = prog.n_x, prog.L
 
@@ -81,7 +81,7 @@ def test_the_schur_matrix_is_its_definition_and_its_triangle_the_full_ones(r, rn
         ref += GA.T @ naive.svec_kron(Zs[1], Xi[1]) @ GA
     np.testing.assert_allclose(M, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
     upper = np.triu_indices(n_x)
-    assert np.array_equal(_schur(Zs, Xi, H, prog.layout, False).T[upper], M[upper])
+    assert np.array_equal(_schur(Zs, Xi, H, prog.layout, False)[upper], M[upper])
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 15, 21])

@@ -217,10 +217,10 @@ def _sym_triple(A, B, C):
 def _schur(Zs, Xi, H, lay, full):
     """The Schur matrix ``M = H + Σ_b G_bᵀ (Z_b ⊛ X_b⁻¹) G_b`` (n_x, n_x) of the HKM direction
     at the duals ``Zs = (Z_S, Z_A)`` and ``Xi = (X_S⁻¹, X_A⁻¹)``, the layout ``lay``
-    (:func:`_gram_mats`).  ``full``: M itself, row-major; else only its upper triangle, column by
-    column — ``S[b, a] = M[a, b]`` for a <= b, S's strict upper triangle unset — so that ``S.T``
-    is M's upper triangle in LAPACK's column-major order, which potrf factors in place (the
-    entries are M's to the bit: the same sums in the same order)."""
+    (:func:`_gram_mats`).  ``full``: M itself, row-major; else only its upper triangle, row-major,
+    the strict lower triangle unset — ``S.T`` is then that triangle as the lower one of a
+    column-major matrix, which LAPACK's lower potrf factors in place (the entries are M's to the
+    bit: the same sums in the same order)."""
     ZS, ZA = Zs
     XiS, XiA = Xi
     # M = H + Gᵀ K G with K = Z_S ⊛ X_S⁻¹ (symmetric) and G sparse (~2 entries a row and a column):
@@ -261,17 +261,16 @@ def _schur_full(H, W, KA, lay):
 
 @njit(**NUMBA_FLAGS_IEEE)
 def _schur_upper(H, W, KA, lay):
-    """The upper triangle of :func:`_schur_full`'s M column by column, ``S[b, a] = M[a, b]`` for
-    a <= b (the same sums in the same order)."""
+    """The upper triangle of :func:`_schur_full`'s M (the same sums in the same order), row-major;
+    the strict lower triangle unset."""
     cptr, cidx, cval = lay[3], lay[4], lay[5]
     n_x, mA = H.shape[0], KA.shape[0]
     L = n_x - mA
     S = np.empty((n_x, n_x))
-    row = np.empty(n_x)
-    for a in range(n_x):  # row a of M from the diagonal on, then into column a of S
+    for a in range(n_x):
         m = n_x - a
-        h = H[a, a:]
-        for k in range(m):  # on views from a: loops from 0 vectorise (no negative-index checks)
+        row, h = S[a, a:], H[a, a:]
+        for k in range(m):  # on views from the diagonal: loops from 0 vectorise (no negative-index checks)
             row[k] = h[k]
         for t in range(cptr[a], cptr[a + 1]):
             v, w = cval[t], W[cidx[t], a:]
@@ -281,8 +280,6 @@ def _schur_upper(H, W, KA, lay):
             ka = KA[a - L, a - L :]
             for k in range(m):
                 row[k] += ka[k]
-        for k in range(m):
-            S[a + k, a] = row[k]
     return S
 
 
@@ -292,8 +289,8 @@ def _hkm_state(x, Zs, data, lay):
     ``data`` = (H, g, Rm, c) and the layout ``lay`` (:func:`_gram_mats`): the Gram blocks
     (X_S, X_A), the inverse Cholesky factors ``L⁻¹`` of (X_S, X_A, Z_S, Z_A), ``X⁻¹ = Fᵀ F`` of
     both blocks, the gap ``Σ tr(X Z)``, the dual residual ``H x + g − Σ G_bᵀ svec Z_b`` (n_x,),
-    the objective ``½‖Rm x[:L] − c‖²`` and the Schur matrix's upper triangle, column-major in
-    ``S.T`` (:func:`_schur`)."""
+    the objective ``½‖Rm x[:L] − c‖²`` and the Schur matrix's upper triangle S
+    (:func:`_schur`)."""
     H, g, Rm, c = data
     ZS, ZA = Zs
     L, n_x = Rm.shape[1], x.shape[0]
@@ -313,46 +310,53 @@ def _hkm_state(x, Zs, data, lay):
 
 @njit(**NUMBA_FLAGS_IEEE)
 def _cho_solve_upper(U, b):
-    """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read).  Both substitutions
-    take four unknowns at a time, four independent sums side by side instead of one chain of
-    dependent subtractions; each unknown still subtracts its terms in the order of the
-    one-at-a-time loops, so the result is theirs to the bit (naive.cho_solve_upper)."""
+    """``(Uᵀ U)⁻¹ b`` for upper-triangular U (only its upper triangle is read), laid out for a
+    row-major U (sos_ipm's): the forward substitution subtracts four rows of U at a time from the
+    unknowns below them (contiguous loops: they vectorise), the backward one sums four rows
+    side by side instead of one chain of dependent subtractions.  Each unknown still subtracts
+    its terms in the order of the one-at-a-time loops, so the result is theirs to the bit
+    (naive.cho_solve_upper)."""
     n = b.shape[0]
     y = b.copy()
-    i = 0
-    while i + 4 <= n:  # Uᵀ y = b: y[i] = (b[i] − Σ_{k<i} U[k, i] y[k]) / U[i, i], k ascending
-        s0, s1, s2, s3 = y[i], y[i + 1], y[i + 2], y[i + 3]
-        for k in range(i):
-            yk = y[k]
-            s0 -= U[k, i] * yk
-            s1 -= U[k, i + 1] * yk
-            s2 -= U[k, i + 2] * yk
-            s3 -= U[k, i + 3] * yk
-        s0 = s0 / U[i, i]
-        s1 = (s1 - U[i, i + 1] * s0) / U[i + 1, i + 1]
-        s2 = ((s2 - U[i, i + 2] * s0) - U[i + 1, i + 2] * s1) / U[i + 2, i + 2]
-        s3 = (((s3 - U[i, i + 3] * s0) - U[i + 1, i + 3] * s1) - U[i + 2, i + 3] * s2) / U[i + 3, i + 3]
-        y[i], y[i + 1], y[i + 2], y[i + 3] = s0, s1, s2, s3
-        i += 4
-    for j in range(i, n):
-        s = y[j]
-        for k in range(j):
-            s -= U[k, j] * y[k]
-        y[j] = s / U[j, j]
+    k = 0
+    while k + 4 <= n:  # Uᵀ y = b: y[i] = (b[i] − Σ_{k<i} U[k, i] y[k]) / U[i, i], k ascending
+        t0 = y[k] / U[k, k]
+        t1 = (y[k + 1] - U[k, k + 1] * t0) / U[k + 1, k + 1]
+        t2 = ((y[k + 2] - U[k, k + 2] * t0) - U[k + 1, k + 2] * t1) / U[k + 2, k + 2]
+        t3 = (((y[k + 3] - U[k, k + 3] * t0) - U[k + 1, k + 3] * t1) - U[k + 2, k + 3] * t2) / U[k + 3, k + 3]
+        y[k], y[k + 1], y[k + 2], y[k + 3] = t0, t1, t2, t3
+        r0, r1, r2, r3 = U[k, k + 4 :], U[k + 1, k + 4 :], U[k + 2, k + 4 :], U[k + 3, k + 4 :]
+        rest = y[k + 4 :]  # views from 0: no negative-index checks in the loop (it vectorises)
+        for i in range(n - k - 4):
+            rest[i] = (((rest[i] - r0[i] * t0) - r1[i] * t1) - r2[i] * t2) - r3[i] * t3
+        k += 4
+    for j in range(k, n):
+        y[j] /= U[j, j]
+        for i in range(j + 1, n):
+            y[i] -= U[j, i] * y[j]
     i = n - 1
-    while i >= 3:  # U x = y: x[k] = (y[k] − Σ_{j>k} U[k, j] x[j]) / U[k, k], j descending
-        t0 = y[i] / U[i, i]
-        t1 = (y[i - 1] - U[i - 1, i] * t0) / U[i - 1, i - 1]
-        t2 = ((y[i - 2] - U[i - 2, i] * t0) - U[i - 2, i - 1] * t1) / U[i - 2, i - 2]
-        t3 = (((y[i - 3] - U[i - 3, i] * t0) - U[i - 3, i - 1] * t1) - U[i - 3, i - 2] * t2) / U[i - 3, i - 3]
+    while i >= 3:  # U x = y: x[i] = (y[i] − Σ_{j>i} U[i, j] x[j]) / U[i, i], j descending
+        s0, s1, s2, s3 = y[i], y[i - 1], y[i - 2], y[i - 3]
+        m = n - 1 - i
+        r0, r1, r2, r3 = U[i, i + 1 :], U[i - 1, i + 1 :], U[i - 2, i + 1 :], U[i - 3, i + 1 :]
+        x = y[i + 1 :]
+        for u in range(m):
+            xj = x[m - 1 - u]
+            s0 -= r0[m - 1 - u] * xj
+            s1 -= r1[m - 1 - u] * xj
+            s2 -= r2[m - 1 - u] * xj
+            s3 -= r3[m - 1 - u] * xj
+        t0 = s0 / U[i, i]
+        t1 = (s1 - U[i - 1, i] * t0) / U[i - 1, i - 1]
+        t2 = ((s2 - U[i - 2, i] * t0) - U[i - 2, i - 1] * t1) / U[i - 2, i - 2]
+        t3 = (((s3 - U[i - 3, i] * t0) - U[i - 3, i - 1] * t1) - U[i - 3, i - 2] * t2) / U[i - 3, i - 3]
         y[i], y[i - 1], y[i - 2], y[i - 3] = t0, t1, t2, t3
-        for k in range(i - 3):
-            y[k] = (((y[k] - U[k, i] * t0) - U[k, i - 1] * t1) - U[k, i - 2] * t2) - U[k, i - 3] * t3
         i -= 4
     for j in range(i, -1, -1):
-        y[j] /= U[j, j]
-        for k in range(j):
-            y[k] -= U[k, j] * y[j]
+        s = y[j]
+        for k in range(n - 1, j, -1):
+            s -= U[j, k] * y[k]
+        y[j] = s / U[j, j]
     return y
 
 

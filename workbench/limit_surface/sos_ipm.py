@@ -147,23 +147,24 @@ def solve(Rm: np.ndarray, c: np.ndarray, blocks: SosProgram) -> SosFitResult:
 
 def _cholesky(S: np.ndarray, schur_args: tuple, refine: int = 2) -> tuple[np.ndarray, np.ndarray, int]:
     """``(M, U, steps)`` for the step (:func:`._kernels._hkm_direction`): the upper Cholesky factor
-    U of the Schur matrix M (LAPACK potrf), factored in place in ``S.T`` (its upper triangle,
-    :func:`._kernels._schur`), and no refinement (M, not read then, is S).  Near the optimum,
-    where the Schur matrix's conditioning is lost to round-off, M is formed again in full from
-    ``schur_args`` (``_schur``'s, the factorisation having overwritten S) and U is the factor of
-    ``M + δ I`` with ``δ`` the smallest of ``TOL.sos_ipm_regularisation × 100^k × max diag M``
+    ``U = Lᵀ`` of the Schur matrix M from LAPACK's lower potrf (the faster of OpenBLAS's two),
+    factored in place in ``S.T`` (M's upper triangle, :func:`._kernels._schur`, seen as the lower
+    triangle of a column-major matrix), and no refinement (M, not read then, is S).  Near the
+    optimum, where the Schur matrix's conditioning is lost to round-off, M is formed again in full
+    from ``schur_args`` (``_schur``'s, the factorisation having overwritten S) and U is the factor
+    of ``M + δ I`` with ``δ`` the smallest of ``TOL.sos_ipm_regularisation × 100^k × max diag M``
     (k = 0..3) that factors (Clarabel's static regularisation), with ``refine`` steps of
     iterative refinement against M itself for the step's solves."""
-    U, info = _potrf(S.T, lower=False, clean=False, overwrite_a=True)
+    L, info = _potrf(S.T, lower=True, clean=False, overwrite_a=True)
     if info == 0:
-        return S, U, 0
+        return S, L.T, 0
     M = _schur(*schur_args, True)
     scale = float(np.abs(np.diag(M)).max())
     for k in range(4):
         delta = config.TOL.sos_ipm_regularisation * 100.0**k * scale
-        U, info = _potrf(M + delta * np.eye(len(M)), lower=False, clean=False, overwrite_a=True)
+        L, info = _potrf((M + delta * np.eye(len(M))).T, lower=True, clean=False, overwrite_a=True)
         if info == 0:
-            return M, U, refine
+            return M, L.T, refine
     raise np.linalg.LinAlgError(f"the Schur matrix is not positive definite (potrf info {info})")
 
 
