@@ -136,9 +136,12 @@ def _spec(config: dict):
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="three meshes, five grasps each")
+    ap.add_argument("--out", help="where to write (default results/benchmarks/contact_patch[_quick].json)")
     args = ap.parse_args(argv)
     res = run(args.quick)
-    write_json(OUT if not args.quick else OUT.with_name("contact_patch_quick.json"), res)
+    write_json(
+        Path(args.out) if args.out else OUT.with_name(f"contact_patch{'_quick' * args.quick}.json"), res
+    )
     return 0
 
 
