@@ -185,3 +185,28 @@ def test_with_pressures_is_a_profile_made_afresh_bit_for_bit():
     light = ContactProfile(prof.centers, m, prof.areas, np.where(np.arange(400) < 200, 1e5, 1.0))
     with pytest.warns(Warning, match="normal"):
         light.with_pressures(np.full(400, 1e5))
+
+
+def test_degenerate_area_rule_is_the_median_rule_whether_or_not_the_median_is_needed(rng):
+    """An element is degenerate when its area is <= TOL.degenerate_area_rtol x the median area,
+    the median found only when some area is that small against the largest: checked against the
+    rule applied plainly on spreads on both sides of the shortcut."""
+    from workbench import config
+    from workbench.profile import _check_areas
+
+    rtol = config.TOL.degenerate_area_rtol
+    seen = {True: 0, False: 0}
+    for spread in (0.0, 3.0, 8.0, 11.5, 12.0, 12.5, 14.0):
+        for _ in range(40):
+            n = int(rng.integers(1, 9))
+            areas = 10.0 ** (-6 - spread * rng.random(n))
+            if rng.random() < 0.3:  # an area exactly at the limit of the median
+                areas[rng.integers(n)] = rtol * np.median(areas)
+            degenerate = bool((areas <= rtol * np.median(areas)).any())
+            seen[degenerate] += 1
+            if degenerate:
+                with pytest.raises(ValueError, match="is degenerate"):
+                    _check_areas(areas)
+            else:
+                _check_areas(areas)
+    assert min(seen.values()) >= 20, seen  # both verdicts exercised

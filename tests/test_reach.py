@@ -173,3 +173,46 @@ def test_reach_profile_window_and_outline_errors():
         reach_profile(box, far, [0, 0, -1], outline=np.asarray(poly) * 1000, press=press)
     with pytest.raises(ValueError, match="lo < hi"):
         reach_profile(box, far, [0, 0, -1], outline=poly, press=WinklerPress(window=(0.025, 0)))
+
+
+def test_jaw_profiles_are_reach_profile_then_checked_jaw_profile_bit_for_bit():
+    """jaw_profiles checks the mesh, pad and press once for both jaws: each profile is, to the
+    last bit, the public composition (reach_profile, then checked_jaw_profile), on a mesh in
+    millimetres, and the refusals are theirs."""
+    import trimesh
+
+    from workbench.sources.jaws import checked_jaw_profile
+    from workbench.sources.reach import WinklerPress, jaw_profiles, reach_profile
+
+    mesh_mm = trimesh.creation.cylinder(radius=15.0, height=80.0, sections=48)
+    mesh = trimesh.Trimesh(mesh_mm.vertices * 1e-3, mesh_mm.faces)
+    axis = np.array([1.0, 0.2, 0.0]) / np.hypot(1.0, 0.2)
+    for up, pad, force, closing in (
+        ((0, 0, 1), (0.02, 0.04), 12.0, 1e-3),
+        ((0, 1, 1), (0.015, 0.03), 7.5, 5e-4),
+    ):
+        for shift in (0.0, 0.011):  # through the axis, and a chord off it
+            side = np.array([-axis[1], axis[0], 0.0]) * shift
+            p1, p2 = side - 0.014 * axis, side + 0.014 * axis
+            grasp = {"p1": p1, "p2": p2, "axis": axis}
+            got = jaw_profiles(mesh_mm, grasp, force, up=up, pad=pad, closing=closing, units="mm")
+            press = WinklerPress(closing=closing)
+            for prof, point, approach in zip(got, (p1, p2), (axis, -axis), strict=True):
+                want = checked_jaw_profile(
+                    reach_profile(mesh, point, approach, up, pad=pad, press=press),
+                    point,
+                    approach,
+                    force,
+                    pad,
+                )
+                for name in ("centers", "normals", "areas", "pressures"):
+                    assert np.array_equal(getattr(prof, name), getattr(want, name)), name
+                assert prof.length_scale == want.length_scale
+                assert abs(prof.normal_wrench[:3] @ axis) == pytest.approx(force, rel=1e-12)
+    grasp = {"p1": -0.014 * axis, "p2": 0.014 * axis, "axis": axis}
+    with pytest.raises(ValueError, match="up must not be parallel to the approach"):
+        jaw_profiles(mesh, grasp, 10.0, up=axis)
+    with pytest.raises(ValueError, match="covers no part of the object"):
+        jaw_profiles(mesh, {"p1": grasp["p1"] + 0.3, "p2": grasp["p2"] + 0.3, "axis": axis}, 10.0)
+    with pytest.raises(ValueError, match="pad must be the jaw face"):
+        jaw_profiles(mesh, grasp, 10.0, pad=(0.02,))

@@ -2,6 +2,7 @@
 brute-force test of every point), and the run concatenation equals a loop of aranges."""
 
 import numpy as np
+import pytest
 from scipy.spatial.transform import Rotation
 
 from workbench.sources.surface_index import SurfaceIndex, concat_runs
@@ -32,5 +33,9 @@ def test_concat_runs_is_the_concatenated_aranges():
     lo = rng.integers(0, 100, 40)
     hi = lo + rng.integers(0, 6, 40)  # empty runs included
     slow = np.concatenate([np.arange(a, b) for a, b in zip(lo, hi, strict=True)])
-    np.testing.assert_array_equal(concat_runs(lo, hi), slow)
+    got = concat_runs(lo, hi)
+    assert got.dtype == np.int64
+    np.testing.assert_array_equal(got, slow)
     assert concat_runs(np.array([], int), np.array([], int)).shape == (0,)
+    with pytest.raises(ValueError, match="hi >= lo"):
+        concat_runs(hi, lo)

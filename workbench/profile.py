@@ -231,13 +231,18 @@ def _check_areas(areas: np.ndarray) -> None:
             f"({int((areas <= 0).sum())} non-positive) — drop degenerate elements "
             "(from_mesh(..., drop_degenerate=True))"
         )
+    rtol = config.TOL.degenerate_area_rtol
+    # every area above rtol x the largest is above rtol x the median (at most the largest):
+    # then no partition is needed to find the median
+    if areas.min() > rtol * areas.max():
+        return
     median_area = float(np.median(areas))
-    tiny = areas <= config.TOL.degenerate_area_rtol * median_area
+    tiny = areas <= rtol * median_area
     if tiny.any():
         i = int(np.argmax(tiny))
         raise ValueError(
             f"areas: element {i} is degenerate (area {areas[i]:.3g} <= "
-            f"{config.TOL.degenerate_area_rtol:g} x median {median_area:.3g}) — drop it "
+            f"{rtol:g} x median {median_area:.3g}) — drop it "
             "(from_mesh(..., drop_degenerate=True))"
         )
 

@@ -112,3 +112,19 @@ def _front_most(u, v, z, idx, u_lo, v_lo, cell, n_v, reach):  # noqa: PLR0913 - 
             visible[i] = z[i] <= best + reach
         start = end
     return visible
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _concat_runs(lo, hi):
+    """The integer ranges ``lo[k]:hi[k]`` (each (r,) int64, ``hi >= lo``) one after another, as
+    one (Σ (hi − lo),) int64 array."""
+    n = 0
+    for k in range(lo.shape[0]):
+        n += hi[k] - lo[k]
+    out = np.empty(n, dtype=np.int64)
+    m = 0
+    for k in range(lo.shape[0]):
+        for i in range(lo[k], hi[k]):
+            out[m] = i
+            m += 1
+    return out

@@ -29,6 +29,7 @@ __all__ = [
     "check_source_force",
     "checked_jaw_profile",
     "jaw_frame",
+    "placed_jaw_profile",
     "with_axis_force",
 ]
 
@@ -241,6 +242,14 @@ def checked_jaw_profile(
     if not isinstance(prof, ContactProfile):
         raise ValueError(f"profiles must be ContactProfile objects, one per jaw; got {type(prof).__name__}")
     check_pad(pad)
+    return placed_jaw_profile(prof, point, approach, force, pad)
+
+
+def placed_jaw_profile(
+    prof: ContactProfile, point: np.ndarray, approach: np.ndarray, force: float, pad: tuple[float, float]
+) -> ContactProfile:
+    """:func:`checked_jaw_profile` of a ContactProfile ``prof`` and a ``pad`` already checked
+    (:func:`check_pad`): its place at the jaw and its push checked, scaled to ``force`` [N]."""
     check_jaw_position(prof, point, approach, pad)
     # the jaw pushes the object along its approach: −Σ p a n · approach > 0
     push = float(prof.normal_wrench[:3] @ approach)

@@ -30,7 +30,7 @@ from ..profile import ContactProfile
 from ._kernels import _elements_may_touch, _faces_may_overlap, _front_most
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
-from .jaws import check_grasp, check_jaw_force, check_pad, checked_jaw_profile, jaw_frame
+from .jaws import check_grasp, check_jaw_force, check_pad, jaw_frame, placed_jaw_profile
 from .pad_patch import PadPatch
 from .surface_index import SurfaceIndex, concat_runs
 
@@ -138,6 +138,17 @@ def reach_profile(
     press = checked_group(press, WinklerPress, "press")
     win = _check_window(press.window, press.depth_window)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", allow_scale=allow_scale, fix=MESH_UNIT_FIX)
+    _check_across(a, u, approach, up)
+    checked = _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
+    out = _reach(mesh, center, approach, up, checked)
+    if isinstance(out, str):
+        raise ValueError(out)
+    return out
+
+
+def _check_across(a: np.ndarray, u: np.ndarray, approach, up) -> None:
+    """ValueError unless the unit ``up`` ``u`` (3,) crosses the unit ``approach`` ``a`` (3,)
+    (``approach`` and ``up`` as the caller gave them, for the message)."""
     if np.linalg.norm(np.cross(a, u)) < 1e-9:
         across = tuple(int(k == np.argmin(np.abs(a))) for k in range(3))  # the axis least along a
         raise ValueError(
@@ -145,11 +156,6 @@ def reach_profile(
             f"part of up normal to approach); got up {np.asarray(up, float).tolist()} and approach "
             f"{np.asarray(approach, float).tolist()} — pass an up across the approach, e.g. {across}"
         )
-    checked = _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
-    out = _reach(mesh, center, approach, up, checked)
-    if isinstance(out, str):
-        raise ValueError(out)
-    return out
 
 
 def pad_profile(
@@ -534,7 +540,8 @@ def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None =
     pre = _elements_may_touch(
         cen, normal, area, rows, c, np.array([a, e1, e2]), box, -min_facing, config.TOL.prefilter_margin_m
     )
-    cen, normal, area = cen[pre], normal[pre], area[pre]
+    # take: the rows' copies, as indexing gives them, without its per-call cost on (m, 3)
+    cen, normal, area = cen.take(pre, axis=0), normal.take(pre, axis=0), area.take(pre)
     rel = cen - c
     u, v, z = rel @ e1, rel @ e2, rel @ a
     facing = normal @ a < -min_facing
@@ -582,8 +589,16 @@ def jaw_profiles(
     check_pad(pad)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
     press = WinklerPress(closing=closing)
+    u = _check_direction(up, "up", "the pad's length direction, not parallel to approach, e.g. (0, 0, 1)")
+    _check_across(axis, u, axis, up)
+    # what reach_profile and checked_jaw_profile would check again for each jaw is checked once
+    # above (the grasp's points are finite, its axis a unit vector); the press is theirs
+    win = _check_window(press.window, press.depth_window)
+    checked = _Press(pad, None, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
     out = []
     for point, approach in ((p1, axis), (p2, -axis)):
-        prof = reach_profile(mesh, point, approach, up, pad=pad, press=press, allow_scale=allow_scale)
-        out.append(checked_jaw_profile(prof, point, approach, force, pad))
+        prof = _reach(mesh, point, approach, up, checked)
+        if isinstance(prof, str):
+            raise ValueError(prof)
+        out.append(placed_jaw_profile(prof, point, approach, force, pad))
     return out

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._kernels import _concat_runs
+
 __all__ = ["SurfaceIndex", "concat_runs"]
 
 
@@ -78,8 +80,9 @@ def concat_runs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """The integer ranges ``lo[k]:hi[k]`` (each (r,), ``hi >= lo``) concatenated in order, as one
     (Σ (hi − lo),) int64 array — ``np.concatenate([np.arange(a, b) for a, b in zip(lo, hi)])``
     without the Python loop."""
-    lo, hi = np.asarray(lo, np.int64), np.asarray(hi, np.int64)
-    n = hi - lo
-    # each position's offset into its run, added to its position in the output
-    shift = np.repeat(lo - np.r_[0, np.cumsum(n)[:-1]], n)
-    return shift + np.arange(n.sum(), dtype=np.int64)
+    lo, hi = np.ascontiguousarray(lo, np.int64), np.ascontiguousarray(hi, np.int64)
+    if lo.shape != hi.shape or lo.ndim != 1 or (hi < lo).any():
+        raise ValueError(
+            f"concat_runs takes two (r,) integer arrays with hi >= lo; got shapes {lo.shape} and {hi.shape}"
+        )
+    return _concat_runs(lo, hi)
