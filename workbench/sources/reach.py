@@ -135,12 +135,23 @@ def reach_profile(
     poly = None if outline is None else as_polygon(outline, "outline (the pad in jaw coordinates e1, e2)")
     if poly is None:
         check_pad(pad)
-    press = checked_group(press, WinklerPress, "press")
-    win = _check_window(press.window, press.depth_window)
+    checked = _checked_press(pad, poly, press)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", allow_scale=allow_scale, fix=MESH_UNIT_FIX)
     _check_across(a, u, approach, up)
-    checked = _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
-    out = _reach(mesh, center, approach, up, checked)
+    return _profile(mesh, center, approach, up, checked)
+
+
+def _checked_press(pad, poly, press: WinklerPress | None) -> _Press:
+    """The :class:`_Press` of ``press`` (None: a :class:`WinklerPress` of defaults; else checked
+    to be one) with the footprint ``pad`` (``poly`` None) or ``poly``, both checked already."""
+    press = checked_group(press, WinklerPress, "press")
+    win = _check_window(press.window, press.depth_window)
+    return _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
+
+
+def _profile(mesh, center, approach, up, press: _Press) -> ContactProfile:
+    """:func:`_reach`'s profile on checked input, or ValueError saying why the pad touches nothing."""
+    out = _reach(mesh, center, approach, up, press)
     if isinstance(out, str):
         raise ValueError(out)
     return out
@@ -588,17 +599,12 @@ def jaw_profiles(
     check_jaw_force(force)
     check_pad(pad)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", units=units, allow_scale=allow_scale)
-    press = WinklerPress(closing=closing)
+    checked = _checked_press(pad, None, WinklerPress(closing=closing))
     u = _check_direction(up, "up", "the pad's length direction, not parallel to approach, e.g. (0, 0, 1)")
     _check_across(axis, u, axis, up)
     # what reach_profile and checked_jaw_profile would check again for each jaw is checked once
-    # above (the grasp's points are finite, its axis a unit vector); the press is theirs
-    win = _check_window(press.window, press.depth_window)
-    checked = _Press(pad, None, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
-    out = []
-    for point, approach in ((p1, axis), (p2, -axis)):
-        prof = _reach(mesh, point, approach, up, checked)
-        if isinstance(prof, str):
-            raise ValueError(prof)
-        out.append(placed_jaw_profile(prof, point, approach, force, pad))
-    return out
+    # above (the grasp's points are finite, its axis a unit vector)
+    return [
+        placed_jaw_profile(_profile(mesh, point, approach, up, checked), point, approach, force, pad)
+        for point, approach in ((p1, axis), (p2, -axis))
+    ]
