@@ -340,14 +340,17 @@ def frame_coordinates(points, c, frame):
 
 
 def faces_may_overlap(V, F, c, frame, box, tol):
-    """Faces whose (u, v, z) bounding box meets ``box`` widened by ``tol``: one face at a time."""
+    """Faces whose (u, v, z) bounding box meets ``box`` widened by ``tol``, and whether each meets
+    it narrowed by ``tol``: one face at a time."""
     uvz = frame_coordinates(V, c, frame)
-    out = []
+    out, sure = [], []
     for f, tri in enumerate(F):
         p = uvz[tri]
-        if all(p[:, k].min() <= box[2 * k + 1] + tol and p[:, k].max() >= box[2 * k] - tol for k in range(3)):
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        if all(lo[k] <= box[2 * k + 1] + tol and hi[k] >= box[2 * k] - tol for k in range(3)):
             out.append(f)
-    return np.array(out, dtype=np.int64)
+            sure.append(all(lo[k] <= box[2 * k + 1] - tol and hi[k] >= box[2 * k] + tol for k in range(3)))
+    return np.array(out, dtype=np.int64), np.array(sure, dtype=bool)
 
 
 def elements_may_touch(cen, nrm, area, rows, c, frame, box, facing_max, tol):  # noqa: PLR0913 - the kernel's arguments

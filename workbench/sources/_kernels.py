@@ -19,8 +19,10 @@ from ..config import NUMBA_FLAGS_IEEE
 
 @njit(**NUMBA_FLAGS_IEEE)
 def _faces_may_overlap(V, F, c, frame, box, tol):
-    """Ascending indices (k,) of the faces ``F`` (f, 3) of vertices ``V`` (n, 3) [m] whose
-    bounding box in the frame may overlap ``box`` (each bound widened by ``tol`` [m])."""
+    """``(faces, sure)``: the ascending indices (k,) of the faces ``F`` (f, 3) of vertices ``V``
+    (n, 3) [m] whose bounding box in the frame may overlap ``box`` (each bound widened by ``tol``
+    [m]), and (k,) bool, True for those that overlap it with every bound narrowed by ``tol``
+    (which pass the exact test whatever the round-off of their coordinates below ``tol``)."""
     n = V.shape[0]
     uvz = np.empty((n, 3))
     for i in range(n):
@@ -30,18 +32,24 @@ def _faces_may_overlap(V, F, c, frame, box, tol):
             r = frame[(k + 1) % 3]
             uvz[i, k] = rx * r[0] + ry * r[1] + rz * r[2]
     out = np.empty(F.shape[0], dtype=np.int64)
+    sure = np.empty(F.shape[0], dtype=np.bool_)
     m = 0
     for f in range(F.shape[0]):
         ok = True
+        inner = True
         for k in range(3):
             p, q, s = uvz[F[f, 0], k], uvz[F[f, 1], k], uvz[F[f, 2], k]
-            if min(p, min(q, s)) > box[2 * k + 1] + tol or max(p, max(q, s)) < box[2 * k] - tol:
+            lo, hi = min(p, min(q, s)), max(p, max(q, s))
+            if lo > box[2 * k + 1] + tol or hi < box[2 * k] - tol:
                 ok = False
                 break
+            if lo > box[2 * k + 1] - tol or hi < box[2 * k] + tol:
+                inner = False
         if ok:
             out[m] = f
+            sure[m] = inner
             m += 1
-    return out[:m]
+    return out[:m], sure[:m]
 
 
 @njit(**NUMBA_FLAGS_IEEE)

@@ -138,7 +138,8 @@ def reach_profile(
     checked = _checked_press(pad, poly, press)
     mesh = closed_mesh(mesh, "mesh passed to reach_profile", allow_scale=allow_scale, fix=MESH_UNIT_FIX)
     _check_across(a, u, approach, up)
-    return _profile(mesh, center, approach, up, checked)
+    frame = jaw_frame(approach, up)
+    return _profile(mesh, c, frame, checked, _fine_surface(mesh, checked.max_edge, build=False))
 
 
 def _checked_press(pad, poly, press: WinklerPress | None) -> _Press:
@@ -149,9 +150,9 @@ def _checked_press(pad, poly, press: WinklerPress | None) -> _Press:
     return _Press(pad, poly, win, press.window is not None, press.closing, press.stiffness, press.max_edge)
 
 
-def _profile(mesh, center, approach, up, press: _Press) -> ContactProfile:
+def _profile(mesh, center, frame, press: _Press, fine) -> ContactProfile:
     """:func:`_reach`'s profile on checked input, or ValueError saying why the pad touches nothing."""
-    out = _reach(mesh, center, approach, up, press)
+    out = _reach(mesh, center, frame, press, fine)
     if isinstance(out, str):
         raise ValueError(out)
     return out
@@ -335,12 +336,13 @@ class _Press(NamedTuple):
     max_edge: float
 
 
-def _reach(mesh, center, approach, up, press: _Press):
-    """The profile of :func:`reach_profile` on checked input (``press``), or why the pad touches
-    nothing (str)."""
+def _reach(mesh, c, frame, press: _Press, fine):
+    """The profile of :func:`reach_profile` on checked input: the jaw at ``c`` (3,) [m] with
+    ``frame`` (a, e1, e2) (:func:`~.jaws.jaw_frame`), the pad ``press``, and the mesh's cached
+    :func:`_fine_surface` ``fine`` (None: the faces near the pad are refined here); or why the
+    pad touches nothing (str)."""
     pad, poly, window, max_edge = press.pad, press.poly, press.window, press.max_edge
-    a, e1, e2 = jaw_frame(approach, up)
-    c = np.asarray(center, float)
+    a, e1, e2 = frame
     if poly is None:
         (u_lo, v_lo), (u_hi, v_hi) = (-pad[0] / 2, -pad[1] / 2), (pad[0] / 2, pad[1] / 2)
     else:
@@ -349,16 +351,21 @@ def _reach(mesh, center, approach, up, press: _Press):
     V, F = np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64)
     # faces whose bounding box (in the jaw frame) overlaps the footprint's and the depth
     # window: a large face can cover the pad with no vertex inside it (a box's side, a
-    # coarse cylinder), so vertices alone would miss it.  The compiled pass keeps a superset;
-    # the exact test below decides on it alone
+    # coarse cylinder), so vertices alone would miss it.  The compiled pass keeps a superset
+    # and marks the faces inside by more than its margin (far more than round-off), which pass
+    # the exact test below; that test judges the rest
     m2 = 2 * max_edge
     box = np.array([u_lo - m2, u_hi + m2, v_lo - m2, v_hi + m2, lo, hi])
-    cand = _faces_may_overlap(V, F, c, np.array([a, e1, e2]), box, config.TOL.prefilter_margin_m)
-    rel = V[F[cand].ravel()] - c
-    fu, fv, fz = ((rel @ e).reshape(-1, 3) for e in (e1, e2, a))  # (k, 3) each
-    near = (fu.min(1) <= u_hi + 2 * max_edge) & (fu.max(1) >= u_lo - 2 * max_edge)
-    near &= (fv.min(1) <= v_hi + 2 * max_edge) & (fv.max(1) >= v_lo - 2 * max_edge)
-    near &= (fz.min(1) <= hi) & (fz.max(1) >= lo)
+    cand, sure = _faces_may_overlap(V, F, c, np.array([a, e1, e2]), box, config.TOL.prefilter_margin_m)
+    near = sure.copy()
+    edge = np.flatnonzero(~sure)
+    if len(edge):
+        rel = V[F[cand[edge]].ravel()] - c
+        fu, fv, fz = ((rel @ e).reshape(-1, 3) for e in (e1, e2, a))  # (k, 3) each
+        ok = (fu.min(1) <= box[1]) & (fu.max(1) >= box[0])
+        ok &= (fv.min(1) <= box[3]) & (fv.max(1) >= box[2])
+        ok &= (fz.min(1) <= hi) & (fz.max(1) >= lo)
+        near[edge] = ok
     near_faces = cand[near]
     what = f"the pad footprint {pad} m" if poly is None else "the pad outline"
     if len(near_faces) == 0:
@@ -370,7 +377,6 @@ def _reach(mesh, center, approach, up, press: _Press):
             f"within [{lo:.4g}, {hi:.4g}] m along the approach {np.round(a, 3).tolist()}: "
             + ("check center, approach (into the object) and units" if far is None else f"center {far}")
         )
-    fine = _fine_surface(mesh, max_edge, build=False)
     if fine is None:
         cen, normal, area, _ = _fine_faces(V, F[near_faces], max_edge)
         rows = None
@@ -521,11 +527,21 @@ def _strip_cut(A, B, C, n, q):
 def _press(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None = None):
     """The Winkler pad ``press`` pressed on the fine faces (``cen``, ``normal``, ``area``; their
     ``rows`` only, :func:`_patch`) from ``c`` (3,) along ``frame[0]`` to ``press.closing`` past
-    first touch: the rest of :func:`_reach`; or why it touches nothing (str)."""
-    patch = _patch(cen, normal, area, c, frame, press, rows)
-    if isinstance(patch, str):
-        return patch
-    return patch.profile(press.closing)
+    first touch: the rest of :func:`_reach`; or why it touches nothing (str).
+
+    ``PadPatch(...).profile(press.closing)`` of :func:`_patch`'s patch, its elements taken once."""
+    seen = _visible(cen, normal, area, c, frame, press, rows)
+    if isinstance(seen, str):
+        return seen
+    cen, normal, area, z, vis, z0 = seen
+    d = z0 + press.closing - z[vis]
+    sel = d > 0
+    if not sel.any():
+        return None
+    keep = vis[sel]
+    return ContactProfile(
+        cen.take(keep, axis=0), normal.take(keep, axis=0), area.take(keep), press.stiffness * d[sel]
+    )
 
 
 def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None = None) -> PadPatch | str:
@@ -533,7 +549,19 @@ def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None =
     ``normal``, ``area``; of those the ascending indices ``rows`` (m,) only, None: all) from
     ``c`` (3,) along ``frame[0]`` — the front-most surface facing it inside its footprint — or
     why there is none (str)."""
-    pad, poly, window, filter_window, _, stiffness, max_edge = press
+    seen = _visible(cen, normal, area, c, frame, press, rows)
+    if isinstance(seen, str):
+        return seen
+    cen, normal, area, z, vis, z0 = seen
+    return PadPatch(cen[vis], normal[vis], area[vis], z[vis], z0, frame[0], press.stiffness)
+
+
+def _visible(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None):
+    """What :func:`_patch` reaches: ``(cen, normal, area, z, vis, z0)`` — the candidate elements'
+    arrays (k, 3), (k, 3), (k,), their distance ``z`` (k,) [m] along ``frame[0]`` from ``c``, the
+    ascending indices ``vis`` into them of the front-most surface facing the pad inside its
+    footprint, and its first touch ``z0`` [m] (the least ``z[vis]``) — or why there is none (str)."""
+    pad, poly, window, filter_window, _, _, max_edge = press
     a, e1, e2 = frame
     if poly is None:
         (u_lo, v_lo), (u_hi, v_hi) = (-pad[0] / 2, -pad[1] / 2), (pad[0] / 2, pad[1] / 2)
@@ -572,8 +600,8 @@ def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None =
     # front-most surface per footprint bin (the pad cannot reach behind the first surface);
     # the bins tile the footprint's bounding box
     visible = _front_most(u, v, z, idx, u_lo, v_lo, max_edge, int((v_hi - v_lo) / max_edge) + 2, 2 * max_edge)
-    z0 = z[visible].min()  # first touch
-    return PadPatch(cen[visible], normal[visible], area[visible], z[visible], float(z0), a, stiffness)
+    vis = np.flatnonzero(visible)
+    return cen, normal, area, z, vis, float(z[vis].min())  # z0: the first touch
 
 
 def jaw_profiles(
@@ -603,8 +631,12 @@ def jaw_profiles(
     u = _check_direction(up, "up", "the pad's length direction, not parallel to approach, e.g. (0, 0, 1)")
     _check_across(axis, u, axis, up)
     # what reach_profile and checked_jaw_profile would check again for each jaw is checked once
-    # above (the grasp's points are finite, its axis a unit vector)
+    # above (the grasp's points are finite, its axis a unit vector), and the mesh looked up once
+    fine = _fine_surface(mesh, checked.max_edge, build=False)
+    a, e1, e2 = jaw_frame(axis, up)
+    # jaw 2's frame, jaw_frame(-axis, up), is jaw 1's with the approach and e1 negated: negation
+    # is exact in every product and sum of jaw_frame, so these are its very numbers
     return [
-        placed_jaw_profile(_profile(mesh, point, approach, up, checked), point, approach, force, pad)
-        for point, approach in ((p1, axis), (p2, -axis))
+        placed_jaw_profile(_profile(mesh, point, frame, checked, fine), point, approach, force, pad)
+        for point, approach, frame in ((p1, axis, (a, e1, e2)), (p2, -axis, (-a, -e1, e2)))
     ]
