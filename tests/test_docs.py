@@ -254,7 +254,7 @@ _LAYERS = {
         "quiet_log"
     ),
     "code keys": "code_key",
-    "core math": "profile twists twists_author _kernels wrench pressure coarsen",
+    "core math": "profile twists twists_author _kernels _row_kernels wrench pressure coarsen",
     "fem": "fem",
     "sources": "sources",
     "limit surfaces": "limit_surface",

@@ -166,6 +166,10 @@ _TESTED_ELSEWHERE = {
         None,
         "as workbench._kernels (the quartic's: tests/test_quartic.py)",
     ),
+    "workbench._row_kernels": (
+        "test_row_kernels.py",
+        "each pass against the NumPy expression it redoes, to the last bit, and a profile built on them",
+    ),
     "workbench.sources._kernels": (
         "test_reach_kernels.py",
         "the REACH press's passes, each against tests/naive.py and the press against its NumPy algorithm",

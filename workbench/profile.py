@@ -32,6 +32,14 @@ from typing import Any
 import numpy as np
 
 from . import config
+from ._row_kernels import (
+    _column_ranges,
+    _column_sums,
+    _row_norms,
+    _rows_minus,
+    _rows_over,
+    _weighted_column_sums,
+)
 from .units import check_extent, length_factor
 
 __all__ = ["ContactProfile", "ProfileSource", "length_factor", "pca_box_longest_side"]
@@ -70,11 +78,11 @@ def pca_box_longest_side(points: np.ndarray) -> float:
 def _pca_box(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The points (m, 3) less their mean, their singular values (k,), principal axes (k, 3) and
     the sides (k,) of their box along those axes."""
-    pts = np.asarray(points, dtype=np.float64)
-    centered = pts - pts.mean(axis=0)
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    # pts - pts.mean(axis=0), and the extent's max(0) - min(0), to the last bit
+    centered = _rows_minus(pts, _column_sums(pts) / len(pts))
     _, s, axes = np.linalg.svd(centered, full_matrices=False)
-    extent = centered @ axes.T
-    return centered, s, axes, extent.max(axis=0) - extent.min(axis=0)
+    return centered, s, axes, _column_ranges(centered @ axes.T)
 
 
 def _longest_side(centered: np.ndarray, s: np.ndarray, axes: np.ndarray, sides: np.ndarray) -> float:
@@ -187,7 +195,7 @@ def _as_float_array(name: str, value: Any, shape_tail: tuple[int, ...]) -> np.nd
     if np.asarray(value).dtype == np.bool_:  # True is not 1 Pa or 1 m: a mask passed by mistake
         raise ValueError(f"{name} must be a numeric array; got booleans (a mask?) — pass the values")
     try:
-        arr = np.array(value, dtype=np.float64)  # copy: profiles own their data
+        arr = np.array(value, dtype=np.float64, order="C")  # copy: profiles own their data
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a numeric array; got {type(value).__name__} ({exc})") from None
     expected_ndim = 1 + len(shape_tail)
@@ -264,7 +272,7 @@ def _check_pressures(pressures: np.ndarray) -> None:
 def _unit_normals(normals: np.ndarray, normalize_normals: bool) -> np.ndarray:
     """The normals (n, 3) divided by their lengths: ValueError for a zero one, or one off unit
     length by more than ``config.TOL.normal_unit_atol`` unless ``normalize_normals``."""
-    lengths = np.linalg.norm(normals, axis=1)
+    lengths = _row_norms(normals)  # np.linalg.norm(normals, axis=1) to the last bit
     if (lengths == 0).any():
         i = int(np.argmin(lengths))
         raise ValueError(f"normals must be non-zero unit vectors; element {i} has a zero normal")
@@ -276,7 +284,7 @@ def _unit_normals(normals: np.ndarray, normalize_normals: bool) -> np.ndarray:
             f"({int(off.sum())} off by > {config.TOL.normal_unit_atol:g}) "
             "— pass normalize_normals=True to rescale them"
         )
-    return normals / lengths[:, None]
+    return _rows_over(normals, lengths)
 
 
 #: what a profile's geometry is: its arrays and what is derived from them alone
@@ -430,7 +438,7 @@ class ContactProfile:
 
         from .plausible import ImplausibleWarning
 
-        mean = (self.forces[:, None] * self.normals).sum(axis=0)
+        mean = _weighted_column_sums(self.forces, self.normals)
         norm = float(np.linalg.norm(mean))
         fix = "fix the winding (trimesh.repair.fix_normals) or pass the normals outward from the object"
         if norm <= 64 * np.finfo(float).eps * self.F:  # zero up to summation round-off
@@ -477,7 +485,7 @@ class ContactProfile:
     @cached_property
     def pressure_center(self) -> np.ndarray:
         """(3,) float: pressure center ``o``, Eq. 3.7."""
-        o = (self.forces[:, None] * self.centers).sum(axis=0) / self.F
+        o = _weighted_column_sums(self.forces, self.centers) / self.F  # (f[:, None] * c).sum(0) / F
         o.flags.writeable = False
         return o
 
@@ -514,7 +522,7 @@ class ContactProfile:
     @cached_property
     def _soa(self) -> tuple[np.ndarray, ...]:
         """Kernel layout: contiguous ``rx, ry, rz, nx, ny, nz, wgt`` (r = c - o)."""
-        r = self.centers - self.pressure_center
+        r = _rows_minus(self.centers, self.pressure_center)
         cols = [np.ascontiguousarray(r[:, j]) for j in range(3)]
         cols += [np.ascontiguousarray(self.normals[:, j]) for j in range(3)]
         cols.append(np.ascontiguousarray(self.forces))
