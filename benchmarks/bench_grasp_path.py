@@ -4,9 +4,14 @@ fit, linearisation) -> the verdict (Eq. 2.100) -> the minimal force (Eq. 4.4) ->
 over N_r = 10 perturbed samples (:func:`workbench.grasp.evaluate.evaluate_grasp`'s own stage
 timings).
 
-One process, one model at a time, each grasp with a fresh limit-surface cache (what a user
-evaluating one grasp pays), medians over the grasps after a warm-up grasp.  The build of each
-model is also split by cProfile into the library functions it spends its time in.  The mesh: the
+One process on one core (Numba's threads and BLAS limited to one: the issue's per-grasp targets
+are one core's), one model at a time, each grasp with a fresh limit-surface cache (what a user
+evaluating one grasp pays), medians over the grasps after a warm-up grasp, timed with no profiler
+attached.  A second pass over the same grasps splits each model by cProfile into the library
+functions it spends its time in.  Beside each model: the 6DFW element-twist pairs its grasps
+evaluate (counted at the kernel's launch) and their time at the arithmetic limit of one core
+(this machine's measured FMA and sqrt/divide rates, ``bench_wrench.machine_roofline`` on one
+thread) — the bound of a contact model built from exact 6DFW samples.  The mesh: the
 thesis bottle ``0014_bottle-gen_bottle_100x030x030-03.obj`` when the data folder is beside the
 checkout (the issue's measurement), else an 80 × 50 × 20 mm box; 20 N a jaw, μ 0.3, 0.2 kg at the
 filled object's centre.  Beside: this machine's measured FMA throughput.
@@ -61,7 +66,42 @@ def _functions(stats: pstats.Stats, n: int, top: int = 8) -> list[dict]:
     return [{"function": where, "ms_per_grasp": 1e3 * tt / n} for tt, where in rows[:top]]
 
 
+class _PairCount:
+    """Counts the element-twist pairs of the 6DFW kernel's launches (``workbench.wrench``)."""
+
+    def __init__(self) -> None:
+        import workbench.wrench as wrench
+
+        self.module, self.launch, self.pairs = wrench, wrench.launch, 0
+
+    def __enter__(self) -> _PairCount:
+        def counted(kernel, work, *args):
+            if kernel is self.module._kernels._fw_segments:
+                self.pairs += work
+            return self.launch(kernel, work, *args)
+
+        self.module.launch = counted
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.module.launch = self.launch
+
+
 def run(quick: bool) -> dict:
+    from numba import get_num_threads, set_num_threads
+    from threadpoolctl import threadpool_limits
+
+    threads = get_num_threads()
+    set_num_threads(1)
+    try:
+        with threadpool_limits(1):
+            return _run(quick)
+    finally:
+        set_num_threads(threads)
+
+
+def _run(quick: bool) -> dict:
+    machine = machine_roofline(quick=True)  # one thread: the run's
     mesh, name = _mesh()
     n = 6 if quick else 20
     grasps = antipodal_grasps(
@@ -80,28 +120,45 @@ def run(quick: bool) -> dict:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ImplausibleWarning)
             one(grasps[0])  # warm-up: JIT, the model's first fit
+            timings = [one(g).timings_ms for g in grasps[1:]]
+            with _PairCount() as count:
+                nominal_only = ModelOptions(m, 0.3, min_force=True)
+                for g in grasps[1:]:
+                    one(g, nominal_only)
             prof = cProfile.Profile()
             prof.enable()
-            timings = [one(g).timings_ms for g in grasps[1:]]
+            for g in grasps[1:]:
+                one(g)
             prof.disable()
         stage = {s: float(np.median([t.get(s, 0.0) for t in timings])) for s in STAGES}
         nominal = [sum(t.get(s, 0.0) for s in STAGES[:4]) for t in timings]
+        pairs = count.pairs / len(timings)
+        bound_ms = pairs * machine["arith_limit_ns_per_pair"] * 1e-6
         out[m] = {
             "stage_ms_median": stage,
             "end_to_end_ms_median": float(np.median(nominal)),
             "with_q_robust_ms_median": float(np.median([sum(t.values()) for t in timings])),
             "target_ms": TARGET_MS[m],
+            "fw_pairs_per_grasp": pairs,
+            "fw_bound_ms": bound_ms,
+            "contact_model_over_fw_bound": stage["contact_model"] / bound_ms if bound_ms else None,
             "top_functions": _functions(pstats.Stats(prof), len(timings)),
         }
-        print(f"{m:13s} end to end {np.median(nominal):7.1f} ms  {stage}", flush=True)
+        print(
+            f"{m:13s} end to end {np.median(nominal):7.1f} ms  6DFW bound {bound_ms:6.1f} ms  {stage}",
+            flush=True,
+        )
     return {
-        "what": "ms per grasp, one process, one model at a time with a fresh limit-surface cache: "
-        "mesh + antipodal grasp -> REACH patches -> contact sets -> verdict -> minimal force "
-        "(end_to_end), then Eq. 2.101's q over N_r = 10 rigid perturbed samples; medians after a warm-up",
+        "what": "ms per grasp, one process on one core (Numba and BLAS on one thread), one model at a "
+        "time with a fresh limit-surface cache: mesh + antipodal grasp -> REACH patches -> contact sets "
+        "-> verdict -> minimal force (end_to_end), then Eq. 2.101's q over N_r = 10 rigid perturbed "
+        "samples; medians after a warm-up, no profiler attached. fw_bound_ms: the grasp's 6DFW "
+        "element-twist pairs (nominal contact, counted at the kernel's launch) at one core's "
+        "arithmetic limit per pair (machine.arith_limit_ns_per_pair, measured on one thread)",
         "mesh": name,
         "n_grasps_timed": len(grasps) - 1,
         "models": out,
-        "machine": machine_roofline(quick=True),
+        "machine": machine,
         "versions": versions(),
         "code_revision": code_revision(),
     }
