@@ -111,16 +111,27 @@ def _run(quick: bool) -> dict:
     task = Task(mass=0.2, com=tuple(mesh.convex_hull.center_mass))
     jaws = Jaws(force=20.0)
     out: dict = {}
+
+    def timed(m: str) -> list[dict]:
+        """Each grasp's stage timings [ms] of model ``m`` after a warm-up grasp."""
+        opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ImplausibleWarning)
+            evaluate_grasp(mesh, grasps[0], task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
+            return [
+                evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache()).timings_ms
+                for g in grasps[1:]
+            ]
+
     for m in MODELS:
         opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10))
 
         def one(g, opts=opts):
             return evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
 
+        timings = timed(m)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ImplausibleWarning)
-            one(grasps[0])  # warm-up: JIT, the model's first fit
-            timings = [one(g).timings_ms for g in grasps[1:]]
             with _PairCount() as count:
                 nominal_only = ModelOptions(m, 0.3, min_force=True)
                 for g in grasps[1:]:
@@ -148,11 +159,18 @@ def _run(quick: bool) -> dict:
             f"{m:13s} end to end {np.median(nominal):7.1f} ms  6DFW bound {bound_ms:6.1f} ms  {stage}",
             flush=True,
         )
+    # the same models again in the reverse order: a model's time must not depend on what ran before
+    for m in reversed(MODELS):
+        again = float(np.median([sum(t.get(s, 0.0) for s in STAGES[:4]) for t in timed(m)]))
+        out[m]["end_to_end_ms_median_reverse_order"] = again
+        out[m]["reverse_over_forward"] = again / out[m]["end_to_end_ms_median"]
+        print(f"{m:13s} in reverse order {again:7.1f} ms", flush=True)
     return {
         "what": "ms per grasp, one process on one core (Numba and BLAS on one thread), one model at a "
         "time with a fresh limit-surface cache: mesh + antipodal grasp -> REACH patches -> contact sets "
         "-> verdict -> minimal force (end_to_end), then Eq. 2.101's q over N_r = 10 rigid perturbed "
-        "samples; medians after a warm-up, no profiler attached. fw_bound_ms: the grasp's 6DFW "
+        "samples; medians after a warm-up, no profiler attached; end_to_end_ms_median_reverse_order: the "
+        "models run again in the reverse order. fw_bound_ms: the grasp's 6DFW "
         "element-twist pairs (nominal contact, counted at the kernel's launch) at one core's "
         "arithmetic limit per pair (machine.arith_limit_ns_per_pair, measured on one thread)",
         "mesh": name,
