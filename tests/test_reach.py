@@ -216,3 +216,50 @@ def test_jaw_profiles_are_reach_profile_then_checked_jaw_profile_bit_for_bit():
         jaw_profiles(mesh, {"p1": grasp["p1"] + 0.3, "p2": grasp["p2"] + 0.3, "axis": axis}, 10.0)
     with pytest.raises(ValueError, match="pad must be the jaw face"):
         jaw_profiles(mesh, grasp, 10.0, pad=(0.02,))
+
+
+def _box_grasp():
+    import trimesh
+
+    box = trimesh.creation.box((0.06, 0.05, 0.04))
+    return box, {"p1": np.array([-0.03, 0, 0]), "p2": np.array([0.03, 0, 0]), "axis": np.array([1.0, 0, 0])}
+
+
+def test_an_up_within_a_degree_of_the_approach_is_warned_about():
+    # a new user's trial: up 1e-9 rad from the axis turned the pad by its last digits (626 or
+    # 722 mm² of a 60 x 50 mm face), without a word
+    import warnings
+
+    from workbench.plausible import ImplausibleWarning
+    from workbench.sources.reach import jaw_profiles
+
+    box, g = _box_grasp()
+    for up in ((1, 1e-9, 2e-9), (1, 0, 0.017)):  # 1.1e-7 and 0.97 deg
+        with pytest.warns(ImplausibleWarning, match="deg from the approach"):
+            jaw_profiles(box, g, 10.0, up=up)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleWarning)
+        area = jaw_profiles(box, g, 10.0, up=(1, 0, 0.018))[0].areas.sum()  # 1.03 deg: no warning
+    assert area == pytest.approx(0.02 * 0.04, rel=0.03)  # the pad's 20 x 40 mm on the face
+    with pytest.raises(ValueError, match="must not be parallel"):
+        jaw_profiles(box, g, 10.0, up=(2, 0, 0))
+
+
+def test_a_millimetre_mesh_taken_for_metres_is_refused_before_it_is_refined():
+    # the same trial: allow_scale=True let a 60 mm box in millimetres through, and its 1 mm
+    # refinement asked for 61 GiB (a MemoryError); the pieces are counted first
+    import time
+
+    import trimesh
+
+    from workbench.sources.reach import jaw_profiles, reach_profile
+
+    big = trimesh.creation.box((60, 50, 40))
+    g = {"p1": np.array([-30.0, 0, 0]), "p2": np.array([30.0, 0, 0]), "axis": np.array([1.0, 0, 0])}
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"units='mm'.*larger max_edge") as err:
+        jaw_profiles(big, g, 10.0, allow_scale=True)
+    assert "config.TOL.max_sub_triangles" in str(err.value)
+    with pytest.raises(ValueError, match="max_sub_triangles"):
+        reach_profile(big, [-30.0, 0, 0], [1.0, 0, 0], allow_scale=True)
+    assert time.perf_counter() - t0 < 5.0  # refused from a count, nothing allocated

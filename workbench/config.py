@@ -524,6 +524,14 @@ class Tolerances:
     # its tests with every bound widened by this [m], then tests those exactly: far above the
     # round-off of a coordinate (~1e-17 m on a 10 cm object), so the kept ones are the same.
     prefilter_margin_m: float = _field(1e-9, _POS)
+    # A jaw's ``up`` within this angle [deg] of its approach is warned about (sources.reach): the
+    # pad's turn about the approach is then set by up's small part across it, so a slight change of
+    # up or of the axis turns the pad far (at 1e-9 rad the last digits of up decide it).
+    jaw_up_warn_deg: float = _field(1.0, _real(0.0, hi=90.0))  # 0: never warn
+    # The most sub-triangles a REACH press's refinement may make (sources.reach): ~200 bytes each
+    # while they are made; a thesis bottle at 1 mm makes at most 0.62 M, a millimetre mesh taken
+    # for metres billions (a MemoryError, not a message, without this bound).
+    max_sub_triangles: float = _field(2e7, _POS)
 
 
 TOL = Tolerances()

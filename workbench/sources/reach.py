@@ -160,13 +160,30 @@ def _profile(mesh, center, frame, press: _Press, fine) -> ContactProfile:
 
 def _check_across(a: np.ndarray, u: np.ndarray, approach, up) -> None:
     """ValueError unless the unit ``up`` ``u`` (3,) crosses the unit ``approach`` ``a`` (3,)
-    (``approach`` and ``up`` as the caller gave them, for the message)."""
-    if np.linalg.norm(np.cross(a, u)) < 1e-9:
-        across = tuple(int(k == np.argmin(np.abs(a))) for k in range(3))  # the axis least along a
+    (``approach`` and ``up`` as the caller gave them, for the message); an
+    :class:`~workbench.plausible.ImplausibleWarning` when it is within
+    ``config.TOL.jaw_up_warn_deg`` (read now) of it."""
+    sine = float(np.linalg.norm(np.cross(a, u)))
+    across = tuple(int(k == np.argmin(np.abs(a))) for k in range(3))  # the axis least along a
+    if sine < 1e-9:
         raise ValueError(
             f"up must not be parallel to the approach direction (it sets the pad's length axis e2, the "
             f"part of up normal to approach); got up {np.asarray(up, float).tolist()} and approach "
             f"{np.asarray(approach, float).tolist()} — pass an up across the approach, e.g. {across}"
+        )
+    limit = config.TOL.jaw_up_warn_deg
+    if sine < np.sin(np.radians(limit)):
+        import warnings
+
+        from ..plausible import ImplausibleWarning
+
+        warnings.warn(
+            f"up {np.asarray(up, float).tolist()} is {np.degrees(np.arcsin(sine)):.3g} deg from the approach "
+            f"{np.round(np.asarray(approach, float), 6).tolist()} (config.TOL.jaw_up_warn_deg = {limit:g}): "
+            "the pad's length axis is up's small part across the approach, so a slight change of either "
+            f"turns the pad far — pass an up across the approach, e.g. {across}",
+            ImplausibleWarning,
+            stacklevel=3,
         )
 
 
@@ -457,6 +474,8 @@ def _cut_to_size(tri: np.ndarray, max_edge: float) -> tuple[np.ndarray, np.ndarr
     cost = qs * (ns + 1) + ns - 1
     pick = cost.argmin(axis=0)
     strips = cost[pick, rows] < k * k
+    pieces = float(np.where(strips, cost[pick, rows], k * k).sum())
+    _check_pieces(pieces, len(tri), float(edge.max()) if len(tri) else 0.0, max_edge)
     whole, u, s = np.flatnonzero(k == 1), np.flatnonzero((k > 1) & ~strips), np.flatnonzero(strips)
     n, q = ns[pick, rows][s].astype(np.int64), qs[pick, rows][s].astype(np.int64)
     parts = [
@@ -469,6 +488,20 @@ def _cut_to_size(tri: np.ndarray, max_edge: float) -> tuple[np.ndarray, np.ndarr
     share = np.concatenate([p[2] for p in parts])
     order = np.argsort(parent, kind="stable")
     return sub[order], parent[order], share[order]
+
+
+def _check_pieces(pieces: float, n: int, longest: float, max_edge: float) -> None:
+    """ValueError when cutting ``n`` triangles (longest edge ``longest`` [m]) to edges <=
+    ``max_edge`` [m] would make ``pieces`` sub-triangles, more than ``config.TOL.max_sub_triangles``
+    (read now): a mesh far larger than an object, most likely in millimetres taken for metres."""
+    limit = config.TOL.max_sub_triangles
+    if pieces > limit:
+        raise ValueError(
+            f"cutting {n} faces (the longest edge {longest:.4g} m) into sub-triangles of edges <= "
+            f"{max_edge:g} m would make ~{pieces:.3g} of them, more than config.TOL.max_sub_triangles = "
+            f"{limit:.3g} (~{pieces * 200 / 1e9:.3g} GB while they are made): a mesh in millimetres taken "
+            "for metres? pass units='mm' (or mesh.apply_scale(1e-3)); or press with a larger max_edge"
+        )
 
 
 def _strip_rows(n: np.ndarray, per_strip) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
