@@ -653,7 +653,11 @@ def jaw_profiles(
     ``axis`` from jaw 1 into the object), each scaled to the reading ``force`` [N] along the
     grasp axis (:func:`~.jaws.checked_jaw_profile`).  ``units`` is the unit of
     ``mesh.vertices`` only; the grasp is in metres.  Raises ValueError when a jaw would
-    pull the object."""
+    pull the object.
+
+    Many grasps of one mesh: call :func:`fine_surface` ``(mesh, 1e-3)`` once first — each press
+    then reads the cached refinement instead of refining the faces under its pad again (the same
+    profiles; a box's large faces cost ~10x more to refine than to press)."""
     from ..units import closed_mesh
 
     p1, p2, axis = check_grasp(grasp)
