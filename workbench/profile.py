@@ -90,7 +90,7 @@ def _longest_side(centered: np.ndarray, s: np.ndarray, axes: np.ndarray, sides: 
     lam = s**2
     if lam.size < 2 or lam[0] == 0:
         return float(sides.max())
-    equal = np.abs(np.diff(lam)) <= config.TOL.pca_degenerate_rtol * lam[0]
+    equal = np.abs(lam[1:] - lam[:-1]) <= config.TOL.pca_degenerate_rtol * lam[0]  # np.diff
     if not equal.any():
         return float(sides.max())
     if equal.all() and lam.size == 3:
@@ -399,7 +399,7 @@ class ContactProfile:
         sides of the centres' PCA box (:func:`_pca_box`)."""
         n = len(self)
         sides = np.sort(pca_sides)[::-1]
-        sides = np.r_[sides, np.zeros(3 - sides.size)]
+        sides = np.concatenate([sides, np.zeros(3 - sides.size)])
         if n < 2 or not sides[0] > 0:
             return
         s1, s2 = float(sides[0]), float(sides[1])

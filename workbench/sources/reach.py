@@ -24,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import config
+from .._row_kernels import _rows_minus
 from ..groups import checked_group
 from ..plausible import check
 from ..profile import ContactProfile
@@ -614,7 +615,7 @@ def _visible(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None
     )
     # take: the rows' copies, as indexing gives them, without its per-call cost on (m, 3)
     cen, normal, area = cen.take(pre, axis=0), normal.take(pre, axis=0), area.take(pre)
-    rel = cen - c
+    rel = _rows_minus(cen, np.asarray(c, float))  # cen - c, in one pass
     u, v, z = rel @ e1, rel @ e2, rel @ a
     facing = normal @ a < -min_facing
     if poly is None:
