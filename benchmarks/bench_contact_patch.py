@@ -3,11 +3,12 @@ antipodal grasp (:func:`workbench.sources.reach.jaw_profiles`, what :func:`evalu
 from a mesh), and the grasp dataset's settled contact (both pads pressed to the force, the object
 turned until the torque balances, :func:`workbench.grasp.gripper_eval.gripper_contact`).
 
-One process, the fine surface of each mesh made once before its grasps are timed (as a sampler or
-a dataset run leaves it), medians over each mesh's grasps after a warm-up, then the median and the
-worst over the meshes.  Beside: the profiles' elements, each mesh's fine sub-triangles, and this
-machine's measured FMA throughput and copy bandwidth.  Without the data folder beside the
-checkout: an 80 × 50 × 20 mm box and a 30 mm cylinder.
+One process on one core (Numba's threads and BLAS limited to one), the fine surface of each mesh
+made once before its grasps are timed (as a sampler or a dataset run leaves it), medians over each
+mesh's grasps after a warm-up, then the median and the worst over the meshes.  Beside: the
+profiles' elements, each mesh's fine sub-triangles, and this machine's measured FMA throughput and
+copy bandwidth.  Without the data folder beside the checkout: an 80 × 50 × 20 mm box and a 30 mm
+cylinder.
 
 Writes results/benchmarks/contact_patch.json.  Run: python benchmarks/bench_contact_patch.py [--quick]
 """
@@ -71,6 +72,19 @@ def _bandwidth_gbs() -> float:
 
 
 def run(quick: bool) -> dict:
+    from numba import get_num_threads, set_num_threads
+    from threadpoolctl import threadpool_limits
+
+    threads = get_num_threads()
+    set_num_threads(1)
+    try:
+        with threadpool_limits(1):
+            return _run(quick)
+    finally:
+        set_num_threads(threads)
+
+
+def _run(quick: bool) -> dict:
     n = 6 if quick else 21
     config = dict(DEFAULT_CONFIG)
     gripper = _gripper(config)
@@ -112,9 +126,9 @@ def run(quick: bool) -> dict:
     reach = [r["reach_ms_per_grasp"] for r in rows]
     settled = [r["settled_ms_per_grasp"] for r in rows if r["settled_ms_per_grasp"] is not None]
     return {
-        "what": "ms per grasp, both jaws, one process, each mesh's fine surface made before its grasps: "
-        "REACH profiles of antipodal grasps (jaw_profiles, 20 N) and the grasp dataset's settled contact "
-        "(gripper_contact on top grasps of the mesh at rest); medians over each mesh's grasps",
+        "what": "ms per grasp, both jaws, one process on one core, each mesh's fine surface made before its "
+        "grasps: REACH profiles of antipodal grasps (jaw_profiles, 20 N) and the grasp dataset's settled "
+        "contact (gripper_contact on top grasps of the mesh at rest); medians over each mesh's grasps",
         "target_ms": TARGET_MS,
         "reach_ms_median_over_meshes": float(np.median(reach)),
         "reach_ms_worst_mesh": float(np.max(reach)),
