@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from bench_wrench import machine_roofline
+from bench_wrench import machine_roofline, on_one_core
 
 from workbench.grasp.evaluate import evaluate_grasp
 from workbench.grasp.inputs import Jaws, ModelOptions, Task
@@ -88,16 +88,7 @@ class _PairCount:
 
 
 def run(quick: bool) -> dict:
-    from numba import get_num_threads, set_num_threads
-    from threadpoolctl import threadpool_limits
-
-    threads = get_num_threads()
-    set_num_threads(1)
-    try:
-        with threadpool_limits(1):
-            return _run(quick)
-    finally:
-        set_num_threads(threads)
+    return on_one_core(_run, quick)
 
 
 def _run(quick: bool) -> dict:

@@ -95,6 +95,20 @@ def cpu_identity() -> dict:
     return {"cpu_model": model, "llvm_host_cpu": llvm.get_host_cpu_name(), "blas_kernels": blas}
 
 
+def on_one_core(fn, *args):
+    """``fn(*args)`` with Numba's threads and the BLAS limited to one: what one core does (the
+    per-grasp targets are one core's; a roofline measured inside is one core's too)."""
+    from threadpoolctl import threadpool_limits
+
+    threads = get_num_threads()
+    set_num_threads(1)
+    try:
+        with threadpool_limits(1):
+            return fn(*args)
+    finally:
+        set_num_threads(threads)
+
+
 def machine_roofline(quick: bool) -> dict:
     x = np.random.default_rng(0).random(2 * 4096)
     reps = 2000 if quick else 20000
