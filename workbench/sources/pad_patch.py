@@ -21,7 +21,24 @@ import numpy as np
 
 from ..profile import ContactProfile
 
-__all__ = ["PadPatch"]
+__all__ = ["PadPatch", "pressed_profile"]
+
+
+def pressed_profile(centers, normals, areas, z, z0: float, stiffness: float, depth: float, among=None):
+    """The :class:`~workbench.profile.ContactProfile` of a Winkler pad ``depth`` [m] past first
+    touch ``z0`` [m] on elements ``centers``, ``normals`` (m, 3), ``areas``, ``z`` (m,) (as
+    :class:`PadPatch` holds them; of those the ascending indices ``among`` only, None: all): each
+    element ``z0 + depth − z`` deep carries ``stiffness`` [Pa/m] times that; None when none is
+    in contact."""
+    idx = np.arange(len(z)) if among is None else among
+    d = z0 + depth - z[idx]
+    sel = d > 0
+    if not sel.any():
+        return None
+    keep = idx[sel]
+    return ContactProfile(
+        centers.take(keep, axis=0), normals.take(keep, axis=0), areas.take(keep), stiffness * d[sel]
+    )
 
 
 @dataclass(frozen=True)
@@ -83,8 +100,4 @@ class PadPatch:
     def profile(self, depth: float) -> ContactProfile | None:
         """The :class:`~workbench.profile.ContactProfile` of the elements in contact with the pad
         ``depth`` [m] past first touch; None when none is."""
-        d = self.z0 + depth - self.z
-        sel = d > 0
-        if not sel.any():
-            return None
-        return ContactProfile(self.centers[sel], self.normals[sel], self.areas[sel], self.stiffness * d[sel])
+        return pressed_profile(self.centers, self.normals, self.areas, self.z, self.z0, self.stiffness, depth)

@@ -32,7 +32,7 @@ from ._kernels import _elements_may_touch, _faces_may_overlap, _front_most
 from .gripper import Jaw, as_polygon, points_in_polygon
 from .jaws import check_direction as _check_direction
 from .jaws import check_grasp, check_jaw_force, check_pad, jaw_frame, placed_jaw_profile
-from .pad_patch import PadPatch
+from .pad_patch import PadPatch, pressed_profile
 from .surface_index import SurfaceIndex, concat_runs
 
 __all__ = ["WinklerPress", "fine_surface", "jaw_profiles", "pad_profile", "reach_profile"]
@@ -568,14 +568,7 @@ def _press(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None =
     if isinstance(seen, str):
         return seen
     cen, normal, area, z, vis, z0 = seen
-    d = z0 + press.closing - z[vis]
-    sel = d > 0
-    if not sel.any():
-        return None
-    keep = vis[sel]
-    return ContactProfile(
-        cen.take(keep, axis=0), normal.take(keep, axis=0), area.take(keep), press.stiffness * d[sel]
-    )
+    return pressed_profile(cen, normal, area, z, z0, press.stiffness, press.closing, among=vis)
 
 
 def _patch(cen, normal, area, c, frame, press: _Press, rows: np.ndarray | None = None) -> PadPatch | str:
@@ -658,7 +651,7 @@ def jaw_profiles(
 
     Many grasps of one mesh: call :func:`fine_surface` ``(mesh, 1e-3)`` once first — each press
     then reads the cached refinement instead of refining the faces under its pad again (the same
-    profiles; a box's large faces cost ~10x more to refine than to press)."""
+    profiles; refining a large face, a box's side, costs far more than pressing it)."""
     from ..units import closed_mesh
 
     p1, p2, axis = check_grasp(grasp)
