@@ -88,7 +88,9 @@ class _PairCount:
 
 
 def run(quick: bool) -> dict:
-    return on_one_core(_run, quick)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ImplausibleWarning)
+        return on_one_core(_run, quick)
 
 
 def _run(quick: bool) -> dict:
@@ -103,37 +105,30 @@ def _run(quick: bool) -> dict:
     jaws = Jaws(force=20.0)
     out: dict = {}
 
+    def one(g, m: str, robust: bool = True):
+        opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10) if robust else None)
+        return evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
+
     def timed(m: str) -> list[dict]:
         """Each grasp's stage timings [ms] of model ``m`` after a warm-up grasp."""
-        opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ImplausibleWarning)
-            evaluate_grasp(mesh, grasps[0], task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
-            return [
-                evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache()).timings_ms
-                for g in grasps[1:]
-            ]
+        one(grasps[0], m)
+        return [one(g, m).timings_ms for g in grasps[1:]]
+
+    def end_to_end(t: dict) -> float:
+        return sum(t.get(s, 0.0) for s in STAGES[:4])
 
     for m in MODELS:
-        opts = ModelOptions(m, 0.3, min_force=True, robust=Perturbation(n_samples=10))
-
-        def one(g, opts=opts):
-            return evaluate_grasp(mesh, g, task, jaws=jaws, options=opts, cache=LimitSurfaceCache())
-
         timings = timed(m)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ImplausibleWarning)
-            with _PairCount() as count:
-                nominal_only = ModelOptions(m, 0.3, min_force=True)
-                for g in grasps[1:]:
-                    one(g, nominal_only)
-            prof = cProfile.Profile()
-            prof.enable()
+        with _PairCount() as count:
             for g in grasps[1:]:
-                one(g)
-            prof.disable()
+                one(g, m, robust=False)
+        prof = cProfile.Profile()
+        prof.enable()
+        for g in grasps[1:]:
+            one(g, m)
+        prof.disable()
         stage = {s: float(np.median([t.get(s, 0.0) for t in timings])) for s in STAGES}
-        nominal = [sum(t.get(s, 0.0) for s in STAGES[:4]) for t in timings]
+        nominal = [end_to_end(t) for t in timings]
         pairs = count.pairs / len(timings)
         bound_ms = pairs * machine["arith_limit_ns_per_pair"] * 1e-6
         out[m] = {
@@ -152,7 +147,7 @@ def _run(quick: bool) -> dict:
         )
     # the same models again in the reverse order: a model's time must not depend on what ran before
     for m in reversed(MODELS):
-        again = float(np.median([sum(t.get(s, 0.0) for s in STAGES[:4]) for t in timed(m)]))
+        again = float(np.median([end_to_end(t) for t in timed(m)]))
         out[m]["end_to_end_ms_median_reverse_order"] = again
         out[m]["reverse_over_forward"] = again / out[m]["end_to_end_ms_median"]
         print(f"{m:13s} in reverse order {again:7.1f} ms", flush=True)
