@@ -32,6 +32,7 @@ import numpy as np
 import trimesh
 from bench_wrench import machine_roofline, on_one_core
 
+from workbench import config
 from workbench.grasp.evaluate import evaluate_grasp
 from workbench.grasp.inputs import Jaws, ModelOptions, Task
 from workbench.grasp.robust import Perturbation
@@ -46,6 +47,8 @@ BOTTLE = CHECKOUT.parent / "shared" / "data" / "thesis_objects" / "0014_bottle-g
 MODELS = ("soft_point", "planar", "6dls", "6dfc", "6dls_quartic")
 STAGES = ("profiles", "contact_model", "resists", "min_grasp_force", "q_robust")
 #: issue targets [ms], one core, mesh + grasp -> verdict and minimal force
+#: (training sampler, cell [l_s]) of the 6DLS variants timed beside the default
+TRAINING_VARIANTS = (("mix", 0.1), ("thesis", 0.15), ("thesis", 0.0))
 TARGET_MS = {"soft_point": 1.0, "planar": 5.0, "6dls": 5.0, "6dfc": 5.0, "6dls_quartic": 20.0}
 
 
@@ -117,7 +120,7 @@ def _run(quick: bool) -> dict:
     def end_to_end(t: dict) -> float:
         return sum(t.get(s, 0.0) for s in STAGES[:4])
 
-    for m in MODELS:
+    def measure(m: str) -> dict:
         timings = timed(m)
         with _PairCount() as count:
             for g in grasps[1:]:
@@ -131,7 +134,11 @@ def _run(quick: bool) -> dict:
         nominal = [end_to_end(t) for t in timings]
         pairs = count.pairs / len(timings)
         bound_ms = pairs * machine["arith_limit_ns_per_pair"] * 1e-6
-        out[m] = {
+        print(
+            f"{m:13s} end to end {np.median(nominal):7.1f} ms  6DFW bound {bound_ms:6.1f} ms  {stage}",
+            flush=True,
+        )
+        return {
             "stage_ms_median": stage,
             "end_to_end_ms_median": float(np.median(nominal)),
             "with_q_robust_ms_median": float(np.median([sum(t.values()) for t in timings])),
@@ -141,16 +148,23 @@ def _run(quick: bool) -> dict:
             "contact_model_over_fw_bound": stage["contact_model"] / bound_ms if bound_ms else None,
             "top_functions": _functions(pstats.Stats(prof), len(timings)),
         }
-        print(
-            f"{m:13s} end to end {np.median(nominal):7.1f} ms  6DFW bound {bound_ms:6.1f} ms  {stage}",
-            flush=True,
-        )
+
+    for m in MODELS:
+        out[m] = measure(m)
     # the same models again in the reverse order: a model's time must not depend on what ran before
     for m in reversed(MODELS):
         again = float(np.median([end_to_end(t) for t in timed(m)]))
         out[m]["end_to_end_ms_median_reverse_order"] = again
         out[m]["reverse_over_forward"] = again / out[m]["end_to_end_ms_median"]
         print(f"{m:13s} in reverse order {again:7.1f} ms", flush=True)
+    # the 6DLS trained on cheaper sets (config.DEFAULTS.ls_training_sampler / ls_training_cell):
+    # what each costs in margin is results/benchmarks/training_sampler_margins.json
+    variants = {}
+    for kind, cell in TRAINING_VARIANTS:
+        with config.override(ls_training_sampler=kind, ls_training_cell=cell):
+            print(f"training {kind}, cell {cell:g} l_s:", flush=True)
+            variants[f"{kind}@{cell:g}"] = {"ls_training_sampler": kind, "ls_training_cell": cell}
+            variants[f"{kind}@{cell:g}"] |= measure("6dls")
     return {
         "what": "ms per grasp, one process on one core (Numba and BLAS on one thread), one model at a "
         "time with a fresh limit-surface cache: mesh + antipodal grasp -> REACH patches -> contact sets "
@@ -158,10 +172,13 @@ def _run(quick: bool) -> dict:
         "samples; medians after a warm-up, no profiler attached; end_to_end_ms_median_reverse_order: the "
         "models run again in the reverse order. fw_bound_ms: the grasp's 6DFW "
         "element-twist pairs (nominal contact, counted at the kernel's launch) at one core's "
-        "arithmetic limit per pair (machine.arith_limit_ns_per_pair, measured on one thread)",
+        "arithmetic limit per pair (machine.arith_limit_ns_per_pair, measured on one thread). "
+        "6dls_training_variants: the 6DLS again with its training wrenches from another sampler or a "
+        "coarsened contact (kind@cell, cell in l_s)",
         "mesh": name,
         "n_grasps_timed": len(grasps) - 1,
         "models": out,
+        "6dls_training_variants": variants,
         "machine": machine,
         "versions": versions(),
         "code_revision": code_revision(),

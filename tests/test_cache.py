@@ -5,9 +5,11 @@ import naive
 import numpy as np
 import pytest
 
-from workbench import ContactProfile, frictional_wrenches, mesh_profile
+from workbench import ContactProfile, config, frictional_wrenches, mesh_profile
+from workbench.coarsen import coarsen_profile
 from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.limit_surface import quartic as quart_mod
+from workbench.plausible import ImplausibleWarning
 from workbench.sources.surface_catalog import S4
 
 
@@ -46,3 +48,72 @@ def test_mu_zero_is_named_when_a_limit_surface_is_asked_for(rng):
         thesis_code_sample(prof, 0.0)
     # the wrenches themselves are fine at mu = 0 (all zero), only a fit is meaningless
     assert not frictional_wrenches(prof, np.eye(6), 0.0).any()
+
+
+def _flat_square(n: int = 24, side: float = 0.02) -> ContactProfile:
+    """n × n elements on z = 0 under a pressure rising along x and y (its centre off the middle)."""
+    u = (np.arange(n) + 0.5) * side / n
+    X, Y = np.meshgrid(u, u, indexing="ij")
+    c = np.column_stack([X.ravel(), Y.ravel(), np.zeros(n * n)])
+    p = 1e5 * (1.0 + 3.0 * c[:, 0] / side) * (1.0 + c[:, 1] / side)
+    return ContactProfile(c, np.tile([0.0, 0.0, 1.0], (n * n, 1)), np.full(n * n, (side / n) ** 2), p)
+
+
+def test_training_cell_zero_is_the_contacts_own_wrenches_bit_for_bit(rng):
+    prof = ContactProfile(*naive.random_profile(rng, 300))
+    xi, W = SamplerSpec(kind="thesis", n=50, cell=0).training(prof, 0.4)
+    assert np.array_equal(W, frictional_wrenches(prof, xi, 0.4))
+    assert SamplerSpec(kind="thesis").cell == 0.0  # the config default: the contact as given
+
+
+def test_a_coarse_training_contact_keeps_the_twists_reference_point():
+    """Sliding a flat contact in its plane: every element's friction is -mu p a v/|v|, so the
+    wrench about the pressure centre is (-mu F v/|v|, 0) exactly (Eq. 3.6 with c - o summing to
+    zero under p a); the coarse training contact must give it too."""
+    prof = _flat_square()
+    spec = SamplerSpec(kind="thesis", n=20, cell=0.25)  # ~5 mm cells (l_s: the centres' 19.2 mm)
+    coarse = spec.sliding_profile(prof)
+    assert len(coarse.areas) == 25 and coarse.areas.sum() == pytest.approx(4e-4, rel=1e-12)
+    v = np.array([[1.0, 0.0, 0, 0, 0, 0], [0.6, -0.8, 0, 0, 0, 0], [-0.3, 0.2, 0, 0, 0, 0]])
+    dirs = v[:, :3] / np.linalg.norm(v[:, :3], axis=1, keepdims=True)
+    expected = np.hstack([-0.5 * prof.F * dirs, np.zeros((3, 3))])
+    scale = 0.5 * prof.F * np.array([1, 1, 1, prof.length_scale, prof.length_scale, prof.length_scale])
+    np.testing.assert_allclose(frictional_wrenches(coarse, v, 0.5) / scale, expected / scale, atol=1e-13)
+    # its wrenches are about the contact's own pressure centre, where the model is placed: area-
+    # centred cells would move that point by 0.1 mm, and a slide's torque about o by (o' - o) x f
+    np.testing.assert_allclose(coarse.pressure_center, prof.pressure_center, atol=1e-17)
+    moved = coarsen_profile(prof, 0.25 * prof.length_scale)
+    assert np.linalg.norm(moved.pressure_center - prof.pressure_center) > 5e-5
+
+
+def test_a_coarse_training_contact_trains_the_cached_model(caplog):
+    prof = _flat_square()
+    cache = LimitSurfaceCache()
+    fine = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100))
+    coarse = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100, cell=0.25))
+    assert cache.stats["solves"] == 2  # the cell is part of the key
+    assert coarse.info["training_cells"] == 25 and "training_cells" not in fine.info
+    # a 5 mm cell on a 20 mm contact: the model moves, by less than its own fit error
+    w = fine.linearize(40).vertices
+    change = np.abs(coarse.value(w) - 1.0)
+    assert 1e-4 < np.median(change) < 0.05
+    # the config's default is read when a spec is made
+    with config.override(ls_training_cell=0.25):
+        assert SamplerSpec(kind="thesis", n=100).cell == 0.25
+        again = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100))
+    assert cache.stats["hits"] == 1 and again.info["training_cells"] == 25
+    # a contact whose normals fold cannot be laid in cells: trained as given, logged, recorded
+    flip = prof.normals.copy()
+    flip[: len(flip) // 2] *= -1
+    with pytest.warns(ImplausibleWarning, match="normals pointing away"):
+        folded = ContactProfile(prof.centers, flip, prof.areas, prof.pressures)
+    with caplog.at_level("WARNING", logger="workbench.limit_surface.cache"):
+        spec = SamplerSpec(kind="thesis", n=50, cell=0.25)
+        assert spec.sliding_profile(folded) is folded
+    assert "training wrenches on the contact as given" in caplog.text
+
+
+@pytest.mark.parametrize("bad", [-0.1, 1.5, float("nan"), "0.1", True])
+def test_a_careless_training_cell_is_refused(bad):
+    with pytest.raises(ValueError, match="cell must be a finite number >= 0 and <= 1"):
+        SamplerSpec(cell=bad)

@@ -78,3 +78,21 @@ def test_opposing_normals_in_one_cell_are_refused():
     # all of them cancelling: no tangent plane to lay the cells in
     with pytest.raises(ValueError, match="normals cancel"):
         coarsen_profile(ContactProfile(c[:2], n[:2], np.full(2, 1e-8), np.full(2, 1e5)), 1e-3)
+
+
+def test_pressure_centres_are_each_cells_centre_of_pressure_and_keep_the_contacts(rng):
+    prof = _flat_grid(12, 1e-3)
+    coarse = coarsen_profile(prof, 3e-3, centre="pressure")
+    c, w = prof.centers, prof.pressures * prof.areas
+    for centre in coarse.centers:  # brute force: the 3 × 3 block's own centre of pressure
+        block = np.all(np.abs(c[:, :2] - centre[:2]) < 1.5e-3, axis=1)
+        assert block.sum() == 9
+        np.testing.assert_allclose(centre, (w[block] @ c[block]) / w[block].sum(), atol=1e-15)
+    # the "area" centres move the contact's pressure centre by 0.04 mm (the test above); these not
+    np.testing.assert_allclose(coarse.pressure_center, prof.pressure_center, atol=1e-17)
+    curved = ContactProfile(*random_profile(rng, 400))  # zero-pressure elements and a bumpy patch
+    kept = coarsen_profile(curved, 3e-3, centre="pressure")
+    np.testing.assert_allclose(kept.pressure_center, curved.pressure_center, atol=1e-17)
+    assert kept.F == pytest.approx(curved.F, rel=1e-12)
+    with pytest.raises(ValueError, match="centre must be 'area' or 'pressure'"):
+        coarsen_profile(prof, 3e-3, centre="mass")

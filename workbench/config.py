@@ -567,6 +567,13 @@ class Defaults:
     # contacts against the exact 6DFW margins (results/benchmarks/training_sampler_margins.json):
     # ellipsoid mix 0.057, thesis 0.093, 6dfc 0.088, thesis-code 0.049.
     ls_training_sampler: str = _field("mix", _choice(lambda: SAMPLER_KINDS))
+    # Cell side, as a fraction of the contact's l_s, of the coarsened contact whose 6DFWs train
+    # those limit surfaces (SamplerSpec.cell; workbench.coarsen): 0 = the contact itself.  A
+    # coarser contact trades margin error for build time (results/benchmarks/
+    # training_sampler_margins.json: the grasp dataset's contacts against their exact 6DFW margins);
+    # relative, so that a scaled contact is coarsened alike (the thesis's 3 mm FEM elements, §3.5.2,
+    # are ~0.15 l_s of its 20 mm contacts).
+    ls_training_cell: float = _field(0.0, _FRACTION)
     # Seed used by experiments when none is given.
     seed: int = _field(0, _count(0))  # numpy seeds are non-negative
     # Weight beta_0 of the normal (twist) rows of the quartic fit: each sampled

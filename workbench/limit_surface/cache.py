@@ -14,6 +14,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import logging
 import os
 from collections import Counter
 from dataclasses import asdict, dataclass, replace
@@ -24,6 +25,7 @@ import numpy as np
 
 from .. import config
 from ..atomic_io import atomic_write_bytes
+from ..coarsen import coarsen_profile
 from ..config import SAMPLER_KINDS
 from ..profile import ContactProfile
 from ..seeds import check_seed
@@ -37,6 +39,8 @@ from .normalize import Subspace
 from .quartic import QuarticLS, fit_quartic
 from .thesis_code import thesis_code_sample
 
+log = logging.getLogger(__name__)
+
 
 @dataclass(frozen=True)
 class SamplerSpec:
@@ -47,6 +51,13 @@ class SamplerSpec:
         one wrench per occupied cell of the downsampling grid,
         :mod:`.thesis_code`; ``n``, ``seed`` and ``radius_factor`` unused) or "mix"
         (the "thesis" sample and the "thesis-code" one together).
+    cell : 0: the training wrenches are the contact's own 6DFWs.  In (0, 1]: they are those of
+        the contact coarsened to square cells of side ``cell`` × its ``l_s``
+        (:func:`workbench.coarsen.coarsen_profile`, each cell at its centre of pressure, so the
+        pressure centre o stays; the thesis's 3 mm FEM elements are ~0.15 l_s, §3.5.2), the twists
+        still drawn on the contact itself.  A contact that cannot be coarsened
+        (its normals fold) is trained as given, logged and recorded in the model's ``info``.
+        None: ``config.DEFAULTS.ls_training_cell`` (0), read when the spec is made.
     """
 
     kind: str | None = None  # None: config.DEFAULTS.ls_training_sampler, read when the spec is made
@@ -54,6 +65,8 @@ class SamplerSpec:
     seed: int = 0
     radius_factor: float = 0.25
     fine_level: int = 0  # thesis-code / mix only
+    # the training contact's cell side [l_s]; 0: the contact as given; None: the config default
+    cell: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind is None:
@@ -63,6 +76,9 @@ class SamplerSpec:
         if self.fine_level not in AUTHOR_LEVELS:
             raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {self.fine_level!r}")
         check_seed(self.seed, generator=False)  # part of the cache key: the same draw every time
+        cell = config.DEFAULTS.ls_training_cell if self.cell is None else self.cell
+        # the Defaults field's rule, as a float (1 and 1.0 share a cache key)
+        object.__setattr__(self, "cell", config.check_value("ls_training_cell", cell, "cell"))
 
     def twists(self, profile: ContactProfile) -> np.ndarray:
         """(K, 6) twists of the "thesis" or "6dfc" sampler (the grid kinds choose
@@ -76,16 +92,36 @@ class SamplerSpec:
         raise ValueError(f"{self.kind!r} selects twists by their wrenches; call training(profile, mu)")
 
     def training(self, profile: ContactProfile, mu: float) -> tuple[np.ndarray, np.ndarray]:
-        """Training twists (K, 6) and their raw friction wrenches (K, 6) on ``profile``."""
+        """Training twists (K, 6) and their raw friction wrenches (K, 6) on ``profile`` (on its
+        coarsened copy when ``cell`` > 0)."""
+        return self._training(profile, self.sliding_profile(profile), mu)
+
+    def _training(
+        self, profile: ContactProfile, sliding: ContactProfile, mu: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         parts = []
         if self.kind in ("thesis", "6dfc", "mix"):
             spec = self if self.kind != "mix" else replace(self, kind="thesis")
             xi = spec.twists(profile)
-            parts.append((xi, frictional_wrenches(profile, xi, mu)))
+            parts.append((xi, frictional_wrenches(sliding, xi, mu)))
         if self.kind in ("thesis-code", "mix"):
-            code = thesis_code_sample(profile, mu, self.fine_level)
+            code = thesis_code_sample(sliding, mu, self.fine_level)
             parts.append((code.train_twists, code.train_wrenches))
         return np.vstack([p[0] for p in parts]), np.vstack([p[1] for p in parts])
+
+    def sliding_profile(self, profile: ContactProfile) -> ContactProfile:
+        """The contact whose 6DFWs train the model: ``profile`` itself, or its ``cell`` coarsening;
+        a contact whose normals fold (coarsen_profile's ValueError) is used as given, with a warning
+        in the log (the model's ``info["training_cells"]`` says which)."""
+        if self.cell == 0:
+            return profile
+        try:
+            # cells at their centres of pressure: the twists' reference point o stays put
+            return coarsen_profile(profile, self.cell * profile.length_scale, centre="pressure")
+        except ValueError as err:
+            n = len(profile.areas)
+            log.warning("training wrenches on the contact as given (%d elements): %s", n, err)
+            return profile
 
 
 @dataclass(frozen=True)
@@ -213,14 +249,20 @@ class LimitSurfaceCache:
         self, prof: ContactProfile, mu: float, sampler: SamplerSpec, spec: ModelSpec
     ) -> LimitSurfaceModel:
         self.stats["sampling"] += 1
-        xi, W = sampler.training(prof, mu)
-        wm = w_max(prof, mu) if spec.exact_w_max else None
+        sliding = sampler.sliding_profile(prof)
+        xi, W = sampler._training(prof, sliding, mu)
+        # the training contact's own maxima: the coarse contact's wrenches may pass the fine one's
+        wm = w_max(sliding, mu) if spec.exact_w_max else None
         self.stats["solves"] += 1
         if spec.model == "ellipsoid":
-            return fit_ellipsoid(W, spec.method, w_max=wm, solver=spec.solver)
-        if spec.model == "quartic":
-            return fit_quartic(W, twists=xi if spec.normals else None, w_max=wm, solver=spec.solver)
-        raise ValueError(f"model must be 'ellipsoid' or 'quartic'; got {spec.model!r}")
+            model = fit_ellipsoid(W, spec.method, w_max=wm, solver=spec.solver)
+        elif spec.model == "quartic":
+            model = fit_quartic(W, twists=xi if spec.normals else None, w_max=wm, solver=spec.solver)
+        else:
+            raise ValueError(f"model must be 'ellipsoid' or 'quartic'; got {spec.model!r}")
+        if sampler.cell > 0:
+            model.info["training_cells"] = len(sliding.areas) if sliding is not prof else None
+        return model
 
 
 def _save(path: Path, model: LimitSurfaceModel) -> None:
