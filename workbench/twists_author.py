@@ -27,6 +27,7 @@ metres) — not done here; the near-translations are exact translations (a rotat
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -128,6 +129,7 @@ def _offsets(omega: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
     return p
 
 
+@lru_cache(maxsize=1)
 def _near_translations() -> np.ndarray:
     """(36, 3) directions of the code's 36 far-axis rotations: axis e_k, offset
     p = 10⁷ (d1, d2) on the other two axes, twist ≈ [p × e_k; 0]."""
@@ -136,7 +138,9 @@ def _near_translations() -> np.ndarray:
     omega = np.repeat(axes, len(pairs), axis=0)
     d = np.tile(np.array(pairs, float), (6, 1))
     m = np.cross(_offsets(omega, d[:, 0], d[:, 1]), omega)
-    return m / np.linalg.norm(m, axis=1, keepdims=True)
+    out = m / np.linalg.norm(m, axis=1, keepdims=True)
+    out.flags.writeable = False  # made once a process (lru_cache), shared by every grid
+    return out
 
 
 def sample_twists_author(
@@ -163,16 +167,28 @@ def sample_twists_author(
     d = np.unique(np.r_[-half, 0.0, half])
     pitches = np.unique(np.r_[-np.asarray(lv.pitch_factors), 0.0, lv.pitch_factors]) * L.mean()
 
-    w = author_sphere(lv.n_axes)
+    w = _sphere(lv.n_axes)
     iw, i1, i2 = (
         g.ravel() for g in np.meshgrid(np.arange(len(w)), np.arange(len(d)), np.arange(len(d)), indexing="ij")
     )
-    omega = np.vstack([w[iw], author_sphere(lv.n_through)])
+    omega = np.vstack([w[iw], _sphere(lv.n_through)])
     p = np.vstack([_offsets(w[iw], d[i1], d[i2]), np.zeros((lv.n_through, 3))])
     m = np.cross(p, omega)
-    rot = [twists_from_plucker(omega, m, np.full(len(omega), h)) for h in pitches]
+    # one set of axes (checked and normalised once) at every pitch: [h e + m; e] per pitch, the
+    # products and sums of twists_from_plucker's
+    first = twists_from_plucker(omega, m, np.full(len(omega), pitches[0]))
+    e = first[:, 3:]
+    rot = [first] + [np.hstack([h * e + m, e]) for h in pitches[1:]]
     trans = translation_twists(_near_translations())  # the pitch is invisible 10⁷ away
     return np.vstack(rot + [trans] * len(pitches))
+
+
+@lru_cache(maxsize=8)
+def _sphere(n: int) -> np.ndarray:
+    """:func:`author_sphere` of ``n``, made once a process (read-only: shared by every grid)."""
+    pts = author_sphere(n)
+    pts.flags.writeable = False
+    return pts
 
 
 __all__ = ["AUTHOR_LEVELS", "AuthorLevel", "author_sphere", "box_sides", "sample_twists_author"]

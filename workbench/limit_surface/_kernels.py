@@ -518,3 +518,103 @@ def _hkm_step(x, Zs, state, MU, lay, consts):
     dx, dXS, dXA, dZS, dZA = _hkm_direction(sigma * gap / degree, corr, Zs, Xi, MU, r_d, lay, L)
     t = min(1.0, frac * _max_step(F, dXS, dXA, dZS, dZA))
     return x + t * dx, (ZS + t * dZS, ZA + t * dZA)
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _grid_keep(W, steps, rtol, tie):
+    """One row of W (N, 6) per occupied grid cell (``downsample.grid_downsample``): per
+    coordinate, cells of width ``(max - min) / steps`` from the minimum, ``floor(steps) + 1`` of
+    them (the last reaching past the maximum), one cell where the width is at most ``rtol`` × the
+    largest; the cell of row i is ``floor((W[i] - min) / width + tie)``.  Each cell keeps its
+    first member, in row order, within ``tie`` of the members' nearest to their mean.  Returns
+    the kept rows (one a cell, cells in key order).
+
+    The arithmetic is that of the NumPy expressions the function had, in their order: cells by a
+    stable sort of their row-major key, a cell's sum row after row, a distance's squares summed
+    left to right (tests/test_downsample.py holds the per-cell loop)."""
+    n_cells = int(np.floor(steps)) + 1
+    key = _grid_keys(W, steps, rtol, tie, n_cells)
+    return _cell_choice(W, key, _stable_order(key, n_cells**6), tie)
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _grid_keys(W, steps, rtol, tie, n_cells):
+    """(N,) row-major cell key of each row of W (N, 6) (:func:`_grid_keep`)."""
+    n = W.shape[0]
+    lo = W[0].copy()
+    hi = W[0].copy()
+    for i in range(1, n):
+        for c in range(6):
+            lo[c] = min(lo[c], W[i, c])
+            hi[c] = max(hi[c], W[i, c])
+    width = (hi - lo) / steps
+    flat = width <= rtol * width.max()
+    cell = np.where(flat, 1.0, width)
+    key = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        k = 0
+        for c in range(6):
+            q = 0
+            if not flat[c]:
+                q = min(max(int(np.floor((W[i, c] - lo[c]) / cell[c] + tie)), 0), n_cells - 1)
+            k = k * n_cells + q
+        key[i] = k
+    return key
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _stable_order(key, n_keys):
+    """(N,) the order of a stable sort of ``key`` (N,) in [0, n_keys): counting sort when the
+    keys are few (the usual 3^6 = 729 cells), else a merge sort."""
+    n = key.shape[0]
+    if n_keys > max(4 * n, 4096):
+        return np.argsort(key, kind="mergesort")
+    count = np.zeros(n_keys + 1, dtype=np.int64)
+    for i in range(n):
+        count[key[i] + 1] += 1
+    for k in range(n_keys):
+        count[k + 1] += count[k]
+    order = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        order[count[key[i]]] = i
+        count[key[i]] += 1
+    return order
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _cell_choice(W, key, order, tie):
+    """The kept row of each run of equal keys along ``order`` (:func:`_grid_keep`)."""
+    n = W.shape[0]
+    keep = np.empty(n, dtype=np.int64)
+    n_keep = 0
+    mean = np.empty(6)
+    s = 0
+    while s < n:
+        e = s + 1
+        while e < n and key[order[e]] == key[order[s]]:
+            e += 1
+        mean[:] = W[order[s]]
+        for j in range(s + 1, e):
+            for c in range(6):
+                mean[c] += W[order[j], c]
+        mean /= e - s
+        best = np.inf
+        for j in range(s, e):
+            best = min(best, _row_distance(W, order[j], mean))
+        j = s
+        while _row_distance(W, order[j], mean) > best + tie:
+            j += 1
+        keep[n_keep] = order[j]
+        n_keep += 1
+        s = e
+    return keep[:n_keep]
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _row_distance(W, i, mean):
+    """|W[i] - mean| as np.linalg.norm(axis=1) sums it: the squares left to right."""
+    acc = 0.0
+    for c in range(6):
+        x = W[i, c] - mean[c]
+        acc += x * x
+    return np.sqrt(acc)

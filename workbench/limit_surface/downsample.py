@@ -24,6 +24,7 @@ import numbers
 import numpy as np
 
 from .. import config
+from ._kernels import _grid_keep
 from .normalize import check_wrenches
 
 
@@ -43,33 +44,13 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
             f"steps must be a positive number of cell widths per range, at most 1000 (the author's "
             f"2.5); got {steps!r}"
         )
-    Wt = np.ascontiguousarray(W.T)  # (6, N): per-coordinate passes run along contiguous memory
-    lo, hi = Wt.min(axis=1), Wt.max(axis=1)
-    width = (hi - lo) / steps
-    n_cells = int(np.floor(steps)) + 1
-    # a range at rounding-noise level (a flat contact tilted by 1e-9 rad) is one cell, as an
-    # exactly zero one is — the PCA subspace's notion of a dropped direction
-    flat = width <= config.TOL.subspace_rtol * width.max()
-    tie = config.TOL.downsample_tie_atol
-    cell = np.where(flat, 1.0, width)[:, None]
-    idx = np.where(flat[:, None], 0, np.floor((Wt - lo[:, None]) / cell + tie)).astype(np.int64)
-    key = np.ravel_multi_index(np.clip(idx, 0, n_cells - 1, out=idx), (n_cells,) * 6)
-    order = np.argsort(key, kind="stable")  # cells in key order, members in sample order
-    ks = key[order]
-    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-    counts = np.diff(np.r_[starts, len(ks)])
-    Ws = W[order]
-    # one pass over all cells instead of a loop per cell (docs/decisions.md); the sums are row
-    # after row as
-    # W[members].mean(axis=0) adds them, so the means, distances and kept indices are those of
-    # the per-cell loop to the last bit
-    means = np.add.reduceat(Ws, starts, axis=0) / counts[:, None]
-    d = np.linalg.norm(Ws - np.repeat(means, counts, axis=0), axis=1)
-    near = d <= np.repeat(np.minimum.reduceat(d, starts) + tie, counts)
-    # the first member within the tie of its cell's nearest (it is in the cell: the nearest is)
-    first = np.flatnonzero(near)
-    keep = order[first[np.searchsorted(first, starts)]]
-    return np.unique(keep.astype(np.int64))
+    # one compiled pass over the cells (docs/decisions.md), each cell's mean and distances added
+    # in the order W[members].mean(axis=0) and np.linalg.norm add them, so the kept rows are those
+    # of the per-cell loop; a range at rounding-noise level (a flat contact tilted by 1e-9 rad) is
+    # one cell, as an exactly zero one is — the PCA subspace's notion of a dropped direction
+    tol = config.TOL
+    keep = _grid_keep(np.ascontiguousarray(W), float(steps), tol.subspace_rtol, tol.downsample_tie_atol)
+    return np.sort(keep)
 
 
 __all__ = ["grid_downsample"]
