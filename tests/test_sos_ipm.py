@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import workbench.limit_surface.sos_ipm as sos_ipm
-from workbench import fit_quartic
+from workbench import config, fit_quartic
 from workbench.limit_surface import quartic as quart_mod
 from workbench.limit_surface._kernels import (
     _add_svec,
@@ -243,9 +243,13 @@ def test_exact_data_of_a_badly_scaled_quartic_is_fitted_as_well_as_by_clarabel(K
     Gaussian directions (they crowd the thin axes): the fit through its data has an objective
     ~0, where a gap floor of 1e-16 × ½‖c‖² stopped with held-out errors 10-100× Clarabel's (a
     new-user trial; the floor was chosen on seeds 10-13 and 100-102, these are others).  Now the
-    IPM's held-out Eq. 3.18 error is Clarabel's order or below 1e-6, and the fit has the
-    quartic's value at a point worked by hand on a thin axis, where the samples crowd (along the
-    thick axes there are none: both solvers extrapolate there, differently)."""
+    IPM's held-out Eq. 3.18 error is within 3x of the better of Clarabel's and the IPM's own
+    round-off limit (its fit with a floor no double reaches, 1e-30: what its Schur solves can give
+    on this host), and the fit has the quartic's value at a point worked by hand on a thin axis,
+    where the samples crowd (along the thick axes there are none: both solvers extrapolate there,
+    differently).  Where BLAS rounds otherwise the limit moves: on an AMD EPYC host (OpenBLAS's
+    Haswell kernels) K = 130 gave the IPM 1.1e-6 at the default floor and 1.5e-6 at the limit,
+    Clarabel 7.2e-8; a floor of 1e-16 gave 8.3e-6 there, and fails this test on every host seen."""
     s = np.array([1.0, 0.05, 3.0, 0.002, 0.4, 0.01])
 
     def f(W):
@@ -257,8 +261,10 @@ def test_exact_data_of_a_badly_scaled_quartic_is_fitted_as_well_as_by_clarabel(K
     W = U / f(U)[:, None] ** 0.25
     train, test = W[:K], W[K:]
     fits = {name: fit_quartic(train, solver=name, fallback_solver=None) for name in ("IPM", "CLARABEL")}
+    with config.override(sos_ipm_gap_floor=1e-30):
+        fits["limit"] = fit_quartic(train, solver="IPM", fallback_solver=None)
     errs = {name: np.mean(np.abs(q.value(test) - 1)) for name, q in fits.items()}
-    assert errs["IPM"] <= max(3.0 * errs["CLARABEL"], 1e-6)
+    assert errs["IPM"] <= 3.0 * max(errs["CLARABEL"], errs["limit"])
     # at w = ½ s_3 e_3: (½)⁴ + ((½)²)² = 0.125
     assert fits["IPM"].value(0.5 * s[3] * np.eye(6)[3]) == pytest.approx(0.125, rel=1e-4)
 
