@@ -157,13 +157,13 @@ def _run(quick: bool) -> dict:
         out[m]["end_to_end_ms_median_reverse_order"] = again
         out[m]["reverse_over_forward"] = again / out[m]["end_to_end_ms_median"]
         print(f"{m:13s} in reverse order {again:7.1f} ms", flush=True)
-    # the 6DLS trained on cheaper sets (config.DEFAULTS.ls_training_sampler / ls_training_cell):
+    # the 6DLS trained on cheaper sets (config.DEFAULTS.ls_training_sampler / ls_training_cell_fraction):
     # what each costs in margin is results/benchmarks/training_sampler_margins.json
     variants = {}
     for kind, cell in TRAINING_VARIANTS:
-        with config.override(ls_training_sampler=kind, ls_training_cell=cell):
+        with config.override(ls_training_sampler=kind, ls_training_cell_fraction=cell):
             print(f"training {kind}, cell {cell:g} l_s:", flush=True)
-            variants[f"{kind}@{cell:g}"] = {"ls_training_sampler": kind, "ls_training_cell": cell}
+            variants[f"{kind}@{cell:g}"] = {"ls_training_sampler": kind, "ls_training_cell_fraction": cell}
             variants[f"{kind}@{cell:g}"] |= measure("6dls")
     return {
         "what": "ms per grasp, one process on one core (Numba and BLAS on one thread), one model at a "

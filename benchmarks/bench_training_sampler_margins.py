@@ -5,7 +5,7 @@ for random disturbances (a force with a torque at a lever of a contact's size).
 
 For each kind of ``limit_surface.SamplerSpec`` ("mix", the default; "thesis", "6dfc",
 "thesis-code"), and for "mix" and "thesis" trained on the contact coarsened to cells of a fraction
-of its l_s (``SamplerSpec.cell``, named ``kind@cell``): the median |log(s*_model / s*_exact)| and
+of its l_s (``SamplerSpec.cell_fraction``, named ``kind@cell``): the median |log(s*_model / s*_exact)| and
 its sign over every disturbance (the sensitivity experiment's criterion,
 ``grasp.margin.margin_vs_truth``), the time to build a contact's 6DLS (its training wrenches and
 fit), and, against the default's, the difference in median |log ratio| with a 90 % interval from
@@ -80,7 +80,7 @@ def measure(profiles: list, W: np.ndarray) -> dict:
     (exact,) = truth_deciders(profiles, [MU], [1.0], START)
     row: dict = {"exact": [resistance_margin(exact, w, STEPS) for w in W]}
     for kind, cell in VARIANTS:
-        params = ModelParameters(M=M, sampler=SamplerSpec(kind=kind, cell=cell))
+        params = ModelParameters(M=M, sampler=SamplerSpec(kind=kind, cell_fraction=cell))
         t0 = time.perf_counter()
         sets = [c for p in profiles for c in contact_sets(p, "6dls", params, cache=LimitSurfaceCache())]
         build_ms = (time.perf_counter() - t0) * 1e3 / len(profiles)

@@ -11,6 +11,7 @@ from workbench.limit_surface import LimitSurfaceCache, SamplerSpec
 from workbench.limit_surface import quartic as quart_mod
 from workbench.plausible import ImplausibleWarning
 from workbench.sources.surface_catalog import S4
+from workbench.twists_author import sample_twists_author
 
 
 @pytest.mark.jit_only("over 15 s as pure Python")
@@ -61,9 +62,9 @@ def _flat_square(n: int = 24, side: float = 0.02) -> ContactProfile:
 
 def test_training_cell_zero_is_the_contacts_own_wrenches_bit_for_bit(rng):
     prof = ContactProfile(*naive.random_profile(rng, 300))
-    xi, W = SamplerSpec(kind="thesis", n=50, cell=0).training(prof, 0.4)
+    xi, W = SamplerSpec(kind="thesis", n=50, cell_fraction=0).training(prof, 0.4)
     assert np.array_equal(W, frictional_wrenches(prof, xi, 0.4))
-    assert SamplerSpec(kind="thesis").cell == 0.0  # the config default: the contact as given
+    assert SamplerSpec(kind="thesis").cell_fraction == 0.0  # the config default: the contact as given
 
 
 def test_a_coarse_training_contact_keeps_the_twists_reference_point():
@@ -71,7 +72,7 @@ def test_a_coarse_training_contact_keeps_the_twists_reference_point():
     wrench about the pressure centre is (-mu F v/|v|, 0) exactly (Eq. 3.6 with c - o summing to
     zero under p a); the coarse training contact must give it too."""
     prof = _flat_square()
-    spec = SamplerSpec(kind="thesis", n=20, cell=0.25)  # ~5 mm cells (l_s: the centres' 19.2 mm)
+    spec = SamplerSpec(kind="thesis", n=20, cell_fraction=0.25)  # ~5 mm cells (l_s: the centres' 19.2 mm)
     coarse = spec.sliding_profile(prof)
     assert len(coarse.areas) == 25 and coarse.areas.sum() == pytest.approx(4e-4, rel=1e-12)
     v = np.array([[1.0, 0.0, 0, 0, 0, 0], [0.6, -0.8, 0, 0, 0, 0], [-0.3, 0.2, 0, 0, 0, 0]])
@@ -90,7 +91,7 @@ def test_a_coarse_training_contact_trains_the_cached_model(caplog):
     prof = _flat_square()
     cache = LimitSurfaceCache()
     fine = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100))
-    coarse = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100, cell=0.25))
+    coarse = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100, cell_fraction=0.25))
     assert cache.stats["solves"] == 2  # the cell is part of the key
     assert coarse.info["training_cells"] == 25 and "training_cells" not in fine.info
     # a 5 mm cell on a 20 mm contact: the model moves, by less than its own fit error
@@ -98,8 +99,8 @@ def test_a_coarse_training_contact_trains_the_cached_model(caplog):
     change = np.abs(coarse.value(w) - 1.0)
     assert 1e-4 < np.median(change) < 0.05
     # the config's default is read when a spec is made
-    with config.override(ls_training_cell=0.25):
-        assert SamplerSpec(kind="thesis", n=100).cell == 0.25
+    with config.override(ls_training_cell_fraction=0.25):
+        assert SamplerSpec(kind="thesis", n=100).cell_fraction == 0.25
         again = cache.get(prof, 0.5, sampler=SamplerSpec(kind="thesis", n=100))
     assert cache.stats["hits"] == 1 and again.info["training_cells"] == 25
     # a contact whose normals fold cannot be laid in cells: trained as given, logged, recorded
@@ -108,12 +109,37 @@ def test_a_coarse_training_contact_trains_the_cached_model(caplog):
     with pytest.warns(ImplausibleWarning, match="normals pointing away"):
         folded = ContactProfile(prof.centers, flip, prof.areas, prof.pressures)
     with caplog.at_level("WARNING", logger="workbench.limit_surface.cache"):
-        spec = SamplerSpec(kind="thesis", n=50, cell=0.25)
+        spec = SamplerSpec(kind="thesis", n=50, cell_fraction=0.25)
         assert spec.sliding_profile(folded) is folded
     assert "training wrenches on the contact as given" in caplog.text
 
 
-@pytest.mark.parametrize("bad", [-0.1, 1.5, float("nan"), "0.1", True])
+@pytest.mark.parametrize("bad", [-0.1, 0.6, 1.0, 3, 1e-300, float("nan"), "0.1", True])
 def test_a_careless_training_cell_is_refused(bad):
-    with pytest.raises(ValueError, match="cell must be a finite number >= 0 and <= 1"):
-        SamplerSpec(cell=bad)
+    with pytest.raises(
+        ValueError, match=r"SamplerSpec cell_fraction \(a fraction of the contact's l_s\) must"
+    ):
+        SamplerSpec(cell_fraction=bad)
+    with pytest.raises(ValueError, match="not millimetres or metres"):
+        config.configure(ls_training_cell_fraction=bad)
+
+
+def test_the_training_cell_keys_and_twists():
+    """-0.0 is 0.0 (one cache key); the twists of every kind are the contact's own whatever the
+    cell (the author's grid on the contact's box, not the coarse one's); a 0.3 m contact at half
+    its size is coarsened, not refused as millimetres; one element is trained as given."""
+    assert SamplerSpec(cell_fraction=-0.0) == SamplerSpec(cell_fraction=0)
+    prof = _flat_square()
+    fine_xi, _ = SamplerSpec(kind="thesis", n=40).training(prof, 0.5)
+    coarse_xi, _ = SamplerSpec(kind="thesis", n=40, cell_fraction=0.2).training(prof, 0.5)
+    assert np.array_equal(fine_xi, coarse_xi)
+    # the grid kinds keep the twists whose coarse wrenches fill the grid's cells: each is one of the
+    # author's grid on the contact's own box (on the coarse cells' box, 25 of 26 were not)
+    grid = {tuple(x) for x in sample_twists_author(prof, 0)}
+    for kind in ("mix", "thesis-code"):
+        kept, _ = SamplerSpec(kind=kind, n=40, cell_fraction=0.2).training(prof, 0.5)
+        assert all(tuple(x) in grid for x in kept[-20:])
+    big = _flat_square(side=0.3)
+    assert len(SamplerSpec(kind="thesis", cell_fraction=0.5).sliding_profile(big).areas) < 10
+    one = ContactProfile(np.zeros((1, 3)), np.array([[0.0, 0, 1]]), np.array([1e-6]), np.array([1e5]))
+    assert SamplerSpec(cell_fraction=0.2).sliding_profile(one) is one

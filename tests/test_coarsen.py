@@ -6,7 +6,8 @@ import pytest
 from naive import random_profile
 
 from workbench import ContactProfile
-from workbench.coarsen import coarsen_profile
+from workbench.coarsen import NoTangentPlane, coarsen_profile
+from workbench.plausible import ImplausibleWarning
 
 
 def _flat_grid(n: int, h: float) -> ContactProfile:
@@ -60,7 +61,16 @@ def test_a_cell_smaller_than_the_elements_changes_nothing(rng):
 
 
 @pytest.mark.parametrize(
-    "cell, match", [(3.0, "millimetres"), (0.0, "positive length"), (np.nan, "positive length")]
+    "cell, match",
+    [
+        (3.0, "millimetres"),
+        (0.0, "positive length"),
+        (np.nan, "positive length"),
+        ("0.003", "positive length in metres \\(a number\\)"),
+        (True, "a number"),
+        (None, "a number"),
+        (1e-300, "over 1e9 times smaller"),
+    ],
 )
 def test_careless_cell_is_refused(rng, cell, match):
     prof = ContactProfile(*random_profile(rng, 50))
@@ -68,16 +78,42 @@ def test_careless_cell_is_refused(rng, cell, match):
         coarsen_profile(prof, cell)
 
 
-def test_opposing_normals_in_one_cell_are_refused():
-    """Both sides of a thin wall in one cell: their mean normal has no direction."""
+def test_opposing_normals_get_cells_of_their_own_and_cancelling_ones_are_refused():
+    """Both sides of a thin wall: the far side (facing away from the mean normal) is not merged
+    into the near side's cell; all of them cancelling leaves no tangent plane."""
     c = np.array([[0.0, 0, 0], [0.2e-3, 0, 0], [2e-3, 0, 0], [4e-3, 0, 0]])
     n = np.array([[0.0, 0, 1], [0, 0, -1], [0, 0, 1], [0, 0, 1]])
-    prof = ContactProfile(c, n, np.full(4, 1e-8), np.full(4, 1e5))
-    with pytest.raises(ValueError, match="opposing normals"):
-        coarsen_profile(prof, 1e-3)
-    # all of them cancelling: no tangent plane to lay the cells in
-    with pytest.raises(ValueError, match="normals cancel"):
+    with pytest.warns(ImplausibleWarning, match="normals pointing away"):
+        prof = ContactProfile(c, n, np.full(4, 1e-8), np.full(4, 1e5))
+    with pytest.warns(ImplausibleWarning):  # the coarse contact has its far side too
+        coarse = coarsen_profile(prof, 1e-3)
+    assert len(coarse) == 4  # the first two share (i, j) but not a side
+    np.testing.assert_array_equal(np.sort(coarse.normals[:, 2]), [-1.0, 1.0, 1.0, 1.0])
+    with pytest.warns(ImplausibleWarning), pytest.raises(NoTangentPlane, match="normals cancel"):
         coarsen_profile(ContactProfile(c[:2], n[:2], np.full(2, 1e-8), np.full(2, 1e5)), 1e-3)
+
+
+def test_a_wrap_past_90_degrees_is_not_merged_front_to_back():
+    """A 3 mm rod wrapped ±150° (a new-user trial): one plane would merge the element at θ with
+    the one at 180° − θ, cells 0.9 mm inside the rod; by sides, every cell stays on the surface
+    within a cell's sagitta and keeps elements of one side only."""
+    r, n_el = 3e-3, 600
+    theta = np.linspace(-150, 150, n_el) * np.pi / 180
+    y = np.repeat([0.0, 1e-3], n_el)
+    t = np.tile(theta, 2)
+    normals = np.column_stack([np.sin(t), np.zeros_like(t), np.cos(t)])
+    centres = r * normals + np.column_stack([np.zeros_like(t), y, np.zeros_like(t)])
+    areas = np.full(2 * n_el, r * (theta[1] - theta[0]) * 1e-3)
+    with pytest.warns(ImplausibleWarning):  # elements facing away from the mean normal, as built
+        prof = ContactProfile(centres, normals, areas, np.full(2 * n_el, 1e5))
+    with pytest.warns(ImplausibleWarning):
+        coarse = coarsen_profile(prof, 0.5e-3, centre="pressure")
+    radius = np.hypot(coarse.centers[:, 0], coarse.centers[:, 2])
+    # a chord of at most one cell's arc, 0.5 mm... or the arc of a steep rim cell (its projection
+    # 0.5 mm): no more than 0.3 mm inside the surface, where front-to-back merging put 0.87 mm
+    assert radius.min() > r - 0.3e-3
+    np.testing.assert_allclose(coarse.F, prof.F, rtol=1e-12)
+    np.testing.assert_allclose(coarse.pressure_center, prof.pressure_center, atol=1e-17)
 
 
 def test_pressure_centres_are_each_cells_centre_of_pressure_and_keep_the_contacts(rng):

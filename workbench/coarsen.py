@@ -18,6 +18,12 @@ cell's area and normal force:
   was, to round-off;
 * normal: the area-weighted mean normal, renormalised.
 
+Elements that face away from the mean normal (``n · n̄ < 0``: the far side of a contact
+wrapping more than ±90° round a part, or the other face of a thin one) get cells of their
+own: laid in one plane, the two sides would otherwise merge front to back (a trial saw a
+±150° wrap of a 3 mm rod merged into cells 0.9 mm inside the rod).  A contact whose normals
+cancel altogether has no tangent plane and is refused (:class:`NoTangentPlane`).
+
 Cells that carry no force (all their elements at zero pressure) are dropped.  The
 grid starts at the smallest element centre along each in-plane axis, so it is not
 centred on the patch: on a symmetric 12 mm patch with 3 mm cells a trial measured
@@ -26,9 +32,15 @@ the centre of pressure moving by 0.09 mm (a fraction of a cell, as above).
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 from .profile import ContactProfile
+
+
+class NoTangentPlane(ValueError):
+    """The profile's area-weighted normals cancel: there is no plane to lay its cells in."""
 
 
 def coarsen_profile(profile: ContactProfile, cell: float, *, centre: str = "area") -> ContactProfile:
@@ -40,23 +52,27 @@ def coarsen_profile(profile: ContactProfile, cell: float, *, centre: str = "area
         pressure: the contact's pressure centre kept).
     Returns a ContactProfile without a mesh (centres, normals, areas, pressures).
     """
-    if centre not in ("area", "pressure"):
-        raise ValueError(f"centre must be 'area' or 'pressure'; got {centre!r}")
-    cell = float(cell)
-    if not (np.isfinite(cell) and cell > 0):
-        raise ValueError(f"cell must be a positive length in metres; got {cell!r}")
+    if isinstance(cell, bool) or not isinstance(cell, numbers.Real) or not (np.isfinite(cell) and cell > 0):
+        raise ValueError(f"cell must be a positive length in metres (a number); got {cell!r}")
     if cell > 0.1:
         raise ValueError(
             f"cell = {cell:g} m is larger than any gripper contact — is it in millimetres? "
             f"pass {cell * 1e-3:g} for {cell:g} mm"
         )
+    if len(profile.areas) < 2:
+        raise ValueError(f"need a profile with >= 2 elements to coarsen; got {len(profile.areas)}")
+    return _coarsen(profile, float(cell), centre)
+
+
+def _coarsen(profile: ContactProfile, cell: float, centre: str) -> ContactProfile:
+    """:func:`coarsen_profile` of a checked cell [m] (any size) and >= 2 elements."""
+    if centre not in ("area", "pressure"):
+        raise ValueError(f"centre must be 'area' or 'pressure'; got {centre!r}")
     c, a = profile.centers, profile.areas
-    if len(c) < 2:
-        raise ValueError(f"need a profile with >= 2 elements to coarsen; got {len(c)}")
     n_bar = a @ profile.normals
-    # area-weighted normals cancelling to 1e-6 of the cell's area: no side to face (a fold), not round-off
+    # area-weighted normals cancelling to 1e-6 of the area: no side to face (a fold), not round-off
     if np.linalg.norm(n_bar) < 1e-6 * a.sum():
-        raise ValueError(
+        raise NoTangentPlane(
             "the profile's area-weighted normals cancel (both sides of a thin part?): there is no "
             "tangent plane to lay the cells in — coarsen each side separately"
         )
@@ -67,11 +83,20 @@ def coarsen_profile(profile: ContactProfile, cell: float, *, centre: str = "area
     e1 = ref - (ref @ n_bar) * n_bar
     e1 /= np.linalg.norm(e1)
     uv = c @ np.column_stack([e1, np.cross(n_bar, e1)])
+    span = (uv.max(axis=0) - uv.min(axis=0)) / cell
+    if span.max() > 1e9:  # the cell indices must stay exact integers
+        raise ValueError(
+            f"cell = {cell:g} m is over 1e9 times smaller than the contact ({span.max() * cell:g} m): "
+            "pass a cell of at least the elements' size"
+        )
     # the snap keeps an element centred on a cell edge (rounding) in one cell consistently
     ij = np.floor((uv - uv.min(axis=0)) / cell + 1e-9).astype(np.int64)
-    # cells numbered in (i, j) order, as np.unique(ij, axis=0) numbers them, through one integer
-    # key a cell (sorting rows of pairs is the slower path)
-    _, cell_of = np.unique(ij[:, 0] * (ij[:, 1].max() + 1) + ij[:, 1], return_inverse=True)
+    back = (profile.normals @ n_bar < 0).astype(np.int64)  # the far side: cells of its own
+    # cells numbered in (side, i, j) order through one integer key a cell (the order
+    # np.unique(ij, axis=0) gives a one-sided contact; sorting rows of pairs is the slower path)
+    n_j = ij[:, 1].max() + 1
+    key = (back * (ij[:, 0].max() + 1) + ij[:, 0]) * n_j + ij[:, 1]
+    _, cell_of = np.unique(key, return_inverse=True)
     k = int(cell_of.max()) + 1
     area = np.bincount(cell_of, a, k)
     force = np.bincount(cell_of, a * profile.pressures, k)
@@ -80,19 +105,11 @@ def coarsen_profile(profile: ContactProfile, cell: float, *, centre: str = "area
         sums = np.column_stack([np.bincount(cell_of, weight * c[:, d], k) for d in range(3)])
         centres = sums / total[:, None]
     normal = np.column_stack([np.bincount(cell_of, a * profile.normals[:, d], k) for d in range(3)])
+    # a cell's elements all face one side of n̄, so their mean normal never cancels
     keep = force > 0
-    length = np.linalg.norm(normal, axis=1)
-    # a merged cell whose normals cancel (length 1e-6 of its area) is a fold, dropped as above
-    folded = keep & (length < 1e-6 * area)
-    if folded.any():  # e.g. two sides of a thin wall, or a fold, in one cell
-        raise ValueError(
-            f"{int(folded.sum())} cell(s) of {cell * 1e3:g} mm hold elements with opposing normals, whose "
-            "mean has no direction (a fold or both sides of a thin part) — use a smaller cell or coarsen "
-            "each side separately"
-        )
     return ContactProfile(
         centres[keep], normal[keep], area[keep], force[keep] / area[keep], normalize_normals=True
     )
 
 
-__all__ = ["coarsen_profile"]
+__all__ = ["NoTangentPlane", "coarsen_profile"]

@@ -140,6 +140,16 @@ def _saturation(v: Any) -> float:
     return float(v)
 
 
+def _cell_fraction(v: Any) -> float:
+    """A coarsening cell as a fraction of a contact's l_s: 0 (none) or in [0.001, 0.5]."""
+    if isinstance(v, bool) or not isinstance(v, numbers.Real) or not (v == 0 or 1e-3 <= v <= 0.5):
+        raise _Reject(
+            "0 (the contact itself) or a fraction of the contact's size l_s in [0.001, 0.5] (e.g. 0.15: "
+            "~3 mm cells on a 20 mm contact; not millimetres or metres)"
+        )
+    return float(v) + 0.0  # -0.0 is 0.0 (one cache key)
+
+
 def _author_weights(v: Any) -> tuple[float, ...]:
     """(λ, ω_w, ω_t) of the author's objective: finite, >= 0, ω_w > 0 (the fit refuses ω_w = 0:
     the zero function is then optimal)."""
@@ -568,12 +578,14 @@ class Defaults:
     # ellipsoid mix 0.057, thesis 0.093, 6dfc 0.088, thesis-code 0.049.
     ls_training_sampler: str = _field("mix", _choice(lambda: SAMPLER_KINDS))
     # Cell side, as a fraction of the contact's l_s, of the coarsened contact whose 6DFWs train
-    # those limit surfaces (SamplerSpec.cell; workbench.coarsen): 0 = the contact itself.  A
-    # coarser contact trades margin error for build time (results/benchmarks/
-    # training_sampler_margins.json: the grasp dataset's contacts against their exact 6DFW margins);
-    # relative, so that a scaled contact is coarsened alike (the thesis's 3 mm FEM elements, §3.5.2,
-    # are ~0.15 l_s of its 20 mm contacts).
-    ls_training_cell: float = _field(0.0, _FRACTION)
+    # those limit surfaces (SamplerSpec.cell_fraction; workbench.coarsen): 0 = the contact itself,
+    # else in [0.001, 0.5].  A coarser contact trades margin error for build time
+    # (results/benchmarks/training_sampler_margins.json: the grasp dataset's contacts against
+    # their exact 6DFW margins); relative, so that a scaled contact is coarsened alike (the
+    # thesis's 3 mm FEM elements, §3.5.2, are ~0.15 l_s of its 20 mm contacts).  Above 0.5 a
+    # contact is two or three cells (torsion 4x off in a trial); at 0.3 its torsional friction is
+    # already 5 % low.
+    ls_training_cell_fraction: float = _field(0.0, _cell_fraction)
     # Seed used by experiments when none is given.
     seed: int = _field(0, _count(0))  # numpy seeds are non-negative
     # Weight beta_0 of the normal (twist) rows of the quartic fit: each sampled

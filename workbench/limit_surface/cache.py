@@ -25,12 +25,12 @@ import numpy as np
 
 from .. import config
 from ..atomic_io import atomic_write_bytes
-from ..coarsen import coarsen_profile
+from ..coarsen import NoTangentPlane, _coarsen
 from ..config import SAMPLER_KINDS
 from ..profile import ContactProfile
 from ..seeds import check_seed
 from ..twists import sample_twists_6dfc, sample_twists_thesis
-from ..twists_author import AUTHOR_LEVELS
+from ..twists_author import AUTHOR_LEVELS, box_sides
 from ..wrench import check_mu, frictional_wrenches, w_max
 from .base import LimitSurfaceModel
 from .contact_wrench import ContactWrenchModel
@@ -51,13 +51,14 @@ class SamplerSpec:
         one wrench per occupied cell of the downsampling grid,
         :mod:`.thesis_code`; ``n``, ``seed`` and ``radius_factor`` unused) or "mix"
         (the "thesis" sample and the "thesis-code" one together).
-    cell : 0: the training wrenches are the contact's own 6DFWs.  In (0, 1]: they are those of
-        the contact coarsened to square cells of side ``cell`` × its ``l_s``
-        (:func:`workbench.coarsen.coarsen_profile`, each cell at its centre of pressure, so the
-        pressure centre o stays; the thesis's 3 mm FEM elements are ~0.15 l_s, §3.5.2), the twists
-        still drawn on the contact itself.  A contact that cannot be coarsened
-        (its normals fold) is trained as given, logged and recorded in the model's ``info``.
-        None: ``config.DEFAULTS.ls_training_cell`` (0), read when the spec is made.
+    cell_fraction : 0: the training wrenches are the contact's own 6DFWs.  In [0.001, 0.5]: they
+        are those of the contact coarsened to square cells of side ``cell_fraction`` × its
+        ``l_s`` (:func:`workbench.coarsen.coarsen_profile`, each cell at its centre of pressure,
+        so the pressure centre o stays; the thesis's 3 mm FEM elements are ~0.15 l_s, §3.5.2),
+        the twists still drawn on the contact itself (the author's grid on its own box).  A
+        contact with no tangent plane to lay cells in (its normals cancel) or of one element is
+        trained as given, logged and recorded in the model's ``info["training_cells"]`` (None).
+        None: ``config.DEFAULTS.ls_training_cell_fraction`` (0), read when the spec is made.
     """
 
     kind: str | None = None  # None: config.DEFAULTS.ls_training_sampler, read when the spec is made
@@ -66,7 +67,7 @@ class SamplerSpec:
     radius_factor: float = 0.25
     fine_level: int = 0  # thesis-code / mix only
     # the training contact's cell side [l_s]; 0: the contact as given; None: the config default
-    cell: float | None = None
+    cell_fraction: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind is None:
@@ -76,9 +77,11 @@ class SamplerSpec:
         if self.fine_level not in AUTHOR_LEVELS:
             raise ValueError(f"fine_level must be one of {sorted(AUTHOR_LEVELS)}; got {self.fine_level!r}")
         check_seed(self.seed, generator=False)  # part of the cache key: the same draw every time
-        cell = config.DEFAULTS.ls_training_cell if self.cell is None else self.cell
-        # the Defaults field's rule, as a float (1 and 1.0 share a cache key)
-        object.__setattr__(self, "cell", config.check_value("ls_training_cell", cell, "cell"))
+        cell = self.cell_fraction
+        cell = config.DEFAULTS.ls_training_cell_fraction if cell is None else cell
+        # the Defaults field's rule, as a float (0.1 and np.float64(0.1) share a cache key)
+        what = "SamplerSpec cell_fraction (a fraction of the contact's l_s)"
+        object.__setattr__(self, "cell_fraction", config.check_value("ls_training_cell_fraction", cell, what))
 
     def twists(self, profile: ContactProfile) -> np.ndarray:
         """(K, 6) twists of the "thesis" or "6dfc" sampler (the grid kinds choose
@@ -93,7 +96,7 @@ class SamplerSpec:
 
     def training(self, profile: ContactProfile, mu: float) -> tuple[np.ndarray, np.ndarray]:
         """Training twists (K, 6) and their raw friction wrenches (K, 6) on ``profile`` (on its
-        coarsened copy when ``cell`` > 0)."""
+        coarsened copy when ``cell_fraction`` > 0)."""
         return self._training(profile, self.sliding_profile(profile), mu)
 
     def _training(
@@ -105,20 +108,22 @@ class SamplerSpec:
             xi = spec.twists(profile)
             parts.append((xi, frictional_wrenches(sliding, xi, mu)))
         if self.kind in ("thesis-code", "mix"):
-            code = thesis_code_sample(sliding, mu, self.fine_level)
+            # the grid on the contact's own box: the twists do not depend on the coarsening
+            code = thesis_code_sample(sliding, mu, self.fine_level, sides=box_sides(profile))
             parts.append((code.train_twists, code.train_wrenches))
         return np.vstack([p[0] for p in parts]), np.vstack([p[1] for p in parts])
 
     def sliding_profile(self, profile: ContactProfile) -> ContactProfile:
-        """The contact whose 6DFWs train the model: ``profile`` itself, or its ``cell`` coarsening;
-        a contact whose normals fold (coarsen_profile's ValueError) is used as given, with a warning
-        in the log (the model's ``info["training_cells"]`` says which)."""
-        if self.cell == 0:
+        """The contact whose 6DFWs train the model: ``profile`` itself, or its ``cell_fraction``
+        coarsening; a contact of one element, or with no tangent plane (coarsen's
+        NoTangentPlane), is used as given, with a warning in the log for the latter (the model's
+        ``info["training_cells"]`` is then None)."""
+        if self.cell_fraction == 0 or len(profile.areas) < 2:
             return profile
         try:
             # cells at their centres of pressure: the twists' reference point o stays put
-            return coarsen_profile(profile, self.cell * profile.length_scale, centre="pressure")
-        except ValueError as err:
+            return _coarsen(profile, self.cell_fraction * profile.length_scale, "pressure")
+        except NoTangentPlane as err:
             n = len(profile.areas)
             log.warning("training wrenches on the contact as given (%d elements): %s", n, err)
             return profile
@@ -260,7 +265,7 @@ class LimitSurfaceCache:
             model = fit_quartic(W, twists=xi if spec.normals else None, w_max=wm, solver=spec.solver)
         else:
             raise ValueError(f"model must be 'ellipsoid' or 'quartic'; got {spec.model!r}")
-        if sampler.cell > 0:
+        if sampler.cell_fraction > 0:
             model.info["training_cells"] = len(sliding.areas) if sliding is not prof else None
         return model
 
