@@ -109,7 +109,8 @@ class SamplerSpec:
             parts.append((xi, frictional_wrenches(sliding, xi, mu)))
         if self.kind in ("thesis-code", "mix"):
             # the grid on the contact's own box: the twists do not depend on the coarsening
-            code = thesis_code_sample(sliding, mu, self.fine_level, sides=box_sides(profile))
+            sides = None if sliding is profile else box_sides(profile)
+            code = thesis_code_sample(sliding, mu, self.fine_level, sides=sides)
             parts.append((code.train_twists, code.train_wrenches))
         return np.vstack([p[0] for p in parts]), np.vstack([p[1] for p in parts])
 
