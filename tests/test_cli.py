@@ -107,3 +107,77 @@ def test_sweep_refuses_a_seed_the_experiment_does_not_read(capsys, tmp_path):
     assert err.startswith("workbench sweep sensitivity-engine: error: --seed 5: sensitivity-engine has no")
     assert "use --set 'seeds=[5]'" in err and "point" not in err  # the option, not a grid point
     assert not out.exists()
+
+
+def test_config_settings_hold_for_the_run_and_are_refused_when_careless(capsys, monkeypatch, tmp_path):
+    """``--config NAME=VALUE`` sets a workbench.config tolerance or default for the run alone (a
+    researcher running the grasp dataset on a coarsened training contact); a careless one stops
+    the run with status 2 before any work, naming the field."""
+    from workbench import config
+
+    module = importlib.import_module(EXPERIMENTS["discretization"])
+    seen = []
+    monkeypatch.setattr(
+        module,
+        "run",
+        lambda cfg: (
+            seen.append((config.DEFAULTS.ls_training_cell_fraction, config.DEFAULTS.ls_training_sampler))
+            or {"headline": []}
+        ),
+    )
+    argv = [
+        "run",
+        "discretization",
+        "--quick",
+        "--out",
+        str(tmp_path),
+        "--config",
+        "ls_training_cell_fraction=0.1",
+    ]
+    assert main([*argv, "--config", "ls_training_sampler=thesis"]) == 0
+    assert seen == [(0.1, "thesis")]
+    assert config.DEFAULTS.ls_training_cell_fraction == 0.0  # restored after the run
+    for bad, said in (
+        ("ls_training_cell_fraction=3", "not millimetres or metres"),
+        ("ls_training_cell=0.1", "did you mean 'ls_training_cell_fraction'"),
+        ("ls_training_sampler", "expects NAME=VALUE"),
+    ):
+        err = _error(capsys, ["run", "discretization", "--quick", "--config", bad])
+        assert "workbench run discretization: error: --config:" in err and said in err, err
+    err = _error(capsys, [*argv, "--config", "ls_training_cell_fraction=0.2"])
+    assert "ls_training_cell_fraction is given twice" in err
+    assert len(seen) == 1
+
+
+def test_summary_records_the_settings_away_from_their_defaults(tmp_path):
+    from workbench import config
+    from workbench.runner.results import write_summary
+
+    assert "settings" not in write_summary(tmp_path, "x", {}, {}, 0.0)
+    with config.override(ls_training_cell_fraction=0.15, cluster_min_rows=5):
+        full = write_summary(tmp_path, "x", {}, {}, 0.0)
+    # the run settings (how a run executes) change no number and are not recorded as its settings
+    assert full["settings"] == {"ls_training_cell_fraction": 0.15}
+    assert json.loads((tmp_path / "summary.json").read_text())["settings"] == full["settings"]
+
+
+def test_sweep_config_settings_hold_for_every_point_and_are_refused_when_careless(
+    capsys, monkeypatch, tmp_path
+):
+    from workbench import config
+    from workbench.runner import sweep
+
+    seen = []
+
+    def fake_sweep(*a, **k):
+        seen.append(config.DEFAULTS.ls_training_cell_fraction)
+        return {"n_failed": 0, "table": [], "n_points": 0}
+
+    monkeypatch.setattr(sweep, "run_sweep", fake_sweep)
+    monkeypatch.setattr("workbench.runner.cli._print_sweep", lambda *a: None)
+    base = ["sweep", "discretization", "--grid", "mu=[0.3]", "--out", str(tmp_path)]
+    assert main([*base, "--config", "ls_training_cell_fraction=0.2"]) == 0
+    assert seen == [0.2] and config.DEFAULTS.ls_training_cell_fraction == 0.0
+    err = _error(capsys, [*base, "--config", "ls_training_cell_fraction=-1"])
+    assert "workbench sweep discretization: error: --config:" in err and "not millimetres or metres" in err
+    assert seen == [0.2]

@@ -1,7 +1,8 @@
 """``workbench`` console script: ``workbench run <experiment> [--quick] [--out DIR]
-[--seed N] [--set key=value ...]``, ``workbench sweep <experiment> --grid KEY=JSON_LIST ...``
-(:mod:`workbench.runner.sweep`), ``workbench report [--results DIR] [--out FILE]``
-(:mod:`workbench.runner.report`) and ``workbench list``.
+[--seed N] [--set key=value ...] [--config NAME=VALUE ...]``,
+``workbench sweep <experiment> --grid KEY=JSON_LIST ...`` (:mod:`workbench.runner.sweep`),
+``workbench report [--results DIR] [--out FILE]`` (:mod:`workbench.runner.report`) and
+``workbench list``.
 
 ``--set`` values are JSON (a bare word is a string) and are checked against the
 type of the experiment's default before anything runs: ``workbench run NAME
@@ -15,6 +16,7 @@ import json
 import logging
 import sys
 import time
+from contextlib import ExitStack
 from typing import Any
 
 from .experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help
@@ -74,6 +76,15 @@ def _add_run_options(p: argparse.ArgumentParser, *, suppress: bool) -> None:
         help="override a config key (repeatable); the keys are listed below"
         if suppress
         else "override a config key (repeatable); workbench run NAME --help lists them",
+    )
+    p.add_argument(
+        "--config",
+        dest="configs_after" if suppress else "configs",
+        action="append",
+        default=d([]),
+        metavar="NAME=VALUE",
+        help="set a tolerance or default of workbench.config for this run (repeatable; JSON, a bare word "
+        "is a string), e.g. ls_training_cell_fraction=0.1; summary.json records it",
     )
     p.add_argument("-v", "--verbose", action="store_true", default=d(False))
 
@@ -155,6 +166,15 @@ def _add_sweep_parser(sub: Any, fmt: Any) -> None:
     )
     sw.add_argument("--retry-failed", action="store_true", help="run points recorded as failed again")
     sw.add_argument(
+        "--config",
+        dest="configs",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set a tolerance or default of workbench.config for every point (repeatable; JSON, a bare "
+        "word is a string); part of each point's key",
+    )
+    sw.add_argument(
         "--plot",
         nargs=2,
         action="append",
@@ -185,7 +205,9 @@ def _parse_lists(items: list[str], flag: str) -> dict[str, Any]:
 
 
 def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    from .sweep import SweepError, plot_sweep, run_sweep
+    from workbench import config as wb_config
+
+    from .sweep import SweepError
 
     if not args.verbose:  # distributed sets INFO on import and logs every worker's start and stop
         import distributed  # noqa: F401
@@ -194,6 +216,21 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     try:
         grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
         _check_plot_keys(args.plot, grid, zipped)
+        settings = _parse_configs(args.configs)
+    except (SweepError, SystemExit) as exc:
+        _sweep_fail(parser, args, exc)
+    with ExitStack() as stack:
+        try:
+            stack.enter_context(wb_config.override(**settings))
+        except ValueError as exc:  # a value its field refuses, before any point runs
+            parser.exit(2, f"workbench sweep {args.experiment}: error: --config: {exc}\n")
+        return _sweep_configured(parser, args, grid, zipped)
+
+
+def _sweep_configured(parser: argparse.ArgumentParser, args: argparse.Namespace, grid, zipped) -> int:
+    from .sweep import SweepError, plot_sweep, run_sweep
+
+    try:
         summary = run_sweep(
             args.experiment,
             grid,
@@ -347,7 +384,37 @@ def _report(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
 
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    """``workbench run NAME``: its config built and checked, its memory checked, then run."""
+    """``workbench run NAME``: its config built and checked, its memory checked, then run under
+    the ``--config`` settings (:func:`workbench.config.override`)."""
+    from workbench import config as wb_config
+
+    with ExitStack() as stack:
+        try:
+            settings = _parse_configs(args.configs + getattr(args, "configs_after", []))
+            stack.enter_context(wb_config.override(**settings))
+        except (SystemExit, ValueError) as exc:  # refused before anything runs
+            msg = exc.code if isinstance(exc, SystemExit) else exc
+            parser.exit(2, f"workbench run {args.experiment}: error: --config: {msg}\n")
+        return _run_configured(parser, args)
+
+
+def _parse_configs(items: list[str]) -> dict[str, Any]:
+    """``NAME=VALUE`` items as a dict, each value JSON (a bare word a string), each name once."""
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise SystemExit(f"expects NAME=VALUE; got {item!r}")
+        name, text = (part.strip() for part in item.split("=", 1))
+        if name in out:  # the last one would win silently
+            raise SystemExit(f"{name} is given twice ({out[name]!r} and {text}); give it once")
+        try:
+            out[name] = json.loads(text)
+        except json.JSONDecodeError:
+            out[name] = text
+    return out
+
+
+def _run_configured(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     sets = args.sets + getattr(args, "sets_after", [])
     try:
         config = build_config(args.experiment, args.quick, args.out, args.seed, _parse_sets(sets))

@@ -232,11 +232,17 @@ def code_revision(root: Path | None = None) -> str:
 
 
 def write_summary(out: Path, experiment: str, config: dict, summary: dict, wall_time_s: float) -> dict:
-    """Add the run's metadata (config, seed, versions, the code that ran: its git revision
-    with a ``-dirty`` flag and :func:`code_hash`, wall time) and write ``out/summary.json``
-    atomically; returns the full summary."""
+    """Add the run's metadata (config, seed, the tolerances and defaults set away from their
+    defaults — :func:`workbench.config.changed`, absent when none is —, versions, the code that
+    ran: its git revision with a ``-dirty`` flag and :func:`code_hash`, wall time) and write
+    ``out/summary.json`` atomically; returns the full summary."""
+    from .. import config as _config
+
     full = {"experiment": experiment, **summary}
     full["config"] = config
+    settings = _config.changed(numbers_only=True)
+    if settings:
+        full["settings"] = settings
     full["seed"] = config.get("seed")
     full["versions"] = versions()
     full["code"] = {"revision": code_revision(), "hash": code_hash()}
