@@ -16,7 +16,8 @@ import json
 import logging
 import sys
 import time
-from contextlib import ExitStack
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 from typing import Any
 
 from .experiment_config import EXPERIMENTS, _parse_sets, build_config, config_help
@@ -77,15 +78,8 @@ def _add_run_options(p: argparse.ArgumentParser, *, suppress: bool) -> None:
         if suppress
         else "override a config key (repeatable); workbench run NAME --help lists them",
     )
-    p.add_argument(
-        "--config",
-        dest="configs_after" if suppress else "configs",
-        action="append",
-        default=d([]),
-        metavar="NAME=VALUE",
-        help="set a tolerance or default of workbench.config for this run (repeatable; JSON, a bare word "
-        "is a string), e.g. ls_training_cell_fraction=0.1; summary.json records it",
-    )
+    dest = "configs_after" if suppress else "configs"
+    _add_config_option(p, dest, d([]), "this run (summary.json records it)")
     p.add_argument("-v", "--verbose", action="store_true", default=d(False))
 
 
@@ -102,6 +96,35 @@ memory limit is refused (its row says how much it needs) and the others run.  Re
 DIR/table.parquet (one row per point), DIR/points/<key>/ (each run's outputs), DIR/sweep.json;
 a killed sweep resumes on re-run, and a finished point is never computed again.
 workbench run NAME --help lists NAME's keys."""
+
+
+def _add_config_option(p: argparse.ArgumentParser, dest: str, default: Any, scope: str) -> None:
+    """``--config NAME=VALUE`` (repeatable) of ``run`` and ``sweep``, into ``dest``."""
+    p.add_argument(
+        "--config",
+        dest=dest,
+        action="append",
+        default=default,
+        metavar="NAME=VALUE",
+        help=f"set a tolerance or default of workbench.config for {scope}, e.g. "
+        "ls_training_cell_fraction=0.1 (repeatable; JSON, a bare word is a string)",
+    )
+
+
+@contextmanager
+def _configured(parser: argparse.ArgumentParser, command: str, items: list[str]) -> Iterator[None]:
+    """The ``--config`` settings ``items`` in force inside the block (:func:`workbench.config.override`);
+    one refused (not NAME=VALUE, given twice, unknown, or a value its field refuses) exits with
+    status 2 before the block runs."""
+    from workbench import config as wb_config
+
+    with ExitStack() as stack:
+        try:
+            stack.enter_context(wb_config.override(**_parse_configs(items)))
+        except (SystemExit, ValueError) as exc:
+            msg = exc.code if isinstance(exc, SystemExit) else exc
+            parser.exit(2, f"workbench {command}: error: --config: {msg}\n")
+        yield
 
 
 def _add_sweep_parser(sub: Any, fmt: Any) -> None:
@@ -165,15 +188,7 @@ def _add_sweep_parser(sub: Any, fmt: Any) -> None:
         "--threads", type=int, default=1, help="threads per worker and Numba threads per task (default 1)"
     )
     sw.add_argument("--retry-failed", action="store_true", help="run points recorded as failed again")
-    sw.add_argument(
-        "--config",
-        dest="configs",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="set a tolerance or default of workbench.config for every point (repeatable; JSON, a bare "
-        "word is a string); part of each point's key",
-    )
+    _add_config_option(sw, "configs", [], "every point (part of each point's key)")
     sw.add_argument(
         "--plot",
         nargs=2,
@@ -205,8 +220,6 @@ def _parse_lists(items: list[str], flag: str) -> dict[str, Any]:
 
 
 def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
-    from workbench import config as wb_config
-
     from .sweep import SweepError
 
     if not args.verbose:  # distributed sets INFO on import and logs every worker's start and stop
@@ -216,14 +229,9 @@ def _sweep(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     try:
         grid, zipped = _parse_lists(args.grid, "--grid"), _parse_lists(args.zip, "--zip")
         _check_plot_keys(args.plot, grid, zipped)
-        settings = _parse_configs(args.configs)
     except (SweepError, SystemExit) as exc:
         _sweep_fail(parser, args, exc)
-    with ExitStack() as stack:
-        try:
-            stack.enter_context(wb_config.override(**settings))
-        except ValueError as exc:  # a value its field refuses, before any point runs
-            parser.exit(2, f"workbench sweep {args.experiment}: error: --config: {exc}\n")
+    with _configured(parser, f"sweep {args.experiment}", args.configs):
         return _sweep_configured(parser, args, grid, zipped)
 
 
@@ -386,15 +394,7 @@ def _report(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     """``workbench run NAME``: its config built and checked, its memory checked, then run under
     the ``--config`` settings (:func:`workbench.config.override`)."""
-    from workbench import config as wb_config
-
-    with ExitStack() as stack:
-        try:
-            settings = _parse_configs(args.configs + getattr(args, "configs_after", []))
-            stack.enter_context(wb_config.override(**settings))
-        except (SystemExit, ValueError) as exc:  # refused before anything runs
-            msg = exc.code if isinstance(exc, SystemExit) else exc
-            parser.exit(2, f"workbench run {args.experiment}: error: --config: {msg}\n")
+    with _configured(parser, f"run {args.experiment}", args.configs + getattr(args, "configs_after", [])):
         return _run_configured(parser, args)
 
 
