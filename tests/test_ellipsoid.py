@@ -122,3 +122,80 @@ def test_psd_least_squares_is_least_squares_when_that_is_definite(s4_data):
     B = lsq.subspace.basis
     a, b = B.T @ pen.A_e @ B, B.T @ lsq.A_e @ B
     assert np.abs(a - b).max() < 1e-3 * np.abs(b).max()
+
+
+def _saddle_wrenches(seed: int, neg: float, noise: float, n: int = 300) -> np.ndarray:
+    """(2n, 6) raw wrenches, ± pairs, near ``Σ_{i<5} u_i² − neg u_5² = 1`` (radial noise of relative
+    size ``noise``) in mixed units: a hyperboloid, so the least-squares A is indefinite and the
+    PSD constraint is active."""
+    rng = np.random.default_rng(seed)
+    u = rng.standard_normal((n, 5))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    t = rng.uniform(-1.0, 1.0, n)
+    pts = np.column_stack([u * np.sqrt(1.0 + neg * t**2)[:, None], t])
+    pts *= (1.0 + noise * rng.standard_normal(n))[:, None] * np.array([12.0, 3.0, 7.0, 0.02, 0.005, 0.04])
+    return np.vstack([pts, -pts])
+
+
+def _psd_lsq_kkt(model, W):
+    """(objective, optimality residuals) of Eq. 3.11 with A ⪰ 0 at the model's A, derived here:
+    f(A) = Σ_k (y_kᵀ A y_k − 1)² on the model's normalised subspace coordinates y; at the optimum
+    over the PSD cone the gradient G = 2 Σ_k (y_kᵀ A y_k − 1) y_k y_kᵀ is PSD and tr(G A) = 0.
+    Returns (f, λ_min(G) / ‖G‖, tr(G A) / (‖G‖ ‖A‖))."""
+    B = model.subspace.basis
+    y = (W / model.scale) @ B
+    A = B.T @ model.A_e @ B
+    res = np.einsum("ni,ij,nj->n", y, A, y) - 1.0
+    G = 2.0 * (y * res[:, None]).T @ y
+    norm = np.linalg.norm(G)
+    return float(res @ res), np.linalg.eigvalsh(G)[0] / norm, np.trace(G @ A) / (norm * np.linalg.norm(A))
+
+
+@pytest.mark.parametrize("neg, noise", [(0.05, 0.05), (0.2, 0.0), (0.5, 0.05)])
+def test_psd_least_squares_on_an_indefinite_sample_by_the_interior_point(neg, noise):
+    """An indefinite least-squares A: the SDP's own interior point (the default) meets the
+    optimality conditions of Eq. 3.11 with A ⪰ 0 derived independently (_psd_lsq_kkt), at an
+    objective no higher than Clarabel's, on the cone's boundary and strictly inside it."""
+    W = _saddle_wrenches(0, neg, noise)
+    assert fit_ellipsoid(W, "lsq").info["fallback"].startswith("indefinite least-squares A")
+    ipm = fit_ellipsoid(W, "sdp")
+    assert (ipm.info["solver"], ipm.info["fallback"]) == ("IPM", None)
+    f_ipm, g_min, comp = _psd_lsq_kkt(ipm, W)
+    assert g_min >= -1e-9 and abs(comp) <= 1e-9
+    clarabel = fit_ellipsoid(W, "sdp", solver="clarabel")
+    assert (clarabel.info["solver"], clarabel.info["fallback"]) == ("CLARABEL", None)
+    assert f_ipm <= _psd_lsq_kkt(clarabel, W)[0] * (1 + 1e-8)
+    B = ipm.subspace.basis
+    lam = np.linalg.eigvalsh(B.T @ ipm.A_e @ B)
+    assert 0 < lam[0] <= 1e-6 * lam[-1]
+
+
+def test_the_interior_point_where_clarabel_returns_a_singular_a(monkeypatch):
+    """A sample on which Clarabel's answer is singular, so its fit falls back to the projected
+    least squares, which misses the optimality conditions (λ_min(G) = −0.13 ‖G‖); the interior
+    point meets them at a 1.2 % lower objective.  Its own failure falls back to Clarabel, recorded;
+    Eq. 3.12's log-det term is Clarabel's by default and refused to a named IPM."""
+    from workbench.limit_surface import sos_ipm
+
+    W = _saddle_wrenches(0, 0.2, 0.05)
+    clarabel = fit_ellipsoid(W, "sdp", solver="CLARABEL")
+    assert clarabel.info["solver"] == "numpy.linalg.lstsq"
+    assert clarabel.info["fallback"].startswith("SDP returned a singular A; used least squares")
+    f_c, g_c, _ = _psd_lsq_kkt(clarabel, W)
+    ipm = fit_ellipsoid(W, "sdp")
+    f_i, g_i, comp = _psd_lsq_kkt(ipm, W)
+    assert g_c < -0.1 and g_i >= -1e-9 and abs(comp) <= 1e-9
+    assert f_i < 0.99 * f_c
+    failed = sos_ipm.SosFitResult(False, None, None, None, "no convergence in 2 iterations", 2)
+    monkeypatch.setattr(sos_ipm, "solve", lambda Rm, c, blocks: failed)
+    fell = fit_ellipsoid(W, "sdp")
+    assert fell.info["solver"] == "numpy.linalg.lstsq"
+    assert fell.info["fallback"].startswith(
+        "IPM: no convergence in 2 iterations; fell back to CLARABEL; SDP returned a singular A"
+    )
+    np.testing.assert_array_equal(fell.A_e, clarabel.A_e)
+    assert fit_ellipsoid(W, "sdp", alpha=1e-6 * len(W)).info["solver"] == "CLARABEL"
+    with pytest.raises(
+        ValueError, match=r"solver='IPM'\) solves Eq. 3.11 with A ⪰ 0 only.*solver='CLARABEL'"
+    ):
+        fit_ellipsoid(W, "sdp", solver="ipm", alpha=1e-6 * len(W))

@@ -17,6 +17,7 @@ from workbench.limit_surface._kernels import (
     _smat,
     _svec_kron,
 )
+from workbench.limit_surface.sdp_solver import check_fit_solver
 from workbench.limit_surface.sos import exponents, monomials, sos_convexity_maps, svec_index, swap_blocks
 
 
@@ -223,11 +224,11 @@ def test_a_fit_near_the_coefficient_count_reaches_clarabels_optimum():
 
 
 def test_solver_names():
-    assert quart_mod.check_quartic_solver("ipm") == "IPM"
-    assert quart_mod.check_quartic_solver("clarabel") == "CLARABEL"
+    assert check_fit_solver("ipm") == "IPM"
+    assert check_fit_solver("clarabel") == "CLARABEL"
     refused = r"fallback_solver must name a conic .*, or 'IPM' .* got 'IPOPT'"
     with pytest.raises(ValueError, match=refused) as exc:
-        quart_mod.check_quartic_solver("IPOPT", "fallback_solver")
+        check_fit_solver("IPOPT", "fallback_solver")
     assert "(the default)" not in str(exc.value)
     assert quart_mod._fallback_for("IPM", "auto") == "CLARABEL"
     assert quart_mod._fallback_for("CLARABEL", "auto") == "SCS"

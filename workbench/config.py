@@ -600,6 +600,10 @@ class Defaults:
     # is its checked fallback)
     # or a conic solver with semidefinite support ("CLARABEL", "SCS").
     quartic_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
+    # The SDP ellipsoid's (Eq. 3.11 with A ⪰ 0) solver where none is named: "IPM" (the same
+    # interior point with one r × r block; Clarabel through cvxpy is its checked fallback), or
+    # "CLARABEL" / "SCS" through cvxpy.  Eq. 3.12's log-det term needs a cvxpy solver.
+    ellipsoid_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
     # (λ, ω_w, ω_t) of the author's fitting objective (limit_surface/author_objective.py):
     # regulariser ‖A‖, L1 value residuals, twist-direction residuals — the values
     # of the author's exampleFEM.m, exampleParametricSurface.m and

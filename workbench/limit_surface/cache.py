@@ -136,15 +136,16 @@ class ModelSpec:
 
     model: str = "ellipsoid"  # "ellipsoid" or "quartic"
     method: str = "lsq"  # ellipsoid: "lsq" | "sdp"
-    # None: the model's default, read when the spec is made (part of the key): Clarabel for the
-    # ellipsoid's SDP, config.DEFAULTS.quartic_solver for the quartic
+    # None: the model's default, read when the spec is made (part of the key):
+    # config.DEFAULTS.ellipsoid_solver for the ellipsoid's SDP, .quartic_solver for the quartic
     solver: str | None = None
     exact_w_max: bool = True  # normalise by the canonical-twist support values
     normals: bool = True  # quartic: also fit the twists as outward normals (fit_quartic(twists=...))
 
     def __post_init__(self) -> None:
         if self.solver is None:
-            default = config.DEFAULTS.quartic_solver if self.model == "quartic" else "CLARABEL"
+            d = config.DEFAULTS
+            default = d.quartic_solver if self.model == "quartic" else d.ellipsoid_solver
             object.__setattr__(self, "solver", default)
 
 

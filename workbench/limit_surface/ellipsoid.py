@@ -6,20 +6,26 @@ contact is fitted in 3D, never as a singular 6D problem):
 * ``method="lsq"`` — Eq. 3.13: linear least squares on the ``r(r+1)/2``
   unique entries of ``A``.  An indefinite result (rare; noisy or too few
   wrenches) is projected to the PD cone and rescaled — reported as a fallback.
-* ``method="sdp"`` — PSD-constrained least squares, Eq. 3.11 with ``A ⪰ 0``
-  solved as a semidefinite program via cvxpy; ``alpha > 0`` adds Eq. 3.12's
-  ``−α log det A``.  The thesis needs that penalty to keep ``det A > 0`` when the
-  wrenches span a subspace (planar contacts); here the PCA subspace already
-  does, so the default is ``α = config.TOL.sdp_alpha_per_wrench·K = 0``.  Measured
+* ``method="sdp"`` — PSD-constrained least squares, Eq. 3.11 with ``A ⪰ 0``, a
+  semidefinite program solved by the fits' own interior point (:mod:`.sos_ipm`, one r × r
+  block; the default, ``config.DEFAULTS.ellipsoid_solver``) or a conic solver through cvxpy;
+  ``alpha > 0`` adds Eq. 3.12's ``−α log det A`` (cvxpy solvers only).  The thesis
+  needs that penalty to keep ``det A > 0`` when the wrenches span a subspace (planar
+  contacts); here the PCA subspace already does, so the default is
+  ``α = config.TOL.sdp_alpha_per_wrench·K = 0``.  Measured
   (``results/ls-fitting`` → ``sdp_log_det_effect``): ``α = 1e-6·K`` (our former
   default) changes Eq. 3.18 by < 1e-5, ``α >= 1e-3·K`` only raises the error;
   without it the fit *is* "lsq" whenever the least-squares matrix is positive
   definite (the constraint is inactive; returned directly, no conic solve — a
   solver on an ill-conditioned ellipsoid stopped 25× short on its largest
-  eigenvalue), and the cvxpy SDP runs only when it is indefinite.  The K-term objective is
-  compressed by a QR factorisation to ``‖R a - c‖²`` so the cvxpy problem depends
-  only on ``r``; it is built once per ``(r, log-det or not)`` with Parameters and
-  re-solved.
+  eigenvalue), and the SDP is solved only when it is indefinite.  The K-term objective is
+  compressed by a QR factorisation to ``‖R a - c‖²`` so the conic problem depends
+  only on ``r``: the interior point's maps are built once per ``r``, the cvxpy problem once per
+  ``(r, log-det or not)`` with Parameters and re-solved.  The optimum of an indefinite
+  least-squares A lies on the cone's boundary (A singular); a solver returns a strictly
+  positive-definite iterate near it, whose smallest eigenvalue is set by the solver's stopping
+  rule — the interior point's ~1e-10, Clarabel's ~1e-8 (measured on grasp contacts,
+  results/benchmarks/limit_surface.json) — and the interior point's objective is the lower.
 
 The returned 6×6 ``A_e`` is always positive definite: dropped directions get a
 semi-axis ``config.TOL.flat_axis`` (the model is flat to that thickness).
@@ -39,14 +45,14 @@ from .. import config
 from ..blas_threads import on_one_blas_thread
 from .base import LimitSurfaceModel
 from .normalize import prepare
-from .sdp_solver import check_sdp_solver
+from .sdp_solver import IPM, check_fit_solver
 
 log = logging.getLogger(__name__)
 
 #: incremented whenever a cvxpy ellipsoid problem is built (tests count it)
 BUILD_COUNT = {"sdp": 0}
-#: marker of an "sdp" fit answered by least squares without a conic solve (PD already)
-DIRECT = "direct"
+#: the solver recorded for a fit answered by least squares without a conic solve
+LSTSQ = "numpy.linalg.lstsq"
 
 
 @dataclass(frozen=True)
@@ -146,39 +152,99 @@ def _sdp_problem(r: int, log_det: bool):
     return prob, a, R, c, alpha, iu, ju
 
 
+@lru_cache(maxsize=8)
+def _ipm_program(r: int):
+    """The interior point's fixed maps of Eq. 3.11 in r dimensions (:class:`.sos_ipm.SosProgram`):
+    ``svec A = P a`` for the unique entries a (``np.triu_indices`` order) — a scaled permutation,
+    √2 on the off-diagonals — one r × r block and no antisymmetric one, started at ``A = I``."""
+    import scipy.sparse as sp
+
+    from .sos import svec_index
+    from .sos_ipm import SosProgram
+
+    iu, ju = np.triu_indices(r)
+    i_s, j_s = svec_index(r)
+    row = {(int(i), int(j)): k for k, (i, j) in enumerate(zip(i_s, j_s, strict=True))}
+    rows = [row[int(i), int(j)] for i, j in zip(iu, ju, strict=True)]
+    P = sp.csr_matrix((np.where(iu == ju, 1.0, np.sqrt(2.0)), (rows, np.arange(len(iu)))))
+    return SosProgram(P, sp.csr_matrix((len(iu), 0)), r, 0, np.where(iu == ju, 1.0, 0.0))
+
+
+def _solve_ipm(Rm: np.ndarray, c: np.ndarray, r: int) -> tuple[np.ndarray | None, str]:
+    """Eq. 3.11 with ``A ⪰ 0`` by :func:`.sos_ipm.solve`: (A (r, r) or None, status)."""
+    from .sos_ipm import solve
+
+    res = solve(Rm, c, _ipm_program(r))
+    if not res.ok:
+        return None, res.status
+    iu, ju = np.triu_indices(r)
+    return _unpack(res.a, iu, ju, r), res.status
+
+
 def _sdp(
-    y: np.ndarray, solver: str, alpha: float | None, warm_start: bool = True
-) -> tuple[np.ndarray, str | None]:
+    y: np.ndarray, solver: str | None, alpha: float | None, warm_start: bool = True
+) -> tuple[np.ndarray, str | None, str]:
+    """Eq. 3.11 (Eq. 3.12 with alpha > 0) on normalised wrenches y (K, r) by ``solver`` (checked,
+    upper case; None: :func:`fit_ellipsoid`'s default): (A (r, r), what fell back or None, the
+    solver whose answer A is)."""
     r = y.shape[1]
     alpha_v = config.TOL.sdp_alpha_per_wrench * len(y) if alpha is None else float(alpha)
     if not (np.isfinite(alpha_v) and alpha_v >= 0):
         raise ValueError(f"alpha (the log-det weight of Eq. 3.12) must be finite and >= 0; got {alpha_v}")
+    if solver is None:  # the interior point has no log-det term
+        solver = "CLARABEL" if alpha_v > 0 else check_fit_solver(config.DEFAULTS.ellipsoid_solver)
+    if solver == IPM and alpha_v > 0:
+        raise ValueError(
+            f"the interior point (solver='IPM') solves Eq. 3.11 with A ⪰ 0 only; Eq. 3.12's log-det term "
+            f"(alpha = {alpha_v:g}) needs a cvxpy solver: pass solver='CLARABEL', or alpha=0"
+        )
     if alpha_v == 0:
         A, note = _lsq(y)
         if note is None:  # least squares is already PD: the constraint A ⪰ 0 is inactive,
-            return A, DIRECT  # so it is the exact optimum (a conic solver only approximates it)
-    prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
+            return A, None, LSTSQ  # so it is the exact optimum (a conic solver only approximates it)
     phi = _sym_design(y)[0]
     Q, Rm = np.linalg.qr(phi)
+    c_val = Q.T @ np.ones(len(y))
+    failed = ""
+    if solver == IPM:
+        A, status = _solve_ipm(Rm, c_val, r)
+        if A is not None:
+            return A, None if status == "optimal" else "SDP solved to reduced accuracy", IPM
+        failed, solver = f"IPM: {status}; fell back to CLARABEL", "CLARABEL"  # its checked fallback
+    note, A, ran = _sdp_cvxpy(Rm, c_val, y, solver, alpha_v, warm_start)
+    return A, "; ".join(n for n in (failed, note) if n) or None, ran
+
+
+def _sdp_cvxpy(
+    Rm: np.ndarray, c_val: np.ndarray, y: np.ndarray, solver: str, alpha_v: float, warm_start: bool
+) -> tuple[str, np.ndarray, str]:
+    """Eq. 3.11 (Eq. 3.12 with ``alpha_v > 0``) through the cached cvxpy problem: (what fell back
+    or "", A (r, r), the solver whose answer A is); a solver that fails or returns a singular A
+    falls back to least squares."""
+    r = y.shape[1]
+    prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
     R.value = Rm
-    c.value = Q.T @ np.ones(len(y))
+    c.value = c_val
     alpha_p.value = alpha_v
     try:
         prob.solve(solver=solver, warm_start=warm_start)
     except Exception as exc:  # solver missing or numerical failure
         A, note = _lsq(y)
-        return A, f"SDP with {solver} failed ({type(exc).__name__}: {exc}); used least squares" + (
-            f"; {note}" if note else ""
+        return (
+            f"SDP with {solver} failed ({type(exc).__name__}: {exc}); used least squares"
+            + (f"; {note}" if note else ""),
+            A,
+            LSTSQ,
         )
     if prob.status not in ("optimal", "optimal_inaccurate") or a.value is None:
         A, note = _lsq(y)
-        return A, f"SDP status {prob.status}; used least squares" + (f"; {note}" if note else "")
+        return f"SDP status {prob.status}; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
     A = _unpack(a.value, iu, ju, r)
     lam = np.linalg.eigvalsh(A)
     if lam.min() <= 0:
         A, note = _lsq(y)
-        return A, "SDP returned a singular A; used least squares" + (f"; {note}" if note else "")
-    return A, None if prob.status == "optimal" else "SDP solved to reduced accuracy"
+        return "SDP returned a singular A; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
+    return ("" if prob.status == "optimal" else "SDP solved to reduced accuracy"), A, solver
 
 
 @on_one_blas_thread  # small matrices: a threaded BLAS waits for the cores others hold
@@ -187,7 +253,7 @@ def fit_ellipsoid(
     method: str = "lsq",
     *,
     w_max: Any = None,
-    solver: str = "CLARABEL",
+    solver: str | None = None,
     alpha: float | None = None,
     warm_start: bool = False,
 ) -> EllipsoidLS:
@@ -195,8 +261,11 @@ def fit_ellipsoid(
 
     w_max : optional (6,) exact maxima (e.g. :func:`workbench.w_max`); default
         the sampled maxima ``max_k |w_k|`` of Algorithm 1.
-    method : "lsq" (Eq. 3.13) or "sdp" (PSD-constrained least squares, cvxpy with
-        ``solver``; module docstring).
+    method : "lsq" (Eq. 3.13) or "sdp" (PSD-constrained least squares; module docstring).
+    solver : of "sdp": "IPM" (the fits' own interior point, :mod:`.sos_ipm`; Clarabel is its
+        checked fallback) or a cvxpy conic solver with semidefinite support ("CLARABEL", "SCS");
+        None: ``config.DEFAULTS.ellipsoid_solver`` (read at call time), or Clarabel when the
+        log-det weight ``alpha`` is positive (the interior point has no such term).
     alpha : log-det weight of Eq. 3.12 for "sdp"; default
         ``config.TOL.sdp_alpha_per_wrench · K`` (0: the penalty is off).
     warm_start : let cvxpy reuse the previous "sdp" fit of the same size in this process;
@@ -204,7 +273,7 @@ def fit_ellipsoid(
         :func:`~.quartic.fit_quartic`, where it was measured to change the result).
     The result's ``info`` names the method, solver, fallback (or None; a fallback is also
     logged as a warning) and time.  An unknown ``solver`` raises ValueError
-    (:func:`~.sdp_solver.check_sdp_solver`).
+    (:func:`~.sdp_solver.check_fit_solver`), as does "IPM" with ``alpha > 0``.
     """
     t0 = time.perf_counter()
     if method not in ("lsq", "sdp"):
@@ -214,8 +283,8 @@ def fit_ellipsoid(
             f"alpha (Eq. 3.12's log-det weight, got {alpha!r}) belongs to method='sdp'; "
             "method='lsq' has no such term — use method='sdp' or drop alpha"
         )
-    if method == "sdp":
-        check_sdp_solver(solver)
+    if method == "sdp" and solver is not None:
+        solver = check_fit_solver(solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
     n_unknown = r * (r + 1) // 2
@@ -226,19 +295,17 @@ def fit_ellipsoid(
         )
     y = x @ sub.basis
     if method == "lsq":
-        A_r, fallback = _lsq(y)
+        (A_r, fallback), ran = _lsq(y), LSTSQ
     else:
-        A_r, fallback = _sdp(y, solver, alpha, warm_start)
-    direct = method == "lsq" or fallback == DIRECT
-    if fallback == DIRECT:
-        fallback = None  # not a fallback: the exact optimum of the same problem
+        A_r, fallback, ran = _sdp(y, solver, alpha, warm_start)
     if fallback:
         log.warning("%s ellipsoid fit (%d wrenches, dim %d): %s", method, len(W), r, fallback)
     info = {
         "model": "ellipsoid",
         "method": method,
-        # the solver that ran: an "sdp" fit whose least-squares A is PD needs no conic solve
-        "solver": "numpy.linalg.lstsq" if direct else solver,
+        # the solver whose answer the fit is: an "sdp" fit whose least-squares A is PD needs no
+        # conic solve; a fallback to least squares is recorded as such
+        "solver": ran,
         "fallback": fallback,
         "dim": r,
         "n_wrenches": len(W),

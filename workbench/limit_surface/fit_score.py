@@ -32,8 +32,8 @@ from ..timing import median_runtime
 from .base import LimitSurfaceModel
 from .ellipsoid import fit_ellipsoid
 from .normalize import check_twists, check_wrenches
-from .quartic import check_quartic_solver, fit_quartic
-from .sdp_solver import check_sdp_solver
+from .quartic import fit_quartic
+from .sdp_solver import check_fit_solver
 from .sos import exponents
 from .support_error import SupportError, support_error
 
@@ -78,10 +78,11 @@ def fit_model(
 
     twists : (K, 6) twists the wrenches were computed from; ``"quartic_normals"`` needs
         them, the other models do not use them.
-    solver : conic solver of the "sdp" ellipsoid and the quartics ("CLARABEL", "SCS"; any of
-        :func:`~.sdp_solver.sdp_solvers`, or for the quartics "IPM", their own interior point;
-        checked for every model: ValueError otherwise).  None: each model's default (Clarabel
-        for the ellipsoid, ``config.DEFAULTS.quartic_solver`` for the quartics).
+    solver : solver of the "sdp" ellipsoid and the quartics ("IPM", their own interior point, or a
+        conic solver with semidefinite support, "CLARABEL", "SCS", any of
+        :func:`~.sdp_solver.sdp_solvers`; checked for every model: ValueError otherwise).  None:
+        each model's default (``config.DEFAULTS.ellipsoid_solver`` for the ellipsoid,
+        ``config.DEFAULTS.quartic_solver`` for the quartics).
     alpha : Eq. 3.12's log-det weight, ``"ellipsoid_sdp"`` only.
     cvxpy's warm start stays off: a fit does not depend on what the process fitted before.
     """
@@ -94,21 +95,17 @@ def fit_model(
     if model == "ellipsoid_lsq":
         return fit_ellipsoid(wrenches, "lsq", w_max=w_max)
     if model == "ellipsoid_sdp":
-        sdp = "CLARABEL" if solver is None else solver
-        return fit_ellipsoid(wrenches, "sdp", w_max=w_max, solver=sdp, alpha=alpha, warm_start=False)
+        return fit_ellipsoid(wrenches, "sdp", w_max=w_max, solver=solver, alpha=alpha, warm_start=False)
     normals = twists if model == "quartic_normals" else None
     return fit_quartic(wrenches, twists=normals, w_max=w_max, solver=solver, warm_start=False)
 
 
 def _check_solver(model: str, solver: str | None) -> None:
-    """ValueError unless ``solver`` is None or a solver ``model`` can use (the quartics also take
-    "IPM"); the first check of a cvxpy name imports cvxpy, so it runs before any timed fit."""
-    if solver is None:
-        return
-    if model.startswith("quartic"):
-        check_quartic_solver(solver)
-    else:
-        check_sdp_solver(solver)
+    """ValueError unless ``solver`` is None or a solver the fits can use ("IPM" or a conic solver
+    with semidefinite support); the first check of a cvxpy name imports cvxpy, so it runs before
+    any timed fit."""
+    if solver is not None:
+        check_fit_solver(solver)
 
 
 @dataclass(frozen=True)

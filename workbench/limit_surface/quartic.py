@@ -30,7 +30,7 @@ from ..kernel_launch import launch
 from ._kernels import _cubic_gradients, _quartic_values
 from .base import LimitSurfaceModel
 from .normalize import check_twists, prepare
-from .sdp_solver import check_sdp_solver
+from .sdp_solver import IPM, check_fit_solver
 from .sos import exponents, monomials, sos_convexity_maps, swap_blocks
 from .sos import svec_index as _svec_index
 
@@ -379,27 +379,6 @@ def _solve_clarabel(r: int, Rm: np.ndarray, c_val: np.ndarray):
     return True, a, M, "optimal" if status == "Solved" else "optimal_inaccurate"
 
 
-#: the name of this module's own interior point (:mod:`.sos_ipm`) among the quartic's solvers
-IPM = "IPM"
-
-
-def check_quartic_solver(solver: object, what: str = "solver") -> str:
-    """``solver`` in upper case if it is "IPM" (any case: :mod:`.sos_ipm`, the quartic fit's own
-    interior point) or a conic solver with semidefinite support
-    (:func:`~.sdp_solver.check_sdp_solver`), else a ValueError listing them."""
-    if isinstance(solver, str) and solver.upper() == IPM:
-        return IPM
-    try:
-        return check_sdp_solver(solver, what).upper()
-    except ValueError:
-        from .sdp_solver import sdp_solvers
-
-        raise ValueError(
-            f"{what} must name a conic solver with semidefinite support, one of {list(sdp_solvers())}, "
-            f"or 'IPM' (the quartic fit's own interior point), any case; got {solver!r}"
-        ) from None
-
-
 def _fallback_for(solver: str, fallback_solver: str | None) -> str | None:
     """The checked fallback: "auto" is Clarabel after the IPM or SCS and SCS after any other
     solver; a fallback that is the solver itself is refused (it would only fail again)."""
@@ -407,7 +386,7 @@ def _fallback_for(solver: str, fallback_solver: str | None) -> str | None:
         return None
     if isinstance(fallback_solver, str) and fallback_solver.lower() == "auto":
         return "CLARABEL" if solver in (IPM, "SCS") else "SCS"
-    out = check_quartic_solver(fallback_solver, "fallback_solver")
+    out = check_fit_solver(fallback_solver, "fallback_solver")
     if out == solver:
         other = "CLARABEL" if solver != "CLARABEL" else "SCS"
         raise ValueError(
@@ -549,7 +528,7 @@ def fit_quartic(
     ``RuntimeError`` if every solver fails.
     """
     t0 = time.perf_counter()
-    solver = check_quartic_solver(config.DEFAULTS.quartic_solver if solver is None else solver)
+    solver = check_fit_solver(config.DEFAULTS.quartic_solver if solver is None else solver)
     fallback_solver = _fallback_for(solver, fallback_solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim

@@ -1,6 +1,7 @@
 """The conic solvers the SDP ellipsoid (Eqs. 3.11, 3.12) and the SOS-convex quartic
-(Eq. 3.17) can use: cvxpy's installed solvers that take positive-semidefinite
-constraints (CLARABEL, SCS, and MOSEK/CVXOPT/… where installed and usable)."""
+(Eq. 3.17) can use: the fits' own interior point ("IPM", :mod:`.sos_ipm`) and cvxpy's installed
+solvers that take positive-semidefinite constraints (CLARABEL, SCS, and MOSEK/CVXOPT/… where
+installed and usable)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,9 @@ import logging
 from functools import cache
 
 log = logging.getLogger(__name__)
+
+#: the name of the fits' own interior point (:mod:`.sos_ipm`) among their solvers
+IPM = "IPM"
 
 
 @cache
@@ -56,4 +60,19 @@ def check_sdp_solver(solver: object, what: str = "solver") -> str:
     return solver
 
 
-__all__ = ["check_sdp_solver", "sdp_solvers"]
+def check_fit_solver(solver: object, what: str = "solver") -> str:
+    """``solver`` in upper case if it is "IPM" (any case: :mod:`.sos_ipm`, the ellipsoid's and the
+    quartic's own interior point) or a conic solver with semidefinite support
+    (:func:`check_sdp_solver`), else a ValueError listing them."""
+    if isinstance(solver, str) and solver.upper() == IPM:
+        return IPM
+    try:
+        return check_sdp_solver(solver, what).upper()
+    except ValueError:
+        raise ValueError(
+            f"{what} must name a conic solver with semidefinite support, one of {list(sdp_solvers())}, "
+            f"or 'IPM' (the fits' own interior point), any case; got {solver!r}"
+        ) from None
+
+
+__all__ = ["IPM", "check_fit_solver", "check_sdp_solver", "sdp_solvers"]

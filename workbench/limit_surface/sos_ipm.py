@@ -18,6 +18,10 @@ matrix, with Mehrotra's predictor-corrector.  A general solver spends its time o
 KKT system of the same problem (247 variables, 478 cone rows); here the structure is used as it
 is: the Schur matrix is formed with one sparse-dense product per block.
 
+The SDP ellipsoid (Eq. 3.11 with ``A ⪰ 0``, :mod:`.ellipsoid`) is the same program with one block:
+``a`` the unique entries of A, ``P`` the scaled permutation ``svec A = P a`` and no antisymmetric
+block, started at ``A = I`` (:func:`.ellipsoid._ipm_program`).
+
 ``solve`` returns the optimum of the same convex program as Clarabel's (unique in ``a`` when R has
 full rank), to the tolerances of :data:`~workbench.config.TOL` (``sos_ipm_*``).
 """
