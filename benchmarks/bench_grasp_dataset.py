@@ -7,7 +7,10 @@ user scoring only 6DFC pays), and the four together (6DFC reusing 6DLS's fit, as
 runs); every candidate after a warm-up candidate; median and worst.  The mesh: a thesis bottle
 (``0014_bottle-gen_bottle_100x030x030-03.obj``) when the data folder is beside the checkout,
 else an 80 × 50 × 20 mm box.  Beside: grasps per second per core, what the thesis's 500K grasps
-cost at it, and this machine's measured FMA throughput.
+cost at it, and this machine's measured FMA throughput.  ``on_dask``: the same rows (every model)
+as Dask tasks on a local cluster of one worker per core (``workbench.runner.parallel.map_rows``,
+the experiments' row loop, after one warm-up row a worker): the wall time, the rows' own compute,
+the workers' utilisation, the per-task overhead it implies, and the 500K cost at that utilisation.
 
 Writes results/benchmarks/grasp_dataset.json.  Run: python benchmarks/bench_grasp_dataset.py [--quick]
 """
@@ -17,18 +20,20 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 import trimesh
 from bench_wrench import machine_roofline
 
-from workbench.experiments.grasp_dataset import DEFAULT_CONFIG, _gripper, _spec
+from workbench.experiments.grasp_dataset import DEFAULT_CONFIG, _gripper, _row_ms, _spec
 from workbench.grasp.dataset_rows import DatasetOptions, dataset_cost, score_candidate
 from workbench.grasp.inputs import Task
 from workbench.grasp.rest_pose import rest_on_table
 from workbench.grasp.robust import Perturbation
 from workbench.grasp.top_grasps import sample_top_grasps
+from workbench.runner.parallel import map_rows, row_client
 from workbench.runner.results import CHECKOUT, code_revision, versions, write_json
 
 OUT = Path(__file__).resolve().parents[1] / "results" / "benchmarks" / "grasp_dataset.json"
@@ -47,6 +52,36 @@ def _ms(fn) -> float:
     t0 = time.perf_counter()
     fn()
     return (time.perf_counter() - t0) * 1e3
+
+
+def _on_dask(row, poses: list, quick: bool) -> dict:
+    """``row(pose)`` for every pose, repeated to fill the workers, as Dask tasks on a local cluster
+    of one worker per core: wall [s], the rows' own compute (the experiment's ``_row_ms``: contact,
+    every model's build and q), the workers' utilisation (compute / (workers × wall)), the per-task
+    overhead it implies and the 500K cost at that utilisation."""
+    jobs = list(poses[1:]) * (2 if quick else 4)
+    done: list = []
+    with row_client(len(jobs), workers=0, min_rows=1) as client:
+        n_workers = len(client.scheduler_info()["workers"])
+        map_rows(row, [poses[0]] * n_workers, lambda j, r: None, client=client)  # warm-up: JIT, fine surface
+        t0 = time.perf_counter()
+        map_rows(row, jobs, lambda j, r: done.append(r), client=client)
+        wall = time.perf_counter() - t0
+    compute_ms = np.array([_row_ms(r, MODELS) for r in done])
+    util = float(compute_ms.sum() / 1e3 / (n_workers * wall))
+    overhead_ms = (n_workers * wall * 1e3 - compute_ms.sum()) / len(jobs)
+    print(
+        f"on dask    {len(jobs)} rows, {n_workers} workers: {wall:.1f} s, utilisation {util:.2f}", flush=True
+    )
+    return {
+        "workers": n_workers,
+        "rows": len(jobs),
+        "wall_s": wall,
+        "row_compute_ms_mean": float(compute_ms.mean()),
+        "utilisation": util,
+        "overhead_ms_per_task": float(overhead_ms),
+        "cost_500k_all_models": dataset_cost(float(compute_ms.mean()), 500_000, utilisation=min(util, 1.0)),
+    }
 
 
 def run(quick: bool) -> dict:
@@ -80,6 +115,9 @@ def run(quick: bool) -> dict:
     ]
     ms_all = float(np.median(together))
     print(f"all four   {ms_all:7.1f} ms a grasp (contact {np.median(contact):.1f} ms)", flush=True)
+    dask = _on_dask(
+        partial(score_candidate, mesh, gripper, task=task, models=MODELS, options=opts), poses, quick
+    )
     return {
         "what": "ms per grasp, one process: top-grasp pose -> both pads pressed to the force, the object "
         "settled between them -> model "
@@ -91,6 +129,7 @@ def run(quick: bool) -> dict:
         "models_alone": per_model,
         "all_models": {"ms_median": ms_all, "grasps_per_s_per_core": 1e3 / ms_all},
         "cost_500k_all_models": dataset_cost(ms_all, 500_000),
+        "on_dask": dask,
         "machine": machine_roofline(quick=True),
         "versions": versions(),
         "code_revision": code_revision(),

@@ -415,3 +415,27 @@ def front_surface(cen, normal, area, c, frame, pad, poly, window, filter_window,
     visible = np.zeros(len(cen), dtype=bool)
     visible[idx[order]] = z[idx][order] <= front_z + 2 * max_edge
     return visible, z
+
+
+def author_grid(L, level):
+    """The author's twist grid (``twists_author.sample_twists_author``) by NumPy expressions: the
+    offset axes (sphere point × offsets d1, d2, row-major), then the axes through o, at each pitch,
+    then the near-translations once a pitch (the reference of ``_kernels._author_grid``)."""
+    from workbench.twists import translation_twists, twists_from_plucker
+    from workbench.twists_author import AUTHOR_LEVELS, _near_translations, _offsets, author_sphere
+
+    lv = AUTHOR_LEVELS[level]
+    c = np.asarray(lv.coeffs)
+    half = np.r_[c * L.min(), c * L.max()]
+    d = np.unique(np.r_[-half, 0.0, half])
+    pitches = np.unique(np.r_[-np.asarray(lv.pitch_factors), 0.0, lv.pitch_factors]) * L.mean()
+    w = author_sphere(lv.n_axes)
+    iw, i1, i2 = (
+        g.ravel() for g in np.meshgrid(np.arange(len(w)), np.arange(len(d)), np.arange(len(d)), indexing="ij")
+    )
+    omega = np.vstack([w[iw], author_sphere(lv.n_through)])
+    p = np.vstack([_offsets(w[iw], d[i1], d[i2]), np.zeros((lv.n_through, 3))])
+    m = np.cross(p, omega)
+    rot = [twists_from_plucker(omega, m, np.full(len(omega), h)) for h in pitches]
+    trans = translation_twists(_near_translations())
+    return np.vstack(rot + [trans] * len(pitches))

@@ -1,6 +1,7 @@
 """The author's twist grid ("thesis-code" protocol): its documented structure
 and bad input.  The grid downsampling is tested in test_downsample.py."""
 
+import naive
 import numpy as np
 import pytest
 
@@ -59,3 +60,16 @@ def test_sides_in_millimetres_are_refused():
     with pytest.raises(ValueError, match="millimetres"):
         sample_twists_author([39.0, 19.0, 4.9])
     assert len(sample_twists_author([39.0, 19.0, 4.9], allow_scale=True)) == 48_483
+
+
+@pytest.mark.parametrize("level", sorted(AUTHOR_LEVELS))
+def test_the_compiled_grid_is_the_numpy_grid_bit_for_bit(level):
+    """_kernels._author_grid against the NumPy expressions (naive.author_grid), every level, on
+    boxes with three distinct sides, a flat one, a line and a cube: equal to the last bit."""
+    rng = np.random.default_rng(level + 10)
+    boxes = [rng.uniform(0.002, 0.06, 3), np.array([0.02, 0.04, 0.0]), np.array([0.0, 0.03, 0.0])]
+    for L in [*boxes, np.full(3, 0.01)]:
+        got = sample_twists_author(L, level)
+        want = naive.author_grid(L, level)
+        assert got.shape == want.shape
+        np.testing.assert_array_equal(got, want)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .config import NUMBA_FLAGS, NUMBA_FLAGS_PARALLEL
+from .config import NUMBA_FLAGS, NUMBA_FLAGS_IEEE, NUMBA_FLAGS_PARALLEL
 
 
 @njit(inline="always", **NUMBA_FLAGS)
@@ -166,3 +166,66 @@ def _cell_slots(table, ids, n, slots, new_rows):
             k += 1
         slots[i] = table[1, h]
     return k
+
+
+@njit(inline="always", **NUMBA_FLAGS_IEEE)
+def _axis_offset(om, d1, d2, p):
+    """Writes p (3,) ⊥ ω (3,) with coordinates (d1, d2) on the two axes other than ω's dominant
+    component (the first of equal magnitudes, as np.argmax), the third solving p·ω = 0."""
+    k = 0
+    for c in range(1, 3):
+        if abs(om[c]) > abs(om[k]):
+            k = c
+    j1 = 1 if k == 0 else 0
+    j2 = 1 if k == 2 else 2
+    p[j1] = d1
+    p[j2] = d2
+    p[k] = -(d1 * om[j1] + d2 * om[j2]) / om[k]
+
+
+@njit(**NUMBA_FLAGS_IEEE)
+def _author_grid(w, d, through, pitches, trans):
+    """The author's twist grid (``twists_author.sample_twists_author``): (K, 6) unit twists, rows in
+    the order of its NumPy expressions — each offset axis ``w[a]`` (n_w, 3) at offsets
+    ``(d[i], d[j])`` (d (n_d,)), a, i, j row-major, then the axes ``through`` (n_t, 3) the pressure
+    centre, all at ``pitches[0]``, again at each later pitch (p (n_p,)), then the translations
+    ``trans`` (36, 6) once a pitch.  Each value is rounded as the NumPy expressions round it (no
+    FMA): the offset's dependent coordinate, ``m = p × ω`` as ``np.cross``, ``e = ω / |ω|`` with
+    the squares summed left to right, ``h e + m``."""
+    n_w, n_d, n_t, n_p = w.shape[0], d.shape[0], through.shape[0], pitches.shape[0]
+    n_rot = n_w * n_d * n_d + n_t
+    out = np.empty((n_rot * n_p + trans.shape[0] * n_p, 6))
+    p = np.empty(3)
+    om = np.empty(3)
+    for r in range(n_rot):
+        if r < n_w * n_d * n_d:
+            a = r // (n_d * n_d)
+            d1 = d[(r // n_d) % n_d]
+            d2 = d[r % n_d]
+            for c in range(3):
+                om[c] = w[a, c]
+            _axis_offset(om, d1, d2, p)
+        else:
+            for c in range(3):
+                om[c] = through[r - n_w * n_d * n_d, c]
+                p[c] = 0.0
+        m0 = p[1] * om[2] - p[2] * om[1]
+        m1 = p[2] * om[0] - p[0] * om[2]
+        m2 = p[0] * om[1] - p[1] * om[0]
+        norm = np.sqrt(om[0] * om[0] + om[1] * om[1] + om[2] * om[2])
+        e0, e1, e2 = om[0] / norm, om[1] / norm, om[2] / norm
+        for q in range(n_p):
+            h = pitches[q]
+            row = q * n_rot + r
+            out[row, 0] = h * e0 + m0
+            out[row, 1] = h * e1 + m1
+            out[row, 2] = h * e2 + m2
+            out[row, 3] = e0
+            out[row, 4] = e1
+            out[row, 5] = e2
+    base = n_rot * n_p
+    for q in range(n_p):
+        for t in range(trans.shape[0]):
+            for c in range(6):
+                out[base + q * trans.shape[0] + t, c] = trans[t, c]
+    return out

@@ -32,7 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from .twists import translation_twists, twists_from_plucker
+from ._kernels import _author_grid
+from .twists import translation_twists
 from .units import check_extent
 
 
@@ -167,20 +168,18 @@ def sample_twists_author(
     d = np.unique(np.r_[-half, 0.0, half])
     pitches = np.unique(np.r_[-np.asarray(lv.pitch_factors), 0.0, lv.pitch_factors]) * L.mean()
 
-    w = _sphere(lv.n_axes)
-    iw, i1, i2 = (
-        g.ravel() for g in np.meshgrid(np.arange(len(w)), np.arange(len(d)), np.arange(len(d)), indexing="ij")
-    )
-    omega = np.vstack([w[iw], _sphere(lv.n_through)])
-    p = np.vstack([_offsets(w[iw], d[i1], d[i2]), np.zeros((lv.n_through, 3))])
-    m = np.cross(p, omega)
-    # one set of axes (checked and normalised once) at every pitch: [h e + m; e] per pitch, the
-    # products and sums of twists_from_plucker's
-    first = twists_from_plucker(omega, m, np.full(len(omega), pitches[0]))
-    e = first[:, 3:]
-    rot = [first] + [np.hstack([h * e + m, e]) for h in pitches[1:]]
-    trans = translation_twists(_near_translations())  # the pitch is invisible 10⁷ away
-    return np.vstack(rot + [trans] * len(pitches))
+    # one compiled pass writes the (K, 6) grid, each value rounded as the NumPy expressions of
+    # tests/naive.py's author_grid round it (bit for bit)
+    return _author_grid(_sphere(lv.n_axes), d, _sphere(lv.n_through), pitches, _translations())
+
+
+@lru_cache(maxsize=1)
+def _translations() -> np.ndarray:
+    """(36, 6) the near-translations' unit twists (:func:`_near_translations`), made once a process
+    (read-only: shared by every grid)."""
+    out = translation_twists(_near_translations())
+    out.flags.writeable = False
+    return out
 
 
 @lru_cache(maxsize=8)

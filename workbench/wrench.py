@@ -93,7 +93,13 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
     """
     prof = _check_profile(profile)
     xi, single = check_twists(twists)
-    mu_f = check_mu(mu)
+    out = _frictional_wrenches(prof, xi, check_mu(mu))
+    return out[0] if single else out
+
+
+def _frictional_wrenches(prof: ContactProfile, xi: np.ndarray, mu_f: float) -> np.ndarray:
+    """:func:`frictional_wrenches` (K, 6) of checked inputs: twists xi (K, 6) C-contiguous float64,
+    finite and nonzero (e.g. a sampler's own), mu_f a checked float."""
     k = xi.shape[0]
     out = np.empty((k, 6))
     rtol2 = config.TOL.tangential_velocity_rtol**2
@@ -105,7 +111,7 @@ def frictional_wrenches(profile: ContactProfile, twists: Any, mu: float = 1.0) -
         k * len(prof),
         *(xi, np.arange(k, dtype=np.int64), lo, hi, *prof._soa, mu_f, rtol2, out),
     )
-    return out[0] if single else out
+    return out
 
 
 def normal_wrench(profile: ContactProfile) -> np.ndarray:

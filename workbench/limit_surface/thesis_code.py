@@ -23,7 +23,7 @@ import numpy as np
 
 from ..profile import ContactProfile
 from ..twists_author import AUTHOR_LEVELS, sample_twists_author
-from ..wrench import check_mu, frictional_wrenches, w_max
+from ..wrench import _check_profile, _frictional_wrenches, check_mu, w_max
 from .downsample import grid_downsample
 from .normalize import check_wrenches, wrench_scale
 
@@ -75,9 +75,10 @@ def thesis_code_sample(
     Level 0 (the FEM study) gives 48 483 twists and, on the bottle profiles, a few
     hundred training wrenches (the author reports 122-294).
     """
-    check_mu(mu, what="thesis-code wrench set")
+    mu = check_mu(mu, what="thesis-code wrench set")
     xi = sample_twists_author(profile if sides is None else sides, fine_level)
-    W = frictional_wrenches(profile, xi, mu)
+    # the grid's own unit twists: finite and nonzero by construction, so not checked again
+    W = _frictional_wrenches(_check_profile(profile), xi, mu)
     wm = w_max(profile, mu)
     return ThesisCodeSample(xi, W, wm, thesis_code_split(W, wm, steps))
 
