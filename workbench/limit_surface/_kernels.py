@@ -549,16 +549,17 @@ def _grid_keys(W, steps, rtol, tie, n_cells):
             hi[c] = max(hi[c], W[i, c])
     width = (hi - lo) / steps
     flat = width <= rtol * width.max()
-    cell = np.where(flat, 1.0, width)
-    key = np.empty(n, dtype=np.int64)
-    for i in range(n):
-        k = 0
-        for c in range(6):
-            q = 0
-            if not flat[c]:
-                q = min(max(int(np.floor((W[i, c] - lo[c]) / cell[c] + tie)), 0), n_cells - 1)
-            k = k * n_cells + q
-        key[i] = k
+    key = np.zeros(n, dtype=np.int64)
+    # coordinate by coordinate, so that the loop over rows is a vector loop: the same key
+    for c in range(6):
+        if flat[c]:
+            for i in range(n):
+                key[i] = key[i] * n_cells
+        else:
+            lo_c, cell_c = lo[c], width[c]
+            for i in range(n):
+                q = min(max(int(np.floor((W[i, c] - lo_c) / cell_c + tie)), 0), n_cells - 1)
+                key[i] = key[i] * n_cells + q
     return key
 
 
@@ -586,6 +587,7 @@ def _cell_choice(W, key, order, tie):
     """The kept row of each run of equal keys along ``order`` (:func:`_grid_keep`)."""
     n = W.shape[0]
     keep = np.empty(n, dtype=np.int64)
+    dist = np.empty(n)  # each member's distance, computed once
     n_keep = 0
     mean = np.empty(6)
     s = 0
@@ -600,9 +602,10 @@ def _cell_choice(W, key, order, tie):
         mean /= e - s
         best = np.inf
         for j in range(s, e):
-            best = min(best, _row_distance(W, order[j], mean))
+            dist[j] = _row_distance(W, order[j], mean)
+            best = min(best, dist[j])
         j = s
-        while _row_distance(W, order[j], mean) > best + tie:
+        while dist[j] > best + tie:
             j += 1
         keep[n_keep] = order[j]
         n_keep += 1
