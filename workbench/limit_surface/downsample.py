@@ -38,19 +38,29 @@ def grid_downsample(wrenches, steps: float = 2.5) -> np.ndarray:
     members within ``config.TOL.downsample_tie_atol`` of the nearest (read at call time).
     """
     W = check_wrenches(wrenches)
-    # at most 1,000 cell widths a range: (floor(steps) + 1)^6 cells must index in int64
+    return _grid_downsample(W, check_steps(steps))
+
+
+def check_steps(steps: object) -> float:
+    """``steps`` as a float if it is a positive number of cell widths per range, at most 1,000
+    (``(floor(steps) + 1)^6`` cells must index in int64), else ValueError."""
     if isinstance(steps, bool) or not isinstance(steps, numbers.Real) or not 0 < steps <= 1000:
         raise ValueError(
             f"steps must be a positive number of cell widths per range, at most 1000 (the author's "
             f"2.5); got {steps!r}"
         )
+    return float(steps)
+
+
+def _grid_downsample(W: np.ndarray, steps: float) -> np.ndarray:
+    """:func:`grid_downsample` of checked wrenches W (N, 6) and steps."""
     # one compiled pass over the cells (docs/decisions.md), each cell's mean and distances added
     # in the order W[members].mean(axis=0) and np.linalg.norm add them, so the kept rows are those
     # of the per-cell loop; a range at rounding-noise level (a flat contact tilted by 1e-9 rad) is
     # one cell, as an exactly zero one is — the PCA subspace's notion of a dropped direction
     tol = config.TOL
-    keep = _grid_keep(np.ascontiguousarray(W), float(steps), tol.subspace_rtol, tol.downsample_tie_atol)
+    keep = _grid_keep(np.ascontiguousarray(W), steps, tol.subspace_rtol, tol.downsample_tie_atol)
     return np.sort(keep)
 
 
-__all__ = ["grid_downsample"]
+__all__ = ["check_steps", "grid_downsample"]

@@ -24,7 +24,7 @@ import numpy as np
 from ..profile import ContactProfile
 from ..twists_author import AUTHOR_LEVELS, sample_twists_author
 from ..wrench import _check_profile, _frictional_wrenches, check_mu, w_max
-from .downsample import grid_downsample
+from .downsample import _grid_downsample, check_steps, grid_downsample
 from .normalize import check_wrenches, wrench_scale
 
 
@@ -76,11 +76,13 @@ def thesis_code_sample(
     hundred training wrenches (the author reports 122-294).
     """
     mu = check_mu(mu, what="thesis-code wrench set")
+    steps = check_steps(steps)
     xi = sample_twists_author(profile if sides is None else sides, fine_level)
     # the grid's own unit twists: finite and nonzero by construction, so not checked again
     W = _frictional_wrenches(_check_profile(profile), xi, mu)
     wm = w_max(profile, mu)
-    return ThesisCodeSample(xi, W, wm, thesis_code_split(W, wm, steps))
+    # the kernel's wrenches of checked inputs are finite: thesis_code_split without its checks
+    return ThesisCodeSample(xi, W, wm, _grid_downsample(W / wrench_scale(wm), steps))
 
 
 def check_protocol_config(config: dict) -> None:
