@@ -515,7 +515,7 @@ def fit_quartic(
         occasionally stops with a numerical error when K is close to the 126
         unknowns); recorded in ``info["fallback"]`` and logged as a warning.  "auto" (the
         default): Clarabel after the IPM or SCS, SCS after any other solver; ``None`` disables
-        it; the solver itself is refused.  Both names are checked (:func:`check_quartic_solver`)
+        it; the solver itself is refused.  Both names are checked (:func:`~.sdp_solver.check_fit_solver`)
         and recorded in upper case.
     warm_start : let cvxpy reuse the previous fit of the same problem size in this
         process (SCS starts from it).  Off by default: with it, a fit depends on what the
