@@ -171,31 +171,41 @@ def test_psd_least_squares_on_an_indefinite_sample_by_the_interior_point(neg, no
 
 
 def test_the_interior_point_where_clarabel_returns_a_singular_a(monkeypatch):
-    """A sample on which Clarabel's answer is singular, so its fit falls back to the projected
-    least squares, which misses the optimality conditions (λ_min(G) = −0.13 ‖G‖); the interior
-    point meets them at a 1.2 % lower objective.  Its own failure falls back to Clarabel, recorded;
-    Eq. 3.12's log-det term is Clarabel's by default and refused to a named IPM."""
+    """A sample on which Clarabel's iterate lands on the cone's boundary (A singular): its small
+    eigenvalues are raised to the floor (recorded), which keeps the optimum — the projected least
+    squares it fell back to before missed the optimality conditions (λ_min(G) = −0.13 ‖G‖) at a
+    1.2 % higher objective.  The interior point meets them.  Its own failure falls back to
+    Clarabel, recorded; Eq. 3.12's log-det term is Clarabel's by default and refused to a named
+    IPM; solver names are read in any case, here and in config."""
+    from workbench import config
     from workbench.limit_surface import sos_ipm
 
     W = _saddle_wrenches(0, 0.2, 0.05)
     clarabel = fit_ellipsoid(W, "sdp", solver="CLARABEL")
-    assert clarabel.info["solver"] == "numpy.linalg.lstsq"
-    assert clarabel.info["fallback"].startswith("SDP returned a singular A; used least squares")
-    f_c, g_c, _ = _psd_lsq_kkt(clarabel, W)
+    assert clarabel.info["solver"] == "CLARABEL"
+    assert clarabel.info["fallback"].startswith("SDP's A singular (the optimum on the cone's boundary)")
+    f_c, g_c, comp_c = _psd_lsq_kkt(clarabel, W)
     ipm = fit_ellipsoid(W, "sdp")
     f_i, g_i, comp = _psd_lsq_kkt(ipm, W)
-    assert g_c < -0.1 and g_i >= -1e-9 and abs(comp) <= 1e-9
-    assert f_i < 0.99 * f_c
+    assert g_i >= -1e-9 and abs(comp) <= 1e-9
+    assert g_c >= -1e-6 and abs(comp_c) <= 1e-6 and abs(f_c / f_i - 1) <= 1e-7
+    projected = fit_ellipsoid(W, "lsq")  # what the singular answer became before
+    f_p, g_p, _ = _psd_lsq_kkt(projected, W)
+    assert g_p < -0.1 and f_p > 1.01 * f_i
     failed = sos_ipm.SosFitResult(False, None, None, None, "no convergence in 2 iterations", 2)
     monkeypatch.setattr(sos_ipm, "solve", lambda Rm, c, blocks: failed)
     fell = fit_ellipsoid(W, "sdp")
-    assert fell.info["solver"] == "numpy.linalg.lstsq"
+    assert fell.info["solver"] == "CLARABEL"
     assert fell.info["fallback"].startswith(
-        "IPM: no convergence in 2 iterations; fell back to CLARABEL; SDP returned a singular A"
+        "IPM: no convergence in 2 iterations; fell back to CLARABEL; SDP's A singular"
     )
     np.testing.assert_array_equal(fell.A_e, clarabel.A_e)
+    monkeypatch.undo()
     assert fit_ellipsoid(W, "sdp", alpha=1e-6 * len(W)).info["solver"] == "CLARABEL"
-    with pytest.raises(
-        ValueError, match=r"solver='IPM'\) solves Eq. 3.11 with A ⪰ 0 only.*solver='CLARABEL'"
-    ):
+    with pytest.raises(ValueError, match=r"'IPM'\) solves Eq. 3.11 with A ⪰ 0 only.*solver='CLARABEL'"):
         fit_ellipsoid(W, "sdp", solver="ipm", alpha=1e-6 * len(W))
+    with config.override(ellipsoid_solver="clarabel"):
+        assert config.DEFAULTS.ellipsoid_solver == "CLARABEL"
+        assert fit_ellipsoid(W, "sdp").info["solver"] == "CLARABEL"
+    with pytest.raises(ValueError, match=r"solver must name a conic solver .*got 'bogus'"):
+        fit_ellipsoid(W, "lsq", solver="bogus")  # checked whichever method, never ignored

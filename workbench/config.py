@@ -109,6 +109,18 @@ def _choice(names: Callable[[], tuple[str, ...]]):
     return rule
 
 
+def _solver_choice(names: tuple[str, ...]):
+    """One of the solver names ``names`` (upper case), in any case, stored in upper case (as the
+    fits' own check, ``limit_surface.sdp_solver.check_fit_solver``, reads them)."""
+
+    def rule(v: Any) -> str:
+        if not isinstance(v, str) or v.upper() not in names:
+            raise _Reject(f"one of {list(names)} (any case)")
+        return v.upper()
+
+    return rule
+
+
 def _flag(v: Any) -> bool:
     if not isinstance(v, bool):
         raise _Reject("True or False")
@@ -335,6 +347,12 @@ class Tolerances:
     # Eigenvalue floor (relative to the largest) used when a least-squares
     # ellipsoid comes out indefinite and is projected to the PD cone.
     ellipsoid_eig_floor: float = _field(1e-8, _POS)  # the projection must be positive definite
+    # A cvxpy solver's SDP ellipsoid (Eq. 3.11) whose smallest eigenvalue is at most this far below
+    # 0 (relative to the largest) is the singular optimum of an indefinite least squares, reached
+    # to the solver's accuracy: its small eigenvalues are raised to ellipsoid_eig_floor; further
+    # below, the solve failed and the projected least squares answers.  Clarabel's such iterates
+    # came within 1e-9 of singular on gripper contacts and synthetic hyperboloids.
+    sdp_singular_rtol: float = _field(1e-6, _POS)
 
     # |omega| below this (relative to |v|/l) classifies a twist as a pure
     # translation when converting to Plücker coordinates.
@@ -599,11 +617,11 @@ class Defaults:
     # Clarabel's optimum to its tolerances, faster: results/benchmarks/limit_surface.json; Clarabel
     # is its checked fallback)
     # or a conic solver with semidefinite support ("CLARABEL", "SCS").
-    quartic_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
+    quartic_solver: str = _field("IPM", _solver_choice(("IPM", "CLARABEL", "SCS")))
     # The SDP ellipsoid's (Eq. 3.11 with A ⪰ 0) solver where none is named: "IPM" (the same
     # interior point with one r × r block; Clarabel through cvxpy is its checked fallback), or
     # "CLARABEL" / "SCS" through cvxpy.  Eq. 3.12's log-det term needs a cvxpy solver.
-    ellipsoid_solver: str = _field("IPM", _choice(lambda: ("IPM", "CLARABEL", "SCS")))
+    ellipsoid_solver: str = _field("IPM", _solver_choice(("IPM", "CLARABEL", "SCS")))
     # (λ, ω_w, ω_t) of the author's fitting objective (limit_surface/author_objective.py):
     # regulariser ‖A‖, L1 value residuals, twist-direction residuals — the values
     # of the author's exampleFEM.m, exampleParametricSurface.m and

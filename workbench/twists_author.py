@@ -154,9 +154,10 @@ def sample_twists_author(
     fine_level : the code's ``fineLevel`` (:data:`AUTHOR_LEVELS`; 0: the FEM study).
     Returns (K, 6) ``[v; ω]``: offset axes, axes through ``o`` and 36 translations,
     each with every pitch (rotations with ``|ω| = 1``, translations ``|v| = 1``);
-    level 0 gives ``(25·25² + 500 + 36) · 3 = 48 483`` for a box with three distinct
-    non-zero sides.  A flat contact (one side 0) has fewer distinct offsets: a
-    20 mm square patch gives 14 283 twists (and, downsampled, a few dozen training
+    level 0 gives ``(25·25² + 500 + 36) · 3 = 48 483`` for a box whose 12 offsets
+    ``c·min(L)``, ``c·max(L)`` are distinct (offsets that coincide, e.g. 0.05 × 20 mm = 0.2 × 5 mm,
+    are one: 41 283 twists on a 20 × 10 × 5 mm box).  A flat contact (one side 0) has fewer
+    distinct offsets: a 20 mm square patch gives 14 283 twists (and, downsampled, a few dozen training
     wrenches — its wrench set is 3D).
     """
     if fine_level not in AUTHOR_LEVELS:

@@ -335,7 +335,10 @@ def _comparison(res: dict, name: str, contact: ExactContact, sample: tuple, conf
     K = len(W)
     for kind in SUPPORT_KINDS:
         fs = _fit(contact, kind, W, xi, solver="SCS", test=W_test)
-        res["solver_rows"].append([name, K, kind, "SCS", fs.test_error, fs.fit_s, fs.fallback])
+        # the solver that answered (an SDP ellipsoid whose least squares is definite: lstsq)
+        res["solver_rows"].append(
+            [name, K, kind, fs.model.info["solver"], fs.test_error, fs.fit_s, fs.fallback]
+        )
     for a in config["log_det_alphas"]:
         fs = fit_score(contact, "ellipsoid_sdp", W, alpha=a * K, test=W_test, support_seed=config["seed"])
         res["log_det"][f"{a:g}"] = {
@@ -426,8 +429,10 @@ def _quartic_solver() -> str:
 
 
 def _solver_label(kind: str) -> str:
-    """The solver a default fit of ``kind`` uses (the figures' legends)."""
-    return {"ellipsoid_lsq": "lstsq", "ellipsoid_sdp": "Clarabel"}.get(kind, _quartic_solver())
+    """The solver a default fit of ``kind`` uses (the figures' legends): the SDP ellipsoid's where
+    its constraint is active (a definite least squares is returned as it is)."""
+    sdp = f"lstsq or {wb_config.DEFAULTS.ellipsoid_solver}"
+    return {"ellipsoid_lsq": "lstsq", "ellipsoid_sdp": sdp}.get(kind, _quartic_solver())
 
 
 def _runtime_vs_error(t: dict, config: dict, out: Path) -> str:

@@ -25,7 +25,11 @@ contact is fitted in 3D, never as a singular 6D problem):
   least-squares A lies on the cone's boundary (A singular); a solver returns a strictly
   positive-definite iterate near it, whose smallest eigenvalue is set by the solver's stopping
   rule — the interior point's ~1e-10, Clarabel's ~1e-8 (measured on grasp contacts,
-  results/benchmarks/limit_surface.json) — and the interior point's objective is the lower.
+  results/benchmarks/limit_surface.json) — at the same objective to ~1e-8 relative.  A cvxpy
+  solver's iterate may land on or just past the boundary: an A whose smallest eigenvalue is in
+  ``[-config.TOL.sdp_singular_rtol, 0]`` of its largest has the eigenvalues below
+  ``ellipsoid_eig_floor`` of it raised to that (recorded in ``info["fallback"]``); one further from
+  definite is a failed solve, answered by the projected least squares.
 
 The returned 6×6 ``A_e`` is always positive definite: dropped directions get a
 semi-axis ``config.TOL.flat_axis`` (the model is flat to that thickness).
@@ -240,11 +244,19 @@ def _sdp_cvxpy(
         A, note = _lsq(y)
         return f"SDP status {prob.status}; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
     A = _unpack(a.value, iu, ju, r)
-    lam = np.linalg.eigvalsh(A)
+    lam, V = np.linalg.eigh(A)
+    floor = config.TOL.ellipsoid_eig_floor * lam.max()
+    status = "" if prob.status == "optimal" else "SDP solved to reduced accuracy"
+    if lam.min() <= 0 < lam.max() and lam.min() >= -config.TOL.sdp_singular_rtol * lam.max():
+        # the optimum of an indefinite least squares is singular (on the cone's boundary), and the
+        # solver's iterate may land on or just past it: its eigenvalues raised to the floor
+        A = (V * np.maximum(lam, floor)) @ V.T
+        note = f"SDP's A singular (the optimum on the cone's boundary): eigenvalues raised to {floor:.3g}"
+        return "; ".join(n for n in (status, note) if n), A, solver
     if lam.min() <= 0:
         A, note = _lsq(y)
-        return "SDP returned a singular A; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
-    return ("" if prob.status == "optimal" else "SDP solved to reduced accuracy"), A, solver
+        return "SDP returned an indefinite A; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
+    return status, A, solver
 
 
 @on_one_blas_thread  # small matrices: a threaded BLAS waits for the cores others hold
@@ -283,7 +295,7 @@ def fit_ellipsoid(
             f"alpha (Eq. 3.12's log-det weight, got {alpha!r}) belongs to method='sdp'; "
             "method='lsq' has no such term — use method='sdp' or drop alpha"
         )
-    if method == "sdp" and solver is not None:
+    if solver is not None:  # a name is checked whichever method (it selects nothing for "lsq")
         solver = check_fit_solver(solver)
     W, wm, scale, x, sub = prepare(wrenches, w_max)
     r = sub.dim
