@@ -71,10 +71,10 @@ def sdp_active_constraint(repeats: int, n_grasps: int = 20) -> dict:
     for g in grasps:
         for prof in jaw_profiles(mesh, g, 20.0):
             prof = prof.normalized()
-            W = spec.training(prof, 0.3)[1]
-            _, _, _, x, sub = prepare(W, w_max(prof, 0.3))
+            W, wm = spec.training(prof, 0.3)[1], w_max(prof, 0.3)
+            _, _, _, x, sub = prepare(W, wm)
             if _lsq(x @ sub.basis)[1] is not None:  # indefinite: the constraint is active
-                sets.append((W, w_max(prof, 0.3)))
+                sets.append((W, wm))
     out: dict = {"mesh": name, "contacts": 2 * len(grasps), "active": len(sets)}
     fits: dict = {}
     level = logging.getLogger("workbench.limit_surface.ellipsoid").level

@@ -117,6 +117,12 @@ def _embed(A_r: np.ndarray, sub) -> np.ndarray:
     return B @ A_r @ B.T + (C @ C.T) / config.TOL.flat_axis**2
 
 
+def _floored(lam: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """(r, r) ``V diag(λ') Vᵀ`` of eigenpairs (lam (r,), V (r, r)), the eigenvalues below
+    ``config.TOL.ellipsoid_eig_floor`` × the largest raised to it: positive definite."""
+    return (V * np.maximum(lam, config.TOL.ellipsoid_eig_floor * max(lam.max(), 1e-300))) @ V.T
+
+
 def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
     phi, iu, ju = _sym_design(y)
     a, *_ = np.linalg.lstsq(phi, np.ones(len(y)), rcond=None)
@@ -125,8 +131,7 @@ def _lsq(y: np.ndarray) -> tuple[np.ndarray, str | None]:
     if lam.min() > config.TOL.ellipsoid_eig_floor * lam.max() > 0:
         return A, None
     # projection to the PD cone, then the best scalar multiple (Σ (s f - 1)² min)
-    lam = np.maximum(lam, config.TOL.ellipsoid_eig_floor * max(lam.max(), 1e-300))
-    A = (V * lam) @ V.T
+    A = _floored(lam, V)
     f = np.einsum("ni,ni->n", y @ A, y)
     return A * (f.sum() / (f @ f)), "indefinite least-squares A projected to the PD cone"
 
@@ -196,7 +201,7 @@ def _sdp(
     if not (np.isfinite(alpha_v) and alpha_v >= 0):
         raise ValueError(f"alpha (the log-det weight of Eq. 3.12) must be finite and >= 0; got {alpha_v}")
     if solver is None:  # the interior point has no log-det term
-        solver = "CLARABEL" if alpha_v > 0 else check_fit_solver(config.DEFAULTS.ellipsoid_solver)
+        solver = "CLARABEL" if alpha_v > 0 else config.DEFAULTS.ellipsoid_solver  # upper case
     if solver == IPM and alpha_v > 0:
         raise ValueError(
             f"the interior point (solver='IPM') solves Eq. 3.11 with A ⪰ 0 only; Eq. 3.12's log-det term "
@@ -223,8 +228,9 @@ def _sdp_cvxpy(
     Rm: np.ndarray, c_val: np.ndarray, y: np.ndarray, solver: str, alpha_v: float, warm_start: bool
 ) -> tuple[str, np.ndarray, str]:
     """Eq. 3.11 (Eq. 3.12 with ``alpha_v > 0``) through the cached cvxpy problem: (what fell back
-    or "", A (r, r), the solver whose answer A is); a solver that fails or returns a singular A
-    falls back to least squares."""
+    or "", A (r, r), the solver whose answer A is); a singular A (to ``sdp_singular_rtol``) keeps
+    its answer, floored (:func:`_floored`); a solver that fails or returns an A further from
+    definite falls back to least squares."""
     r = y.shape[1]
     prob, a, R, c, alpha_p, iu, ju = _sdp_problem(r, alpha_v > 0)
     R.value = Rm
@@ -245,12 +251,12 @@ def _sdp_cvxpy(
         return f"SDP status {prob.status}; used least squares" + (f"; {note}" if note else ""), A, LSTSQ
     A = _unpack(a.value, iu, ju, r)
     lam, V = np.linalg.eigh(A)
-    floor = config.TOL.ellipsoid_eig_floor * lam.max()
     status = "" if prob.status == "optimal" else "SDP solved to reduced accuracy"
     if lam.min() <= 0 < lam.max() and lam.min() >= -config.TOL.sdp_singular_rtol * lam.max():
         # the optimum of an indefinite least squares is singular (on the cone's boundary), and the
         # solver's iterate may land on or just past it: its eigenvalues raised to the floor
-        A = (V * np.maximum(lam, floor)) @ V.T
+        A = _floored(lam, V)
+        floor = config.TOL.ellipsoid_eig_floor * lam.max()
         note = f"SDP's A singular (the optimum on the cone's boundary): eigenvalues raised to {floor:.3g}"
         return "; ".join(n for n in (status, note) if n), A, solver
     if lam.min() <= 0:

@@ -24,7 +24,7 @@ import numpy as np
 from ..profile import ContactProfile
 from ..twists_author import AUTHOR_LEVELS, sample_twists_author
 from ..wrench import _check_profile, _frictional_wrenches, check_mu, w_max
-from .downsample import _grid_downsample, check_steps, grid_downsample
+from .downsample import _grid_downsample, check_steps
 from .normalize import check_wrenches, wrench_scale
 
 
@@ -52,7 +52,12 @@ def thesis_code_split(wrenches: np.ndarray, wm: np.ndarray, steps: float = 2.5) 
     wm = np.asarray(wm, float)
     if wm.shape != (6,):
         raise ValueError(f"wm must be the (6,) w_max of the wrenches' contact; got shape {wm.shape}")
-    return grid_downsample(check_wrenches(wrenches) / wrench_scale(wm), steps)
+    return _split(check_wrenches(wrenches), wm, check_steps(steps))
+
+
+def _split(W: np.ndarray, wm: np.ndarray, steps: float) -> np.ndarray:
+    """:func:`thesis_code_split` of checked wrenches W (N, 6), w_max (6,) and steps."""
+    return _grid_downsample(W / wrench_scale(wm), steps)
 
 
 def thesis_code_sample(
@@ -82,7 +87,7 @@ def thesis_code_sample(
     W = _frictional_wrenches(_check_profile(profile), xi, mu)
     wm = w_max(profile, mu)
     # the kernel's wrenches of checked inputs are finite: thesis_code_split without its checks
-    return ThesisCodeSample(xi, W, wm, _grid_downsample(W / wrench_scale(wm), steps))
+    return ThesisCodeSample(xi, W, wm, _split(W, wm, steps))
 
 
 def check_protocol_config(config: dict) -> None:
